@@ -1,0 +1,17 @@
+"""rankedassign: ranked assignment for labeled random-finite-set trackers.
+
+The ranked-assignment problem of the joint GLMB/LMB prediction/update (Vo, Vo & Hoang 2017),
+the original long-chain Gibbs sampler and the short-chain sampler with stall/stale termination
+of Trezza, Bucci & Varshney (2023), an LMB filter with pluggable association, and OSPA(2).
+Exact ground truth lives in the companion package :mod:`oracle`.
+"""
+
+from . import synthetic
+from ._version import __version__
+from .problem import AssignmentProblem
+
+__all__ = [
+    "AssignmentProblem",
+    "synthetic",
+    "__version__",
+]
