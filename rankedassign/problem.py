@@ -441,7 +441,9 @@ class AssignmentProblem:
             if np.issubdtype(a.dtype, np.floating) and a.size and np.all(a == np.round(a)):
                 a = a.astype(np.int64)
             else:
-                raise TypeError(f"{name} must be an integer array of column indices, got dtype {a.dtype}")
+                raise TypeError(
+                    f"{name} must be an integer array of column indices, got dtype {a.dtype}"
+                )
         a = a.astype(np.int64, copy=False)
         P = self.n_rows
         single = a.ndim == 1
@@ -672,7 +674,7 @@ class AssignmentProblem:
 
     def _check_feasible(self) -> None:
         """Raise if no assignment is feasible (rows with neither missed nor dead entry)."""
-        P, M = self.n_rows, self.n_meas
+        M = self.n_meas
         cc = self.compact_cost
         must = ~(np.isfinite(cc[:, M]) | np.isfinite(cc[:, M + 1]))
         if not must.any():
@@ -681,7 +683,9 @@ class AssignmentProblem:
 
         B = np.where(np.isfinite(cc[must, :M]), 0.0, np.inf)
         try:
-            linear_sum_assignment(B)
+            if B.shape[0] > B.shape[1]:  # more rows that need a measurement than measurements
+                raise ValueError
+            linear_sum_assignment(B)  # raises "cost matrix is infeasible" otherwise
         except ValueError:
             rows = np.flatnonzero(must).tolist()
             raise ValueError(

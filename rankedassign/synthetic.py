@@ -116,7 +116,8 @@ def diagonal(R: int = 4, B: int = 0, M: int = 16, *, pbar_d: str = "r_pd") -> As
     k = min(P, M)
     q[np.arange(k), np.arange(k)] = 50.0
     v = np.full(P, 0.99)
-    return AssignmentProblem.from_eta(*eta_from_parameters(v, v, v, q, n_persisting=R, pbar_d=pbar_d))
+    eta = eta_from_parameters(v, v, v, q, n_persisting=R, pbar_d=pbar_d)
+    return AssignmentProblem.from_eta(*eta)
 
 
 def uniform(R: int = 4, B: int = 0, M: int = 16) -> AssignmentProblem:
