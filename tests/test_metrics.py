@@ -1,0 +1,247 @@
+"""Tests of rankedassign.metrics: OSPA, OSPA(2) and tracks_to_array."""
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+from numpy.testing import assert_allclose, assert_array_equal
+
+from rankedassign.metrics import OSPA2Result, OSPAResult, ospa, ospa2, tracks_to_array
+
+coord = st.floats(-50, 50, allow_nan=False, allow_infinity=False)
+
+
+def point_sets(max_n=4, d=2):
+    return st.integers(0, max_n).flatmap(
+        lambda n: arrays(np.float64, (n, d), elements=coord)
+    )
+
+
+cutoffs = st.floats(0.5, 80.0)
+orders = st.sampled_from([1.0, 2.0, 3.5])
+
+
+def brute_ospa(X, Y, c, p):
+    """OSPA by enumerating every injection (the definition, spec 7.3)."""
+    X, Y = np.asarray(X, float), np.asarray(Y, float)
+    if len(X) > len(Y):
+        X, Y = Y, X
+    m, n = len(X), len(Y)
+    if n == 0:
+        return 0.0
+    best = np.inf
+    for perm in itertools.permutations(range(n), m):
+        s = sum(min(c, np.linalg.norm(X[i] - Y[perm[i]])) ** p for i in range(m))
+        best = min(best, s)
+    return ((best + c**p * (n - m)) / n) ** (1 / p)
+
+
+# --------------------------------------------------------------------------- OSPA properties
+@given(point_sets(), cutoffs, orders)
+def test_ospa_zero_on_identical_sets(X, c, p):
+    r = ospa(X, X, c, p)
+    assert_allclose([r.value, r.localisation, r.cardinality], 0.0, atol=1e-9)
+
+
+@given(point_sets(), point_sets(), cutoffs, orders)
+def test_ospa_symmetric_and_bounded(X, Y, c, p):
+    a = ospa(X, Y, c, p)
+    b = ospa(Y, X, c, p)
+    assert_allclose(a.value, b.value, rtol=1e-12, atol=1e-12)
+    assert 0.0 <= a.value <= c * (1 + 1e-12)
+    # value^p = localisation^p + cardinality^p
+    assert_allclose(a.value**p, a.localisation**p + a.cardinality**p, rtol=1e-9, atol=1e-9)
+
+
+@given(point_sets(3), point_sets(3), point_sets(3), cutoffs, orders)
+def test_ospa_triangle_inequality(X, Y, Z, c, p):
+    xy = ospa(X, Y, c, p).value
+    yz = ospa(Y, Z, c, p).value
+    xz = ospa(X, Z, c, p).value
+    assert xz <= xy + yz + 1e-9
+
+
+@given(point_sets(4), point_sets(4), cutoffs, orders)
+def test_ospa_matches_brute_force(X, Y, c, p):
+    assert_allclose(ospa(X, Y, c, p).value, brute_ospa(X, Y, c, p), rtol=1e-9, atol=1e-12)
+
+
+def test_ospa_hand_values():
+    r = ospa([[0.0, 0.0], [10.0, 0.0]], [[0.0, 3.0]], c=100.0, p=1)
+    assert isinstance(r, OSPAResult)
+    assert_allclose(r, (51.5, 1.5, 50.0), rtol=1e-12)
+    assert ospa([], [], 5.0, 1) == (0.0, 0.0, 0.0)
+    assert_allclose(ospa([[1.0, 2.0]], np.empty((0, 2)), 5.0, 2), (5.0, 0.0, 5.0), rtol=1e-12)
+    # cut-off applies per pair
+    assert_allclose(ospa([[0.0, 0.0]], [[1e6, 0.0]], 7.0, 1).value, 7.0, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("args", "exc", "match"),
+    [
+        (([[0.0]], [[0.0]], -1.0, 1), ValueError, "cut-off c must be a positive"),
+        (([[0.0]], [[0.0]], 0.0, 1), ValueError, "cut-off c must be a positive"),
+        (([[0.0]], [[0.0]], 1.0, 0.5), ValueError, "order p must be a finite number >= 1"),
+        (([[0.0]], [[np.nan]], 1.0, 1), ValueError, "Y contains NaN or inf"),
+        (([[0.0, 1.0]], [[0.0]], 1.0, 1), ValueError, "same point dimension"),
+        (([0.0, 1.0], [[0.0]], 1.0, 1), ValueError, "X must be 2-D"),
+        (([[0.0]], [[0.0]], "a", 1), TypeError, "c and p must be real numbers"),
+    ],
+)
+def test_ospa_errors(args, exc, match):
+    with pytest.raises(exc, match=match):
+        ospa(*args)
+
+
+# --------------------------------------------------------------------------- OSPA(2)
+def track_arrays(max_scans=6, max_tracks=3, d=2):
+    """Random NaN-padded track arrays with arbitrary (possibly gappy) domains."""
+
+    @st.composite
+    def build(draw):
+        K = draw(st.integers(1, max_scans))
+        n = draw(st.integers(0, max_tracks))
+        vals = draw(arrays(np.float64, (K, n, d), elements=coord))
+        mask = draw(arrays(np.bool_, (K, n)))
+        vals[~mask] = np.nan
+        return vals
+
+    return build()
+
+
+@st.composite
+def truth_estimate_pairs(draw):
+    a = draw(track_arrays())
+    K = a.shape[0]
+    n = draw(st.integers(0, 3))
+    b = draw(arrays(np.float64, (K, n, 2), elements=coord))
+    mask = draw(arrays(np.bool_, (K, n)))
+    b[~mask] = np.nan
+    return a, b
+
+
+@given(truth_estimate_pairs(), cutoffs, orders)
+def test_ospa2_window_one_equals_ospa(pair, c, p):
+    X, Y = pair
+    res = ospa2(X, Y, c, p, window=1)
+    for k in range(X.shape[0]):
+        x = X[k][~np.isnan(X[k]).any(axis=1)]
+        y = Y[k][~np.isnan(Y[k]).any(axis=1)]
+        o = ospa(x, y, c, p)
+        assert_allclose(
+            [res.value[k], res.localisation[k], res.cardinality[k]], o, rtol=1e-10, atol=1e-10
+        )
+
+
+@given(truth_estimate_pairs(), cutoffs, orders, st.integers(1, 4), st.sampled_from([0, 1, 2]))
+def test_ospa2_symmetric_bounded(pair, c, p, window, r):
+    X, Y = pair
+    a = ospa2(X, Y, c, p, window, weight_power=r)
+    b = ospa2(Y, X, c, p, window, weight_power=r)
+    assert_allclose(a.value, b.value, rtol=1e-10, atol=1e-10)
+    assert np.all(a.value >= 0) and np.all(a.value <= c * (1 + 1e-12))
+
+
+@given(track_arrays(), cutoffs, orders, st.integers(1, 4))
+def test_ospa2_truth_against_itself_is_zero(X, c, p, window):
+    for base in ("euclidean", "lp"):
+        assert_allclose(ospa2(X, X, c, p, window, base=base).value, 0.0, atol=1e-9)
+
+
+@given(track_arrays(), cutoffs, orders, st.integers(1, 4))
+def test_ospa2_against_no_estimates_is_c_where_truth_exists(X, c, p, window):
+    # spec §10.7: c wherever some truth exists in the window, 0 where none does.
+    K = X.shape[0]
+    empty = np.full((K, 0, 2), np.nan)
+    res = ospa2(X, empty, c, p, window)
+    exists = ~np.isnan(X).any(axis=2)
+    in_window = np.array([exists[max(0, k - window + 1) : k + 1].any() for k in range(K)])
+    assert_allclose(res.value, np.where(in_window, c, 0.0), rtol=1e-12)
+    assert_allclose(res.cardinality, np.where(in_window, c, 0.0), rtol=1e-12)
+    assert_allclose(res.localisation, 0.0, atol=0)
+
+
+def test_ospa2_hand_example():
+    truth = np.array([[[0.0, 0.0]], [[1.0, 0.0]], [[2.0, 0.0]]])
+    est = np.array([[[np.nan, np.nan]], [[1.0, 3.0]], [[2.0, 3.0]]])
+    res = ospa2(truth, est, c=10.0, p=1, window=2)
+    assert isinstance(res, OSPA2Result)
+    assert_allclose(res.value, [10.0, 6.5, 3.0], rtol=1e-12)
+    assert_allclose(res.cardinality, [10.0, 0.0, 0.0], rtol=1e-12)
+    # Weights w_t = (t - k + N)^r: at k = 2 (1-based 2) with N = 2, r = 1 the older scan has
+    # weight 1 and the newer 2: (1 * 10 + 2 * 3) / 3.
+    res1 = ospa2(truth, est, c=10.0, p=1, window=2, weight_power=1)
+    assert_allclose(res1.value[1], (10.0 + 2 * 3.0) / 3, rtol=1e-12)
+
+
+def test_ospa2_lp_base_matches_compute_ospa2_convention():
+    # A 3-4-5 offset: Euclidean 5, L1 (p = 1) 7; with p = 2 the lp base uses 9 + 16 = 25 = 5^2.
+    truth = np.array([[[0.0, 0.0]]])
+    est = np.array([[[3.0, 4.0]]])
+    assert_allclose(ospa2(truth, est, 100.0, 1, 1).value, [5.0], rtol=1e-12)
+    assert_allclose(ospa2(truth, est, 100.0, 1, 1, base="lp").value, [7.0], rtol=1e-12)
+    assert_allclose(ospa2(truth, est, 100.0, 2, 1, base="lp").value, [5.0], rtol=1e-12)
+    # lp averages d^p over time: distances 5 and c = 10 (absent), p = 2 -> sqrt((25 + 100) / 2)
+    truth2 = np.array([[[0.0, 0.0]], [[0.0, 0.0]]])
+    est2 = np.array([[[3.0, 4.0]], [[np.nan, np.nan]]])
+    got = ospa2(truth2, est2, 10.0, 2, 2, base="lp").value[1]
+    assert_allclose(got, np.sqrt((25.0 + 100.0) / 2), rtol=1e-12)
+    # Euclidean averages d over time, then raises to p: (5 + 10) / 2
+    assert_allclose(ospa2(truth2, est2, 10.0, 2, 2).value[1], 7.5, rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        ({"estimates": np.zeros((2, 1, 2))}, ValueError, "same number of scans"),
+        ({"estimates": np.zeros((3, 1, 3))}, ValueError, "same state dimension"),
+        ({"estimates": np.array([[[0.0, np.nan]]] * 3)}, ValueError, r"estimates\[0, 0\] is partly NaN"),
+        ({"c": -1.0}, ValueError, "cut-off c must be a positive"),
+        ({"p": 0.0}, ValueError, "order p must be"),
+        ({"window": 0}, ValueError, "window must be >= 1"),
+        ({"window": 1.5}, TypeError, "window must be an integer"),
+        ({"base": "manhattan"}, ValueError, "base must be 'euclidean' or 'lp'"),
+        ({"weight_power": -1}, ValueError, "weight_power must be a finite number >= 0"),
+        ({"truth": np.zeros((3, 2))}, ValueError, "truth must be 3-D"),
+    ],
+)
+def test_ospa2_errors(kwargs, exc, match):
+    args = {
+        "truth": np.zeros((3, 1, 2)),
+        "estimates": np.zeros((3, 1, 2)),
+        "c": 10.0,
+        "p": 1,
+        "window": 2,
+    }
+    args.update(kwargs)
+    with pytest.raises(exc, match=match):
+        ospa2(**args)
+
+
+# --------------------------------------------------------------------------- tracks_to_array
+def test_tracks_to_array_orders_by_first_appearance():
+    est = [
+        {},
+        {"b": [1.0, 2.0, 3.0, 4.0]},
+        {"a": [5.0, 6.0, 7.0, 8.0], "b": [0.0, 0.0, 0.0, 0.0]},
+    ]
+    arr, labels = tracks_to_array(est, dims=(0, 2), return_labels=True)
+    assert labels == ["b", "a"]
+    assert arr.shape == (3, 2, 2)
+    assert np.isnan(arr[0]).all()
+    assert_array_equal(arr[1, 0], [1.0, 3.0])
+    assert np.isnan(arr[1, 1]).all()
+    assert_array_equal(arr[2], [[0.0, 0.0], [5.0, 7.0]])
+    full = tracks_to_array(est)
+    assert full.shape == (3, 2, 4)
+
+
+def test_tracks_to_array_errors():
+    with pytest.raises(ValueError, match="has 2 components, expected 4"):
+        tracks_to_array([{1: [0.0] * 4}, {1: [0.0, 0.0]}])
+    with pytest.raises(ValueError, match="out of range"):
+        tracks_to_array([{1: [0.0] * 4}], dims=(0, 4))
+    assert tracks_to_array([{}, {}]).shape == (2, 0, 0)
