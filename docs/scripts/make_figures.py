@@ -70,8 +70,112 @@ def cost_matrix_diagonal(out: Path) -> None:
     plt.close(fig)
 
 
+def _error_curve(problem, budgets, run):
+    """Truncation error of ``run(problem, n)`` for each observation budget ``n``."""
+    import oracle
+
+    errors, used = [], []
+    for n in budgets:
+        res = run(problem, n)
+        errors.append(oracle.truncation_error(problem, res.assignments))
+        used.append(res.n_observations)
+    return np.asarray(used), np.asarray(errors)
+
+
+def discovery(out: Path) -> None:
+    """Truncation error against observations: one long chain vs short chains (no stopping).
+
+    The short-chain sampler with both stopping rules at the paper's settings is marked where it
+    stopped.
+    """
+    import oracle
+    from rankedassign import sample_original, sample_short_chains
+
+    budgets = np.unique(np.round(np.logspace(2, np.log10(250_000), 12)).astype(int))
+    families = (
+        ("uniform", synthetic.uniform()),
+        (f"random (rng={SEED})", synthetic.random(rng=SEED)),
+    )
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 3.8), sharey=False)
+    for ax, (name, prob) in zip(axes, families, strict=True):
+        x, y = _error_curve(prob, budgets, lambda p, n: sample_original(p, n, rng=SEED))
+        ax.loglog(x, y, "k-o", ms=3, lw=1.6, label="original (one chain)")
+        for L, style in ((5, "C0--"), (25, "C1-"), (100, "C2-.")):
+            x, y = _error_curve(
+                prob,
+                [b for b in budgets if b >= L],
+                lambda p, n, L=L: sample_short_chains(p, n // L, L, rng=SEED),
+            )
+            ax.loglog(x, y, style, marker="s", ms=3, lw=1.2, label=f"short chains, length {L}")
+        full = sample_short_chains(prob, 10_000, 25, tau_stall=5, tau_stale=25, rng=SEED)
+        e_full = oracle.truncation_error(prob, full.assignments)
+        ax.loglog([full.n_observations], [max(e_full, 1e-12)], "r*", ms=11,
+                  label=f"stall+stale stop ({full.stop_reason})")
+        ax.set_title(f"{name}: |Gamma| = {prob.n_feasible():,}", fontsize=10)
+        ax.set_xlabel("observations (sweeps)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("truncation error")
+    axes[1].legend(fontsize=7.5, loc="lower left")
+    fig.suptitle(f"Truncation error of the distinct hypotheses found (seed {SEED})", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
+def tracking(out: Path) -> None:
+    """Tracks and OSPA(2) on the paper's scenario, short chains vs the original sampler."""
+    from rankedassign.metrics import ospa2
+    from rankedassign.tracking import OriginalGibbs, ShortChainGibbs, run_scenario
+
+    short = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=SEED)
+    long_ = run_scenario("paper", OriginalGibbs(10_000), rng=SEED)
+    fig = plt.figure(figsize=(10.5, 4.6))
+    gs = fig.add_gridspec(2, 2, width_ratios=(1.0, 1.25))
+    ax = fig.add_subplot(gs[:, 0])
+    T = short.truth
+    for f in range(T.shape[1]):
+        ax.plot(T[:, f, 0], T[:, f, 1], "-", color="0.55", lw=2.5, alpha=0.8,
+                label="truth" if f == 0 else None)
+    E = short.estimates
+    colors = plt.get_cmap("tab20")
+    for f in range(E.shape[1]):
+        ax.plot(E[:, f, 0], E[:, f, 1], ".", ms=2.5, color=colors(f % 20))
+    ax.plot([], [], ".", color="C0", label="estimates (short chains)")
+    ax.set_xlim(-1000, 1000)
+    ax.set_ylim(-1000, 1000)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.set_title("Paper scenario, one replication", fontsize=10)
+
+    ax1 = fig.add_subplot(gs[0, 1])
+    k = np.arange(1, T.shape[0] + 1)
+    for run, label, style in ((long_, "original, 10 000 sweeps/call", "k-"),
+                              (short, "short chains 400 x 25, stall 5, stale 10", "C1-")):
+        d = ospa2(run.truth, run.estimates, c=200.0, p=1.0, window=5)
+        ax1.plot(k, d.value, style, lw=1.2, label=f"{label} (mean {d.value.mean():.1f} m)")
+    ax1.set_ylabel("OSPA(2) (m)")
+    ax1.set_ylim(0, 200)
+    ax1.legend(fontsize=7)
+    ax1.grid(True, alpha=0.3)
+    ax2 = fig.add_subplot(gs[1, 1], sharex=ax1)
+    for run, label, style in ((long_, "original", "k-"), (short, "short chains", "C1-")):
+        total = int(run.sweeps.sum())
+        ax2.semilogy(k, np.cumsum(run.sweeps), style, lw=1.2, label=f"{label}: {total:,} sweeps")
+    ax2.set_xlabel("scan")
+    ax2.set_ylabel("cumulative sweeps")
+    ax2.legend(fontsize=7)
+    ax2.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
 FIGURES = {
     "cost_matrix_diagonal": cost_matrix_diagonal,
+    "discovery": discovery,
+    "tracking": tracking,
 }
 
 
