@@ -1,0 +1,66 @@
+"""The compact LMB filter of the tracking study, its models, scenario and association methods.
+
+Quick start::
+
+    from rankedassign.tracking import ShortChainGibbs, run_scenario
+    from rankedassign.metrics import ospa2
+
+    run = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=0)
+    curve = ospa2(run.truth, run.estimates, c=200, p=1, window=5).value
+
+See spec §6 (filter), §7 (OSPA(2)) and §8 (truth).
+"""
+
+from .association import (
+    Association,
+    AssociationResult,
+    Exact,
+    Murty,
+    OriginalGibbs,
+    ShortChainGibbs,
+    marginals_from_hypotheses,
+)
+from .lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
+from .models import (
+    BirthComponent,
+    ConstantSurvival,
+    ConstantVelocity,
+    LMBBirth,
+    Model,
+    PoissonClutter,
+    PositionSensor,
+    make_model,
+)
+from .run import ScenarioRun, run_scenario
+from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
+
+__all__ = [
+    "Association",
+    "AssociationResult",
+    "BirthComponent",
+    "ConstantSurvival",
+    "ConstantVelocity",
+    "Exact",
+    "LMBBirth",
+    "LMBFilter",
+    "Model",
+    "Murty",
+    "OriginalGibbs",
+    "PoissonClutter",
+    "PositionSensor",
+    "Scan",
+    "ScanRecord",
+    "Scenario",
+    "ScenarioRun",
+    "ShortChainGibbs",
+    "Truth",
+    "gate_threshold",
+    "generate_measurements",
+    "group_tracks",
+    "make_model",
+    "make_scenario",
+    "map_cardinality",
+    "marginals_from_hypotheses",
+    "paper_truth",
+    "run_scenario",
+]

@@ -1,0 +1,346 @@
+"""Models of the linear-Gaussian tracking study: motion, sensor, clutter, birth, survival.
+
+Spec §6.1 (the paper's model, with Vo's public linear-Gaussian example for what the paper
+leaves open). State ``x = [p_x, v_x, p_y, v_y]``; measurements are positions ``[p_x, p_y]``.
+Every model is a small frozen dataclass; :func:`make_model` builds the two presets.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "ConstantVelocity",
+    "PositionSensor",
+    "PoissonClutter",
+    "BirthComponent",
+    "LMBBirth",
+    "ConstantSurvival",
+    "Model",
+    "PRESETS",
+    "make_model",
+]
+
+
+def _readonly(a) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class ConstantVelocity:
+    """Nearly constant velocity motion in 2-D (spec §6.1, A14).
+
+    Parameters
+    ----------
+    dt : float
+        Sampling period ``Δ`` in seconds (default 1).
+    sigma_w : float
+        Standard deviation of the white acceleration noise per axis in m/s² (default 5).
+
+    Notes
+    -----
+    ``F = I_2 ⊗ [[1, Δ], [0, 1]]``, ``G = I_2 ⊗ [Δ²/2, Δ]ᵀ``, ``Q = σ_w² G Gᵀ``; per axis
+    ``Q = σ_w² [[Δ⁴/4, Δ³/2], [Δ³/2, Δ²]]`` (``[[6.25, 12.5], [12.5, 25]]`` for the defaults).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import ConstantVelocity
+    >>> cv = ConstantVelocity()
+    >>> cv.F[:2, :2].tolist(), cv.Q[:2, :2].tolist()
+    ([[1.0, 1.0], [0.0, 1.0]], [[6.25, 12.5], [12.5, 25.0]])
+    """
+
+    dt: float = 1.0
+    sigma_w: float = 5.0
+
+    def __post_init__(self):
+        if not (np.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"dt must be a positive finite number, got {self.dt}")
+        if not (np.isfinite(self.sigma_w) and self.sigma_w >= 0):
+            raise ValueError(f"sigma_w must be a finite number >= 0, got {self.sigma_w}")
+
+    @property
+    def F(self) -> np.ndarray:
+        """State transition matrix, shape (4, 4)."""
+        return _readonly(np.kron(np.eye(2), [[1.0, self.dt], [0.0, 1.0]]))
+
+    @property
+    def G(self) -> np.ndarray:
+        """Noise gain, shape (4, 2)."""
+        return _readonly(np.kron(np.eye(2), [[self.dt**2 / 2], [self.dt]]))
+
+    @property
+    def Q(self) -> np.ndarray:
+        """Process noise covariance ``σ_w² G Gᵀ``, shape (4, 4)."""
+        G = self.G
+        return _readonly(self.sigma_w**2 * G @ G.T)
+
+
+@dataclass(frozen=True)
+class PositionSensor:
+    """Linear position sensor with constant detection probability (spec §6.1, A15).
+
+    Parameters
+    ----------
+    p_d : float
+        Detection probability ``P_D`` in ``(0, 1]`` (default 0.98).
+    sigma_v : float
+        Standard deviation of the position noise per axis in m (default 10).
+
+    Notes
+    -----
+    ``H = I_2 ⊗ [1, 0]`` (measures ``p_x, p_y``), ``R = σ_v² I_2``.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import PositionSensor
+    >>> s = PositionSensor()
+    >>> s.H.tolist(), s.R.tolist()
+    ([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]], [[100.0, 0.0], [0.0, 100.0]])
+    """
+
+    p_d: float = 0.98
+    sigma_v: float = 10.0
+
+    def __post_init__(self):
+        if not (0 < self.p_d <= 1):
+            raise ValueError(f"p_d must be in (0, 1], got {self.p_d}")
+        if not (np.isfinite(self.sigma_v) and self.sigma_v > 0):
+            raise ValueError(f"sigma_v must be a positive finite number, got {self.sigma_v}")
+
+    @property
+    def H(self) -> np.ndarray:
+        """Measurement matrix, shape (2, 4)."""
+        return _readonly(np.kron(np.eye(2), [[1.0, 0.0]]))
+
+    @property
+    def R(self) -> np.ndarray:
+        """Measurement noise covariance, shape (2, 2)."""
+        return _readonly(self.sigma_v**2 * np.eye(2))
+
+
+@dataclass(frozen=True)
+class PoissonClutter:
+    """Poisson clutter, uniform over a rectangle (spec §6.1, A16).
+
+    Parameters
+    ----------
+    rate : float
+        Mean number ``λ_c`` of clutter points per scan (paper: 50; Vo's example: 30).
+    region : tuple of tuple of float
+        ``((x_min, x_max), (y_min, y_max))`` in m (default ``[−1000, 1000]²``).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import PoissonClutter
+    >>> cl = PoissonClutter(50.0)
+    >>> cl.area, cl.intensity
+    (4000000.0, 1.25e-05)
+    """
+
+    rate: float = 50.0
+    region: tuple = ((-1000.0, 1000.0), (-1000.0, 1000.0))
+
+    def __post_init__(self):
+        if not (np.isfinite(self.rate) and self.rate > 0):
+            raise ValueError(f"clutter rate must be a positive finite number, got {self.rate}")
+        reg = np.asarray(self.region, dtype=np.float64)
+        if reg.shape != (2, 2) or not np.all(reg[:, 1] > reg[:, 0]):
+            raise ValueError(
+                f"region must be ((x_min, x_max), (y_min, y_max)) with max > min, got {self.region}"
+            )
+        object.__setattr__(self, "region", tuple(tuple(float(v) for v in r) for r in reg))
+
+    @property
+    def area(self) -> float:
+        """Area of the region in m²."""
+        (x0, x1), (y0, y1) = self.region
+        return (x1 - x0) * (y1 - y0)
+
+    @property
+    def intensity(self) -> float:
+        """Clutter intensity ``κ = λ_c / area`` in m⁻² (constant over the region)."""
+        return self.rate / self.area
+
+    def sample(self, rng: np.random.Generator) -> np.ndarray:
+        """Draw one scan of clutter: ``Poisson(λ_c)`` points uniform on the region, (n, 2)."""
+        n = rng.poisson(self.rate)
+        (x0, x1), (y0, y1) = self.region
+        u = rng.random((n, 2))
+        return np.column_stack([x0 + (x1 - x0) * u[:, 0], y0 + (y1 - y0) * u[:, 1]])
+
+
+@dataclass(frozen=True, eq=False)
+class BirthComponent:
+    """One Bernoulli component of the LMB birth: existence ``r`` and a Gaussian ``N(mean, cov)``.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import BirthComponent
+    >>> b = BirthComponent(0.03, [0.0, 0.0, 0.0, 0.0], [100.0, 100.0, 100.0, 100.0])
+    >>> b.cov.shape
+    (4, 4)
+    """
+
+    r: float
+    mean: np.ndarray
+    cov: np.ndarray
+
+    def __post_init__(self):
+        if not (0 < self.r < 1):
+            raise ValueError(f"birth existence probability r must be in (0, 1), got {self.r}")
+        m = np.asarray(self.mean, dtype=np.float64).reshape(-1)
+        if m.shape != (4,) or not np.isfinite(m).all():
+            raise ValueError(f"birth mean must be 4 finite numbers, got {self.mean}")
+        P = np.asarray(self.cov, dtype=np.float64)
+        if P.ndim == 1:
+            P = np.diag(P)
+        if P.shape != (4, 4) or not np.allclose(P, P.T) or np.linalg.eigvalsh(P).min() <= 0:
+            raise ValueError("birth covariance must be a symmetric positive definite 4x4 matrix")
+        object.__setattr__(self, "mean", _readonly(m))
+        object.__setattr__(self, "cov", _readonly(P))
+
+
+@dataclass(frozen=True)
+class LMBBirth:
+    """LMB birth model: the same Bernoulli components at every scan (spec §6.1).
+
+    Labels of the tracks born at scan ``k`` are ``(k, b)``, ``b = 1..len(components)``.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import LMBBirth
+    >>> birth = LMBBirth.paper()
+    >>> len(birth.components), birth.components[1].mean.tolist()
+    (4, [400.0, 0.0, -600.0, 0.0])
+    """
+
+    components: tuple
+
+    def __post_init__(self):
+        comps = tuple(self.components)
+        for c in comps:
+            if not isinstance(c, BirthComponent):
+                raise TypeError(f"components must be BirthComponent, got {type(c).__name__}")
+        object.__setattr__(self, "components", comps)
+
+    MEANS = ((0.0, 0.0, 0.0, 0.0), (400.0, 0.0, -600.0, 0.0), (-800.0, 0.0, -200.0, 0.0),
+             (-200.0, 0.0, 800.0, 0.0))
+
+    @classmethod
+    def paper(cls, r: float = 0.03, std=(300.0, 10.0, 300.0, 10.0)) -> LMBBirth:
+        """The four birth locations of spec §6.1 with ``P_B = diag(std)²``."""
+        cov = np.diag(np.asarray(std, dtype=np.float64) ** 2)
+        return cls(tuple(BirthComponent(r, m, cov) for m in cls.MEANS))
+
+    @property
+    def r(self) -> np.ndarray:
+        """Existence probabilities, shape (B,)."""
+        return np.array([c.r for c in self.components])
+
+    @property
+    def means(self) -> np.ndarray:
+        """Means, shape (B, 4)."""
+        return np.array([c.mean for c in self.components]).reshape(-1, 4)
+
+    @property
+    def covs(self) -> np.ndarray:
+        """Covariances, shape (B, 4, 4)."""
+        return np.array([c.cov for c in self.components]).reshape(-1, 4, 4)
+
+
+@dataclass(frozen=True)
+class ConstantSurvival:
+    """Constant survival probability ``P_S`` (spec §6.1: 0.99).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import ConstantSurvival
+    >>> ConstantSurvival().p_s
+    0.99
+    """
+
+    p_s: float = 0.99
+
+    def __post_init__(self):
+        if not (0 < self.p_s <= 1):
+            raise ValueError(f"p_s must be in (0, 1], got {self.p_s}")
+
+
+@dataclass(frozen=True)
+class Model:
+    """Everything the filter and the measurement generator need.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import make_model
+    >>> m = make_model("paper")
+    >>> m.clutter.rate, m.sensor.p_d, m.survival.p_s
+    (50.0, 0.98, 0.99)
+    """
+
+    motion: ConstantVelocity = field(default_factory=ConstantVelocity)
+    sensor: PositionSensor = field(default_factory=PositionSensor)
+    clutter: PoissonClutter = field(default_factory=PoissonClutter)
+    birth: LMBBirth = field(default_factory=LMBBirth.paper)
+    survival: ConstantSurvival = field(default_factory=ConstantSurvival)
+
+
+def _paper() -> Model:
+    return Model(
+        ConstantVelocity(1.0, 5.0),
+        PositionSensor(0.98, 10.0),
+        PoissonClutter(50.0),
+        LMBBirth.paper(0.03, (300.0, 10.0, 300.0, 10.0)),
+        ConstantSurvival(0.99),
+    )
+
+
+def _vo() -> Model:
+    # Vo's public jointlmb example: B_birth = diag([10; 10; 10; 10]), P_birth = B B' = 100 I,
+    # lambda_c = 30; everything else as the paper.
+    return Model(
+        ConstantVelocity(1.0, 5.0),
+        PositionSensor(0.98, 10.0),
+        PoissonClutter(30.0),
+        LMBBirth.paper(0.03, (10.0, 10.0, 10.0, 10.0)),
+        ConstantSurvival(0.99),
+    )
+
+
+PRESETS = {"paper": _paper, "vo": _vo}
+
+
+def make_model(preset: str = "paper") -> Model:
+    """Build the model of a preset.
+
+    Parameters
+    ----------
+    preset : {"paper", "vo"}
+        ``"paper"``: λ_c = 50, ``P_B = diag(300², 10², 300², 10²)``, ``r_B = 0.03``,
+        ``P_D = 0.98``, ``P_S = 0.99``, ``R = 10² I`` (spec §6.1). ``"vo"``: Vo's public
+        example, λ_c = 30 and ``P_B = 100 I``, otherwise the same.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    ValueError
+        On an unknown preset.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import make_model
+    >>> make_model("vo").birth.covs[0].diagonal().tolist()
+    [100.0, 100.0, 100.0, 100.0]
+    """
+    try:
+        return PRESETS[preset]()
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown preset {preset!r}; choose one of {sorted(PRESETS)}") from None

@@ -1,0 +1,220 @@
+"""The 12-target scenario of the tracking study (spec §8) and its measurement generator."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .models import Model, make_model
+
+__all__ = ["TARGETS", "Truth", "Scan", "paper_truth", "generate_measurements", "Scenario",
+           "make_scenario"]
+
+# Spec §8 (Vo's public gen_truth.m): x_start [p_x, v_x, p_y, v_y], t_birth, t_death (1-based,
+# inclusive; t_death = 101 means the target survives to the end of the run).
+TARGETS = (
+    ((0.0, 0.0, 0.0, -10.0), 1, 70),
+    ((400.0, -10.0, -600.0, 5.0), 1, 101),
+    ((-800.0, 20.0, -200.0, -5.0), 1, 70),
+    ((400.0, -7.0, -600.0, -4.0), 20, 101),
+    ((400.0, -2.5, -600.0, 10.0), 20, 101),
+    ((0.0, 7.5, 0.0, -5.0), 20, 101),
+    ((-800.0, 12.0, -200.0, 7.0), 40, 101),
+    ((-200.0, 15.0, 800.0, -10.0), 40, 101),
+    ((-800.0, 3.0, -200.0, 15.0), 60, 101),
+    ((-200.0, -3.0, 800.0, -15.0), 60, 101),
+    ((0.0, -20.0, 0.0, -15.0), 80, 101),
+    ((-200.0, 15.0, 800.0, -5.0), 80, 101),
+)
+
+
+@dataclass(frozen=True, eq=False)
+class Truth:
+    """Ground truth of a run.
+
+    Attributes
+    ----------
+    states : ndarray, shape (n_scans, n_targets, 4)
+        State of target ``t`` at scan ``k`` (0-based ``k``), all-NaN where it does not exist.
+    birth, death : ndarray of int, shape (n_targets,)
+        1-based first and last scan at which each target exists (clipped to ``n_scans``).
+    """
+
+    states: np.ndarray
+    birth: np.ndarray
+    death: np.ndarray
+
+    @property
+    def n_scans(self) -> int:
+        """Number of scans."""
+        return int(self.states.shape[0])
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Positions ``(p_x, p_y)``, shape (n_scans, n_targets, 2), NaN where absent."""
+        return self.states[:, :, [0, 2]]
+
+    @property
+    def exists(self) -> np.ndarray:
+        """Existence mask, shape (n_scans, n_targets)."""
+        return ~np.isnan(self.states[:, :, 0])
+
+    @property
+    def n_targets(self) -> np.ndarray:
+        """Number of targets per scan, shape (n_scans,)."""
+        return self.exists.sum(axis=1)
+
+    def at(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(labels (n,), states (n, 4))`` of the targets at 0-based scan ``k``."""
+        idx = np.flatnonzero(self.exists[k])
+        return idx, self.states[k, idx]
+
+
+def paper_truth(n_scans: int = 100, F=None) -> Truth:
+    """The 12-target truth of spec §8.
+
+    Parameters
+    ----------
+    n_scans : int
+        Number of scans ``K`` (the paper: 100). Targets with ``t_death = 101`` survive to the
+        end whatever ``K`` is.
+    F : array_like, shape (4, 4), optional
+        Transition matrix (default: constant velocity with ``Δ = 1``).
+
+    Returns
+    -------
+    Truth
+
+    Notes
+    -----
+    Recording convention of Vo's ``gen_truth.m``: for ``k = t_birth .. min(t_death, K)``,
+    ``x ← F x`` *then* record ``x``; the state at the birth scan is ``F x_start``. Noiseless.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.scenario import paper_truth
+    >>> t = paper_truth()
+    >>> t.states[0, 0].tolist()
+    [0.0, 0.0, -10.0, -10.0]
+    >>> t.n_targets[[0, 19, 39, 59, 70, 79]].tolist()
+    [3, 6, 8, 10, 8, 10]
+    """
+    if isinstance(n_scans, bool) or not isinstance(n_scans, (int, np.integer)) or n_scans < 1:
+        raise ValueError(f"n_scans must be a positive integer, got {n_scans!r}")
+    K = int(n_scans)
+    if F is None:
+        F = np.kron(np.eye(2), [[1.0, 1.0], [0.0, 1.0]])
+    F = np.asarray(F, dtype=np.float64)
+    n = len(TARGETS)
+    states = np.full((K, n, 4), np.nan)
+    birth = np.empty(n, dtype=np.int64)
+    death = np.empty(n, dtype=np.int64)
+    for t, (x0, tb, td) in enumerate(TARGETS):
+        td = K if td > 100 else min(td, K)  # 101 = survives to the end
+        birth[t], death[t] = tb, td
+        x = np.array(x0)
+        for k in range(tb, td + 1):
+            x = F @ x  # x <- F x, then record (gen_truth.m)
+            states[k - 1, t] = x
+    return Truth(states, birth, death)
+
+
+@dataclass(frozen=True, eq=False)
+class Scan:
+    """The measurements of one scan.
+
+    Attributes
+    ----------
+    z : ndarray, shape (M, 2)
+        Positions; target detections first (in target order), then clutter.
+    origin : ndarray of int, shape (M,)
+        Index of the target that generated each measurement, ``-1`` for clutter.
+    """
+
+    z: np.ndarray
+    origin: np.ndarray
+
+
+def generate_measurements(truth: Truth, model: Model, *, rng=None) -> list[Scan]:
+    """Simulate the measurements of every scan (spec §8).
+
+    Parameters
+    ----------
+    truth : Truth
+    model : Model
+    rng : None, int, SeedSequence or Generator, optional
+        Randomness (anything :func:`numpy.random.default_rng` accepts).
+
+    Returns
+    -------
+    list of Scan
+        One per scan.
+
+    Notes
+    -----
+    Each target present is detected independently with ``P_D``; a detection is
+    ``z = H x + v``, ``v ~ N(0, R)`` (not clipped to the region). Clutter: ``Poisson(λ_c)``
+    points uniform on the region.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.models import make_model
+    >>> from rankedassign.tracking.scenario import generate_measurements, paper_truth
+    >>> scans = generate_measurements(paper_truth(5), make_model("paper"), rng=1)
+    >>> len(scans), scans[0].z.shape[1]
+    (5, 2)
+    """
+    gen = np.random.default_rng(rng)
+    H, R, p_d = model.sensor.H, model.sensor.R, model.sensor.p_d
+    Lr = np.linalg.cholesky(R)
+    out = []
+    for k in range(truth.n_scans):
+        labels, X = truth.at(k)
+        detected = gen.random(labels.size) < p_d
+        Xd = X[detected]
+        zt = Xd @ H.T + gen.standard_normal((Xd.shape[0], 2)) @ Lr.T
+        zc = model.clutter.sample(gen)
+        z = np.vstack([zt, zc]) if zc.size else zt.reshape(-1, 2)
+        origin = np.concatenate([labels[detected], np.full(zc.shape[0], -1)]).astype(np.int64)
+        z = np.ascontiguousarray(z, dtype=np.float64)
+        z.setflags(write=False)
+        out.append(Scan(z, origin))
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A model, its truth and one realisation of the measurements."""
+
+    preset: str
+    model: Model
+    truth: Truth
+    scans: list
+
+
+def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Scenario:
+    """Build a preset's model, the truth of spec §8 and simulated measurements.
+
+    Parameters
+    ----------
+    preset : {"paper", "vo"}
+    rng : optional
+        Randomness of the measurements.
+    n_scans : int
+        Number of scans (default 100).
+
+    Returns
+    -------
+    Scenario
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.scenario import make_scenario
+    >>> sc = make_scenario("vo", rng=0, n_scans=3)
+    >>> sc.model.clutter.rate, len(sc.scans)
+    (30.0, 3)
+    """
+    model = make_model(preset)
+    truth = paper_truth(n_scans, model.motion.F)
+    return Scenario(preset, model, truth, generate_measurements(truth, model, rng=rng))
