@@ -1,0 +1,159 @@
+"""Building blocks shared by the synthetic-matrix studies (Table I, ablation, optimum, sweep).
+
+Random streams of one Monte Carlo run ``r`` (``s = run_seed(seed, r)``), named so that every
+study draws the same matrix and the same sampler trajectories for the same ``(seed, r)``:
+
+* ``child_seed(s, 0)`` — the random-family matrix (``synthetic.random``);
+* ``child_seed(s, 1, family)`` — the original sampler of the synthetic studies;
+* ``child_seed(s, 2, family, variant)`` — the short-chain sampler under one termination
+  variant (:func:`variant_key`), so e.g. Table I's "full" column and the ablation's
+  (S3, T3) pair are the very same runs;
+* ``child_seed(s, 3, family, L)`` — the sweep study's samplers (``L = 0``: original).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from .. import synthetic
+from ._executor import child_seed
+from .config import FAMILIES, STALE_READINGS, STALL_READINGS
+
+KEY_MATRIX, KEY_ORIGINAL, KEY_PROPOSED, KEY_SWEEP = 0, 1, 2, 3
+
+
+def family_index(family: str) -> int:
+    return FAMILIES.index(family)
+
+
+def variant_key(stall: str | None, stale: str | None) -> int:
+    """Integer naming a termination variant; ``None`` = rule off."""
+    s = 0 if stall is None else 1 + STALL_READINGS.index(stall)
+    t = 0 if stale is None else 1 + STALE_READINGS.index(stale)
+    return 8 * s + t
+
+
+@lru_cache(maxsize=8)
+def _deterministic(family: str, pbar_d: str):
+    return synthetic.diagonal(pbar_d=pbar_d) if family == "diagonal" else synthetic.uniform()
+
+
+def make_problem(family: str, run_ss: np.random.SeedSequence, cfg):
+    """The matrix of ``family`` for one Monte Carlo run (the random family is re-drawn)."""
+    if family == "random":
+        return synthetic.random(
+            pbar_d=cfg.pbar_d, granularity=cfg.granularity, rng=child_seed(run_ss, KEY_MATRIX)
+        )
+    if family in ("diagonal", "uniform"):
+        return _deterministic(family, cfg.pbar_d)
+    raise ValueError(f"unknown family {family!r}; choose from {FAMILIES}")
+
+
+def record(problem, res) -> dict:
+    """What a study keeps of one sampler run: counts and the exact truncation error (1.9)."""
+    import oracle
+
+    return {
+        "n_obs": int(res.n_observations),
+        "n_row_updates": int(res.n_row_updates),
+        "n_unique": int(len(res.costs)),
+        "n_chains": int(res.n_chains_run),
+        "stop_reason": str(res.stop_reason),
+        "error": float(oracle.truncation_error(problem, res.assignments)),
+    }
+
+
+def run_original(problem, n_obs: int, rng) -> dict:
+    from .. import sample_original
+
+    return record(problem, sample_original(problem, n_obs, rng=rng))
+
+
+def run_proposed(problem, cfg, rng, *, stall: str | None, stale: str | None) -> dict:
+    """The short-chain sampler with the paper's settings; a ``None`` reading turns its rule off."""
+    from .. import sample_short_chains
+
+    res = sample_short_chains(
+        problem,
+        cfg.n_chains,
+        cfg.chain_length,
+        tau_stall=None if stall is None else cfg.tau_stall,
+        tau_stale=None if stale is None else cfg.tau_stale,
+        stall=stall or STALL_READINGS[0],
+        stale=stale or STALE_READINGS[0],
+        rng=rng,
+    )
+    return record(problem, res)
+
+
+def proposed_seed(run_ss, family: str, stall, stale):
+    return child_seed(run_ss, KEY_PROPOSED, family_index(family), variant_key(stall, stale))
+
+
+def original_seed(run_ss, family: str):
+    return child_seed(run_ss, KEY_ORIGINAL, family_index(family))
+
+
+def _nan_none(x: float):
+    return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
+
+
+def paired_summary(original: list[dict], proposed: list[dict]) -> dict:
+    """Table I statistics of one (family, criterion) cell from paired per-run records.
+
+    ``delta_obs_pct = 100 (mean N_o - mean N_s) / mean N_o`` with a delta-method standard error
+    of the ratio of the paired means; ``delta_error_pp = |mean(eps_s - eps_o)|`` (= spec 1.10,
+    ``|mean eps_o - mean eps_s|``) with the standard error of the mean per-run paired difference;
+    ``mean_abs_delta_error_pp`` is the mean of per-run ``|eps_s - eps_o|`` (spec A7) with its
+    standard error. Errors are in percentage points. Standard errors are ``None`` for one run.
+    """
+    n = len(original)
+    if n != len(proposed) or n == 0:
+        raise ValueError("need the same positive number of original and proposed runs")
+    No = np.array([r["n_obs"] for r in original], dtype=float)
+    Ns = np.array([r["n_obs"] for r in proposed], dtype=float)
+    eo = 100.0 * np.array([r["error"] for r in original])
+    es = 100.0 * np.array([r["error"] for r in proposed])
+    mo, ms = No.mean(), Ns.mean()
+    d = es - eo
+    out = {
+        "n_mc": n,
+        "obs_original_mean": float(mo),
+        "obs_proposed_mean": float(ms),
+        "error_original_mean": float(eo.mean()),
+        "error_proposed_mean": float(es.mean()),
+        "delta_obs_pct": float(100.0 * (mo - ms) / mo),
+        "delta_error_pp": float(abs(d.mean())),
+        "delta_error_signed_pp": float(d.mean()),
+        "mean_abs_delta_error_pp": float(np.abs(d).mean()),
+        "unique_original_mean": float(np.mean([r["n_unique"] for r in original])),
+        "unique_proposed_mean": float(np.mean([r["n_unique"] for r in proposed])),
+        "chains_proposed_mean": float(np.mean([r["n_chains"] for r in proposed])),
+        "stale_stop_fraction": float(np.mean([r["stop_reason"] == "stale" for r in proposed])),
+    }
+    if n > 1:
+        cov = np.cov(np.vstack([No, Ns]), ddof=1)
+        # Delta method for R = mean N_s / mean N_o (paired): Var R ~ grad' Cov grad / n.
+        var_r = (cov[1, 1] / mo**2 + ms**2 * cov[0, 0] / mo**4 - 2 * ms * cov[0, 1] / mo**3) / n
+        se = {
+            "delta_obs_pct_se": float(100.0 * math.sqrt(max(var_r, 0.0))),
+            "delta_error_pp_se": float(d.std(ddof=1) / math.sqrt(n)),
+            "mean_abs_delta_error_pp_se": float(np.abs(d).std(ddof=1) / math.sqrt(n)),
+            "error_original_se": float(eo.std(ddof=1) / math.sqrt(n)),
+            "error_proposed_se": float(es.std(ddof=1) / math.sqrt(n)),
+        }
+    else:
+        se = dict.fromkeys(
+            (
+                "delta_obs_pct_se",
+                "delta_error_pp_se",
+                "mean_abs_delta_error_pp_se",
+                "error_original_se",
+                "error_proposed_se",
+            )
+        )
+    out.update(se)
+    return out

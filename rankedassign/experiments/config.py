@@ -1,0 +1,262 @@
+"""Settings of the reproduction studies: the paper's (``full``) and a quick subset.
+
+``quick`` keeps every per-run setting of the paper (chain lengths, observation budgets,
+thresholds) and only lowers the number of Monte Carlo runs and of sweep points, so each number
+it prints estimates the same quantity as the paper's, with a larger standard error.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+__all__ = [
+    "FAMILIES",
+    "STALL_READINGS",
+    "STALE_READINGS",
+    "CRITERIA",
+    "STUDIES",
+    "Table1Config",
+    "SweepConfig",
+    "TrackingConfig",
+    "AblationConfig",
+    "OptimumConfig",
+    "Config",
+]
+
+#: The paper's synthetic matrix families (spec §1.6), in report order.
+FAMILIES = ("diagonal", "uniform", "random")
+#: Readings of the stall rule (spec §3.2), the recommended one (S3) first.
+STALL_READINGS = ("global-consecutive", "global-cumulative", "chain-local")
+#: Readings of the stale rule (spec §3.2), the recommended one (T3) first.
+STALE_READINGS = ("consecutive", "cumulative", "literal-set", "literal-multiset")
+#: Table I columns: which termination rules are active.
+CRITERIA = ("stall", "stale", "full")
+#: Studies of ``rankedassign reproduce``, in run order.
+STUDIES = ("table1", "sweep", "tracking", "ablation", "optimum")
+
+
+def _positive(name: str, value) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ValueError(f"{name} must be a positive integer, got {value!r}")
+
+
+def _families(name: str, fams, allowed=FAMILIES) -> None:
+    if not fams:
+        raise ValueError(f"{name} must name at least one family")
+    for f in fams:
+        if f not in allowed:
+            raise ValueError(f"{name}: unknown family {f!r}; choose from {allowed}")
+
+
+@dataclass(frozen=True)
+class _Synthetic:
+    """Common settings of the synthetic-matrix studies (paper §V-A, spec §3.4)."""
+
+    n_mc: int = 100
+    families: tuple[str, ...] = FAMILIES
+    #: Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
+    original_obs: int = 250_000
+    n_chains: int = 10_000
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 25
+    #: ``Pbar_D`` of the random family (spec A2) and granularity of ``P_s, P_d`` (A5).
+    pbar_d: str = "r_pd"
+    granularity: str = "row"
+
+    def __post_init__(self):
+        for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
+            _positive(name, getattr(self, name))
+        _families("families", self.families)
+        if self.pbar_d not in ("r_pd", "pd"):
+            raise ValueError(f"pbar_d must be 'r_pd' or 'pd', got {self.pbar_d!r}")
+        if self.granularity not in ("row", "matrix"):
+            raise ValueError(f"granularity must be 'row' or 'matrix', got {self.granularity!r}")
+
+
+@dataclass(frozen=True)
+class Table1Config(_Synthetic):
+    """Table I: original vs short-chain sampler with stall only, stale only and both.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import Table1Config
+    >>> Table1Config(n_mc=2).n_chains
+    10000
+    """
+
+
+@dataclass(frozen=True)
+class AblationConfig(_Synthetic):
+    """Table I under every pair of stall x stale readings (spec §3.2).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import AblationConfig
+    >>> len(AblationConfig().stall_readings) * len(AblationConfig().stale_readings)
+    12
+    """
+
+    stall_readings: tuple[str, ...] = STALL_READINGS
+    stale_readings: tuple[str, ...] = STALE_READINGS
+
+    def __post_init__(self):
+        super().__post_init__()
+        for name, given, allowed in (
+            ("stall_readings", self.stall_readings, STALL_READINGS),
+            ("stale_readings", self.stale_readings, STALE_READINGS),
+        ):
+            if not given or any(r not in allowed for r in given):
+                raise ValueError(f"{name} must be a non-empty subset of {allowed}, got {given!r}")
+
+
+@dataclass(frozen=True)
+class OptimumConfig(_Synthetic):
+    """Sampled truncation error next to the best error with as many distinct solutions.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import OptimumConfig
+    >>> OptimumConfig().tau_stale
+    25
+    """
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    """Truncation error against the number of observations, no early stopping.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import SweepConfig
+    >>> SweepConfig().chain_lengths
+    (5, 10, 25, 50, 100)
+    """
+
+    n_mc: int = 100
+    families: tuple[str, ...] = ("uniform", "random")
+    #: Observation budgets (sweeps); the short-chain sampler runs ``n // L`` chains of ``L``.
+    obs_grid: tuple[int, ...] = (
+        100, 200, 500, 1_000, 2_000, 5_000, 10_000, 20_000, 50_000, 100_000, 250_000,
+    )
+    chain_lengths: tuple[int, ...] = (5, 10, 25, 50, 100)
+    pbar_d: str = "r_pd"
+    granularity: str = "row"
+
+    def __post_init__(self):
+        _positive("n_mc", self.n_mc)
+        _families("families", self.families)
+        if not self.obs_grid or not self.chain_lengths:
+            raise ValueError("obs_grid and chain_lengths must not be empty")
+        for n in self.obs_grid:
+            _positive("obs_grid entry", n)
+        for n in self.chain_lengths:
+            _positive("chain_lengths entry", n)
+        if tuple(sorted(set(self.obs_grid))) != tuple(self.obs_grid):
+            raise ValueError(f"obs_grid must be strictly increasing, got {self.obs_grid}")
+
+
+@dataclass(frozen=True)
+class TrackingConfig:
+    """The paper's tracking study (paper §V-B, spec §6.6).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import TrackingConfig
+    >>> c = TrackingConfig()
+    >>> c.original_obs, (c.n_chains, c.chain_length, c.tau_stall, c.tau_stale)
+    (10000, (400, 25, 5, 10))
+    """
+
+    n_mc: int = 100
+    preset: str = "paper"
+    n_scans: int = 100
+    original_obs: int = 10_000
+    n_chains: int = 400
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 10
+    grouping: bool = False
+    extraction: str = "hysteresis"
+    #: OSPA(2) parameters (spec §7): cut-off (m), order, window length (scans).
+    ospa_c: float = 200.0
+    ospa_p: float = 1.0
+    ospa_window: int = 5
+
+    def __post_init__(self):
+        for name in (
+            "n_mc", "n_scans", "original_obs", "n_chains", "chain_length", "tau_stall",
+            "tau_stale", "ospa_window",
+        ):
+            _positive(name, getattr(self, name))
+
+
+@dataclass(frozen=True)
+class Config:
+    """Settings of every study of ``rankedassign reproduce``.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import Config
+    >>> Config.full().table1.n_mc, Config.quick().table1.n_chains
+    (100, 10000)
+    >>> Config.quick().with_mc(3).sweep.n_mc
+    3
+    """
+
+    mode: str = "full"
+    table1: Table1Config = field(default_factory=Table1Config)
+    sweep: SweepConfig = field(default_factory=SweepConfig)
+    tracking: TrackingConfig = field(default_factory=TrackingConfig)
+    ablation: AblationConfig = field(default_factory=AblationConfig)
+    optimum: OptimumConfig = field(default_factory=OptimumConfig)
+
+    @classmethod
+    def full(cls) -> Config:
+        """The paper's settings: 100 Monte Carlo runs everywhere."""
+        return cls(mode="full")
+
+    @classmethod
+    def quick(cls) -> Config:
+        """The paper's per-run settings with fewer Monte Carlo runs and sweep points.
+
+        Tuned so that every study together finishes within about five minutes on two cores.
+        """
+        return cls(
+            mode="quick",
+            table1=Table1Config(n_mc=QUICK_MC["table1"]),
+            sweep=SweepConfig(
+                n_mc=QUICK_MC["sweep"], obs_grid=(100, 1_000, 10_000, 100_000, 250_000),
+            ),
+            tracking=TrackingConfig(n_mc=QUICK_MC["tracking"]),
+            ablation=AblationConfig(n_mc=QUICK_MC["ablation"]),
+            optimum=OptimumConfig(n_mc=QUICK_MC["optimum"]),
+        )
+
+    def with_mc(self, n_mc: int) -> Config:
+        """The same settings with ``n_mc`` Monte Carlo runs in every study."""
+        _positive("n_mc", n_mc)
+        return dataclasses.replace(
+            self,
+            **{s: dataclasses.replace(getattr(self, s), n_mc=n_mc) for s in STUDIES},
+        )
+
+    def to_dict(self) -> dict:
+        """Plain-data view (for the report's JSON)."""
+        return dataclasses.asdict(self)
+
+
+#: Monte Carlo runs of each study in quick mode (the rest of the settings are the paper's).
+QUICK_MC = {"table1": 10, "sweep": 4, "tracking": 2, "ablation": 3, "optimum": 4}
+
+
+def study_config(config, name: str, cls):
+    """Settings of study ``name`` from ``config`` (a study config, a :class:`Config`, None)."""
+    if config is None:
+        return cls()
+    if isinstance(config, Config):
+        return getattr(config, name)
+    if not isinstance(config, cls):
+        raise TypeError(f"config must be a {cls.__name__} or Config, got {type(config).__name__}")
+    return config

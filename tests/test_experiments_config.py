@@ -1,0 +1,85 @@
+"""Study settings: paper values, quick mode, validation messages."""
+
+import pytest
+
+from rankedassign.experiments import (
+    STUDIES,
+    AblationConfig,
+    Config,
+    ReproduceError,
+    SweepConfig,
+    Table1Config,
+    TrackingConfig,
+    config_from_dict,
+)
+
+
+def test_full_is_the_papers_settings():
+    c = Config.full()
+    assert c.mode == "full"
+    t = c.table1
+    assert (t.n_mc, t.original_obs, t.n_chains, t.chain_length, t.tau_stall, t.tau_stale) == (
+        100, 250_000, 10_000, 25, 5, 25)
+    assert t.families == ("diagonal", "uniform", "random")
+    k = c.tracking
+    assert (k.n_mc, k.original_obs, k.n_chains, k.chain_length, k.tau_stall, k.tau_stale) == (
+        100, 10_000, 400, 25, 5, 10)
+    assert (k.ospa_c, k.ospa_p, k.ospa_window, k.preset, k.n_scans) == (200.0, 1.0, 5, "paper", 100)
+    assert c.sweep.chain_lengths == (5, 10, 25, 50, 100)
+    assert len(c.ablation.stall_readings) * len(c.ablation.stale_readings) == 12
+
+
+def test_quick_keeps_per_run_settings():
+    q, f = Config.quick(), Config.full()
+    assert q.mode == "quick"
+    for s in STUDIES:
+        qs, fs = getattr(q, s), getattr(f, s)
+        assert qs.n_mc < fs.n_mc
+        for name in ("original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
+            if hasattr(fs, name):
+                assert getattr(qs, name) == getattr(fs, name), (s, name)
+    assert set(q.sweep.obs_grid) <= set(f.sweep.obs_grid)
+    assert max(q.sweep.obs_grid) == max(f.sweep.obs_grid) == 250_000
+
+
+def test_with_mc_and_overrides():
+    c = Config.quick().with_mc(7)
+    assert all(getattr(c, s).n_mc == 7 for s in STUDIES)
+    c2 = config_from_dict(c, {"table1": {"families": ["uniform"], "n_chains": 3}})
+    assert c2.table1.families == ("uniform",) and c2.table1.n_chains == 3
+    assert c2.sweep == c.sweep
+
+
+@pytest.mark.parametrize(
+    ("overrides", "match"),
+    [
+        ({"tables": {}}, "unknown study 'tables'"),
+        ({"table1": {"n_chain": 3}}, r"unknown setting\(s\) \['n_chain'\] for study 'table1'"),
+        ({"table1": {"n_mc": 0}}, "config for 'table1': n_mc must be a positive integer, got 0"),
+        ([1], "config overrides must be a mapping"),
+    ],
+)
+def test_config_from_dict_errors(overrides, match):
+    with pytest.raises(ReproduceError, match=match):
+        config_from_dict(Config.quick(), overrides)
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        (lambda: Table1Config(n_mc=0), "n_mc must be a positive integer, got 0"),
+        (lambda: Table1Config(tau_stall=-1), "tau_stall must be a positive integer, got -1"),
+        (lambda: Table1Config(families=("square",)), "unknown family 'square'"),
+        (lambda: Table1Config(families=()), "must name at least one family"),
+        (lambda: Table1Config(pbar_d="x"), "pbar_d must be 'r_pd' or 'pd'"),
+        (lambda: Table1Config(granularity="x"), "granularity must be 'row' or 'matrix'"),
+        (lambda: AblationConfig(stall_readings=("S9",)), "stall_readings must be a non-empty"),
+        (lambda: SweepConfig(obs_grid=(10, 5)), "obs_grid must be strictly increasing"),
+        (lambda: SweepConfig(chain_lengths=(0,)), "chain_lengths entry must be a positive"),
+        (lambda: TrackingConfig(n_scans=0), "n_scans must be a positive integer"),
+        (lambda: Config.quick().with_mc(0), "n_mc must be a positive integer, got 0"),
+    ],
+)
+def test_config_validation(make, match):
+    with pytest.raises(ValueError, match=match):
+        make()
