@@ -9,9 +9,14 @@ Exact ground truth lives in the companion package :mod:`oracle`.
 from . import synthetic
 from ._version import __version__
 from .problem import AssignmentProblem
+from .samplers import SamplerResult, sample_original, sample_short_chains, warmup
 
 __all__ = [
     "AssignmentProblem",
+    "SamplerResult",
+    "sample_original",
+    "sample_short_chains",
+    "warmup",
     "synthetic",
     "__version__",
 ]

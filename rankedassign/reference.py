@@ -1,0 +1,317 @@
+"""Pure-Python Gibbs samplers: the specification of record for the numba kernels.
+
+Same names and signatures as :func:`rankedassign.sample_original` and
+:func:`rankedassign.sample_short_chains` (the ``backend`` switch is absent: this *is* the
+Python backend; ``workers`` is accepted and ignored because the run is sequential). Written
+for reading, not speed: plain loops over lists, a dict for the unique set. The kernels in
+:mod:`rankedassign._kernels` must return exactly the same result for the same inputs (tested
+with hypothesis over random problems and every option).
+
+The arithmetic that both implementations share, and that makes them agree bit for bit:
+
+* the weights ``W`` (:func:`rankedassign.samplers.shifted_weights`), computed once with numpy;
+* the SplitMix64 stream of each chain (:mod:`rankedassign._rng`);
+* one uniform per row update, turned into a candidate by the sequential inverse-CDF loop of
+  :func:`draw_row`; in a random-scan sweep, first ``P - 1`` uniforms for the Fisher-Yates
+  permutation of :func:`sweep`.
+
+States are compact index vectors: ``k < M`` measurement ``k``, ``k = M`` missed,
+``k = M + 1`` dead (the columns of :attr:`AssignmentProblem.compact_cost`); the result holds
+column indices of the full ``P x (M + 2P)`` matrix.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ._rng import SplitMix64, chain_state
+from .samplers import (
+    STALE_READINGS,
+    STALL_READINGS,
+    _check_choice,
+    _check_count,
+    _check_tau,
+    _check_workers,
+    _package,
+    _prepare,
+)
+
+__all__ = ["sample_original", "sample_short_chains", "draw_row", "sweep"]
+
+
+def draw_row(W_i, cc_i, i, owner, g) -> int:
+    """Draw row ``i``'s compact index from its conditional (spec eq. 2.1) with one uniform.
+
+    Parameters
+    ----------
+    W_i : sequence of float, length M + 2
+        Row ``i`` of the shifted weights ``W``.
+    cc_i : sequence of float, length M + 2
+        Row ``i`` of the compact costs (only for the underflow fall-back).
+    i : int
+        The row.
+    owner : list of int, length M
+        Row holding each measurement, ``-1`` if free.
+    g : SplitMix64
+        The chain's stream; advanced by exactly one draw.
+
+    Returns
+    -------
+    int
+        The compact index drawn.
+
+    Notes
+    -----
+    ``p(k) ∝ eta_i(k) * 1[k available]`` where the candidates, in this order, are the
+    measurements ``0..M-1`` not held by another row, missed (``M``) and dead (``M + 1``)::
+
+        total  = sum of W_i[k] over available k, left to right
+        target = u * total,  u ~ U[0, 1)
+        pick the first k with  W_i[0] + ... + W_i[k] > target   (available, positive k only)
+
+    (inverse CDF, like Vo's ``histc(rand, [0; cumsum / sum])``). If rounding leaves no such
+    ``k`` the last available positive-weight candidate is taken. If every available ``W``
+    underflowed to 0, the same loop runs on the exact weights ``exp(-(cc_i[k] - m))``, ``m``
+    the cheapest available cost; this path calls ``exp`` and matches the kernel as far as
+    both use the same libm (they do on one machine).
+
+    Examples
+    --------
+    >>> from rankedassign._rng import SplitMix64
+    >>> draw_row([1.0, 0.0, 0.0], [0.0, float("inf"), float("inf")], 0, [-1], SplitMix64(0))
+    0
+    """
+    M = len(owner)
+    avail = [k for k in range(M) if owner[k] in (-1, i)] + [M, M + 1]
+    total = 0.0
+    for k in avail:
+        total += W_i[k]
+    u = g.uniform()
+    if total > 0.0:
+        weights = [W_i[k] for k in avail]
+    else:  # underflow fall-back: exact weights relative to the cheapest available entry
+        m = min(cc_i[k] for k in avail)
+        weights = [math.exp(-(cc_i[k] - m)) for k in avail]
+        total = 0.0
+        for w in weights:
+            total += w
+    target = u * total
+    acc = 0.0
+    last = None
+    for k, w in zip(avail, weights, strict=True):
+        if w > 0.0:
+            acc += w
+            last = k
+            if acc > target:
+                return k
+    return last
+
+
+def sweep(W, cc, x, owner, g, random_scan) -> None:
+    """One Gibbs sweep over all rows, updating ``x`` and ``owner`` in place (spec §2.2).
+
+    Parameters
+    ----------
+    W, cc : list of list of float, shape (P, M + 2)
+        Shifted weights and compact costs.
+    x : list of int, length P
+        Compact state.
+    owner : list of int, length M
+        Row holding each measurement, ``-1`` if free.
+    g : SplitMix64
+        The chain's stream.
+    random_scan : bool
+        If True, rows are visited in a random order drawn first by Fisher-Yates from the
+        identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``, swap ``t`` and ``j``);
+        otherwise in order ``0..P-1``.
+
+    Notes
+    -----
+    Gauss-Seidel: row ``n`` conditions on the rows already updated in this sweep and on the
+    others from the previous sweep (Vo 2017, Alg. 1).
+
+    Examples
+    --------
+    >>> from rankedassign._rng import SplitMix64
+    >>> x, owner = [1], [-1]
+    >>> sweep([[0.0, 1.0, 0.0]], [[9.0, 0.0, float("inf")]], x, owner, SplitMix64(0), False)
+    >>> x, owner
+    ([1], [-1])
+    """
+    P = len(x)
+    M = len(owner)
+    order = list(range(P))
+    if random_scan:
+        for t in range(P - 1, 0, -1):
+            j = min(int(g.uniform() * (t + 1)), t)
+            order[t], order[j] = order[j], order[t]
+    for i in order:
+        k_new = draw_row(W[i], cc[i], i, owner, g)
+        if x[i] < M:
+            owner[x[i]] = -1
+        if k_new < M:
+            owner[k_new] = i
+        x[i] = k_new
+
+
+def _owner_of(x, M):
+    owner = [-1] * M
+    for i, k in enumerate(x):
+        if k < M:
+            owner[k] = i
+    return owner
+
+
+def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None):
+    """Reference original Gibbs sampler (spec §2.2); see :func:`rankedassign.sample_original`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_obs : int
+        Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
+    start, scan, rng
+        As in :func:`rankedassign.sample_original`.
+
+    Returns
+    -------
+    SamplerResult
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_original(synthetic.diagonal(), 200, rng=0)
+    >>> int(res.counts.sum()), res.assignments[0].tolist()
+    (200, [16, 17, 18, 19])
+    """
+    n_obs = _check_count("n_obs", n_obs)
+    prep = _prepare(problem, start, scan, rng)
+    W, cc, M = prep.W.tolist(), prep.cc.tolist(), prep.problem.n_meas
+    x = prep.x0.tolist()                       # x <- x0 (stored, not an observation)
+    owner = _owner_of(x, M)
+    g = SplitMix64(chain_state(prep.base, 0))  # the original chain is stream 0
+    index = {tuple(x): 0}                      # unique states in order of discovery
+    states, counts = [tuple(x)], [0]
+    for _ in range(n_obs):                     # t = 2..T: one sweep = one observation
+        sweep(W, cc, x, owner, g, prep.random_scan)
+        key = tuple(x)
+        if key not in index:
+            index[key] = len(states)
+            states.append(key)
+            counts.append(0)
+        counts[index[key]] += 1
+    return _package(prep, states, counts, n_obs, 1, False, 0)
+
+
+def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
+                        stall="global-consecutive", stale="consecutive", start="all_missed",
+                        scan="systematic", rng=None, workers=1):
+    """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_chains, chain_length : int
+        ``N_S`` and ``N_C``.
+    tau_stall, tau_stale : int or None
+        Thresholds; ``None`` disables a rule.
+    stall, stale : str
+        Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
+    start, scan, rng
+        As in :func:`rankedassign.sample_short_chains`.
+    workers : int
+        Accepted and ignored (sequential).
+
+    Returns
+    -------
+    SamplerResult
+        ``n_speculative_discarded`` is 0.
+
+    References
+    ----------
+    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_short_chains(synthetic.diagonal(), 200, 25, tau_stall=5, tau_stale=25,
+    ...                           rng=3)
+    >>> res.stop_reason, res.n_chains_run < 200
+    ('stale', True)
+    """
+    n_chains = _check_count("n_chains", n_chains)
+    chain_length = _check_count("chain_length", chain_length)
+    tau_stall = _check_tau("tau_stall", tau_stall) or None
+    tau_stale = _check_tau("tau_stale", tau_stale) or None
+    _check_choice("stall reading", stall, STALL_READINGS)
+    _check_choice("stale reading", stale, STALE_READINGS)
+    _check_workers(workers)
+    prep = _prepare(problem, start, scan, rng)
+    W, cc, M = prep.W.tolist(), prep.cc.tolist(), prep.problem.n_meas
+    x0 = tuple(prep.x0.tolist())
+
+    index = {x0: 0}                 # U <- {x0}; x0 is returned but is not an observation
+    states, counts = [x0], [0]
+    n_obs = 0
+    stale_run = 0                   # T3: consecutive completed chains with nothing new
+    stale_cum = 0                   # T2: completed chains, ever, with nothing new
+    chains_run = 0
+    stale_fired = False
+    for c in range(n_chains):
+        x = list(x0)
+        owner = _owner_of(x, M)
+        g = SplitMix64(chain_state(prep.base, c))
+        stall_run = 0               # S3: observations since the chain's last new find
+        stall_cum = 0               # S2: observations already in U
+        new_in_chain = 0
+        chain_states = {x0}         # S1: distinct states among x[0..j]
+        for j in range(1, chain_length + 1):
+            sweep(W, cc, x, owner, g, prep.random_scan)
+            n_obs += 1
+            key = tuple(x)
+            if key not in index:    # new to U
+                index[key] = len(states)
+                states.append(key)
+                counts.append(1)
+                new_in_chain += 1
+                stall_run = 0
+            else:
+                counts[index[key]] += 1
+                stall_run += 1
+                stall_cum += 1
+            chain_states.add(key)
+            if tau_stall is not None:
+                if stall == "global-consecutive":
+                    stop = stall_run >= tau_stall
+                elif stall == "global-cumulative":
+                    stop = stall_cum >= tau_stall
+                else:  # chain-local: (j + 1) - NumUnique(x[0..j])
+                    stop = (j + 1) - len(chain_states) >= tau_stall
+                if stop:
+                    break
+        chains_run += 1
+        if new_in_chain > 0:
+            stale_run = 0
+        else:
+            stale_run += 1
+            stale_cum += 1
+        if tau_stale is not None:
+            if stale == "consecutive":
+                fired = stale_run >= tau_stale
+            elif stale == "cumulative":
+                fired = stale_cum >= tau_stale
+            elif stale == "literal-set":
+                samples = set(states)            # x as a set: |x| - n_u = 0
+                fired = len(samples) - len(states) >= tau_stale
+            else:  # literal-multiset: every chain's x0 once plus every observation
+                fired = (chains_run + n_obs) - len(states) >= tau_stale
+            if fired:
+                stale_fired = True
+                break
+    return _package(prep, states, counts, n_obs, chains_run, stale_fired, 0)
