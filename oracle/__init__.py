@@ -3,6 +3,30 @@
 Enumeration of every feasible assignment, Murty's k-best ranked assignment, the exact
 normalising constant and association marginals by subset dynamic programming, and the exact
 truncation error of a set of sampled assignments.
+
+Examples
+--------
+>>> from rankedassign import synthetic
+>>> import oracle
+>>> p = synthetic.diagonal()
+>>> oracle.murty(p, 1).assignments.tolist()
+[[0, 1, 2, 3]]
+>>> round(oracle.best_mass(p, 1), 5)
+0.99577
 """
 
-__all__: list[str] = []
+from ._result import Ranked
+from .dp import log_normalizer, marginals
+from .enumerate import enumerate_assignments
+from .murty import murty
+from .truncation import best_mass, truncation_error
+
+__all__ = [
+    "Ranked",
+    "best_mass",
+    "enumerate_assignments",
+    "log_normalizer",
+    "marginals",
+    "murty",
+    "truncation_error",
+]

@@ -1,0 +1,67 @@
+"""The result type of the ranking functions and the input checks shared by the oracle."""
+
+from __future__ import annotations
+
+import operator
+from typing import NamedTuple
+
+import numpy as np
+
+from rankedassign.problem import AssignmentProblem
+
+__all__ = ["Ranked"]
+
+
+class Ranked(NamedTuple):
+    """Assignments ranked by cost (best first).
+
+    Attributes
+    ----------
+    assignments : ndarray, int64, shape (n, P)
+        Column indices into the ``(P, M + 2P)`` cost matrix, one row per assignment; every
+        assignment is feasible and appears once.
+    costs : ndarray, float64, shape (n,)
+        ``problem.cost_of(assignments)`` (bit for bit), non-decreasing.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from oracle import Ranked
+    >>> r = Ranked(np.zeros((0, 2), dtype=np.int64), np.zeros(0))
+    >>> len(r.costs)
+    0
+    """
+
+    assignments: np.ndarray
+    costs: np.ndarray
+
+
+def check_problem(problem) -> AssignmentProblem:
+    """Raise ``TypeError`` unless ``problem`` is an :class:`AssignmentProblem`."""
+    if not isinstance(problem, AssignmentProblem):
+        raise TypeError(
+            "problem must be a rankedassign.AssignmentProblem (build one with "
+            f"AssignmentProblem.from_cost or from_eta), got {type(problem).__name__}"
+        )
+    return problem
+
+
+def check_count(value, name: str, *, minimum: int) -> int:
+    """Validate a non-boolean integer ``>= minimum`` and return it as a Python int."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name} must be an int, got bool")
+    try:
+        v = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be an int, got {type(value).__name__}") from None
+    if v < minimum:
+        kind = "non-negative" if minimum == 0 else "positive"
+        raise ValueError(f"{name} must be a {kind} int, got {v}")
+    return int(v)
+
+
+def ranked(problem: AssignmentProblem, assignments: np.ndarray) -> Ranked:
+    """Package assignments with their public costs (``problem.cost_of``)."""
+    a = np.ascontiguousarray(assignments, dtype=np.int64).reshape(-1, problem.n_rows)
+    costs = problem.cost_of(a) if len(a) else np.zeros(0)
+    return Ranked(a, np.asarray(costs, dtype=np.float64))
