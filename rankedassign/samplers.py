@@ -277,7 +277,7 @@ def _prepare(problem, start, scan, rng) -> _Prepared:
 
 def _package(prep: _Prepared, compact, counts, n_obs, n_chains_run, stale, discarded):
     problem = prep.problem
-    compact = np.asarray(compact, dtype=np.int64).reshape(-1, problem.n_rows)
+    compact = np.asarray(compact, dtype=np.int64).reshape(len(counts), problem.n_rows)
     assignments = _to_columns(problem, compact)
     costs = np.asarray(problem.cost_of(assignments), dtype=np.float64).reshape(-1)
     return SamplerResult(
@@ -297,14 +297,18 @@ def _zobrist(problem: AssignmentProblem) -> np.ndarray:
 
 
 def _batch_size(workers: int, n_chains: int, chain_length: int, P: int) -> int:
-    """Chains per speculation batch, or 0 for the sequential kernel."""
-    if workers <= 1:
+    """Chains per speculation batch (``max(64, 16 workers)``), or 0 for the sequential kernel.
+
+    The speculation slab holds ``batch * chain_length * P`` states; if the memory bound
+    leaves room for fewer chains than workers (very long chains), speculation cannot keep the
+    workers busy and the sequential kernel runs instead (same result).
+    """
+    if workers <= 1 or n_chains == 0:
         return 0
-    batch = min(max(64, 16 * workers), n_chains)
-    per_chain = max(1, chain_length * max(P, 1))
-    batch = min(batch, _MAX_SLAB // per_chain)
-    # Too long chains for a slab of at least one chain per worker: speculation cannot pay off.
-    return batch if batch >= workers else 0
+    room = _MAX_SLAB // max(1, chain_length * max(P, 1))
+    if room < workers:
+        return 0
+    return min(max(64, 16 * workers), n_chains, room)
 
 
 # ------------------------------------------------------------------------------ public API

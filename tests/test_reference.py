@@ -1,0 +1,245 @@
+"""Reference (pure Python) ≡ numba kernels ≡ parallel kernels, bit for bit.
+
+The pure-Python samplers of :mod:`rankedassign.reference` are the specification; every field
+of the numba result (except the count of discarded speculative sweeps) must be identical to
+theirs for the same problem, options and ``rng``, on any number of threads.
+"""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from numpy.testing import assert_array_equal
+
+from rankedassign import (
+    AssignmentProblem,
+    _kernels,
+    _rng,
+    reference,
+    sample_original,
+    sample_short_chains,
+    samplers,
+)
+
+INF = np.inf
+
+
+# ------------------------------------------------------------------------------ RNG
+@pytest.mark.parametrize("seed", [0, 1, 2**63 - 1, 0xDEADBEEF12345678])
+def test_rng_streams_agree_bit_for_bit(seed):
+    n = 20_000
+    for chain in (0, 1, 7, 10_000):
+        state = _rng.chain_state(seed, chain)
+        assert int(_kernels.chain_state(np.uint64(seed), chain)) == state
+        g = _rng.SplitMix64(state)
+        py = np.array([g.uniform() for _ in range(n)])
+        nb = _kernels.uniform_stream(np.uint64(state), n)
+        assert_array_equal(py.view(np.uint64), nb.view(np.uint64))
+
+
+def test_rng_known_values_and_range():
+    # SplitMix64 from state 0: first outputs of the published generator.
+    g = _rng.SplitMix64(0)
+    assert [hex(g.next_u64()) for _ in range(3)] == [
+        "0xe220a8397b1dcdaf",
+        "0x6e789e6aa1b965f4",
+        "0x6c45d188009454f",
+    ]
+    u = _kernels.uniform_stream(np.uint64(12345), 100_000)
+    assert u.min() >= 0.0 and u.max() < 1.0
+    # every uniform is a multiple of 2**-53
+    assert_array_equal(u * 2.0**53, np.floor(u * 2.0**53))
+
+
+def test_base_key_from_generator_advances_it():
+    gen = np.random.default_rng(5)
+    a = _rng.base_key(gen)
+    b = _rng.base_key(gen)
+    assert a != b
+    assert a == _rng.base_key(np.random.default_rng(5))
+
+
+def test_zobrist_keys_match_python_stream():
+    keys = _kernels.zobrist_keys(3, 4, np.uint64(_rng.ZOBRIST_SEED))
+    g = _rng.SplitMix64(_rng.ZOBRIST_SEED)
+    expected = np.array([g.next_u64() for _ in range(12)], dtype=np.uint64).reshape(3, 4)
+    assert_array_equal(keys, expected)
+    assert len(np.unique(keys)) == 12
+
+
+# ------------------------------------------------------------------------------ problems
+@st.composite
+def problems(draw, max_rows=3, max_meas=3):
+    """Small problems with negative costs, +inf (gated-out) pairs and optional +inf
+    missed/dead entries; always feasible (the constructor checks it)."""
+    P = draw(st.integers(0, max_rows))
+    M = draw(st.integers(0, max_meas))
+    cost = st.one_of(
+        st.floats(-6.0, 6.0, allow_nan=False),
+        st.just(INF),
+        st.sampled_from([0.0, -1.0, 2.5]),  # ties
+    )
+    D = np.array(draw(st.lists(cost, min_size=P * M, max_size=P * M)), float).reshape(P, M)
+    miss = np.array(draw(st.lists(st.one_of(st.floats(-3, 3), st.just(INF)), min_size=P,
+                                  max_size=P)), float)
+    dead = np.array(draw(st.lists(st.floats(-3, 3), min_size=P, max_size=P)), float)
+    # some rows may only die or only be missed: put +inf on dead where missed is finite
+    kill = np.array(draw(st.lists(st.booleans(), min_size=P, max_size=P)), bool)
+    dead = np.where(kill & np.isfinite(miss), INF, dead)
+    C = AssignmentProblem._assemble(D, miss, dead)
+    return AssignmentProblem.from_cost(C)
+
+
+def feasible_starts(problem):
+    cc = problem.compact_cost
+    M = problem.n_meas
+    out = ["lsap"]
+    if np.isfinite(cc[:, M]).all():
+        out.append("all_missed")
+    if np.isfinite(cc[:, M + 1]).all():
+        out.append("all_dead")
+    return out
+
+
+def assert_same(a, b):
+    assert_array_equal(a.assignments, b.assignments)
+    assert_array_equal(a.costs.view(np.uint64), b.costs.view(np.uint64))  # bit equality
+    assert_array_equal(a.counts, b.counts)
+    assert a.n_observations == b.n_observations
+    assert a.n_row_updates == b.n_row_updates
+    assert a.n_chains_run == b.n_chains_run
+    assert a.stop_reason == b.stop_reason
+
+
+def assert_valid(problem, res):
+    """Invariants every result satisfies."""
+    assert res.assignments.dtype == np.int64 and res.counts.dtype == np.int64
+    assert res.assignments.shape == (len(res), problem.n_rows)
+    assert problem.is_feasible(res.assignments).all()
+    assert_array_equal(res.costs, problem.cost_of(res.assignments))
+    assert len({tuple(r) for r in res.assignments.tolist()}) == len(res)
+    assert int(res.counts.sum()) == res.n_observations
+    assert (res.counts[1:] >= 1).all()  # every state but the start was observed
+    assert res.n_row_updates == res.n_observations * problem.n_rows
+    for arr in (res.assignments, res.costs, res.counts):
+        assert not arr.flags.writeable
+
+
+# ------------------------------------------------------------------------------ equivalence
+@given(data=st.data())
+def test_original_reference_equals_numba(data):
+    problem = data.draw(problems())
+    start = data.draw(st.sampled_from(feasible_starts(problem)))
+    scan = data.draw(st.sampled_from(["systematic", "random"]))
+    n_obs = data.draw(st.integers(0, 120))
+    seed = data.draw(st.integers(0, 2**32))
+    kw = dict(start=start, scan=scan, rng=seed)
+    ref = reference.sample_original(problem, n_obs, **kw)
+    nb = sample_original(problem, n_obs, **kw)
+    assert_same(ref, nb)
+    assert_valid(problem, nb)
+    assert nb.n_chains_run == 1 and nb.stop_reason == "budget"
+    assert_same(ref, sample_original(problem, n_obs, backend="python", **kw))
+    # the original sampler is the short-chain sampler with one chain and no termination
+    assert_same(nb, sample_short_chains(problem, 1, n_obs, **kw))
+
+
+@given(data=st.data())
+def test_short_chains_reference_equals_numba_and_parallel(data):
+    problem = data.draw(problems())
+    kw = dict(
+        tau_stall=data.draw(st.one_of(st.none(), st.integers(1, 4))),
+        tau_stale=data.draw(st.one_of(st.none(), st.integers(1, 6))),
+        stall=data.draw(st.sampled_from(sorted(samplers.STALL_READINGS))),
+        stale=data.draw(st.sampled_from(sorted(samplers.STALE_READINGS))),
+        start=data.draw(st.sampled_from(feasible_starts(problem))),
+        scan=data.draw(st.sampled_from(["systematic", "random"])),
+        rng=data.draw(st.integers(0, 2**32)),
+    )
+    n_chains = data.draw(st.integers(0, 40))
+    chain_length = data.draw(st.integers(0, 8))
+    ref = reference.sample_short_chains(problem, n_chains, chain_length, **kw)
+    assert ref.n_speculative_discarded == 0
+    assert_valid(problem, ref)
+    for workers in (1, 2, 4):
+        nb = sample_short_chains(problem, n_chains, chain_length, workers=workers, **kw)
+        assert_same(ref, nb)
+        if workers == 1:
+            assert nb.n_speculative_discarded == 0
+    assert_same(ref, sample_short_chains(problem, n_chains, chain_length, backend="python",
+                                         **kw))
+
+
+@given(data=st.data())
+def test_speculative_batches_of_any_size_replay_exactly(data):
+    """The kernel's speculate-and-replay path equals the sequential path for every batch
+    size (batches smaller than the run exercise the stale stop inside a later batch)."""
+    problem = data.draw(problems(max_rows=2, max_meas=2))
+    stall = data.draw(st.sampled_from(sorted(samplers.STALL_READINGS)))
+    stale = data.draw(st.sampled_from(sorted(samplers.STALE_READINGS)))
+    tau_stall = data.draw(st.integers(0, 3))
+    tau_stale = data.draw(st.integers(0, 4))
+    n_chains = data.draw(st.integers(1, 30))
+    chain_length = data.draw(st.integers(0, 6))
+    random_scan = data.draw(st.booleans())
+    seed = data.draw(st.integers(0, 2**32))
+    prep = samplers._prepare(problem, "lsap", "random" if random_scan else "systematic", seed)
+    zk = samplers._zobrist(problem)
+    args = (
+        prep.W, prep.cc, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length,
+        samplers.STALL_READINGS[stall] if tau_stall else 0, tau_stall,
+        samplers.STALE_READINGS[stale] if tau_stale else 0, tau_stale, prep.random_scan,
+    )
+    u0, c0, k0 = _kernels.run_chains(*args, 0)
+    for batch in (1, 2, 3, 7, 64):
+        u, c, k = _kernels.run_chains(*args, batch)
+        assert_array_equal(u, u0)
+        assert_array_equal(c, c0)
+        assert_array_equal(k[:6], k0[:6])
+        # every simulated sweep was either used or discarded
+        n_batches = -(-k[2] // batch) if k[2] else 0
+        assert k[1] + k[6] <= n_batches * batch * chain_length
+        assert k[6] >= 0
+
+
+def test_parallel_discards_are_reported():
+    from rankedassign import synthetic
+
+    p = synthetic.diagonal()
+    seq = sample_short_chains(p, 2000, 25, tau_stall=5, tau_stale=25, rng=11)
+    par = sample_short_chains(p, 2000, 25, tau_stall=5, tau_stale=25, rng=11, workers=2)
+    assert_same(seq, par)
+    assert seq.n_speculative_discarded == 0
+    # stall cuts chains short (the rest of each speculated chain is discarded) and the stale
+    # stop discards the rest of its batch
+    assert par.n_speculative_discarded > 0
+    assert par.n_speculative_discarded % 1 == 0
+
+
+# ------------------------------------------------------------------------------ underflow
+def _underflow_problem():
+    # Row 1 sits on measurement 0 (cost -2000); row 0's cheapest entry is that same
+    # measurement (-800), every other entry of row 0 is > 745 above it, so all of row 0's
+    # available shifted weights underflow to 0 and the exact fall-back draws row 0.
+    C = np.array([
+        [-800.0, 0.0, 0.0, INF, 1.0, INF],
+        [-2000.0, 0.0, INF, 0.0, INF, 0.0],
+    ])
+    return AssignmentProblem.from_cost(C)
+
+
+def test_underflow_fallback_reference_equals_numba():
+    p = _underflow_problem()
+    W = samplers.shifted_weights(p)
+    assert W[0, 1] == 0.0 and W[0, 2] == 0.0 and W[0, 3] == 0.0  # underflowed
+    start = np.array([2, 0])  # row 0 missed, row 1 on measurement 0
+    for scan in ("systematic", "random"):
+        ref = reference.sample_original(p, 500, start=start, scan=scan, rng=4)
+        nb = sample_original(p, 500, start=start, scan=scan, rng=4)
+        assert_same(ref, nb)
+        assert_valid(p, nb)
+        # row 1 never leaves measurement 0; row 0 visits its three available entries
+        assert_array_equal(nb.assignments[:, 1], np.zeros(len(nb), dtype=np.int64))
+        assert set(nb.assignments[:, 0].tolist()) == {1, 2, 4}
+        par = sample_short_chains(p, 100, 5, start=start, scan=scan, rng=4, workers=2)
+        assert_same(reference.sample_short_chains(p, 100, 5, start=start, scan=scan, rng=4), par)
