@@ -62,6 +62,6 @@ def check_count(value, name: str, *, minimum: int) -> int:
 
 def ranked(problem: AssignmentProblem, assignments: np.ndarray) -> Ranked:
     """Package assignments with their public costs (``problem.cost_of``)."""
-    a = np.ascontiguousarray(assignments, dtype=np.int64).reshape(-1, problem.n_rows)
+    a = np.ascontiguousarray(assignments, dtype=np.int64)
     costs = problem.cost_of(a) if len(a) else np.zeros(0)
     return Ranked(a, np.asarray(costs, dtype=np.float64))

@@ -10,13 +10,14 @@ from ._result import Ranked, check_count, check_problem, ranked
 __all__ = ["enumerate_assignments"]
 
 
-def _count(problem, limit: int) -> int:
-    """Exact ``|Gamma|``, or any number above ``limit`` when it is larger than that."""
+def _count(problem, limit: int) -> tuple[int, bool]:
+    """``(|Gamma|, True)``, or ``(limit + 1, False)`` once the count is known to pass ``limit``."""
     try:
-        return problem.n_feasible()
+        return problem.n_feasible(), True
     except ValueError:
         # the exact counting DP refuses the size: count by search, stopping past the limit
-        return int(count_kernel(np.ascontiguousarray(problem.compact_cost), limit))
+        n = int(count_kernel(np.ascontiguousarray(problem.compact_cost), limit))
+        return n, n <= limit
 
 
 def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
@@ -74,11 +75,12 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     """
     check_problem(problem)
     limit = check_count(limit, "limit", minimum=1)
-    n = _count(problem, limit)
+    n, exact = _count(problem, limit)
     if n > limit:
+        count = f"{n}" if exact else f"more than {limit}"
         raise ValueError(
-            f"problem too large to enumerate: {n} feasible assignments (P = {problem.n_rows}, "
-            f"M = {problem.n_meas}) exceed limit = {limit}"
+            f"problem too large to enumerate: {count} feasible assignments (P = "
+            f"{problem.n_rows}, M = {problem.n_meas}) exceed limit = {limit}"
         )
     P = problem.n_rows
     if P == 0:

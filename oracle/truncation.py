@@ -87,8 +87,8 @@ def truncation_error(problem, assignments) -> float:
     if a.shape[0] == 0:
         return 1.0
     log_kept = logsumexp(-problem.cost_of(a))
-    err = -np.expm1(log_kept - log_normalizer(problem))
-    return float(max(err, 0.0))
+    err = float(-np.expm1(log_kept - log_normalizer(problem)))
+    return err if err > 0.0 else 0.0  # clip round-off (and -0.0) to 0.0
 
 
 def best_mass(problem, k: int) -> float:

@@ -1,0 +1,139 @@
+"""Exhaustive enumeration: count, order, costs, against a naive itertools enumeration."""
+
+import itertools
+
+import numpy as np
+import pytest
+from cases import CASE_IDS, CASES, problems
+from hypothesis import given
+from numpy.testing import assert_array_equal
+
+from oracle import Ranked, enumerate_assignments
+from rankedassign import AssignmentProblem, synthetic
+
+
+def naive_enumeration(problem):
+    """All feasible assignments by brute force over every column tuple (obviously correct)."""
+    P, N = problem.n_rows, problem.n_cols
+    if P == 0:
+        return np.zeros((1, 0), dtype=np.int64)  # the one, empty, assignment
+    every = np.array(list(itertools.product(range(N), repeat=P)), dtype=np.int64)
+    return every[problem.is_feasible(every)]  # lexicographic, like np.unique
+
+
+def check_ranked(problem, r):
+    a, c = r
+    assert isinstance(r, Ranked)
+    assert a.dtype == np.int64 and c.dtype == np.float64
+    assert a.shape == (len(c), problem.n_rows)
+    assert_array_equal(c, problem.cost_of(a))  # bit for bit
+    assert np.all(np.diff(c) >= 0)
+    assert problem.is_feasible(a).all()
+    if problem.n_rows:
+        assert len(np.unique(a, axis=0)) == len(a)
+
+
+@pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
+def test_cases_count_order_and_naive_set(name, problem):
+    r = enumerate_assignments(problem)
+    check_ranked(problem, r)
+    assert len(r.costs) == problem.n_feasible()
+    if problem.n_cols ** problem.n_rows <= 200_000:
+        a = r.assignments
+        assert_array_equal(np.unique(a, axis=0) if problem.n_rows else a,
+                           naive_enumeration(problem))
+
+
+@given(problems())
+def test_property_matches_naive(problem):
+    r = enumerate_assignments(problem)
+    check_ranked(problem, r)
+    assert len(r.costs) == problem.n_feasible()
+    a = r.assignments
+    assert_array_equal(np.unique(a, axis=0) if problem.n_rows else a,
+                       naive_enumeration(problem))
+
+
+def test_ties_are_lexicographic():
+    p = synthetic.uniform(R=3, M=3)  # every assignment costs 1.5
+    r = enumerate_assignments(p)
+    keys = [tuple(row) for row in r.assignments]
+    assert keys == sorted(keys)
+    # mixed levels: inside every level of equal cost, rows are in lexicographic order
+    p = AssignmentProblem.from_cost(
+        [[0, 1, 0, 0, np.inf, 1, np.inf], [1, 0, 0, np.inf, 0, np.inf, 1]]
+    )
+    r = enumerate_assignments(p)
+    for level in np.unique(r.costs):
+        rows = [tuple(x) for x in r.assignments[r.costs == level]]
+        assert rows == sorted(rows)
+
+
+def test_paper_matrices():
+    for p in (synthetic.uniform(), synthetic.diagonal(), synthetic.random(rng=0)):
+        r = enumerate_assignments(p)
+        assert len(r.costs) == 76_848
+        check_ranked(p, r)
+    assert_array_equal(enumerate_assignments(synthetic.diagonal()).assignments[0], [0, 1, 2, 3])
+
+
+def test_deterministic():
+    p = synthetic.random(rng=3)
+    a, b = enumerate_assignments(p), enumerate_assignments(p)
+    assert_array_equal(a.assignments, b.assignments)
+    assert_array_equal(a.costs, b.costs)
+
+
+def test_degenerate_shapes():
+    r = enumerate_assignments(AssignmentProblem.from_cost(np.zeros((0, 4))))
+    assert r.assignments.shape == (1, 0)
+    assert_array_equal(r.costs, [0.0])
+    p = AssignmentProblem.from_eta(np.zeros((2, 0)), [1.0, 0.5], [0.5, 0.25])
+    r = enumerate_assignments(p)
+    assert_array_equal(r.assignments, [[0, 1], [0, 3], [2, 1], [2, 3]])
+
+
+def test_count_by_search_when_counting_dp_refuses():
+    # 23 rows that must each take "their" measurement: n_feasible refuses (2^23 subsets),
+    # the search fallback counts the single assignment
+    P = 23
+    C = np.full((P, 3 * P), np.inf)
+    C[np.arange(P), np.arange(P)] = np.linspace(-1, 1, P)
+    p = AssignmentProblem.from_cost(C)
+    with pytest.raises(ValueError, match="too large to count"):
+        p.n_feasible()
+    r = enumerate_assignments(p)
+    assert_array_equal(r.assignments, [np.arange(P)])
+    # and the same shape with missed columns open is refused without being enumerated
+    C[np.arange(P), P + np.arange(P)] = 0.0
+    with pytest.raises(ValueError, match="more than 1000 feasible assignments .* limit = 1000"):
+        enumerate_assignments(AssignmentProblem.from_cost(C), limit=1000)
+
+
+def test_too_large_message_states_count_and_limit():
+    with pytest.raises(
+        ValueError,
+        match=r"too large to enumerate: 76848 feasible assignments \(P = 4, M = 16\) exceed "
+        r"limit = 76847",
+    ):
+        enumerate_assignments(synthetic.uniform(), limit=76_847)
+    assert len(enumerate_assignments(synthetic.uniform(), limit=76_848).costs) == 76_848
+
+
+@pytest.mark.parametrize(
+    "kwargs, exc, match",
+    [
+        ({"limit": 0}, ValueError, "limit must be a positive int, got 0"),
+        ({"limit": -3}, ValueError, "limit must be a positive int, got -3"),
+        ({"limit": 2.5}, TypeError, "limit must be an int, got float"),
+        ({"limit": True}, TypeError, "limit must be an int, got bool"),
+    ],
+)
+def test_bad_limit(kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        enumerate_assignments(synthetic.diagonal(R=1, M=1), **kwargs)
+
+
+def test_not_a_problem():
+    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
+        enumerate_assignments(np.zeros((1, 3)))
