@@ -38,7 +38,7 @@ from .config import (
     TrackingConfig,
 )
 from .optimum import best_error, run_optimum
-from .reproduce import ReproduceError, config_from_dict, reproduce
+from .runner import ReproduceError, config_from_dict, reproduce
 from .sweep import run_sweep
 from .table1 import run_table1
 from .tracking import PAPER_TOTALS, run_tracking

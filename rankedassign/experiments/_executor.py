@@ -29,6 +29,10 @@ __all__ = [
 ]
 
 
+#: Seconds :func:`dask_executor` waits for a scheduler by default.
+DASK_CONNECT_TIMEOUT = 10.0
+
+
 class SchedulerError(RuntimeError):
     """The Dask scheduler given by the user could not be reached."""
 
@@ -138,7 +142,7 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
 
 
 @contextmanager
-def dask_executor(address: str, *, timeout: float = 10.0) -> Iterator[Executor]:
+def dask_executor(address: str, *, timeout: float | None = None) -> Iterator[Executor]:
     """The executor of a :class:`distributed.Client` connected to ``address``.
 
     Parameters
@@ -146,7 +150,8 @@ def dask_executor(address: str, *, timeout: float = 10.0) -> Iterator[Executor]:
     address : str
         Scheduler address, e.g. ``"tcp://10.0.0.5:8786"``.
     timeout : float, optional
-        Seconds to wait for the connection before giving up.
+        Seconds to wait for the connection before giving up (default
+        ``DASK_CONNECT_TIMEOUT``, 10 s).
 
     Yields
     ------
@@ -164,6 +169,8 @@ def dask_executor(address: str, *, timeout: float = 10.0) -> Iterator[Executor]:
         raise SchedulerError(
             "--dask-scheduler needs the 'distributed' package: pip install 'rankedassign[dask]'"
         ) from exc
+    if timeout is None:
+        timeout = DASK_CONNECT_TIMEOUT
     try:
         client = Client(address, timeout=timeout)
     except (OSError, TimeoutError, ValueError) as exc:

@@ -248,7 +248,7 @@ class Config:
 
 
 #: Monte Carlo runs of each study in quick mode (the rest of the settings are the paper's).
-QUICK_MC = {"table1": 10, "sweep": 4, "tracking": 2, "ablation": 3, "optimum": 4}
+QUICK_MC = {"table1": 20, "sweep": 5, "tracking": 4, "ablation": 5, "optimum": 10}
 
 
 def study_config(config, name: str, cls):

@@ -60,6 +60,7 @@ def _tracking_task(cfg: TrackingConfig, seed: int, run: int, method: str) -> dic
         "n_unique": ints(sr.n_unique),
         "n_tracks": ints(sr.n_tracks),
         "n_meas": ints(sr.n_meas),
+        "n_groups": ints(sr.n_groups),
         "association_seconds": floats(sr.timings["association"]),
         "total_seconds": float(sum(np.sum(v) for v in sr.timings.values())),
     }
@@ -110,6 +111,7 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> dict:
     out["paper_reduction_pct"] = 100.0 * (1 - PAPER_TOTALS["proposed"] / PAPER_TOTALS["original"])
     out["mean_rows_per_scan"] = float(per_scan("original", "n_tracks").mean())
     out["mean_meas_per_scan"] = float(per_scan("original", "n_meas").mean())
+    out["mean_groups_per_scan"] = float(per_scan("original", "n_groups").mean())
     out["curves"] = {
         "scan": list(range(1, cfg.n_scans + 1)),
         **{f"ospa2_{m}": per_scan(m, "ospa2").mean(axis=0).tolist() for m in METHODS},

@@ -1,0 +1,242 @@
+"""The reproduction studies on tiny configurations: structure, sanity, reproducibility."""
+
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+import oracle
+from rankedassign import synthetic
+from rankedassign.experiments import (
+    CRITERIA,
+    STALE_READINGS,
+    STALL_READINGS,
+    AblationConfig,
+    OptimumConfig,
+    SweepConfig,
+    Table1Config,
+    TrackingConfig,
+    best_error,
+    local_executor,
+    run_ablation,
+    run_optimum,
+    run_sweep,
+    run_table1,
+    run_tracking,
+)
+
+# Paper thresholds, a small budget: 200 chains x 25 sweeps.
+TINY = {"n_mc": 2, "original_obs": 5_000, "n_chains": 200, "chain_length": 25}
+TABLE1_KEYS = {
+    "family", "criterion", "delta_obs_pct", "delta_error_pp", "delta_obs_pct_se",
+    "delta_error_pp_se", "obs_original_mean", "obs_proposed_mean", "error_original_mean",
+    "error_proposed_mean", "mean_abs_delta_error_pp", "n_mc",
+}
+
+
+@pytest.fixture(scope="module")
+def table1():
+    return run_table1(Table1Config(**TINY), seed=11, progress=False, return_runs=True)
+
+
+def test_table1_structure_and_ranges(table1):
+    rows, runs = table1
+    assert [(r["family"], r["criterion"]) for r in rows] == [
+        (f, c) for f in ("diagonal", "uniform", "random") for c in CRITERIA
+    ]
+    for r in rows:
+        assert TABLE1_KEYS <= set(r)
+        assert r["n_mc"] == 2
+        assert 0.0 <= r["error_original_mean"] <= 100.0
+        assert 0.0 <= r["error_proposed_mean"] <= 100.0
+        assert r["obs_proposed_mean"] <= 200 * 25
+        assert r["obs_original_mean"] == 5_000
+        assert r["delta_error_pp"] == pytest.approx(
+            abs(r["error_original_mean"] - r["error_proposed_mean"]), rel=1e-12, abs=1e-12)
+        assert r["mean_abs_delta_error_pp"] >= r["delta_error_pp"] - 1e-12
+        assert r["delta_obs_pct_se"] is not None and r["delta_obs_pct_se"] >= 0
+    for run in runs:
+        for k in ("original", *CRITERIA):
+            assert 0.0 <= run[k]["error"] <= 1.0
+    by = {(r["family"], r["criterion"]): r for r in rows}
+    # One dominant assignment: every rule stops early (spec §3.4, Table I diagonal row).
+    for c in CRITERIA:
+        assert by["diagonal", c]["delta_obs_pct"] > 50.0
+    # Spec §3.5: the consecutive stale rule (T3) does not fire on the uniform/random families.
+    assert by["uniform", "stale"]["stale_stop_fraction"] == 0.0
+    assert by["random", "stale"]["stale_stop_fraction"] == 0.0
+
+
+def test_table1_no_rule_active_gives_zero_delta_obs():
+    huge = 10**9
+    cfg = Table1Config(n_mc=2, original_obs=1_000, n_chains=40, chain_length=25,
+                       tau_stall=huge, tau_stale=huge, families=("uniform", "random"))
+    rows = run_table1(cfg, seed=3, progress=False)
+    for r in rows:
+        assert r["delta_obs_pct"] == 0.0
+        assert r["delta_obs_pct_se"] == 0.0
+        assert r["obs_proposed_mean"] == 1_000
+
+
+def test_table1_statistics_by_hand(table1):
+    rows, runs = table1
+    fam, crit = "random", "stall"
+    rs = sorted((r for r in runs if r["family"] == fam), key=lambda r: r["run"])
+    No = np.array([r["original"]["n_obs"] for r in rs], float)
+    Ns = np.array([r[crit]["n_obs"] for r in rs], float)
+    eo = 100 * np.array([r["original"]["error"] for r in rs])
+    es = 100 * np.array([r[crit]["error"] for r in rs])
+    row = next(r for r in rows if (r["family"], r["criterion"]) == (fam, crit))
+    assert_allclose(row["delta_obs_pct"], 100 * (No.mean() - Ns.mean()) / No.mean(), rtol=1e-12)
+    assert_allclose(row["delta_error_pp"], abs(eo.mean() - es.mean()), rtol=1e-12)
+    assert_allclose(row["delta_error_pp_se"], np.std(es - eo, ddof=1) / math.sqrt(2), rtol=1e-12)
+    assert_allclose(row["mean_abs_delta_error_pp"], np.abs(es - eo).mean(), rtol=1e-12)
+    # Original N_o is constant, so the delta method reduces to sd(N_s) / (mean N_o sqrt(n)).
+    assert_allclose(row["delta_obs_pct_se"], 100 * Ns.std(ddof=1) / No.mean() / math.sqrt(2),
+                    rtol=1e-10)
+
+
+def test_table1_random_matrix_redrawn_and_errors_exact(table1):
+    _, runs = table1
+    rs = [r for r in runs if r["family"] == "random"]
+    # Different matrices per run: the original error differs between runs.
+    assert rs[0]["original"]["error"] != rs[1]["original"]["error"]
+    # The matrix of run r is synthetic.random(rng=child 0 of run seed r): recompute one error.
+    from rankedassign import sample_original
+    from rankedassign.experiments import child_seed, run_seed
+
+    s = run_seed(11, 1)
+    p = synthetic.random(rng=child_seed(s, 0))
+    res = sample_original(p, 5_000, rng=child_seed(s, 1, 2))
+    assert rs[1]["original"]["error"] == oracle.truncation_error(p, res.assignments)
+
+
+def test_table1_same_seed_same_numbers_any_executor(table1):
+    rows, runs = table1
+    again = run_table1(Table1Config(**TINY), seed=11, progress=False)
+    assert again == rows
+    with local_executor(2) as ex:
+        pooled = run_table1(Table1Config(**TINY), seed=11, executor=ex, progress=False,
+                            return_runs=True)
+    assert pooled == (rows, runs)
+    other = run_table1(Table1Config(**TINY), seed=12, progress=False)
+    assert other != rows
+
+
+@pytest.mark.parametrize("processes", [False, True])
+def test_dask_cluster_matches_serial(processes):
+    distributed = pytest.importorskip("distributed")
+    cfg = Table1Config(n_mc=2, original_obs=2_000, n_chains=80, families=("uniform", "random"))
+    serial = run_table1(cfg, seed=5, progress=False, return_runs=True)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=processes,
+                                  dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            dask = run_table1(cfg, seed=5, executor=client.get_executor(), progress=False,
+                              return_runs=True)
+    assert dask == serial
+
+
+def test_ablation_structure_and_readings():
+    cfg = AblationConfig(n_mc=2, original_obs=2_000, n_chains=80,
+                         families=("diagonal", "uniform"))
+    rows, runs = run_ablation(cfg, seed=11, progress=False, return_runs=True)
+    assert len(rows) == len(STALL_READINGS) * len(STALE_READINGS) * 2 * len(CRITERIA)
+    assert {(r["stall"], r["stale"]) for r in rows} == {
+        (a, b) for a in STALL_READINGS for b in STALE_READINGS}
+    assert all(TABLE1_KEYS <= set(r) for r in rows)
+    by = {(r["stall"], r["stale"], r["criterion"]): r for r in rows if r["family"] == "uniform"}
+    diag = {(r["stall"], r["stale"], r["criterion"]): r for r in rows if r["family"] == "diagonal"}
+    # Literal set form |x| - n_u never fires; the multiset form fires after the first chain.
+    assert by["global-consecutive", "literal-set", "stale"]["stale_stop_fraction"] == 0.0
+    multiset = by["global-consecutive", "literal-multiset", "stale"]
+    assert multiset["stale_stop_fraction"] == 1.0
+    assert multiset["chains_proposed_mean"] <= cfg.tau_stale + 1
+    # Chain-local stall (S1) never fires on the uniform matrix (spec A10): no saving at all.
+    assert by["chain-local", "consecutive", "stall"]["delta_obs_pct"] == 0.0
+    # Global stall (S3) stops chains on the diagonal matrix, where few solutions matter.
+    assert diag["global-consecutive", "consecutive", "stall"]["delta_obs_pct"] > 50.0
+    # Stall-only rows depend on the stall reading only (shared runs).
+    def numbers(row):
+        return {k: v for k, v in row.items() if k != "stale"}
+
+    for b in STALE_READINGS:
+        assert numbers(diag["global-cumulative", b, "stall"]) == numbers(
+            diag["global-cumulative", "consecutive", "stall"])
+
+
+def test_ablation_recommended_pair_equals_table1():
+    kw = {"n_mc": 2, "original_obs": 2_000, "n_chains": 80, "families": ("diagonal", "random")}
+    t1 = run_table1(Table1Config(**kw), seed=4, progress=False)
+    ab = run_ablation(AblationConfig(**kw, stall_readings=(STALL_READINGS[0],),
+                                     stale_readings=(STALE_READINGS[0],)), seed=4, progress=False)
+    for r in ab:
+        del r["stall"], r["stale"]
+    assert ab == t1
+
+
+def test_sweep_structure_and_monotone_original():
+    cfg = SweepConfig(n_mc=2, families=("uniform", "random"), obs_grid=(10, 100, 1_000),
+                      chain_lengths=(5, 25))
+    rows, runs = run_sweep(cfg, seed=2, progress=False, return_runs=True)
+    keys = {(r["family"], r["sampler"], r["budget"]) for r in rows}
+    assert ("uniform", "short-25", 10) not in keys  # budget below the chain length
+    assert ("uniform", "short-25", 100) in keys and ("random", "original", 1_000) in keys
+    for r in rows:
+        assert 0.0 <= r["error_pct_q10"] <= r["error_pct_mean"] <= r["error_pct_q90"] <= 100.0
+        if r["sampler"] != "original":
+            L = r["chain_length"]
+            assert r["n_obs_mean"] == (r["budget"] // L) * L
+    for run in runs:
+        # Same stream at every budget: the original chain's unique set only grows.
+        errs = [p["error"] for p in run["points"] if p["sampler"] == "original"]
+        assert errs == sorted(errs, reverse=True)
+        uniq = [p["n_unique"] for p in run["points"] if p["sampler"] == "short-5"]
+        assert uniq == sorted(uniq)
+
+
+def test_best_error_exact():
+    u = synthetic.uniform()
+    for k in (0, 1, 1000, 76_847, 76_848, 10**6):
+        assert_allclose(best_error(u, k), max(0.0, 1 - k / 76_848), rtol=1e-12, atol=1e-15)
+    p = synthetic.random(rng=9)
+    for k in (1, 7, 50):
+        assert_allclose(best_error(p, k), 1 - oracle.best_mass(p, k), rtol=1e-9, atol=1e-14)
+    with pytest.raises(ValueError, match="k must be a non-negative integer, got -1"):
+        best_error(p, -1)
+
+
+def test_optimum_bounds():
+    cfg = OptimumConfig(n_mc=2, original_obs=2_000, n_chains=80)
+    rows, runs = run_optimum(cfg, seed=1, progress=False, return_runs=True)
+    assert [(r["family"], r["sampler"]) for r in rows] == [
+        (f, s) for f in ("diagonal", "uniform", "random") for s in ("original", "proposed")]
+    for run in runs:
+        for s in ("original", "proposed"):
+            rec = run[s]
+            assert rec["best_error"] <= rec["error"] + 1e-12
+            if run["family"] == "uniform":  # equal weights: any k solutions are optimal
+                assert_allclose(rec["error"], rec["best_error"], rtol=1e-9)
+    for r in rows:
+        assert r["excess_error_pp_mean"] >= -1e-9
+
+
+def test_tracking_tiny():
+    cfg = TrackingConfig(n_mc=2, n_scans=8, original_obs=200, n_chains=20)
+    out, runs = run_tracking(cfg, seed=0, progress=False, return_runs=True)
+    for key in ("obs_original", "obs_proposed", "reduction_pct", "row_updates_original",
+                "row_updates_proposed", "reduction_row_updates_pct", "ospa2_mean_original",
+                "ospa2_mean_proposed"):
+        assert math.isfinite(out[key]), key
+    assert out["obs_original"] == 8 * 200  # one call per scan without grouping
+    assert out["obs_proposed"] <= 8 * 20 * 25
+    assert_allclose(out["reduction_pct"], 100 * (1 - out["obs_proposed"] / out["obs_original"]),
+                    rtol=1e-12)
+    cur = out["curves"]
+    assert len(cur["ospa2_original"]) == len(cur["cumulative_obs_proposed"]) == 8
+    assert cur["cumulative_obs_original"][-1] == out["obs_original"]
+    assert all(0.0 <= v <= 200.0 for v in cur["ospa2_proposed"])
+    by = {(r["run"], r["method"]): r for r in runs}
+    for r in range(2):  # same measurements for both samplers in a run
+        assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
+    assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
