@@ -1,0 +1,333 @@
+"""Tests of the LMB filter: prediction, Kalman update, cost matrix, grouping, housekeeping.
+
+The association here is an exhaustive enumeration over the (tiny) problems of these tests, so
+the filter is checked on its own against closed forms.
+"""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+from rankedassign import AssignmentProblem
+from rankedassign.metrics import ospa
+from rankedassign.tracking import (
+    Association,
+    AssociationResult,
+    BirthComponent,
+    LMBBirth,
+    LMBFilter,
+    Model,
+    PoissonClutter,
+    gate_threshold,
+    group_tracks,
+    make_model,
+    map_cardinality,
+    marginals_from_hypotheses,
+    paper_truth,
+    run_scenario,
+)
+from rankedassign.tracking.lmb import _reduce_mixtures
+
+
+class Enumerate(Association):
+    """Exact marginals by enumerating every feasible hypothesis (small problems only)."""
+
+    def __init__(self):
+        self.problems = []
+
+    def __call__(self, problem, rng):
+        self.problems.append(problem)
+        P, M = problem.n_rows, problem.n_meas
+        cc = problem.compact_cost
+        opts = [[c for c in range(M + 2) if np.isfinite(cc[i, c])] for i in range(P)]
+        hyps = []
+        for combo in itertools.product(*opts):
+            meas = [c for c in combo if c < M]
+            if len(meas) != len(set(meas)):
+                continue
+            hyps.append([c if c < M else (M + i if c == M else M + P + i)
+                         for i, c in enumerate(combo)])
+        a = np.array(hyps, dtype=np.int64)
+        return AssociationResult(marginals_from_hypotheses(problem, a), 1, 7, 11, len(a))
+
+
+def one_birth_model(r=0.4, clutter=5.0, cov=(30.0, 5.0, 30.0, 5.0)):
+    birth = LMBBirth((BirthComponent(r, [10.0, 1.0, -20.0, 2.0], np.diag(np.square(cov))),))
+    return Model(clutter=PoissonClutter(clutter), birth=birth)
+
+
+# --------------------------------------------------------------------------- helpers
+def test_gate_threshold_matches_chi2():
+    from scipy.stats import chi2
+
+    for g in (0.5, 0.99, 0.9999999):
+        assert_allclose(gate_threshold(g), chi2.ppf(g, 2), rtol=1e-9)
+    assert_allclose(gate_threshold(0.9, 4), chi2.ppf(0.9, 4), rtol=1e-12)
+    assert_allclose(gate_threshold(0.9999999), -2 * math.log(1e-7), rtol=1e-9)
+    with pytest.raises(ValueError, match=r"gate_prob must be in \(0, 1\)"):
+        gate_threshold(1.0)
+
+
+def test_group_tracks_components():
+    g = np.zeros((5, 4), dtype=bool)
+    g[0, 1] = g[3, 1] = g[3, 2] = g[4, 2] = True  # 0-3-4 chained by z1, z2
+    g[1, 3] = True
+    groups = group_tracks(g)
+    got = [(r.tolist(), c.tolist()) for r, c in groups]
+    assert got == [([0, 3, 4], [1, 2]), ([1], [3]), ([2], [])]
+
+
+def test_map_cardinality_brute_force():
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        r = rng.random(rng.integers(0, 6))
+        dist = np.zeros(len(r) + 1)
+        for bits in itertools.product([0, 1], repeat=len(r)):
+            dist[sum(bits)] += np.prod([q if b else 1 - q for q, b in zip(r, bits, strict=True)])
+        assert map_cardinality(r) == int(np.argmax(dist))
+
+
+def test_reduce_mixtures_prune_merge_cap():
+    # track 0: two identical components merge; a negligible one is pruned.
+    # track 1: dropped. track 2: 4 far-apart components capped to 2.
+    m = np.zeros((8, 4))
+    P = np.broadcast_to(np.eye(4), (8, 4, 4)).copy()
+    w = np.array([0.5, 0.5 - 1e-7, 1e-7, 1.0, 0.4, 0.3, 0.2, 0.1])
+    m[1, 0] = 1.0  # Mahalanobis 1 <= 4: merged with component 0
+    m[4:, 0] = [0.0, 100.0, 200.0, 300.0]
+    offsets = np.array([0, 3, 4, 8])
+    keep = np.array([True, False, True])
+    off, w2, m2, P2 = _reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2)
+    assert_array_equal(off, [0, 1, 3])
+    assert_allclose(w2, [1.0, 0.4 / 0.7, 0.3 / 0.7], rtol=1e-12)
+    wa, wb = 0.5, 0.5 - 1e-7
+    mean = wb / (wa + wb)
+    assert_allclose(m2[0, 0], mean, rtol=1e-12)
+    # moment matching: Σ w (P + (m - m̄)(m - m̄)ᵀ) / Σ w
+    spread = (wa * mean**2 + wb * (1 - mean) ** 2) / (wa + wb)
+    assert_allclose(P2[0, 0, 0], 1.0 + spread, rtol=1e-12)
+    assert_allclose(m2[1:, 0], [0.0, 100.0], rtol=1e-12)
+
+
+# --------------------------------------------------------------------------- one scan, closed form
+def test_prediction_and_kalman_update_closed_form():
+    model = one_birth_model()
+    f = LMBFilter(model, Enumerate(), merge_threshold=0.0)
+    z = np.array([[25.0, -30.0]])
+    rec = f.step(z)
+    b = model.birth.components[0]
+    H, R = model.sensor.H, model.sensor.R
+    m0, P0, r0 = b.mean, b.cov, b.r
+    S = H @ P0 @ H.T + R
+    nu = z[0] - H @ m0
+    lik = math.exp(-0.5 * nu @ np.linalg.solve(S, nu)) / (2 * math.pi * math.sqrt(np.linalg.det(S)))
+    pd, kappa = model.sensor.p_d, model.clutter.intensity
+    eta = np.array([r0 * pd * lik / kappa, r0 * (1 - pd), 1 - r0])  # (6.2)
+    beta = eta / eta.sum()
+    assert_allclose(rec.track_existence, [beta[0] + beta[1]], rtol=1e-12)
+    K = P0 @ H.T @ np.linalg.inv(S)
+    m_upd = m0 + K @ nu
+    P_upd = (np.eye(4) - K @ H) @ P0
+    w_det, w_miss = beta[0] / (1 - beta[2]), beta[1] / (1 - beta[2])
+    order = np.argsort([-w_det, -w_miss])
+    exp_w = np.array([w_det, w_miss])[order]
+    exp_m = np.array([m_upd, m0])[order]
+    exp_P = np.array([P_upd, P0])[order]
+    assert_allclose(f.w, exp_w, rtol=1e-12)
+    assert_allclose(f.m, exp_m, rtol=1e-12)
+    assert_allclose(f.P, exp_P, rtol=1e-10, atol=1e-10)
+    assert_array_equal(f.labels, [[1, 1]])
+    # the problem the association saw: η in log space, in the paper's layout
+    prob = f.association.problems[0]
+    assert_allclose(prob.compact_cost, -np.log(eta)[None, :], rtol=1e-12)
+    # next prediction (6.1): r <- P_S r, m <- F m, P <- F P F' + Q, births appended
+    F, Q = model.motion.F, model.motion.Q
+    r_post, m_post, P_post = f.r.copy(), f.m.copy(), f.P.copy()
+    f.predict()
+    assert_allclose(f.r[0], model.survival.p_s * r_post[0], rtol=1e-15)
+    assert_allclose(f.m[:2], m_post @ F.T, rtol=1e-15)
+    assert_allclose(f.P[:2], F @ P_post @ F.T + Q, rtol=1e-13)
+    assert_array_equal(f.labels, [[1, 1], [2, 1]])
+    assert_array_equal(f.offsets, [0, 2, 3])
+    assert_allclose(f.m[2], m0)
+
+
+def test_accounting_and_timings_recorded():
+    f = LMBFilter(one_birth_model(), Enumerate())
+    rec = f.step([[25.0, -30.0], [900.0, 900.0]])
+    assert (rec.n_meas, rec.n_meas_gated, rec.n_groups) == (2, 1, 1)
+    assert (rec.invocations, rec.sweeps, rec.row_updates, rec.n_unique) == (1, 7, 11, 3)
+    assert set(rec.timings) == {"prediction", "cost", "association", "update"}
+    assert all(v >= 0 for v in rec.timings.values())
+    # no gated measurement: closed form, no invocation
+    rec = f.step([[900.0, 900.0]])
+    assert (rec.n_meas_gated, rec.n_groups, rec.invocations) == (0, 0, 0)
+
+
+def test_no_measurement_closed_form():
+    model = one_birth_model(r=0.3)
+    f = LMBFilter(model, Enumerate())
+    f.step(np.empty((0, 2)))
+    pd = model.sensor.p_d
+    r_post = 0.3 * (1 - pd) / (0.3 * (1 - pd) + 0.7)
+    assert_allclose(f.r, [r_post], rtol=1e-12)
+    assert f.association.problems == []
+
+
+def test_gating_off_keeps_every_measurement():
+    f = LMBFilter(one_birth_model(), Enumerate(), gate_prob=None)
+    rec = f.step([[25.0, -30.0], [900.0, 900.0]])
+    assert rec.n_meas_gated == 2
+    assert f.association.problems[0].n_meas == 2
+
+
+# --------------------------------------------------------------------------- tracking
+def single_target_run(n_scans=40, seed=0, **options):
+    model = Model(clutter=PoissonClutter(1e-3), birth=make_model("vo").birth)
+    f = LMBFilter(model, Enumerate(), **options)
+    truth = paper_truth(n_scans)
+    rng = np.random.default_rng(seed)
+    errors, reported = [], []
+    for k in range(n_scans):
+        x = truth.states[k, 1]  # target 2, born at scan 1 near birth location 2
+        z = (x[[0, 2]] + 10.0 * rng.standard_normal(2))[None]
+        rec = f.step(z)
+        reported.append(rec.labels.tolist())
+        if rec.states.shape[0]:
+            errors.append(np.linalg.norm(rec.states[:, [0, 2]] - x[[0, 2]], axis=1).max())
+    return np.array(errors), reported
+
+
+@pytest.mark.parametrize("options", [{}, {"extraction": "map"}, {"estimate": "mean"},
+                                     {"grouping": True}])
+def test_single_target_tracked_within_a_few_metres(options):
+    errors, reported = single_target_run(**options)
+    # one confirmed track, the one born at scan 1 from birth component 2, from scan 1 on
+    assert all(lab == [[1, 2]] for lab in reported)
+    # measurement noise is 10 m per axis; the filtered error is smaller on average
+    assert errors.mean() < 10.0
+    assert errors.max() < 30.0
+
+
+def test_grouping_gives_the_same_posterior_as_one_problem():
+    # The joint association factorises over groups (spec §6.5a), so exact marginals per group
+    # equal exact marginals of the whole problem.
+    truth = paper_truth(12)
+    model = make_model("vo")
+    scans_rng = np.random.default_rng(5)
+    zs = []
+    for k in range(12):
+        _, X = truth.at(k)
+        zs.append(np.vstack([X[:, [0, 2]] + 10 * scans_rng.standard_normal((len(X), 2)),
+                             scans_rng.uniform(-1000, 1000, (3, 2))]))
+    a = LMBFilter(model, Enumerate())
+    b = LMBFilter(model, Enumerate(), grouping=True)
+    for z in zs:
+        ra, rb = a.step(z), b.step(z)
+        assert_array_equal(ra.track_labels, rb.track_labels)
+        assert_allclose(ra.track_existence, rb.track_existence, rtol=1e-9, atol=1e-12)
+        assert_allclose(ra.states, rb.states, rtol=1e-9, atol=1e-9)
+        assert rb.n_groups >= ra.n_groups
+    assert b.n_tracks >= 3
+
+
+def test_track_cap_and_pruning():
+    model = one_birth_model()
+    f = LMBFilter(model, Enumerate(), max_tracks=1, prune_track=1e-3)
+    for _ in range(4):
+        f.step([[25.0, -30.0]])
+        assert f.n_tracks <= 1
+        assert np.all(f.r > 1e-3)
+    # the components of every track stay normalised and within the cap
+    g = LMBFilter(model, Enumerate(), max_components=1)
+    for _ in range(3):
+        g.step([[25.0, -30.0], [40.0, -20.0]])
+        assert np.all(np.diff(g.offsets) == 1)
+        assert_allclose(np.add.reduceat(g.w, g.offsets[:-1]), 1.0, rtol=1e-12)
+
+
+class BadShape(Association):
+    def __call__(self, problem, rng):
+        return AssociationResult(np.zeros((1, 1)), 1, 0, 0, 0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        ({"model": "paper"}, TypeError, "model must be a Model"),
+        ({"association": 3}, TypeError, "association must be callable"),
+        ({"extraction": "best"}, ValueError, "extraction must be 'hysteresis' or 'map'"),
+        ({"estimate": "median"}, ValueError, "estimate must be 'max-weight' or 'mean'"),
+        ({"theta_lower": 0.95}, ValueError, "theta_lower <= theta_upper"),
+        ({"prune_track": 1.0}, ValueError, r"prune_track must be in \[0, 1\)"),
+        ({"prune_component": -1.0}, ValueError, r"prune_component must be in \[0, 1\)"),
+        ({"merge_threshold": -1.0}, ValueError, "merge_threshold must be >= 0"),
+        ({"max_tracks": 0}, ValueError, "max_tracks must be a positive integer"),
+        ({"max_components": 2.5}, ValueError, "max_components must be a positive integer"),
+        ({"gate_prob": 1.5}, ValueError, "gate_prob must be in"),
+    ],
+)
+def test_filter_errors(kwargs, exc, match):
+    args = {"model": make_model("paper"), "association": Enumerate()}
+    args.update(kwargs)
+    model = args.pop("model")
+    assoc = args.pop("association")
+    with pytest.raises(exc, match=match):
+        LMBFilter(model, assoc, **args)
+
+
+def test_step_errors():
+    f = LMBFilter(one_birth_model(), BadShape())
+    with pytest.raises(ValueError, match="association returned beta of shape"):
+        f.step([[25.0, -30.0]])
+    g = LMBFilter(one_birth_model(), Enumerate())
+    with pytest.raises(ValueError, match="measurements must be finite"):
+        g.step([[np.nan, 0.0]])
+
+
+def test_run_scenario_requires_association():
+    with pytest.raises(TypeError, match="run_scenario needs an association"):
+        run_scenario("paper")
+    with pytest.raises(ValueError, match="unknown preset"):
+        run_scenario("nope", Enumerate())
+
+
+def test_run_scenario_with_exact_enumeration_on_vo_preset():
+    run = run_scenario("vo", Enumerate(), rng=2, n_scans=15, grouping=True)
+    assert run.truth.shape == (15, 12, 2)
+    assert run.estimates.shape[0] == 15 and run.estimates.shape[2] == 2
+    assert len(run.estimate_labels) == run.estimates.shape[1]
+    for name in ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks", "n_meas",
+                 "n_meas_gated", "n_groups", "n_estimated"):
+        arr = getattr(run, name)
+        assert arr.dtype == np.int64 and arr.shape == (15,)
+    assert_array_equal(run.sweeps, 7 * run.invocations)
+    assert np.all(run.n_tracks >= 4)
+    # after a few scans the three targets are tracked
+    for k in range(5, 15):
+        x = run.truth[k][~np.isnan(run.truth[k]).any(axis=1)]
+        y = run.estimates[k][~np.isnan(run.estimates[k]).any(axis=1)]
+        assert ospa(x, y, 100.0, 1).value < 20.0
+    # same rng, same measurements and estimates
+    again = run_scenario("vo", Enumerate(), rng=2, n_scans=15, grouping=True)
+    assert_array_equal(run.estimates, again.estimates)
+    for s1, s2 in zip(run.scenario.scans, again.scenario.scans, strict=True):
+        assert_array_equal(s1.z, s2.z)
+
+
+def test_marginals_from_hypotheses_errors_and_values():
+    p = AssignmentProblem.from_eta([[3.0, 1.0], [1.0, 2.0]], [1.0, 1.0], [1.0, 0.5])
+    full = Enumerate()(p, None).beta
+    assert_allclose(full.sum(axis=1), 1.0, rtol=1e-12)
+    with pytest.raises(ValueError, match="at least one hypothesis"):
+        marginals_from_hypotheses(p, np.empty((0, 2), dtype=np.int64))
+    with pytest.raises(ValueError, match=r"shape \(H, P\)"):
+        marginals_from_hypotheses(p, [[0, 1, 2]])
+    with pytest.raises(ValueError, match="feasible"):
+        marginals_from_hypotheses(p, [[0, 0]])
+    # a single hypothesis gets all the weight
+    assert_allclose(marginals_from_hypotheses(p, [[0, 1]]),
+                    [[1, 0, 0, 0], [0, 1, 0, 0]], rtol=0, atol=0)

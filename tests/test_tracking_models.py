@@ -1,0 +1,169 @@
+"""Tests of the tracking models, the spec §8 truth and the measurement generator."""
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+from rankedassign.tracking import (
+    BirthComponent,
+    ConstantSurvival,
+    ConstantVelocity,
+    LMBBirth,
+    PoissonClutter,
+    PositionSensor,
+    generate_measurements,
+    make_model,
+    make_scenario,
+    paper_truth,
+)
+
+
+# --------------------------------------------------------------------------- models
+def test_constant_velocity_matrices():
+    cv = ConstantVelocity(dt=2.0, sigma_w=5.0)
+    F = np.array([[1, 2, 0, 0], [0, 1, 0, 0], [0, 0, 1, 2], [0, 0, 0, 1]], dtype=float)
+    assert_array_equal(cv.F, F)
+    block = 25.0 * np.array([[4.0, 4.0], [4.0, 4.0]])  # σ² [[Δ⁴/4, Δ³/2], [Δ³/2, Δ²]]
+    assert_allclose(cv.Q[:2, :2], block, rtol=1e-15)
+    assert_allclose(cv.Q[2:, 2:], block, rtol=1e-15)
+    assert_array_equal(cv.Q[:2, 2:], 0.0)
+    # paper values (A14)
+    assert_allclose(ConstantVelocity().Q[:2, :2], [[6.25, 12.5], [12.5, 25.0]], rtol=1e-15)
+    with pytest.raises(ValueError):
+        cv.F[0, 0] = 3.0  # read-only
+
+
+def test_sensor_and_clutter():
+    s = PositionSensor()
+    assert_array_equal(s.H, [[1, 0, 0, 0], [0, 0, 1, 0]])
+    assert_array_equal(s.R, 100.0 * np.eye(2))
+    cl = PoissonClutter(50.0)
+    assert_allclose(cl.intensity, 1.25e-5, rtol=1e-15)  # spec A16
+    pts = cl.sample(np.random.default_rng(0))
+    assert pts.ndim == 2 and pts.shape[1] == 2
+    assert np.all(np.abs(pts) <= 1000.0)
+
+
+def test_clutter_count_is_poisson():
+    # Mean of 2000 Poisson(50) counts: SE = sqrt(50 / 2000) = 0.158; a 5-SE band fails with
+    # probability < 1e-6 under the model.
+    cl = PoissonClutter(50.0)
+    rng = np.random.default_rng(1)
+    counts = np.array([cl.sample(rng).shape[0] for _ in range(2000)])
+    assert abs(counts.mean() - 50.0) < 5 * np.sqrt(50.0 / 2000)
+
+
+def test_presets():
+    paper = make_model("paper")
+    assert paper.clutter.rate == 50.0
+    assert_allclose(paper.birth.covs[0], np.diag([300.0**2, 10.0**2, 300.0**2, 10.0**2]))
+    assert_allclose(paper.birth.r, 0.03)
+    assert_array_equal(
+        paper.birth.means,
+        [[0, 0, 0, 0], [400, 0, -600, 0], [-800, 0, -200, 0], [-200, 0, 800, 0]],
+    )
+    assert (paper.sensor.p_d, paper.survival.p_s, paper.sensor.sigma_v) == (0.98, 0.99, 10.0)
+    vo = make_model("vo")
+    assert vo.clutter.rate == 30.0
+    assert_allclose(vo.birth.covs, np.broadcast_to(100.0 * np.eye(4), (4, 4, 4)))
+
+
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        (lambda: make_model("nope"), "unknown preset 'nope'"),
+        (lambda: ConstantVelocity(dt=0.0), "dt must be a positive"),
+        (lambda: ConstantVelocity(sigma_w=-1.0), "sigma_w must be"),
+        (lambda: PositionSensor(p_d=0.0), r"p_d must be in \(0, 1\]"),
+        (lambda: PositionSensor(sigma_v=0.0), "sigma_v must be"),
+        (lambda: PoissonClutter(-1.0), "clutter rate must be"),
+        (lambda: PoissonClutter(1.0, ((0, 0), (0, 1))), "region must be"),
+        (lambda: ConstantSurvival(1.5), r"p_s must be in \(0, 1\]"),
+        (lambda: BirthComponent(1.0, np.zeros(4), np.eye(4)), "birth existence probability"),
+        (lambda: BirthComponent(0.1, np.zeros(3), np.eye(4)), "birth mean must be 4"),
+        (lambda: BirthComponent(0.1, np.zeros(4), -np.eye(4)), "symmetric positive definite"),
+    ],
+)
+def test_model_errors(build, match):
+    with pytest.raises(ValueError, match=match):
+        build()
+
+
+def test_birth_type_error():
+    with pytest.raises(TypeError, match="components must be BirthComponent"):
+        LMBBirth(("x",))
+
+
+# --------------------------------------------------------------------------- truth (spec §8)
+def test_truth_counts_per_scan():
+    t = paper_truth()
+    expected = np.concatenate(
+        [np.full(19, 3), np.full(20, 6), np.full(20, 8), np.full(11, 10), np.full(9, 8),
+         np.full(21, 10)]
+    )
+    assert_array_equal(t.n_targets, expected)
+    assert_allclose(t.n_targets.mean(), 7.29, rtol=1e-12)
+
+
+def test_truth_first_recorded_states():
+    t = paper_truth()
+    assert_allclose(t.states[0, 0], [0, 0, -10, -10], rtol=1e-15)
+    assert_allclose(t.states[0, 1], [390, -10, -595, 5], rtol=1e-15)
+    assert_allclose(t.states[0, 2], [-780, 20, -205, -5], rtol=1e-15)
+    # target 4 is born at scan 20: its first recorded state is F x_start
+    assert np.isnan(t.states[18, 3]).all()
+    assert_allclose(t.states[19, 3], [393, -7, -604, -4], rtol=1e-15)
+    # targets 1 and 3 exist up to scan 70 inclusive
+    assert not np.isnan(t.states[69, 0]).any() and np.isnan(t.states[70, 0]).all()
+
+
+def test_truth_region_and_positions():
+    t = paper_truth()
+    pos = t.positions
+    assert pos.shape == (100, 12, 2)
+    assert np.nanmin(pos[..., 0]) >= -797 and np.nanmax(pos[..., 0]) <= 715
+    assert np.nanmin(pos[..., 1]) >= -924 and np.nanmax(pos[..., 1]) <= 795
+    short = paper_truth(30)
+    assert_array_equal(short.states, t.states[:30])
+    with pytest.raises(ValueError, match="n_scans must be a positive integer"):
+        paper_truth(0)
+
+
+# --------------------------------------------------------------------------- measurements
+def test_measurements_reproducible_and_shaped():
+    model = make_model("paper")
+    truth = paper_truth(10)
+    a = generate_measurements(truth, model, rng=3)
+    b = generate_measurements(truth, model, rng=3)
+    assert len(a) == 10
+    for sa, sb in zip(a, b, strict=True):
+        assert_array_equal(sa.z, sb.z)
+        assert_array_equal(sa.origin, sb.origin)
+        assert sa.z.shape == (sa.origin.size, 2)
+        # detections come first, in target order, then clutter
+        det = sa.origin >= 0
+        assert not np.any(det[1:] & ~det[:-1])
+
+
+def test_measurement_statistics():
+    # Over 100 scans of the paper scenario: 729 target-scans detected with P_D = 0.98.
+    # Detected fraction SE = sqrt(.98 * .02 / 729) = 0.0052; the 5-SE band fails w.p. < 1e-6.
+    # Noise: residual variance per axis 100 m²; 700 pairs -> the sample std has SE ≈ 0.27 m.
+    sc = make_scenario("paper", rng=11)
+    truth = sc.truth
+    n_det = n_targets = 0
+    res = []
+    n_clutter = []
+    for k, scan in enumerate(sc.scans):
+        labels, X = truth.at(k)
+        n_targets += labels.size
+        det = scan.origin >= 0
+        n_det += det.sum()
+        res.append(scan.z[det] - X[np.searchsorted(labels, scan.origin[det])][:, [0, 2]])
+        n_clutter.append((~det).sum())
+    assert abs(n_det / n_targets - 0.98) < 5 * np.sqrt(0.98 * 0.02 / n_targets)
+    res = np.vstack(res)
+    assert_allclose(res.mean(axis=0), 0.0, atol=5 * 10 / np.sqrt(len(res)))
+    assert_allclose(res.std(axis=0), 10.0, atol=5 * 0.27)
+    # clutter mean 50, 100 scans: SE 0.71
+    assert abs(np.mean(n_clutter) - 50.0) < 5 * np.sqrt(50.0 / 100)
