@@ -1,0 +1,159 @@
+"""Exact normaliser and marginals (subset DP) against enumeration and the per-pair formula."""
+
+import numpy as np
+import pytest
+from cases import CASE_IDS, CASES, problems
+from hypothesis import given
+from numpy.testing import assert_allclose
+from scipy.special import logsumexp
+
+from oracle import enumerate_assignments, log_normalizer, marginals
+from rankedassign import AssignmentProblem, synthetic
+
+
+def enumerated_marginals(problem):
+    """Marginals by summing the normalised weights of every enumerated assignment."""
+    r = enumerate_assignments(problem)
+    P, M = problem.n_rows, problem.n_meas
+    w = np.exp(-(r.costs - r.costs[0]))
+    w /= w.sum()
+    gamma = problem.cols_to_gamma(r.assignments) if P else np.zeros((1, 0), dtype=int)
+    out = np.zeros((P, M + 2))
+    for i in range(P):
+        g = gamma[:, i]
+        out[i, :M] = np.bincount(np.where(g >= 1, g - 1, M), weights=w, minlength=M + 1)[:M]
+        out[i, M] = w[g == 0].sum()
+        out[i, M + 1] = w[g == -1].sum()
+    return out
+
+
+def pairwise_marginals(problem):
+    """Spec eq. (5.2) literally: ``eta_i(j) Z_{-i,-j} / Z`` with one DP per removed pair."""
+    cc = problem.compact_cost
+    P, M = problem.n_rows, problem.n_meas
+    log_z = log_normalizer(problem)
+
+    def sub_log_z(rows, meas):
+        sub = cc[np.ix_(rows, list(meas) + [M, M + 1])]
+        m = len(meas)
+        return log_normalizer(AssignmentProblem.from_log_eta(-sub[:, :m], -sub[:, m],
+                                                             -sub[:, m + 1]))
+
+    out = np.zeros((P, M + 2))
+    for i in range(P):
+        rows = [r for r in range(P) if r != i]
+        z_i = sub_log_z(rows, range(M))
+        for j in range(M):
+            if np.isfinite(cc[i, j]):
+                z_ij = sub_log_z(rows, [t for t in range(M) if t != j])
+                out[i, j] = np.exp(-cc[i, j] + z_ij - log_z)
+        out[i, M] = np.exp(-cc[i, M] + z_i - log_z)
+        out[i, M + 1] = np.exp(-cc[i, M + 1] + z_i - log_z)
+    return out
+
+
+def marginal_atol(problem):
+    """1e-12, widened for huge costs: a sum of costs of size |C| is only known to ~eps |C|
+    (absolute, in nats), which moves a probability by about that much relative."""
+    cc = problem.compact_cost
+    big = np.abs(cc[np.isfinite(cc)]).max(initial=0.0)
+    return 1e-12 + 8 * np.finfo(float).eps * big
+
+
+@pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
+def test_cases_against_enumeration(name, problem):
+    costs = enumerate_assignments(problem).costs
+    assert_allclose(log_normalizer(problem), logsumexp(-costs), rtol=1e-10, atol=1e-12)
+    m = marginals(problem)
+    assert m.shape == (problem.n_rows, problem.n_meas + 2)
+    assert_allclose(m, enumerated_marginals(problem), rtol=0, atol=marginal_atol(problem))
+    assert_allclose(m.sum(axis=1), 1.0, rtol=1e-14)
+
+
+@given(problems())
+def test_property_against_enumeration(problem):
+    costs = enumerate_assignments(problem).costs
+    assert_allclose(log_normalizer(problem), logsumexp(-costs), rtol=1e-10, atol=1e-12)
+    assert_allclose(marginals(problem), enumerated_marginals(problem), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("R, M", [(7, 9), (9, 6)])  # DP over rows and over measurements
+def test_against_pairwise_formula(R, M):
+    p = synthetic.random(R=R, M=M, rng=R * M)
+    assert_allclose(marginals(p), pairwise_marginals(p), rtol=1e-9, atol=1e-14)
+
+
+def test_paper_values():
+    # spec §1.6: diagonal Z = 5.3442e6; uniform: 76 848 assignments of cost 4 * 0.5
+    assert_allclose(np.exp(log_normalizer(synthetic.diagonal())), 5.3442e6, rtol=1e-4)
+    assert_allclose(log_normalizer(synthetic.uniform()), np.log(76_848) - 2.0, rtol=1e-13)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_rows_sum_to_one_and_measurements_at_most_one(seed):
+    p = synthetic.random(R=12, M=30, rng=seed)
+    m = marginals(p)
+    assert_allclose(m.sum(axis=1), 1.0, rtol=1e-13)
+    assert np.all(m >= 0)
+    assert np.all(m[:, : p.n_meas].sum(axis=0) <= 1 + 1e-12)
+
+
+def test_no_underflow_when_only_tiny_terms_matter():
+    # rows 0 and 1 both want measurement 1; everything else costs 800 nats more, so
+    # Z ~ 2 exp(-800): a DP with plain per-row shifts underflows to ln Z = -inf
+    p = AssignmentProblem.from_cost(
+        [[0.0, np.inf, 800.0, np.inf, 900.0, np.inf], [0.0, 850.0, np.inf, 800.0, np.inf, 900.0]]
+    )
+    want = logsumexp(-enumerate_assignments(p).costs)
+    assert_allclose(log_normalizer(p), want, rtol=1e-13)
+    assert_allclose(marginals(p), enumerated_marginals(p), atol=1e-12)
+
+
+def test_huge_negative_costs_do_not_overflow():
+    rng = np.random.default_rng(5)
+    p = AssignmentProblem.from_log_eta(rng.uniform(1e5, 1e5 + 50, (3, 4)), [1e5] * 3,
+                                       [2e5, 0.0, -1e5])
+    want = logsumexp(-enumerate_assignments(p).costs)
+    assert_allclose(log_normalizer(p), want, rtol=1e-13)
+    assert_allclose(marginals(p), enumerated_marginals(p), atol=1e-12)
+
+
+def test_unreachable_measurements_get_zero():
+    p = AssignmentProblem.from_cost(
+        [[0.5, np.inf, 1.0, 1.0, np.inf, 2.0, np.inf], [np.inf, np.inf, 0.2, np.inf, 1.0,
+                                                        np.inf, 0.1]]
+    )
+    m = marginals(p)
+    assert m[:, 1].tolist() == [0.0, 0.0]
+    assert_allclose(m, enumerated_marginals(p), atol=1e-12)
+
+
+def test_degenerate_shapes():
+    empty = AssignmentProblem.from_cost(np.zeros((0, 5)))
+    assert log_normalizer(empty) == 0.0
+    assert marginals(empty).shape == (0, 7)
+    p = AssignmentProblem.from_eta(np.zeros((2, 0)), [1.0, 3.0], [1.0, 1.0])
+    assert_allclose(log_normalizer(p), np.log(2.0 * 4.0), rtol=1e-14)
+    assert_allclose(marginals(p), [[0.5, 0.5], [0.75, 0.25]], rtol=1e-14)
+
+
+def test_size_limit_message():
+    big = synthetic.random(R=21, M=21, rng=0)
+    with pytest.raises(ValueError, match=r"too large for the exact subset DP: min\(P, M\) = "
+                                         r"min\(21, 21\) = 21 > 20"):
+        log_normalizer(big)
+    with pytest.raises(ValueError, match="too large for the exact subset DP"):
+        marginals(big)
+
+
+def test_transposed_dp_handles_many_rows():
+    p = synthetic.random(R=30, M=3, rng=4)  # 30 rows, only 3 measurements: DP over 2^3
+    m = marginals(p)
+    assert_allclose(m.sum(axis=1), 1.0, rtol=1e-13)
+    assert np.isfinite(log_normalizer(p))
+
+
+@pytest.mark.parametrize("fn", [log_normalizer, marginals])
+def test_not_a_problem(fn):
+    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got list"):
+        fn([[0.0, 1.0, 2.0]])
