@@ -6,7 +6,7 @@ of Trezza, Bucci & Varshney (2023), an LMB filter with pluggable association, an
 Exact ground truth lives in the companion package :mod:`oracle`.
 """
 
-from . import synthetic
+from . import metrics, synthetic, tracking
 from ._version import __version__
 from .problem import AssignmentProblem
 from .samplers import SamplerResult, sample_original, sample_short_chains, warmup
@@ -18,5 +18,7 @@ __all__ = [
     "sample_short_chains",
     "warmup",
     "synthetic",
+    "metrics",
+    "tracking",
     "__version__",
 ]

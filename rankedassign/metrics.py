@@ -16,7 +16,6 @@ from collections.abc import Hashable, Mapping, Sequence
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array"]
 
@@ -71,6 +70,8 @@ def _ospa_from_matrix(D: np.ndarray, m: int, n: int, c: float, p: float) -> OSPA
         return OSPAResult(0.0, 0.0, 0.0)
     big = max(m, n)
     if m and n:
+        from scipy.optimize import linear_sum_assignment  # deferred: keeps the import light
+
         rows, cols = linear_sum_assignment(D)
         loc = float(D[rows, cols].sum())
     else:
