@@ -61,7 +61,15 @@ def check_count(value, name: str, *, minimum: int) -> int:
 
 
 def ranked(problem: AssignmentProblem, assignments: np.ndarray) -> Ranked:
-    """Package assignments with their public costs (``problem.cost_of``)."""
+    """Package assignments with their public costs (``problem.cost_of``), sorted by cost.
+
+    The solvers already produce non-decreasing costs up to the rounding of their dual
+    variables (about one ulp of the largest cost); the stable sort here removes such
+    last-bit inversions without disturbing the solvers' own order among equal costs.
+    """
     a = np.ascontiguousarray(assignments, dtype=np.int64)
-    costs = problem.cost_of(a) if len(a) else np.zeros(0)
-    return Ranked(a, np.asarray(costs, dtype=np.float64))
+    if len(a) == 0:
+        return Ranked(a, np.zeros(0))
+    costs = np.asarray(problem.cost_of(a), dtype=np.float64)
+    order = np.argsort(costs, kind="stable")
+    return Ranked(np.ascontiguousarray(a[order]), costs[order])

@@ -169,15 +169,24 @@ def assert_same_ranking(got, want, *, complete: bool, rtol: float = 1e-12,
     wc_s = wc[order]
     tol = atol + rtol * np.abs(wc_s)
     new_level = np.r_[True, np.diff(wc_s) > tol[1:]]
-    level_id = np.cumsum(new_level) - 1
-    n_levels = level_id[-1] + 1
-    for lev in range(n_levels if complete else n_levels - 1):
-        sel = order[level_id == lev]
-        lo, hi = wc[sel].min(), wc[sel].max()
-        band = (gc >= lo - atol - rtol * abs(lo)) & (gc <= hi + atol + rtol * abs(hi))
-        g_set = np.unique(ga[band], axis=0)
-        w_set = np.unique(wa[sel], axis=0)
-        assert g_set.shape == w_set.shape, (
-            f"cost level {lo!r}: {len(g_set)} assignments, expected {len(w_set)}"
-        )
-        assert_array_equal(g_set, w_set)
+    w_level = np.empty(len(wc), dtype=np.int64)
+    w_level[order] = np.cumsum(new_level) - 1
+    n_levels = int(w_level.max()) + 1
+    starts = wc_s[new_level]  # lowest cost of each level
+    g_level = np.searchsorted(starts, gc + atol + rtol * np.abs(gc), side="right") - 1
+    g_level = np.clip(g_level, 0, n_levels - 1)
+    last = n_levels if complete else n_levels - 1
+
+    def canonical(a, level):
+        keep = level < last
+        a, level = a[keep], level[keep]
+        idx = np.lexsort([a[:, i] for i in range(a.shape[1] - 1, -1, -1)] + [level])
+        return level[idx], a[idx]
+
+    gl, ga_c = canonical(ga, g_level)
+    wl, wa_c = canonical(wa, w_level)
+    assert len(gl) == len(wl), (
+        f"{len(gl)} assignments below the last cost level, expected {len(wl)}"
+    )
+    assert_array_equal(gl, wl)
+    assert_array_equal(ga_c, wa_c)

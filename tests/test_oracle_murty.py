@@ -1,0 +1,170 @@
+"""Murty k-best: both methods against enumeration and each other, tie-aware."""
+
+import numpy as np
+import pytest
+from cases import CASE_IDS, CASES, assert_same_ranking, problems
+from hypothesis import given
+from hypothesis import strategies as st
+from numpy.testing import assert_array_equal
+from scipy.optimize import linear_sum_assignment
+
+from oracle import enumerate_assignments, murty
+from rankedassign import AssignmentProblem, synthetic
+
+METHODS = ["numba", "scipy"]
+
+
+def check_output(problem, r):
+    a, c = r
+    assert a.dtype == np.int64 and a.shape == (len(c), problem.n_rows)
+    assert_array_equal(c, problem.cost_of(a))  # bit for bit
+    assert np.all(np.diff(c) >= 0)
+    if problem.n_rows:
+        assert problem.is_feasible(a).all()
+        assert len(np.unique(a, axis=0)) == len(a)
+
+
+def last_columns_problem(P, M, seed):
+    """Random costs where the cheapest entries sit on the last measurement columns."""
+    rng = np.random.default_rng(seed)
+    D = rng.uniform(0.0, 5.0, (P, M))
+    D[:, M - P:] -= rng.uniform(6.0, 9.0, (P, P))  # the optimum lives on columns M-P..M-1
+    D[rng.random((P, M)) < 0.2] = np.inf
+    return AssignmentProblem.from_log_eta(-D, -rng.uniform(0, 3, P), -rng.uniform(0, 3, P))
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
+def test_cases_complete_ranking(name, problem, method):
+    full = enumerate_assignments(problem)
+    r = murty(problem, len(full.costs) + 5, method=method)  # more than |Gamma|: all of them
+    check_output(problem, r)
+    assert_same_ranking(r, full, complete=True)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
+def test_cases_top_k(name, problem, method):
+    full = enumerate_assignments(problem)
+    k = max(1, len(full.costs) // 3)
+    r = murty(problem, k, method=method)
+    check_output(problem, r)
+    assert_same_ranking(r, (full.assignments[:k], full.costs[:k]), complete=False)
+
+
+@given(problems(), st.integers(1, 40))
+def test_property_numba_against_enumeration(problem, k):
+    full = enumerate_assignments(problem)
+    r = murty(problem, k)
+    check_output(problem, r)
+    kk = min(k, len(full.costs))
+    assert_same_ranking(r, (full.assignments[:kk], full.costs[:kk]), complete=kk == len(full.costs))
+
+
+@given(problems(max_rows=3, max_meas=4), st.integers(1, 25))
+def test_property_scipy_against_enumeration(problem, k):
+    full = enumerate_assignments(problem)
+    r = murty(problem, k, method="scipy")
+    kk = min(k, len(full.costs))
+    assert_same_ranking(r, (full.assignments[:kk], full.costs[:kk]), complete=kk == len(full.costs))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_best_solutions_on_last_measurement_columns(seed):
+    p = last_columns_problem(4, 9, seed)
+    full = enumerate_assignments(p)
+    assert np.all(full.assignments[0] >= 9 - 4)  # the construction did what it says
+    for method in METHODS:
+        r = murty(p, 300, method=method)
+        assert_same_ranking(r, (full.assignments[:300], full.costs[:300]), complete=False)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_rank_one_is_the_lsap_optimum(method):
+    for seed in range(5):
+        p = synthetic.random(R=8, M=12, rng=seed)
+        rows, cols = linear_sum_assignment(p.cost)
+        r = murty(p, 1, method=method)
+        assert_array_equal(r.costs, [p.cost_of(cols)])
+
+
+@pytest.mark.parametrize(
+    "problem, k",
+    [
+        (synthetic.random(rng=0), 2000),
+        (synthetic.random(R=8, M=12, rng=1, pbar_d="pd"), 500),
+        (last_columns_problem(6, 14, 7), 500),
+        (synthetic.random(R=20, M=50, rng=2), 150),
+    ],
+    ids=["paper_4x24", "8x12", "last_columns_6x14", "tracking_20x50"],
+)
+def test_numba_equals_scipy_reference(problem, k):
+    a = murty(problem, k)
+    b = murty(problem, k, method="scipy")
+    check_output(problem, a)
+    assert_same_ranking(a, b, complete=False)
+
+
+def test_uniform_ties_are_all_distinct():
+    p = synthetic.uniform()
+    r = murty(p, 5000)
+    check_output(p, r)
+    assert len(r.costs) == 5000 and np.all(r.costs == r.costs[0])
+
+
+def test_paper_4x24_complete_ranking():
+    p = synthetic.random(rng=1)
+    full = enumerate_assignments(p)
+    r = murty(p, 100_000)  # more than |Gamma| = 76 848
+    assert_same_ranking(r, full, complete=True)
+
+
+def test_deterministic():
+    p = synthetic.random(R=6, M=10, rng=3)
+    a, b = murty(p, 400), murty(p, 400)
+    assert_array_equal(a.assignments, b.assignments)
+
+
+def test_k_zero_and_degenerate_shapes():
+    p = synthetic.diagonal()
+    for method in METHODS:
+        r = murty(p, 0, method=method)
+        assert r.assignments.shape == (0, 4) and r.costs.shape == (0,)
+        e = murty(AssignmentProblem.from_cost(np.zeros((0, 2))), 3, method=method)
+        assert e.assignments.shape == (1, 0)
+        assert_array_equal(e.costs, [0.0])
+        m0 = AssignmentProblem.from_eta(np.zeros((2, 0)), [1.0, 0.5], [0.5, 0.25])
+        assert_array_equal(murty(m0, 10, method=method).assignments,
+                           [[0, 1], [2, 1], [0, 3], [2, 3]])
+
+
+@pytest.mark.parametrize(
+    "k, exc, match",
+    [
+        (-1, ValueError, "k must be a non-negative int, got -1"),
+        (1.0, TypeError, "k must be an int, got float"),
+        (True, TypeError, "k must be an int, got bool"),
+        ("3", TypeError, "k must be an int, got str"),
+    ],
+)
+def test_bad_k(k, exc, match):
+    with pytest.raises(exc, match=match):
+        murty(synthetic.diagonal(), k)
+
+
+def test_bad_method_and_problem():
+    with pytest.raises(ValueError, match=r"method must be one of \('numba', 'scipy'\), got 'x'"):
+        murty(synthetic.diagonal(), 3, method="x")
+    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
+        murty(synthetic.diagonal().cost, 3)
+    assert murty(synthetic.diagonal(), np.int64(2)).costs.shape == (2,)
+
+
+def test_comparison_helper_detects_a_wrong_ranking():
+    p = synthetic.random(R=3, M=4, rng=0)
+    full = enumerate_assignments(p)
+    wrong = full.assignments[:10].copy()
+    wrong[3] = full.assignments[50]  # a worse assignment in place of a top-10 one
+    with pytest.raises(AssertionError):
+        assert_same_ranking((wrong, p.cost_of(wrong)), (full.assignments[:10], full.costs[:10]),
+                            complete=False)
