@@ -1,0 +1,49 @@
+"""LMB filter speed: one 100-scan run of the paper's scenario per association method.
+
+Run the timings with::
+
+    python -m pytest benchmarks/test_bench_tracking.py --benchmark-enable
+
+(in the default suite each runs once as a smoke test). Targets: ``ShortChainGibbs(400, 25, 5,
+10)`` at most 0.5 s and ``OriginalGibbs(10 000)`` under 5 s per 100-scan run after warm-up.
+``extra_info`` holds the mean per-scan seconds of prediction, cost matrix, association and
+update (from the last round), the observations (sweeps), row updates, mean tracks and
+measurements per scan.
+"""
+
+import numpy as np
+import pytest
+
+from rankedassign.tracking import OriginalGibbs, ShortChainGibbs, run_scenario
+
+METHODS = {
+    "short-chain-400x25": (lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), 5),
+    "original-10000": (lambda: OriginalGibbs(10_000), 3),
+}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _warm():
+    # compile every kernel the filter and both samplers use
+    for make, _ in METHODS.values():
+        run_scenario("paper", make(), rng=0, n_scans=3)
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_bench_paper_scenario(benchmark, method):
+    make, rounds = METHODS[method]
+    run = benchmark.pedantic(
+        run_scenario, args=("paper", make()), kwargs=dict(rng=0, n_scans=100), rounds=rounds,
+        warmup_rounds=0,
+    )
+    assert run.n_scans == 100
+    benchmark.extra_info.update(
+        {f"per_scan_{k}_s": float(np.mean(v)) for k, v in run.timings.items()}
+    )
+    benchmark.extra_info.update(
+        sweeps=int(run.sweeps.sum()),
+        row_updates=int(run.row_updates.sum()),
+        mean_tracks=float(run.n_tracks.mean()),
+        mean_meas=float(run.n_meas.mean()),
+        mean_meas_gated=float(run.n_meas_gated.mean()),
+    )
