@@ -148,7 +148,7 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
             "row_updates_proposed", "reduction_row_updates_pct", "ospa2_mean_original",
             "ospa2_mean_proposed", "curves"} <= set(tr)
     ab = _strict_json(out / "ablation.json")
-    assert len(ab) == 12 * 3 * 3 and {"stall", "stale", "delta_obs_pct"} <= set(ab[0])
+    assert len(ab) == 12 * 4 * 3 and {"stall", "stale", "delta_obs_pct"} <= set(ab[0])
     report = (out / "report.md").read_text()
     for title in ("## Table I", "## Sweep", "## Tracking", "## Ablation", "## Optimum"):
         assert title in report

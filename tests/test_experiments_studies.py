@@ -240,3 +240,40 @@ def test_tracking_tiny():
     for r in range(2):  # same measurements for both samplers in a run
         assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
     assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
+
+
+def test_random_pd_family_is_paired_with_random():
+    from rankedassign.experiments import child_seed, run_seed
+    from rankedassign.experiments._synthetic import make_problem
+
+    cfg = AblationConfig()
+    assert cfg.families == ("diagonal", "uniform", "random", "random-pd")
+    s = run_seed(8, 3)
+    a = make_problem("random", s, cfg)
+    b = make_problem("random-pd", s, cfg)
+    assert a == synthetic.random(rng=child_seed(s, 0))
+    assert b == synthetic.random(pbar_d="pd", rng=child_seed(s, 0))
+    # Same draws: the dead weights 1 - r P_s do not depend on Pbar_D.
+    assert_allclose(a.eta()[2], b.eta()[2], rtol=1e-15)
+    with pytest.raises(ValueError, match="unknown family 'square'"):
+        make_problem("square", s, cfg)
+
+
+def test_consistency_checks_of_the_ablation_report():
+    from rankedassign.experiments.report import _consistency
+
+    def row(obs, se=0.1):
+        return {"delta_obs_pct": obs, "delta_obs_pct_se": se}
+
+    fams = ("diagonal", "uniform", "random")
+    good = {("a", "b", "uniform", "stall"): row(40.0), ("a", "b", "diagonal", "stale"): row(99.0),
+            ("a", "b", "uniform", "stale"): row(0.0), ("a", "b", "random", "stale"): row(0.5)}
+    assert _consistency(good, "a", "b", fams) == "yes"
+    bad = dict(good)
+    bad["a", "b", "random", "stale"] = row(3.0, se=0.5)
+    bad["a", "b", "uniform", "stall"] = row(0.0)
+    assert _consistency(bad, "a", "b", fams) == (
+        "no: stall silent on uniform; stale saves on random")
+    noisy = dict(good)
+    noisy["a", "b", "random", "stale"] = row(3.0, se=1.9)  # within two standard errors
+    assert _consistency(noisy, "a", "b", fams) == "yes"

@@ -25,6 +25,7 @@ from ._executor import (
 )
 from .ablation import run_ablation
 from .config import (
+    ALL_FAMILIES,
     CRITERIA,
     FAMILIES,
     STALE_READINGS,
@@ -44,6 +45,7 @@ from .table1 import run_table1
 from .tracking import PAPER_TOTALS, run_tracking
 
 __all__ = [
+    "ALL_FAMILIES",
     "AblationConfig",
     "CRITERIA",
     "Config",

@@ -20,13 +20,13 @@ import numpy as np
 
 from .. import synthetic
 from ._executor import child_seed
-from .config import FAMILIES, STALE_READINGS, STALL_READINGS
+from .config import ALL_FAMILIES, STALE_READINGS, STALL_READINGS
 
 KEY_MATRIX, KEY_ORIGINAL, KEY_PROPOSED, KEY_SWEEP = 0, 1, 2, 3
 
 
 def family_index(family: str) -> int:
-    return FAMILIES.index(family)
+    return ALL_FAMILIES.index(family)
 
 
 def variant_key(stall: str | None, stale: str | None) -> int:
@@ -43,13 +43,15 @@ def _deterministic(family: str, pbar_d: str):
 
 def make_problem(family: str, run_ss: np.random.SeedSequence, cfg):
     """The matrix of ``family`` for one Monte Carlo run (the random family is re-drawn)."""
-    if family == "random":
+    if family in ("random", "random-pd"):
         return synthetic.random(
-            pbar_d=cfg.pbar_d, granularity=cfg.granularity, rng=child_seed(run_ss, KEY_MATRIX)
+            pbar_d="pd" if family == "random-pd" else cfg.pbar_d,
+            granularity=cfg.granularity,
+            rng=child_seed(run_ss, KEY_MATRIX),
         )
     if family in ("diagonal", "uniform"):
         return _deterministic(family, cfg.pbar_d)
-    raise ValueError(f"unknown family {family!r}; choose from {FAMILIES}")
+    raise ValueError(f"unknown family {family!r}; choose from {ALL_FAMILIES}")
 
 
 def record(problem, res) -> dict:

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 __all__ = [
     "FAMILIES",
+    "ALL_FAMILIES",
     "STALL_READINGS",
     "STALE_READINGS",
     "CRITERIA",
@@ -26,6 +27,10 @@ __all__ = [
 
 #: The paper's synthetic matrix families (spec §1.6), in report order.
 FAMILIES = ("diagonal", "uniform", "random")
+#: Every family a synthetic study accepts: ``"random-pd"`` is the random family with
+#: ``Pbar_D = P_d`` instead of the paper's ``r P_d`` (spec A2), drawn from the same uniforms as
+#: ``"random"`` in the same run, so the two are paired.
+ALL_FAMILIES = (*FAMILIES, "random-pd")
 #: Readings of the stall rule (spec §3.2), the recommended one (S3) first.
 STALL_READINGS = ("global-consecutive", "global-cumulative", "chain-local")
 #: Readings of the stale rule (spec §3.2), the recommended one (T3) first.
@@ -41,7 +46,7 @@ def _positive(name: str, value) -> None:
         raise ValueError(f"{name} must be a positive integer, got {value!r}")
 
 
-def _families(name: str, fams, allowed=FAMILIES) -> None:
+def _families(name: str, fams, allowed=ALL_FAMILIES) -> None:
     if not fams:
         raise ValueError(f"{name} must name at least one family")
     for f in fams:
@@ -91,6 +96,9 @@ class Table1Config(_Synthetic):
 class AblationConfig(_Synthetic):
     """Table I under every pair of stall x stale readings (spec §3.2).
 
+    By default it adds the ``"random-pd"`` family (``Pbar_D = P_d``, spec A2) to the paper's
+    three, so the reading of ``Pbar_D`` is ablated too.
+
     Examples
     --------
     >>> from rankedassign.experiments import AblationConfig
@@ -98,6 +106,7 @@ class AblationConfig(_Synthetic):
     12
     """
 
+    families: tuple[str, ...] = ALL_FAMILIES
     stall_readings: tuple[str, ...] = STALL_READINGS
     stale_readings: tuple[str, ...] = STALE_READINGS
 

@@ -86,7 +86,7 @@ def best_error(problem, k: int, *, _tail=None) -> float:
 def _optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
     s = run_seed(seed, run)
     problem = make_problem(family, s, cfg)
-    tail = _cached_tail(problem) if family != "random" else _tail_weights(problem)
+    tail = _cached_tail(problem) if family in ("diagonal", "uniform") else _tail_weights(problem)
     stall, stale = STALL_READINGS[0], STALE_READINGS[0]
     out = {"run": run, "family": family}
     for name, rec in (

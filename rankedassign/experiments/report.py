@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import CRITERIA, FAMILIES
+from .config import ALL_FAMILIES, CRITERIA
 
 __all__ = ["write_json", "write_csv", "render_report", "write_plots"]
 
@@ -151,7 +151,7 @@ def _table1_checks(rows, cfg) -> str:
             f"- diagonal, original sampler: ε̄_o = {r['error_original_mean'] / 100:.2e} "
             "(spec §10.5: about 1e−5 or below)"
         )
-    for fam in ("uniform", "random"):
+    for fam in ("uniform", "random", "random-pd"):
         if (fam, "stale") in by:
             r = by[fam, "stale"]
             lines.append(
@@ -163,11 +163,11 @@ def _table1_checks(rows, cfg) -> str:
 
 
 def _ablation_section(rows, cfg) -> str:
-    fams = [f for f in FAMILIES if any(r["family"] == f for r in rows)]
+    fams = [f for f in ALL_FAMILIES if any(r["family"] == f for r in rows)]
     cols = [(f, c) for f in fams for c in CRITERIA]
     pairs = list(dict.fromkeys((r["stall"], r["stale"]) for r in rows))
     by = {(r["stall"], r["stale"], r["family"], r["criterion"]): r for r in rows}
-    header = ["stall", "stale"] + [f"{f} {c}" for f, c in cols] + ["consistent?"]
+    header = ["stall", "stale"] + [f"{f} {c}" for f, c in cols] + ["consistent with the paper?"]
     body = []
     for a, b in pairs:
         cells = []
@@ -182,26 +182,39 @@ Each cell is **ΔObs (%) / ΔError (pp)** against the original sampler on the sa
 {n} Monte Carlo runs, paper settings otherwise ({cfg.n_chains:,} × {cfg.chain_length},
 τ_stall = {cfg.tau_stall}, τ_stale = {cfg.tau_stale}). The stall-only columns depend only on the
 stall reading and the stale-only columns only on the stale reading (shared runs).
-Standard errors are in `ablation.json` / `ablation.csv`.
+`random-pd` is the random family with P̄_D = P_d instead of the paper's r·P_d (spec A2), drawn
+from the same uniforms as `random` in each run. Standard errors are in `ablation.json` /
+`ablation.csv`.
 
 {_table(header, body)}
 
-"consistent?" applies the two facts about the paper's Table I that spec §3.5 and A10/A11 state:
-(a) the stall rule saves observations on the uniform family (ΔObs > 1 % there) and (b) the stale
-rule shows no savings on the uniform and random families (stale-only ΔObs < 1 %); both must hold.
+"consistent with the paper?" checks the properties of the paper's Table I that spec §3.5,
+A10 and A11 use to choose between readings: (a) the stall rule saves observations on the
+uniform family ("stall silent on uniform" otherwise); (b) the stale rule fires on the
+diagonal family ("stale silent on diagonal" otherwise, the reason the literal set form is
+rejected); (c) the stale rule shows no savings on the uniform and random families ("stale
+saves on F" otherwise). "Saves" means ΔObs > max(1 %, 2 standard errors). Only the facts the
+specification states are checked; the published numbers themselves are not in it.
 """
 
 
+def _saves(r) -> bool:
+    """ΔObs clearly positive: above 1 % and above two standard errors."""
+    return r["delta_obs_pct"] > max(1.0, 2.0 * (r["delta_obs_pct_se"] or 0.0))
+
+
 def _consistency(by, a, b, fams) -> str:
-    ok = []
-    if "uniform" in fams:
-        ok.append(by[a, b, "uniform", "stall"]["delta_obs_pct"] > 1.0)
-    for f in ("uniform", "random"):
-        if f in fams:
-            ok.append(by[a, b, f, "stale"]["delta_obs_pct"] < 1.0)
-    if not ok:
+    fails = []
+    if "uniform" in fams and not _saves(by[a, b, "uniform", "stall"]):
+        fails.append("stall silent on uniform")
+    if "diagonal" in fams and not _saves(by[a, b, "diagonal", "stale"]):
+        fails.append("stale silent on diagonal")
+    for f in ("uniform", "random", "random-pd"):
+        if f in fams and _saves(by[a, b, f, "stale"]):
+            fails.append(f"stale saves on {f}")
+    if not any(f in fams for f in ("uniform", "diagonal", "random", "random-pd")):
         return "–"
-    return "yes" if all(ok) else "no"
+    return "yes" if not fails else "no: " + "; ".join(fails)
 
 
 def _sweep_section(rows, cfg) -> str:
