@@ -1,0 +1,122 @@
+"""Truncation error (spec eq. 1.9) and best_mass."""
+
+import numpy as np
+import pytest
+from cases import CASE_IDS, CASES, problems
+from hypothesis import given
+from hypothesis import strategies as st
+from numpy.testing import assert_allclose
+from scipy.special import logsumexp
+
+from oracle import best_mass, enumerate_assignments, murty, truncation_error
+from rankedassign import AssignmentProblem, synthetic
+
+
+@pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
+def test_cases_all_zero_best_and_monotone(name, problem):
+    full = enumerate_assignments(problem)
+    # zero up to the round-off of Z (relative ~1e-16 per term)
+    assert_allclose(truncation_error(problem, full.assignments), 0.0, atol=1e-14)
+    assert_allclose(truncation_error(problem, full.assignments[:1]), 1 - best_mass(problem, 1),
+                    rtol=1e-9, atol=1e-12)
+    # adding assignments never increases the error
+    rng = np.random.default_rng(0)
+    shuffled = full.assignments[rng.permutation(len(full.costs))]
+    errs = [truncation_error(problem, shuffled[:n]) for n in range(len(shuffled) + 1)][:60]
+    assert errs[0] == 1.0
+    assert np.all(np.diff(errs) <= 1e-12)
+    assert all(0.0 <= e <= 1.0 for e in errs)
+
+
+@given(problems(), st.data())
+def test_property_against_enumerated_weights(problem, data):
+    full = enumerate_assignments(problem)
+    n = len(full.costs)
+    idx = data.draw(st.lists(st.integers(0, n - 1), max_size=12))  # duplicates allowed
+    want = 1.0 - np.exp(logsumexp(-full.costs[np.unique(idx)]) - logsumexp(-full.costs)) \
+        if idx else 1.0
+    got = truncation_error(problem, full.assignments[idx].reshape(len(idx), problem.n_rows))
+    assert_allclose(got, max(want, 0.0), rtol=1e-9, atol=1e-12)
+    k = data.draw(st.integers(0, n + 2))
+    assert_allclose(best_mass(problem, k), 1 - truncation_error(problem, full.assignments[:k]),
+                    rtol=1e-9, atol=1e-12)
+
+
+def test_duplicates_count_once_and_order_is_irrelevant():
+    p = synthetic.random(R=4, M=6, rng=3)
+    top = murty(p, 20).assignments
+    e = truncation_error(p, top)
+    assert_allclose(truncation_error(p, np.vstack([top, top[::-1], top[:5]])), e, rtol=1e-14)
+    assert_allclose(truncation_error(p, top[::-1]), e, rtol=1e-14)
+    assert truncation_error(p, top[0]) == truncation_error(p, top[:1])  # a single (P,) row
+
+
+def test_paper_diagonal_best_holds_99_577_percent():
+    # spec §1.6 [verified]: the best solution of the diagonal matrix carries 99.577 % of Z
+    p = synthetic.diagonal()
+    assert_allclose(best_mass(p, 1), 0.99577, atol=5e-6)
+    assert_allclose(truncation_error(p, [[0, 1, 2, 3]]), 1 - best_mass(p, 1), rtol=1e-10)
+
+
+def test_uniform_error_is_the_missing_fraction():
+    p = synthetic.uniform()
+    a = enumerate_assignments(p).assignments
+    assert_allclose(truncation_error(p, a[:1000]), 1 - 1000 / 76_848, rtol=1e-12)
+    assert_allclose(best_mass(p, 1000), 1000 / 76_848, rtol=1e-12)
+
+
+def test_beyond_enumeration_uses_the_dp():
+    p = synthetic.random(R=10, M=30, rng=1)  # |Gamma| ~ 1e14: Murty + DP path of best_mass
+    top = murty(p, 200)
+    e = truncation_error(p, top.assignments)
+    assert 0.0 < e < 1.0
+    assert_allclose(e, 1 - best_mass(p, 200), rtol=1e-12)
+    masses = [best_mass(p, k) for k in (1, 10, 100)]
+    assert masses[0] < masses[1] < masses[2] < 1 - e + 1e-15
+
+
+def test_best_mass_edges():
+    p = synthetic.random(R=2, M=3, rng=0)
+    n = p.n_feasible()
+    assert best_mass(p, 0) == 0.0
+    assert best_mass(p, n) == pytest.approx(1.0, abs=1e-14)
+    assert best_mass(p, 10 * n) == pytest.approx(1.0, abs=1e-14)
+    with pytest.raises(ValueError, match="k must be a non-negative int, got -2"):
+        best_mass(p, -2)
+    with pytest.raises(TypeError, match="k must be an int, got float"):
+        best_mass(p, 2.0)
+
+
+def test_degenerate_shapes():
+    empty = AssignmentProblem.from_cost(np.zeros((0, 3)))
+    assert truncation_error(empty, np.zeros((1, 0), dtype=int)) == 0.0
+    assert truncation_error(empty, np.zeros((0, 0), dtype=int)) == 1.0
+    assert best_mass(empty, 1) == 1.0
+    no_meas = AssignmentProblem.from_eta(np.zeros((2, 0)), [1.0, 3.0], [1.0, 1.0])
+    assert_allclose(truncation_error(no_meas, [[0, 1]]), 1 - 3 / 8, rtol=1e-14)
+
+
+def test_infeasible_assignment_names_its_row():
+    p = AssignmentProblem.from_eta([[2.0, 0.5], [0.1, 3.0]], [0.2, 0.3], [0.1, 0.1])
+    with pytest.raises(ValueError, match=r"assignment 2 \(row 2 of the input\), columns "
+                                         r"\[0, 0\], is infeasible"):
+        truncation_error(p, [[0, 1], [1, 0], [0, 0]])
+    with pytest.raises(ValueError, match=r"assignment 0 \(row 0 of the input\), columns "
+                                         r"\[3, 1\], is infeasible"):
+        truncation_error(p, [[3, 1]])  # column 3 is row 1's missed column
+    with pytest.raises(ValueError, match=r"assignment 1 \(row 1 of the input\)"):
+        truncation_error(p, [[0, 1], [0, 9]])  # out of range
+
+
+def test_bad_input_types_and_sizes():
+    p = synthetic.diagonal()
+    with pytest.raises(ValueError, match=r"must have shape \(n, P\) = \(n, 4\)"):
+        truncation_error(p, [[0, 1, 2]])
+    with pytest.raises(TypeError, match="integer array of column indices"):
+        truncation_error(p, [[0.5, 1, 2, 3]])
+    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got str"):
+        truncation_error("p", [[0, 1, 2, 3]])
+    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got NoneType"):
+        best_mass(None, 3)
+    with pytest.raises(ValueError, match="too large for the exact subset DP"):
+        truncation_error(synthetic.random(R=21, M=21, rng=0), np.arange(21)[None, :])
