@@ -435,32 +435,57 @@ def _start(zkeys, x0, M):
 
 # ---------------------------------------------------------------------------------- drivers
 @jit(parallel=True)
-def speculate(W, cc, zkeys, x0, base, c_first, n_batch, chain_length, random_scan, traj, hashes):
-    """Simulate chains ``c_first .. c_first + n_batch - 1`` for ``chain_length`` sweeps each.
+def speculate(W, cc, zkeys, x0, free0, h0, base, c_first, n_batch, n_sweeps, random_scan,
+              traj, hashes, states, frees, hs, rss, perms, cums):
+    """Simulate the first ``n_sweeps`` sweeps of chains ``c_first .. c_first + n_batch - 1``.
 
-    Chain ``c_first + b`` writes its trajectory to ``traj[b]`` ``(chain_length, P)`` and the
-    Zobrist hash of each state to ``hashes[b]``. Chains are independent (each has its own
-    stream), so the loop over chains runs in parallel (``prange``); each iteration owns its
-    slab of ``traj`` and ``hashes`` and allocates its small work arrays once.
+    Chain ``c_first + b`` writes its trajectory to ``traj[b, :n_sweeps]`` and the Zobrist hash
+    of each state to ``hashes[b, :n_sweeps]``, and leaves its simulation state (``states[b]``,
+    ``frees[b]``, ``hs[b]``, ``rss[b, 0]``) ready for :func:`run_chains` to continue it. Chains
+    are independent (each has its own stream), so the loop over chains runs in parallel
+    (``prange``); each iteration writes only its own slab rows (``rss`` rows are padded to a
+    cache line so that neighbouring streams do not share one).
     """
-    P = x0.shape[0]
-    M = W.shape[1] - 2
     for b in prange(n_batch):
-        state = x0.copy()
-        free, h = _start(zkeys, x0, M)
-        perm = np.empty(P, dtype=np.int64)
-        cum = np.empty(M + 2)
-        rs = np.empty(1, dtype=np.uint64)
+        state = states[b]
+        free = frees[b]
+        perm = perms[b]
+        cum = cums[b]
+        rs = rss[b, 0:1]
+        state[:] = x0
+        free[:] = free0
         rs[0] = chain_state(base, c_first + b)
-        for j in range(chain_length):
+        h = h0
+        for j in range(n_sweeps):
             h = sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan)
             traj[b, j, :] = state
             hashes[b, j] = h
+        hs[b] = h
+
+
+@jit()
+def _prefix_length(used_hist, chain_length, workers):
+    """Sweeps to speculate per chain: the ``1 - 1/workers`` quantile of the used lengths.
+
+    Speculating ``s`` sweeps costs ``s / workers`` per chain in parallel; each sweep a chain
+    needs beyond ``s`` costs 1 in the (sequential) replay. The expected time is minimal where
+    ``P(length > s) = 1 / workers``. Before any chain has finished, speculate everything.
+    """
+    n = used_hist.sum()
+    if n == 0:
+        return chain_length
+    need = n - n // workers  # at least this many chains end within s sweeps
+    acc = 0
+    for s in range(chain_length + 1):
+        acc += used_hist[s]
+        if acc >= need:
+            return min(max(s, 1), chain_length)
+    return chain_length
 
 
 @jit()
 def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_stall,
-               stale_mode, tau_stale, random_scan, batch):
+               stale_mode, tau_stale, random_scan, batch, workers):
     """Short-chain sampler (spec §3.3); the original sampler is one chain without termination.
 
     Parameters
@@ -481,9 +506,15 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
         Row order of each sweep (see :func:`sweep`).
     batch : int
         0: simulate chain after chain, stopping each as soon as the stall rule fires.
-        ``> 0``: speculate ``batch`` chains at a time in parallel to full length
-        (:func:`speculate`), then replay them in chain order applying stall and stale exactly
-        as the sequential run does (spec §3.3, "Parallelism").
+        ``> 0``: take ``batch`` chains at a time (the first batch at most
+        ``max(64, 16 workers)``), simulate a prefix of each in parallel
+        (:func:`speculate`, prefix length from :func:`_prefix_length`), then replay them in
+        chain order applying stall and stale exactly as the sequential run does, extending a
+        chain sequentially if it outlives its prefix (spec §3.3, "Parallelism"). A chain's
+        trajectory depends only on its stream, so the result does not depend on ``batch``,
+        ``workers`` or the prefix lengths; only the discarded sweeps do.
+    workers : int
+        Threads used by :func:`speculate` (sets the prefix quantile).
 
     Returns
     -------
@@ -541,16 +572,34 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
         nb = min(batch, n_chains)
         traj = np.empty((nb, chain_length, P), dtype=np.int32)
         hashes = np.empty((nb, chain_length), dtype=np.uint64)
+        states = np.empty((nb, P), dtype=np.int32)
+        frees = np.empty((nb, M))
+        hs = np.empty(nb, dtype=np.uint64)
+        rss = np.empty((nb, 8), dtype=np.uint64)
+        perms = np.empty((nb, P), dtype=np.int64)
+        cums = np.empty((nb, M + 2))
+        used_hist = np.zeros(chain_length + 1, dtype=np.int64)
         c0 = 0
         while c0 < n_chains:
             n_b = min(nb, n_chains - c0)
-            speculate(W, cc, zkeys, x0, base, c0, n_b, chain_length, random_scan, traj, hashes)
+            if c0 == 0:  # a first, small batch learns the chain lengths for the prefix
+                n_b = min(n_b, max(64, 16 * workers))
+            s = _prefix_length(used_hist, chain_length, workers)
+            speculate(W, cc, zkeys, x0, free0, h0, base, c0, n_b, s, random_scan, traj, hashes,
+                      states, frees, hs, rss, perms, cums)
             stale = False
             for b in range(n_b):
                 c = c0 + b
                 _begin_chain(c, lastc, cctr)
                 used = chain_length
+                done = s
                 for j in range(1, chain_length + 1):
+                    if j > done:  # the chain outlived its prefix: continue it here
+                        hs[b] = sweep(W, cc, zkeys, states[b], frees[b], hs[b], rss[b, 0:1],
+                                      perms[b], cums[b], random_scan)
+                        traj[b, j - 1, :] = states[b]
+                        hashes[b, j - 1] = hs[b]
+                        done = j
                     if ctr[_NU] >= uniq.shape[0] or 2 * (ctr[_NU] + 1) > table.shape[0]:
                         uniq, uhash, counts, lastc, table = _grow(
                             uniq, uhash, counts, lastc, table, ctr[_NU]
@@ -559,9 +608,10 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
                                lastc, table, ctr, cctr, stall_mode, tau_stall):
                         used = j
                         break
-                ctr[_DISCARDED] += chain_length - used
+                used_hist[used] += 1
+                ctr[_DISCARDED] += done - used
                 if _end_chain(ctr, cctr, stale_mode, tau_stale):
-                    ctr[_DISCARDED] += (n_b - b - 1) * chain_length
+                    ctr[_DISCARDED] += (n_b - b - 1) * s
                     stale = True
                     break
             if stale:

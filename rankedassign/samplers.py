@@ -58,6 +58,8 @@ BACKENDS = ("numba", "python")
 
 # Upper bound on the speculation slab (batch x chain_length x P int32 entries, 64 MiB).
 _MAX_SLAB = 1 << 24
+# Candidate evaluations per speculation batch (~1 ms of sweeps).
+_BATCH_WORK = 1 << 21
 
 
 @dataclass(frozen=True, eq=False)
@@ -296,19 +298,23 @@ def _zobrist(problem: AssignmentProblem) -> np.ndarray:
     return _kernels.zobrist_keys(problem.n_rows, problem.n_meas + 2, np.uint64(ZOBRIST_SEED))
 
 
-def _batch_size(workers: int, n_chains: int, chain_length: int, P: int) -> int:
-    """Chains per speculation batch (``max(64, 16 workers)``), or 0 for the sequential kernel.
+def _batch_size(workers: int, n_chains: int, chain_length: int, P: int, M: int) -> int:
+    """Chains per speculation batch, or 0 for the sequential kernel.
 
-    The speculation slab holds ``batch * chain_length * P`` states; if the memory bound
-    leaves room for fewer chains than workers (very long chains), speculation cannot keep the
-    workers busy and the sequential kernel runs instead (same result).
+    At least ``max(64, 16 workers)`` chains, and enough that a batch holds about
+    :data:`_BATCH_WORK` candidate evaluations (``P (M + 2)`` per sweep) so that starting the
+    thread team is cheap next to the work; at most :data:`_MAX_SLAB` stored states. A stale
+    stop discards at most the rest of one batch. If the slab bound leaves room for fewer
+    chains than workers (very long chains), speculation cannot keep the workers busy and the
+    sequential kernel runs instead (same result).
     """
     if workers <= 1 or n_chains == 0:
         return 0
     room = _MAX_SLAB // max(1, chain_length * max(P, 1))
     if room < workers:
         return 0
-    return min(max(64, 16 * workers), n_chains, room)
+    by_work = -(-_BATCH_WORK // max(1, chain_length * max(P, 1) * (M + 2)))
+    return min(max(64, 16 * workers, by_work), n_chains, room)
 
 
 # ------------------------------------------------------------------------------ public API
@@ -391,7 +397,7 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     prep = _prepare(problem, start, scan, rng)
     uniq, counts, ctr = _kernels.run_chains(
         prep.W, prep.cc, _zobrist(prep.problem), prep.x0, np.uint64(prep.base), 1, n_obs,
-        0, 0, 0, 0, prep.random_scan, 0,
+        0, 0, 0, 0, prep.random_scan, 0, 1,
     )
     return _package(prep, uniq, counts, ctr[1], ctr[2], ctr[5], ctr[6])
 
@@ -511,10 +517,11 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     prep = _prepare(problem, start, scan, rng)
     stall_mode = STALL_READINGS[stall] if t_stall else 0
     stale_mode = STALE_READINGS[stale] if t_stale else 0
-    batch = _batch_size(workers, n_chains, chain_length, prep.problem.n_rows)
+    batch = _batch_size(workers, n_chains, chain_length, prep.problem.n_rows,
+                        prep.problem.n_meas)
     args = (
         prep.W, prep.cc, _zobrist(prep.problem), prep.x0, np.uint64(prep.base), n_chains,
-        chain_length, stall_mode, t_stall, stale_mode, t_stale, prep.random_scan, batch,
+        chain_length, stall_mode, t_stall, stale_mode, t_stale, prep.random_scan, batch, workers,
     )
     if batch:
         with threads(workers):

@@ -190,9 +190,9 @@ def test_speculative_batches_of_any_size_replay_exactly(data):
         samplers.STALL_READINGS[stall] if tau_stall else 0, tau_stall,
         samplers.STALE_READINGS[stale] if tau_stale else 0, tau_stale, prep.random_scan,
     )
-    u0, c0, k0 = _kernels.run_chains(*args, 0)
-    for batch in (1, 2, 3, 7, 64):
-        u, c, k = _kernels.run_chains(*args, batch)
+    u0, c0, k0 = _kernels.run_chains(*args, 0, 1)
+    for batch, workers in ((1, 2), (2, 2), (3, 4), (7, 2), (7, 3), (64, 2)):
+        u, c, k = _kernels.run_chains(*args, batch, workers)
         assert_array_equal(u, u0)
         assert_array_equal(c, c0)
         assert_array_equal(k[:6], k0[:6])
