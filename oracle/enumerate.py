@@ -87,7 +87,9 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
     a = enumerate_kernel(np.ascontiguousarray(problem.compact_cost), n)
     costs = problem.cost_of(a)
-    # primary key: cost; ties: lexicographic column indices (lexsort's last key is primary)
-    keys = [a[:, i] for i in range(P - 1, -1, -1)] + [costs]
-    order = np.lexsort(keys)
+    # The search emits assignments in lexicographic order of their column indices (row 0
+    # slowest; a row's options in increasing column order: measurements j < M, then its
+    # missed column M + i, then its dead column M + P + i), so a stable sort by cost alone
+    # leaves equal costs in lexicographic order.
+    order = np.argsort(costs, kind="stable")
     return Ranked(np.ascontiguousarray(a[order]), costs[order])
