@@ -187,6 +187,19 @@ def test_sweep_structure_and_monotone_original():
         if r["sampler"] != "original":
             L = r["chain_length"]
             assert r["n_obs_mean"] == (r["budget"] // L) * L
+    by = {(r["family"], r["sampler"], r["budget"]): r for r in rows}
+    for (fam, sampler, budget), r in by.items():
+        if sampler == "original":
+            assert r["diff_vs_original_pp_mean"] == 0.0
+        else:
+            paired = [
+                100 * (p["error"] - q["error"])
+                for run in runs if run["family"] == fam
+                for p in run["points"] if (p["sampler"], p["budget"]) == (sampler, budget)
+                for q in run["points"] if (q["sampler"], q["budget"]) == ("original", budget)
+            ]
+            assert_allclose(r["diff_vs_original_pp_mean"], np.mean(paired), rtol=1e-12,
+                            atol=1e-12)
     for run in runs:
         # Same stream at every budget: the original chain's unique set only grows.
         errs = [p["error"] for p in run["points"] if p["sampler"] == "original"]

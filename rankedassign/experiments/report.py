@@ -217,12 +217,19 @@ def _consistency(by, a, b, fams) -> str:
     return "yes" if not fails else "no: " + "; ".join(fails)
 
 
+_SWEEP_HEADER = [
+    "family", "sampler", "observations", "unique", "ε (%) ± SE", "ε 10–90 % (%)",
+    "ε − ε original (pp)",
+]
+
+
 def _sweep_section(rows, cfg) -> str:
     top = max(cfg.obs_grid)
     body = [
         [r["family"], r["sampler"], _int(r["n_obs_mean"]), _int(r["n_unique_mean"]),
          _pm(r["error_pct_mean"], r["error_pct_se"], 3),
-         f"{_f(r['error_pct_q10'], 3)} – {_f(r['error_pct_q90'], 3)}"]
+         f"{_f(r['error_pct_q10'], 3)} – {_f(r['error_pct_q90'], 3)}",
+         _pm(r["diff_vs_original_pp_mean"], r["diff_vs_original_pp_se"], 3)]
         for r in rows
         if r["budget"] == top
     ]
@@ -231,11 +238,12 @@ def _sweep_section(rows, cfg) -> str:
 
 ![sweep](sweep.png)
 
-Mean over {n} runs with a band of ±1 standard error (shaded); budgets
+Top: mean over {n} runs with a band of ±1 standard error (shaded); bottom: the paired
+difference to the original sampler (same matrix, same budget, same run); budgets
 {", ".join(f"{b:,}" for b in cfg.obs_grid)} observations; the short-chain sampler runs
 ⌊budget / L⌋ chains of length L. At the largest budget ({top:,}):
 
-{_table(["family", "sampler", "observations", "unique", "ε (%) ± SE", "ε 10–90 % (%)"], body)}
+{_table(_SWEEP_HEADER, body)}
 """
 
 
@@ -377,26 +385,36 @@ def _figure(ncols=1, width=6.0, height=4.0):
 
 
 def plot_sweep(rows, path) -> None:
-    """Error against observations, one panel per family, band ±1 SE."""
+    """Error against observations (top) and its paired difference to the original (bottom).
+
+    One column per family; bands are ±1 standard error over runs.
+    """
+    from matplotlib.figure import Figure
+
     fams = list(dict.fromkeys(r["family"] for r in rows))
-    fig, axes = _figure(len(fams))
-    for ax, fam in zip(axes, fams, strict=True):
+    fig = Figure(figsize=(6.0 * len(fams), 7.0), layout="constrained")
+    axes = fig.subplots(2, len(fams), squeeze=False, sharex="col")
+    for col, fam in enumerate(fams):
+        top, bottom = axes[0, col], axes[1, col]
         samplers = list(dict.fromkeys(r["sampler"] for r in rows if r["family"] == fam))
         for s in samplers:
             rs = sorted((r for r in rows if r["family"] == fam and r["sampler"] == s),
                         key=lambda r: r["n_obs_mean"])
             x = np.array([r["n_obs_mean"] for r in rs])
-            y = np.array([r["error_pct_mean"] for r in rs])
-            se = np.array([r["error_pct_se"] or 0.0 for r in rs])
             style = {"color": "k", "lw": 2} if s == "original" else {}
-            (line,) = ax.plot(x, y, marker="o", ms=3, label=s, **style)
-            ax.fill_between(x, y - se, y + se, color=line.get_color(), alpha=0.2, lw=0)
-        ax.set_xscale("log")
-        ax.set_xlabel("observations (sweeps)")
-        ax.set_ylabel("truncation error (%)")
-        ax.set_title(f"{fam} family")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+            for ax, key in ((top, "error_pct"), (bottom, "diff_vs_original_pp")):
+                y = np.array([r[f"{key}_mean"] for r in rs])
+                se = np.array([r[f"{key}_se"] or 0.0 for r in rs])
+                (line,) = ax.plot(x, y, marker="o", ms=3, label=s, **style)
+                ax.fill_between(x, y - se, y + se, color=line.get_color(), alpha=0.2, lw=0)
+        top.set_title(f"{fam} family")
+        top.set_ylabel("truncation error (%)")
+        bottom.set_ylabel("error − original error (pp)")
+        bottom.set_xlabel("observations (sweeps)")
+        for ax in (top, bottom):
+            ax.set_xscale("log")
+            ax.grid(True, which="both", alpha=0.3)
+        top.legend(fontsize=8)
     fig.savefig(path, dpi=110)
 
 

@@ -42,12 +42,18 @@ def _sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> dict:
 def summarise_sweep(runs: list[dict]) -> list[dict]:
     """Rows ``(family, sampler, budget)``: error statistics over runs (percent)."""
     groups: dict[tuple, list[dict]] = {}
+    diffs: dict[tuple, list[float]] = {}
     for r in runs:
+        ref = {p["budget"]: p["error"] for p in r["points"] if p["sampler"] == "original"}
         for p in r["points"]:
-            groups.setdefault((r["family"], p["sampler"], p["budget"]), []).append(p)
+            key = (r["family"], p["sampler"], p["budget"])
+            groups.setdefault(key, []).append(p)
+            # Paired with the original sampler of the same run (same matrix) and budget.
+            diffs.setdefault(key, []).append(100.0 * (p["error"] - ref[p["budget"]]))
     rows = []
     for (fam, sampler, budget), ps in groups.items():
         e = 100.0 * np.array([p["error"] for p in ps])
+        d = np.array(diffs[fam, sampler, budget])
         n = len(ps)
         rows.append(
             {
@@ -61,6 +67,8 @@ def summarise_sweep(runs: list[dict]) -> list[dict]:
                 "error_pct_se": float(e.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
                 "error_pct_q10": float(np.quantile(e, 0.1)),
                 "error_pct_q90": float(np.quantile(e, 0.9)),
+                "diff_vs_original_pp_mean": float(d.mean()),
+                "diff_vs_original_pp_se": float(d.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
                 "n_mc": n,
             }
         )
@@ -97,7 +105,9 @@ def run_sweep(
     -------
     rows : list of dict
         One row per family, sampler (``"original"`` or ``"short-L"``) and budget with the mean,
-        standard error and 10 %/90 % quantiles of the error over runs (percent).
+        standard error and 10 %/90 % quantiles of the error over runs (percent), and the mean
+        paired difference to the original sampler at the same budget in the same run
+        (``diff_vs_original_pp_mean``, percentage points).
     runs : list of dict
         Per-run records, only if ``return_runs``.
 
