@@ -112,6 +112,22 @@ def test_reduce_mixtures_prune_merge_cap():
     assert_allclose(m2[1:, 0], [0.0, 100.0], rtol=1e-12)
 
 
+def test_reduce_mixtures_orders_by_merged_weight():
+    # the heaviest single component (0.3) is merged first but the later cluster of three
+    # (0.25 + 0.25 + 0.2) outweighs it: the cluster must come first, and survive a cap of 1
+    m = np.zeros((4, 4))
+    m[1:, 0] = [100.0, 100.5, 101.0]
+    P = np.broadcast_to(np.eye(4), (4, 4, 4)).copy()
+    w = np.array([0.3, 0.25, 0.25, 0.2])
+    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 10)
+    assert_allclose(w2, [0.7, 0.3], rtol=1e-12)
+    assert_allclose(m2[0, 0], (0.25 * 100 + 0.25 * 100.5 + 0.2 * 101) / 0.7, rtol=1e-12)
+    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 1)
+    assert_array_equal(off, [0, 1])
+    assert_allclose(w2, [1.0], rtol=1e-12)
+    assert m2[0, 0] > 99
+
+
 # --------------------------------------------------------------------------- one scan, closed form
 def test_prediction_and_kalman_update_closed_form():
     model = one_birth_model()

@@ -271,8 +271,17 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
             om[n_out] = mean
             oP[n_out] = 0.5 * (cov + cov.T)
             n_out += 1
-        # merged components come out in decreasing weight order; cap and renormalise
-        n_out = min(n_out, start + cap)
+        # sort the merged components by decreasing weight (a later cluster can outweigh an
+        # earlier one), then cap and renormalise
+        n_new = n_out - start
+        order = np.argsort(-ow[start:n_out], kind="mergesort")
+        sw = ow[start:n_out][order].copy()
+        sm = om[start:n_out][order].copy()
+        sP = oP[start:n_out][order].copy()
+        ow[start:n_out] = sw
+        om[start:n_out] = sm
+        oP[start:n_out] = sP
+        n_out = start + min(n_new, cap)
         tot = 0.0
         for c in range(start, n_out):
             tot += ow[c]
