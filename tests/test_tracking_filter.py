@@ -309,6 +309,10 @@ def test_run_scenario_requires_association():
         run_scenario("paper")
     with pytest.raises(ValueError, match="unknown preset"):
         run_scenario("nope", Enumerate())
+    with pytest.raises(ValueError, match="n_scans must be a positive integer"):
+        run_scenario("vo", Enumerate(), n_scans=0)
+    with pytest.raises(ValueError, match="extraction must be"):
+        run_scenario("vo", Enumerate(), n_scans=2, extraction="top")
 
 
 def test_run_scenario_with_exact_enumeration_on_vo_preset():

@@ -123,6 +123,9 @@ def test_truth_region_and_positions():
     assert pos.shape == (100, 12, 2)
     assert np.nanmin(pos[..., 0]) >= -797 and np.nanmax(pos[..., 0]) <= 715
     assert np.nanmin(pos[..., 1]) >= -924 and np.nanmax(pos[..., 1]) <= 795
+    labels, X = t.at(75)
+    assert_array_equal(labels, [1, 3, 4, 5, 6, 7, 8, 9])
+    assert_array_equal(X, t.states[75, labels])
     short = paper_truth(30)
     assert_array_equal(short.states, t.states[:30])
     with pytest.raises(ValueError, match="n_scans must be a positive integer"):
