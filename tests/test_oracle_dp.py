@@ -157,3 +157,35 @@ def test_transposed_dp_handles_many_rows():
 def test_not_a_problem(fn):
     with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got list"):
         fn([[0.0, 1.0, 2.0]])
+
+
+def permuted(problem, rows, meas):
+    """The same problem with rows and measurements relabelled."""
+    cc = problem.compact_cost
+    M = problem.n_meas
+    sub = cc[np.ix_(rows, list(meas) + [M, M + 1])]
+    return AssignmentProblem.from_log_eta(-sub[:, :M], -sub[:, M], -sub[:, M + 1])
+
+
+@pytest.mark.parametrize("R, M", [(10, 14), (13, 8)])
+def test_permutation_equivariance(R, M):
+    p = synthetic.random(R=R, M=M, rng=R + M)
+    rng = np.random.default_rng(0)
+    rows, meas = rng.permutation(R), rng.permutation(M)
+    q = permuted(p, rows, meas)
+    assert_allclose(log_normalizer(q), log_normalizer(p), rtol=1e-13)
+    mp, mq = marginals(p), marginals(q)
+    assert_allclose(mq, mp[np.ix_(rows, list(meas) + [M, M + 1])], rtol=1e-10, atol=1e-15)
+
+
+@pytest.mark.slow
+def test_largest_sizes():
+    # P = 20, M = 200 (2^20 states, 200 steps) and the transposed M = 20, P = 60
+    p = synthetic.random(R=20, M=200, rng=0)
+    rng = np.random.default_rng(1)
+    q = permuted(p, rng.permutation(20), rng.permutation(200))
+    assert_allclose(log_normalizer(q), log_normalizer(p), rtol=1e-12)
+    t = synthetic.random(R=60, M=20, rng=2)
+    m = marginals(t)
+    assert_allclose(m.sum(axis=1), 1.0, rtol=1e-12)
+    assert np.all(m[:, :20].sum(axis=0) <= 1 + 1e-12)
