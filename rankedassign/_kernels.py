@@ -64,8 +64,10 @@ def mix64(z):
     >>> int(mix64(np.uint64(1))) == _rng.mix64(1)
     True
     """
-    z = (z ^ (z >> _S30)) * _MUL1
-    z = (z ^ (z >> _S27)) * _MUL2
+    # np.multiply / np.add wrap modulo 2**64 silently, also when NUMBA_DISABLE_JIT=1 runs
+    # this as Python (the * and + operators warn on numpy scalar overflow there)
+    z = np.multiply(z ^ (z >> _S30), _MUL1)
+    z = np.multiply(z ^ (z >> _S27), _MUL2)
     return z ^ (z >> _S31)
 
 
@@ -80,7 +82,7 @@ def chain_state(base, chain):
     >>> int(chain_state(np.uint64(99), 3)) == _rng.chain_state(99, 3)
     True
     """
-    return mix64(base ^ mix64(np.uint64(chain) + _ONE))
+    return mix64(base ^ mix64(np.add(np.uint64(chain), _ONE)))
 
 
 @jit()
@@ -95,7 +97,7 @@ def next_uniform(rs):
     >>> next_uniform(rs) == _rng.SplitMix64(5).uniform()
     True
     """
-    s = rs[0] + _GOLDEN
+    s = np.add(rs[0], _GOLDEN)
     rs[0] = s
     return np.float64(mix64(s) >> _S11) * _TWO_M53
 
@@ -132,7 +134,7 @@ def zobrist_keys(P, K, seed):
     s = seed
     for i in range(P):
         for k in range(K):
-            s = s + _GOLDEN
+            s = np.add(s, _GOLDEN)
             keys[i, k] = mix64(s)
     return keys
 
