@@ -109,7 +109,29 @@ def marginals_from_hypotheses(problem: AssignmentProblem, assignments, costs=Non
 
 
 class Association:
-    """Base class: ``assoc(problem, rng) -> AssociationResult``."""
+    """Base class of association methods: ``assoc(problem, rng) -> AssociationResult``.
+
+    Subclass it (or pass any callable with that signature) to plug a new method into
+    :class:`~rankedassign.tracking.lmb.LMBFilter`: return the marginals ``beta`` of shape
+    ``(P, M + 2)`` and the accounting. ``rng`` is a :class:`numpy.random.Generator` spawned
+    for this problem alone.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking import Association, AssociationResult
+    >>> class Best(Association):        # the single best hypothesis (a point estimate)
+    ...     def __call__(self, problem, rng):
+    ...         from scipy.optimize import linear_sum_assignment
+    ...         C = np.where(np.isinf(problem.cost), 1e300, problem.cost)
+    ...         _, cols = linear_sum_assignment(C)
+    ...         beta = marginals_from_hypotheses(problem, cols[None, :])
+    ...         return AssociationResult(beta, 1, 0, 0, 1)
+    >>> from rankedassign import AssignmentProblem
+    >>> p = AssignmentProblem.from_eta([[3.0]], [1.0], [1.0])
+    >>> Best()(p, None).beta.tolist()
+    [[1.0, 0.0, 0.0]]
+    """
 
     name = "association"
 

@@ -167,7 +167,16 @@ class PoissonClutter:
         return self.rate / self.area
 
     def sample(self, rng: np.random.Generator) -> np.ndarray:
-        """Draw one scan of clutter: ``Poisson(λ_c)`` points uniform on the region, (n, 2)."""
+        """Draw one scan of clutter: ``Poisson(λ_c)`` points uniform on the region, (n, 2).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking.models import PoissonClutter
+        >>> pts = PoissonClutter(5.0, ((0.0, 1.0), (0.0, 2.0))).sample(np.random.default_rng(0))
+        >>> bool(((pts >= 0) & (pts <= [1.0, 2.0])).all())
+        True
+        """
         n = rng.poisson(self.rate)
         (x0, x1), (y0, y1) = self.region
         u = rng.random((n, 2))
