@@ -16,6 +16,18 @@ __all__ = ["truncation_error", "best_mass"]
 _ENUMERATE_BELOW = 200_000
 
 
+def _log_z(problem) -> float:
+    """``ln Z`` by the subset DP; by enumeration when the DP refuses but ``|Gamma|`` is small."""
+    try:
+        return log_normalizer(problem)
+    except ValueError as too_large:
+        try:
+            costs = enumerate_assignments(problem).costs
+        except ValueError:
+            raise too_large from None
+        return float(logsumexp(-costs))
+
+
 def _unique_feasible(problem, assignments) -> np.ndarray:
     """Validate ``(n, P)`` column indices, reject infeasible rows, drop duplicates."""
     a, _ = problem._as_assignments(assignments)
@@ -65,7 +77,9 @@ def truncation_error(problem, assignments) -> float:
     -----
     Spec eq. (1.9), with the paper's "cost" read as the weight ``w = exp(-cost)`` (spec A6):
     ``eps = 1 - exp(logsumexp(-cost(unique)) - ln Z)``. Everything stays in log space, so
-    problems whose weights overflow ``exp`` are fine.
+    problems whose weights overflow ``exp`` are fine. ``ln Z`` comes from the subset DP
+    (:func:`~oracle.log_normalizer`); when the DP refuses the size but the feasible set is
+    small enough to enumerate (many forbidden pairs), from the enumeration.
 
     References
     ----------
@@ -89,7 +103,7 @@ def truncation_error(problem, assignments) -> float:
     if a.shape[0] == 0:
         return 1.0
     log_kept = logsumexp(-problem.cost_of(a))
-    err = float(-np.expm1(log_kept - log_normalizer(problem)))
+    err = float(-np.expm1(log_kept - _log_z(problem)))
     return err if err > 0.0 else 0.0  # clip round-off (and -0.0) to 0.0
 
 
@@ -155,5 +169,5 @@ def best_mass(problem, k: int) -> float:
         top = costs[:k]
     else:
         top = murty(problem, k).costs
-        log_z = log_normalizer(problem)
+        log_z = _log_z(problem)
     return float(min(max(np.exp(logsumexp(-top) - log_z), 0.0), 1.0))

@@ -9,6 +9,7 @@ from numpy.testing import assert_allclose
 from scipy.special import logsumexp
 
 from oracle import best_mass, enumerate_assignments, murty, truncation_error
+from oracle import log_normalizer as oracle_log_normalizer
 from rankedassign import AssignmentProblem, synthetic
 
 
@@ -120,3 +121,20 @@ def test_bad_input_types_and_sizes():
         best_mass(None, 3)
     with pytest.raises(ValueError, match="too large for the exact subset DP"):
         truncation_error(synthetic.random(R=21, M=21, rng=0), np.arange(21)[None, :])
+
+
+def test_falls_back_to_enumeration_when_the_dp_refuses():
+    # 21 rows that must take "their" measurement, 5 of which may also be missed: min(P, M) = 21
+    # is beyond the DP, but |Gamma| = 2^5 = 32
+    P = 21
+    C = np.full((P, 3 * P), np.inf)
+    C[np.arange(P), np.arange(P)] = np.linspace(-2, 2, P)
+    C[np.arange(5), P + np.arange(5)] = 0.5
+    p = AssignmentProblem.from_cost(C)
+    with pytest.raises(ValueError, match="too large for the exact subset DP"):
+        oracle_log_normalizer(p)
+    full = enumerate_assignments(p)
+    assert len(full.costs) == 32
+    want = 1 - np.exp(logsumexp(-full.costs[:3]) - logsumexp(-full.costs))
+    assert_allclose(truncation_error(p, full.assignments[:3]), want, rtol=1e-12)
+    assert_allclose(best_mass(p, 3), 1 - want, rtol=1e-12)
