@@ -110,12 +110,15 @@ def discovery(out: Path) -> None:
         full = sample_short_chains(prob, 10_000, 25, tau_stall=5, tau_stale=25, rng=SEED)
         e_full = oracle.truncation_error(prob, full.assignments)
         ax.loglog([full.n_observations], [max(e_full, 1e-12)], "r*", ms=11,
-                  label=f"stall+stale stop ({full.stop_reason})")
+                  label="stall 5 + stale 25, 10 000 x 25: where it stopped")
+        ax.annotate(f"stopped: {full.stop_reason},\n{full.n_observations:,} obs.",
+                    (full.n_observations, max(e_full, 1e-12)), textcoords="offset points",
+                    xytext=(-8, -26), ha="right", fontsize=7.5, color="r")
         ax.set_title(f"{name}: |Gamma| = {prob.n_feasible():,}", fontsize=10)
         ax.set_xlabel("observations (sweeps)")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("truncation error")
-    axes[1].legend(fontsize=7.5, loc="lower left")
+    axes[1].legend(fontsize=7.5, loc="upper right")
     fig.suptitle(f"Truncation error of the distinct hypotheses found (seed {SEED})", fontsize=10)
     fig.tight_layout()
     fig.savefig(out, dpi=DPI)
