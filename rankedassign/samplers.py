@@ -481,6 +481,17 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     and the run stops when it reaches ``tau_stale`` (``stop_reason = "stale"``). The paper's
     settings are ``N_S = 10 000, N_C = 25, tau_stall = 5, tau_stale = 25`` (synthetic study).
 
+    Parallel runs (``workers > 1``, numba backend). A chain's trajectory depends only on its
+    own stream and ``x0``; only where it stops depends on ``U`` (spec §3.3). Chains are
+    therefore taken in batches (the first of ``max(64, 16 workers)`` chains, later ones sized
+    to about a millisecond of sweeps); within a batch every chain's first ``s`` sweeps are
+    simulated in parallel, then the batch is replayed in chain order with the sequential
+    stall/stale logic, continuing in the replay any chain that outlives its ``s`` sweeps.
+    ``s`` is the ``1 - 1/workers`` quantile of the lengths of the chains replayed so far
+    (all of ``N_C`` for the first batch), which balances parallel speculation against
+    sequential continuation. Sweeps simulated but not used — the tail of a stalled chain, the
+    rest of the batch after a stale stop — are reported in ``n_speculative_discarded``.
+
     References
     ----------
     .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
