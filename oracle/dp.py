@@ -107,7 +107,7 @@ def log_normalizer(problem) -> float:
     assignment has weight exactly one (see :func:`marginals`): nothing under- or overflows,
     whatever the range of the costs, and ``ln Z = ln Z_scaled - c*`` with ``c*`` the minimum
     cost. Time ``O(max(P, M') min(P, M') 2^min(P, M'))``, memory ``O(2^min(P, M'))``:
-    about a second for ``P = 20, M = 200``.
+    a few seconds for ``P = 20, M = 200``.
 
     References
     ----------
