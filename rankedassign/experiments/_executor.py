@@ -162,6 +162,21 @@ def dask_executor(address: str, *, timeout: float | None = None) -> Iterator[Exe
     ------
     SchedulerError
         If ``distributed`` is missing or the scheduler cannot be reached.
+
+    Notes
+    -----
+    The workers import the task functions by name, so ``rankedassign`` must be installed in
+    the workers' environment.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import SchedulerError, dask_executor
+    >>> try:
+    ...     with dask_executor("tcp://127.0.0.1:9", timeout=0.5):
+    ...         pass
+    ... except SchedulerError as exc:
+    ...     print(str(exc)[:37])
+    could not connect to the Dask schedul
     """
     try:
         from distributed import Client
@@ -220,7 +235,7 @@ def run_tasks(
     """
     from tqdm.auto import tqdm
 
-    bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr, leave=False)
+    bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr)
     try:
         if executor is None:
             out = []

@@ -99,10 +99,6 @@ def original_seed(run_ss, family: str):
     return child_seed(run_ss, KEY_ORIGINAL, family_index(family))
 
 
-def _nan_none(x: float):
-    return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
-
-
 def paired_summary(original: list[dict], proposed: list[dict]) -> dict:
     """Table I statistics of one (family, criterion) cell from paired per-run records.
 

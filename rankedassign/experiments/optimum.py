@@ -169,6 +169,12 @@ def run_optimum(
     runs : list of dict
         Per-run records, only if ``return_runs``.
 
+    References
+    ----------
+    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, arXiv:2306.15135, 2023.
+    .. [2] K. G. Murty, "An Algorithm for Ranking all the Assignments in Order of Increasing
+       Cost", Operations Research 16(3), 1968.
+
     Examples
     --------
     >>> from rankedassign.experiments import OptimumConfig, run_optimum

@@ -149,6 +149,17 @@ def reproduce(
     SchedulerError
         The Dask scheduler cannot be reached.
 
+    Notes
+    -----
+    Files: ``report.md``; per study ``<study>.json`` (summary), ``<study>.csv`` and
+    ``<study>_runs.json`` (per-run records); PNG plots; ``config.json``; ``manifest.json``
+    (written last; ``force`` only ever replaces a directory holding one).
+
+    References
+    ----------
+    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
     Examples
     --------
     >>> import tempfile, pathlib

@@ -117,6 +117,12 @@ def run_sweep(
     short chains revisits the states near it; the curves show what this costs (or saves) in
     error at equal observation counts.
 
+    References
+    ----------
+    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, arXiv:2306.15135, 2023.
+    .. [2] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8), 2017.
+
     Examples
     --------
     >>> from rankedassign.experiments import SweepConfig, run_sweep
