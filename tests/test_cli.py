@@ -202,3 +202,15 @@ def test_failed_run_keeps_earlier_report(tmp_path, tiny_config, monkeypatch):
               "--workers", "1", "--quiet", "--force"])
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert _no_leftovers(tmp_path)
+
+
+def test_report_directory_has_usual_permissions(tmp_path, tiny_config):
+    import os
+    import stat
+
+    out = tmp_path / "report"
+    assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 0
+    umask = os.umask(0)
+    os.umask(umask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o777 & ~umask

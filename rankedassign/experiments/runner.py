@@ -204,6 +204,10 @@ def reproduce(
             where = "serial (in-process)" if executor is None else f"{n} local processes"
         out.parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+        # mkdtemp makes the directory private (0700); give the report the usual permissions.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
         try:
             for study in studies:
                 t0 = time.perf_counter()
