@@ -226,3 +226,17 @@ def test_mkdocs_build_strict(tmp_path):
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert (tmp_path / "site" / "index.html").is_file()
 
+
+
+@pytest.mark.slow
+def test_figure_script_runs(tmp_path):
+    """docs/scripts/make_figures.py regenerates every figure (about 20 s)."""
+    proc = subprocess.run(
+        [sys.executable, str(DOCS / "scripts" / "make_figures.py"), "--out", str(tmp_path)],
+        cwd=ROOT, capture_output=True, text=True, timeout=600,
+        env={**os.environ, "MPLBACKEND": "Agg"},
+    )
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    made = sorted(p.stem for p in tmp_path.glob("*.png"))
+    committed = sorted(p.stem for p in (DOCS / "figures").glob("*.png"))
+    assert made == committed
