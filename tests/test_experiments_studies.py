@@ -130,7 +130,7 @@ def test_dask_cluster_matches_serial(processes):
     cfg = Table1Config(n_mc=2, original_obs=2_000, n_chains=80, families=("uniform", "random"))
     serial = run_table1(cfg, seed=5, progress=False, return_runs=True)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=processes,
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=":0") as cluster:
         with distributed.Client(cluster) as client:
             dask = run_table1(cfg, seed=5, executor=client.get_executor(), progress=False,
                               return_runs=True)
