@@ -308,7 +308,7 @@ def _batch_size(workers: int, n_chains: int, chain_length: int, P: int, M: int) 
     chains than workers (very long chains), speculation cannot keep the workers busy and the
     sequential kernel runs instead (same result).
     """
-    if workers <= 1 or n_chains == 0:
+    if workers <= 1 or n_chains < 2:  # one chain cannot be split across threads
         return 0
     room = _MAX_SLAB // max(1, chain_length * max(P, 1))
     if room < workers:
