@@ -16,3 +16,15 @@ settings.register_profile(
     "dev", deadline=None, max_examples=20, suppress_health_check=[HealthCheck.too_slow]
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _isolate_numpy_print_options():
+    """No test (or executed docs page) may leak numpy print settings into the next one."""
+    saved = np.get_printoptions()
+    yield
+    np.set_printoptions(**saved)
