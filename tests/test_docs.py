@@ -70,9 +70,15 @@ def _runnable_pages() -> list[Path]:
 @pytest.mark.parametrize("page", _runnable_pages(), ids=lambda p: str(p.relative_to(DOCS)))
 def test_page_examples_run(page, tmp_path, monkeypatch):
     import matplotlib
+    import numpy as np
 
     matplotlib.use("Agg")
     monkeypatch.chdir(tmp_path)  # examples that write files write them here
+    with np.printoptions():  # a page may set print options; they must not leak
+        _run_page(page)
+
+
+def _run_page(page: Path) -> None:
     rel = page.relative_to(ROOT)
     namespace: dict = {"__name__": f"docs_{page.stem.replace('-', '_')}"}
     parser = doctest.DocTestParser()
