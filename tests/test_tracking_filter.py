@@ -106,10 +106,29 @@ def test_reduce_mixtures_prune_merge_cap():
     wa, wb = 0.5, 0.5 - 1e-7
     mean = wb / (wa + wb)
     assert_allclose(m2[0, 0], mean, rtol=1e-12)
-    # moment matching: Σ w (P + (m - m̄)(m - m̄)ᵀ) / Σ w
-    spread = (wa * mean**2 + wb * (1 - mean) ** 2) / (wa + wb)
-    assert_allclose(P2[0, 0, 0], 1.0 + spread, rtol=1e-12)
+    # Vo's gaus_merge: P = Σ w P_i / Σ w (identity here), no spread-of-means term
+    assert_allclose(P2[0], np.eye(4), rtol=1e-12)
     assert_allclose(m2[1:, 0], [0.0, 100.0], rtol=1e-12)
+
+
+def test_reduce_mixtures_merge_distance_uses_heaviest_covariance():
+    # heaviest component sharp (P = I), a lighter broad one (P = 100 I) 5 m away:
+    # (m_i - m_j)' P_j^-1 (m_i - m_j) = 25 > 4 keeps them apart (Vo's gaus_merge), whereas the
+    # candidate's own covariance would give 0.25 and merge them
+    m = np.zeros((2, 4))
+    m[1, 0] = 5.0
+    P = np.stack([np.eye(4), 100.0 * np.eye(4)])
+    w = np.array([0.6, 0.4])
+    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10)
+    assert_array_equal(off, [0, 2])
+    assert_allclose(w2, [0.6, 0.4], rtol=1e-12)
+    assert_allclose(P2, P, rtol=1e-12)
+    # the other way round (broad component heaviest) they merge: 25 / 100 <= 4
+    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(),
+                                       np.array([True]), 1e-5, 4.0, 10)
+    assert_array_equal(off, [0, 1])
+    assert_allclose(m2[0, 0], 0.4 * 5.0, rtol=1e-12)
+    assert_allclose(P2[0], (0.6 * 100.0 + 0.4 * 1.0) * np.eye(4), rtol=1e-12)
 
 
 def test_reduce_mixtures_orders_by_merged_weight():
