@@ -1,52 +1,106 @@
-"""Exact normalising constant and association marginals by subset dynamic programming.
+"""Exact normalising constant and association marginals by dynamic programming.
 
-Spec §5.2, eqs. (5.1)–(5.2). ``Z`` is a rectangular permanent (#P-hard in general) but is
-exponential only in ``min(P, M)``: a DP over subsets of the smaller side, stepping through the
-larger side, costs ``O(max(P, M) min(P, M) 2^min(P, M))``.
+Spec §5.2, eqs. (5.1)–(5.2). ``Z`` is a rectangular permanent (#P-hard in general). The
+bipartite graph of rows and measurements (an edge where the cost is finite) is first split into
+connected components, which are independent: ``Z`` is the product of the components' ``Z`` and
+each component's marginals are its own. A component is then solved by whichever of two exact
+DPs is cheaper:
+
+* the **subset DP** (spec eq. 5.1): a DP over subsets of the smaller side, stepping through
+  the larger side, ``O(max(P, M) min(P, M) 2^min(P, M))`` — any density;
+* the **frontier DP**: the same recursion, but the state only records which of the rows that
+  are *active* (between their first and last gated measurement in a well-chosen measurement
+  order) are already matched, ``O(M F 2^F)`` for a frontier width ``F`` — small on gated
+  (sparse) problems however many rows they have.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee
 
-from ._kernels import dp_marginal_kernel, dp_total_kernel, lsap_kernel
+from ._kernels import (
+    _ENTER,
+    _RETIRE,
+    _TRANS,
+    dp_marginal_kernel,
+    dp_total_kernel,
+    frontier_marginal_kernel,
+    frontier_total_kernel,
+    lsap_kernel,
+)
 from ._result import check_problem
 
-__all__ = ["log_normalizer", "marginals", "MAX_SUBSET_BITS"]
+__all__ = ["log_normalizer", "marginals", "MAX_SUBSET_BITS", "MAX_FRONTIER"]
 
-#: Largest ``min(P, M)`` the subset DP accepts (``2^20`` states, 8 MiB per state vector).
+#: Largest ``min(P, M)`` of a component the subset DP accepts (``2^20`` states, 8 MiB per
+#: state vector).
 MAX_SUBSET_BITS = 20
 
+#: Largest frontier width of a component the frontier DP accepts (same ``2^20``-state bound).
+MAX_FRONTIER = 20
 
-def _setup(problem):
-    """Reduce the problem to the generic subset DP of :mod:`oracle._kernels`.
+# Components whose subset DP has at most this many bits are solved by it without looking for a
+# measurement order: it costs at most ``max(P, M) * 12 * 2^10`` operations.
+_SMALL_BITS = 10
+
+
+# ----------------------------------------------------------------------------- decomposition
+def _components(finite: np.ndarray):
+    """Connected components of the bipartite graph rows <-> measurements (finite entries).
+
+    Returns
+    -------
+    comps : list of (rows, meas)
+        Sorted int64 index arrays of every component holding at least one finite entry,
+        ordered by their first row.
+    isolated : ndarray, int64
+        Rows without any finite measurement (they can only be missed or dead).
+    """
+    P, M = finite.shape
+    i, j = np.nonzero(finite)
+    graph = coo_matrix((np.ones(i.size), (i, P + j)), shape=(P + M, P + M))
+    _, lab = connected_components(graph, directed=False)
+    has_meas = finite.any(axis=1)
+    isolated = np.flatnonzero(~has_meas)
+    comps = []
+    seen = set()
+    for r in np.flatnonzero(has_meas):
+        c = lab[r]
+        if c in seen:
+            continue
+        seen.add(c)
+        comps.append((np.flatnonzero(lab[:P] == c), np.flatnonzero(lab[P:] == c)))
+    return comps, isolated
+
+
+def _scaled(cm: np.ndarray, c_un: np.ndarray):
+    """LSAP-dual rescaling of one component (every factor ``<= 1``, best assignment ``1``).
 
     Every row either takes a measurement or is *unmatched* (missed or dead, weight
-    ``a_i = eta_i(0) + eta_i(-1)``, cost ``-ln a_i``). The ``P x (M' + P)`` LSAP on
-    ``[C_meas | diag(-ln a)]`` (``M'`` = measurements some row can take) gives optimal duals
-    ``u, v`` with reduced costs ``Cbar = C - u - v >= 0``, ``v <= 0``, ``v = 0`` on unused
-    columns, and ``sum(u) + sum(v) = c*`` (the best cost). Every DP factor is then a reduced
-    weight ``exp(-Cbar) <= 1`` or a column factor ``exp(v) <= 1``: used column ``c`` by row
-    ``i`` contributes ``exp(-Cbar[i, c])``, an unused column ``exp(v[c])``, so a complete
+    ``a_i = eta_i(0) + eta_i(-1)``, cost ``c_un_i = -ln a_i``). The ``P x (M + P)`` LSAP on
+    ``L = [C_meas | diag(c_un)]`` gives optimal duals ``u, v`` with reduced costs
+    ``Cbar = L - u - v >= 0``, ``v <= 0``, ``v = 0`` on unused columns, and
+    ``sum(u) + sum(v) = c*`` (the best cost). Every DP factor is then a reduced weight
+    ``exp(-Cbar) <= 1`` or a column factor ``exp(v) <= 1``: a used column ``c`` of row ``i``
+    contributes ``exp(-Cbar[i, c])``, an unused column ``exp(v[c])``, so a complete
     assignment gets ``w(gamma) exp(c*) <= 1``, the best one exactly 1. No partial product
-    that matters can underflow and the total ``Z exp(c*)`` lies in ``[1, |Gamma|]``.
+    that matters can underflow, and the total ``Z exp(c*)`` lies in ``[1, |Gamma|]``.
+
+    Returns
+    -------
+    w_meas : (P, M) reduced weights of the measurement entries (0 where forbidden)
+    e_meas : (M,) factor of a measurement left unused
+    w_un : (P,) reduced weight of row ``i`` unmatched
+    e_un : (P,) factor of row ``i``'s unmatched column left unused (row ``i`` matched)
+    shift : float, ``c*``
     """
-    P, M = problem.n_rows, problem.n_meas
-    cc = problem.compact_cost
-    reach = np.isfinite(cc[:, :M]).any(axis=0)
-    meas = np.flatnonzero(reach)
-    Mr = len(meas)
-    k = min(P, Mr)
-    if k > MAX_SUBSET_BITS:
-        raise ValueError(
-            f"problem too large for the exact subset DP: min(P, M) = min({P}, {Mr}) = {k} "
-            f"> {MAX_SUBSET_BITS} (2^{k} states); use enumeration or Murty bounds instead"
-        )
-    # cost of the merged unmatched option: -ln(exp(-C_miss) + exp(-C_dead))
-    c_un = -np.logaddexp(-cc[:, M], -cc[:, M + 1])
-    L = np.full((P, Mr + P), np.inf)
-    L[:, :Mr] = cc[:, meas]
-    L[np.arange(P), Mr + np.arange(P)] = c_un
+    P, M = cm.shape
+    rows = np.arange(P)
+    L = np.full((P, M + P), np.inf)
+    L[:, :M] = cm
+    L[rows, M + rows] = c_un
     ok, _, u, v = lsap_kernel(L)
     if not ok:  # pragma: no cover - AssignmentProblem guarantees feasibility
         raise AssertionError("merged LSAP infeasible although the problem is feasible")
@@ -56,32 +110,259 @@ def _setup(problem):
     # tiny negative round-off on tight edges: clamp so every factor is <= 1
     wred = np.where(np.isfinite(L), np.exp(-np.maximum(red, 0.0)), 0.0)
     ev = np.exp(v)
-    rows = np.arange(P)
-    w_un = wred[rows, Mr + rows]  # row i unmatched
-    ev_un = ev[Mr + rows]  # row i's unmatched column left unused
-    if P <= Mr:
-        # states: subsets of rows; steps: measurements (spec 5.1)
-        W = np.ascontiguousarray(wred[:, :Mr].T)
-        s = np.ascontiguousarray(ev[:Mr])
-        tin, tout = ev_un.copy(), w_un.copy()
-        over_rows = False
-    else:
-        # states: subsets of measurements; steps: rows
-        W = np.ascontiguousarray(wred[:, :Mr] * ev_un[:, None])
-        s = np.ascontiguousarray(w_un)
-        tin, tout = np.ones(Mr), np.ascontiguousarray(ev[:Mr])
-        over_rows = True
-    return W, s, tin, tout, shift, meas, c_un, over_rows
+    return wred[:, :M], ev[:M], wred[rows, M + rows], ev[M + rows], shift
 
 
+# ----------------------------------------------------------------------------- subset DP
+def _dense_inputs(w_meas, e_meas, w_un, e_un):
+    """The generic subset DP of :mod:`oracle._kernels` for one component (spec eq. 5.1)."""
+    P, M = w_meas.shape
+    if P <= M:
+        # states: subsets of rows; steps: measurements
+        return (np.ascontiguousarray(w_meas.T), np.ascontiguousarray(e_meas),
+                np.ascontiguousarray(e_un), np.ascontiguousarray(w_un), False)
+    # states: subsets of measurements; steps: rows (a matched row's unmatched column is unused)
+    return (np.ascontiguousarray(w_meas * e_un[:, None]), np.ascontiguousarray(w_un),
+            np.ones(M), np.ascontiguousarray(e_meas), True)
+
+
+def _dense_total(scaled):
+    W, s, tin, tout, _ = _dense_inputs(*scaled)
+    return dp_total_kernel(W, s, tin, tout)
+
+
+def _dense_marginals(scaled):
+    """Scaled total, pair weights ``(P, M)`` and unmatched weights ``(P,)`` of a component."""
+    W, s, tin, tout, over_rows = _dense_inputs(*scaled)
+    total, pair, stay, term_out = dp_marginal_kernel(W, s, tin, tout)
+    if over_rows:
+        return total, pair, stay
+    return total, pair.T, term_out
+
+
+def _dense_work(P: int, M: int) -> float:
+    """Operation count of the subset DP of a ``P x M`` component (inf beyond its limit)."""
+    k = min(P, M)
+    return float(max(P, M) * (k + 2) * 2.0**k) if k <= MAX_SUBSET_BITS else np.inf
+
+
+# ----------------------------------------------------------------------------- frontier DP
+def _profile(finite: np.ndarray, order: np.ndarray):
+    """Frontier width and operation count of the frontier DP for a measurement order.
+
+    Row ``i`` is active at step ``t`` when its first finite measurement in ``order`` comes
+    at or before ``t`` and its last one at or after ``t``; a step with ``n`` active rows and
+    ``d`` finite entries costs about ``(3 + d) 2^n``.
+    """
+    fo = finite[:, order]
+    K = fo.shape[1]
+    first = np.argmax(fo, axis=1)
+    last = K - 1 - np.argmax(fo[:, ::-1], axis=1)
+    delta = np.zeros(K + 1, dtype=np.int64)
+    np.add.at(delta, first, 1)
+    np.add.at(delta, last + 1, -1)
+    active = np.cumsum(delta[:K])
+    work = float(np.sum((3.0 + fo.sum(axis=0)) * np.exp2(active)))
+    return int(active.max(initial=0)), work
+
+
+def _greedy_order(finite: np.ndarray, start: int) -> np.ndarray:
+    """Measurement order grown one measurement at a time from ``start``.
+
+    Next comes the measurement that brings in the fewest new rows, then the one that lets the
+    most rows retire (their last remaining measurement), then the one touching the most active
+    rows, then the lowest index — a min-degree-like heuristic for a narrow path decomposition.
+    """
+    P, K = finite.shape
+    done = np.zeros(K, dtype=bool)
+    entered = np.zeros(P, dtype=bool)
+    left = finite.sum(axis=1)
+    order = np.empty(K, dtype=np.int64)
+    j = int(start)
+    for t in range(K):
+        order[t] = j
+        done[j] = True
+        col = finite[:, j]
+        entered |= col
+        left = left - col
+        if t == K - 1:
+            break
+        cand = np.flatnonzero(~done)
+        sub = finite[:, cand]
+        new = (sub & ~entered[:, None]).sum(axis=0)
+        retire = (sub & (left == 1)[:, None]).sum(axis=0)
+        touch = (sub & entered[:, None]).sum(axis=0)
+        j = int(cand[np.lexsort((cand, -touch, -retire, new))[0]])
+    return order
+
+
+def _frontier_order(finite: np.ndarray):
+    """A measurement order with a small frontier: the cheapest of a few candidates.
+
+    Candidates are the measurements in reverse Cuthill–McKee order of the bipartite graph and
+    greedy orders (:func:`_greedy_order`) started from a measurement of least degree, of most
+    degree and from both ends of the RCM order. Returns ``(order, width, work)``.
+    """
+    P, K = finite.shape
+    if finite.all():  # complete: every row is active at every step, whatever the order
+        order = np.arange(K)
+        return (order, *_profile(finite, order))
+    i, j = np.nonzero(finite)
+    graph = coo_matrix((np.ones(i.size), (i, P + j)), shape=(P + K, P + K)).tocsr()
+    rcm = reverse_cuthill_mckee(graph, symmetric_mode=True)
+    rcm = rcm[rcm >= P] - P
+    deg = finite.sum(axis=0)
+    cands = [rcm]
+    for s in dict.fromkeys([int(np.argmin(deg)), int(rcm[0]), int(rcm[-1]),
+                            int(np.argmax(deg))]):
+        cands.append(_greedy_order(finite, s))
+    best = None
+    for order in cands:
+        width, work = _profile(finite, order)
+        if best is None or (work, width) < (best[2], best[1]):
+            best = (order, width, work)
+    return best
+
+
+def _frontier_ops(finite: np.ndarray, order: np.ndarray, width: int):
+    """Operations ``(kind, arg, slot)`` of the frontier DP and the row in every slot.
+
+    Returns
+    -------
+    ops : ndarray, int64, shape (K + 2P, 3)
+        Per step ``t``: ``_ENTER`` for the rows whose first measurement it is, one
+        ``_TRANS``, then ``_RETIRE`` for the rows whose last measurement it is (see
+        :mod:`oracle._kernels`). A retiring row's slot is taken over by the row in the
+        highest slot, exactly as the kernel moves the bits.
+    row_in_slot : ndarray, int64, shape (K, width)
+        Row in slot ``e`` during the transition of step ``t`` (``-1``: free).
+    """
+    fo = finite[:, order]
+    P, K = fo.shape
+    first = np.argmax(fo, axis=1)
+    last = K - 1 - np.argmax(fo[:, ::-1], axis=1)
+    ops = []
+    row_in_slot = np.full((K, width), -1, dtype=np.int64)
+    slot_of = np.full(P, -1, dtype=np.int64)
+    slots: list[int] = []
+    for t in range(K):
+        for i in np.flatnonzero(first == t):
+            slot_of[i] = len(slots)
+            ops.append((_ENTER, i, len(slots)))
+            slots.append(int(i))
+        row_in_slot[t, : len(slots)] = slots
+        ops.append((_TRANS, t, 0))
+        for i in np.flatnonzero(last == t):
+            e = int(slot_of[i])
+            ops.append((_RETIRE, i, e))
+            top = slots.pop()
+            if top != i:
+                slots[e] = top
+                slot_of[top] = e
+            slot_of[i] = -1
+    return np.array(ops, dtype=np.int64).reshape(-1, 3), row_in_slot
+
+
+def _frontier_inputs(finite, order, width, scaled):
+    w_meas, e_meas, w_un, e_un = scaled
+    ops, row_in_slot = _frontier_ops(finite, order, width)
+    r = np.maximum(row_in_slot, 0)
+    # a matched row's unmatched column is left unused: fold its factor into the match weight
+    W = np.where(row_in_slot >= 0, w_meas[r, order[:, None]] * e_un[r], 0.0)
+    return ops, np.ascontiguousarray(W), np.ascontiguousarray(e_meas[order]), \
+        np.ascontiguousarray(w_un), row_in_slot
+
+
+def _frontier_total(finite, order, width, scaled):
+    ops, W, s, w_un, _ = _frontier_inputs(finite, order, width, scaled)
+    return frontier_total_kernel(ops, W, s, w_un)
+
+
+def _frontier_marginals(finite, order, width, scaled):
+    """Scaled total, pair weights ``(P, M)`` and unmatched weights ``(P,)`` of a component."""
+    ops, W, s, w_un, row_in_slot = _frontier_inputs(finite, order, width, scaled)
+    total, pair, unmatched = frontier_marginal_kernel(ops, W, s, w_un)
+    pm = np.zeros(finite.shape)
+    t, e = np.nonzero(row_in_slot >= 0)
+    pm[row_in_slot[t, e], order[t]] = pair[t, e]
+    return total, pm, unmatched
+
+
+# ----------------------------------------------------------------------------- dispatch
+def _plan(finite: np.ndarray, method: str):
+    """Choose the DP of one component: ``("dense", None)`` or ``("frontier", (order, F))``.
+
+    ``method="auto"`` takes the cheaper of the two by operation count among those within
+    their limits; ``"dense"`` / ``"frontier"`` force one (for testing).
+    """
+    P, M = finite.shape
+    k = min(P, M)
+    dense = _dense_work(P, M)
+    if method == "dense" or (method == "auto" and k <= _SMALL_BITS):
+        if dense < np.inf:
+            return "dense", None
+        raise ValueError(
+            f"problem too large for the exact subset DP: min(P, M) = min({P}, {M}) = {k} "
+            f"> {MAX_SUBSET_BITS} in a connected component"
+        )
+    order, width, work = _frontier_order(finite)
+    if width <= MAX_FRONTIER and (method == "frontier" or work < dense):
+        return "frontier", (order, width)
+    if method == "auto" and dense < np.inf:
+        return "dense", None
+    if method == "frontier":
+        raise ValueError(f"frontier width {width} > {MAX_FRONTIER} in a connected component")
+    raise ValueError(
+        f"problem too large for the exact subset DP: min(P, M) = min({P}, {M}) = {k} "
+        f"> {MAX_SUBSET_BITS} in a connected component, and for the frontier DP: frontier "
+        f"width {width} > {MAX_FRONTIER} (limit 2^{MAX_FRONTIER} states); use enumeration "
+        "or Murty bounds instead"
+    )
+
+
+def _solve(problem, *, with_marginals: bool, method: str = "auto"):
+    """``ln Z`` and (optionally) the marginals, component by component."""
+    P, M = problem.n_rows, problem.n_meas
+    cc = problem.compact_cost
+    finite = np.isfinite(cc[:, :M])
+    # cost of the merged unmatched option: -ln(exp(-C_miss) + exp(-C_dead)) = -ln a_i
+    c_un = -np.logaddexp(-cc[:, M], -cc[:, M + 1])
+    comps, isolated = _components(finite)
+    plans = [_plan(finite[np.ix_(rows, meas)], method) for rows, meas in comps]
+    log_z = 0.0
+    pm = np.zeros((P, M)) if with_marginals else None
+    unmatched = np.zeros(P)
+    for (rows, meas), (kind, arg) in zip(comps, plans, strict=True):
+        scaled = _scaled(cc[np.ix_(rows, meas)], c_un[rows])
+        shift, scaled = scaled[4], scaled[:4]
+        fin = finite[np.ix_(rows, meas)]
+        if with_marginals:
+            if kind == "dense":
+                total, pair, un = _dense_marginals(scaled)
+            else:
+                total, pair, un = _frontier_marginals(fin, *arg, scaled)
+            pm[np.ix_(rows, meas)] = pair
+            unmatched[rows] = un
+        elif kind == "dense":
+            total = _dense_total(scaled)
+        else:
+            total = _frontier_total(fin, *arg, scaled)
+        log_z += float(np.log(total)) - shift
+    # a row without any finite measurement is missed or dead with probability 1: factor a_i
+    log_z -= float(np.sum(c_un[isolated]))
+    unmatched[isolated] = 1.0
+    return log_z, pm, unmatched, c_un
+
+
+# ----------------------------------------------------------------------------- public API
 def log_normalizer(problem) -> float:
     """Exact ``ln Z``, ``Z = sum over feasible gamma of w(gamma)`` (spec eqs. 1.6, 5.1).
 
     Parameters
     ----------
     problem : AssignmentProblem
-        The ``P x (M + 2P)`` problem; ``min(P, M') <= 20`` where ``M'`` counts the
-        measurements at least one row can take.
+        The ``P x (M + 2P)`` problem. Every connected component of its row–measurement graph
+        must fit one of the two DPs (see Notes).
 
     Returns
     -------
@@ -93,21 +374,42 @@ def log_normalizer(problem) -> float:
     TypeError
         If ``problem`` is not an :class:`~rankedassign.AssignmentProblem`.
     ValueError
-        If ``min(P, M') > 20`` (the message names both sizes).
+        If a connected component has both ``min(P_c, M_c) > 20`` and a frontier width
+        ``> 20`` (the message names both and the limits).
 
     Notes
     -----
-    Spec eq. (5.1), DP over subsets ``S`` of rows matched so far, one measurement per step::
+    *Decomposition.* Rows and measurements joined by a finite cost form a bipartite graph;
+    its connected components share nothing, so ``Z = prod_c Z_c * prod_i a_i`` over the
+    components and the rows without any finite measurement (``a_i = eta_i(0) + eta_i(-1)``).
+
+    *Subset DP* (spec eq. 5.1), over subsets ``S`` of the component's rows matched so far,
+    one measurement per step::
 
         f_j(S) = f_{j-1}(S) + sum_{i in S} eta_i(j) f_{j-1}(S \\ {i})
-        Z      = sum_S f_M(S) prod_{i not in S} (eta_i(0) + eta_i(-1))
+        Z_c    = sum_S f_M(S) prod_{i not in S} a_i
 
-    or the transposed DP over subsets of measurements, row by row, when ``M' < P``. Weights
-    are rescaled by the optimal LSAP duals so that every factor is at most one and the best
-    assignment has weight exactly one (see :func:`marginals`): nothing under- or overflows,
-    whatever the range of the costs, and ``ln Z = ln Z_scaled - c*`` with ``c*`` the minimum
-    cost. Time ``O(max(P, M') min(P, M') 2^min(P, M'))``, memory ``O(2^min(P, M'))``:
-    a few seconds for ``P = 20, M = 200``.
+    or the transposed DP over subsets of measurements, row by row, when ``M_c < P_c``.
+    Time ``O(max(P_c, M_c) min(P_c, M_c) 2^min(P_c, M_c))``, memory ``O(2^min(P_c, M_c))``.
+
+    *Frontier DP*, for sparse (gated) components. The measurements are put in an order with a
+    narrow *frontier* (the cheapest of reverse Cuthill–McKee and a few greedy orders). A row is
+    *active* from its first to its last finite measurement in that order, and the state is
+    the subset of *active* rows already matched: a row enters unmatched at its first
+    measurement, each measurement is left unused or taken by one active unmatched row with a
+    finite entry, and a row retires after its last measurement, times ``a_i`` if still
+    unmatched. Time ``O(M_c F 2^F)`` with ``F`` the largest number of rows active at once
+    (the frontier width), memory ``O(2^F)``.
+
+    Each component uses whichever DP is cheaper by operation count among those within their
+    limits (``min(P_c, M_c) <= 20``, ``F <= 20``, i.e. at most ``2^20`` states); the problem
+    is refused only when neither fits. On the paper's gated tracking problems
+    (``P ~ 22``, ``M ~ 60``) ``F`` is about 10 and a call takes milliseconds.
+
+    Weights are rescaled by the optimal duals of an LSAP on ``[C_meas | diag(-ln a)]`` so that
+    every factor is at most one and the best assignment has weight exactly one: nothing
+    under- or overflows, whatever the range of the costs, and ``ln Z_c = ln Z_c,scaled - c*_c``
+    with ``c*_c`` the component's minimum cost.
 
     References
     ----------
@@ -119,6 +421,8 @@ def log_normalizer(problem) -> float:
        Cost", Operations Research 16(3), 1968 (the LSAP dual view used for the scaling).
     .. [4] M. L. Miller, H. S. Stone, I. J. Cox, "Optimizing Murty's Ranked Assignment
        Method", IEEE Trans. Aerosp. Electron. Syst. 33(3), 1997.
+    .. [5] E. Cuthill, J. McKee, "Reducing the Bandwidth of Sparse Symmetric Matrices",
+       Proc. 24th ACM National Conference, 1969 (the measurement order).
 
     Examples
     --------
@@ -131,13 +435,20 @@ def log_normalizer(problem) -> float:
     >>> u = synthetic.uniform()          # 76 848 assignments, each of cost 4 * 0.5
     >>> round(float(np.exp(log_normalizer(u) + 4 * 0.5)), 6)
     76848.0
+
+    A banded problem with 30 rows and 80 measurements (beyond the subset DP, frontier 4):
+
+    >>> eta = np.zeros((30, 80))
+    >>> for i in range(30):
+    ...     eta[i, 2 * i: 2 * i + 4] = 1.0
+    >>> band = AssignmentProblem.from_eta(eta, np.ones(30), np.zeros(30))
+    >>> round(log_normalizer(band), 6)
+    45.630949
     """
     check_problem(problem)
     if problem.n_rows == 0:
         return 0.0
-    W, s, tin, tout, shift, *_ = _setup(problem)
-    total = dp_total_kernel(W, s, tin, tout)
-    return float(np.log(total) - shift)
+    return _solve(problem, with_marginals=False)[0]
 
 
 def marginals(problem) -> np.ndarray:
@@ -160,20 +471,24 @@ def marginals(problem) -> np.ndarray:
     TypeError
         If ``problem`` is not an :class:`~rankedassign.AssignmentProblem`.
     ValueError
-        If ``min(P, M') > 20``.
+        If a connected component fits neither DP (see :func:`log_normalizer`).
 
     Notes
     -----
     ``P(gamma_i = j) = eta_i(j) Z_{-i,-j} / Z`` and
-    ``P(gamma_i in {0, -1}) = (eta_i(0) + eta_i(-1)) Z_{-i} / Z``. Rather than one DP per pair,
-    one forward and one backward pass of the DP of :func:`log_normalizer` give every
-    transition's mass at once: the mass through "row ``i`` takes measurement ``j`` at step
-    ``j``" is ``sum_{S not containing i} F_j(S) eta_i(j) B_{j+1}(S | {i})``. Backward vectors
-    are checkpointed every ``sqrt(K)`` steps, so memory stays ``O(sqrt(K) 2^k)``. The
-    unmatched mass of a row is split between missed and dead in proportion
-    ``eta_i(0) : eta_i(-1)``. Rows are normalised by their own total, which equals ``Z`` in
-    exact arithmetic. Unreachable measurements (all ``+inf``) get probability 0.
-    Time about four times that of :func:`log_normalizer`.
+    ``P(gamma_i in {0, -1}) = (eta_i(0) + eta_i(-1)) Z_{-i} / Z``. Components are independent,
+    so each is solved on its own (a row without finite measurements is unmatched with
+    probability one). Rather than one DP per pair, one forward and one backward pass of the
+    component's DP (subset or frontier, chosen as in :func:`log_normalizer`) give every
+    transition's weight at once: the weight through "row ``i`` takes measurement ``j``" is
+    ``sum_{S not containing i} F(S) eta_i(j) B(S | {i})`` at that measurement's step, and the
+    weight through "row ``i`` unmatched" is read off where it leaves the state (the terminal
+    weights of the subset DP, the retirement of the frontier DP). Forward or backward vectors
+    are checkpointed every ``sqrt(K)`` steps, so memory stays ``O(sqrt(K) 2^k)``
+    (``k = min(P_c, M_c)`` or ``F``). The unmatched weight of a row is split between missed
+    and dead in proportion ``eta_i(0) : eta_i(-1)``. Rows are normalised by their own total,
+    which equals ``Z_c`` in exact arithmetic. Unreachable measurements (all ``+inf``) get
+    probability 0. Time about four times that of :func:`log_normalizer`.
 
     References
     ----------
@@ -186,25 +501,32 @@ def marginals(problem) -> np.ndarray:
 
     Examples
     --------
+    >>> import numpy as np
     >>> from rankedassign import AssignmentProblem
     >>> from oracle import marginals
     >>> p = AssignmentProblem.from_eta([[2.0]], [0.5], [0.25])
     >>> marginals(p).round(6).tolist()       # [z1, missed, dead] = [2, 0.5, 0.25] / 2.75
     [[0.727273, 0.181818, 0.090909]]
+
+    Two rows competing for one measurement, and a third row gating nothing:
+
+    >>> q = AssignmentProblem.from_eta([[3.0], [1.0], [0.0]], [1.0, 1.0, 1.0], [0.0, 0.0, 3.0])
+    >>> marginals(q).round(4).tolist()       # Z_c = 3 + 1 + 1 = 5 for rows 0 and 1
+    [[0.6, 0.4, 0.0], [0.2, 0.8, 0.0], [0.0, 0.25, 0.75]]
     """
     check_problem(problem)
     P, M = problem.n_rows, problem.n_meas
-    out = np.zeros((P, M + 2))
     if P == 0:
-        return out
-    W, s, tin, tout, _, meas, c_un, over_rows = _setup(problem)
-    _, pair, stay, term_out = dp_marginal_kernel(W, s, tin, tout)
-    if over_rows:
-        pm, unmatched = pair, stay
-    else:
-        pm, unmatched = pair.T, term_out
-    out[:, meas] = pm
+        return np.zeros((0, M + 2))
+    return _assemble(problem, *_solve(problem, with_marginals=True)[1:])
+
+
+def _assemble(problem, pm, unmatched, c_un) -> np.ndarray:
+    """Marginals ``(P, M + 2)`` from the pair and unmatched weights, rows normalised."""
+    P, M = problem.n_rows, problem.n_meas
     cc = problem.compact_cost
+    out = np.zeros((P, M + 2))
+    out[:, :M] = pm
     with np.errstate(invalid="ignore"):
         # share of "missed" within the unmatched option: eta_i(0) / (eta_i(0) + eta_i(-1))
         f_miss = np.where(np.isfinite(cc[:, M]), np.exp(c_un - cc[:, M]), 0.0)
@@ -213,3 +535,17 @@ def marginals(problem) -> np.ndarray:
     out[:, M + 1] = unmatched * f_dead
     out /= out.sum(axis=1, keepdims=True)
     return out
+
+
+def _log_normalizer(problem, method: str) -> float:
+    """:func:`log_normalizer` with the DP forced (``"auto"``, ``"dense"``, ``"frontier"``)."""
+    if problem.n_rows == 0:
+        return 0.0
+    return _solve(problem, with_marginals=False, method=method)[0]
+
+
+def _marginals(problem, method: str) -> np.ndarray:
+    """:func:`marginals` with the DP forced (``"auto"``, ``"dense"``, ``"frontier"``)."""
+    if problem.n_rows == 0:
+        return np.zeros((0, problem.n_meas + 2))
+    return _assemble(problem, *_solve(problem, with_marginals=True, method=method)[1:])
