@@ -1,4 +1,7 @@
-"""Exact normaliser and marginals (subset DP) against enumeration and the per-pair formula."""
+"""Exact normaliser and marginals against enumeration and the per-pair formula.
+
+The sparse (frontier DP) path and the decomposition into components: test_oracle_sparse.py.
+"""
 
 import numpy as np
 import pytest
@@ -139,8 +142,10 @@ def test_degenerate_shapes():
 
 def test_size_limit_message():
     big = synthetic.random(R=21, M=21, rng=0)
+    # every pair finite: every row is active at every step, so the frontier is 21 too
     with pytest.raises(ValueError, match=r"too large for the exact subset DP: min\(P, M\) = "
-                                         r"min\(21, 21\) = 21 > 20"):
+                                         r"min\(21, 21\) = 21 > 20 in a connected component, "
+                                         r"and for the frontier DP: frontier width 21 > 20"):
         log_normalizer(big)
     with pytest.raises(ValueError, match="too large for the exact subset DP"):
         marginals(big)
