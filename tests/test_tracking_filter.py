@@ -14,9 +14,11 @@ from numpy.testing import assert_allclose, assert_array_equal
 from rankedassign import AssignmentProblem
 from rankedassign.metrics import ospa
 from rankedassign.tracking import (
+    PRESET_EXTRACTION,
     Association,
     AssociationResult,
     BirthComponent,
+    Exact,
     LMBBirth,
     LMBFilter,
     Model,
@@ -106,29 +108,33 @@ def test_reduce_mixtures_prune_merge_cap():
     wa, wb = 0.5, 0.5 - 1e-7
     mean = wb / (wa + wb)
     assert_allclose(m2[0, 0], mean, rtol=1e-12)
-    # Vo's gaus_merge: P = Σ w P_i / Σ w (identity here), no spread-of-means term
-    assert_allclose(P2[0], np.eye(4), rtol=1e-12)
+    # moment matching (Vo & Ma 2006, Table II): Σ w (P + (m - m̄)(m - m̄)ᵀ) / Σ w
+    spread = (wa * mean**2 + wb * (1 - mean) ** 2) / (wa + wb)
+    assert_allclose(P2[0, 0, 0], 1.0 + spread, rtol=1e-12)
     assert_allclose(m2[1:, 0], [0.0, 100.0], rtol=1e-12)
 
 
-def test_reduce_mixtures_merge_distance_uses_heaviest_covariance():
-    # heaviest component sharp (P = I), a lighter broad one (P = 100 I) 5 m away:
-    # (m_i - m_j)' P_j^-1 (m_i - m_j) = 25 > 4 keeps them apart (Vo's gaus_merge), whereas the
-    # candidate's own covariance would give 0.25 and merge them
+def test_reduce_mixtures_merge_distance_uses_candidate_covariance():
+    # Vo & Ma (2006, Table II): merge i into the heaviest j when
+    # (m_i - m_j)' P_i^-1 (m_i - m_j) <= U. Heaviest sharp (P = I), lighter broad (P = 100 I)
+    # 5 m away: 25 / 100 = 0.25 <= 4 merges them (P_j^-1, as in Vo's MATLAB, would give 25)
     m = np.zeros((2, 4))
     m[1, 0] = 5.0
     P = np.stack([np.eye(4), 100.0 * np.eye(4)])
     w = np.array([0.6, 0.4])
     off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10)
-    assert_array_equal(off, [0, 2])
-    assert_allclose(w2, [0.6, 0.4], rtol=1e-12)
-    assert_allclose(P2, P, rtol=1e-12)
-    # the other way round (broad component heaviest) they merge: 25 / 100 <= 4
-    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(),
-                                       np.array([True]), 1e-5, 4.0, 10)
     assert_array_equal(off, [0, 1])
     assert_allclose(m2[0, 0], 0.4 * 5.0, rtol=1e-12)
-    assert_allclose(P2[0], (0.6 * 100.0 + 0.4 * 1.0) * np.eye(4), rtol=1e-12)
+    spread = 0.6 * 2.0**2 + 0.4 * 3.0**2
+    expect = 0.6 * np.eye(4) + 0.4 * 100.0 * np.eye(4)
+    expect[0, 0] += spread
+    assert_allclose(P2[0], expect, rtol=1e-12)
+    # the other way round (broad component heaviest, sharp candidate): 25 > 4, kept apart
+    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(),
+                                       np.array([True]), 1e-5, 4.0, 10)
+    assert_array_equal(off, [0, 2])
+    assert_allclose(w2, [0.6, 0.4], rtol=1e-12)
+    assert_allclose(P2, P[::-1], rtol=1e-12)
 
 
 def test_reduce_mixtures_orders_by_merged_weight():
@@ -335,7 +341,9 @@ def test_run_scenario_requires_association():
 
 
 def test_run_scenario_with_exact_enumeration_on_vo_preset():
-    run = run_scenario("vo", Enumerate(), rng=2, n_scans=15, grouping=True)
+    run = run_scenario("vo", Enumerate(), rng=2, n_scans=15, grouping=True,
+                       extraction="hysteresis")
+    assert run.extraction == "hysteresis"
     assert run.truth.shape == (15, 12, 2)
     assert run.estimates.shape[0] == 15 and run.estimates.shape[2] == 2
     assert len(run.estimate_labels) == run.estimates.shape[1]
@@ -351,10 +359,41 @@ def test_run_scenario_with_exact_enumeration_on_vo_preset():
         y = run.estimates[k][~np.isnan(run.estimates[k]).any(axis=1)]
         assert ospa(x, y, 100.0, 1).value < 20.0
     # same rng, same measurements and estimates
-    again = run_scenario("vo", Enumerate(), rng=2, n_scans=15, grouping=True)
+    again = run_scenario("vo", Enumerate(), rng=2, n_scans=15, grouping=True,
+                         extraction="hysteresis")
     assert_array_equal(run.estimates, again.estimates)
     for s1, s2 in zip(run.scenario.scans, again.scenario.scans, strict=True):
         assert_array_equal(s1.z, s2.z)
+
+
+def test_run_scenario_extraction_defaults_to_the_preset_setting():
+    # "paper": hysteresis (spec 6.5); "vo": MAP cardinality, as in Vo's public example
+    assert PRESET_EXTRACTION == {"paper": "hysteresis", "vo": "map"}
+    for preset in ("paper", "vo"):
+        run = run_scenario(preset, Exact(), rng=0, n_scans=1)
+        assert run.extraction == PRESET_EXTRACTION[preset]
+        assert run_scenario(preset, Exact(), rng=0, n_scans=1,
+                            extraction="map").extraction == "map"
+
+def test_extraction_rules_on_the_vo_preset():
+    # MAP: the n̂ tracks of largest r, n̂ the MAP cardinality of the LMB (Vo's code).
+    # Hysteresis (6.5, A19): reported iff r reached ϑ_u = 0.9 at some scan and r >= ϑ_l = 1e-3
+    # now; tracks are pruned at r <= 1e-3, so a confirmed track is reported until pruned.
+    vo_map = run_scenario("vo", Enumerate(), rng=2, n_scans=8, grouping=True)
+    hyst = run_scenario("vo", Enumerate(), rng=2, n_scans=8, grouping=True,
+                        extraction="hysteresis")
+    peak = {}
+    for k in range(8):
+        ex = vo_map.existence[k]
+        n_hat = map_cardinality(list(ex.values()))
+        top = sorted(ex, key=lambda lab: -ex[lab])[:n_hat]
+        assert sorted(vo_map.labelled_estimates[k]) == sorted(top)
+        ex = hyst.existence[k]
+        for lab, r in ex.items():
+            peak[lab] = max(peak.get(lab, 0.0), r)
+        confirmed = [lab for lab, r in ex.items() if peak[lab] >= 0.9 and r >= 1e-3]
+        assert sorted(hyst.labelled_estimates[k]) == sorted(confirmed)
+    assert hyst.n_estimated.sum() > 0
 
 
 def test_marginals_from_hypotheses_errors_and_values():

@@ -22,6 +22,7 @@ from .association import (
 )
 from .lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 from .models import (
+    PRESET_EXTRACTION,
     BirthComponent,
     ConstantSurvival,
     ConstantVelocity,
@@ -46,6 +47,7 @@ __all__ = [
     "Model",
     "Murty",
     "OriginalGibbs",
+    "PRESET_EXTRACTION",
     "PoissonClutter",
     "PositionSensor",
     "Scan",

@@ -186,8 +186,8 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
         Tracks to keep; the others are dropped.
     elim, merge_thr, cap : float, float, int
         Pruning threshold (keep ``w > elim``; the heaviest component always stays), merging
-        threshold on ``(m_i − m_j)ᵀ P_j⁻¹ (m_i − m_j)`` (``j`` the heaviest remaining
-        component) and the maximum number of components.
+        threshold on ``(m_i − m_j)ᵀ P_i⁻¹ (m_i − m_j)`` (``j`` the heaviest remaining
+        component, ``i`` the candidate) and the maximum number of components.
 
     Returns
     -------
@@ -196,14 +196,23 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
 
     Notes
     -----
-    Vo's ``gaus_prune`` / ``gaus_merge`` / ``gaus_cap`` (spec §6.4): repeatedly take the
-    heaviest remaining component ``j``, merge every remaining ``i`` with
-    ``(m_i − m_j)ᵀ P_j⁻¹ (m_i − m_j) <= merge_thr`` into ``w = Σ w_i``,
-    ``m = Σ w_i m_i / w``, ``P = Σ w_i P_i / w``. As in Vo's code the distance uses the
-    covariance of the heaviest component (not of the candidate: a broad missed-detection
-    component is then not swallowed by a sharp detection component of the same track) and the
-    merged covariance is the weighted mean of the covariances, without the spread-of-means
-    term of Salmond's moment-matching merge.
+    Pruning and merging of Vo & Ma (2006, Table II) followed by the cap of Vo's code
+    (``gaus_cap``), with the thresholds of spec §6.4: repeatedly take the heaviest remaining
+    component ``j``, merge every remaining ``i`` with ``(m_i − m_j)ᵀ P_i⁻¹ (m_i − m_j) <= U``
+    into ``w = Σ w_i``, ``m = Σ w_i m_i / w``,
+    ``P = Σ w_i (P_i + (m − m_i)(m − m_i)ᵀ) / w`` (moment matching). Vo's MATLAB
+    ``gaus_merge`` differs in two details: the distance uses the heaviest component's
+    covariance ``P_j``, and the merged covariance omits the spread-of-means term. On the
+    paper's preset the MATLAB distance keeps the broad missed-detection component of a
+    newborn track apart from its sharp detection components, so it is capped away more often
+    and births confirm later: mean OSPA(2) of ``OriginalGibbs(10 000)`` over seeds 0–4 rises
+    from 38.6 m to 42.4 m (short-chain sampler: 38.9 m to 38.3 m, within its seed-to-seed
+    spread). The published rule is kept.
+
+    References
+    ----------
+    .. [1] B.-N. Vo, W.-K. Ma, "The Gaussian Mixture Probability Hypothesis Density Filter",
+       IEEE Trans. Signal Process. 54(11), 2006.
     """
     T = offsets.size - 1
     C = w.size
@@ -234,6 +243,9 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
                 idx[n] = c
                 n += 1
         idx = idx[:n]
+        inv = np.empty((n, 4, 4))
+        for q in range(n):
+            inv[q] = np.linalg.inv(P[idx[q]])
         alive = np.ones(n, dtype=np.bool_)
         start = n_out
         n_alive = n
@@ -244,7 +256,6 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
                 if alive[q] and (jq < 0 or w[idx[q]] > w[idx[jq]]):
                     jq = q
             mj = m[idx[jq]]
-            inv = np.linalg.inv(P[idx[jq]])  # P_j⁻¹ of the heaviest component (gaus_merge)
             wsum = 0.0
             mean = np.zeros(4)
             members = np.empty(n, dtype=np.int64)
@@ -256,7 +267,7 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
                 val = 0.0
                 for u in range(4):
                     for v in range(4):
-                        val += d[u] * inv[u, v] * d[v]
+                        val += d[u] * inv[q, u, v] * d[v]
                 if val <= merge_thr:
                     members[nm] = q
                     nm += 1
@@ -266,11 +277,11 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap):  # pragma: n
                     wsum += wq
                     mean += wq * m[idx[q]]
             mean /= wsum
-            # P = Σ w_i P_i / Σ w_i (gaus_merge: no spread-of-means term)
             cov = np.zeros((4, 4))
             for s in range(nm):
                 c = idx[members[s]]
-                cov += w[c] * P[c]
+                d = m[c] - mean
+                cov += w[c] * (P[c] + np.outer(d, d))
             cov /= wsum
             ow[n_out] = wsum
             om[n_out] = mean

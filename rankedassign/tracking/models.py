@@ -20,6 +20,7 @@ __all__ = [
     "ConstantSurvival",
     "Model",
     "PRESETS",
+    "PRESET_EXTRACTION",
     "make_model",
 ]
 
@@ -322,6 +323,11 @@ def _vo() -> Model:
 
 
 PRESETS = {"paper": _paper, "vo": _vo}
+
+#: State extraction each preset is run with by default (spec §6.5): the paper's hysteresis
+#: (``ϑ_u = 0.9``, ``ϑ_l = 10⁻³``) for ``"paper"``; the MAP cardinality of Vo's public LMB code
+#: (the ``n̂`` most likely tracks) for ``"vo"``, the preset that reproduces that code's example.
+PRESET_EXTRACTION = {"paper": "hysteresis", "vo": "map"}
 
 
 def make_model(preset: str = "paper") -> Model:

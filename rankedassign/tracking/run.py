@@ -9,6 +9,7 @@ import numpy as np
 from ..metrics import tracks_to_array
 from .association import Association
 from .lmb import LMBFilter
+from .models import PRESET_EXTRACTION
 from .scenario import Scenario, make_scenario
 
 __all__ = ["ScenarioRun", "run_scenario"]
@@ -26,6 +27,8 @@ class ScenarioRun:
         Model, truth and the measurements the filter saw.
     association : str
         ``repr`` of the association used.
+    extraction : str
+        State extraction used (``"hysteresis"`` or ``"map"``).
     truth : ndarray, shape (n_scans, n_targets, 2)
         True positions, NaN where a target does not exist.
     estimates : ndarray, shape (n_scans, n_est_tracks, 2)
@@ -52,6 +55,7 @@ class ScenarioRun:
 
     scenario: Scenario
     association: str
+    extraction: str
     truth: np.ndarray
     estimates: np.ndarray
     estimate_labels: list
@@ -81,7 +85,7 @@ def run_scenario(
     rng=None,
     n_scans: int = 100,
     grouping: bool = False,
-    extraction: str = "hysteresis",
+    extraction: str | None = None,
     **filter_options,
 ) -> ScenarioRun:
     """Simulate a preset scenario and run the LMB filter on it.
@@ -102,8 +106,11 @@ def run_scenario(
         Number of scans (the paper: 100).
     grouping : bool
         Solve independent groups of tracks separately (spec §6.5a).
-    extraction : {"hysteresis", "map"}
-        State extraction (spec 6.5; ``"map"`` is Vo's MAP cardinality).
+    extraction : {"hysteresis", "map"} or None
+        State extraction (spec 6.5): the paper's hysteresis or the MAP cardinality of Vo's
+        code. None (default) takes the preset's own setting
+        (:data:`~rankedassign.tracking.models.PRESET_EXTRACTION`): hysteresis for ``"paper"``,
+        MAP cardinality for ``"vo"`` (Vo's public example, which extracts by MAP cardinality).
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.lmb.LMBFilter` (``gate_prob``,
         ``theta_upper``, ``prune_track``, ``max_components``, ...).
@@ -123,11 +130,13 @@ def run_scenario(
     --------
     >>> from rankedassign.tracking import Exact, run_scenario
     >>> run = run_scenario("vo", Exact(), rng=1, n_scans=3, grouping=True)
-    >>> run.truth.shape, run.n_meas.shape, sorted(run.timings)
-    ((3, 12, 2), (3,), ['association', 'cost', 'prediction', 'update'])
+    >>> run.truth.shape, run.n_meas.shape, sorted(run.timings), run.extraction
+    ((3, 12, 2), (3,), ['association', 'cost', 'prediction', 'update'], 'map')
     """
     if association is None:
         raise TypeError("run_scenario needs an association, e.g. ShortChainGibbs(400, 25, 5, 10)")
+    if extraction is None:
+        extraction = PRESET_EXTRACTION.get(preset, "hysteresis")  # unknown presets fail below
     parent = np.random.default_rng(rng)
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
@@ -164,6 +173,7 @@ def run_scenario(
     return ScenarioRun(
         scenario=scenario,
         association=repr(association),
+        extraction=extraction,
         truth=scenario.truth.positions,
         estimates=est,
         estimate_labels=labels,
