@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee
+from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
 from ._kernels import (
     _ENTER,
@@ -196,12 +196,31 @@ def _greedy_order(finite: np.ndarray, start: int) -> np.ndarray:
     return order
 
 
+def _peripheral(graph, P: int, K: int) -> tuple[int, np.ndarray]:
+    """A pseudo-peripheral measurement (George & Liu) and the BFS distances from it.
+
+    Starting from a measurement of least degree, jump to the farthest measurement until the
+    eccentricity stops growing: a path-like graph is then walked from one of its ends.
+    """
+    deg = np.diff(graph.indptr)[P:]
+    start = int(np.argmin(deg))
+    dist = shortest_path(graph, unweighted=True, indices=P + start)[P:]
+    for _ in range(8):
+        far = int(np.argmax(dist))
+        d2 = shortest_path(graph, unweighted=True, indices=P + far)[P:]
+        if d2.max() <= dist.max():
+            break
+        start, dist = far, d2
+    return start, dist
+
+
 def _frontier_order(finite: np.ndarray):
     """A measurement order with a small frontier: the cheapest of a few candidates.
 
-    Candidates are the measurements in reverse Cuthill–McKee order of the bipartite graph and
-    greedy orders (:func:`_greedy_order`) started from a measurement of least degree, of most
-    degree and from both ends of the RCM order. Returns ``(order, width, work)``.
+    Candidates are the measurements in reverse Cuthill–McKee order of the bipartite graph, in
+    breadth-first order from a pseudo-peripheral measurement, and greedy orders
+    (:func:`_greedy_order`) started from that measurement, from a measurement of least degree
+    and from both ends of the RCM order. Returns ``(order, width, work)``.
     """
     P, K = finite.shape
     if finite.all():  # complete: every row is active at every step, whatever the order
@@ -209,12 +228,13 @@ def _frontier_order(finite: np.ndarray):
         return (order, *_profile(finite, order))
     i, j = np.nonzero(finite)
     graph = coo_matrix((np.ones(i.size), (i, P + j)), shape=(P + K, P + K)).tocsr()
+    graph = graph + graph.T
     rcm = reverse_cuthill_mckee(graph, symmetric_mode=True)
     rcm = rcm[rcm >= P] - P
+    far, dist = _peripheral(graph, P, K)
     deg = finite.sum(axis=0)
-    cands = [rcm]
-    for s in dict.fromkeys([int(np.argmin(deg)), int(rcm[0]), int(rcm[-1]),
-                            int(np.argmax(deg))]):
+    cands = [rcm, np.lexsort((deg, dist))]
+    for s in dict.fromkeys([far, int(np.argmin(deg)), int(rcm[0]), int(rcm[-1])]):
         cands.append(_greedy_order(finite, s))
     best = None
     for order in cands:

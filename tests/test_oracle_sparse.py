@@ -323,3 +323,27 @@ def test_dispatch_prefers_the_cheaper_dp():
     small = np.zeros((5, 5), dtype=bool)
     np.fill_diagonal(small, True)
     assert _plan(small, "auto")[0] == "dense"  # tiny: no order search
+
+
+@pytest.mark.parametrize("width", [12, pytest.param(19, marks=pytest.mark.slow)])
+def test_wide_band_near_the_frontier_limit(width):
+    # row i gates measurements i .. i + width - 1: the frontier is exactly `width` rows, the
+    # subset DP would need 2^40 states
+    rng = np.random.default_rng(width)
+    P = 40
+    M = P + width - 1
+    eta = np.zeros((P, M))
+    for i in range(P):
+        eta[i, i: i + width] = rng.uniform(0.1, 2.0, width)
+    p = AssignmentProblem.from_eta(eta, rng.uniform(0.1, 1, P), rng.uniform(0.1, 1, P))
+    q = permuted(p, rng.permutation(P), rng.permutation(M))
+    fin = np.isfinite(q.compact_cost[:, :M])
+    assert _plan(fin, "auto")[0] == "frontier"
+    assert _frontier_order(fin)[1] == width
+    assert_allclose(log_normalizer(q), log_normalizer(p), rtol=1e-12)
+    m = marginals(q)
+    assert_allclose(m.sum(axis=1), 1.0, rtol=1e-13)
+    assert np.all(m[:, :M].sum(axis=0) <= 1 + 1e-12)
+    pairs = [tuple(x) for x in np.argwhere(fin)[:: len(np.argwhere(fin)) // 3]] + [(7, M)]
+    got = [m[i, j] if j < M else m[i, M] + m[i, M + 1] for i, j in pairs]
+    assert_allclose(got, pair_identity(q, pairs), rtol=1e-10, atol=1e-15)
