@@ -16,6 +16,20 @@ missed, ``M + 1`` is dead. ``free[j]`` is 1.0 while measurement ``j`` is free, 0
 States are de-duplicated with an open-addressing hash set keyed by a Zobrist hash (XOR of one
 random 64-bit key per (row, compact index)) that is updated incrementally on every row change;
 a hash hit is confirmed by comparing the full row.
+
+Parallelism. :func:`speculate` (``parallel=True``) simulates a batch of chains, one ``prange``
+iteration per chain with its own stream and slab rows; :func:`run_chains` replays the batch in
+chain order with the sequential stall/stale logic (spec §3.3, "Parallelism"), so its result is
+independent of the number of threads.
+
+References
+----------
+.. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+   Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+.. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+   Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+.. [3] A. L. Zobrist, "A New Hashing Method with Application for Game Playing", Tech. Rep.
+   88, Univ. of Wisconsin, 1970.
 """
 
 from __future__ import annotations
