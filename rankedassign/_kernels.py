@@ -354,49 +354,6 @@ def _grow(uniq, uhash, counts, lastc, table, n_unique):
 
 
 @jit()
-def _record(state, h, c, j, uniq, uhash, counts, lastc, table, ctr, cctr, stall_mode, tau_stall):
-    """Count observation ``j`` of chain ``c``; return True if the stall rule stops the chain.
-
-    Capacity for one more unique state must be ensured by the caller (:func:`_grow`).
-    Stall readings (spec §3.2):
-
-    * global-consecutive (S3): observations since the chain's last find that was new to ``U``;
-    * global-cumulative (S2): the chain's observations that were already in ``U``;
-    * chain-local (S1): ``(j + 1) - NumUnique(x[0..j])``, repeats among the chain's own states
-      including its start state.
-    """
-    u = _find(table, uniq, state, h)
-    if u < 0:  # new to U
-        slot = -1 - u
-        u = ctr[_NU]
-        table[slot, 0] = h
-        table[slot, 1] = np.uint64(u + 1)
-        uniq[u, :] = state
-        uhash[u] = h
-        counts[u] = 1
-        lastc[u] = c
-        ctr[_NU] += 1
-        cctr[_NEW_IN_CHAIN] += 1
-        cctr[_STALL_RUN] = 0
-        cctr[_LOCAL_UNIQUE] += 1
-    else:
-        counts[u] += 1
-        cctr[_STALL_RUN] += 1
-        cctr[_STALL_CUM] += 1
-        if lastc[u] != c:  # first visit of this chain to a state found earlier
-            lastc[u] = c
-            cctr[_LOCAL_UNIQUE] += 1
-    ctr[_NOBS] += 1
-    if stall_mode == STALL_GLOBAL_CONSECUTIVE:
-        return cctr[_STALL_RUN] >= tau_stall
-    if stall_mode == STALL_GLOBAL_CUMULATIVE:
-        return cctr[_STALL_CUM] >= tau_stall
-    if stall_mode == STALL_CHAIN_LOCAL:
-        return (j + 1) - cctr[_LOCAL_UNIQUE] >= tau_stall
-    return False
-
-
-@jit()
 def _begin_chain(c, lastc, cctr):
     """Reset the per-chain counters; the start state (unique 0) is the chain's ``x[0]``."""
     cctr[:] = 0
@@ -500,6 +457,103 @@ def _prefix_length(used_hist, chain_length, workers):
 
 
 @jit()
+def _advance(W, cc, zkeys, b, c, j0, j1, done, random_scan, traj, hashes, states, frees, hs, rss,
+             perms, cums, uniq, uhash, counts, lastc, table, ctr, cctr, stall_mode, tau_stall):
+    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``.
+
+    Sweeps ``<= done`` were simulated ahead by :func:`speculate` and are read from ``traj`` and
+    ``hashes``; later ones are simulated here from the saved state (``done = 0``: all of them,
+    the sequential kernel). Each observation is looked up in the unique set ``U`` (inserted if
+    new, spec §3.3) and counted, then the stall rule is applied (spec §3.2):
+
+    * global-consecutive (S3): observations since the chain's last find new to ``U``;
+    * global-cumulative (S2): the chain's observations that were already in ``U``;
+    * chain-local (S1): ``(j + 1) - NumUnique(x[0..j])``, repeats among the chain's own states
+      including its start state (``lastc[u]`` is the last chain that saw unique ``u``).
+
+    The caller guarantees room for ``j1 - j0`` new unique states (:func:`_room`), so this hot
+    loop never reallocates; the look-up is written out here rather than called because a call
+    passing the dozen arrays of the unique set costs as much as the look-up itself.
+
+    Returns
+    -------
+    (j, stalled, done) : (int, bool, int)
+        The last observation made, whether the stall rule fired there, sweeps simulated.
+    """
+    P = uniq.shape[1]
+    mask = table.shape[0] - 1
+    state = states[b]
+    rs = rss[b, 0:1]
+    h = hs[b]
+    for j in range(j0 + 1, j1 + 1):
+        if j <= done:
+            x = traj[b, j - 1]
+            hx = hashes[b, j - 1]
+        else:
+            h = sweep(W, cc, zkeys, state, frees[b], h, rs, perms[b], cums[b], random_scan)
+            x = state
+            hx = h
+            done = j
+        # look x up in U: linear probing from its hash, confirmed on the full state
+        slot = np.int64(hx & np.uint64(mask))
+        u = -1
+        while True:
+            v = table[slot, 1]
+            if v == 0:
+                break
+            if table[slot, 0] == hx:
+                cand = np.int64(v) - 1
+                same = True
+                for i in range(P):
+                    if uniq[cand, i] != x[i]:
+                        same = False
+                        break
+                if same:
+                    u = cand
+                    break
+            slot = (slot + 1) & mask
+        if u < 0:  # new to U: U.add(x); the stall run restarts
+            u = ctr[_NU]
+            table[slot, 0] = hx
+            table[slot, 1] = np.uint64(u + 1)
+            uniq[u, :] = x
+            uhash[u] = hx
+            counts[u] = 1
+            lastc[u] = c
+            ctr[_NU] += 1
+            cctr[_NEW_IN_CHAIN] += 1
+            cctr[_STALL_RUN] = 0
+            cctr[_LOCAL_UNIQUE] += 1
+        else:
+            counts[u] += 1
+            cctr[_STALL_RUN] += 1
+            cctr[_STALL_CUM] += 1
+            if lastc[u] != c:  # first visit of this chain to a state found before
+                lastc[u] = c
+                cctr[_LOCAL_UNIQUE] += 1
+        ctr[_NOBS] += 1
+        if stall_mode == STALL_GLOBAL_CONSECUTIVE:
+            stalled = cctr[_STALL_RUN] >= tau_stall
+        elif stall_mode == STALL_GLOBAL_CUMULATIVE:
+            stalled = cctr[_STALL_CUM] >= tau_stall
+        elif stall_mode == STALL_CHAIN_LOCAL:
+            stalled = (j + 1) - cctr[_LOCAL_UNIQUE] >= tau_stall
+        else:
+            stalled = False
+        if stalled:
+            hs[b] = h
+            return j, True, done
+    hs[b] = h
+    return j1, False, done
+
+
+@jit()
+def _room(uniq, table, n_unique):
+    """Insertions the unique set takes before :func:`_grow` must run (load factor 0.5)."""
+    return min(uniq.shape[0], table.shape[0] // 2) - n_unique
+
+
+@jit()
 def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_stall,
                stale_mode, tau_stale, random_scan, batch, workers):
     """Short-chain sampler (spec §3.3); the original sampler is one chain without termination.
@@ -523,12 +577,12 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
     batch : int
         0: simulate chain after chain, stopping each as soon as the stall rule fires.
         ``> 0``: take ``batch`` chains at a time (the first batch at most
-        ``max(64, 16 workers)``), simulate a prefix of each in parallel
-        (:func:`speculate`, prefix length from :func:`_prefix_length`), then replay them in
-        chain order applying stall and stale exactly as the sequential run does, extending a
-        chain sequentially if it outlives its prefix (spec §3.3, "Parallelism"). A chain's
-        trajectory depends only on its stream, so the result does not depend on ``batch``,
-        ``workers`` or the prefix lengths; only the discarded sweeps do.
+        ``max(64, 16 workers)``), simulate a prefix of each in parallel (:func:`speculate`,
+        prefix length from :func:`_prefix_length`), then replay them in chain order applying
+        stall and stale exactly as the sequential run does, continuing a chain in the replay
+        if it outlives its prefix (spec §3.3, "Parallelism"). A chain's trajectory depends
+        only on its stream, so the result does not depend on ``batch``, ``workers`` or the
+        prefix lengths; only the discarded sweeps do.
     workers : int
         Threads used by :func:`speculate` (sets the prefix quantile).
 
@@ -561,77 +615,59 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
     uhash[0] = h0
     ctr[_NU] = 1
 
-    if batch <= 0:
-        state = np.empty(P, dtype=np.int32)
-        free = np.empty(M)
-        perm = np.empty(P, dtype=np.int64)
-        cum = np.empty(M + 2)
-        rs = np.empty(1, dtype=np.uint64)
-        for c in range(n_chains):
-            state[:] = x0
-            free[:] = free0
-            rs[0] = chain_state(base, c)
-            h = h0
-            _begin_chain(c, lastc, cctr)
-            for j in range(1, chain_length + 1):
-                h = sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan)
-                if ctr[_NU] >= uniq.shape[0] or 2 * (ctr[_NU] + 1) > table.shape[0]:
-                    uniq, uhash, counts, lastc, table = _grow(
-                        uniq, uhash, counts, lastc, table, ctr[_NU]
-                    )
-                if _record(state, h, c, j, uniq, uhash, counts, lastc, table, ctr, cctr,
-                           stall_mode, tau_stall):
-                    break
-            if _end_chain(ctr, cctr, stale_mode, tau_stale):
-                break
-    else:
-        nb = min(batch, n_chains)
-        traj = np.empty((nb, chain_length, P), dtype=np.int32)
-        hashes = np.empty((nb, chain_length), dtype=np.uint64)
-        states = np.empty((nb, P), dtype=np.int32)
-        frees = np.empty((nb, M))
-        hs = np.empty(nb, dtype=np.uint64)
-        rss = np.empty((nb, 8), dtype=np.uint64)
-        perms = np.empty((nb, P), dtype=np.int64)
-        cums = np.empty((nb, M + 2))
-        used_hist = np.zeros(chain_length + 1, dtype=np.int64)
-        c0 = 0
-        while c0 < n_chains:
-            n_b = min(nb, n_chains - c0)
+    speculative = batch > 0
+    nb = min(batch, n_chains) if speculative else 1
+    traj = np.empty((nb, chain_length if speculative else 0, P), dtype=np.int32)
+    hashes = np.empty((nb, chain_length if speculative else 0), dtype=np.uint64)
+    states = np.empty((nb, P), dtype=np.int32)
+    frees = np.empty((nb, M))
+    hs = np.empty(nb, dtype=np.uint64)
+    rss = np.empty((nb, 8), dtype=np.uint64)  # one stream per cache line
+    perms = np.empty((nb, P), dtype=np.int64)
+    cums = np.empty((nb, M + 2))
+    used_hist = np.zeros(chain_length + 1, dtype=np.int64)
+    c0 = 0
+    while c0 < n_chains:
+        n_b = min(nb, n_chains - c0)
+        if speculative:
             if c0 == 0:  # a first, small batch learns the chain lengths for the prefix
                 n_b = min(n_b, max(64, 16 * workers))
             s = _prefix_length(used_hist, chain_length, workers)
             speculate(W, cc, zkeys, x0, free0, h0, base, c0, n_b, s, random_scan, traj, hashes,
                       states, frees, hs, rss, perms, cums)
-            stale = False
-            for b in range(n_b):
-                c = c0 + b
-                _begin_chain(c, lastc, cctr)
-                used = chain_length
-                done = s
-                for j in range(1, chain_length + 1):
-                    if j > done:  # the chain outlived its prefix: continue it here
-                        hs[b] = sweep(W, cc, zkeys, states[b], frees[b], hs[b], rss[b, 0:1],
-                                      perms[b], cums[b], random_scan)
-                        traj[b, j - 1, :] = states[b]
-                        hashes[b, j - 1] = hs[b]
-                        done = j
-                    if ctr[_NU] >= uniq.shape[0] or 2 * (ctr[_NU] + 1) > table.shape[0]:
-                        uniq, uhash, counts, lastc, table = _grow(
-                            uniq, uhash, counts, lastc, table, ctr[_NU]
-                        )
-                    if _record(traj[b, j - 1], hashes[b, j - 1], c, j, uniq, uhash, counts,
-                               lastc, table, ctr, cctr, stall_mode, tau_stall):
-                        used = j
-                        break
-                used_hist[used] += 1
-                ctr[_DISCARDED] += done - used
-                if _end_chain(ctr, cctr, stale_mode, tau_stale):
-                    ctr[_DISCARDED] += (n_b - b - 1) * s
-                    stale = True
-                    break
-            if stale:
+        else:
+            s = 0
+        stale = False
+        for b in range(n_b):
+            c = c0 + b
+            if not speculative:
+                states[b, :] = x0
+                frees[b, :] = free0
+                hs[b] = h0
+                rss[b, 0] = chain_state(base, c)
+            _begin_chain(c, lastc, cctr)
+            done = s
+            j = 0
+            stalled = False
+            while j < chain_length and not stalled:
+                if _room(uniq, table, ctr[_NU]) <= 0:
+                    uniq, uhash, counts, lastc, table = _grow(
+                        uniq, uhash, counts, lastc, table, ctr[_NU]
+                    )
+                j, stalled, done = _advance(
+                    W, cc, zkeys, b, c, j,
+                    min(chain_length, j + _room(uniq, table, ctr[_NU])), done, random_scan,
+                    traj, hashes, states, frees, hs, rss, perms, cums, uniq, uhash, counts,
+                    lastc, table, ctr, cctr, stall_mode, tau_stall,
+                )
+            used_hist[j] += 1
+            ctr[_DISCARDED] += done - j
+            if _end_chain(ctr, cctr, stale_mode, tau_stale):
+                ctr[_DISCARDED] += (n_b - b - 1) * s
+                stale = True
                 break
-            c0 += n_b
+        if stale:
+            break
+        c0 += n_b
     n = ctr[_NU]
     return uniq[:n].copy(), counts[:n].copy(), ctr
