@@ -1,10 +1,30 @@
-"""Tracking accuracy on the paper's scenario (spec §6–§8) for every association method.
+"""Tracking accuracy and sampler cost on the paper's scenario (spec §6–§8, A13).
 
-The default suite runs one cheap single-seed check; the studies over several seeds are marked
-``slow``. Every run is seeded, so each number below is deterministic; a target the
-implementation does not reach is kept at its stated value and marked ``xfail(strict=True)``
-with the measured number in the reason (it turns into a failure if the number changes enough
-to meet the target, so the marker cannot go stale).
+The default suite checks, on one seed, properties every seed must meet (coverage of all 12
+targets, cardinality, no persistent false tracks, steady-state localisation, the accounting of
+spec §6.6) and compares the short-chain sampler with the original one on the same
+measurements. The studies over several seeds are marked ``slow`` (``pytest -m slow``); each
+asserts the issue's target as stated. Every run is seeded, so each number below is
+deterministic; the measured values are quoted beside each target.
+
+Measured with this code (seeds 0-4, paper preset, hysteresis, Euclidean OSPA(2) with
+c = 200 m, p = 1, window 5), mean OSPA(2) and its split by scan (births: the 10 scans from each
+birth time 1, 20, 40, 60, 80; deaths: scans 71-80; steady: the rest):
+
+===============================  =====  ======  ======  ======  =============
+association                      OSPA2  births  deaths  steady  sweeps / scan
+===============================  =====  ======  ======  ======  =============
+ShortChainGibbs(400, 25, 5, 10)  38.85  30.75   3.10    5.00    1 121
+OriginalGibbs(10 000)            38.63  30.95   3.13    4.55    10 000
+Exact()                          39.24  31.58   3.21    4.45    0
+===============================  =====  ======  ======  ======  =============
+
+(one association call per scan for all three; the parts add up to the mean)
+
+Even the exact LMB update stays above the 35 m target: the model confirms a newborn track
+(r_B = 0.03, 300 m birth spread, ϑ_u = 0.9) on its 3rd-4th detection at best, and an
+idealised filter that reports every target from its 4th scan on, 10 m off, and drops it 2 scans
+after its death already scores 30.5 m (31.1 m with 3 scans; 34.8 m from the 5th scan on).
 """
 
 from functools import cache
@@ -16,6 +36,12 @@ from rankedassign.metrics import ospa, ospa2
 from rankedassign.tracking import Exact, Murty, OriginalGibbs, ShortChainGibbs, run_scenario
 
 PAPER_SHORT = ("short", 400, 25, 5, 10)
+ORIGINAL = ("original", 10_000)
+EXACT = ("exact",)
+SEEDS = range(5)
+# scans (0-based) whose OSPA(2) window of 5 scans holds no birth (scans 1, 20, 40, 60, 80) and
+# no death (target 1 and 3 exist up to scan 70) and lies at least 10 scans after a birth
+STEADY = np.r_[29:39, 49:59, 89:100]
 
 
 def make_assoc(key):
@@ -34,9 +60,13 @@ def cached_run(preset, key, seed, grouping=False):
     return run_scenario(preset, make_assoc(key), rng=seed, grouping=grouping)
 
 
-def mean_ospa2(run):
+def ospa2_curve(run):
     # the paper's settings: Euclidean base, c = 200 m, p = 1, window 5, uniform weights
-    return float(ospa2(run.truth, run.estimates, c=200.0, p=1, window=5).value.mean())
+    return ospa2(run.truth, run.estimates, c=200.0, p=1, window=5).value
+
+
+def mean_ospa2(run):
+    return float(ospa2_curve(run).mean())
 
 
 def mean_ospa(run, c=100.0):
@@ -48,7 +78,7 @@ def mean_ospa(run, c=100.0):
     return float(np.mean(vals))
 
 
-def coverage(run, radius=50.0, settle=5):
+def coverage(run, radius=50.0, settle=10):
     """Per true target: fraction of its scans (after its first ``settle``) with an estimate
     within ``radius`` metres."""
     cov = []
@@ -63,92 +93,176 @@ def coverage(run, radius=50.0, settle=5):
     return np.array(cov)
 
 
-# --------------------------------------------------------------------------- default suite
-def test_paper_scenario_single_seed_short_chain():
-    """One 100-scan run of the paper's scenario with the paper's short-chain settings."""
-    run = cached_run("paper", PAPER_SHORT, 0)
-    assert run.estimates.shape[0] == 100
-    # every one of the 12 targets is tracked (within 50 m) on >= 90 % of its scans once the
-    # track has had 5 scans to confirm
-    assert np.all(coverage(run) >= 0.9)
-    # single-seed version of the accuracy target (the 5-seed study is below, marked slow)
-    assert mean_ospa2(run) <= 35.0
-    # sweeps are the observations; each call stops early (at most N_S * N_C = 10 000 sweeps)
+def far_estimates(run, radius=100.0):
+    """Fraction of reported estimates (over all scans) farther than ``radius`` from every true
+    target of their scan."""
+    far = total = 0
+    for k in range(run.n_scans):
+        x = run.truth[k][~np.isnan(run.truth[k]).any(axis=1)]
+        y = run.estimates[k][~np.isnan(run.estimates[k]).any(axis=1)]
+        total += len(y)
+        if len(y):
+            d = np.linalg.norm(y[:, None, :] - x[None, :, :], axis=2).min(axis=1)
+            far += int(np.sum(d > radius))
+    return far / total
+
+
+def check_paper_properties(run):
+    """What every 100-scan run of the paper preset must meet, whatever the seed and method.
+
+    The margins are wide against the values measured on seeds 0-4 for the short-chain, the
+    original and the exact association (quoted beside each), so that a failure means a
+    regression rather than an unlucky seed.
+    """
+    assert run.truth.shape == (100, 12, 2)
+    assert run.estimates.shape[0] == 100 and run.estimates.shape[2] == 2
+    # every target is tracked within 50 m on >= 85 % of its scans once it had 10 scans to be
+    # confirmed (measured minimum over targets, seeds and methods: 0.96)
+    cov = coverage(run)
+    assert np.all(cov >= 0.85), cov
+    # reported tracks are real: <= 5 % of the estimates lie > 100 m from every target
+    # (measured <= 1.3 %; they are tracks of targets that died at scan 70, kept by hysteresis
+    # until pruned, A19)
+    assert far_estimates(run) <= 0.05
+    n_true = (~np.isnan(run.truth[:, :, 0])).sum(axis=1)
+    # never more than 2 tracks too many (measured max: +2, the two deaths at scan 70)
+    assert np.all(run.n_estimated <= n_true + 2)
+    # the right number of tracks on >= 45 % of the scans; most misses are the confirmation
+    # lag after each birth (measured 55-74 %)
+    assert np.mean(run.n_estimated == n_true) >= 0.45
+    # steady state (no birth or death in the window, every track >= 10 scans old): OSPA(2)
+    # near the localisation floor of ~10 m (measured per-run means 9.2-15.3 m; above 10 m when
+    # a duplicate track of one target is confirmed for a few scans)
+    assert ospa2_curve(run)[STEADY].mean() <= 25.0
+    # one association problem per scan (the 300 m birth spread joins every track into one
+    # group, spec §6.5a); every call is accounted for
     assert np.all(run.invocations == 1)
-    assert np.all((run.sweeps > 0) & (run.sweeps < 10_000))
+    assert np.all(run.n_groups == 1)
+
+
+# --------------------------------------------------------------------------- default suite
+def test_paper_scenario_short_chain_properties_one_seed():
+    """The properties every seed meets, on one seed (all five: the slow test below)."""
+    run = cached_run("paper", PAPER_SHORT, 0)
+    check_paper_properties(run)
+    # sweeps are the observations; each call stops early (at most N_S * N_C = 10 000 sweeps,
+    # at least tau_stale = 10 chains of tau_stall = 5 sweeps)
+    assert np.all((run.sweeps >= 50) & (run.sweeps < 10_000))
     assert np.all(run.row_updates == run.sweeps * run.n_tracks)
+    assert np.all(run.n_unique >= 1)
+
+
+def test_paper_scenario_short_chain_vs_original_one_seed():
+    """Both samplers on the same measurements (seed 0): accuracy and observations."""
+    short = cached_run("paper", PAPER_SHORT, 0)
+    orig = cached_run("paper", ORIGINAL, 0)
+    for s1, s2 in zip(short.scenario.scans, orig.scenario.scans, strict=True):
+        np.testing.assert_array_equal(s1.z, s2.z)
+    check_paper_properties(orig)
+    # the original always runs its T = 10 000 sweeps, one call per scan
+    np.testing.assert_array_equal(orig.sweeps, np.full(100, 10_000))
+    np.testing.assert_array_equal(orig.row_updates, 10_000 * orig.n_tracks)
+    # the short-chain sampler spends at most 15 % of the original's sweeps (measured 11.3 %
+    # on this seed, 11.2 % over seeds 0-4; the issue's 95 % target is the slow test below)
+    assert short.sweeps.sum() <= 0.15 * orig.sweeps.sum()
+    # accuracy: over one run the two differ by which births each sampler happens to catch and
+    # by short-lived duplicate tracks, up to 11.4 % of the original's value on seeds 0-4
+    # (34.3 vs 38.7 m here), hence the 15 % margin; the 5-seed means agree within 5 % (slow
+    # test below)
+    assert abs(mean_ospa2(short) - mean_ospa2(orig)) <= 0.15 * mean_ospa2(orig)
+
+
+def test_grouped_accounting_one_call_per_group():
+    """With grouping (spec §6.5a) every group with a gated measurement is one sampler call."""
+    run = run_scenario("paper", OriginalGibbs(200), rng=0, n_scans=15, grouping=True)
+    np.testing.assert_array_equal(run.invocations, run.n_groups)
+    np.testing.assert_array_equal(run.sweeps, 200 * run.invocations)
+    assert np.all(run.row_updates <= run.sweeps * run.n_tracks)
+    assert np.all(run.row_updates >= run.sweeps)
+    ungrouped = run_scenario("vo", OriginalGibbs(200), rng=0, n_scans=15)
+    grouped = run_scenario("vo", OriginalGibbs(200), rng=0, n_scans=15, grouping=True)
+    # the vo preset's narrow births keep tracks apart: several calls per scan, each on fewer
+    # rows, so fewer row updates for more sweeps
+    assert grouped.invocations.sum() > ungrouped.invocations.sum()
+    np.testing.assert_array_equal(ungrouped.invocations, np.ones(15, dtype=np.int64))
+    assert grouped.row_updates.sum() < grouped.sweeps.sum() * grouped.n_tracks.mean()
 
 
 # --------------------------------------------------------------------------- slow studies
-SEEDS = range(5)
+@pytest.mark.slow
+@pytest.mark.parametrize("key", [PAPER_SHORT, ORIGINAL, EXACT], ids=["short", "original", "exact"])
+@pytest.mark.parametrize("seed", SEEDS)
+def test_paper_properties_every_seed(key, seed):
+    check_paper_properties(cached_run("paper", key, seed))
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(
-    "key", [PAPER_SHORT, ("original", 10_000), ("murty", 1000)], ids=["short", "original", "murty"]
-)
 @pytest.mark.parametrize("seed", range(3))
-def test_every_method_tracks_all_targets_paper(key, seed):
-    run = cached_run("paper", key, seed)
-    assert np.all(coverage(run) >= 0.9), coverage(run)
+def test_murty_tracks_all_targets_paper(seed):
+    cov = coverage(cached_run("paper", ("murty", 1000), seed))
+    assert np.all(cov >= 0.85), cov
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", range(3))
 def test_exact_tracks_all_targets_vo(seed):
-    # Exact() on the "paper" preset is out of reach: the 300 m birth spread joins every track
-    # into one group of P ≈ 21 rows and min(P, M) > 20 exceeds the oracle's subset DP. On the
-    # "vo" preset grouping keeps every problem small.
-    run = cached_run("vo", ("exact",), seed, True)
-    assert np.all(coverage(run) >= 0.9), coverage(run)
+    cov = coverage(cached_run("vo", EXACT, seed, True))
+    assert np.all(cov >= 0.85), cov
 
 
 @pytest.mark.slow
 def test_short_chain_accuracy_matches_original_paper():
     short = np.mean([mean_ospa2(cached_run("paper", PAPER_SHORT, s)) for s in SEEDS])
-    orig = np.mean([mean_ospa2(cached_run("paper", ("original", 10_000), s)) for s in SEEDS])
+    orig = np.mean([mean_ospa2(cached_run("paper", ORIGINAL, s)) for s in SEEDS])
     # measured: 38.85 m (short) vs 38.63 m (original)
     assert abs(short - orig) <= 0.05 * orig, (short, orig)
 
 
 @pytest.mark.slow
-def test_short_chain_accuracy_matches_exact_vo_grouped():
-    # Exact is feasible on the "vo" preset with grouping; the short-chain sampler is run per
-    # group as well. Measured: 23.93 m (short) vs 24.14 m (exact).
-    short = np.mean([mean_ospa2(cached_run("vo", PAPER_SHORT, s, True)) for s in SEEDS])
-    exact = np.mean([mean_ospa2(cached_run("vo", ("exact",), s, True)) for s in SEEDS])
+def test_short_chain_accuracy_matches_exact_paper():
+    # Exact() is the exact LMB update (oracle.marginals: exact per connected component, with a
+    # frontier DP for the sparse gated problems of P ~ 23 rows). Measured: 38.85 m (short) vs
+    # 39.24 m (exact); the exact update is not more accurate than the samplers here.
+    short = np.mean([mean_ospa2(cached_run("paper", PAPER_SHORT, s)) for s in SEEDS])
+    exact = np.mean([mean_ospa2(cached_run("paper", EXACT, s)) for s in SEEDS])
     assert abs(short - exact) <= 0.05 * exact, (short, exact)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="target: 95 % fewer observations; measured 88.8 % fewer sweeps (~1 120 sweeps per "
-    "call vs 10 000) on the paper preset, seeds 0-4",
-)
-def test_short_chain_saves_observations_paper():
-    short = sum(cached_run("paper", PAPER_SHORT, s).sweeps.sum() for s in SEEDS)
-    orig = sum(cached_run("paper", ("original", 10_000), s).sweeps.sum() for s in SEEDS)
-    assert short <= 0.05 * orig, (short, orig)
+def test_short_chain_accuracy_matches_exact_vo_grouped():
+    # Exact with grouping on the "vo" preset (MAP-cardinality extraction, the preset's
+    # default); the short-chain sampler runs per group as well.
+    short = np.mean([mean_ospa2(cached_run("vo", PAPER_SHORT, s, True)) for s in SEEDS])
+    exact = np.mean([mean_ospa2(cached_run("vo", EXACT, s, True)) for s in SEEDS])
+    assert abs(short - exact) <= 0.05 * exact, (short, exact)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="target: mean OSPA(2) <= 35 m; measured 38.8 m (seeds 0-4: 34.3, 39.4, 38.9, 41.4, "
-    "40.3), dominated by the cardinality lag of the 300 m-wide births under hysteresis",
-)
+def test_short_chain_saves_observations_paper():
+    # The issue's target: >= 95 % fewer observations, counted as sweeps with one sampler call
+    # per scan (spec §6.6, A13). Measured: 88.8 % (1 121 vs 10 000 sweeps per scan, seeds 0-4).
+    # Other conventions, for the record: row updates 90.4 % fewer; grouping changes nothing on
+    # this preset (one group per scan); the paper's own totals (10 760 000 vs 63 474) are 99.4 %.
+    short = sum(cached_run("paper", PAPER_SHORT, s).sweeps.sum() for s in SEEDS)
+    orig = sum(cached_run("paper", ORIGINAL, s).sweeps.sum() for s in SEEDS)
+    assert np.all([np.all(cached_run("paper", k, s).invocations == 1)
+                   for k in (PAPER_SHORT, ORIGINAL) for s in SEEDS])
+    assert short <= 0.05 * orig, (short, orig, 1 - short / orig)
+
+
+@pytest.mark.slow
 def test_paper_accuracy_five_seeds():
+    # The issue's target: mean OSPA(2) <= 35 m over seeds 0-4. Measured: 38.85 m (seeds 0-4:
+    # 34.3, 39.4, 38.9, 41.4, 40.3); the exact update gives 39.2 m (see the module docstring).
     vals = [mean_ospa2(cached_run("paper", PAPER_SHORT, s)) for s in SEEDS]
     assert np.mean(vals) <= 35.0, vals
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="target: mean OSPA (c = 100, p = 1) <= 12 m; measured 13.8 m over seeds 0-9 "
-    "(localisation on cardinality-correct scans 9.8 m, the Kalman steady-state floor is 9.9 m)",
-)
 def test_vo_accuracy_ten_seeds():
+    # The issue's target: mean OSPA (c = 100 m, p = 1) <= 12 m over seeds 0-9 on the "vo"
+    # preset, with its default MAP-cardinality extraction (Vo's code). Measured: 12.59 m
+    # (hysteresis: 13.8 m). Seed 0 (16.6 m) loses target 8 for good: it is missed at scan 41,
+    # right after its first detection, and the 10 m-wide births cannot pick it up again.
     vals = [mean_ospa(cached_run("vo", PAPER_SHORT, s)) for s in range(10)]
     assert np.mean(vals) <= 12.0, vals
