@@ -456,7 +456,7 @@ def log_normalizer(problem) -> float:
     >>> round(float(np.exp(log_normalizer(u) + 4 * 0.5)), 6)
     76848.0
 
-    A banded problem with 30 rows and 80 measurements (beyond the subset DP, frontier 4):
+    A banded problem with 30 rows (beyond the subset DP; at most 2 rows active at once):
 
     >>> eta = np.zeros((30, 80))
     >>> for i in range(30):
