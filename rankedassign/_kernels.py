@@ -6,7 +6,7 @@ give bit-identical results for the same inputs:
 
 * the random stream is SplitMix64 (:mod:`rankedassign._rng`), one stream per chain;
 * a row update draws exactly one uniform and turns it into a candidate with the cumulative loop
-  of :func:`draw_row` (candidates in the order measurements ``0..M-1``, missed, dead);
+  of :func:`sweep` (candidates in the order measurements ``0..M-1``, missed, dead);
 * a random-scan sweep first draws its row permutation with the Fisher-Yates loop of
   :func:`sweep`.
 
@@ -155,71 +155,18 @@ def zobrist_keys(P, K, seed):
 
 # ---------------------------------------------------------------------------------- Gibbs
 @jit()
-def draw_row(W, cc, i, free, cum, rs):
-    """Draw row ``i``'s compact index from its conditional (spec eq. 2.1), one uniform.
+def draw_exact(cc, i, free, u):
+    """Row ``i``'s draw from exact weights, for when every shifted weight underflowed.
 
-    Parameters
-    ----------
-    W : ndarray, shape (P, M + 2), float64
-        ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``).
-    cc : ndarray, shape (P, M + 2), float64
-        Compact costs (used only by the underflow fall-back).
-    i : int
-        The row.
-    free : ndarray, shape (M,), float64
-        1.0 where a measurement is available to row ``i`` (free, or held by row ``i``
-        itself: the caller releases row ``i``'s measurement first), 0.0 where another row
-        holds it.
-    cum : ndarray, shape (M + 2,), float64
-        Work space for the running sums.
-    rs : ndarray, shape (1,), uint64
-        Stream state, advanced by one draw.
-
-    Returns
-    -------
-    int
-        Compact index ``k``: measurement ``k < M``, missed ``M``, dead ``M + 1``.
-
-    Notes
-    -----
-    ``p(k) ∝ W[i, k]`` over the available candidates, in the order measurements ``0..M-1``,
-    missed, dead. ``total`` is their sum accumulated sequentially in that order;
-    ``target = u * total``; the pick is the first candidate whose running sum exceeds
-    ``target`` (inverse CDF), or the last positive-weight candidate if rounding leaves none.
-    Unavailable candidates enter the running sum as ``W * 0.0 = +0.0``, which leaves every
-    partial sum bit-identical to the reference's loop that skips them; the running sums are
-    stored so that the search is a branch-free count of ``cum[k] <= target`` (the sums are
-    non-decreasing, so the count is the index of the first one above ``target``).
-
-    If every available weight underflowed to 0 (the row's cheapest entry is held by another
-    row and the rest are more than ~745 above it) the draw uses the exact weights
-    ``exp(-(cc[i, k] - m))``, ``m`` the cheapest *available* cost, with the same uniform. The
-    current entry of row ``i`` is always available and finite, so ``m`` is finite.
+    Used by :func:`sweep` with the row's uniform ``u`` when all of row ``i``'s available
+    weights ``W`` are 0 (its cheapest entry is held by another row and the rest are more than
+    ~745 above it). The weights are ``exp(-(cc[i, k] - m))``, ``m`` the cheapest *available*
+    cost; the current entry of row ``i`` is always available and finite, so ``m`` is finite.
+    The loop is the same inverse CDF as in :func:`sweep`. This path calls ``exp``, so it
+    matches the reference as far as both use the same libm (they do on one machine).
     """
-    M = W.shape[1] - 2
+    M = cc.shape[1] - 2
     K = M + 2
-    # total = sum over available k of W[i, k], sequentially in candidate order
-    total = 0.0
-    for k in range(M):
-        total += W[i, k] * free[k]
-        cum[k] = total
-    total += W[i, M]
-    cum[M] = total
-    total += W[i, M + 1]
-    cum[M + 1] = total
-    u = next_uniform(rs)
-    if total > 0.0:
-        target = u * total
-        pick = 0
-        for k in range(K):
-            pick += cum[k] <= target
-        if pick < K:
-            return pick
-        # rounding left u * total at or above the last running sum
-        for k in range(K - 1, -1, -1):
-            if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
-                return k
-    # Underflow fall-back: exact weights relative to the cheapest available entry.
     m = np.inf
     for k in range(K):
         if (k >= M or free[k] > 0.0) and cc[i, k] < m:
@@ -248,8 +195,10 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
 
     Parameters
     ----------
-    W, cc : ndarray, shape (P, M + 2)
-        See :func:`draw_row`.
+    W : ndarray, shape (P, M + 2), float64
+        ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``).
+    cc : ndarray, shape (P, M + 2), float64
+        Compact costs (used only by :func:`draw_exact`).
     zkeys : ndarray, shape (P, M + 2), uint64
         Zobrist keys.
     state : ndarray, shape (P,), int32
@@ -271,9 +220,24 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
     -------
     uint64
         Zobrist hash of the updated state.
+
+    Notes
+    -----
+    Row ``i`` is drawn from its conditional (spec eq. 2.1) with one uniform ``u``:
+    ``p(k) ∝ W[i, k]`` over the available candidates, in the order measurements ``0..M-1``
+    (free, or held by row ``i`` itself, which is released first), missed, dead. ``total`` is
+    their sum accumulated sequentially in that order, ``target = u * total``, and the pick is
+    the first candidate whose running sum exceeds ``target`` (inverse CDF), or the last
+    positive-weight candidate if rounding leaves none; :func:`draw_exact` if ``total = 0``.
+    Held measurements enter the running sum as ``W * 0.0 = +0.0``, which leaves every partial
+    sum bit-identical to the reference's loop that skips them; the running sums are stored so
+    that the search is a branch-free count of ``cum[k] <= target`` (the sums never decrease,
+    so the count is the index of the first one above ``target``). The draw is written out
+    here rather than in a helper because a call per row costs ~10 % of the sweep.
     """
     P = state.shape[0]
     M = W.shape[1] - 2
+    K = M + 2
     if random_scan:
         for t in range(P):
             perm[t] = t
@@ -289,7 +253,31 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
         k_old = state[i]
         if k_old < M:  # row i's own measurement is available to it
             free[k_old] = 1.0
-        k_new = draw_row(W, cc, i, free, cum, rs)
+        # total = sum over available k of W[i, k], sequentially in candidate order
+        total = 0.0
+        for k in range(M):
+            total += W[i, k] * free[k]
+            cum[k] = total
+        total += W[i, M]
+        cum[M] = total
+        total += W[i, M + 1]
+        cum[M + 1] = total
+        u = next_uniform(rs)
+        k_new = -1
+        if total > 0.0:
+            target = u * total
+            pick = 0
+            for k in range(K):
+                pick += cum[k] <= target
+            if pick < K:
+                k_new = pick
+            else:  # rounding left u * total at or above the last running sum
+                for k in range(K - 1, -1, -1):
+                    if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
+                        k_new = k
+                        break
+        if k_new < 0:
+            k_new = draw_exact(cc, i, free, u)
         if k_new < M:
             free[k_new] = 0.0
         if k_new != k_old:
@@ -561,7 +549,7 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
     Parameters
     ----------
     W, cc : ndarray, shape (P, M + 2), float64
-        Shifted weights and compact costs (see :func:`draw_row`).
+        Shifted weights and compact costs (see :func:`sweep`).
     zkeys : ndarray, shape (P, M + 2), uint64
         Zobrist keys.
     x0 : ndarray, shape (P,), int32

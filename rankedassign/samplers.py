@@ -363,7 +363,7 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
         x_n ~ p(k) ∝ eta_n(k) * 1[k not held by another row]     (spec eq. 2.1)
 
     and the state after the sweep is one observation. The conditional of row ``n`` is drawn by
-    the inverse-CDF loop of :func:`rankedassign._kernels.draw_row` with one uniform. The chain
+    the inverse-CDF loop of :func:`rankedassign._kernels.sweep` with one uniform. The chain
     is irreducible and aperiodic on the feasible set, so visit frequencies converge to
     ``pi = w / Z`` (spec §2.3). The result equals
     ``sample_short_chains(problem, 1, n_obs)`` with no termination rules.
