@@ -124,17 +124,20 @@ def test_bad_input_types_and_sizes():
 
 
 def test_falls_back_to_enumeration_when_the_dp_refuses():
-    # 21 rows that must take "their" measurement, 5 of which may also be missed: min(P, M) = 21
-    # is beyond the DP, but |Gamma| = 2^5 = 32
+    # 21 rows that must take "their" measurement (5 may also be missed) plus one measurement
+    # every row can take: one connected component with min(P, M) = 21 and frontier width 21,
+    # beyond both DPs, but |Gamma| = 624 is small enough to enumerate
     P = 21
-    C = np.full((P, 3 * P), np.inf)
+    M = P + 1
+    C = np.full((P, M + 2 * P), np.inf)
     C[np.arange(P), np.arange(P)] = np.linspace(-2, 2, P)
-    C[np.arange(5), P + np.arange(5)] = 0.5
+    C[:, P] = 1.0
+    C[np.arange(5), M + np.arange(5)] = 0.5
     p = AssignmentProblem.from_cost(C)
     with pytest.raises(ValueError, match="too large for the exact subset DP"):
         oracle_log_normalizer(p)
     full = enumerate_assignments(p)
-    assert len(full.costs) == 32
+    assert len(full.costs) == 624
     want = 1 - np.exp(logsumexp(-full.costs[:3]) - logsumexp(-full.costs))
     assert_allclose(truncation_error(p, full.assignments[:3]), want, rtol=1e-12)
     assert_allclose(best_mass(p, 3), 1 - want, rtol=1e-12)
