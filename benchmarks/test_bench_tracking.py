@@ -6,6 +6,7 @@ Run the timings with::
 
 (in the default suite each runs once as a smoke test). Targets: ``ShortChainGibbs(400, 25, 5,
 10)`` at most 0.5 s and ``OriginalGibbs(10 000)`` under 5 s per 100-scan run after warm-up.
+``Exact()`` (the exact LMB update by the oracle's component/frontier DP) is timed for reference.
 ``extra_info`` holds the mean per-scan seconds of prediction, cost matrix, association and
 update (from the last round), the observations (sweeps), row updates, mean tracks and
 measurements per scan.
@@ -14,11 +15,12 @@ measurements per scan.
 import numpy as np
 import pytest
 
-from rankedassign.tracking import OriginalGibbs, ShortChainGibbs, run_scenario
+from rankedassign.tracking import Exact, OriginalGibbs, ShortChainGibbs, run_scenario
 
 METHODS = {
     "short-chain-400x25": (lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), 5),
     "original-10000": (lambda: OriginalGibbs(10_000), 3),
+    "exact": (Exact, 3),
 }
 
 

@@ -275,7 +275,7 @@ class Exact(Association):
     ``min(P_c, M_c) <= 20`` and otherwise by a frontier DP over the measurements (at most
     ``2^20`` states); it raises ``ValueError`` on a component beyond both limits. On the
     paper's preset (one group of about 23 rows and 50 gated measurements per scan) every scan
-    of seeds 0-4 is solved, in about 12 ms per scan; the filter's grouping (spec §6.5a) keeps
+    of seeds 0-4 is solved, in about 10 ms per scan; the filter's grouping (spec §6.5a) keeps
     problems small on presets with narrow births.
 
     Examples
