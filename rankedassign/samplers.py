@@ -33,6 +33,7 @@ import numbers
 from dataclasses import dataclass
 
 import numpy as np
+from numba import parallel_chunksize
 
 from . import _kernels
 from ._numba import threads
@@ -60,6 +61,8 @@ BACKENDS = ("numba", "python")
 _MAX_SLAB = 1 << 24
 # Candidate evaluations per speculation batch (~1 ms of sweeps).
 _BATCH_WORK = 1 << 21
+# Chains per work item of the parallel speculation loop.
+_CHUNK = 4
 
 
 @dataclass(frozen=True, eq=False)
@@ -535,7 +538,9 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         chain_length, stall_mode, t_stall, stale_mode, t_stale, prep.random_scan, batch, workers,
     )
     if batch:
-        with threads(workers):
+        # Chains are handed to threads a few at a time (not one static share per thread), so
+        # a thread slowed down by another process does not hold up the whole batch.
+        with threads(workers), parallel_chunksize(_CHUNK):
             uniq, counts, ctr = _kernels.run_chains(*args)
     else:
         uniq, counts, ctr = _kernels.run_chains(*args)
