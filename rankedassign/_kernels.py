@@ -564,8 +564,8 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
         Row order of each sweep (see :func:`sweep`).
     batch : int
         0: simulate chain after chain, stopping each as soon as the stall rule fires.
-        ``> 0``: take ``batch`` chains at a time (the first batch at most
-        ``max(64, 16 workers)``), simulate a prefix of each in parallel (:func:`speculate`,
+        ``> 0``: take up to ``batch`` chains at a time (``max(64, 16 workers)`` in the first
+        batch, doubling), simulate a prefix of each in parallel (:func:`speculate`,
         prefix length from :func:`_prefix_length`), then replay them in chain order applying
         stall and stale exactly as the sequential run does, continuing a chain in the replay
         if it outlives its prefix (spec §3.3, "Parallelism"). A chain's trajectory depends
@@ -614,12 +614,15 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
     perms = np.empty((nb, P), dtype=np.int64)
     cums = np.empty((nb, M + 2))
     used_hist = np.zeros(chain_length + 1, dtype=np.int64)
+    # Batches start small (the first one learns the chain lengths for the prefix) and double
+    # up to ``batch``: a run that stops early by stale then discards little.
+    ramp = max(64, 16 * workers)
     c0 = 0
     while c0 < n_chains:
         n_b = min(nb, n_chains - c0)
         if speculative:
-            if c0 == 0:  # a first, small batch learns the chain lengths for the prefix
-                n_b = min(n_b, max(64, 16 * workers))
+            n_b = min(n_b, ramp)
+            ramp *= 2
             s = _prefix_length(used_hist, chain_length, workers)
             speculate(W, cc, zkeys, x0, free0, h0, base, c0, n_b, s, random_scan, traj, hashes,
                       states, frees, hs, rss, perms, cums)

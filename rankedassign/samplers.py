@@ -486,8 +486,8 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
 
     Parallel runs (``workers > 1``, numba backend). A chain's trajectory depends only on its
     own stream and ``x0``; only where it stops depends on ``U`` (spec §3.3). Chains are
-    therefore taken in batches (the first of ``max(64, 16 workers)`` chains, later ones sized
-    to about a millisecond of sweeps); within a batch every chain's first ``s`` sweeps are
+    therefore taken in batches (the first of ``max(64, 16 workers)`` chains, doubling up to
+    about a millisecond of sweeps); within a batch every chain's first ``s`` sweeps are
     simulated in parallel, then the batch is replayed in chain order with the sequential
     stall/stale logic, continuing in the replay any chain that outlives its ``s`` sweeps.
     ``s`` is the ``1 - 1/workers`` quantile of the lengths of the chains replayed so far
