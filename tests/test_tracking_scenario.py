@@ -321,8 +321,22 @@ def test_paper_accuracy_five_seeds():
 @pytest.mark.slow
 def test_vo_accuracy_ten_seeds():
     # The target: mean OSPA (c = 100 m, p = 1) <= 12 m over seeds 0-9 on the "vo"
-    # preset, with its default MAP-cardinality extraction (Vo's code). Measured: 12.59 m
-    # (hysteresis: 13.8 m). Seed 0 (16.6 m) loses target 8 for good: it is missed at scan 41,
-    # right after its first detection, and the 10 m-wide births cannot pick it up again.
+    # preset with the short-chain sampler, with the preset's default MAP-cardinality extraction
+    # (Vo's code). Measured: 12.60 m (hysteresis: 13.81 m; with grouping: 12.12 m). Seeds 0
+    # and 7 (16.6 and 13.6 m) each lose a target for good: e.g. target 8 of seed 0 is missed at
+    # scan 41, right after its first detection; the exact update leaves its track r = 0.0032,
+    # but the hypotheses in which it exists undetected weigh ~0.3 % and the short chains never
+    # visit them, so r = 0, the track is pruned, and the 10 m-wide births cannot pick the
+    # target up again. Exact() and OriginalGibbs(10 000) keep it (next test).
     vals = [mean_ospa(cached_run("vo", PAPER_SHORT, s)) for s in range(10)]
     assert np.mean(vals) <= 12.0, vals
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("key", [ORIGINAL, EXACT], ids=["original", "exact"])
+def test_vo_accuracy_ten_seeds_exact_and_original(key):
+    # The filter itself meets the vo target: measured 11.91 m for both (no target lost; every
+    # seed within 11.2-12.5 m)
+    vals = [mean_ospa(cached_run("vo", key, s)) for s in range(10)]
+    assert np.mean(vals) <= 12.0, vals
+    assert max(vals) <= 13.0, vals
