@@ -187,7 +187,9 @@ class TrackingConfig:
     tau_stall: int = 5
     tau_stale: int = 10
     grouping: bool = False
-    extraction: str = "hysteresis"
+    #: State extraction; ``None`` takes the preset's own rule (hysteresis for "paper", as the
+    #: paper uses; MAP cardinality for "vo", as Vo's code does).
+    extraction: str | None = None
     #: OSPA(2) parameters (spec §7): cut-off (m), order, window length (scans).
     ospa_c: float = 200.0
     ospa_p: float = 1.0
