@@ -622,7 +622,7 @@ def run_chains(W, cc, zkeys, x0, base, n_chains, chain_length, stall_mode, tau_s
         n_b = min(nb, n_chains - c0)
         if speculative:
             n_b = min(n_b, ramp)
-            ramp *= 2
+            ramp = min(2 * ramp, nb)
             s = _prefix_length(used_hist, chain_length, workers)
             speculate(W, cc, zkeys, x0, free0, h0, base, c0, n_b, s, random_scan, traj, hashes,
                       states, frees, hs, rss, perms, cums)

@@ -243,3 +243,21 @@ def test_underflow_fallback_reference_equals_numba():
         assert set(nb.assignments[:, 0].tolist()) == {1, 2, 4}
         par = sample_short_chains(p, 100, 5, start=start, scan=scan, rng=4, workers=2)
         assert_same(reference.sample_short_chains(p, 100, 5, start=start, scan=scan, rng=4), par)
+
+
+def test_many_speculation_batches():
+    # Hundreds of batches (batch = 1 and 3 chains): the batch-size ramp must saturate, not
+    # overflow (regression: an unbounded doubling wrapped around after 63 batches).
+    from rankedassign import synthetic
+
+    p = synthetic.random(R=3, M=5, rng=2)
+    prep = samplers._prepare(p, "all_missed", "systematic", 6)
+    args = (prep.W, prep.cc, samplers._zobrist(p), prep.x0, np.uint64(prep.base), 300, 4,
+            samplers.STALL_READINGS["global-consecutive"], 2, 0, 0, False)
+    u0, c0, k0 = _kernels.run_chains(*args, 0, 1)
+    for batch in (1, 3):
+        u, c, k = _kernels.run_chains(*args, batch, 2)
+        assert_array_equal(u, u0)
+        assert_array_equal(c, c0)
+        assert_array_equal(k[:6], k0[:6])
+        assert k[2] == 300
