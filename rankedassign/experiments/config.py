@@ -259,7 +259,7 @@ class Config:
 
 
 #: Monte Carlo runs of each study in quick mode (the rest of the settings are the paper's).
-QUICK_MC = {"table1": 20, "sweep": 5, "tracking": 4, "ablation": 5, "optimum": 10}
+QUICK_MC = {"table1": 40, "sweep": 10, "tracking": 10, "ablation": 10, "optimum": 20}
 
 
 def study_config(config, name: str, cls):
