@@ -51,6 +51,7 @@ def test_bench_original(benchmark, backend, size):
     problem = PROBLEMS[size]()
     n = ORIGINAL_SWEEPS[backend, size]
     fn = sample_original if backend == "numba" else reference.sample_original
+    benchmark.group = f"original sampler {size}"
     res = benchmark.pedantic(fn, args=(problem, n), kwargs=dict(rng=1), rounds=5,
                              warmup_rounds=1)
     assert res.n_observations == n
@@ -62,6 +63,7 @@ def test_bench_original(benchmark, backend, size):
 def test_bench_short_chains_paper_settings(benchmark, workers, size):
     """10 000 chains x 25 sweeps, tau_stall = 5, tau_stale = 25 (the paper's settings)."""
     problem = PROBLEMS[size]()
+    benchmark.group = f"short chains, paper settings {size}"
     res = benchmark.pedantic(
         sample_short_chains, args=(problem, 10_000, 25),
         kwargs=dict(tau_stall=5, tau_stale=25, rng=1, workers=workers), rounds=3,
@@ -75,6 +77,7 @@ def test_bench_short_chains_paper_settings(benchmark, workers, size):
 def test_bench_short_chains_full_budget(benchmark, workers, size):
     """2 000 chains x 25 sweeps without termination: the parallel speed-up on pure sweeps."""
     problem = PROBLEMS[size]()
+    benchmark.group = f"short chains, full budget {size}"
     res = benchmark.pedantic(
         sample_short_chains, args=(problem, 2_000, 25), kwargs=dict(rng=1, workers=workers),
         rounds=3, warmup_rounds=1,

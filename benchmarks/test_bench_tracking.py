@@ -34,6 +34,7 @@ def _warm():
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_bench_paper_scenario(benchmark, method):
     make, rounds = METHODS[method]
+    benchmark.group = "LMB filter, paper scenario, 100 scans"
     run = benchmark.pedantic(
         run_scenario, args=("paper", make()), kwargs=dict(rng=0, n_scans=100), rounds=rounds,
         warmup_rounds=0,
