@@ -6,8 +6,9 @@ Usage::
     python benchmarks/summarize.py bench.json
 
 Prints, per benchmark group, every benchmark's min and median time and its ratio to the
-fastest one of the group (side by side, from the same run), and for the sampler benchmarks the
-time per sweep (``extra_info["sweeps"]``) and, for the LMB filter, the per-scan time split.
+fastest one of the group (side by side, from the same run; per sweep where the benchmark records
+its sweeps in ``extra_info["sweeps"]``, since calls of different sizes are compared), the time
+per sweep, and for the LMB filter the per-scan time split.
 """
 
 from __future__ import annotations
@@ -22,6 +23,10 @@ def _fmt(seconds: float) -> str:
         if seconds >= scale or unit == "ns":
             return f"{seconds / scale:.3g} {unit}"
     raise AssertionError  # pragma: no cover
+
+
+def _sweeps(b: dict) -> int:
+    return b.get("extra_info", {}).get("sweeps") or 0
 
 
 def summarize(data: dict) -> str:
@@ -40,23 +45,30 @@ def summarize(data: dict) -> str:
     | benchmark | min | median | ratio to fastest (min) | per sweep (min) |
     |---|---|---|---|---|
     | b | 1 ms | 1.2 ms | 1.00 | |
-    | a | 2 ms | 2.5 ms | 2.00 | 2 µs |
+    | a | 2 ms | 2.5 ms | 2.00 | |
     """
     groups = defaultdict(list)
     for b in data["benchmarks"]:
         groups[b.get("group") or "ungrouped"].append(b)
     out = []
     for group in sorted(groups):
-        rows = sorted(groups[group], key=lambda b: b["stats"]["min"])
-        fastest = rows[0]["stats"]["min"]
+        # compare per sweep when every member records its sweeps (calls of different sizes),
+        # else per call
+        per_sweep = all(_sweeps(b) for b in groups[group])
+
+        def _key(b, per_sweep=per_sweep):
+            return b["stats"]["min"] / (_sweeps(b) if per_sweep else 1)
+
+        rows = sorted(groups[group], key=_key)
+        fastest = _key(rows[0])
         out += [f"### {group}", "",
                 "| benchmark | min | median | ratio to fastest (min) | per sweep (min) |",
                 "|---|---|---|---|---|"]
         for b in rows:
             st, info = b["stats"], b.get("extra_info", {})
-            per = _fmt(st["min"] / info["sweeps"]) if info.get("sweeps") else ""
+            per = _fmt(st["min"] / _sweeps(b)) if per_sweep else ""
             out.append(f"| {b['name']} | {_fmt(st['min'])} | {_fmt(st['median'])} | "
-                       f"{st['min'] / fastest:.2f} | {per} |")
+                       f"{_key(b) / fastest:.2f} | {per} |")
             split = {k[len("per_scan_"):-2]: v for k, v in info.items()
                      if k.startswith("per_scan_") and k.endswith("_s")}
             if split:
