@@ -31,7 +31,9 @@ from rankedassign.tracking import (
     paper_truth,
     run_scenario,
 )
-from rankedassign.tracking.lmb import _reduce_mixtures
+from rankedassign.tracking.lmb import MERGE_RULES, _reduce_mixtures
+
+BHATTA, VO_MA, HEAVIEST = (MERGE_RULES[k] for k in ("bhattacharyya", "vo-ma", "heaviest"))
 
 
 class Enumerate(Association):
@@ -102,7 +104,12 @@ def test_reduce_mixtures_prune_merge_cap():
     m[4:, 0] = [0.0, 100.0, 200.0, 300.0]
     offsets = np.array([0, 3, 4, 8])
     keep = np.array([True, False, True])
-    off, w2, m2, P2 = _reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2)
+    off, w2, m2, P2 = _reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2, BHATTA)
+    # equal covariances: every rule is the same Mahalanobis test
+    for rule in (VO_MA, HEAVIEST):
+        other = _reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2, rule)
+        for a, b in zip(other, (off, w2, m2, P2), strict=True):
+            assert_array_equal(a, b)
     assert_array_equal(off, [0, 1, 3])
     assert_allclose(w2, [1.0, 0.4 / 0.7, 0.3 / 0.7], rtol=1e-12)
     wa, wb = 0.5, 0.5 - 1e-7
@@ -122,7 +129,8 @@ def test_reduce_mixtures_merge_distance_uses_candidate_covariance():
     m[1, 0] = 5.0
     P = np.stack([np.eye(4), 100.0 * np.eye(4)])
     w = np.array([0.6, 0.4])
-    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10)
+    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+                                       VO_MA)
     assert_array_equal(off, [0, 1])
     assert_allclose(m2[0, 0], 0.4 * 5.0, rtol=1e-12)
     spread = 0.6 * 2.0**2 + 0.4 * 3.0**2
@@ -131,10 +139,39 @@ def test_reduce_mixtures_merge_distance_uses_candidate_covariance():
     assert_allclose(P2[0], expect, rtol=1e-12)
     # the other way round (broad component heaviest, sharp candidate): 25 > 4, kept apart
     off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(),
-                                       np.array([True]), 1e-5, 4.0, 10)
+                                       np.array([True]), 1e-5, 4.0, 10, VO_MA)
     assert_array_equal(off, [0, 2])
     assert_allclose(w2, [0.6, 0.4], rtol=1e-12)
     assert_allclose(P2, P[::-1], rtol=1e-12)
+    # the heaviest component's covariance (Vo's MATLAB distance) gives the mirror image
+    off, *_ = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+                               HEAVIEST)
+    assert_array_equal(off, [0, 2])
+    off, *_ = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(), np.array([True]), 1e-5,
+                               4.0, 10, HEAVIEST)
+    assert_array_equal(off, [0, 1])
+    # the Bhattacharyya criterion keeps a sharp and a broad component apart either way:
+    # 25 / 50.5 + 4 ln(50.5⁴ / √(1 · 100⁴)) = 0.50 + 25.9 > 4
+    for Pk in (P, P[::-1].copy()):
+        off, *_ = _reduce_mixtures(np.array([0, 2]), w, m, Pk, np.array([True]), 1e-5, 4.0, 10,
+                                   BHATTA)
+        assert_array_equal(off, [0, 2])
+
+
+@pytest.mark.parametrize(("scale", "merged"), [(4.0, True), (5.0, False)])
+def test_reduce_mixtures_bhattacharyya_threshold(scale, merged):
+    # Coincident means, covariances I and s·I: 8 D_B = 4 (4 ln((1 + s) / 2) − 2 ln s),
+    # 3.57 for s = 4 (merged at U = 4) and 4.70 for s = 5 (kept apart)
+    val = 4 * (4 * np.log((1 + scale) / 2) - 2 * np.log(scale))
+    assert (val <= 4.0) == merged
+    m = np.zeros((2, 4))
+    P = np.stack([np.eye(4), scale * np.eye(4)])
+    w = np.array([0.7, 0.3])
+    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+                                       BHATTA)
+    assert_array_equal(off, [0, 1] if merged else [0, 2])
+    if merged:
+        assert_allclose(P2[0], (0.7 + 0.3 * scale) * np.eye(4), rtol=1e-12)
 
 
 def test_reduce_mixtures_orders_by_merged_weight():
@@ -144,10 +181,12 @@ def test_reduce_mixtures_orders_by_merged_weight():
     m[1:, 0] = [100.0, 100.5, 101.0]
     P = np.broadcast_to(np.eye(4), (4, 4, 4)).copy()
     w = np.array([0.3, 0.25, 0.25, 0.2])
-    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 10)
+    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+                                  BHATTA)
     assert_allclose(w2, [0.7, 0.3], rtol=1e-12)
     assert_allclose(m2[0, 0], (0.25 * 100 + 0.25 * 100.5 + 0.2 * 101) / 0.7, rtol=1e-12)
-    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 1)
+    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 1,
+                                  BHATTA)
     assert_array_equal(off, [0, 1])
     assert_allclose(w2, [1.0], rtol=1e-12)
     assert m2[0, 0] > 99
@@ -306,6 +345,7 @@ class BadShape(Association):
         ({"prune_track": 1.0}, ValueError, r"prune_track must be in \[0, 1\)"),
         ({"prune_component": -1.0}, ValueError, r"prune_component must be in \[0, 1\)"),
         ({"merge_threshold": -1.0}, ValueError, "merge_threshold must be >= 0"),
+        ({"merge_rule": "runnalls"}, ValueError, "merge_rule must be one of"),
         ({"max_tracks": 0}, ValueError, "max_tracks must be a positive integer"),
         ({"max_components": 2.5}, ValueError, "max_components must be a positive integer"),
         ({"gate_prob": 1.5}, ValueError, "gate_prob must be in"),
