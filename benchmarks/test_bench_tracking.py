@@ -6,7 +6,8 @@ Run the timings with::
 
 (in the default suite each runs once as a smoke test). Targets: ``ShortChainGibbs(400, 25, 5,
 10)`` at most 0.5 s and ``OriginalGibbs(10 000)`` under 5 s per 100-scan run after warm-up.
-``Exact()`` (the exact LMB update by the oracle's component/frontier DP) is timed for reference.
+``Exact()`` (the exact LMB update by the oracle's component/frontier DP) and the short chains
+with Rao-Blackwellised marginals (``marginals="rao-blackwell"``) are timed for reference.
 ``extra_info`` holds the mean per-scan seconds of prediction, cost matrix, association and
 update (from the last round), the observations (sweeps), row updates, mean tracks and
 measurements per scan.
@@ -19,6 +20,9 @@ from rankedassign.tracking import Exact, OriginalGibbs, ShortChainGibbs, run_sce
 
 METHODS = {
     "short-chain-400x25": (lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), 5),
+    "short-chain-400x25-rao-blackwell": (
+        lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals="rao-blackwell"), 5
+    ),
     "original-10000": (lambda: OriginalGibbs(10_000), 3),
     "exact": (Exact, 3),
 }

@@ -148,6 +148,14 @@ def problems(max_rows: int = 4, max_meas: int = 5):
 
 
 # ----------------------------------------------------------------------------- comparison
+def marginal_atol(problem):
+    """1e-12, widened for huge costs: a sum of costs of size |C| is only known to ~eps |C|
+    (absolute, in nats), which moves a probability by about that much relative."""
+    cc = problem.compact_cost
+    big = np.abs(cc[np.isfinite(cc)]).max(initial=0.0)
+    return 1e-12 + 8 * np.finfo(float).eps * big
+
+
 def assert_same_ranking(got, want, *, complete: bool, rtol: float = 1e-12,
                         atol: float = 1e-12) -> None:
     """Tie-aware comparison of two rankings ``(assignments, costs)`` of the same problem.

@@ -5,7 +5,7 @@ The sparse (frontier DP) path and the decomposition into components: test_oracle
 
 import numpy as np
 import pytest
-from cases import CASE_IDS, CASES, problems
+from cases import CASE_IDS, CASES, marginal_atol, problems
 from hypothesis import given
 from numpy.testing import assert_allclose
 from scipy.special import logsumexp
@@ -53,14 +53,6 @@ def pairwise_marginals(problem):
         out[i, M] = np.exp(-cc[i, M] + z_i - log_z)
         out[i, M + 1] = np.exp(-cc[i, M + 1] + z_i - log_z)
     return out
-
-
-def marginal_atol(problem):
-    """1e-12, widened for huge costs: a sum of costs of size |C| is only known to ~eps |C|
-    (absolute, in nats), which moves a probability by about that much relative."""
-    cc = problem.compact_cost
-    big = np.abs(cc[np.isfinite(cc)]).max(initial=0.0)
-    return 1e-12 + 8 * np.finfo(float).eps * big
 
 
 @pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)

@@ -51,6 +51,8 @@ from rankedassign.tracking import (
 )
 
 PAPER_SHORT = ("short", 400, 25, 5, 10)
+# the same sampler with Rao-Blackwellised association marginals (an extension of the paper)
+PAPER_SHORT_RB = ("short-rb", 400, 25, 5, 10)
 ORIGINAL = ("original", 10_000)
 EXACT = ("exact",)
 SEEDS = range(5)
@@ -64,8 +66,10 @@ DEATHS = np.r_[70:79]
 
 def make_assoc(key):
     kind = key[0]
-    if kind == "short":
-        return ShortChainGibbs(key[1], key[2], tau_stall=key[3], tau_stale=key[4])
+    if kind in ("short", "short-rb"):
+        marginals = "rao-blackwell" if kind == "short-rb" else "truncated"
+        return ShortChainGibbs(key[1], key[2], tau_stall=key[3], tau_stale=key[4],
+                               marginals=marginals)
     if kind == "original":
         return OriginalGibbs(key[1])
     if kind == "murty":
@@ -343,15 +347,39 @@ def test_vo_accuracy_ten_seeds():
     # scan 41, right after its first detection; the exact update leaves its track r = 0.0032,
     # but the hypotheses in which it exists undetected weigh ~0.3 % and the short chains never
     # visit them, so r = 0, the track is pruned, and the 10 m-wide births cannot pick the
-    # target up again. Exact() and OriginalGibbs(10 000) keep it (next test).
+    # target up again. Exact() and OriginalGibbs(10 000) keep it, and so do the same short
+    # chains with Rao-Blackwellised marginals (next tests).
     vals = [mean_ospa(cached_run("vo", PAPER_SHORT, s)) for s in range(10)]
     assert np.mean(vals) <= 12.0, vals
 
 
 @pytest.mark.slow
+def test_vo_accuracy_ten_seeds_rao_blackwell():
+    # The same short chains with Rao-Blackwellised marginals keep the missed newborns (see
+    # tests/test_tracking_marginals.py) and meet the target: measured 11.92 m, as Exact()
+    vals = [mean_ospa(cached_run("vo", PAPER_SHORT_RB, s)) for s in range(10)]
+    assert np.mean(vals) <= 12.0, vals
+    assert max(vals) <= 13.0, vals
+
+
+@pytest.mark.slow
+def test_short_chain_rao_blackwell_matches_original_and_exact_paper():
+    # measured: 36.03 m (short chains, Rao-Blackwellised) vs 35.12 m (original, truncated, the
+    # paper's construction; 2.6 %) and 36.04 m (exact); 1 290 sweeps per scan, 87.1 % fewer
+    # than the original (the tracks it keeps make the problems larger)
+    rb = np.mean([mean_ospa2(cached_run("paper", PAPER_SHORT_RB, s)) for s in SEEDS])
+    orig = np.mean([mean_ospa2(cached_run("paper", ORIGINAL, s)) for s in SEEDS])
+    exact = np.mean([mean_ospa2(cached_run("paper", EXACT, s)) for s in SEEDS])
+    assert abs(rb - orig) <= 0.05 * orig, (rb, orig)
+    assert abs(rb - exact) <= 0.05 * exact, (rb, exact)
+    for s in SEEDS:
+        check_paper_properties(cached_run("paper", PAPER_SHORT_RB, s))
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("key", [ORIGINAL, EXACT], ids=["original", "exact"])
 def test_vo_accuracy_ten_seeds_exact_and_original(key):
-    # The filter itself meets the vo target: measured 11.91 m for both (no target lost; every
+    # The filter itself meets the vo target: measured 11.92 m for both (no target lost; every
     # seed within 11.2-12.5 m)
     vals = [mean_ospa(cached_run("vo", key, s)) for s in range(10)]
     assert np.mean(vals) <= 12.0, vals
