@@ -190,6 +190,9 @@ class TrackingConfig:
     #: State extraction; ``None`` takes the preset's own rule (hysteresis for "paper", as the
     #: paper uses; MAP cardinality for "vo", as Vo's code does).
     extraction: str | None = None
+    #: Association marginals of both samplers: "truncated" (the paper's construction) or
+    #: "rao-blackwell" (:func:`rankedassign.tracking.marginals_from_hypotheses`).
+    marginals: str = "truncated"
     #: OSPA(2) parameters (spec §7): cut-off (m), order, window length (scans).
     ospa_c: float = 200.0
     ospa_p: float = 1.0
@@ -201,6 +204,10 @@ class TrackingConfig:
             "tau_stale", "ospa_window",
         ):
             _positive(name, getattr(self, name))
+        if self.marginals not in ("truncated", "rao-blackwell"):
+            raise ValueError(
+                f"marginals must be 'truncated' or 'rao-blackwell', got {self.marginals!r}"
+            )
 
 
 @dataclass(frozen=True)

@@ -272,7 +272,8 @@ def _tracking_section(s) -> str:
 Preset `{c["preset"]}`, {s["n_scans"]} scans, {s["n_mc"]} Monte Carlo runs (both samplers see the
 same measurements in each run). Original: one chain of {c["original_obs"]:,} observations per
 call; short-chain: {c["n_chains"]} × {c["chain_length"]}, τ_stall = {c["tau_stall"]},
-τ_stale = {c["tau_stale"]}. Grouping: {c["grouping"]}. On average {_f(s["mean_rows_per_scan"])} rows
+τ_stale = {c["tau_stale"]}. Grouping: {c["grouping"]}. Association marginals:
+{c.get("marginals", "truncated")}. On average {_f(s["mean_rows_per_scan"])} rows
 (tracks) and {_f(s["mean_meas_per_scan"])} measurements per scan.
 
 {_table(_TRACKING_HEADER, rows)}

@@ -22,9 +22,10 @@ def _association(cfg: TrackingConfig, method: str):
     from .. import tracking
 
     if method == "original":
-        return tracking.OriginalGibbs(cfg.original_obs)
+        return tracking.OriginalGibbs(cfg.original_obs, marginals=cfg.marginals)
     return tracking.ShortChainGibbs(
-        cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale
+        cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale,
+        marginals=cfg.marginals,
     )
 
 
@@ -82,6 +83,7 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> dict:
         "preset": cfg.preset, "original_obs": cfg.original_obs, "n_chains": cfg.n_chains,
         "chain_length": cfg.chain_length, "tau_stall": cfg.tau_stall,
         "tau_stale": cfg.tau_stale, "grouping": cfg.grouping, "extraction": cfg.extraction,
+        "marginals": cfg.marginals,
         "ospa_c": cfg.ospa_c, "ospa_p": cfg.ospa_p, "ospa_window": cfg.ospa_window}}
     totals = {}
     for m in METHODS:
