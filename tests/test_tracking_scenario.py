@@ -298,6 +298,19 @@ def test_short_chain_accuracy_matches_original_paper():
 
 
 @pytest.mark.slow
+def test_short_chain_accuracy_matches_original_paper_twenty_seeds():
+    # The same comparison with more seeds, to see past the seed-to-seed spread of the 5-seed
+    # test above (not instead of it). Measured over seeds 0-19: 36.39 ± 0.48 m (short) vs
+    # 35.26 ± 0.32 m (original); paired difference 1.13 ± 0.32 m, 3.2 % of the original's
+    # value. (The exact update: 35.88 ± 0.48 m. The 100 runs of the full tracking study: paired
+    # difference 0.73 ± 0.14 m, 2.0 %.)
+    seeds = range(20)
+    short = np.array([mean_ospa2(cached_run("paper", PAPER_SHORT, s)) for s in seeds])
+    orig = np.array([mean_ospa2(cached_run("paper", ORIGINAL, s)) for s in seeds])
+    assert abs(short.mean() - orig.mean()) <= 0.05 * orig.mean(), (short.mean(), orig.mean())
+
+
+@pytest.mark.slow
 def test_short_chain_accuracy_matches_exact_paper():
     # Exact() is the exact LMB update (oracle.marginals: exact per connected component, with a
     # frontier DP for the sparse gated problems of P ~ 23 rows). Measured: 36.97 m (short) vs
