@@ -313,7 +313,7 @@ def test_short_chain_accuracy_matches_original_paper_twenty_seeds():
 @pytest.mark.slow
 def test_short_chain_accuracy_matches_exact_paper():
     # Exact() is the exact LMB update (oracle.marginals: exact per connected component, with a
-    # frontier DP for the sparse gated problems of P ~ 23 rows). Measured: 36.97 m (short) vs
+    # frontier DP for the sparse gated problems of P ~ 20 rows). Measured: 36.97 m (short) vs
     # 36.04 m (exact), 2.6 % apart.
     short = np.mean([mean_ospa2(cached_run("paper", PAPER_SHORT, s)) for s in SEEDS])
     exact = np.mean([mean_ospa2(cached_run("paper", EXACT, s)) for s in SEEDS])

@@ -398,8 +398,8 @@ class Exact(Association):
     The oracle solves each connected component of the gated problem separately, densely when
     ``min(P_c, M_c) <= 20`` and otherwise by a frontier DP over the measurements (at most
     ``2^20`` states); it raises ``ValueError`` on a component beyond both limits. On the
-    paper's preset (one group of about 23 rows and 50 gated measurements per scan) every scan
-    of seeds 0-4 is solved, in about 10 ms per scan; the filter's grouping (spec §6.5a) keeps
+    paper's preset (one group of about 20 rows and 57 gated measurements per scan) every scan
+    of seeds 0-19 is solved, in about 9 ms per scan; the filter's grouping (spec §6.5a) keeps
     problems small on presets with narrow births.
 
     Examples
