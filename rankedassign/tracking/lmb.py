@@ -231,7 +231,7 @@ def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):  # pra
     well, and the two duplicate tracks share it for several scans with ``r ≈ 0.5`` each. The
     Bhattacharyya test keeps the two apart. Measured with ``Exact()`` on the paper's preset,
     seeds 0–4: mean OSPA(2) 39.2 m (Vo & Ma), 43.8 m (heaviest), 36.0 m (Bhattacharyya),
-    36.5 m with ``merge_threshold=0`` (only components with equal means merge).
+    36.5 m with ``merge_threshold=0`` (only coincident components merge).
 
     References
     ----------
