@@ -77,7 +77,7 @@ def test_config_from_dict_errors(overrides, match):
         (lambda: SweepConfig(obs_grid=(10, 5)), "obs_grid must be strictly increasing"),
         (lambda: SweepConfig(chain_lengths=(0,)), "chain_lengths entry must be a positive"),
         (lambda: TrackingConfig(n_scans=0), "n_scans must be a positive integer"),
-        (lambda: TrackingConfig(marginals="exact"), "marginals must be 'truncated' or 'rao-blackwell'"),
+        (lambda: TrackingConfig(marginals="exact"), r"marginals must be one of \('truncated', 'rao-blackwell'\), got 'exact'"),
         (lambda: Config.quick().with_mc(0), "n_mc must be a positive integer, got 0"),
     ],
 )

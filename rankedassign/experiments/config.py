@@ -204,9 +204,11 @@ class TrackingConfig:
             "tau_stale", "ospa_window",
         ):
             _positive(name, getattr(self, name))
-        if self.marginals not in ("truncated", "rao-blackwell"):
+        from ..tracking.association import MARGINALS
+
+        if self.marginals not in MARGINALS:
             raise ValueError(
-                f"marginals must be 'truncated' or 'rao-blackwell', got {self.marginals!r}"
+                f"marginals must be one of {MARGINALS}, got {self.marginals!r}"
             )
 
 
