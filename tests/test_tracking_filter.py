@@ -257,6 +257,37 @@ def test_no_measurement_closed_form():
     assert f.association.problems == []
 
 
+@pytest.mark.parametrize("grouping", [False, True])
+def test_sample_empty_groups_changes_only_the_accounting(grouping):
+    # Problems without a gated measurement go to the association instead of the closed form:
+    # with exact marginals the posterior is the same, and every group is one invocation.
+    a = LMBFilter(make_model("paper-var"), Enumerate(), grouping=grouping)
+    b = LMBFilter(make_model("paper-var"), Enumerate(), grouping=grouping,
+                  sample_empty_groups=True)
+    truth = paper_truth(8)
+    rng = np.random.default_rng(3)
+    extra = 0
+    for k in range(8):
+        _, X = truth.at(k)
+        z = np.vstack([X[:, [0, 2]] + 10 * rng.standard_normal((len(X), 2)),
+                       rng.uniform(-1000, 1000, (2, 2))])
+        if k == 4:
+            z = np.empty((0, 2))  # a scan without measurements: one empty problem
+        ra, rb = a.step(z), b.step(z)
+        assert_array_equal(ra.track_labels, rb.track_labels)
+        assert_allclose(ra.track_existence, rb.track_existence, rtol=1e-12, atol=1e-15)
+        assert_allclose(ra.states, rb.states, rtol=1e-12)
+        assert rb.invocations == rb.n_groups >= ra.invocations == ra.n_groups
+        extra += rb.invocations - ra.invocations
+        if grouping:
+            # every track is in exactly one group: the groups partition the rows
+            sizes = [p.n_rows for p in b.association.problems[-rb.invocations:]]
+            assert sum(sizes) == rb.n_tracks
+        if k == 4:
+            assert (ra.invocations, rb.invocations) == (0, 1)
+    assert extra >= 8 if grouping else extra == 1
+
+
 def test_gating_off_keeps_every_measurement():
     f = LMBFilter(one_birth_model(), Enumerate(), gate_prob=None)
     rec = f.step([[25.0, -30.0], [900.0, 900.0]])
@@ -408,8 +439,8 @@ def test_run_scenario_with_exact_enumeration_on_vo_preset():
 
 def test_run_scenario_extraction_defaults_to_the_preset_setting():
     # "paper": hysteresis (spec 6.5); "vo": MAP cardinality, as in Vo's public example
-    assert PRESET_EXTRACTION == {"paper": "hysteresis", "vo": "map"}
-    for preset in ("paper", "vo"):
+    assert PRESET_EXTRACTION == {"paper": "hysteresis", "paper-var": "hysteresis", "vo": "map"}
+    for preset in ("paper", "paper-var", "vo"):
         run = run_scenario(preset, Exact(), rng=0, n_scans=1)
         assert run.extraction == PRESET_EXTRACTION[preset]
         assert run_scenario(preset, Exact(), rng=0, n_scans=1,

@@ -66,6 +66,14 @@ def test_presets():
     vo = make_model("vo")
     assert vo.clutter.rate == 30.0
     assert_allclose(vo.birth.covs, np.broadcast_to(100.0 * np.eye(4), (4, 4, 4)))
+    # the paper's birth numbers read as variances; everything else as "paper"
+    var = make_model("paper-var")
+    assert_allclose(var.birth.covs, np.broadcast_to(np.diag([300.0, 10.0, 300.0, 10.0]),
+                                                    (4, 4, 4)), rtol=1e-12)
+    assert_array_equal(var.birth.means, paper.birth.means)
+    assert_allclose(var.birth.r, paper.birth.r)
+    assert (var.motion, var.sensor, var.clutter, var.survival) == (
+        paper.motion, paper.sensor, paper.clutter, paper.survival)
 
 
 @pytest.mark.parametrize(

@@ -78,8 +78,13 @@ def make_assoc(key):
 
 
 @cache
-def cached_run(preset, key, seed, grouping=False):
-    return run_scenario(preset, make_assoc(key), rng=seed, grouping=grouping)
+def cached_run(preset, key, seed, grouping=False, sample_empty=False):
+    return run_scenario(preset, make_assoc(key), rng=seed, grouping=grouping,
+                        sample_empty_groups=sample_empty)
+
+
+#: The paper's total observations over 100 scans (spec A13): original and short chains.
+PAPER_TOTALS = (10_760_000, 63_474)
 
 
 def ospa2_curve(run):
@@ -213,6 +218,40 @@ def test_grouped_accounting_one_call_per_group():
     assert grouped.invocations.sum() > ungrouped.invocations.sum()
     np.testing.assert_array_equal(ungrouped.invocations, np.ones(15, dtype=np.int64))
     assert grouped.row_updates.sum() < grouped.sweeps.sum() * grouped.n_tracks.mean()
+
+
+def test_paper_var_reproduces_the_papers_totals_one_seed():
+    """``"paper-var"`` (the birth numbers read as variances) with one sampler call per group,
+    empty groups included, reproduces the paper's observation totals (spec A13).
+
+    Measured on seed 0: 10 450 000 sweeps (original) and 62 067 (short chains) against the
+    paper's 10 760 000 and 63 474; 10.45 groups per scan (the paper's totals imply 10.76) and
+    59.4 sweeps per short-chain call (the paper's imply 59.0).
+    """
+    orig = cached_run("paper-var", ORIGINAL, 0, True, True)
+    short = cached_run("paper-var", PAPER_SHORT, 0, True, True)
+    for s1, s2 in zip(short.scenario.scans, orig.scenario.scans, strict=True):
+        np.testing.assert_array_equal(s1.z, s2.z)
+    np.testing.assert_array_equal(orig.sweeps, 10_000 * orig.invocations)
+    np.testing.assert_array_equal(orig.invocations, orig.n_groups)
+    assert abs(orig.sweeps.sum() / PAPER_TOTALS[0] - 1) <= 0.10, orig.sweeps.sum()
+    assert abs(short.sweeps.sum() / PAPER_TOTALS[1] - 1) <= 0.15, short.sweeps.sum()
+    # each short-chain call stops near its floor of tau_stale = 10 chains of tau_stall = 5
+    assert 50 <= short.sweeps.sum() / short.invocations.sum() <= 70
+    assert 1 - short.sweeps.sum() / orig.sweeps.sum() >= 0.99
+
+
+def test_paper_var_one_call_per_scan_one_seed():
+    """``"paper-var"`` with one call per scan: the issue's targets on one seed (five seeds: the
+    slow tests). Measured on seed 0: OSPA(2) 25.2 m (short chains) and 25.7 m (original),
+    158 against 10 000 sweeps per scan (98.4 % fewer)."""
+    short = cached_run("paper-var", PAPER_SHORT, 0)
+    orig = cached_run("paper-var", ORIGINAL, 0)
+    check_paper_properties(short)
+    check_paper_properties(orig)
+    assert short.sweeps.sum() <= 0.05 * orig.sweeps.sum()
+    assert mean_ospa2(short) <= 35.0
+    assert abs(mean_ospa2(short) - mean_ospa2(orig)) <= 0.05 * mean_ospa2(orig)
 
 
 def test_idealised_filter_floor():
@@ -398,6 +437,68 @@ def test_short_chain_rao_blackwell_matches_original_and_exact_paper():
     assert abs(rb - exact) <= 0.05 * exact, (rb, exact)
     for s in SEEDS:
         check_paper_properties(cached_run("paper", PAPER_SHORT_RB, s))
+
+
+# ------------------------------------------------ "paper-var": birth numbers read as variances
+@pytest.mark.slow
+def test_paper_var_accuracy_five_seeds():
+    # The issue's accuracy and cost targets, on the preset whose birth covariance is
+    # diag(300, 10, 300, 10) (sigma 17.3 m, 3.16 m/s), one call per scan. Measured (seeds
+    # 0-4): short chains 27.16 m, original 27.28 m, exact 27.36 m; 159 against 10 000 sweeps per
+    # scan (98.4 % fewer).
+    short = [mean_ospa2(cached_run("paper-var", PAPER_SHORT, s)) for s in SEEDS]
+    orig = [mean_ospa2(cached_run("paper-var", ORIGINAL, s)) for s in SEEDS]
+    exact = [mean_ospa2(cached_run("paper-var", EXACT, s)) for s in SEEDS]
+    assert np.mean(short) <= 35.0, short
+    assert abs(np.mean(short) - np.mean(orig)) <= 0.05 * np.mean(orig), (short, orig)
+    assert abs(np.mean(short) - np.mean(exact)) <= 0.05 * np.mean(exact), (short, exact)
+    sw_short = sum(cached_run("paper-var", PAPER_SHORT, s).sweeps.sum() for s in SEEDS)
+    sw_orig = sum(cached_run("paper-var", ORIGINAL, s).sweeps.sum() for s in SEEDS)
+    assert sw_short <= 0.05 * sw_orig, (sw_short, sw_orig)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("key", [PAPER_SHORT, PAPER_SHORT_RB, ORIGINAL, EXACT],
+                         ids=["short", "short-rb", "original", "exact"])
+@pytest.mark.parametrize("seed", SEEDS)
+def test_paper_var_properties_every_seed(key, seed):
+    # Fails for the short chains with the paper's truncated marginals on seed 2: target 11
+    # (born at scan 80 at 25 m/s, 8 sigma outside the 3.16 m/s birth spread) is never tracked
+    # (coverage 0; also on seed 5 of 0-9). Its newborn track survives only in low-weight
+    # hypotheses that the short chains do not visit, so its r is 0 and it is pruned. The
+    # original sampler, the exact update and the same short chains with Rao-Blackwellised
+    # marginals track every target on seeds 0-9.
+    check_paper_properties(cached_run("paper-var", key, seed))
+
+
+@pytest.mark.slow
+def test_paper_var_per_group_totals_five_seeds():
+    # One call per group, empty groups included: the paper's totals within 5 % and 10 %.
+    # Measured (seeds 0-4): 10 402 000 and 60 934 sweeps per run (paper: 10 760 000 and 63 474),
+    # 99.41 % fewer (paper: 99.41 %); 10.40 groups per scan, 60.1 sweeps per short-chain call.
+    orig = np.mean([cached_run("paper-var", ORIGINAL, s, True, True).sweeps.sum()
+                    for s in SEEDS])
+    short = np.mean([cached_run("paper-var", PAPER_SHORT, s, True, True).sweeps.sum()
+                     for s in SEEDS])
+    assert abs(orig / PAPER_TOTALS[0] - 1) <= 0.05, orig
+    assert abs(short / PAPER_TOTALS[1] - 1) <= 0.10, short
+    assert 1 - short / orig >= 0.99
+
+
+@pytest.mark.slow
+def test_paper_var_per_group_accuracy_twenty_seeds():
+    # Per group, the truncated marginals of the short chains occasionally drop a newborn that
+    # the original keeps (seed 4: target 3, 20 m/s against the 3.16 m/s birth spread, is lost
+    # for 35 scans; 48.6 m against 27.4 m; with Rao-Blackwellised marginals 27.4 m), so five
+    # seeds are 14.8 % apart (31.37 vs 27.32 m). Over seeds 0-19: 28.28 m (short chains),
+    # 27.70 m (original), 2.1 %.
+    seeds = range(20)
+    short = np.mean([mean_ospa2(cached_run("paper-var", PAPER_SHORT, s, True, True))
+                     for s in seeds])
+    orig = np.mean([mean_ospa2(cached_run("paper-var", ORIGINAL, s, True, True))
+                    for s in seeds])
+    assert short <= 35.0
+    assert abs(short - orig) <= 0.05 * orig, (short, orig)
 
 
 @pytest.mark.slow

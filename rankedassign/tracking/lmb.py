@@ -372,6 +372,12 @@ class LMBFilter:
     grouping : bool, optional
         Solve independent groups of tracks separately (spec §6.5a). Default False (one problem
         per scan, as in Vo's code).
+    sample_empty_groups : bool, optional
+        Hand problems without gated measurements (with grouping: the groups of tracks that gate
+        nothing) to the association too, instead of solving them in closed form. The posterior
+        is the same in expectation; only the association's cost and counters change. The
+        paper's observation totals fit a sampler call on every group, these included
+        (ambiguity A13; see the Tracking page of the documentation). Default False.
     extraction : {"hysteresis", "map"}, optional
         Hysteresis state extraction (6.5, the paper) or the MAP cardinality of Vo's code.
     theta_upper, theta_lower : float, optional
@@ -396,10 +402,11 @@ class LMBFilter:
     Rows of every problem are the persisting tracks in their order, then the births (A21).
     A problem without measurements factorises over rows and is solved in closed form
     (``β_i0 ∝ η_i(0)``, ``β_i,−1 ∝ η_i(−1)``) without calling the association; it counts no
-    invocation. Pair ``(i, j)`` passes the gate when the squared Mahalanobis distance of ``z_j``
-    to *some* component of track ``i`` is at most the threshold; its ``q_i(z_j)`` uses every
-    component. A component weight ``β_ij / r_i · w̃`` below the pruning threshold would be
-    pruned, so pairs with ``β_ij / r_i <= prune_component`` are not expanded at all.
+    invocation (unless ``sample_empty_groups``). Pair ``(i, j)`` passes the gate when the
+    squared Mahalanobis distance of ``z_j`` to *some* component of track ``i`` is at most the
+    threshold; its ``q_i(z_j)`` uses every component. A component weight ``β_ij / r_i · w̃``
+    below the pruning threshold would be pruned, so pairs with
+    ``β_ij / r_i <= prune_component`` are not expanded at all.
 
     References
     ----------
@@ -433,6 +440,7 @@ class LMBFilter:
         *,
         gate_prob: float | None = 0.9999999,
         grouping: bool = False,
+        sample_empty_groups: bool = False,
         extraction: str = "hysteresis",
         theta_upper: float = 0.9,
         theta_lower: float = 1e-3,
@@ -476,6 +484,7 @@ class LMBFilter:
         self.association = association
         self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
         self.grouping = bool(grouping)
+        self.sample_empty_groups = bool(sample_empty_groups)
         self.extraction = extraction
         self.theta_upper = float(theta_upper)
         self.theta_lower = float(theta_lower)
@@ -653,11 +662,12 @@ class LMBFilter:
 
         # ---- association
         beta = np.zeros((T, used.size + 2))
-        n_problems = sum(1 for _, cols in groups if cols.size)
+        sample_empty = self.sample_empty_groups
+        n_problems = sum(1 for _, cols in groups if cols.size or sample_empty)
         children = iter(gen.spawn(n_problems)) if n_problems else iter(())
         inv = sweeps = rows_upd = n_unique = 0
         for rows, cols in groups:
-            if cols.size == 0:
+            if cols.size == 0 and not sample_empty:
                 # rows take only missed/dead: independent Bernoullis, closed form
                 lm, ld = log_miss[rows], log_dead[rows]
                 top = np.maximum(lm, ld)

@@ -92,7 +92,7 @@ def run_scenario(
 
     Parameters
     ----------
-    preset : {"paper", "vo"}
+    preset : {"paper", "paper-var", "vo"}
         Model preset (:func:`~rankedassign.tracking.models.make_model`).
     association : Association
         E.g. ``ShortChainGibbs(400, 25, 5, 10)``, ``OriginalGibbs(10_000)``, ``Murty(k)``,

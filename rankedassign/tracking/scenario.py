@@ -198,7 +198,7 @@ def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Sce
 
     Parameters
     ----------
-    preset : {"paper", "vo"}
+    preset : {"paper", "paper-var", "vo"}
     rng : optional
         Randomness of the measurements.
     n_scans : int
