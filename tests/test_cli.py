@@ -100,11 +100,12 @@ TINY_CONFIG = {
     "table1": {"n_mc": 2, "original_obs": 1_000, "n_chains": 40},
     "sweep": {"n_mc": 2, "obs_grid": [10, 100, 1_000], "chain_lengths": [5, 25]},
     "tracking": {"n_mc": 1, "n_scans": 6, "original_obs": 100, "n_chains": 10},
+    "tracking_var": {"n_mc": 1, "n_scans": 6, "original_obs": 100, "n_chains": 10},
     "ablation": {"n_mc": 1, "original_obs": 1_000, "n_chains": 40},
     "optimum": {"n_mc": 2, "original_obs": 1_000, "n_chains": 40},
 }
 PNGS = ["table1.png", "sweep.png", "tracking_ospa2.png", "tracking_observations.png",
-        "optimum.png"]
+        "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png"]
 
 
 def _strict_json(path):
@@ -133,7 +134,7 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
     assert "table1" in err and f"report written to {out / 'report.md'}" in err  # progress
-    for study in ("table1", "sweep", "tracking", "ablation", "optimum"):
+    for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum"):
         data = _strict_json(out / f"{study}.json")
         assert data, study
         assert isinstance(_strict_json(out / f"{study}_runs.json"), list)
@@ -150,7 +151,8 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     ab = _strict_json(out / "ablation.json")
     assert len(ab) == 12 * 4 * 3 and {"stall", "stale", "delta_obs_pct"} <= set(ab[0])
     report = (out / "report.md").read_text()
-    for title in ("## Table I", "## Sweep", "## Tracking", "## Ablation", "## Optimum"):
+    for title in ("## Table I", "## Sweep", "## Tracking — LMB", "## Tracking — the paper's",
+                  "## Ablation", "## Optimum"):
         assert title in report
     for png in PNGS:
         assert f"({png})" in report

@@ -1,5 +1,7 @@
 """Study settings: paper values, quick mode, validation messages."""
 
+import dataclasses
+
 import pytest
 
 from rankedassign.experiments import (
@@ -25,6 +27,11 @@ def test_full_is_the_papers_settings():
     assert (k.n_mc, k.original_obs, k.n_chains, k.chain_length, k.tau_stall, k.tau_stale) == (
         100, 10_000, 400, 25, 5, 10)
     assert (k.ospa_c, k.ospa_p, k.ospa_window, k.preset, k.n_scans) == (200.0, 1.0, 5, "paper", 100)
+    assert (k.grouping, k.sample_empty_groups) == (False, False)
+    # the second tracking study: the same per-run settings, the paper-var reading, per group
+    v = c.tracking_var
+    assert (v.preset, v.grouping, v.sample_empty_groups) == ("paper-var", True, True)
+    assert dataclasses.replace(v, preset="paper", grouping=False, sample_empty_groups=False) == k
     assert c.sweep.chain_lengths == (5, 10, 25, 50, 100)
     assert len(c.ablation.stall_readings) * len(c.ablation.stale_readings) == 12
 
@@ -77,6 +84,8 @@ def test_config_from_dict_errors(overrides, match):
         (lambda: SweepConfig(obs_grid=(10, 5)), "obs_grid must be strictly increasing"),
         (lambda: SweepConfig(chain_lengths=(0,)), "chain_lengths entry must be a positive"),
         (lambda: TrackingConfig(n_scans=0), "n_scans must be a positive integer"),
+        (lambda: TrackingConfig(preset="papr"),
+         r"preset must be one of \['paper', 'paper-var', 'vo'\], got 'papr'"),
         (lambda: TrackingConfig(marginals="exact"), r"marginals must be one of \('truncated', 'rao-blackwell'\), got 'exact'"),
         (lambda: Config.quick().with_mc(0), "n_mc must be a positive integer, got 0"),
     ],

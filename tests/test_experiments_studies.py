@@ -13,6 +13,7 @@ from rankedassign.experiments import (
     STALE_READINGS,
     STALL_READINGS,
     AblationConfig,
+    Config,
     OptimumConfig,
     SweepConfig,
     Table1Config,
@@ -24,6 +25,7 @@ from rankedassign.experiments import (
     run_sweep,
     run_table1,
     run_tracking,
+    run_tracking_var,
 )
 
 # Paper thresholds, a small budget: 200 chains x 25 sweeps.
@@ -254,6 +256,31 @@ def test_tracking_tiny():
         assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
     assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
     assert out["config"]["marginals"] == "truncated"
+
+
+def test_tracking_var_tiny():
+    # the paper-var reading, one call per group with the empty groups: every group is a call,
+    # and the runs see the tracking study's measurements (same seed)
+    cfg = TrackingConfig.paper_var(n_mc=2, n_scans=6, original_obs=200, n_chains=20)
+    out, runs = run_tracking_var(cfg, seed=0, progress=False, return_runs=True)
+    _, base = run_tracking(TrackingConfig(n_mc=2, n_scans=6, original_obs=200, n_chains=20),
+                           seed=0, progress=False, return_runs=True)
+    assert out["config"]["preset"] == "paper-var"
+    assert out["config"]["sample_empty_groups"] is True
+    by = {(r["run"], r["method"]): r for r in runs}
+    by_base = {(r["run"], r["method"]): r for r in base}
+    for key, rec in by.items():
+        assert rec["n_meas"] == by_base[key]["n_meas"]
+        assert rec["invocations"] == rec["n_groups"]
+        assert all(g >= 4 for g in rec["n_groups"])  # the 4 births are 4 groups at least
+    assert out["obs_original"] == 200 * out["invocations_original"]
+    assert_allclose(out["sweeps_per_call_original"], 200.0)
+    assert_allclose(out["paper_calls_per_scan"], 10.76)
+    assert_allclose(out["paper_sweeps_per_call_proposed"], 63_474 / 1_076)
+    # a Config contributes its tracking_var field; None means TrackingConfig.paper_var()
+    from rankedassign.experiments.config import study_config
+
+    assert study_config(Config.quick(), "tracking_var", TrackingConfig).preset == "paper-var"
 
 
 def test_tracking_tiny_rao_blackwell_marginals():

@@ -38,7 +38,7 @@ STALE_READINGS = ("consecutive", "cumulative", "literal-set", "literal-multiset"
 #: Table I columns: which termination rules are active.
 CRITERIA = ("stall", "stale", "full")
 #: Studies of ``rankedassign reproduce``, in run order.
-STUDIES = ("table1", "sweep", "tracking", "ablation", "optimum")
+STUDIES = ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum")
 
 
 def _positive(name: str, value) -> None:
@@ -187,6 +187,9 @@ class TrackingConfig:
     tau_stall: int = 5
     tau_stale: int = 10
     grouping: bool = False
+    #: Also hand groups without gated measurements to the samplers (``LMBFilter``'s
+    #: ``sample_empty_groups``): the accounting the paper's observation totals fit.
+    sample_empty_groups: bool = False
     #: State extraction; ``None`` takes the preset's own rule (hysteresis for "paper", as the
     #: paper uses; MAP cardinality for "vo", as Vo's code does).
     extraction: str | None = None
@@ -198,6 +201,21 @@ class TrackingConfig:
     ospa_p: float = 1.0
     ospa_window: int = 5
 
+    @classmethod
+    def paper_var(cls, **changes) -> TrackingConfig:
+        """The ``tracking_var`` study: preset ``"paper-var"`` (the paper's birth numbers read as
+        variances) with one sampler call per group of tracks, empty groups included.
+
+        Examples
+        --------
+        >>> from rankedassign.experiments import TrackingConfig
+        >>> c = TrackingConfig.paper_var(n_mc=3)
+        >>> c.preset, c.grouping, c.sample_empty_groups, c.n_mc
+        ('paper-var', True, True, 3)
+        """
+        return cls(**{"preset": "paper-var", "grouping": True, "sample_empty_groups": True,
+                      **changes})
+
     def __post_init__(self):
         for name in (
             "n_mc", "n_scans", "original_obs", "n_chains", "chain_length", "tau_stall",
@@ -205,7 +223,10 @@ class TrackingConfig:
         ):
             _positive(name, getattr(self, name))
         from ..tracking.association import MARGINALS
+        from ..tracking.models import PRESETS
 
+        if self.preset not in PRESETS:
+            raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {self.preset!r}")
         if self.marginals not in MARGINALS:
             raise ValueError(
                 f"marginals must be one of {MARGINALS}, got {self.marginals!r}"
@@ -229,6 +250,7 @@ class Config:
     table1: Table1Config = field(default_factory=Table1Config)
     sweep: SweepConfig = field(default_factory=SweepConfig)
     tracking: TrackingConfig = field(default_factory=TrackingConfig)
+    tracking_var: TrackingConfig = field(default_factory=TrackingConfig.paper_var)
     ablation: AblationConfig = field(default_factory=AblationConfig)
     optimum: OptimumConfig = field(default_factory=OptimumConfig)
 
@@ -250,6 +272,7 @@ class Config:
                 n_mc=QUICK_MC["sweep"], obs_grid=(100, 1_000, 10_000, 100_000, 250_000),
             ),
             tracking=TrackingConfig(n_mc=QUICK_MC["tracking"]),
+            tracking_var=TrackingConfig.paper_var(n_mc=QUICK_MC["tracking_var"]),
             ablation=AblationConfig(n_mc=QUICK_MC["ablation"]),
             optimum=OptimumConfig(n_mc=QUICK_MC["optimum"]),
         )
@@ -268,7 +291,8 @@ class Config:
 
 
 #: Monte Carlo runs of each study in quick mode (the rest of the settings are the paper's).
-QUICK_MC = {"table1": 40, "sweep": 10, "tracking": 10, "ablation": 10, "optimum": 20}
+QUICK_MC = {"table1": 40, "sweep": 10, "tracking": 10, "tracking_var": 10, "ablation": 10,
+            "optimum": 20}
 
 
 def study_config(config, name: str, cls):

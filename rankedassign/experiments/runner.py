@@ -21,7 +21,7 @@ from .optimum import run_optimum
 from .report import render_report, write_csv, write_json, write_plots
 from .sweep import run_sweep
 from .table1 import run_table1
-from .tracking import run_tracking
+from .tracking import run_tracking, run_tracking_var
 
 __all__ = ["reproduce", "ReproduceError", "config_from_dict"]
 
@@ -29,6 +29,7 @@ _RUNNERS = {
     "table1": run_table1,
     "sweep": run_sweep,
     "tracking": run_tracking,
+    "tracking_var": run_tracking_var,
     "ablation": run_ablation,
     "optimum": run_optimum,
 }
@@ -111,8 +112,8 @@ def reproduce(
     Parameters
     ----------
     studies : sequence of str, optional
-        Any of ``"table1"``, ``"sweep"``, ``"tracking"``, ``"ablation"``, ``"optimum"``
-        (default: all, in that order).
+        Any of ``"table1"``, ``"sweep"``, ``"tracking"``, ``"tracking_var"``, ``"ablation"``,
+        ``"optimum"`` (default: all, in that order).
     mode : {"quick", "full"}
         ``"full"``: the paper's settings (100 Monte Carlo runs); ``"quick"``: the same per-run
         settings with fewer runs and sweep points (about five minutes on two cores).
@@ -245,9 +246,9 @@ def reproduce(
 def _write_study(tmp: Path, study: str, res, runs) -> None:
     write_json(tmp / f"{study}.json", res)
     write_json(tmp / f"{study}_runs.json", runs)
-    if study == "tracking":
+    if study in ("tracking", "tracking_var"):
         cur = res["curves"]
-        write_csv(tmp / "tracking.csv",
+        write_csv(tmp / f"{study}.csv",
                   [{k: cur[k][i] for k in cur} for i in range(len(cur["scan"]))])
     else:
         write_csv(tmp / f"{study}.csv", res)
