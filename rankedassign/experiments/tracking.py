@@ -184,8 +184,10 @@ def run_tracking(
     summary : dict
         ``obs_original``, ``obs_proposed`` (total sweeps over the scans, mean over runs),
         ``reduction_pct``, ``row_updates_original``, ``row_updates_proposed``,
-        ``reduction_row_updates_pct``, ``ospa2_mean_original``, ``ospa2_mean_proposed``,
-        the paper's totals (``paper_obs_*``) and per-scan ``curves``.
+        ``reduction_row_updates_pct``, ``invocations_*`` and ``sweeps_per_call_*`` (per
+        method), ``ospa2_mean_original``, ``ospa2_mean_proposed``, the paper's totals
+        (``paper_obs_*``) with the calls per scan and short-chain sweeps per call they imply
+        (``paper_calls_per_scan``, ``paper_sweeps_per_call_proposed``) and per-scan ``curves``.
     runs : list of dict
         Per-run records, only if ``return_runs``.
 
@@ -194,7 +196,8 @@ def run_tracking(
     The paper reports 10 760 000 vs 63 474 observations over 100 scans. One sampler call per
     scan with 10 000 sweeps gives 1 000 000 sweeps; the paper's figure matches counting row
     updates (about 10.76 rows per scan) or one call per track group (spec A13). Both
-    conventions are reported.
+    conventions are reported. :func:`run_tracking_var` runs the reading that reproduces both of
+    the paper's totals.
 
     References
     ----------
