@@ -262,8 +262,8 @@ def _tracking_section(s, study: str = "tracking") -> str:
          _f(s["reduction_row_updates_pct"]), ""],
         ["sampler invocations", _int(s["invocations_original"]),
          _int(s["invocations_proposed"]), "", _int(100 * s["paper_calls_per_scan"]) + " (implied)"],
-        ["sweeps per invocation", _f(s["sweeps_per_call_original"]),
-         _f(s["sweeps_per_call_proposed"]), "",
+        ["sweeps per invocation", _f(s["sweeps_per_call_original"], 1),
+         _f(s["sweeps_per_call_proposed"], 1), "",
          f"{_int(s['paper_obs_original'] / (100 * s['paper_calls_per_scan']))} / "
          f"{_f(s['paper_sweeps_per_call_proposed'])} (implied)"],
         ["association time (s)", _f(s["association_seconds_original"]),
