@@ -36,6 +36,20 @@ def _warm():
     for make, _ in METHODS.values():
         run_scenario("paper", make(), rng=0, n_scans=3)
 
+def _record(benchmark, run):
+    """Per-scan step times and the run's accounting, into the benchmark's ``extra_info``."""
+    benchmark.extra_info.update(
+        {f"per_scan_{k}_s": float(np.mean(v)) for k, v in run.timings.items()}
+    )
+    benchmark.extra_info.update(
+        sweeps=int(run.sweeps.sum()),
+        row_updates=int(run.row_updates.sum()),
+        invocations=int(run.invocations.sum()),
+        mean_tracks=float(run.n_tracks.mean()),
+        mean_meas=float(run.n_meas.mean()),
+        mean_meas_gated=float(run.n_meas_gated.mean()),
+    )
+
 
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_bench_paper_scenario(benchmark, method):
@@ -46,16 +60,7 @@ def test_bench_paper_scenario(benchmark, method):
         warmup_rounds=0,
     )
     assert run.n_scans == 100
-    benchmark.extra_info.update(
-        {f"per_scan_{k}_s": float(np.mean(v)) for k, v in run.timings.items()}
-    )
-    benchmark.extra_info.update(
-        sweeps=int(run.sweeps.sum()),
-        row_updates=int(run.row_updates.sum()),
-        mean_tracks=float(run.n_tracks.mean()),
-        mean_meas=float(run.n_meas.mean()),
-        mean_meas_gated=float(run.n_meas_gated.mean()),
-    )
+    _record(benchmark, run)
 
 
 @pytest.mark.parametrize("method", ["original-10000", "short-chain-400x25"])
@@ -68,11 +73,4 @@ def test_bench_paper_var_per_group(benchmark, method):
         rounds=rounds, warmup_rounds=0,
     )
     np.testing.assert_array_equal(run.invocations, run.n_groups)
-    benchmark.extra_info.update(
-        {f"per_scan_{k}_s": float(np.mean(v)) for k, v in run.timings.items()}
-    )
-    benchmark.extra_info.update(
-        sweeps=int(run.sweeps.sum()),
-        invocations=int(run.invocations.sum()),
-        mean_tracks=float(run.n_tracks.mean()),
-    )
+    _record(benchmark, run)
