@@ -469,11 +469,15 @@ def test_paper_var_accuracy_five_seeds():
 @pytest.mark.parametrize("seed", SEEDS)
 def test_paper_var_properties_every_seed(key, seed):
     # Fails for the short chains with the paper's truncated marginals on seed 2: target 11
-    # (born at scan 80 at 25 m/s, 8 sigma outside the 3.16 m/s birth spread) is never tracked
-    # (coverage 0; also on seed 5 of 0-9). Its newborn track survives only in low-weight
-    # hypotheses that the short chains do not visit, so its r is 0 and it is pruned. The
-    # original sampler, the exact update and the same short chains with Rao-Blackwellised
-    # marginals track every target on seeds 0-9.
+    # (born at scan 80 next to birth location 1, at 25 m/s) is never tracked (coverage 0; also
+    # on seed 5 of 0-9). Traced on seed 2: its first detection gives the newborn track (80, 1)
+    # r = 0.16 (exact update 0.18); scan 81 misses the target (p_D = 0.98), and the exact update
+    # keeps the track at r = 0.004, carried by hypotheses in which it exists undetected. The
+    # short chains' 63 sweeps of that scan visit none of them, so its r is 0 and it is pruned.
+    # At its next detection the target is 75 m from the birth mean, moving 8 sigma outside the
+    # 3.16 m/s birth spread, and no later birth picks it up. The original sampler, the exact
+    # update and the same short chains with Rao-Blackwellised marginals track every target on
+    # seeds 0-9.
     check_paper_properties(cached_run("paper-var", key, seed))
 
 
