@@ -6,6 +6,7 @@ the filter is checked on its own against closed forms.
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -23,6 +24,7 @@ from rankedassign.tracking import (
     LMBFilter,
     Model,
     PoissonClutter,
+    PositionSensor,
     gate_threshold,
     group_tracks,
     make_model,
@@ -58,9 +60,9 @@ class Enumerate(Association):
         return AssociationResult(marginals_from_hypotheses(problem, a), 1, 7, 11, len(a))
 
 
-def one_birth_model(r=0.4, clutter=5.0, cov=(30.0, 5.0, 30.0, 5.0)):
+def one_birth_model(r=0.4, clutter=5.0, cov=(30.0, 5.0, 30.0, 5.0), sensor=None):
     birth = LMBBirth((BirthComponent(r, [10.0, 1.0, -20.0, 2.0], np.diag(np.square(cov))),))
-    return Model(clutter=PoissonClutter(clutter), birth=birth)
+    return Model(sensor=sensor or PositionSensor(), clutter=PoissonClutter(clutter), birth=birth)
 
 
 # --------------------------------------------------------------------------- helpers
@@ -193,8 +195,13 @@ def test_reduce_mixtures_orders_by_merged_weight():
 
 
 # --------------------------------------------------------------------------- one scan, closed form
-def test_prediction_and_kalman_update_closed_form():
-    model = one_birth_model()
+@pytest.mark.parametrize(
+    "sensor",
+    [PositionSensor(), PositionSensor(0.9, noise_cov=[[25.0, 30.0], [30.0, 400.0]])],
+    ids=["paper-sensor", "correlated-noise"],
+)
+def test_prediction_and_kalman_update_closed_form(sensor):
+    model = one_birth_model(sensor=sensor)
     f = LMBFilter(model, Enumerate(), merge_threshold=0.0)
     z = np.array([[25.0, -30.0]])
     rec = f.step(z)
@@ -398,6 +405,12 @@ def test_step_errors():
     g = LMBFilter(one_birth_model(), Enumerate())
     with pytest.raises(ValueError, match="measurements must be finite"):
         g.step([[np.nan, 0.0]])
+    # a (3, 4) array is not six measurements, and a bare pair is not a list of them
+    with pytest.raises(ValueError, match=re.escape("must have shape (M, 2), got shape (3, 4)")):
+        g.step(np.zeros((3, 4)))
+    with pytest.raises(ValueError, match=re.escape("must have shape (M, 2), got shape (2,)")):
+        g.step([25.0, -30.0])
+    assert g.step([]).n_meas == 0  # an empty list is a scan without measurements
 
 
 def test_run_scenario_requires_association():

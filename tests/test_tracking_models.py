@@ -9,6 +9,7 @@ from rankedassign.tracking import (
     ConstantSurvival,
     ConstantVelocity,
     LMBBirth,
+    Model,
     PoissonClutter,
     PositionSensor,
     generate_measurements,
@@ -37,6 +38,14 @@ def test_sensor_and_clutter():
     s = PositionSensor()
     assert_array_equal(s.H, [[1, 0, 0, 0], [0, 0, 1, 0]])
     assert_array_equal(s.R, 100.0 * np.eye(2))
+    assert s.sigma_v == 10.0 and s == PositionSensor(0.98, 10.0)
+    # a general noise covariance: a matrix, or a vector for its diagonal; compared by value
+    g = PositionSensor(noise_cov=[[25.0, 30.0], [30.0, 400.0]])
+    assert_array_equal(g.R, [[25.0, 30.0], [30.0, 400.0]])
+    assert g.sigma_v is None and hash(g) == hash(PositionSensor(noise_cov=g.R))
+    assert_array_equal(PositionSensor(noise_cov=[25.0, 400.0]).R, np.diag([25.0, 400.0]))
+    with pytest.raises(ValueError):
+        g.R[0, 0] = 1.0  # read-only
     cl = PoissonClutter(50.0)
     assert_allclose(cl.intensity, 1.25e-5, rtol=1e-15)  # spec A16
     pts = cl.sample(np.random.default_rng(0))
@@ -84,6 +93,16 @@ def test_presets():
         (lambda: ConstantVelocity(sigma_w=-1.0), "sigma_w must be"),
         (lambda: PositionSensor(p_d=0.0), r"p_d must be in \(0, 1\]"),
         (lambda: PositionSensor(sigma_v=0.0), "sigma_v must be"),
+        (lambda: PositionSensor(sigma_v=5.0, noise_cov=[1.0, 1.0]),
+         "give either sigma_v or noise_cov, not both"),
+        (lambda: PositionSensor(noise_cov=np.eye(3)),
+         r"noise_cov must be a symmetric positive definite 2x2 matrix, got shape \(3, 3\)"),
+        (lambda: PositionSensor(noise_cov=[[1.0, 2.0], [2.0, 1.0]]),
+         r"noise_cov must be a symmetric positive definite 2x2 matrix, got shape \(2, 2\) "
+         r"with values \[\[1.0, 2.0\], \[2.0, 1.0\]\]"),
+        (lambda: PositionSensor(noise_cov=[np.nan, 1.0]), "noise_cov must be a symmetric"),
+        (lambda: BirthComponent(0.5, np.zeros(4), np.eye(3)),
+         r"birth covariance must be a symmetric positive definite 4x4 matrix, got shape \(3, 3\)"),
         (lambda: PoissonClutter(-1.0), "clutter rate must be"),
         (lambda: PoissonClutter(1.0, ((0, 0), (0, 1))), "region must be"),
         (lambda: ConstantSurvival(1.5), r"p_s must be in \(0, 1\]"),
@@ -178,3 +197,25 @@ def test_measurement_statistics():
     assert_allclose(res.std(axis=0), 10.0, atol=5 * 0.27)
     # clutter mean 50, 100 scans: SE 0.71
     assert abs(np.mean(n_clutter) - 50.0) < 5 * np.sqrt(50.0 / 100)
+
+
+def test_measurement_noise_with_a_general_covariance():
+    # R = [[25, 30], [30, 400]] (5 m and 20 m, correlation 0.3) over the 100 scans of the paper
+    # truth, p_D = 1: n = 729 residuals. Standard errors of the sample covariance entries:
+    # sqrt(2 R_xx² / n) = 1.31, sqrt(2 R_yy² / n) = 21.0, sqrt((R_xx R_yy + R_xy²) / n) = 3.87;
+    # each 5-SE band fails with probability < 1e-6.
+    R = np.array([[25.0, 30.0], [30.0, 400.0]])
+    model = Model(sensor=PositionSensor(1.0, noise_cov=R))
+    truth = paper_truth()
+    res = []
+    for k, scan in enumerate(generate_measurements(truth, model, rng=5)):
+        labels, X = truth.at(k)
+        det = scan.origin >= 0
+        assert det.sum() == labels.size  # p_D = 1
+        res.append(scan.z[det] - X[np.searchsorted(labels, scan.origin[det])][:, [0, 2]])
+    res = np.vstack(res)
+    n = len(res)
+    cov = np.cov(res.T)
+    se = np.sqrt(np.array([[2 * R[0, 0] ** 2, R[0, 0] * R[1, 1] + R[0, 1] ** 2],
+                           [R[0, 0] * R[1, 1] + R[0, 1] ** 2, 2 * R[1, 1] ** 2]]) / n)
+    assert np.all(np.abs(cov - R) < 5 * se), (cov, se)

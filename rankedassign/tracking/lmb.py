@@ -601,8 +601,9 @@ class LMBFilter:
         Raises
         ------
         ValueError
-            On non-finite measurements, or if the association returns ``beta`` of the wrong
-            shape.
+            On measurements not of shape ``(M, 2)`` (an empty list is a scan without
+            measurements), on non-finite measurements, or if the association returns ``beta``
+            of the wrong shape.
 
         Examples
         --------
@@ -614,7 +615,11 @@ class LMBFilter:
         >>> rec.labels.tolist(), rec.existence.round(3).tolist()
         ([[1, 2]], [1.0])
         """
-        z = np.asarray(z, dtype=np.float64).reshape(-1, 2)
+        z = np.asarray(z, dtype=np.float64)
+        if z.size == 0:  # no measurements, e.g. [] or an empty (0, 2) array
+            z = z.reshape(0, 2)
+        elif z.ndim != 2 or z.shape[1] != 2:
+            raise ValueError(f"measurements must have shape (M, 2), got shape {z.shape}")
         if not np.isfinite(z).all():
             raise ValueError("measurements must be finite")
         gen = np.random.default_rng(rng)

@@ -32,6 +32,20 @@ def _readonly(a) -> np.ndarray:
     return a
 
 
+def _spd(P, n: int, what: str) -> np.ndarray:
+    """``P`` (or the diagonal matrix of a vector ``P``) as a read-only n x n SPD matrix."""
+    P = np.asarray(P, dtype=np.float64)
+    if P.ndim == 1:
+        P = np.diag(P)
+    if (P.shape != (n, n) or not np.isfinite(P).all() or not np.allclose(P, P.T)
+            or np.linalg.eigvalsh(P).min() <= 0):
+        raise ValueError(
+            f"{what} must be a symmetric positive definite {n}x{n} matrix, got shape "
+            f"{P.shape}" + ("" if P.shape != (n, n) else f" with values {P.tolist()}")
+        )
+    return _readonly(P)
+
+
 @dataclass(frozen=True)
 class ConstantVelocity:
     """Nearly constant velocity motion in 2-D (spec §6.1, A14).
@@ -90,12 +104,24 @@ class PositionSensor:
     ----------
     p_d : float
         Detection probability ``P_D`` in ``(0, 1]`` (default 0.98).
-    sigma_v : float
-        Standard deviation of the position noise per axis in m (default 10).
+    sigma_v : float, optional
+        Standard deviation of the position noise per axis in m: ``R = σ_v² I_2`` (default
+        10 m, the paper's). Leave it out when giving ``noise_cov``.
+    noise_cov : array_like, shape (2, 2) or (2,), optional
+        A general noise covariance ``R`` (symmetric positive definite; a vector is its
+        diagonal), e.g. ``[25.0, 400.0]`` for 5 m in x and 20 m in y. Stored as a tuple of
+        rows, so that sensors compare by value; :attr:`R` gives the array.
+
+    Raises
+    ------
+    ValueError
+        If ``p_d`` is outside ``(0, 1]``, ``sigma_v`` is not positive and finite, ``noise_cov``
+        is not a symmetric positive definite 2 x 2 matrix, or both ``sigma_v`` and ``noise_cov``
+        are given.
 
     Notes
     -----
-    ``H = I_2 ⊗ [1, 0]`` (measures ``p_x, p_y``), ``R = σ_v² I_2``.
+    ``H = I_2 ⊗ [1, 0]`` (measures ``p_x, p_y``), ``R = σ_v² I_2`` or ``noise_cov``.
 
     Examples
     --------
@@ -103,14 +129,26 @@ class PositionSensor:
     >>> s = PositionSensor()
     >>> s.H.tolist(), s.R.tolist()
     ([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]], [[100.0, 0.0], [0.0, 100.0]])
+    >>> PositionSensor(noise_cov=[25.0, 400.0]).R.tolist()
+    [[25.0, 0.0], [0.0, 400.0]]
     """
 
     p_d: float = 0.98
-    sigma_v: float = 10.0
+    sigma_v: float | None = None
+    noise_cov: tuple | None = None
 
     def __post_init__(self):
         if not (0 < self.p_d <= 1):
             raise ValueError(f"p_d must be in (0, 1], got {self.p_d}")
+        if self.noise_cov is not None:
+            if self.sigma_v is not None:
+                raise ValueError("give either sigma_v or noise_cov, not both")
+            # kept as nested tuples, so that sensors stay hashable and compare by value
+            R = _spd(self.noise_cov, 2, "noise_cov")
+            object.__setattr__(self, "noise_cov", tuple(map(tuple, R.tolist())))
+            return
+        if self.sigma_v is None:
+            object.__setattr__(self, "sigma_v", 10.0)
         if not (np.isfinite(self.sigma_v) and self.sigma_v > 0):
             raise ValueError(f"sigma_v must be a positive finite number, got {self.sigma_v}")
 
@@ -122,6 +160,8 @@ class PositionSensor:
     @property
     def R(self) -> np.ndarray:
         """Measurement noise covariance, shape (2, 2)."""
+        if self.noise_cov is not None:
+            return _readonly(self.noise_cov)
         return _readonly(self.sigma_v**2 * np.eye(2))
 
 
@@ -207,13 +247,8 @@ class BirthComponent:
         m = np.asarray(self.mean, dtype=np.float64).reshape(-1)
         if m.shape != (4,) or not np.isfinite(m).all():
             raise ValueError(f"birth mean must be 4 finite numbers, got {self.mean}")
-        P = np.asarray(self.cov, dtype=np.float64)
-        if P.ndim == 1:
-            P = np.diag(P)
-        if P.shape != (4, 4) or not np.allclose(P, P.T) or np.linalg.eigvalsh(P).min() <= 0:
-            raise ValueError("birth covariance must be a symmetric positive definite 4x4 matrix")
         object.__setattr__(self, "mean", _readonly(m))
-        object.__setattr__(self, "cov", _readonly(P))
+        object.__setattr__(self, "cov", _spd(self.cov, 4, "birth covariance"))
 
 
 @dataclass(frozen=True)
