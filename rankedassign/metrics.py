@@ -4,7 +4,9 @@
 (Schuhmacher, Vo & Vo 2008). :func:`ospa2` is OSPA(2), the OSPA distance between two sets of
 *tracks* over a trailing time window (Beard, Vo & Vo 2018/2020), the metric of the paper's
 tracking study (spec §7). :func:`tracks_to_array` turns a filter's labelled estimates into the
-NaN-padded array :func:`ospa2` takes.
+NaN-padded array :func:`ospa2` takes. :func:`track_coverage` tells, per true track, how much of
+its life some estimate was near it: the diagnostic that shows a target lost for good, which a
+mean OSPA(2) only averages in.
 
 Track arrays have shape ``(n_scans, n_tracks, d)``: entry ``[k, f]`` is the state of track ``f``
 at scan ``k``, all-NaN where the track does not exist.
@@ -17,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array"]
+__all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "track_coverage"]
 
 
 class OSPAResult(NamedTuple):
@@ -377,4 +379,89 @@ def tracks_to_array(
             out[k, order[lab]] = np.asarray(x, dtype=np.float64).reshape(-1)[idx]
     if return_labels:
         return out, list(order)
+    return out
+
+
+def track_coverage(truth, estimates, radius: float, *, settle: int = 0) -> np.ndarray:
+    """Per true track, the fraction of its scans with an estimate within ``radius``.
+
+    A target that a filter loses for good shows up here as a coverage near 0, however small
+    its share of a mean OSPA(2) over many targets and scans.
+
+    Parameters
+    ----------
+    truth, estimates : array_like, shape (n_scans, n_tracks, d)
+        Track arrays as for :func:`ospa2` (NaN where a track does not exist); ``d`` must agree.
+        The estimates' labels play no part: any estimate may cover any target.
+    radius : float
+        Euclidean distance (in the units of the states) within which an estimate covers a
+        target. Positive and finite.
+    settle : int, optional
+        Scans of each true track's life, counted from its first, left out (e.g. the time a
+        filter needs to confirm a newborn). Default 0.
+
+    Returns
+    -------
+    ndarray, shape (n_tracks,)
+        For each true track, covered scans / scans counted; NaN for a track that exists for no
+        more than ``settle`` scans.
+
+    Raises
+    ------
+    ValueError
+        On malformed track arrays (as :func:`ospa2`), mismatched scan counts or state
+        dimensions, a radius that is not positive and finite, or a negative ``settle``.
+
+    References
+    ----------
+    The paper's tracking study (Trezza, Bucci & Varshney 2023) reports OSPA(2) only; this
+    coverage is the diagnostic this project adds beside it (see the Tracking page).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.metrics import track_coverage
+    >>> nan = np.nan
+    >>> truth = np.array([[[0.0, 0.0], [nan, nan]],
+    ...                   [[1.0, 0.0], [50.0, 50.0]],
+    ...                   [[2.0, 0.0], [51.0, 50.0]]])
+    >>> est = np.array([[[nan, nan]], [[1.5, 0.0]], [[2.5, 0.0]]])   # one track, on target 0
+    >>> track_coverage(truth, est, radius=5.0).tolist()
+    [0.6666666666666666, 0.0]
+    >>> track_coverage(truth, est, radius=5.0, settle=1).tolist()
+    [1.0, 0.0]
+    """
+    X, x_exists = _as_tracks(truth, "truth")
+    Y, y_exists = _as_tracks(estimates, "estimates")
+    if X.shape[0] != Y.shape[0]:
+        raise ValueError(
+            f"truth and estimates must have the same number of scans, got {X.shape[0]} and "
+            f"{Y.shape[0]}"
+        )
+    if X.shape[1] and Y.shape[1] and X.shape[2] != Y.shape[2]:
+        raise ValueError(
+            f"truth and estimates must have the same state dimension, got {X.shape[2]} and "
+            f"{Y.shape[2]}"
+        )
+    try:
+        radius = float(radius)
+    except (TypeError, ValueError):
+        raise TypeError(f"radius must be a real number, got {radius!r}") from None
+    if not np.isfinite(radius) or radius <= 0:
+        raise ValueError(f"radius must be a positive finite number, got {radius}")
+    if isinstance(settle, bool) or not isinstance(settle, (int, np.integer)):
+        raise TypeError(f"settle must be an integer, got {type(settle).__name__}")
+    if settle < 0:
+        raise ValueError(f"settle must be >= 0, got {settle}")
+    out = np.full(X.shape[1], np.nan)
+    for f in range(X.shape[1]):
+        scans = np.flatnonzero(x_exists[:, f])[settle:]
+        if scans.size == 0:
+            continue
+        hits = 0
+        for k in scans:
+            y = Y[k][y_exists[k]]
+            if y.shape[0] and np.sqrt(((y - X[k, f]) ** 2).sum(axis=1)).min() <= radius:
+                hits += 1
+        out[f] = hits / scans.size
     return out

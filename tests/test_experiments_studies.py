@@ -27,6 +27,7 @@ from rankedassign.experiments import (
     run_tracking,
     run_tracking_var,
 )
+from rankedassign.experiments.tracking import summarise_tracking
 
 # Paper thresholds, a small budget: 200 chains x 25 sweeps.
 TINY = {"n_mc": 2, "original_obs": 5_000, "n_chains": 200, "chain_length": 25}
@@ -256,6 +257,22 @@ def test_tracking_tiny():
         assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
     assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
     assert out["config"]["marginals"] == "truncated"
+    # 8 scans: no target lives past the 10 settling scans, so none is counted, none lost
+    assert all(rec["coverage"] == [None] * 12 for rec in runs)
+    assert out["targets_lost_original"] == out["targets_lost_proposed"] == 0
+
+
+def test_tracking_lost_targets_counted_by_hand():
+    cfg = TrackingConfig(n_mc=2, n_scans=4, original_obs=50, n_chains=5)
+    _, runs = run_tracking(cfg, seed=0, progress=False, return_runs=True)
+    cover = {(0, "original"): [1.0, None, 0.5], (1, "original"): [1.0, 1.0, 1.0],
+             (0, "proposed"): [1.0, 0.2, 0.49], (1, "proposed"): [0.0, None, 1.0]}
+    for rec in runs:
+        rec["coverage"] = cover[rec["run"], rec["method"]]
+    out = summarise_tracking(runs, cfg)
+    # lost: coverage < 0.5; 0.5 itself is kept and None (too short-lived) is not counted
+    assert (out["targets_lost_original"], out["runs_with_lost_target_original"]) == (0, 0)
+    assert (out["targets_lost_proposed"], out["runs_with_lost_target_proposed"]) == (3, 2)
 
 
 def test_tracking_var_tiny():

@@ -9,7 +9,14 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from numpy.testing import assert_allclose, assert_array_equal
 
-from rankedassign.metrics import OSPA2Result, OSPAResult, ospa, ospa2, tracks_to_array
+from rankedassign.metrics import (
+    OSPA2Result,
+    OSPAResult,
+    ospa,
+    ospa2,
+    track_coverage,
+    tracks_to_array,
+)
 
 coord = st.floats(-50, 50, allow_nan=False, allow_infinity=False)
 
@@ -299,3 +306,68 @@ def test_tracks_to_array_errors():
     with pytest.raises(ValueError, match="out of range"):
         tracks_to_array([{1: [0.0] * 4}], dims=(0, 4))
     assert tracks_to_array([{}, {}]).shape == (2, 0, 0)
+
+
+# ---------------------------------------------------------------------------------- coverage
+@given(track_arrays(), st.integers(0, 3))
+def test_track_coverage_of_truth_by_itself_and_by_nothing(X, settle):
+    alive = (~np.isnan(X).any(axis=2)).sum(axis=0)
+    counted = alive > settle  # tracks with a scan left after the settling time
+    full = track_coverage(X, X, 1e-9, settle=settle)
+    none = track_coverage(X, np.full((X.shape[0], 0, 2), np.nan), 1.0, settle=settle)
+    assert_array_equal(full[counted], 1.0)
+    assert_array_equal(none[counted], 0.0)
+    assert np.isnan(full[~counted]).all() and np.isnan(none[~counted]).all()
+
+
+@given(truth_estimate_pairs(), st.floats(0.1, 100.0))
+def test_track_coverage_matches_a_plain_loop(pair, radius):
+    X, Y = pair
+    got = track_coverage(X, Y, radius)
+    for f in range(X.shape[1]):
+        scans = [k for k in range(X.shape[0]) if not np.isnan(X[k, f]).any()]
+        hit = [any(np.linalg.norm(y - X[k, f]) <= radius for y in Y[k]
+                   if not np.isnan(y).any()) for k in scans]
+        assert (np.isnan(got[f]) if not scans else got[f] == sum(hit) / len(scans))
+
+
+def test_track_coverage_hand_case_and_labels_play_no_part():
+    nan = np.nan
+    truth = np.array([[[0.0, 0.0], [nan, nan]],
+                      [[1.0, 0.0], [50.0, 50.0]],
+                      [[2.0, 0.0], [51.0, 50.0]],
+                      [[3.0, 0.0], [52.0, 50.0]]])
+    # track 0 covers target 0 twice, then jumps onto target 1 (a label switch still covers)
+    est = np.array([[[nan, nan]], [[1.5, 0.0]], [[2.0, 4.0]], [[52.0, 51.0]]])
+    assert_array_equal(track_coverage(truth, est, 5.0), [0.5, 1 / 3])
+    assert_array_equal(track_coverage(truth, est, 5.0, settle=1), [2 / 3, 0.5])
+    assert_array_equal(track_coverage(truth, est, 4.0), [0.5, 1 / 3])  # the boundary counts
+    assert_array_equal(track_coverage(truth, est, 3.9), [0.25, 1 / 3])
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "exc", "match"),
+    [
+        ((np.zeros((3, 1, 2)), np.zeros((2, 1, 2)), 1.0), {}, ValueError,
+         "same number of scans, got 3 and 2"),
+        ((np.zeros((3, 1, 2)), np.zeros((3, 1, 3)), 1.0), {}, ValueError,
+         "same state dimension, got 2 and 3"),
+        ((np.zeros((3, 2)), np.zeros((3, 1, 2)), 1.0), {}, ValueError,
+         r"truth must be 3-D with shape \(n_scans, n_tracks, d\), got shape \(3, 2\)"),
+        ((np.array([[[np.nan, 0.0]]]), np.zeros((1, 1, 2)), 1.0), {}, ValueError,
+         r"truth\[0, 0\] is partly NaN"),
+        ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), 0.0), {}, ValueError,
+         "radius must be a positive finite number, got 0.0"),
+        ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), np.inf), {}, ValueError,
+         "radius must be a positive finite number, got inf"),
+        ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), "far"), {}, TypeError,
+         "radius must be a real number"),
+        ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), 1.0), {"settle": -1}, ValueError,
+         "settle must be >= 0, got -1"),
+        ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), 1.0), {"settle": 1.5}, TypeError,
+         "settle must be an integer, got float"),
+    ],
+)
+def test_track_coverage_errors(args, kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        track_coverage(*args, **kwargs)

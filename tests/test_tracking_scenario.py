@@ -46,7 +46,7 @@ from functools import cache
 import numpy as np
 import pytest
 
-from rankedassign.metrics import ospa, ospa2
+from rankedassign.metrics import ospa, ospa2, track_coverage
 from rankedassign.tracking import (
     Exact,
     Murty,
@@ -114,16 +114,7 @@ def mean_ospa(run, c=100.0):
 def coverage(run, radius=50.0, settle=10):
     """Per true target: fraction of its scans (after its first ``settle``) with an estimate
     within ``radius`` metres."""
-    cov = []
-    for t in range(run.truth.shape[1]):
-        scans = np.flatnonzero(~np.isnan(run.truth[:, t, 0]))[settle:]
-        hits = 0
-        for k in scans:
-            y = run.estimates[k][~np.isnan(run.estimates[k]).any(axis=1)]
-            if len(y) and np.linalg.norm(y - run.truth[k, t], axis=1).min() < radius:
-                hits += 1
-        cov.append(hits / len(scans))
-    return np.array(cov)
+    return track_coverage(run.truth, run.estimates, radius, settle=settle)
 
 
 def far_estimates(run, radius=100.0):

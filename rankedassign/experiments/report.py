@@ -271,6 +271,12 @@ def _tracking_section(s, study: str = "tracking") -> str:
          _f(100 * (1 - s["association_seconds_proposed"]
                    / max(s["association_seconds_original"], 1e-300))), ""],
     ]
+    if "targets_lost_original" in s:
+        rows.append(
+            ["targets lost, all runs (runs with one)",
+             f"{s['targets_lost_original']} ({s['runs_with_lost_target_original']})",
+             f"{s['targets_lost_proposed']} ({s['runs_with_lost_target_proposed']})", "", ""]
+        )
     empty = c.get("sample_empty_groups", False)
     if study == "tracking_var":
         title = ("Tracking — the paper's birth covariance read as variances, one call per "
@@ -312,6 +318,9 @@ OSPA(2) (c = {c["ospa_c"]:g} m, p = {c["ospa_p"]:g}, window {c["ospa_window"]}),
 and runs: original {_pm(s["ospa2_mean_original"], s["ospa2_mean_original_se"])} m,
 short-chain {_pm(s["ospa2_mean_proposed"], s["ospa2_mean_proposed_se"])} m; paired difference
 (short-chain − original) {_pm(s["ospa2_difference_mean"], s["ospa2_difference_se"])} m.
+A target counts as lost in a run when no estimate lies within 50 m of it on at least half of
+its scans after its first ten (`rankedassign.metrics.track_coverage`); the table gives the
+total over the runs.
 
 ![OSPA(2) per scan]({study}_ospa2.png)
 

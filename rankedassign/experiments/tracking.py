@@ -19,6 +19,10 @@ PAPER_TOTALS = {"original": 10_760_000, "proposed": 63_474}
 PAPER_SCANS, PAPER_ORIGINAL_OBS = 100, 10_000
 
 METHODS = ("original", "proposed")
+#: Target coverage (:func:`~rankedassign.metrics.track_coverage`): an estimate within this many
+#: metres covers a target; the first scans of each target's life are left out (time to
+#: confirm a newborn); a target covered on less than this fraction of the rest counts as lost.
+COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW = 50.0, 10, 0.5
 
 
 def _association(cfg: TrackingConfig, method: str):
@@ -46,6 +50,8 @@ def _tracking_task(cfg: TrackingConfig, seed: int, run: int, method: str) -> dic
         extraction=cfg.extraction,
     )
     o2 = metrics.ospa2(sr.truth, sr.estimates, cfg.ospa_c, cfg.ospa_p, cfg.ospa_window)
+    cov = metrics.track_coverage(sr.truth, sr.estimates, COVERAGE_RADIUS,
+                                 settle=COVERAGE_SETTLE)
 
     def ints(x):
         return np.asarray(x, dtype=np.int64).tolist()
@@ -59,6 +65,8 @@ def _tracking_task(cfg: TrackingConfig, seed: int, run: int, method: str) -> dic
         "ospa2": floats(o2.value),
         "ospa2_localisation": floats(o2.localisation),
         "ospa2_cardinality": floats(o2.cardinality),
+        # NaN (JSON null) for a target that lives no longer than COVERAGE_SETTLE scans
+        "coverage": [None if np.isnan(v) else float(v) for v in cov],
         "sweeps": ints(sr.sweeps),
         "row_updates": ints(sr.row_updates),
         "invocations": ints(sr.invocations),
@@ -108,6 +116,11 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> dict:
         out[f"ospa2_mean_{names[m]}_se"] = _se(o.mean(axis=1))
         out[f"association_seconds_{names[m]}"] = float(per_scan(m, "association_seconds")
                                                        .sum(axis=1).mean())
+        # targets lost: coverage below LOST_BELOW (targets too short-lived to count are None)
+        lost = np.array([sum(v is not None and v < LOST_BELOW for v in r.get("coverage", []))
+                         for r in by[m]])
+        out[f"targets_lost_{names[m]}"] = int(lost.sum())
+        out[f"runs_with_lost_target_{names[m]}"] = int(np.count_nonzero(lost))
     out["reduction_pct"] = 100.0 * (1.0 - out["obs_proposed"] / out["obs_original"])
     out["reduction_row_updates_pct"] = 100.0 * (
         1.0 - out["row_updates_proposed"] / out["row_updates_original"]
@@ -187,7 +200,12 @@ def run_tracking(
         ``reduction_row_updates_pct``, ``invocations_*`` and ``sweeps_per_call_*`` (per
         method), ``ospa2_mean_original``, ``ospa2_mean_proposed``, the paper's totals
         (``paper_obs_*``) with the calls per scan and short-chain sweeps per call they imply
-        (``paper_calls_per_scan``, ``paper_sweeps_per_call_proposed``) and per-scan ``curves``.
+        (``paper_calls_per_scan``, ``paper_sweeps_per_call_proposed``), the targets lost
+        over all runs and the runs that lost one (``targets_lost_*``,
+        ``runs_with_lost_target_*``: a target is lost when some estimate lies within
+        ``COVERAGE_RADIUS`` = 50 m of it on less than half of its scans after its first
+        ``COVERAGE_SETTLE`` = 10; :func:`~rankedassign.metrics.track_coverage`) and per-scan
+        ``curves``.
     runs : list of dict
         Per-run records, only if ``return_runs``.
 
