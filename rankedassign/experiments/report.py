@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .config import ALL_FAMILIES, CRITERIA
+from .tracking import COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW
 
 __all__ = ["write_json", "write_csv", "render_report", "write_plots"]
 
@@ -318,9 +319,9 @@ OSPA(2) (c = {c["ospa_c"]:g} m, p = {c["ospa_p"]:g}, window {c["ospa_window"]}),
 and runs: original {_pm(s["ospa2_mean_original"], s["ospa2_mean_original_se"])} m,
 short-chain {_pm(s["ospa2_mean_proposed"], s["ospa2_mean_proposed_se"])} m; paired difference
 (short-chain − original) {_pm(s["ospa2_difference_mean"], s["ospa2_difference_se"])} m.
-A target counts as lost in a run when no estimate lies within 50 m of it on at least half of
-its scans after its first ten (`rankedassign.metrics.track_coverage`); the table gives the
-total over the runs.
+A target counts as lost in a run when an estimate lies within {COVERAGE_RADIUS:g} m of it on
+less than {LOST_BELOW:.0%} of its scans after its first {COVERAGE_SETTLE}
+(`rankedassign.metrics.track_coverage`); the table gives the total over the runs.
 
 ![OSPA(2) per scan]({study}_ospa2.png)
 
