@@ -174,6 +174,32 @@ def _as_tracks(a, name: str) -> tuple[np.ndarray, np.ndarray]:
     return arr, exists
 
 
+def _as_track_pair(truth, estimates):
+    """Validate two track arrays against each other: ``X, x_exists, Y, y_exists``.
+
+    A side without tracks takes the other's state dimension, so that the ``(n_scans, 0, 0)``
+    array of :func:`tracks_to_array` for a filter that reported nothing is accepted.
+    """
+    X, ex = _as_tracks(truth, "truth")
+    Y, ey = _as_tracks(estimates, "estimates")
+    if X.shape[0] != Y.shape[0]:
+        raise ValueError(
+            f"truth and estimates must have the same number of scans, got {X.shape[0]} and "
+            f"{Y.shape[0]}"
+        )
+    if X.shape[2] != Y.shape[2]:
+        if Y.shape[1] == 0:
+            Y = Y.reshape(Y.shape[0], 0, X.shape[2])
+        elif X.shape[1] == 0:
+            X = X.reshape(X.shape[0], 0, Y.shape[2])
+        else:
+            raise ValueError(
+                f"truth and estimates must have the same state dimension, got {X.shape[2]} "
+                f"and {Y.shape[2]}"
+            )
+    return X, ex, Y, ey
+
+
 def ospa2(
     truth,
     estimates,
@@ -190,7 +216,8 @@ def ospa2(
     truth : array_like, shape (n_scans, n_true, d)
         True track states, all-NaN where a track does not exist.
     estimates : array_like, shape (n_scans, n_est, d)
-        Estimated track states, same convention and the same ``n_scans`` and ``d``.
+        Estimated track states, same convention and the same ``n_scans`` and ``d`` (a side
+        without tracks may have any ``d``, e.g. :func:`tracks_to_array` of nothing).
     c : float
         Cut-off, ``> 0`` (paper: 200 m).
     p : float
@@ -259,18 +286,7 @@ def ospa2(
         raise ValueError(f"weight_power must be a finite number >= 0, got {weight_power}")
     if base not in ("euclidean", "lp"):
         raise ValueError(f"base must be 'euclidean' or 'lp', got {base!r}")
-    X, ex = _as_tracks(truth, "truth")
-    Y, ey = _as_tracks(estimates, "estimates")
-    if X.shape[0] != Y.shape[0]:
-        raise ValueError(
-            f"truth and estimates must have the same number of scans, got {X.shape[0]} and "
-            f"{Y.shape[0]}"
-        )
-    if X.shape[2] != Y.shape[2]:
-        raise ValueError(
-            f"truth and estimates must have the same state dimension, got {X.shape[2]} and "
-            f"{Y.shape[2]}"
-        )
+    X, ex, Y, ey = _as_track_pair(truth, estimates)
     K = X.shape[0]
     N = int(window)
     cp = c**p
@@ -431,18 +447,7 @@ def track_coverage(truth, estimates, radius: float, *, settle: int = 0) -> np.nd
     >>> track_coverage(truth, est, radius=5.0, settle=1).tolist()
     [1.0, 0.0]
     """
-    X, x_exists = _as_tracks(truth, "truth")
-    Y, y_exists = _as_tracks(estimates, "estimates")
-    if X.shape[0] != Y.shape[0]:
-        raise ValueError(
-            f"truth and estimates must have the same number of scans, got {X.shape[0]} and "
-            f"{Y.shape[0]}"
-        )
-    if X.shape[1] and Y.shape[1] and X.shape[2] != Y.shape[2]:
-        raise ValueError(
-            f"truth and estimates must have the same state dimension, got {X.shape[2]} and "
-            f"{Y.shape[2]}"
-        )
+    X, x_exists, Y, y_exists = _as_track_pair(truth, estimates)
     try:
         radius = float(radius)
     except (TypeError, ValueError):

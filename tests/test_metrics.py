@@ -371,3 +371,13 @@ def test_track_coverage_hand_case_and_labels_play_no_part():
 def test_track_coverage_errors(args, kwargs, exc, match):
     with pytest.raises(exc, match=match):
         track_coverage(*args, **kwargs)
+
+
+def test_nothing_reported_is_accepted_whatever_its_dimension():
+    # tracks_to_array of a filter that reported nothing has shape (n_scans, 0, 0)
+    X = np.array([[[0.0, 0.0]], [[np.nan, np.nan]], [[1.0, 1.0]]])
+    none = tracks_to_array([{}, {}, {}])
+    assert none.shape == (3, 0, 0)
+    assert_array_equal(ospa2(X, none, 10.0, 1, 1).value, [10.0, 0.0, 10.0])
+    assert_array_equal(ospa2(none, X, 10.0, 1, 1).value, [10.0, 0.0, 10.0])
+    assert_array_equal(track_coverage(X, none, 1.0), [0.0])
