@@ -407,7 +407,8 @@ def track_coverage(truth, estimates, radius: float, *, settle: int = 0) -> np.nd
     Parameters
     ----------
     truth, estimates : array_like, shape (n_scans, n_tracks, d)
-        Track arrays as for :func:`ospa2` (NaN where a track does not exist); ``d`` must agree.
+        Track arrays as for :func:`ospa2` (NaN where a track does not exist); ``d`` must agree
+        unless one side has no tracks.
         The estimates' labels play no part: any estimate may cover any target.
     radius : float
         Euclidean distance (in the units of the states) within which an estimate covers a
@@ -458,15 +459,11 @@ def track_coverage(truth, estimates, radius: float, *, settle: int = 0) -> np.nd
         raise TypeError(f"settle must be an integer, got {type(settle).__name__}")
     if settle < 0:
         raise ValueError(f"settle must be >= 0, got {settle}")
-    out = np.full(X.shape[1], np.nan)
-    for f in range(X.shape[1]):
-        scans = np.flatnonzero(x_exists[:, f])[settle:]
-        if scans.size == 0:
-            continue
-        hits = 0
-        for k in scans:
-            y = Y[k][y_exists[k]]
-            if y.shape[0] and np.sqrt(((y - X[k, f]) ** 2).sum(axis=1)).min() <= radius:
-                hits += 1
-        out[f] = hits / scans.size
-    return out
+    # distance of every truth to every estimate per scan, (K, m, n); NaN where either is absent,
+    # and NaN <= radius is False
+    dist = np.linalg.norm(X[:, :, None, :] - Y[:, None, :, :], axis=-1)
+    covered = (dist <= radius).any(axis=2)
+    counted = x_exists & (np.cumsum(x_exists, axis=0) > settle)  # past each life's first scans
+    n = counted.sum(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(n > 0, (covered & counted).sum(axis=0) / n, np.nan)

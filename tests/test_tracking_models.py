@@ -101,6 +101,8 @@ def test_presets():
          r"noise_cov must be a symmetric positive definite 2x2 matrix, got shape \(2, 2\) "
          r"with values \[\[1.0, 2.0\], \[2.0, 1.0\]\]"),
         (lambda: PositionSensor(noise_cov=[np.nan, 1.0]), "noise_cov must be a symmetric"),
+        (lambda: PositionSensor(noise_cov=[1.0, 1.0, 1.0]),
+         r"noise_cov must be a symmetric positive definite 2x2 matrix, got shape \(3,\)$"),
         (lambda: BirthComponent(0.5, np.zeros(4), np.eye(3)),
          r"birth covariance must be a symmetric positive definite 4x4 matrix, got shape \(3, 3\)"),
         (lambda: PoissonClutter(-1.0), "clutter rate must be"),

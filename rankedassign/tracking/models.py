@@ -34,14 +34,13 @@ def _readonly(a) -> np.ndarray:
 
 def _spd(P, n: int, what: str) -> np.ndarray:
     """``P`` (or the diagonal matrix of a vector ``P``) as a read-only n x n SPD matrix."""
-    P = np.asarray(P, dtype=np.float64)
-    if P.ndim == 1:
-        P = np.diag(P)
+    given = np.asarray(P, dtype=np.float64)
+    P = np.diag(given) if given.ndim == 1 else given
     if (P.shape != (n, n) or not np.isfinite(P).all() or not np.allclose(P, P.T)
             or np.linalg.eigvalsh(P).min() <= 0):
         raise ValueError(
             f"{what} must be a symmetric positive definite {n}x{n} matrix, got shape "
-            f"{P.shape}" + ("" if P.shape != (n, n) else f" with values {P.tolist()}")
+            f"{given.shape}" + ("" if P.shape != (n, n) else f" with values {P.tolist()}")
         )
     return _readonly(P)
 
