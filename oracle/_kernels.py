@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rankedassign._numba import jit
+from rankedassign.numba_options import jit
 
 _HUB = -2  # path marker: the column was reached through a dummy row (rectangular slack)
 

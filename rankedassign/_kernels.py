@@ -37,7 +37,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from ._numba import jit
+from .numba_options import jit
 
 # SplitMix64 constants (see rankedassign._rng); np.uint64 so numba stays in unsigned arithmetic.
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)

@@ -36,8 +36,8 @@ import numpy as np
 from numba import parallel_chunksize
 
 from . import _kernels
-from ._numba import threads
 from ._rng import ZOBRIST_SEED, base_key
+from .numba_options import threads
 from .problem import AssignmentProblem
 
 __all__ = ["SamplerResult", "sample_original", "sample_short_chains", "warmup"]

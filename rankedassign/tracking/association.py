@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numba import jit
+from ..numba_options import jit
 from ..problem import AssignmentProblem
 
 __all__ = [

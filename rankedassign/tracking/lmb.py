@@ -27,7 +27,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numba import jit
+from ..numba_options import jit
 from ..problem import AssignmentProblem
 from .association import Association, AssociationResult
 from .models import Model

@@ -1,0 +1,172 @@
+"""Validation shared by every public boundary of :mod:`rankedassign` (and used by :mod:`oracle`).
+
+One rule for every argument check in the library:
+
+* the wrong *kind* of value (a float or a bool where an int is expected, a non-string where a
+  name is expected) raises :class:`TypeError`;
+* a value of the right kind outside its range (a negative count, an unknown name, a NaN)
+  raises :class:`ValueError`.
+
+Every message names the argument and the value it got, so tests can pin it. This module sits
+at the bottom of the import graph: it imports nothing from the package.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+__all__ = [
+    "MAX_COUNT",
+    "check_choice",
+    "check_int",
+    "check_optional_int",
+    "check_real",
+    "check_type",
+]
+
+# Largest count any kernel accepts: counters are int64 and some are summed or doubled, so stay
+# well below 2**63. Larger values are refused in Python with a message instead of surfacing as
+# a numba typing or overflow error.
+MAX_COUNT = 2**62
+
+
+def check_int(value, name: str, *, minimum: int = 0, maximum: int = MAX_COUNT) -> int:
+    """Return ``value`` as a Python int after checking it is an integer in ``[minimum, maximum]``.
+
+    Parameters
+    ----------
+    value : object
+        The argument to check. Python and numpy integers are accepted; ``bool`` is not.
+    name : str
+        Its name, used in the message.
+    minimum, maximum : int
+        Inclusive bounds.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not an integer (``bool`` and floats included, even ``3.0``).
+    ValueError
+        If it is outside ``[minimum, maximum]``.
+
+    Examples
+    --------
+    >>> check_int(3, "n_obs")
+    3
+    >>> check_int(0, "workers", minimum=1)
+    Traceback (most recent call last):
+    ...
+    ValueError: workers must be an int >= 1, got 0
+    >>> check_int(2.0, "n_obs")
+    Traceback (most recent call last):
+    ...
+    TypeError: n_obs must be an int, got float 2.0
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an int, got {type(value).__name__} {value!r}")
+    v = int(value)
+    if v < minimum:
+        raise ValueError(f"{name} must be an int >= {minimum}, got {v}")
+    if v > maximum:
+        raise ValueError(f"{name} must be an int <= {maximum} (2**{maximum.bit_length() - 1}), "
+                         f"got {v}")
+    return v
+
+
+def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX_COUNT):
+    """``None`` passes through (a rule switched off); anything else as :func:`check_int`.
+
+    Examples
+    --------
+    >>> check_optional_int(None, "tau_stall") is None
+    True
+    >>> check_optional_int(5, "tau_stall")
+    5
+    """
+    if value is None:
+        return None
+    return check_int(value, name, minimum=minimum, maximum=maximum)
+
+
+def check_choice(value, name: str, choices) -> str:
+    """Return ``value`` if it is one of the strings ``choices``.
+
+    Raises
+    ------
+    ValueError
+        If it is not (whatever its type), with the allowed values in the message.
+
+    Examples
+    --------
+    >>> check_choice("random", "scan", ("systematic", "random"))
+    'random'
+    >>> check_choice("rand", "scan", ("systematic", "random"))
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown scan 'rand'; expected one of ('systematic', 'random')
+    """
+    if not isinstance(value, str) or value not in choices:
+        raise ValueError(f"unknown {name} {value!r}; expected one of {tuple(choices)}")
+    return value
+
+
+def check_real(value, name: str, *, minimum=None, maximum=None, strict_minimum=False,
+               finite=True) -> float:
+    """Return ``value`` as a float after checking it is a real number in range.
+
+    Parameters
+    ----------
+    value : object
+    name : str
+    minimum, maximum : float or None
+        Bounds (``None``: unbounded); ``maximum`` is inclusive.
+    strict_minimum : bool
+        Require ``value > minimum`` instead of ``>=``.
+    finite : bool
+        Refuse ``inf`` (NaN is always refused).
+
+    Examples
+    --------
+    >>> check_real(0.5, "p", minimum=0.0, maximum=1.0)
+    0.5
+    >>> check_real(float("nan"), "c")
+    Traceback (most recent call last):
+    ...
+    ValueError: c must be a finite real number, got nan
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
+    v = float(value)
+    if math.isnan(v) or (finite and math.isinf(v)):
+        kind = "finite real number" if finite else "real number"
+        raise ValueError(f"{name} must be a {kind}, got {v}")
+    if minimum is not None and (v <= minimum if strict_minimum else v < minimum):
+        op = ">" if strict_minimum else ">="
+        raise ValueError(f"{name} must be {op} {minimum}, got {v}")
+    if maximum is not None and v > maximum:
+        raise ValueError(f"{name} must be <= {maximum}, got {v}")
+    return v
+
+
+def check_type(value, name: str, types, hint: str = ""):
+    """Return ``value`` if it is an instance of ``types``, else raise :class:`TypeError`.
+
+    Examples
+    --------
+    >>> check_type(3, "x", int)
+    3
+    >>> check_type("a", "problem", (int, float), "build one with from_eta")
+    Traceback (most recent call last):
+    ...
+    TypeError: problem must be a int or float, got str; build one with from_eta
+    """
+    if not isinstance(value, types):
+        names = " or ".join(t.__name__ for t in (types if isinstance(types, tuple) else (types,)))
+        raise TypeError(f"{name} must be a {names}, got {type(value).__name__}"
+                        + (f"; {hint}" if hint else ""))
+    return value

@@ -1,0 +1,175 @@
+"""The one place where numba options live, for :mod:`rankedassign` and :mod:`oracle`.
+
+Every compiled kernel of both packages is made by :func:`jit`, so the options below are
+switched in one place:
+
+``RANKEDASSIGN_NUMBA_CACHE``
+    ``"1"`` (default) caches compiled kernels on disk (``cache=True``), so a new process, a
+    ``multiprocessing`` or Dask worker loads them in milliseconds instead of compiling them
+    again (tens of seconds for the samplers); ``"0"`` disables the cache. numbagg defaults to
+    no cache because two processes compiling into one cache can race; numba writes each cache
+    entry atomically (write then rename), and the worst case of such a race is a second
+    compilation, never a wrong kernel, so the cache is on by default here. Turn it off for a
+    read-only installation or when numba warns that it cannot write ``__pycache__``.
+
+``fastmath`` is always off: the sampler kernels must agree bit for bit with the pure-Python
+reference (:mod:`rankedassign.reference`), and fast-math reassociation would break that.
+Setting ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the coverage run does).
+
+Cache invalidation across files. numba's cache notices when the file that defines a kernel
+changes, but not when a kernel it calls (and has compiled into itself) changes in another
+file. :func:`jit` therefore keys every cached kernel by a digest of all the Python sources of
+the package that defines it (``__qualname__`` gets the digest as a suffix, which names the
+cache file): editing any kernel file recompiles everything, and kernels can live in as many
+files as their algorithms need.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import sys
+import types
+from contextlib import contextmanager
+from pathlib import Path
+
+import numba
+
+__all__ = ["CACHE", "jit", "threads", "instantiate", "source_digest"]
+
+CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
+
+
+@functools.cache
+def source_digest(package: str) -> str:
+    """Digest of every ``.py`` file of the installed ``package`` (first 10 hex digits).
+
+    Parameters
+    ----------
+    package : str
+        A top-level package name whose module is already imported (``"rankedassign"``,
+        ``"oracle"``).
+
+    Examples
+    --------
+    >>> len(source_digest("rankedassign"))
+    10
+    """
+    root = Path(sys.modules[package].__file__).parent
+    h = hashlib.sha1(numba.__version__.encode())
+    for path in sorted(root.rglob("*.py")):
+        h.update(str(path.relative_to(root)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:10]
+
+
+def _keyed(func, qualname: str | None = None):
+    """``func`` renamed so that its cache file is specific to the package's sources."""
+    package = func.__module__.split(".")[0]
+    func.__qualname__ = f"{qualname or func.__qualname__}__{source_digest(package)}"
+    return func
+
+
+def jit(*, parallel: bool = False, cache: bool | None = None):
+    """Return numba's ``njit`` decorator with the project's options.
+
+    Parameters
+    ----------
+    parallel : bool, optional
+        Compile with ``parallel=True`` (``prange`` loops run on numba's thread pool).
+    cache : bool, optional
+        Override the on-disk cache setting (default: ``RANKEDASSIGN_NUMBA_CACHE``).
+
+    Returns
+    -------
+    callable
+        A decorator.
+
+    Examples
+    --------
+    >>> from rankedassign.numba_options import jit
+    >>> @jit(cache=False)
+    ... def add(a, b):
+    ...     return a + b
+    >>> add(1, 2)
+    3
+    """
+    use_cache = CACHE if cache is None else cache
+
+    def decorate(func):
+        if use_cache:
+            func = _keyed(func)
+        return numba.njit(cache=use_cache, fastmath=False, nogil=True, parallel=parallel,
+                          error_model="numpy")(func)
+
+    return decorate
+
+
+def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
+                cache: bool | None = None):
+    """Compile a copy of the plain function ``template`` whose globals include ``bindings``.
+
+    This is how one generic kernel (the chain driver of :mod:`rankedassign._chains`) is
+    compiled once per problem type: the template refers to the problem's row update by a
+    global name, and each instantiation binds that name to another compiled function. numba
+    freezes global functions at compile time, so the instantiation calls the bound function
+    directly (no function-pointer indirection), and each instantiation has its own cache file
+    (``name``).
+
+    Parameters
+    ----------
+    template : function
+        A plain (not compiled) Python function.
+    name : str
+        The instantiation's qualified name (must be unique per binding).
+    bindings : dict
+        Global names to add or override for this instantiation.
+    parallel, cache : bool
+        As in :func:`jit`.
+
+    Returns
+    -------
+    numba dispatcher (or the plain copy when ``NUMBA_DISABLE_JIT=1``)
+
+    Examples
+    --------
+    >>> def twice(x):
+    ...     return step(step(x))
+    >>> inc = jit(cache=False)(lambda x: x + 1)
+    >>> twice_inc = instantiate(twice, "twice_inc", {"step": inc}, cache=False)
+    >>> twice_inc(1)
+    3
+    """
+    g = dict(template.__globals__)
+    g.update(bindings)
+    func = types.FunctionType(template.__code__, g, template.__name__, template.__defaults__,
+                              template.__closure__)
+    func.__doc__ = template.__doc__
+    func.__module__ = template.__module__
+    func.__qualname__ = name
+    func.__kwdefaults__ = template.__kwdefaults__
+    return jit(parallel=parallel, cache=cache)(func)
+
+
+@contextmanager
+def threads(n: int):
+    """Run the enclosed block with numba's thread pool limited to ``n`` threads.
+
+    Parameters
+    ----------
+    n : int
+        Number of threads, clipped to ``numba.config.NUMBA_NUM_THREADS``.
+
+    Examples
+    --------
+    >>> from rankedassign.numba_options import threads
+    >>> with threads(1):
+    ...     pass
+    """
+    old = numba.get_num_threads()
+    numba.set_num_threads(max(1, min(int(n), numba.config.NUMBA_NUM_THREADS)))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(old)
