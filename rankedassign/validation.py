@@ -1,4 +1,4 @@
-"""Validation shared by every public boundary of :mod:`rankedassign` (and used by :mod:`oracle`).
+"""Argument checks shared by every public boundary of :mod:`rankedassign` and :mod:`oracle`.
 
 One rule for every argument check in the library:
 
