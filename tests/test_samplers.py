@@ -417,3 +417,19 @@ def test_infeasible_all_missed_and_all_dead_name_the_rows():
         sample_short_chains(p, 3, 3, start="all_dead", backend="python")
     res = sample_original(p, 20, start="lsap", rng=0)
     assert p.is_feasible(res.assignments).all()
+
+
+def test_memory_does_not_grow_with_chain_length():
+    """A run of a few thousand sweeps allocates nothing in proportion to ``chain_length``
+    (regression: a histogram of chain lengths took 8 GB for chain_length = 10**9, and
+    10**10 raised MemoryError). The peak resident size of the process is checked, with a
+    margin of 200 MB for compilation and the interpreter."""
+    import resource
+
+    p = synthetic.random(rng=0)
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
+    for workers in (1, 2):
+        res = sample_short_chains(p, 100, 10**10, tau_stall=5, rng=0, workers=workers)
+        assert res.n_chains_run == 100 and res.n_observations < 10_000
+    grown_mib = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
+    assert grown_mib < 200, f"peak memory grew by {grown_mib:.0f} MiB"
