@@ -109,7 +109,7 @@ def detection_masks(problem: MultiSensorProblem) -> tuple[np.ndarray, int]:
     """
     P = problem.n_rows
     tuples = problem.tuples
-    ok = np.isfinite(problem.log_eta_alive.reshape(P, -1)).any(axis=0)
+    ok = np.isfinite(problem.log_eta_alive.reshape(P, problem.n_tuples)).any(axis=0)
     masks = np.zeros(tuples.shape[0], dtype=np.int64)
     bad = np.zeros(tuples.shape[0], dtype=bool)
     bit = 0
@@ -136,7 +136,7 @@ def _scaled_weights(problem: MultiSensorProblem):
     ``eta = w exp(log_shift)``.
     """
     P = problem.n_rows
-    la = problem.log_eta_alive.reshape(P, -1)
+    la = problem.log_eta_alive.reshape(P, problem.n_tuples)
     ld = problem.log_eta_dead
     shift = np.maximum(la.max(axis=1, initial=-np.inf), ld)
     w_alive = np.exp(la - shift[:, None])

@@ -38,7 +38,7 @@ def row_options(problem: MultiSensorProblem) -> tuple[np.ndarray, np.ndarray]:
     counts : ndarray, int64, shape (P,)
     """
     P = problem.n_rows
-    flat = problem.log_eta_alive.reshape(P, -1)
+    flat = problem.log_eta_alive.reshape(P, problem.n_tuples)
     ok = np.isfinite(flat)
     dead = np.isfinite(problem.log_eta_dead)
     counts = ok.sum(axis=1) + dead

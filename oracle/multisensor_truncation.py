@@ -34,6 +34,8 @@ def _unique_feasible(problem, assignments) -> np.ndarray:
             "out of range, a row mixing -1 with other values, a forbidden option, or a "
             "measurement of some sensor used twice"
         )
+    if g[0].size == 0:  # P = 0: the one, empty, assignment
+        return g[:1]
     return np.unique(g.reshape(g.shape[0], -1), axis=0).reshape(-1, *g.shape[1:])
 
 

@@ -27,7 +27,7 @@ __all__ = ["MultiSensorProblem", "count_feasible_all_positive"]
 # Exact counting with forbidden tuples (a DP over the reachable sets of used measurements)
 # refuses beyond this many states or this much work.
 _COUNT_MAX_STATES = 2**21
-_COUNT_MAX_WORK = 2 * 10**8
+_COUNT_MAX_WORK = 5 * 10**6
 
 
 def _as_float_array(x, name: str) -> np.ndarray:
@@ -227,7 +227,7 @@ class MultiSensorProblem:
                 thetas.append(th)
             log_s.setflags(write=False)
             log_theta = tuple(thetas)
-        flat = a.reshape(P, -1)
+        flat = a.reshape(P, math.prod(a.shape[1:]))
         empty = np.isneginf(d) & np.isneginf(flat).all(axis=1)
         if empty.any():
             n = int(np.flatnonzero(empty)[0])
@@ -519,7 +519,7 @@ class MultiSensorProblem:
         """Every tuple ``t`` of the tuple space, shape ``(prod_v (M_v+1), V)``, int64.
 
         Row ``k`` is the tuple at flat (C-order) index ``k`` of an ``eta_n`` table, so
-        ``log_eta_alive.reshape(P, -1)[:, k]`` is the weight of ``tuples[k]``. Read-only.
+        ``log_eta_alive.reshape(P, T)[:, k]`` is the weight of ``tuples[k]``. Read-only.
 
         Examples
         --------
@@ -681,7 +681,7 @@ class MultiSensorProblem:
             strides[v] = strides[v + 1] * dims[v + 1]
         dead = g[:, :, 0] == -1 if V else np.zeros((n, P), dtype=bool)
         flat = np.where(dead, 0, (np.maximum(g, 0) * strides).sum(axis=2))
-        table = self._log_eta_alive.reshape(P, -1)
+        table = self._log_eta_alive.reshape(P, self.n_tuples)
         alive = table[np.arange(P)[None, :], flat]
         return np.where(dead, self._log_eta_dead[None, :], alive)
 
@@ -806,7 +806,7 @@ class MultiSensorProblem:
         """
         P = self.n_rows
         d = np.isfinite(self._log_eta_dead)
-        a = np.isfinite(self._log_eta_alive.reshape(P, -1))
+        a = np.isfinite(self._log_eta_alive.reshape(P, self.n_tuples))
         if d.all() and a.all():
             return count_feasible_all_positive(P, self.n_meas)
         return self._count_dp(d, a)
@@ -881,7 +881,7 @@ class MultiSensorProblem:
         P = self.n_rows
         if P == 0:
             return
-        flat = self._log_eta_alive.reshape(P, -1)
+        flat = self._log_eta_alive.reshape(P, self.n_tuples)
         must = ~(np.isfinite(self._log_eta_dead) | np.isfinite(flat[:, 0]))
         if not must.any():
             return

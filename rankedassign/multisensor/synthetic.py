@@ -382,11 +382,17 @@ def _check_gaussian_inputs(weights, means, covs, Z, H, R, p_d, kappa):
     for v in range(V):
         h = np.asarray(H[v], dtype=float)
         r = np.asarray(R[v], dtype=float)
-        z = np.asarray(Z[v], dtype=float).reshape(-1, h.shape[0])
         if h.ndim != 2 or h.shape[1] != nx or r.shape != (h.shape[0], h.shape[0]):
             raise ValueError(
                 f"sensor {v}: H must have shape (d, {nx}) and R (d, d), got {h.shape} and "
                 f"{r.shape}"
+            )
+        z = np.asarray(Z[v], dtype=float)
+        if z.size == 0:
+            z = z.reshape(0, h.shape[0])
+        if z.ndim != 2 or z.shape[1] != h.shape[0]:
+            raise ValueError(
+                f"sensor {v}: Z must have shape (M, d) = (M, {h.shape[0]}), got {z.shape}"
             )
         Zs.append(z)
         Hs.append(h)
