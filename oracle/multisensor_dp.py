@@ -129,6 +129,23 @@ def detection_masks(problem: MultiSensorProblem) -> tuple[np.ndarray, int]:
     return masks, bit
 
 
+#: Linear-domain kernels are used while the sum over rows of each row's log-weight range stays
+#: below this many nats (every product of scaled factors then stays far above the smallest
+#: double); beyond it the log-space kernels are used.
+_LINEAR_RANGE = 600.0
+
+
+def _use_log_space(problem: MultiSensorProblem) -> bool:
+    """Whether some product of per-row scaled weights could underflow (see ``_LINEAR_RANGE``)."""
+    P = problem.n_rows
+    lw = np.concatenate([problem.log_eta_dead[:, None],
+                         problem.log_eta_alive.reshape(P, problem.n_tuples)], axis=1)
+    fin = np.isfinite(lw)
+    hi = np.where(fin, lw, -np.inf).max(axis=1)
+    lo = np.where(fin, lw, np.inf).min(axis=1)
+    return bool((hi - lo).sum() > _LINEAR_RANGE)
+
+
 def _scaled_weights(problem: MultiSensorProblem):
     """Per-row weights divided by the row's largest weight (every factor ``<= 1``).
 
@@ -260,6 +277,87 @@ def _row_marginal_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - 
     return dead, alive, log_z
 
 
+@jit()
+def _lae(a, b):  # pragma: no cover - compiled
+    """``ln(e^a + e^b)`` without overflow (either may be ``-inf``)."""
+    if a == -np.inf:
+        return b
+    if b == -np.inf:
+        return a
+    if a >= b:
+        return a + np.log1p(np.exp(b - a))
+    return b + np.log1p(np.exp(a - b))
+
+
+@jit()
+def _row_dp_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cover - compiled
+    """:func:`_row_dp_kernel` in log space, for weights whose range could underflow.
+
+    Same recursion on ``ln f``; ``l_dead``, ``l_alive`` are log-weights (``-inf`` forbidden).
+    Returns ``ln Z``.
+    """
+    P, T = l_alive.shape
+    N = 1 << n_bits
+    f = np.full(N, -np.inf)
+    f[0] = 0.0
+    for n in range(P):
+        g = np.full(N, -np.inf)
+        for S in range(N):
+            fs = f[S]
+            if fs == -np.inf:
+                continue
+            g[S] = _lae(g[S], l_dead[n] + fs)
+            for k in range(T):
+                m = masks[k]
+                w = l_alive[n, k]
+                if w != -np.inf and m >= 0 and (S & m) == 0:
+                    g[S | m] = _lae(g[S | m], w + fs)
+        f = g
+    out = -np.inf
+    for S in range(N):
+        out = _lae(out, f[S])
+    return out
+
+
+@jit()
+def _row_marginal_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cover - compiled
+    """:func:`_row_marginal_kernel` in log space: ``(ln dead (P,), ln alive (P, T), ln Z)``
+    with each row on its own scale."""
+    P, T = l_alive.shape
+    N = 1 << n_bits
+    beta = np.full((P + 1, N), -np.inf)
+    beta[P, :] = 0.0
+    for n in range(P - 1, -1, -1):
+        for S in range(N):
+            acc = l_dead[n] + beta[n + 1, S]
+            for k in range(T):
+                m = masks[k]
+                w = l_alive[n, k]
+                if w != -np.inf and m >= 0 and (S & m) == 0:
+                    acc = _lae(acc, w + beta[n + 1, S | m])
+            beta[n, S] = acc
+    dead = np.full(P, -np.inf)
+    alive = np.full((P, T), -np.inf)
+    alpha = np.full(N, -np.inf)
+    alpha[0] = 0.0
+    for n in range(P):
+        nxt = np.full(N, -np.inf)
+        for S in range(N):
+            a = alpha[S]
+            if a == -np.inf:
+                continue
+            dead[n] = _lae(dead[n], a + l_dead[n] + beta[n + 1, S])
+            nxt[S] = _lae(nxt[S], l_dead[n] + a)
+            for k in range(T):
+                m = masks[k]
+                w = l_alive[n, k]
+                if w != -np.inf and m >= 0 and (S & m) == 0:
+                    alive[n, k] = _lae(alive[n, k], a + w + beta[n + 1, S | m])
+                    nxt[S | m] = _lae(nxt[S | m], w + a)
+        alpha = nxt
+    return dead, alive, beta[0, 0]
+
+
 def _row_dp_reference(w_dead, w_alive, masks, n_bits):
     """Pure-numpy specification of :func:`_row_dp_kernel` (pull form, no rescaling)."""
     P, T = w_alive.shape
@@ -350,6 +448,27 @@ def _permanent_kernel(theta):  # pragma: no cover - compiled
     return f
 
 
+@jit()
+def _permanent_log_kernel(log_theta):  # pragma: no cover - compiled
+    """:func:`_permanent_kernel` in log space (``ln Perm(A)``), for huge weight ranges."""
+    P, M1 = log_theta.shape
+    N = 1 << P
+    f = np.full(N, -np.inf)
+    f[0] = 0.0
+    for j in range(1, M1):
+        for S in range(N - 1, 0, -1):
+            acc = f[S]
+            for i in range(P):
+                if (S >> i) & 1:
+                    acc = _lae(acc, log_theta[i, j] + f[S ^ (1 << i)])
+            f[S] = acc
+    for i in range(P):
+        for S in range(N - 1, 0, -1):
+            if (S >> i) & 1:
+                f[S] = _lae(f[S], log_theta[i, 0] + f[S ^ (1 << i)])
+    return f
+
+
 def _permanent_reference(theta):
     """Pure-numpy specification of :func:`_permanent_kernel` (pull form over subsets)."""
     P, M1 = theta.shape
@@ -394,12 +513,16 @@ def _plan(problem: MultiSensorProblem, method: str, *, marginal: bool):
 
 def _log_normalizer(problem: MultiSensorProblem, method: str = "auto") -> float:
     check_choice(method, "method", _METHODS)
-    if problem.n_rows == 0:
+    P = problem.n_rows
+    if P == 0:
         return 0.0
     kind, arg = _plan(problem, method, marginal=False)
     if kind == "enumerate":
         return float(logsumexp(-enumerate_assignments(problem, limit=_ENUMERATE_LIMIT).costs))
     masks, B = arg
+    if _use_log_space(problem):
+        la = np.ascontiguousarray(problem.log_eta_alive.reshape(P, problem.n_tuples))
+        return float(_row_dp_log_kernel(problem.log_eta_dead, la, masks, B))
     w_dead, w_alive, shift = _scaled_weights(problem)
     return float(_row_dp_kernel(w_dead, w_alive, masks, B) + shift.sum())
 
@@ -428,11 +551,18 @@ def _marginals(problem: MultiSensorProblem, method: str = "auto") -> MultiSensor
                                    minlength=alive.shape[1])
     else:
         masks, B = arg
-        w_dead, w_alive, _ = _scaled_weights(problem)
-        dead, alive, _ = _row_marginal_kernel(w_dead, w_alive, masks, B)
-        tot = dead + alive.sum(axis=1)
-        dead = dead / tot
-        alive = alive / tot[:, None]
+        if _use_log_space(problem):
+            la = np.ascontiguousarray(problem.log_eta_alive.reshape(P, problem.n_tuples))
+            ld, lal, _ = _row_marginal_log_kernel(problem.log_eta_dead, la, masks, B)
+            tot = np.logaddexp(ld, logsumexp(lal, axis=1))
+            dead = np.exp(ld - tot)
+            alive = np.exp(lal - tot[:, None])
+        else:
+            w_dead, w_alive, _ = _scaled_weights(problem)
+            dead, alive, _ = _row_marginal_kernel(w_dead, w_alive, masks, B)
+            tot = dead + alive.sum(axis=1)
+            dead = dead / tot
+            alive = alive / tot[:, None]
     return _package(problem, dead, alive.reshape(dims))
 
 
@@ -481,7 +611,9 @@ def log_normalizer(problem) -> float:
     ``Z = sum_S f_P(S)``. Only *reachable* measurements (used by some allowed tuple of some
     row) get a bit, so gating shrinks the state. Time ``O(P 2^B prod_v (M_v+1))``, memory
     ``O(2^B)``. Each row's weights are divided by their largest value and every step's vector
-    by its maximum, so nothing under- or overflows. With more than ``MAX_MASK_BITS`` bits
+    by its maximum; when the rows' log-weight ranges add up to more than 600 nats, so that a
+    product of scaled weights could underflow, the same DP runs in log space instead (about
+    ten times slower), so nothing under- or overflows. With more than ``MAX_MASK_BITS`` bits
     (``P = 2, M = (16, 16)`` has 32) the sum runs over the enumeration instead when
     ``|Gamma| <= 2 000 000``. With ``V = 1`` the result equals the single-sensor
     :func:`oracle.log_normalizer`.
@@ -640,6 +772,11 @@ def surrogate_log_normalizer(problem) -> float:
     for lt in problem.log_theta:
         shift = lt.max(axis=1)
         shift = np.where(np.isfinite(shift), shift, 0.0)
+        low = np.where(np.isfinite(lt), lt, np.inf).min(axis=1)
+        if np.where(np.isfinite(low), shift - low, 0.0).sum() > _LINEAR_RANGE:
+            # a product of scaled factors could underflow: the same DP in log space
+            log_perm = log_perm + _permanent_log_kernel(np.ascontiguousarray(lt))
+            continue
         theta = np.ascontiguousarray(np.exp(lt - shift[:, None]))
         log_s = log_s + shift  # Perm_v(A) = prod_{n in A} e^shift_n * Perm~_v(A)
         with np.errstate(divide="ignore"):
