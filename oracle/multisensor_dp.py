@@ -146,6 +146,23 @@ def _use_log_space(problem: MultiSensorProblem) -> bool:
     return bool((hi - lo).sum() > _LINEAR_RANGE)
 
 
+def sensor_caps(problem: MultiSensorProblem, n_bits: int) -> np.ndarray:
+    """``cap[S]``: the most measurements of one sensor in the bitset ``S`` (int8, ``2^B``)."""
+    P = problem.n_rows
+    tuples = problem.tuples
+    ok = np.isfinite(problem.log_eta_alive.reshape(P, problem.n_tuples)).any(axis=0)
+    S = np.arange(1 << n_bits, dtype=np.int64)
+    cap = np.zeros(S.size, dtype=np.int8)
+    lo = 0
+    for v in range(problem.n_sensors):
+        k = np.unique(tuples[ok, v])
+        k = int((k > 0).sum())  # reachable measurements of sensor v hold bits lo..lo+k-1
+        mask = ((1 << k) - 1) << lo
+        cap = np.maximum(cap, np.bitwise_count(S & mask).astype(np.int8))
+        lo += k
+    return cap
+
+
 def _scaled_weights(problem: MultiSensorProblem):
     """Per-row weights divided by the row's largest weight (every factor ``<= 1``).
 
@@ -209,12 +226,16 @@ def _row_dp_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - compil
 
 
 @jit()
-def _row_marginal_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - compiled
+def _row_marginal_kernel(w_dead, w_alive, masks, n_bits, cap):  # pragma: no cover - compiled
     """Backward then forward row DP: unnormalised row marginals and ``ln`` of the scaled Z.
 
     ``beta_n(S)`` is the weight of completing rows ``n..P-1`` when the measurements in ``S``
     are taken; ``alpha_n(S)`` the weight of rows ``0..n-1`` using exactly ``S``. Then
     ``P(gamma_n = t) ~ eta_n(t) sum_{S : S & det t = 0} alpha_n(S) beta_{n+1}(S | det t)``.
+
+    ``cap[S]`` is the largest number of measurements ``S`` holds of any one sensor: rows
+    ``0..n-1`` use at most ``n`` of each sensor, so ``beta_n`` is only needed (and only
+    computed) where ``cap[S] <= n``.
 
     Returns
     -------
@@ -225,11 +246,13 @@ def _row_marginal_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - 
     """
     P, T = w_alive.shape
     N = 1 << n_bits
-    beta = np.empty((P + 1, N))
+    beta = np.zeros((P + 1, N))
     log_b = np.zeros(P + 1)
     beta[P, :] = 1.0
     for n in range(P - 1, -1, -1):
         for S in range(N):
+            if cap[S] > n:
+                continue
             acc = w_dead[n] * beta[n + 1, S]
             for k in range(T):
                 m = masks[k]
@@ -320,7 +343,7 @@ def _row_dp_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cover - co
 
 
 @jit()
-def _row_marginal_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cover - compiled
+def _row_marginal_log_kernel(l_dead, l_alive, masks, n_bits, cap):  # pragma: no cover
     """:func:`_row_marginal_kernel` in log space: ``(ln dead (P,), ln alive (P, T), ln Z)``
     with each row on its own scale."""
     P, T = l_alive.shape
@@ -329,6 +352,8 @@ def _row_marginal_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cove
     beta[P, :] = 0.0
     for n in range(P - 1, -1, -1):
         for S in range(N):
+            if cap[S] > n:
+                continue
             acc = l_dead[n] + beta[n + 1, S]
             for k in range(T):
                 m = masks[k]
@@ -553,13 +578,15 @@ def _marginals(problem: MultiSensorProblem, method: str = "auto") -> MultiSensor
         masks, B = arg
         if _use_log_space(problem):
             la = np.ascontiguousarray(problem.log_eta_alive.reshape(P, problem.n_tuples))
-            ld, lal, _ = _row_marginal_log_kernel(problem.log_eta_dead, la, masks, B)
+            ld, lal, _ = _row_marginal_log_kernel(problem.log_eta_dead, la, masks, B,
+                                                  sensor_caps(problem, B))
             tot = np.logaddexp(ld, logsumexp(lal, axis=1))
             dead = np.exp(ld - tot)
             alive = np.exp(lal - tot[:, None])
         else:
             w_dead, w_alive, _ = _scaled_weights(problem)
-            dead, alive, _ = _row_marginal_kernel(w_dead, w_alive, masks, B)
+            dead, alive, _ = _row_marginal_kernel(w_dead, w_alive, masks, B,
+                                                  sensor_caps(problem, B))
             tot = dead + alive.sum(axis=1)
             dead = dead / tot
             alive = alive / tot[:, None]
@@ -669,8 +696,9 @@ def marginals(problem) -> MultiSensorMarginals:
         P(gamma_n = -1) ~ eta_n(-1) sum_S alpha_n(S) beta_{n+1}(S)
         P(gamma_n = t)  ~ eta_n(t)  sum_{S & det t = 0} alpha_n(S) beta_{n+1}(S | det t)
 
-    normalised per row (each row's total is ``Z`` in exact arithmetic). Time about three
-    times :func:`log_normalizer`, memory ``(P + 1) 2^B`` doubles. Tested against spec §6.2's
+    normalised per row (each row's total is ``Z`` in exact arithmetic). Rows ``0..n-1`` use at
+    most ``n`` measurements of each sensor, so ``beta_n`` is computed only on such sets.
+    Memory ``(P + 1) 2^B`` doubles. Tested against spec §6.2's
     per-row DP with a zeta transform and against enumeration. When the DP does not fit and
     ``|Gamma| <= 2 000 000`` the marginals are summed over the enumeration.
 

@@ -188,7 +188,7 @@ def test_dp_kernels_match_references(problem):
     args = _scaled_inputs(problem)
     assert_allclose(msdp._row_dp_kernel(*args), msdp._row_dp_reference(*args), rtol=0,
                     atol=1e-12)
-    dead, alive, log_z = msdp._row_marginal_kernel(*args)
+    dead, alive, log_z = msdp._row_marginal_kernel(*args, msdp.sensor_caps(problem, args[3]))
     tot = dead + alive.sum(axis=1)
     rd, ra = msdp._row_marginal_reference(*args)
     assert_allclose(dead / tot, rd, rtol=0, atol=1e-12)
@@ -200,7 +200,8 @@ def test_dp_kernels_match_references(problem):
     ld = problem.log_eta_dead
     shift = msdp._scaled_weights(problem)[2].sum()
     assert_allclose(msdp._row_dp_log_kernel(ld, la, masks, B), log_z + shift, rtol=0, atol=1e-12)
-    lgd, lga, lz2 = msdp._row_marginal_log_kernel(ld, la, masks, B)
+    lgd, lga, lz2 = msdp._row_marginal_log_kernel(ld, la, masks, B,
+                                                   msdp.sensor_caps(problem, B))
     tot = np.logaddexp(lgd, logsumexp(lga, axis=1))
     assert_allclose(np.exp(lgd - tot), rd, rtol=0, atol=1e-12)
     assert_allclose(np.exp(lga - tot[:, None]), ra, rtol=0, atol=1e-12)
