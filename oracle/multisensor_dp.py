@@ -784,7 +784,11 @@ def surrogate_log_normalizer(problem) -> float:
     True
     """
     problem = check_ms_problem(problem)
-    problem._require_factors("surrogate_log_normalizer")
+    if problem.log_s is None:
+        raise ValueError(
+            "surrogate_log_normalizer needs the separable factors s and theta (spec §3.1); "
+            "build the problem with MultiSensorProblem.from_factors"
+        )
     P = problem.n_rows
     if P > MAX_SURROGATE_ROWS:
         raise ValueError(

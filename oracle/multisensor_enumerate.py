@@ -194,7 +194,9 @@ def count_assignments(problem, *, limit: int | None = None) -> int:
     ----------
     problem : MultiSensorProblem
     limit : int, optional
-        Stop a search once the count passes ``limit`` and return ``limit + 1``.
+        Stop a search once the count passes ``limit`` and return ``limit + 1``. Without it a
+        search (needed only when the problem's own counting DP refuses, i.e. with forbidden
+        tuples and many measurements) takes ``O(|Gamma|)`` steps.
 
     Returns
     -------
