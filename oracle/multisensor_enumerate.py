@@ -65,6 +65,11 @@ def gamma_from_codes(problem: MultiSensorProblem, codes) -> np.ndarray:
     -------
     ndarray, int64, shape (n, P, V)
 
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+
     Examples
     --------
     >>> import numpy as np
@@ -201,6 +206,11 @@ def count_assignments(problem, *, limit: int | None = None) -> int:
     Returns
     -------
     int
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
 
     Examples
     --------

@@ -112,6 +112,11 @@ def best_mass(problem, k: int) -> float:
     ValueError
         If ``k < 0`` or ``|Gamma| > 2 000 000``.
 
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+
     Examples
     --------
     >>> from rankedassign.multisensor import synthetic

@@ -94,6 +94,11 @@ def count_feasible_all_positive(n_rows: int, n_meas) -> int:
     int
         Exact (a Python int).
 
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+
     Examples
     --------
     >>> count_feasible_all_positive(4, (4, 4)), count_feasible_all_positive(3, (4, 4, 4))

@@ -78,6 +78,13 @@ def factors_from_parameters(r, p_s, p_d, q, *, pbar_d: str = "pd"):
     theta : list of V ndarrays, shape (P, M_v+1)
         ``[1 - Pbar_D | Pbar_D q^(v)]``.
 
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
     Examples
     --------
     >>> d, s, th = factors_from_parameters([0.99], [0.99], [[0.99]], [[[50.0]]])
@@ -120,6 +127,13 @@ def diagonal(P: int = 4, M=(4, 4), *, pbar_d: str = "pd") -> MultiSensorProblem:
     MultiSensorProblem
         With separable factors.
 
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
     Examples
     --------
     >>> from rankedassign.multisensor import synthetic
@@ -156,6 +170,13 @@ def uniform(P: int = 4, M=(4, 4)) -> MultiSensorProblem:
     Returns
     -------
     MultiSensorProblem
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
 
     Examples
     --------
@@ -203,6 +224,13 @@ def random(P: int = 4, M=(4, 4), *, pbar_d: str = "pd", rng=None) -> MultiSensor
     ``V = 1`` these are the draws of :func:`rankedassign.synthetic.random` with
     ``granularity="row"``.
 
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
     Examples
     --------
     >>> from rankedassign.multisensor import synthetic
@@ -244,6 +272,13 @@ def random_coupled(P: int = 4, M=(4, 4), *, sigma: float = 1.0, pbar_d: str = "p
     The draws of :func:`random` come first, then ``eps`` for the whole table
     ``(P, prod_v (M_v+1))`` in C order (entries with fewer than two detections are drawn and
     ignored).
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
 
     Examples
     --------
@@ -313,6 +348,13 @@ def geometric(P: int = 4, M=(4, 4), *, region: float = 100.0, sigma_p: float = 5
     -----
     Draw order: prior means (P x 2), true positions' offsets (P x 2), then per sensor the
     detection noise (min(P, M_v) x 2) and the clutter positions ((M_v - min(P, M_v)) x 2).
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
 
     Examples
     --------
@@ -434,6 +476,13 @@ def log_psi_linear_gaussian(weights, means, covs, Z, H, R, p_d, kappa, *,
         with ``Pi_miss = prod_{v not in D} (1 - P_D^(v))`` and
         ``Pi_det = prod_{v in D} P_D^(v) / kappa^(v)(z_{t[v]})``; the all-missed tuple gets
         ``ln(Pi_miss sum_k w_k)``.
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23), 2019.
+    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
 
     Examples
     --------
