@@ -50,6 +50,23 @@ def test_from_log_eta_equals_from_eta():
     assert repr(x) == "MultiSensorProblem(P=3, M=(1, 2, 1))"
 
 
+def test_equality_includes_the_factors_and_pickling_keeps_everything_read_only():
+    import pickle
+
+    th = [np.array([[0.5, 2.0]]), np.array([[0.25, 4.0, 1.0]])]
+    f = MultiSensorProblem.from_factors([0.5], [0.9], th)
+    e = MultiSensorProblem.from_log_eta(f.log_eta_dead, f.log_eta_alive)
+    assert f != e and e == MultiSensorProblem.from_log_eta(f.log_eta_dead, f.log_eta_alive)
+    assert hash(f) == hash(e)  # equal weights, equal hash
+    assert f != MultiSensorProblem.from_factors([0.5], [0.9], [th[0], th[1] * 1.5])
+    for p in (f, e):
+        q = pickle.loads(pickle.dumps(p))
+        assert q == p
+        assert not q.log_eta_alive.flags.writeable and not q.log_eta_dead.flags.writeable
+    q = pickle.loads(pickle.dumps(f))
+    assert not q.log_s.flags.writeable and not q.log_theta[1].flags.writeable
+
+
 def test_from_factors_products_and_surrogate():
     rng = np.random.default_rng(1)
     th = [rng.uniform(0.1, 2, (2, 3)), rng.uniform(0.1, 2, (2, 2))]

@@ -599,11 +599,23 @@ class MultiSensorProblem:
         return f"MultiSensorProblem(P={self.n_rows}, M={self.n_meas})"
 
     def __eq__(self, other) -> bool:
+        """Equal weights and equal separable factors (both absent, or equal arrays)."""
         if not isinstance(other, MultiSensorProblem):
             return NotImplemented
-        return (self._log_eta_alive.shape == other._log_eta_alive.shape
+        same = (self._log_eta_alive.shape == other._log_eta_alive.shape
                 and bool(np.array_equal(self._log_eta_dead, other._log_eta_dead))
                 and bool(np.array_equal(self._log_eta_alive, other._log_eta_alive)))
+        if not same or (self._log_s is None) != (other._log_s is None):
+            return False
+        if self._log_s is None:
+            return True
+        return bool(np.array_equal(self._log_s, other._log_s)) and all(
+            np.array_equal(a, b) for a, b in zip(self._log_theta, other._log_theta, strict=True))
+
+    def __reduce__(self):
+        # rebuild through the validating constructor, so an unpickled problem is read-only too
+        return (MultiSensorProblem,
+                (self._log_eta_dead, self._log_eta_alive, self._log_s, self._log_theta))
 
     def __hash__(self) -> int:
         return hash((self._log_eta_alive.shape, self._log_eta_dead.tobytes(),
