@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import count_kernel, enumerate_kernel
-from ._result import Ranked, check_count, check_problem, ranked
+from rankedassign.validation import check_int
+
+from ._kernels.enumeration import count_kernel, enumerate_sorted_kernel
+from ._result import Ranked, check_problem, ranked
 
 __all__ = ["enumerate_assignments"]
 
@@ -74,7 +76,7 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     76848
     """
     check_problem(problem)
-    limit = check_count(limit, "limit", minimum=1)
+    limit = check_int(limit, "limit", minimum=1)
     n, exact = _count(problem, limit)
     if n > limit:
         count = f"{n}" if exact else f"more than {limit}"
@@ -85,11 +87,9 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     P = problem.n_rows
     if P == 0:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
-    a = enumerate_kernel(np.ascontiguousarray(problem.compact_cost), n)
-    costs = problem.cost_of(a)
     # The search emits assignments in lexicographic order of their column indices (row 0
     # slowest; a row's options in increasing column order: measurements j < M, then its
-    # missed column M + i, then its dead column M + P + i), so a stable sort by cost alone
-    # leaves equal costs in lexicographic order.
-    order = np.argsort(costs, kind="stable")
-    return Ranked(np.ascontiguousarray(a[order]), costs[order])
+    # missed column M + i, then its dead column M + P + i) and scores each one as it goes; one
+    # stable sort by cost then leaves equal costs in lexicographic order.
+    a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
+    return Ranked(a, costs)

@@ -7,8 +7,10 @@ import heapq
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ._kernels import murty_kernel
-from ._result import Ranked, check_count, check_problem, ranked
+from rankedassign.validation import check_int
+
+from ._kernels.murty import murty_kernel
+from ._result import Ranked, check_problem, ranked
 
 __all__ = ["murty"]
 
@@ -144,7 +146,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     [[0, 1, 2, 3]]
     """
     check_problem(problem)
-    k = check_count(k, "k", minimum=0)
+    k = check_int(k, "k", minimum=0)
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
     P = problem.n_rows

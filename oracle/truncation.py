@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
-from ._result import check_count, check_problem
+from rankedassign.validation import check_int
+
+from ._result import check_problem
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
 from .murty import murty
@@ -156,7 +158,7 @@ def best_mass(problem, k: int) -> float:
     0.5
     """
     check_problem(problem)
-    k = check_count(k, "k", minimum=0)
+    k = check_int(k, "k", minimum=0)
     if k == 0:
         return 0.0
     try:

@@ -123,10 +123,10 @@ def test_too_large_message_states_count_and_limit():
 @pytest.mark.parametrize(
     "kwargs, exc, match",
     [
-        ({"limit": 0}, ValueError, "limit must be a positive int, got 0"),
-        ({"limit": -3}, ValueError, "limit must be a positive int, got -3"),
-        ({"limit": 2.5}, TypeError, "limit must be an int, got float"),
-        ({"limit": True}, TypeError, "limit must be an int, got bool"),
+        ({"limit": 0}, ValueError, "limit must be an int >= 1, got 0"),
+        ({"limit": -3}, ValueError, "limit must be an int >= 1, got -3"),
+        ({"limit": 2.5}, TypeError, "limit must be an int, got float 2.5"),
+        ({"limit": True}, TypeError, "limit must be an int, got bool True"),
     ],
 )
 def test_bad_limit(kwargs, exc, match):

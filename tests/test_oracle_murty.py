@@ -141,10 +141,10 @@ def test_k_zero_and_degenerate_shapes():
 @pytest.mark.parametrize(
     "k, exc, match",
     [
-        (-1, ValueError, "k must be a non-negative int, got -1"),
-        (1.0, TypeError, "k must be an int, got float"),
-        (True, TypeError, "k must be an int, got bool"),
-        ("3", TypeError, "k must be an int, got str"),
+        (-1, ValueError, "k must be an int >= 0, got -1"),
+        (1.0, TypeError, "k must be an int, got float 1.0"),
+        (True, TypeError, "k must be an int, got bool True"),
+        ("3", TypeError, "k must be an int, got str '3'"),
     ],
 )
 def test_bad_k(k, exc, match):
