@@ -9,7 +9,7 @@ from scipy.optimize import linear_sum_assignment
 
 from rankedassign.validation import check_int
 
-from ._kernels.murty import murty_kernel
+from ._kernels.murty import murty_compact_kernel
 from ._result import Ranked, check_problem, ranked
 
 __all__ = ["murty"]
@@ -157,4 +157,4 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     k = _k_cap(problem, k)
     if method == "scipy":
         return ranked(problem, _murty_scipy(problem, k))
-    return ranked(problem, murty_kernel(np.ascontiguousarray(problem.cost), k))
+    return ranked(problem, murty_compact_kernel(np.ascontiguousarray(problem.compact_cost), k))

@@ -1,9 +1,11 @@
 """Compiled Murty k-best ranked assignment (spec §5.1) with the Miller–Stone–Cox improvements.
 
-The driver :func:`murty_kernel` pops the best open subproblem, reports it and partitions it;
-each phase is a small helper: the node's working matrix (:func:`_apply_forbidden`), the
-partition order (:func:`_partition_order`), one warm-started child (:func:`_solve_child`) and
-its storage (:func:`_store_node`). Costs are accumulated row by row in the order ``0..P-1``
+The driver :func:`murty_kernel` pops the best open subproblem of the partition tree. A node
+that is only *bounded* is solved (:func:`_solve_node`) and pushed back with its exact cost; a
+*solved* node is reported and partitioned (:func:`_partition`): its children are pushed with
+a lower bound only (:func:`_partition_order` computes the bounds), so most of them are never
+solved. Forbidden pairs are switched on and off in the shared :data:`~.lsap.Graph`
+(:func:`_forbid`, :func:`_allow`). Costs are accumulated row by row in the order ``0..P-1``
 from ``0.0``, exactly as :meth:`rankedassign.AssignmentProblem.cost_of` does.
 """
 
@@ -15,38 +17,56 @@ import numpy as np
 
 from rankedassign.numba_options import jit
 
-from .lsap import UNASSIGNED, lsap_kernel, new_workspace, sap_augment
+from .lsap import (
+    COLD,
+    UNASSIGNED,
+    Graph,
+    new_matching,
+    new_workspace,
+    sap_augment,
+)
 
 __all__ = ["murty_kernel"]
 
-NO_NODE = -1  # end of a forbidden-pair list
+NO_ENTRY = -1  # end of a forbidden-pair list; slot of a node that is not solved yet
 _INITIAL_CAPACITY = 1024
+# Relative slack subtracted from a lower bound so that rounding can never lift it above the
+# exact cost it bounds (the order of the output then equals that of solving every child).
+_BOUND_SLACK = 1e-9
 
-#: The partition tree. Node ``n`` holds its optimal assignment ``sol[n]``, optimal duals
-#: ``u[n], v[n]``, the common potential ``v_free[n]`` of its free columns, its cost ``key[n]``,
-#: which rows it fixes (``fixed[n]``) and the head of its forbidden-pair list
-#: (``forb_head[n]``, an index into :data:`Forbidden`, shared with its ancestors).
-Nodes = namedtuple("Nodes", ["sol", "u", "v", "v_free", "key", "fixed", "forb_head"])
+#: The partition tree, one entry per node: its heap key (exact cost once solved, a lower bound
+#: before), its slot in :data:`Solutions` (``NO_ENTRY`` until solved), the slot of its parent's
+#: solution, the head of its forbidden-pair list (its own pair first, then its ancestors') and
+#: which rows it fixes to the parent's columns.
+Nodes = namedtuple("Nodes", ["key", "slot", "parent", "forb_head", "fixed"])
 
-#: Forbidden pairs as linked lists: entry ``f`` forbids ``(row[f], col[f])`` and continues at
-#: ``next[f]`` (``NO_NODE`` ends the list).
-Forbidden = namedtuple("Forbidden", ["row", "col", "next"])
+#: Solved nodes: optimal assignment, duals and the shared potential of the free columns.
+Solutions = namedtuple("Solutions", ["sol", "u", "v", "v_free"])
 
-#: One child's assignment state, warm-started from its parent.
-ChildState = namedtuple("ChildState", ["u", "v", "col4row", "row4col", "active"])
+#: Forbidden pairs as linked lists: entry ``f`` forbids row ``row[f]``'s graph entry
+#: ``entry[f]`` and continues at ``next[f]`` (``NO_ENTRY`` ends the list).
+Forbidden = namedtuple("Forbidden", ["row", "entry", "next"])
 
 
 @jit()
-def _row_cost(C, a):
+def _assignment_cost(g, P, col4row, entry_of):
+    """Cost of an assignment summed row by row from ``0.0`` (as ``AssignmentProblem.cost_of``).
+
+    ``entry_of`` is scratch (one int per row); it receives the graph entry of each row.
+    """
     s = 0.0
-    for i in range(a.shape[0]):
-        s += C[i, a[i]]  # row order 0..P-1, as AssignmentProblem.cost_of
+    for i in range(P):
+        for e in range(g.ptr[i], g.ptr[i + 1]):
+            if g.col[e] == col4row[i]:
+                entry_of[i] = e
+                s += g.cost0[e]
+                break
     return s
 
 
 @jit()
 def _heap_less(keys, heap, a, b):
-    """Compare heap slots ``a, b`` by (cost, node id): deterministic order among equal costs."""
+    """Compare heap slots ``a, b`` by (key, node id): deterministic order among equal keys."""
     na = heap[a]
     nb = heap[b]
     return keys[na] < keys[nb] or (keys[na] == keys[nb] and na < nb)
@@ -96,59 +116,100 @@ def _grow(a, n):
 
 
 @jit()
-def _new_nodes(cap, P, N):
-    return Nodes(np.empty((cap, P), dtype=np.int64), np.empty((cap, P)), np.empty((cap, N)),
-                 np.empty(cap), np.empty(cap), np.zeros((cap, P), dtype=np.bool_),
-                 np.empty(cap, dtype=np.int64))
+def _new_nodes(cap, P):
+    return Nodes(np.empty(cap), np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int64),
+                 np.empty(cap, dtype=np.int64), np.empty((cap, P), dtype=np.bool_))
 
 
 @jit()
 def _grow_nodes(nodes, cap):
-    return Nodes(_grow(nodes.sol, cap), _grow(nodes.u, cap), _grow(nodes.v, cap),
-                 _grow(nodes.v_free, cap), _grow(nodes.key, cap), _grow(nodes.fixed, cap),
-                 _grow(nodes.forb_head, cap))
+    return Nodes(_grow(nodes.key, cap), _grow(nodes.slot, cap), _grow(nodes.parent, cap),
+                 _grow(nodes.forb_head, cap), _grow(nodes.fixed, cap))
+
+
+@jit()
+def _new_solutions(cap, P, N):
+    return Solutions(np.empty((cap, P), dtype=np.int64), np.empty((cap, P)), np.empty((cap, N)),
+                     np.empty(cap))
+
+
+@jit()
+def _grow_solutions(sols, cap):
+    return Solutions(_grow(sols.sol, cap), _grow(sols.u, cap), _grow(sols.v, cap),
+                     _grow(sols.v_free, cap))
 
 
 @jit()
 def _grow_forbidden(forb, cap):
-    return Forbidden(_grow(forb.row, cap), _grow(forb.col, cap), _grow(forb.next, cap))
+    return Forbidden(_grow(forb.row, cap), _grow(forb.entry, cap), _grow(forb.next, cap))
 
 
 @jit()
-def _apply_forbidden(C, W, forb, head):
-    """``W = C`` with the pairs of the forbidden list starting at ``head`` set to ``+inf``."""
-    P, N = C.shape
-    for i in range(P):
-        for j in range(N):
-            W[i, j] = C[i, j]
+def _forbid(g, forb, head):
+    """Switch off the graph entries of the forbidden list starting at ``head``."""
     f = head
-    while f != NO_NODE:
-        W[forb.row[f], forb.col[f]] = np.inf
+    while f != NO_ENTRY:
+        g.cost[forb.entry[f]] = np.inf
         f = forb.next[f]
 
 
 @jit()
-def _partition_order(W, s, pu, pv, fixed, lb, order):
+def _allow(g, forb, head):
+    """Undo :func:`_forbid`."""
+    f = head
+    while f != NO_ENTRY:
+        e = forb.entry[f]
+        g.cost[e] = g.cost0[e]
+        f = forb.next[f]
+
+
+@jit()
+def _load(m, s, fixed):
+    """Matching ``s`` in ``m``: ``row4col`` and the inactive columns of the fixed rows."""
+    for i in range(s.shape[0]):
+        m.col4row[i] = s[i]
+        m.row4col[s[i]] = i
+        if fixed[i]:
+            m.active[s[i]] = False  # a fixed row's column is out of the residual problem
+
+
+@jit()
+def _unload(m):
+    """Undo :func:`_load` for the matching now in ``m`` (every column free and active again)."""
+    for i in range(m.col4row.shape[0]):
+        c = m.col4row[i]
+        if c >= 0:
+            m.row4col[c] = UNASSIGNED
+            m.active[c] = True
+
+
+@jit()
+def _partition_order(g, s, entry_of, u, v, v_free, m, fixed, lb, order):
     """Free rows of a node in decreasing order of a lower bound on their child's increase.
 
-    ``lb[i]`` is the smallest reduced cost ``W[i, j] - pu[i] - pv[j]`` of an alternative column
-    ``j != s[i]`` (``+inf``: the child is infeasible). Children expected to be worst get the
-    fewest fixings, the most promising ones the smallest residual problems (Miller, Stone &
-    Cox 1997). Returns the number of free rows, listed in ``order``; ties keep row order.
+    ``m`` holds the node's matching ``s`` (:func:`_load`). ``lb[i]`` is the smallest reduced
+    cost ``cost - u[i] - v[j]`` of an allowed, active alternative ``j != s[i]`` of row ``i``
+    (``+inf``: the child is infeasible); the child's optimum is at least the node's plus
+    ``lb[i]`` (Miller, Stone & Cox 1997). Children expected to be worst get the fewest
+    fixings, the most promising ones the smallest residual problems. Returns the number of
+    free rows, listed in ``order``; ties keep row order.
     """
-    P, N = W.shape
     n_free = 0
-    for i in range(P):
-        if not fixed[i]:
-            best = np.inf
-            for j in range(N):
-                if j != s[i] and W[i, j] < np.inf:
-                    r = W[i, j] - pu[i] - pv[j]
-                    if r < best:
-                        best = r
-            lb[i] = best
-            order[n_free] = i
-            n_free += 1
+    for i in range(s.shape[0]):
+        if fixed[i]:
+            continue
+        best = np.inf
+        for e in range(g.ptr[i], g.ptr[i + 1]):
+            j = g.col[e]
+            if e == entry_of[i] or g.cost[e] == np.inf or not m.active[j]:
+                continue
+            vj = v_free if m.row4col[j] < 0 else v[j]  # a free column's shared potential
+            r = g.cost[e] - u[i] - vj
+            if r < best:
+                best = r
+        lb[i] = max(best, 0.0)
+        order[n_free] = i
+        n_free += 1
     # stable insertion sort by decreasing bound
     for a in range(1, n_free):
         x = order[a]
@@ -161,53 +222,55 @@ def _partition_order(W, s, pu, pv, fixed, lb, order):
 
 
 @jit()
-def _solve_child(W, C, r, s, fix_now, pu, pv, pvf, st, ws):
-    """Child of a node with solution ``s``: forbid ``(r, s[r])``, keep the rows ``fix_now``.
+def _bound_slack(key, s, entry_of, g, u):
+    """Absolute slack of a lower bound: ``_BOUND_SLACK`` times the magnitudes it was made of."""
+    scale = 1.0 + abs(key)
+    for i in range(s.shape[0]):
+        scale += abs(g.cost0[entry_of[i]]) + abs(u[i])
+    return _BOUND_SLACK * scale
 
-    Warm start (Miller, Stone & Cox 1997): the parent's duals and assignment minus row ``r``,
-    completed by one shortest augmenting path from ``r``. Fills ``st`` and returns
-    ``(increase, v_free)``; ``increase = +inf`` when the child is infeasible.
+
+@jit()
+def _solve_node(g, nodes, sols, forb, node, m, ws):
+    """Solve a bounded node by one warm-started augmenting path; return ``(ok, v_free)``.
+
+    Warm start (Miller, Stone & Cox 1997): the parent's duals and assignment minus the row
+    ``r`` whose pair ``(r, c)`` the node forbids, completed by one shortest augmenting path
+    from ``r`` with ``c`` the only free column of the square view. On success ``m`` holds the
+    node's optimum (to be unloaded by the caller).
     """
-    P, N = W.shape
+    ps = nodes.parent[node]
+    f = nodes.forb_head[node]
+    r = forb.row[f]
+    s = sols.sol[ps]
+    _load(m, s, nodes.fixed[node])
     c = s[r]
-    for j in range(N):
-        st.row4col[j] = UNASSIGNED
-        st.active[j] = True
-    for i in range(P):
-        st.col4row[i] = s[i]
-        st.row4col[s[i]] = i
-        if fix_now[i]:
-            st.active[s[i]] = False  # a fixed row's column is out of the residual problem
-    st.col4row[r] = UNASSIGNED
-    st.row4col[c] = UNASSIGNED
-    st.u[:] = pu
-    st.v[:] = pv
-    W[r, c] = np.inf
-    inc, nvf = sap_augment(W, r, c, st.u, st.v, st.col4row, st.row4col, st.active, pvf, ws)
-    W[r, c] = C[r, c]
-    return inc, nvf
+    m.col4row[r] = UNASSIGNED
+    m.row4col[c] = UNASSIGNED
+    m.u[:] = sols.u[ps]
+    m.v[:] = sols.v[ps]
+    _forbid(g, forb, f)
+    inc, v_free = sap_augment(g, r, c, m, sols.v_free[ps], ws)
+    _allow(g, forb, f)
+    if inc == np.inf:
+        m.col4row[r] = c  # restore the loaded matching so that _unload clears it
+        m.row4col[c] = r
+        _unload(m)
+        return False, v_free
+    return True, v_free
 
 
 @jit()
-def _store_node(nodes, nd, st, v_free, fix_now, forb_entry, key):
-    """Write a solved child into slot ``nd`` of the tree."""
-    nodes.sol[nd] = st.col4row
-    nodes.u[nd] = st.u
-    nodes.v[nd] = st.v
-    nodes.v_free[nd] = v_free
-    nodes.fixed[nd] = fix_now
-    nodes.forb_head[nd] = forb_entry
-    nodes.key[nd] = key
-
-
-@jit()
-def murty_kernel(C, k):
+def murty_kernel(g, P, N, k):
     """Murty's ranked assignment with the Miller–Stone–Cox improvements.
 
     Parameters
     ----------
-    C : ndarray, float64, shape (P, N), 1 <= P <= N
-        Cost matrix (``+inf`` = forbidden); at least one feasible assignment exists.
+    g : Graph
+        The finite entries of a ``(P, N)`` cost matrix, ``1 <= P <= N``, with at least one
+        feasible assignment (its ``cost`` is modified during the run and restored).
+    P, N : int
+        Shape of the cost matrix.
     k : int
         Number of assignments wanted (>= 1).
 
@@ -215,72 +278,145 @@ def murty_kernel(C, k):
     -------
     ndarray, int64, shape (n, P)
         The ``n = min(k, |Gamma|)`` best assignments in non-decreasing cost; among equal
-        costs, in order of creation.
+        costs, in the order of creation of their nodes.
 
     Notes
     -----
-    Each node of the partition tree is a subproblem: a set of rows fixed to their parent's
-    columns and a set of forbidden pairs (a linked list shared with the ancestors). Popping a
-    node with solution ``s`` creates one child per free row ``r``: forbid ``(r, s[r])`` and
-    fix the rows processed before it (:func:`_partition_order`). Each child is solved by a
-    single warm-started shortest augmenting path (:func:`_solve_child`), ``O(P N)`` instead of
-    a full LSAP.
+    Each node of the partition tree is a subproblem: rows fixed to their parent's columns and
+    a set of forbidden pairs (a linked list shared with the ancestors). Popping a solved node
+    with solution ``s`` reports ``s`` and creates one child per free row ``r``: forbid
+    ``(r, s[r])`` and fix the rows processed before it (partition ordering). A child enters
+    the queue with the lower bound ``cost(s) + lb[r]`` (lazy evaluation, Miller, Stone & Cox
+    1997, spec §5.1 item 2) and is solved only if it reaches the top, by one warm-started
+    shortest augmenting path from its parent's duals (item 1), then re-enters with its exact
+    cost. A bound never exceeds the cost it bounds, so the output is that of solving every
+    child at once, in the same order.
     """
-    P, N = C.shape
     out = np.empty((k, P), dtype=np.int64)
-    ok, col4row, u, v = lsap_kernel(C)  # the root: a cold LSAP
-    if not ok:
-        return out[:0]
-    nodes = _new_nodes(_INITIAL_CAPACITY, P, N)
+    m = new_matching(P, N)
+    ws = new_workspace(P, N)
+    for root in range(P):  # the root: a cold LSAP
+        inc, _ = sap_augment(g, root, COLD, m, 0.0, ws)
+        if inc == np.inf:
+            return out[:0]
+    nodes = _new_nodes(_INITIAL_CAPACITY, P)
+    sols = _new_solutions(_INITIAL_CAPACITY, P, N)
     forb = Forbidden(np.empty(_INITIAL_CAPACITY, dtype=np.int64),
                      np.empty(_INITIAL_CAPACITY, dtype=np.int64),
                      np.empty(_INITIAL_CAPACITY, dtype=np.int64))
     heap = np.empty(_INITIAL_CAPACITY, dtype=np.int64)
-    st = ChildState(u, v, col4row, np.empty(N, dtype=np.int64), np.empty(N, dtype=np.bool_))
-    _store_node(nodes, 0, st, 0.0, np.zeros(P, dtype=np.bool_), NO_NODE, _row_cost(C, col4row))
-    st = ChildState(np.empty(P), np.empty(N), np.empty(P, dtype=np.int64),
-                    np.empty(N, dtype=np.int64), np.empty(N, dtype=np.bool_))
+    entry_of = np.empty(P, dtype=np.int64)
+    sols.sol[0] = m.col4row
+    sols.u[0] = m.u
+    sols.v[0] = m.v
+    sols.v_free[0] = 0.0
+    nodes.key[0] = _assignment_cost(g, P, m.col4row, entry_of)
+    nodes.slot[0] = 0
+    nodes.parent[0] = NO_ENTRY
+    nodes.forb_head[0] = NO_ENTRY
+    nodes.fixed[0] = False
+    _unload(m)
     n_nodes = 1
+    n_sols = 1
     n_forb = 0
     n_heap = _heap_push(heap, 0, nodes.key, 0)
 
-    W = np.empty((P, N))
-    ws = new_workspace(P, N)
     order = np.empty(P, dtype=np.int64)
     lb = np.empty(P)
     fix_now = np.empty(P, dtype=np.bool_)
     n_out = 0
     while n_heap > 0 and n_out < k:
         node, n_heap = _heap_pop(heap, n_heap, nodes.key)
-        s = nodes.sol[node].copy()
+        if nodes.slot[node] == NO_ENTRY:
+            # a bounded node at the top: solve it, and queue it again with its exact cost
+            ok, v_free = _solve_node(g, nodes, sols, forb, node, m, ws)
+            if not ok:
+                continue
+            if n_sols == sols.sol.shape[0]:
+                sols = _grow_solutions(sols, 2 * n_sols)
+            sols.sol[n_sols] = m.col4row
+            sols.u[n_sols] = m.u
+            sols.v[n_sols] = m.v
+            sols.v_free[n_sols] = v_free
+            nodes.slot[node] = n_sols
+            n_sols += 1
+            _unload(m)
+            nodes.key[node] = _assignment_cost(g, P, sols.sol[nodes.slot[node]], entry_of)
+            n_heap = _heap_push(heap, n_heap, nodes.key, node)
+            continue
+        sl = nodes.slot[node]
+        s = sols.sol[sl]
         out[n_out] = s
         n_out += 1
         if n_out == k:
             break
-        pu = nodes.u[node].copy()
-        pv = nodes.v[node].copy()
-        pvf = nodes.v_free[node]
-        _apply_forbidden(C, W, forb, nodes.forb_head[node])
+        # partition the node: children with lower bounds only
+        key = _assignment_cost(g, P, s, entry_of)
+        head = nodes.forb_head[node]
         fix_now[:] = nodes.fixed[node]
-        n_free = _partition_order(W, s, pu, pv, fix_now, lb, order)
+        _forbid(g, forb, head)
+        _load(m, s, fix_now)
+        n_free = _partition_order(g, s, entry_of, sols.u[sl], sols.v[sl], sols.v_free[sl], m,
+                                  fix_now, lb, order)
+        _unload(m)
+        _allow(g, forb, head)
+        slack = _bound_slack(key, s, entry_of, g, sols.u[sl])
         for t in range(n_free):
             r = order[t]
             if lb[r] < np.inf:
                 # child t: forbid (r, s[r]), rows order[:t] fixed
-                inc, nvf = _solve_child(W, C, r, s, fix_now, pu, pv, pvf, st, ws)
-                if inc < np.inf:
-                    if n_nodes == nodes.sol.shape[0]:
-                        nodes = _grow_nodes(nodes, 2 * n_nodes)
-                        heap = _grow(heap, 2 * n_nodes)
-                    if n_forb == forb.row.shape[0]:
-                        forb = _grow_forbidden(forb, 2 * n_forb)
-                    forb.row[n_forb] = r
-                    forb.col[n_forb] = s[r]
-                    forb.next[n_forb] = nodes.forb_head[node]
-                    _store_node(nodes, n_nodes, st, nvf, fix_now, n_forb,
-                                _row_cost(C, st.col4row))
-                    n_forb += 1
-                    n_heap = _heap_push(heap, n_heap, nodes.key, n_nodes)
-                    n_nodes += 1
+                if n_nodes + 1 >= nodes.key.shape[0]:
+                    nodes = _grow_nodes(nodes, 2 * n_nodes)
+                    heap = _grow(heap, 2 * n_nodes)
+                if n_forb == forb.row.shape[0]:
+                    forb = _grow_forbidden(forb, 2 * n_forb)
+                forb.row[n_forb] = r
+                forb.entry[n_forb] = entry_of[r]
+                forb.next[n_forb] = head
+                nodes.key[n_nodes] = key + lb[r] - slack
+                nodes.slot[n_nodes] = NO_ENTRY
+                nodes.parent[n_nodes] = sl
+                nodes.forb_head[n_nodes] = n_forb
+                nodes.fixed[n_nodes] = fix_now
+                n_forb += 1
+                n_heap = _heap_push(heap, n_heap, nodes.key, n_nodes)
+                n_nodes += 1
             fix_now[r] = True  # later children keep row r on its parent column
     return out[:n_out]
+
+
+@jit()
+def compact_graph(cc):
+    """The :data:`~.lsap.Graph` of a problem's compact costs, in the ``(P, M + 2P)`` layout.
+
+    Row ``i`` of ``cc = [meas 0..M-1 | missed | dead]`` has at most ``M + 2`` finite entries:
+    measurement ``j`` is column ``j``, missed is column ``M + i``, dead is column
+    ``M + P + i`` (increasing column order).
+    """
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    ptr = np.zeros(P + 1, dtype=np.int64)
+    for i in range(P):
+        n = 0
+        for o in range(M + 2):
+            if cc[i, o] < np.inf:
+                n += 1
+        ptr[i + 1] = ptr[i] + n
+    col = np.empty(ptr[P], dtype=np.int64)
+    cost = np.empty(ptr[P])
+    e = 0
+    for i in range(P):
+        for o in range(M + 2):
+            if cc[i, o] < np.inf:
+                col[e] = o if o < M else (M + i if o == M else M + P + i)
+                cost[e] = cc[i, o]
+                e += 1
+    return Graph(ptr, col, cost, cost.copy())
+
+
+@jit()
+def murty_compact_kernel(cc, k):
+    """:func:`murty_kernel` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``."""
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    return murty_kernel(compact_graph(cc), P, M + 2 * P, k)
