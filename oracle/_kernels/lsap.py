@@ -56,8 +56,8 @@ N_DONE = 3  # columns scanned (``ws.done``)
 
 #: Finite entries of a cost matrix, row by row: row ``i`` owns entries ``ptr[i]:ptr[i + 1]``,
 #: entry ``e`` is column ``col[e]`` at cost ``cost[e]`` (set to ``+inf`` to forbid it for a
-#: while; ``cost0[e]`` keeps the original).
-Graph = namedtuple("Graph", ["ptr", "col", "cost", "cost0"])
+#: while; ``cost0[e]`` keeps the original); ``pos[i, j]`` is the entry of ``(i, j)`` (-1: none).
+Graph = namedtuple("Graph", ["ptr", "col", "cost", "cost0", "pos"])
 
 #: Duals, matching and the active columns of an assignment state (see the module notes).
 Matching = namedtuple("Matching", ["u", "v", "col4row", "row4col", "active"])
@@ -97,14 +97,16 @@ def graph_from_dense(C):
         ptr[i + 1] = ptr[i] + n
     col = np.empty(ptr[P], dtype=np.int64)
     cost = np.empty(ptr[P])
+    pos = np.full((P, N), -1, dtype=np.int64)
     e = 0
     for i in range(P):
         for j in range(N):
             if C[i, j] < np.inf:
                 col[e] = j
                 cost[e] = C[i, j]
+                pos[i, j] = e
                 e += 1
-    return Graph(ptr, col, cost, cost.copy())
+    return Graph(ptr, col, cost, cost.copy(), pos)
 
 
 @jit()

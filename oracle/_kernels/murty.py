@@ -40,7 +40,9 @@ _BOUND_SLACK = 1e-9
 #: which rows it fixes to the parent's columns.
 Nodes = namedtuple("Nodes", ["key", "slot", "parent", "forb_head", "fixed"])
 
-#: Solved nodes: optimal assignment, duals and the shared potential of the free columns.
+#: Solved nodes: optimal assignment ``sol``, row duals ``u``, the dual ``v`` of each row's
+#: column (``v[n, i]`` belongs to column ``sol[n, i]``) and the shared potential ``v_free`` of
+#: the free columns: the duals of a solution in ``O(P)`` numbers, not ``O(N)``.
 Solutions = namedtuple("Solutions", ["sol", "u", "v", "v_free"])
 
 #: Forbidden pairs as linked lists: entry ``f`` forbids row ``row[f]``'s graph entry
@@ -56,33 +58,26 @@ def _assignment_cost(g, P, col4row, entry_of):
     """
     s = 0.0
     for i in range(P):
-        for e in range(g.ptr[i], g.ptr[i + 1]):
-            if g.col[e] == col4row[i]:
-                entry_of[i] = e
-                s += g.cost0[e]
-                break
+        e = g.pos[i, col4row[i]]
+        entry_of[i] = e
+        s += g.cost0[e]
     return s
 
 
 @jit()
-def _heap_less(keys, heap, a, b):
-    """Compare heap slots ``a, b`` by (key, node id): deterministic order among equal keys."""
-    na = heap[a]
-    nb = heap[b]
-    return keys[na] < keys[nb] or (keys[na] == keys[nb] and na < nb)
-
-
-@jit()
 def _heap_push(heap, n, keys, node):
-    heap[n] = node
+    # sift up: (key, node id) order, so equal keys leave in order of creation
+    kx = keys[node]
     k = n
     while k > 0:
         p = (k - 1) >> 1
-        if _heap_less(keys, heap, k, p):
-            heap[k], heap[p] = heap[p], heap[k]
+        q = heap[p]
+        if kx < keys[q] or (kx == keys[q] and node < q):
+            heap[k] = q
             k = p
         else:
             break
+    heap[k] = node
     return n + 1
 
 
@@ -90,20 +85,25 @@ def _heap_push(heap, n, keys, node):
 def _heap_pop(heap, n, keys):
     top = heap[0]
     n -= 1
-    heap[0] = heap[n]
+    x = heap[n]
+    kx = keys[x]
     k = 0
-    while True:
-        left = 2 * k + 1
-        if left >= n:
+    while True:  # sift down the last entry
+        c = 2 * k + 1
+        if c >= n:
             break
-        c = left
-        if left + 1 < n and _heap_less(keys, heap, left + 1, left):
-            c = left + 1
-        if _heap_less(keys, heap, c, k):
-            heap[k], heap[c] = heap[c], heap[k]
+        a = heap[c]
+        if c + 1 < n:
+            b = heap[c + 1]
+            if keys[b] < keys[a] or (keys[b] == keys[a] and b < a):
+                c += 1
+                a = b
+        if keys[a] < kx or (keys[a] == kx and a < x):
+            heap[k] = a
             k = c
         else:
             break
+    heap[k] = x
     return top, n
 
 
@@ -128,8 +128,8 @@ def _grow_nodes(nodes, cap):
 
 
 @jit()
-def _new_solutions(cap, P, N):
-    return Solutions(np.empty((cap, P), dtype=np.int64), np.empty((cap, P)), np.empty((cap, N)),
+def _new_solutions(cap, P):
+    return Solutions(np.empty((cap, P), dtype=np.int64), np.empty((cap, P)), np.empty((cap, P)),
                      np.empty(cap))
 
 
@@ -137,6 +137,17 @@ def _new_solutions(cap, P, N):
 def _grow_solutions(sols, cap):
     return Solutions(_grow(sols.sol, cap), _grow(sols.u, cap), _grow(sols.v, cap),
                      _grow(sols.v_free, cap))
+
+
+@jit()
+def _store_solution(sols, slot, m, v_free):
+    """Keep the optimum now in ``m`` in slot ``slot`` (column duals of the matched columns)."""
+    for i in range(m.col4row.shape[0]):
+        c = m.col4row[i]
+        sols.sol[slot, i] = c
+        sols.u[slot, i] = m.u[i]
+        sols.v[slot, i] = m.v[c]
+    sols.v_free[slot] = v_free
 
 
 @jit()
@@ -187,8 +198,9 @@ def _unload(m):
 def _partition_order(g, s, entry_of, u, v, v_free, m, fixed, lb, order):
     """Free rows of a node in decreasing order of a lower bound on their child's increase.
 
-    ``m`` holds the node's matching ``s`` (:func:`_load`). ``lb[i]`` is the smallest reduced
-    cost ``cost - u[i] - v[j]`` of an allowed, active alternative ``j != s[i]`` of row ``i``
+    ``m`` holds the node's matching ``s`` (:func:`_load`); ``v[q]`` is the dual of row ``q``'s
+    column and ``v_free`` that of every free column. ``lb[i]`` is the smallest reduced
+    cost ``cost - u[i] - v_j`` of an allowed, active alternative ``j != s[i]`` of row ``i``
     (``+inf``: the child is infeasible); the child's optimum is at least the node's plus
     ``lb[i]`` (Miller, Stone & Cox 1997). Children expected to be worst get the fewest
     fixings, the most promising ones the smallest residual problems. Returns the number of
@@ -203,7 +215,8 @@ def _partition_order(g, s, entry_of, u, v, v_free, m, fixed, lb, order):
             j = g.col[e]
             if e == entry_of[i] or g.cost[e] == np.inf or not m.active[j]:
                 continue
-            vj = v_free if m.row4col[j] < 0 else v[j]  # a free column's shared potential
+            q = m.row4col[j]
+            vj = v_free if q < 0 else v[q]  # v[q]: dual of row q's column; free: shared
             r = g.cost[e] - u[i] - vj
             if r < best:
                 best = r
@@ -247,8 +260,9 @@ def _solve_node(g, nodes, sols, forb, node, m, ws):
     c = s[r]
     m.col4row[r] = UNASSIGNED
     m.row4col[c] = UNASSIGNED
-    m.u[:] = sols.u[ps]
-    m.v[:] = sols.v[ps]
+    for i in range(s.shape[0]):
+        m.u[i] = sols.u[ps, i]
+        m.v[s[i]] = sols.v[ps, i]  # free columns: the shared potential, never read
     _forbid(g, forb, f)
     inc, v_free = sap_augment(g, r, c, m, sols.v_free[ps], ws)
     _allow(g, forb, f)
@@ -300,16 +314,13 @@ def murty_kernel(g, P, N, k):
         if inc == np.inf:
             return out[:0]
     nodes = _new_nodes(_INITIAL_CAPACITY, P)
-    sols = _new_solutions(_INITIAL_CAPACITY, P, N)
+    sols = _new_solutions(_INITIAL_CAPACITY, P)
     forb = Forbidden(np.empty(_INITIAL_CAPACITY, dtype=np.int64),
                      np.empty(_INITIAL_CAPACITY, dtype=np.int64),
                      np.empty(_INITIAL_CAPACITY, dtype=np.int64))
     heap = np.empty(_INITIAL_CAPACITY, dtype=np.int64)
     entry_of = np.empty(P, dtype=np.int64)
-    sols.sol[0] = m.col4row
-    sols.u[0] = m.u
-    sols.v[0] = m.v
-    sols.v_free[0] = 0.0
+    _store_solution(sols, 0, m, 0.0)
     nodes.key[0] = _assignment_cost(g, P, m.col4row, entry_of)
     nodes.slot[0] = 0
     nodes.parent[0] = NO_ENTRY
@@ -334,10 +345,7 @@ def murty_kernel(g, P, N, k):
                 continue
             if n_sols == sols.sol.shape[0]:
                 sols = _grow_solutions(sols, 2 * n_sols)
-            sols.sol[n_sols] = m.col4row
-            sols.u[n_sols] = m.u
-            sols.v[n_sols] = m.v
-            sols.v_free[n_sols] = v_free
+            _store_solution(sols, n_sols, m, v_free)
             nodes.slot[node] = n_sols
             n_sols += 1
             _unload(m)
@@ -404,14 +412,16 @@ def compact_graph(cc):
         ptr[i + 1] = ptr[i] + n
     col = np.empty(ptr[P], dtype=np.int64)
     cost = np.empty(ptr[P])
+    pos = np.full((P, M + 2 * P), -1, dtype=np.int64)
     e = 0
     for i in range(P):
         for o in range(M + 2):
             if cc[i, o] < np.inf:
                 col[e] = o if o < M else (M + i if o == M else M + P + i)
                 cost[e] = cc[i, o]
+                pos[i, col[e]] = e
                 e += 1
-    return Graph(ptr, col, cost, cost.copy())
+    return Graph(ptr, col, cost, cost.copy(), pos)
 
 
 @jit()
