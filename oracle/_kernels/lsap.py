@@ -270,7 +270,8 @@ def clear_search(ws):
         ws.d[j] = np.inf
         ws.scanned_c[j] = False
         ws.path[j] = UNASSIGNED
-    ws.n[:] = 0
+    for t in range(ws.n.shape[0]):
+        ws.n[t] = 0
 
 
 @jit()

@@ -290,9 +290,13 @@ def murty_kernel(g, P, N, k):
 
     Returns
     -------
-    ndarray, int64, shape (n, P)
-        The ``n = min(k, |Gamma|)`` best assignments in non-decreasing cost; among equal
-        costs, in the order of creation of their nodes.
+    assignments : ndarray, int64, shape (n, P)
+        The ``n = min(k, |Gamma|)`` best assignments, best first; among equal costs, in the
+        order of creation of their nodes.
+    costs : ndarray, float64, shape (n,)
+        Their costs summed row by row from ``0.0`` (bit for bit
+        ``AssignmentProblem.cost_of``); non-decreasing up to the rounding of sums of equal
+        value in different orders (a child's cost can be one ulp below its parent's).
 
     Notes
     -----
@@ -307,12 +311,13 @@ def murty_kernel(g, P, N, k):
     child at once, in the same order.
     """
     out = np.empty((k, P), dtype=np.int64)
+    out_cost = np.empty(k)
     m = new_matching(P, N)
     ws = new_workspace(P, N)
     for root in range(P):  # the root: a cold LSAP
         inc, _ = sap_augment(g, root, COLD, m, 0.0, ws)
         if inc == np.inf:
-            return out[:0]
+            return out[:0], out_cost[:0]
     nodes = _new_nodes(_INITIAL_CAPACITY, P)
     sols = _new_solutions(_INITIAL_CAPACITY, P)
     forb = Forbidden(np.empty(_INITIAL_CAPACITY, dtype=np.int64),
@@ -325,7 +330,8 @@ def murty_kernel(g, P, N, k):
     nodes.slot[0] = 0
     nodes.parent[0] = NO_ENTRY
     nodes.forb_head[0] = NO_ENTRY
-    nodes.fixed[0] = False
+    for i in range(P):
+        nodes.fixed[0, i] = False
     _unload(m)
     n_nodes = 1
     n_sols = 1
@@ -354,14 +360,17 @@ def murty_kernel(g, P, N, k):
             continue
         sl = nodes.slot[node]
         s = sols.sol[sl]
-        out[n_out] = s
+        for i in range(P):
+            out[n_out, i] = s[i]
+        out_cost[n_out] = nodes.key[node]
         n_out += 1
         if n_out == k:
             break
         # partition the node: children with lower bounds only
         key = _assignment_cost(g, P, s, entry_of)
         head = nodes.forb_head[node]
-        fix_now[:] = nodes.fixed[node]
+        for i in range(P):
+            fix_now[i] = nodes.fixed[node, i]
         _forbid(g, forb, head)
         _load(m, s, fix_now)
         n_free = _partition_order(g, s, entry_of, sols.u[sl], sols.v[sl], sols.v_free[sl], m,
@@ -385,12 +394,13 @@ def murty_kernel(g, P, N, k):
                 nodes.slot[n_nodes] = NO_ENTRY
                 nodes.parent[n_nodes] = sl
                 nodes.forb_head[n_nodes] = n_forb
-                nodes.fixed[n_nodes] = fix_now
+                for i in range(P):
+                    nodes.fixed[n_nodes, i] = fix_now[i]
                 n_forb += 1
                 n_heap = _heap_push(heap, n_heap, nodes.key, n_nodes)
                 n_nodes += 1
             fix_now[r] = True  # later children keep row r on its parent column
-    return out[:n_out]
+    return out[:n_out], out_cost[:n_out]
 
 
 @jit()
