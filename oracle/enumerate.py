@@ -51,7 +51,9 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     Notes
     -----
     A compiled depth-first search over rows; row ``i`` takes a measurement not used by the
-    rows before it, or its own missed or dead column, skipping ``+inf`` entries. The count is
+    rows before it, or its own missed or dead column, skipping ``+inf`` entries. The search
+    scores each assignment as it goes (row by row from ``0.0``, as ``cost_of``) and the result
+    is sorted once by a stable radix sort. The count is
     checked first with :meth:`~rankedassign.AssignmentProblem.n_feasible` (spec eq. 1.3, or
     its exact subset DP when pairs are forbidden). The number of feasible assignments is
     ``sum_k C(P,k) C(M,k) k! 2^(P-k)`` without forbidden pairs: 76 848 for the paper's

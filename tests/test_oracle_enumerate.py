@@ -137,3 +137,14 @@ def test_bad_limit(kwargs, exc, match):
 def test_not_a_problem():
     with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
         enumerate_assignments(np.zeros((1, 3)))
+
+
+def test_radix_sort_is_a_stable_argsort():
+    from oracle._kernels.enumeration import _radix_argsort
+
+    rng = np.random.default_rng(0)
+    x = np.concatenate([rng.normal(0, 1e3, 500), rng.integers(-3, 3, 500).astype(float),
+                        [0.0, -0.0, np.inf, -1e308, 1e308, 5e-324, -5e-324, 0.0, -0.0]])
+    rng.shuffle(x)
+    assert_array_equal(_radix_argsort(x), np.argsort(x, kind="stable"))
+    assert _radix_argsort(np.zeros(0)).shape == (0,)

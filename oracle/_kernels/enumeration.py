@@ -58,11 +58,10 @@ def enumerate_kernel(cc, n_out):
 
     Returns
     -------
-    out : ndarray, int64, shape (n_out, P)
-        Column indices in the full ``(P, M + 2P)`` layout, in depth-first order: row 0 slowest,
-        the options of each row in increasing compact index (measurements ``j < M``, then the
-        missed column ``M + i``, then the dead column ``M + P + i``), which is the
-        lexicographic order of the column indices.
+    assignments : ndarray, int64, shape (n_out, P)
+        Column indices in the full ``(P, M + 2P)`` layout (:func:`_full_column`), in
+        depth-first order: row 0 slowest, the options of each row in increasing compact index
+        (measurements, missed, dead), which is the lexicographic order of the columns.
     costs : ndarray, float64, shape (n_out,)
         ``cc`` summed row by row from ``0.0`` (bit for bit ``AssignmentProblem.cost_of``).
     """
@@ -113,47 +112,79 @@ def _radix_argsort(x):
         # negative floats: flip every bit (reverses their order); others: set the sign bit
         b = keys[t]
         keys[t] = ~b if b & _SIGN else b | _SIGN
-    idx = np.arange(n)
-    tmp = np.empty(n, dtype=np.int64)
+    idx = np.arange(n).astype(np.int32)  # n < 2**31: the caller's limit keeps it far below
+    tmp = np.empty(n, dtype=np.int32)
+    keys_tmp = np.empty(n, dtype=np.uint64)  # keys travel with their indices: sequential reads
     n_buckets = 1 << _RADIX_BITS
     mask = np.uint64(n_buckets - 1)
     count = np.empty(n_buckets + 1, dtype=np.int64)
     shift = 0
     while shift < 64:
         sh = np.uint64(shift)
-        count[:] = 0
+        for b in range(n_buckets + 1):
+            count[b] = 0
         for t in range(n):
-            count[((keys[idx[t]] >> sh) & mask) + 1] += 1
+            count[((keys[t] >> sh) & mask) + 1] += 1
+        if n == 0 or count[((keys[0] >> sh) & mask) + 1] == n:
+            shift += _RADIX_BITS  # every key has the same digit here: the pass changes nothing
+            continue
         for b in range(n_buckets):
             count[b + 1] += count[b]
         for t in range(n):
-            it = idx[t]
-            b = (keys[it] >> sh) & mask
-            tmp[count[b]] = it
-            count[b] += 1
+            kt = keys[t]
+            b = (kt >> sh) & mask
+            p = count[b]
+            tmp[p] = idx[t]
+            keys_tmp[p] = kt
+            count[b] = p + 1
         idx, tmp = tmp, idx
+        keys, keys_tmp = keys_tmp, keys
         shift += _RADIX_BITS
     return idx
+
+
+@jit()
+def _permute_rows(a, c, order):
+    """Reorder ``a`` (rows) and ``c`` in place so that new row ``t`` is old row ``order[t]``.
+
+    Follows the cycles of the permutation with one row of scratch, so no second copy of the
+    (possibly large) assignment array is made.
+    """
+    n = order.shape[0]
+    P = a.shape[1]
+    row = np.empty(P, dtype=a.dtype)
+    done = np.zeros(n, dtype=np.bool_)
+    for start in range(n):
+        if done[start] or order[start] == start:
+            continue
+        for i in range(P):
+            row[i] = a[start, i]
+        c_start = c[start]
+        t = start
+        while True:
+            done[t] = True
+            src = order[t]
+            if src == start:
+                for i in range(P):
+                    a[t, i] = row[i]
+                c[t] = c_start
+                break
+            for i in range(P):
+                a[t, i] = a[src, i]
+            c[t] = c[src]
+            t = src
 
 
 @jit()
 def enumerate_sorted_kernel(cc, n_out):
     """:func:`enumerate_kernel` followed by one stable sort by cost.
 
-    Returns ``(assignments, costs)`` as :func:`enumerate_kernel`, sorted by cost; equal costs
-    stay in the search's (lexicographic) order.
+    Returns ``(assignments, costs)`` as :func:`enumerate_kernel`, sorted by cost (in place);
+    equal costs stay in the search's (lexicographic) order.
     """
     a, c = enumerate_kernel(cc, n_out)
-    order = _radix_argsort(c)
-    P = a.shape[1]
-    out = np.empty_like(a)
-    costs = np.empty_like(c)
-    for t in range(order.shape[0]):
-        s = order[t]
-        costs[t] = c[s]
-        for i in range(P):
-            out[t, i] = a[s, i]
-    return out, costs
+    _permute_rows(a, c, _radix_argsort(c))
+    return a, c
 
 
 @jit()
