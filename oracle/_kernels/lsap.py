@@ -14,8 +14,8 @@ Conventions
 * Rectangular LSAP is solved as the square problem in which every free column is held by a
   zero-cost dummy row. All free columns share one potential ``v_free`` (the dummy rows' dual
   feasibility: ``v[j] <= v_free`` for every column); it is *implicit*: ``v[j]`` of a free
-  column is never read (:func:`potential`), so a search costs ``O(touched columns)``, not
-  ``O(N)``.
+  column is never read (a search reads ``v_free`` instead), so a search costs
+  ``O(touched columns)``, not ``O(N)``.
 * One augmentation (:func:`sap_augment`) runs in named phases, each a small compiled helper:
   scan a row (:func:`relax_row`), pick the closest column (:func:`closest_column`), open the
   dummy-row hub of a warm start (:func:`open_hub`), update the duals (:func:`update_duals`),
@@ -40,7 +40,6 @@ __all__ = [
     "graph_from_dense",
     "lsap_kernel",
     "new_workspace",
-    "potential",
     "sap_augment",
 ]
 
@@ -107,14 +106,6 @@ def graph_from_dense(C):
                 pos[i, j] = e
                 e += 1
     return Graph(ptr, col, cost, cost.copy(), pos)
-
-
-@jit()
-def potential(m, j, freed, v_free):
-    """Dual of column ``j``: ``v[j]``, or the shared ``v_free`` of a dummy-held column."""
-    if m.row4col[j] < 0 and j != freed:
-        return v_free
-    return m.v[j]
 
 
 @jit()
