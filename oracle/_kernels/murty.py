@@ -2,8 +2,8 @@
 
 The driver :func:`murty_kernel` pops the best open subproblem of the partition tree. A node
 that is only *bounded* is solved (:func:`_solve_node`) and pushed back with its exact cost; a
-*solved* node is reported and partitioned (:func:`_partition`): its children are pushed with
-a lower bound only (:func:`_partition_order` computes the bounds), so most of them are never
+*solved* node is reported and partitioned: its children are pushed with a lower bound only
+(:func:`_partition_order` computes the bounds and the order), so most of them are never
 solved. Forbidden pairs are switched on and off in the shared :data:`~.lsap.Graph`
 (:func:`_forbid`, :func:`_allow`). Costs are accumulated row by row in the order ``0..P-1``
 from ``0.0``, exactly as :meth:`rankedassign.AssignmentProblem.cost_of` does.
