@@ -16,6 +16,8 @@ from rankedassign.numba_options import jit
 
 __all__ = ["count_kernel", "enumerate_kernel", "enumerate_sorted_kernel"]
 
+NO_OPTION = -1  # a row on the search stack before its first option
+
 # Digit width of the radix sort: 2^11 buckets, six passes over the 64-bit keys.
 _RADIX_BITS = 11
 _SIGN = np.uint64(1) << np.uint64(63)
@@ -70,7 +72,7 @@ def enumerate_kernel(cc, n_out):
     out = np.empty((n_out, P), dtype=np.int64)
     costs = np.empty(n_out)
     used = np.zeros(M, dtype=np.bool_)
-    opt = np.full(P, -1, dtype=np.int64)  # current compact option of each row on the stack
+    opt = np.full(P, NO_OPTION, dtype=np.int64)  # current compact option of each row
     partial = np.zeros(P + 1)  # partial[i]: cost of rows 0..i-1 (left-to-right sum)
     row = 0
     n = 0
@@ -81,7 +83,7 @@ def enumerate_kernel(cc, n_out):
             used[o] = False
         o = _next_option(cc, row, o, used)
         if o == M + 2:  # options of this row exhausted: backtrack
-            opt[row] = -1
+            opt[row] = NO_OPTION
             row -= 1
             continue
         opt[row] = o
@@ -199,7 +201,7 @@ def count_kernel(cc, cap):
     if P == 0:
         return 1
     used = np.zeros(M, dtype=np.bool_)
-    opt = np.full(P, -1, dtype=np.int64)
+    opt = np.full(P, NO_OPTION, dtype=np.int64)
     row = 0
     n = 0
     while row >= 0:
@@ -208,7 +210,7 @@ def count_kernel(cc, cap):
             used[o] = False
         o = _next_option(cc, row, o, used)
         if o == M + 2:
-            opt[row] = -1
+            opt[row] = NO_OPTION
             row -= 1
             continue
         opt[row] = o
