@@ -1,0 +1,1 @@
+"""Multi-sensor ranked assignment (spec ``multisensor.md``): problem, samplers."""

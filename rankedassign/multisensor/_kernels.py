@@ -1,0 +1,373 @@
+"""numba row updates of the multi-sensor Gibbs samplers (clean inputs only).
+
+Twins, operation for operation, of :mod:`rankedassign.multisensor.reference` (the
+specification of record; read its docstring for the state encoding, the order of the uniforms
+and the edge cases). The three functions the generic chain driver needs are
+:func:`alloc_work`, :func:`reset_work` and :func:`sweep`; one sweep function serves every
+method (the method is a code in ``data``), so one driver is compiled for all of them.
+
+``data`` (built by :func:`rankedassign.multisensor.sampling.prepare_data`)::
+
+    params  int64[4]          method code, random scan (0/1), P, V
+    n_meas  int64[V]          M_v
+    strides int64[V]          C-order strides of the tuple axes (M_1+1, ..., M_V+1)
+    Wd, ld  float64[P]        shifted weight / log-weight of dead
+    Wa, la  float64[P, T]     shifted / log eta of every tuple (T = prod(M_v+1); exact and
+                              componentwise, the latter collapsed; (P, 0) for MM)
+    Th, lth float64[P, V, K]  shifted / log theta_n^(v)(j), K = max M_v + 1 (MM; padding 0/-inf)
+    las     float64[P]        alpha * log s_n
+    Ea, Ed  float64[P]        shifted alive prefactor and dead weight (MM exclusion)
+    qdead   float64[P]        Q_n of MM-fixed
+
+``work`` (one slab per chain simulated at once, leading dimension ``nb``)::
+
+    occ     int64[nb, V, K]   rows holding measurement j of sensor v
+    avail   int64[nb, V, K]   A_n^(v) of the row being updated (first navail entries)
+    navail  int64[nb, V]
+    idx     int64[nb, V]      odometer over the product of the A_n^(v)
+    wbuf    float64[nb, C]    candidate weights (C = max(1 + T, K))
+    lbuf    float64[nb, C]    candidate log-weights (for the underflow fall-back)
+    perm    int64[nb, P]      row order of the sweep
+    row     int64[nb, V]      the updated row (gamma values)
+
+References
+----------
+.. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the Generalized
+   Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23):5952-5967, 2019.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._kernels import next_uniform
+from ..numba_options import jit
+
+EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
+
+
+@jit()
+def pick(w, n, total, u):
+    """Twin of :func:`rankedassign.multisensor.reference.pick` on ``w[:n]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> int(pick(np.array([0.5, 0.0, 0.5]), 3, 1.0, 0.75))
+    2
+    """
+    target = u * total
+    acc = 0.0
+    last = -1
+    for k in range(n):
+        wk = w[k]
+        if wk > 0.0:
+            acc += wk
+            last = k
+            if acc > target:
+                return k
+    return last
+
+
+@jit()
+def draw(w, lw, n, u):
+    """Twin of :func:`rankedassign.multisensor.reference.draw` on ``w[:n]``, ``lw[:n]``.
+
+    Overwrites ``w`` on the underflow fall-back.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> int(draw(np.zeros(2), np.array([-800.0, -801.0]), 2, 0.5))
+    0
+    """
+    total = 0.0
+    for k in range(n):
+        total += w[k]
+    if total > 0.0:
+        return pick(w, n, total, u)
+    m = -np.inf
+    for k in range(n):
+        if lw[k] > m:
+            m = lw[k]
+    if m == -np.inf:
+        return -1
+    for k in range(n):
+        w[k] = np.exp(lw[k] - m)
+    total = 0.0
+    for k in range(n):
+        total += w[k]
+    return pick(w, n, total, u)
+
+
+@jit()
+def alloc_work(data, nb):
+    """Work arrays for ``nb`` chains simulated at once (see the module docstring)."""
+    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
+    P = params[2]
+    V = params[3]
+    K = 1
+    for v in range(V):
+        if n_meas[v] + 1 > K:
+            K = n_meas[v] + 1
+    C = max(1 + Wa.shape[1], K)
+    return (
+        np.zeros((nb, V, K), dtype=np.int64),
+        np.zeros((nb, V, K), dtype=np.int64),
+        np.zeros((nb, V), dtype=np.int64),
+        np.zeros((nb, V), dtype=np.int64),
+        np.zeros((nb, C), dtype=np.float64),
+        np.zeros((nb, C), dtype=np.float64),
+        np.zeros((nb, max(P, 1)), dtype=np.int64),
+        np.zeros((nb, V), dtype=np.int64),
+    )
+
+
+@jit()
+def reset_work(data, work, b, x0):
+    """Slab ``b`` to the start state ``x0``: the occupancy table of ``x0``."""
+    V = data[0][3]
+    occ = work[0]
+    occ[b, :, :] = 0
+    for i in range(x0.shape[0]):
+        val = x0[i]
+        if val >= 2:
+            occ[b, i % V, val - 1] += 1
+
+
+@jit()
+def _row_exact(data, work, b, n, rs):
+    """Spec eq. 2.1 over dead and the product of the available sets (into ``row[b]``).
+
+    Returns False if no candidate has positive weight (the row is left as it is).
+    """
+    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
+    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
+    V = params[3]
+    wbuf[b, 0] = Wd[n]
+    lbuf[b, 0] = ld[n]
+    c = 1
+    for v in range(V):
+        idx[b, v] = 0
+    while True:  # odometer over A_1 x ... x A_V, last sensor fastest (C order)
+        off = 0
+        for v in range(V):
+            off += avail[b, v, idx[b, v]] * strides[v]
+        wbuf[b, c] = Wa[n, off]
+        lbuf[b, c] = la[n, off]
+        c += 1
+        v = V - 1
+        while v >= 0:
+            idx[b, v] += 1
+            if idx[b, v] < navail[b, v]:
+                break
+            idx[b, v] = 0
+            v -= 1
+        if v < 0:
+            break
+    k = draw(wbuf[b], lbuf[b], c, next_uniform(rs))
+    if k < 0:
+        return False
+    if k == 0:
+        for v in range(V):
+            row[b, v] = -1
+        return True
+    r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
+    for v in range(V - 1, -1, -1):
+        row[b, v] = avail[b, v, r % navail[b, v]]
+        r //= navail[b, v]
+    return True
+
+
+@jit()
+def _sensor_draw(data, work, b, n, v, rs):
+    """``j ~ theta_n^(v)(j) 1[j in A_n^(v)]`` with one uniform; -1 if none is positive."""
+    Th = data[7]
+    lth = data[8]
+    avail, navail, wbuf, lbuf = work[1], work[2], work[4], work[5]
+    na = navail[b, v]
+    for c in range(na):
+        j = avail[b, v, c]
+        wbuf[b, c] = Th[n, v, j]
+        lbuf[b, c] = lth[n, v, j]
+    k = draw(wbuf[b], lbuf[b], na, next_uniform(rs))
+    if k < 0:
+        return -1
+    return avail[b, v, k]
+
+
+@jit()
+def _row_mm(data, work, b, n, rs, fixed):
+    """Spec §3.2: dead with probability ``Q_n``, else independent per-sensor draws."""
+    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
+    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
+    V = params[3]
+    u = next_uniform(rs)
+    if fixed:
+        dead = u < qdead[n]
+    else:
+        alive = Ea[n]
+        for v in range(V):
+            s = 0.0
+            for c in range(navail[b, v]):
+                s += Th[n, v, avail[b, v, c]]
+            alive *= s
+        wbuf[b, 0] = Ed[n]
+        wbuf[b, 1] = alive
+        k = pick(wbuf[b], 2, Ed[n] + alive, u)
+        if k < 0:  # both underflowed: the same decision on exact log-weights
+            lal = las[n]
+            for v in range(V):
+                m = -np.inf
+                for c in range(navail[b, v]):
+                    lw = lth[n, v, avail[b, v, c]]
+                    if lw > m:
+                        m = lw
+                if m == -np.inf:
+                    lal = -np.inf
+                    break
+                s = 0.0
+                for c in range(navail[b, v]):
+                    s += np.exp(lth[n, v, avail[b, v, c]] - m)
+                lal += m + np.log(s)
+            wbuf[b, 0] = 0.0
+            wbuf[b, 1] = 0.0
+            lbuf[b, 0] = ld[n]
+            lbuf[b, 1] = lal
+            k = draw(wbuf[b], lbuf[b], 2, u)
+            if k < 0:
+                return False
+        dead = k == 0
+    if dead:
+        for v in range(V):
+            row[b, v] = -1
+        return True
+    for v in range(V):
+        j = _sensor_draw(data, work, b, n, v, rs)
+        if j < 0:  # mm-fixed only: the alive branch is infeasible here
+            if ld[n] > -np.inf:
+                for w in range(V):
+                    row[b, w] = -1
+                return True
+            return False
+        row[b, v] = j
+    return True
+
+
+@jit()
+def _row_componentwise(data, work, b, n, state, rs):
+    """Spec §2.4: each component in turn from its exact conditional under ``eta'``."""
+    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
+    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
+    V = params[3]
+    for v in range(V):
+        row[b, v] = state[n * V + v] - 1
+    for v in range(V):
+        base = 0
+        for w in range(V):
+            if w != v:
+                base += row[b, w] * strides[w]
+        na = navail[b, v]
+        for c in range(na):
+            off = base + avail[b, v, c] * strides[v]
+            wbuf[b, c] = Wa[n, off]
+            lbuf[b, c] = la[n, off]
+        k = draw(wbuf[b], lbuf[b], na, next_uniform(rs))
+        if k >= 0:
+            row[b, v] = avail[b, v, k]
+    return True
+
+
+@jit()
+def sweep(data, work, b, zkeys, state, h, rs):
+    """One sweep over all rows of slab ``b``, in place on ``state``; return the new hash.
+
+    Parameters
+    ----------
+    data : tuple
+        Prepared arrays (module docstring).
+    work : tuple
+        Work arrays from :func:`alloc_work`; slab ``b`` is used and kept up to date.
+    b : int
+        Slab index.
+    zkeys : ndarray, shape (P * V, K), uint64
+        Zobrist keys; for every position ``l`` whose value changes from ``a`` to ``c``,
+        ``h ^= zkeys[l, a] ^ zkeys[l, c]``.
+    state : ndarray, shape (P * V,), int32
+        State (``gamma + 1``), updated in place.
+    h : uint64
+        Zobrist hash of ``state``.
+    rs : ndarray, shape (1,), uint64
+        The chain's stream state.
+
+    Returns
+    -------
+    uint64
+        The hash of the updated state.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign._kernels import zobrist_keys
+    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
+    ...     log_eta_dead = np.array([-50.0]); log_eta_alive = np.full((1, 2, 2), -50.0)
+    ...     log_s = None; log_theta = None
+    >>> Stub.log_eta_alive[0, 1, 1] = 0.0
+    >>> data = prepare_data(Stub(), "exact", "systematic", 1)
+    >>> work = alloc_work(data, 1)
+    >>> x = np.ones(2, dtype=np.int32)
+    >>> reset_work(data, work, 0, x)
+    >>> h = sweep(data, work, 0, zobrist_keys(2, 3, np.uint64(1)), x, np.uint64(0),
+    ...           np.zeros(1, dtype=np.uint64))
+    >>> x.tolist()
+    [2, 2]
+    """
+    params = data[0]
+    method = params[0]
+    P = params[2]
+    V = params[3]
+    n_meas = data[1]
+    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
+    for t in range(P):
+        perm[b, t] = t
+    if params[1]:  # random scan: Fisher-Yates from the identity
+        for t in range(P - 1, 0, -1):
+            j = np.int64(next_uniform(rs) * (t + 1))
+            if j > t:
+                j = t
+            tmp = perm[b, t]
+            perm[b, t] = perm[b, j]
+            perm[b, j] = tmp
+    for t in range(P):
+        n = perm[b, t]
+        for v in range(V):  # A_n^(v): missed, and measurements free of the other rows
+            own = state[n * V + v] - 1
+            avail[b, v, 0] = 0
+            c = 1
+            for j in range(1, n_meas[v] + 1):
+                if occ[b, v, j] == 0 or own == j:
+                    avail[b, v, c] = j
+                    c += 1
+            navail[b, v] = c
+        if method == EXACT:
+            ok = _row_exact(data, work, b, n, rs)
+        elif method == COMPONENTWISE:
+            ok = _row_componentwise(data, work, b, n, state, rs)
+        else:
+            ok = _row_mm(data, work, b, n, rs, method == MM_FIXED)
+        if not ok:
+            continue
+        for v in range(V):
+            pos = n * V + v
+            old = np.int64(state[pos])
+            new = row[b, v] + 1
+            if old != new:
+                if old >= 2:
+                    occ[b, v, old - 1] -= 1
+                if new >= 2:
+                    occ[b, v, new - 1] += 1
+                state[pos] = new
+                h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
+    return h
