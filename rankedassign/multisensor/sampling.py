@@ -70,10 +70,16 @@ def _shape(problem):
     return M, shape, strides
 
 
+def _flat_log_alive(problem):
+    """``log eta_n(t)`` as a new (P, T) float64 array, ``T = prod_v (M_v + 1)``."""
+    _, shape, _ = _shape(problem)
+    T = int(np.prod(shape, dtype=np.int64))
+    return np.array(problem.log_eta_alive, dtype=np.float64).reshape(int(problem.n_rows), T)
+
+
 def _collapsed_log_alive(problem):
     """``log eta'_n(t)`` of spec §1.6, shape (P, T): dead merged into the all-missed tuple."""
-    P = problem.n_rows
-    la = np.array(problem.log_eta_alive, dtype=np.float64).reshape(P, -1)
+    la = _flat_log_alive(problem)
     with np.errstate(invalid="ignore"):
         la[:, 0] = np.logaddexp(np.asarray(problem.log_eta_dead, dtype=np.float64), la[:, 0])
     return la
@@ -156,7 +162,7 @@ def prepare_data(problem, method, scan, survival_power=1):
     lth = np.full((P, V, K), -np.inf)
     las = Ea = Ed = qdead = empty_p
     if method == "exact":
-        la = np.array(problem.log_eta_alive, dtype=np.float64).reshape(P, -1)
+        la = _flat_log_alive(problem)
         W, _ = _shift(np.concatenate([ld[:, None], la], axis=1), axis=1)
         Wd, Wa = np.ascontiguousarray(W[:, 0]), np.ascontiguousarray(W[:, 1:])
     elif method == "componentwise":
@@ -254,10 +260,7 @@ def _row_log_weights(problem, gammas, collapsed):
     """``log eta_n(gamma_n)`` for gammas of shape (n, P, V) -> (n, P)."""
     P = int(problem.n_rows)
     _, _, strides = _shape(problem)
-    if collapsed:
-        la = _collapsed_log_alive(problem)
-    else:
-        la = np.asarray(problem.log_eta_alive, dtype=np.float64).reshape(P, -1)
+    la = _collapsed_log_alive(problem) if collapsed else _flat_log_alive(problem)
     ld = np.asarray(problem.log_eta_dead, dtype=np.float64).reshape(P)
     dead = gammas[..., 0] < 0 if gammas.shape[-1] else np.zeros(gammas.shape[:2], bool)
     flat = (np.maximum(gammas, 0) * np.array(strides, dtype=np.int64)).sum(axis=-1)
