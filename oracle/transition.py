@@ -35,8 +35,8 @@ import numpy as np
 
 from rankedassign.validation import check_choice, check_int
 
-__all__ = ["multisensor_states", "transition_matrix", "stationary_distribution",
-           "target_distribution"]
+__all__ = ["multisensor_states", "row_kernels", "transition_matrix",
+           "stationary_distribution", "target_distribution"]
 
 METHODS = ("exact", "mm", "mm-fixed", "componentwise")
 
@@ -175,6 +175,43 @@ def _row_kernel(problem, states, index, n, method, alpha):
     return K
 
 
+def _check(problem, method, survival_power):
+    check_choice(method, "method", METHODS)
+    if survival_power not in (1, "V") or isinstance(survival_power, bool):
+        raise ValueError(f"unknown survival_power {survival_power!r}; expected one of (1, 'V')")
+    return 1 if survival_power == 1 else int(problem.n_sensors)
+
+
+def row_kernels(problem, method="exact", *, survival_power=1, states=None):
+    """The single-row kernels ``K_n`` (one row update each) of a multi-sensor sampler.
+
+    Parameters are as in :func:`transition_matrix`.
+
+    Returns
+    -------
+    kernels : list of ndarray, shape (S, S)
+        ``kernels[n][s, t]`` = probability that updating row ``n`` moves state ``s`` to ``t``.
+    states : ndarray, shape (S, P, V)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 1, 1, (1,)
+    ...     log_eta_dead = np.log([1.0]); log_eta_alive = np.log([[1.0, 2.0]])
+    >>> kernels, states = row_kernels(Stub())
+    >>> len(kernels), kernels[0].shape
+    (1, (3, 3))
+    """
+    alpha = _check(problem, method, survival_power)
+    if states is None:
+        states = multisensor_states(problem, collapsed=method == "componentwise")
+    index = {tuple(tuple(int(x) for x in r) for r in s): i for i, s in enumerate(states)}
+    kernels = [_row_kernel(problem, states, index, n, method, alpha)
+               for n in range(int(problem.n_rows))]
+    return kernels, states
+
+
 def transition_matrix(problem, method="exact", *, scan="systematic", survival_power=1,
                       states=None):
     """The one-sweep transition matrix of a multi-sensor Gibbs sampler.
@@ -198,6 +235,11 @@ def transition_matrix(problem, method="exact", *, scan="systematic", survival_po
         ``K[s, t]`` = probability that one sweep moves state ``s`` to state ``t``.
     states : ndarray, shape (S, P, V)
 
+    Raises
+    ------
+    ValueError
+        On an unknown method, scan or survival power, or too many states.
+
     Examples
     --------
     >>> import numpy as np
@@ -208,16 +250,10 @@ def transition_matrix(problem, method="exact", *, scan="systematic", survival_po
     >>> states[:, 0, 0].tolist(), K[0].round(4).tolist()
     ([-1, 0, 1], [0.25, 0.25, 0.5])
     """
-    check_choice(method, "method", METHODS)
     check_choice(scan, "scan", ("systematic", "random"))
-    if survival_power not in (1, "V") or isinstance(survival_power, bool):
-        raise ValueError(f"unknown survival_power {survival_power!r}; expected one of (1, 'V')")
-    alpha = 1 if survival_power == 1 else int(problem.n_sensors)
-    if states is None:
-        states = multisensor_states(problem, collapsed=method == "componentwise")
-    index = {tuple(tuple(int(x) for x in r) for r in s): i for i, s in enumerate(states)}
+    kernels, states = row_kernels(problem, method, survival_power=survival_power,
+                                  states=states)
     P = int(problem.n_rows)
-    kernels = [_row_kernel(problem, states, index, n, method, alpha) for n in range(P)]
     orders = [tuple(range(P))] if scan == "systematic" else list(itertools.permutations(range(P)))
     K = np.zeros((len(states), len(states)))
     for order in orders:
