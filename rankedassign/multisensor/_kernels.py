@@ -371,3 +371,46 @@ def sweep(data, work, b, zkeys, state, h, rs):
                 state[pos] = new
                 h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
     return h
+
+
+@jit()
+def run_sweeps(data, zkeys, x0, seed, n_sweeps):
+    """``n_sweeps`` sweeps of one chain from ``x0`` with stream state ``seed`` (no unique set).
+
+    The sweep kernel alone, for timing it and for tests that need many independent chains;
+    the samplers run it through the generic chain driver instead.
+
+    Returns
+    -------
+    state : ndarray, shape (P * V,), int32
+        The state after the last sweep.
+    h : uint64
+        Its Zobrist hash.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign._kernels import zobrist_keys
+    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
+    ...     log_eta_dead = np.array([-50.0]); log_eta_alive = np.full((1, 2, 2), -50.0)
+    ...     log_s = None; log_theta = None
+    >>> Stub.log_eta_alive[0, 1, 1] = 0.0
+    >>> data = prepare_data(Stub(), "exact", "systematic", 1)
+    >>> x0 = np.ones(2, dtype=np.int32)
+    >>> state, h = run_sweeps(data, zobrist_keys(2, 3, np.uint64(1)), x0, np.uint64(0), 3)
+    >>> state.tolist()
+    [2, 2]
+    """
+    work = alloc_work(data, 1)
+    state = x0.copy()
+    reset_work(data, work, 0, state)
+    h = np.uint64(0)
+    for pos in range(state.shape[0]):
+        h ^= zkeys[pos, state[pos]]
+    rs = np.empty(1, dtype=np.uint64)
+    rs[0] = seed
+    for _ in range(n_sweeps):
+        h = sweep(data, work, 0, zkeys, state, h, rs)
+    return state, h
