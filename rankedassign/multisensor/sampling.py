@@ -45,11 +45,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._rng import base_key
 from ..validation import check_choice
+from .reference import RefData
 
 __all__ = [
     "METHODS",
     "STARTS",
+    "prepare_fields",
     "prepare_data",
     "start_state",
     "states_to_assignments",
@@ -300,3 +303,80 @@ def assignment_costs(problem, assignments, method):
     lw = _row_log_weights(problem, np.asarray(assignments, dtype=np.int64),
                           collapsed=method == "componentwise")
     return -lw.sum(axis=1)
+
+
+def sweep_cost(problem, method):
+    """Candidate weights looked at per sweep (sizes the parallel batches).
+
+    Examples
+    --------
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 2, 2, (3, 1)
+    >>> [sweep_cost(Stub(), m) for m in METHODS]
+    [18, 20, 20, 12]
+    """
+    P = int(problem.n_rows)
+    M = [int(m) for m in problem.n_meas]
+    if method == "exact":
+        return P * (1 + int(np.prod([m + 1 for m in M], dtype=np.int64)))
+    if method == "componentwise":
+        return P * sum(m + 1 for m in M)
+    return P * (len(M) + 2 * sum(M))  # the exclusion sums and the per-sensor draws
+
+
+def prepare_fields(problem, start, scan, rng, options):
+    """Everything a sampler call on a multi-sensor problem needs, shared by both backends.
+
+    Parameters
+    ----------
+    problem : MultiSensorProblem
+    start : {"all_missed", "all_dead"} or array_like of int, shape (P, V)
+    scan : {"systematic", "random"}
+    rng : None, int, SeedSequence, BitGenerator or Generator
+    options : dict
+        ``method`` (default ``"mm"``) and ``survival_power`` (default 1); nothing else.
+
+    Returns
+    -------
+    dict
+        ``kind``, ``problem``, ``data`` (the kernels' tuple), ``ref_data``
+        (:class:`~rankedassign.multisensor.reference.RefData`), ``x0`` (int32, ``P * V``),
+        ``n_values`` (``max M_v + 2``), ``base``, ``rows`` (``P``), ``sweep_cost`` and
+        ``to_result`` (chain states ``(n, P * V)`` -> ``(assignments (n, P, V), costs)``).
+
+    Raises
+    ------
+    TypeError
+        On an unknown option.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
+    ...     log_eta_dead = np.zeros(1); log_eta_alive = np.zeros((1, 2, 2))
+    ...     log_s = None; log_theta = None
+    >>> f = prepare_fields(Stub(), "all_missed", "systematic", 0, {"method": "exact"})
+    >>> f["x0"].tolist(), f["n_values"]
+    ([1, 1], 3)
+    >>> f["to_result"](np.array([[2, 0]]))[0].tolist()
+    [[[1, -1]]]
+    """
+    unknown = sorted(set(options) - {"method", "survival_power"})
+    if unknown:
+        raise TypeError(f"unexpected option(s) {unknown} for a multi-sensor problem; expected "
+                        "'method' and 'survival_power'")
+    method = options.get("method", "mm")
+    survival_power = options.get("survival_power", 1)
+    data = prepare_data(problem, method, scan, survival_power)
+    x0 = start_state(problem, start, method)
+
+    def to_result(states):
+        assignments = states_to_assignments(problem, states)
+        return assignments, assignment_costs(problem, assignments, method)
+
+    return dict(
+        kind="multisensor", problem=problem, data=data, ref_data=RefData(data), x0=x0,
+        n_values=max((int(m) for m in problem.n_meas), default=0) + 2, base=base_key(rng),
+        rows=int(problem.n_rows), sweep_cost=sweep_cost(problem, method), to_result=to_result,
+    )
