@@ -47,20 +47,20 @@ EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
 
 
 @jit()
-def pick(w, n, total, u):
-    """Twin of :func:`rankedassign.multisensor.reference.pick` on ``w[:n]``.
+def pick(w, b, n, total, u):
+    """Twin of :func:`rankedassign.multisensor.reference.pick` on ``w[b, :n]``.
 
     Examples
     --------
     >>> import numpy as np
-    >>> int(pick(np.array([0.5, 0.0, 0.5]), 3, 1.0, 0.75))
+    >>> int(pick(np.array([[0.5, 0.0, 0.5]]), 0, 3, 1.0, 0.75))
     2
     """
     target = u * total
     acc = 0.0
     last = -1
     for k in range(n):
-        wk = w[k]
+        wk = w[b, k]
         if wk > 0.0:
             acc += wk
             last = k
@@ -70,34 +70,34 @@ def pick(w, n, total, u):
 
 
 @jit()
-def draw(w, lw, n, u):
-    """Twin of :func:`rankedassign.multisensor.reference.draw` on ``w[:n]``, ``lw[:n]``.
+def draw(w, lw, b, n, u):
+    """Twin of :func:`rankedassign.multisensor.reference.draw` on ``w[b, :n]``, ``lw[b, :n]``.
 
-    Overwrites ``w`` on the underflow fall-back.
+    Overwrites ``w[b]`` on the underflow fall-back.
 
     Examples
     --------
     >>> import numpy as np
-    >>> int(draw(np.zeros(2), np.array([-800.0, -801.0]), 2, 0.5))
+    >>> int(draw(np.zeros((1, 2)), np.array([[-800.0, -801.0]]), 0, 2, 0.5))
     0
     """
     total = 0.0
     for k in range(n):
-        total += w[k]
+        total += w[b, k]
     if total > 0.0:
-        return pick(w, n, total, u)
+        return pick(w, b, n, total, u)
     m = -np.inf
     for k in range(n):
-        if lw[k] > m:
-            m = lw[k]
+        if lw[b, k] > m:
+            m = lw[b, k]
     if m == -np.inf:
         return -1
     for k in range(n):
-        w[k] = np.exp(lw[k] - m)
+        w[b, k] = np.exp(lw[b, k] - m)
     total = 0.0
     for k in range(n):
-        total += w[k]
-    return pick(w, n, total, u)
+        total += w[b, k]
+    return pick(w, b, n, total, u)
 
 
 @jit()
@@ -135,15 +135,14 @@ def reset_work(data, work, b, x0):
             occ[b, i % V, val - 1] += 1
 
 
+# The row helpers take the arrays they use (not the data/work tuples) and index slab ``b``
+# directly rather than through views: a call then passes a few pointers and no reference counts.
 @jit()
-def _row_exact(data, work, b, n, rs):
+def _row_exact(Wd, ld, Wa, la, strides, avail, navail, idx, wbuf, lbuf, row, b, n, V, rs):
     """Spec eq. 2.1 over dead and the product of the available sets (into ``row[b]``).
 
     Returns False if no candidate has positive weight (the row is left as it is).
     """
-    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
-    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
-    V = params[3]
     wbuf[b, 0] = Wd[n]
     lbuf[b, 0] = ld[n]
     c = 1
@@ -165,7 +164,7 @@ def _row_exact(data, work, b, n, rs):
             v -= 1
         if v < 0:
             break
-    k = draw(wbuf[b], lbuf[b], c, next_uniform(rs))
+    k = draw(wbuf, lbuf, b, c, next_uniform(rs))
     if k < 0:
         return False
     if k == 0:
@@ -180,28 +179,23 @@ def _row_exact(data, work, b, n, rs):
 
 
 @jit()
-def _sensor_draw(data, work, b, n, v, rs):
+def _sensor_draw(Th, lth, avail, navail, wbuf, lbuf, b, n, v, rs):
     """``j ~ theta_n^(v)(j) 1[j in A_n^(v)]`` with one uniform; -1 if none is positive."""
-    Th = data[7]
-    lth = data[8]
-    avail, navail, wbuf, lbuf = work[1], work[2], work[4], work[5]
     na = navail[b, v]
     for c in range(na):
         j = avail[b, v, c]
         wbuf[b, c] = Th[n, v, j]
         lbuf[b, c] = lth[n, v, j]
-    k = draw(wbuf[b], lbuf[b], na, next_uniform(rs))
+    k = draw(wbuf, lbuf, b, na, next_uniform(rs))
     if k < 0:
         return -1
     return avail[b, v, k]
 
 
 @jit()
-def _row_mm(data, work, b, n, rs, fixed):
+def _row_mm(ld, Th, lth, las, Ea, Ed, qdead, avail, navail, wbuf, lbuf, row, b, n, V, rs,
+            fixed):
     """Spec §3.2: dead with probability ``Q_n``, else independent per-sensor draws."""
-    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
-    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
-    V = params[3]
     u = next_uniform(rs)
     if fixed:
         dead = u < qdead[n]
@@ -214,7 +208,7 @@ def _row_mm(data, work, b, n, rs, fixed):
             alive *= s
         wbuf[b, 0] = Ed[n]
         wbuf[b, 1] = alive
-        k = pick(wbuf[b], 2, Ed[n] + alive, u)
+        k = pick(wbuf, b, 2, Ed[n] + alive, u)
         if k < 0:  # both underflowed: the same decision on exact log-weights
             lal = las[n]
             for v in range(V):
@@ -234,7 +228,7 @@ def _row_mm(data, work, b, n, rs, fixed):
             wbuf[b, 1] = 0.0
             lbuf[b, 0] = ld[n]
             lbuf[b, 1] = lal
-            k = draw(wbuf[b], lbuf[b], 2, u)
+            k = draw(wbuf, lbuf, b, 2, u)
             if k < 0:
                 return False
         dead = k == 0
@@ -243,7 +237,7 @@ def _row_mm(data, work, b, n, rs, fixed):
             row[b, v] = -1
         return True
     for v in range(V):
-        j = _sensor_draw(data, work, b, n, v, rs)
+        j = _sensor_draw(Th, lth, avail, navail, wbuf, lbuf, b, n, v, rs)
         if j < 0:  # mm-fixed only: the alive branch is infeasible here
             if ld[n] > -np.inf:
                 for w in range(V):
@@ -255,11 +249,8 @@ def _row_mm(data, work, b, n, rs, fixed):
 
 
 @jit()
-def _row_componentwise(data, work, b, n, state, rs):
+def _row_componentwise(Wa, la, strides, avail, navail, wbuf, lbuf, row, state, b, n, V, rs):
     """Spec §2.4: each component in turn from its exact conditional under ``eta'``."""
-    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
-    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
-    V = params[3]
     for v in range(V):
         row[b, v] = state[n * V + v] - 1
     for v in range(V):
@@ -272,7 +263,7 @@ def _row_componentwise(data, work, b, n, state, rs):
             off = base + avail[b, v, c] * strides[v]
             wbuf[b, c] = Wa[n, off]
             lbuf[b, c] = la[n, off]
-        k = draw(wbuf[b], lbuf[b], na, next_uniform(rs))
+        k = draw(wbuf, lbuf, b, na, next_uniform(rs))
         if k >= 0:
             row[b, v] = avail[b, v, k]
     return True
@@ -324,12 +315,11 @@ def sweep(data, work, b, zkeys, state, h, rs):
     >>> x.tolist()
     [2, 2]
     """
-    params = data[0]
+    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
+    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
     method = params[0]
     P = params[2]
     V = params[3]
-    n_meas = data[1]
-    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
     for t in range(P):
         perm[b, t] = t
     if params[1]:  # random scan: Fisher-Yates from the identity
@@ -352,11 +342,14 @@ def sweep(data, work, b, zkeys, state, h, rs):
                     c += 1
             navail[b, v] = c
         if method == EXACT:
-            ok = _row_exact(data, work, b, n, rs)
+            ok = _row_exact(Wd, ld, Wa, la, strides, avail, navail, idx, wbuf, lbuf, row, b, n,
+                            V, rs)
         elif method == COMPONENTWISE:
-            ok = _row_componentwise(data, work, b, n, state, rs)
+            ok = _row_componentwise(Wa, la, strides, avail, navail, wbuf, lbuf, row, state, b,
+                                    n, V, rs)
         else:
-            ok = _row_mm(data, work, b, n, rs, method == MM_FIXED)
+            ok = _row_mm(ld, Th, lth, las, Ea, Ed, qdead, avail, navail, wbuf, lbuf, row, b, n,
+                         V, rs, method == MM_FIXED)
         if not ok:
             continue
         for v in range(V):
