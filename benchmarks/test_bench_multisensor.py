@@ -18,8 +18,8 @@ scaling table ``P = 10, M_v = 8``, ``V = 2..4``.
 import numpy as np
 import pytest
 
-from rankedassign._kernels import zobrist_keys
 from rankedassign._rng import SplitMix64
+from rankedassign._rng_kernels import zobrist_keys
 from rankedassign.multisensor import _kernels as K
 from rankedassign.multisensor import reference as R
 from rankedassign.multisensor.sampling import METHODS, prepare_data, start_state

@@ -26,6 +26,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
+from .multisensor.sampling import prepare_fields as _multisensor_fields
 from .problem import AssignmentProblem
 from .validation import (
     STALE_READINGS,
@@ -291,6 +292,11 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
         ref_data=(W.tolist(), cc.tolist(), random_scan, M), x0=x0, n_values=M + 2,
         base=base_key(rng), rows=P, sweep_cost=P * (M + 2), to_result=to_result,
     )
+
+
+def _prepare_multisensor(problem, start, scan, rng, options) -> Prepared:
+    """Multi-sensor problems (:mod:`rankedassign.multisensor.sampling`)."""
+    return Prepared(**_multisensor_fields(problem, start, scan, rng, options))
 
 
 # ------------------------------------------------------------------------------ dispatch

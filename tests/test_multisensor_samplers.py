@@ -14,8 +14,9 @@ from hypothesis import strategies as st
 from ms_standin import KINDS, StandIn, random_problem
 from numpy.testing import assert_allclose, assert_array_equal
 
-from rankedassign._kernels import zobrist_keys
+from rankedassign import _sampling, sample_original, sample_short_chains
 from rankedassign._rng import SplitMix64
+from rankedassign._rng_kernels import zobrist_keys
 from rankedassign.multisensor import _kernels as K
 from rankedassign.multisensor import reference as R
 from rankedassign.multisensor.sampling import (
@@ -235,3 +236,87 @@ def test_start_error_messages():
         start_state(p2, [[-1, -1], [1, 1]], "exact")
     # collapsed: row 1 at (0, 0) keeps the weight of dead
     assert start_state(p2, "all_missed", "componentwise").tolist() == [1, 1, 1, 1]
+
+
+# ------------------------------------------------------------------------------ public API
+@pytest.fixture(scope="module")
+def registered():
+    """The stand-in problem dispatches like the real MultiSensorProblem."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setitem(_sampling._PREPARE, StandIn, _sampling._prepare_multisensor)
+        yield
+
+
+STALLS = ["global-consecutive", "global-cumulative", "chain-local"]
+STALES = ["consecutive", "cumulative", "literal-set", "literal-multiset"]
+
+
+def assert_same(a, b, discarded=True):
+    assert_array_equal(a.assignments, b.assignments)
+    assert_array_equal(a.costs, b.costs)
+    assert_array_equal(a.counts, b.counts)
+    assert (a.n_observations, a.n_row_updates, a.n_chains_run, a.stop_reason) == (
+        b.n_observations, b.n_row_updates, b.n_chains_run, b.stop_reason)
+    if discarded:
+        assert a.n_speculative_discarded == b.n_speculative_discarded
+
+
+@given(case=cases(), method=st.sampled_from(METHODS),
+       scan=st.sampled_from(["systematic", "random"]), stall=st.sampled_from(STALLS),
+       stale=st.sampled_from(STALES), tau_stall=st.sampled_from([None, 1, 3]),
+       tau_stale=st.sampled_from([None, 1, 4]), n_chains=st.integers(0, 12),
+       chain_length=st.integers(0, 6))
+def test_short_chains_numba_equals_reference(registered, case, method, scan, stall, stale,
+                                             tau_stall, tau_stale, n_chains, chain_length):
+    problem, seed = case
+    kw = dict(tau_stall=tau_stall, tau_stale=tau_stale, stall=stall, stale=stale, scan=scan,
+              rng=seed, method=method)
+    nb = sample_short_chains(problem, n_chains, chain_length, **kw)
+    py = sample_short_chains(problem, n_chains, chain_length, backend="python", **kw)
+    assert_same(nb, py)
+    assert nb.assignments.shape == (len(nb), problem.n_rows, problem.n_sensors)
+    par = sample_short_chains(problem, n_chains, chain_length, workers=2, **kw)
+    assert_same(par, nb, discarded=False)
+
+
+def test_original_sampler_result(registered):
+    problem = random_problem(3, (2, 2), 1, "coupled")
+    for method in METHODS:
+        res = sample_original(problem, 300, rng=4, method=method)
+        ref = sample_original(problem, 300, rng=4, method=method, backend="python")
+        assert_same(res, ref)
+        assert res.n_observations == 300 and res.n_chains_run == 1
+        assert res.n_row_updates == 900 and int(res.counts.sum()) == 300
+        assert res.assignments.shape == (len(res), 3, 2)
+        assert_array_equal(res.assignments[0], np.zeros((3, 2)))  # all-missed start first
+        assert len(res) > 5
+        # exact -log w(gamma) for every method (collapsed weights for componentwise)
+        assert_allclose(res.costs, assignment_costs(problem, res.assignments, method),
+                        rtol=0, atol=0)
+        # the original sampler is one short chain without rules
+        assert_same(res, sample_short_chains(problem, 1, 300, rng=4, method=method))
+
+
+def test_default_method_is_mm_and_options(registered):
+    problem = random_problem(3, (2, 1), 2, "coupled")
+    assert_same(sample_original(problem, 50, rng=1),
+                sample_original(problem, 50, rng=1, method="mm", survival_power=1))
+    a = sample_original(problem, 50, rng=1, survival_power="V")
+    assert a.n_observations == 50
+    res = sample_original(problem, 20, rng=1, method="exact", start="all_dead")
+    assert_array_equal(res.assignments[0], -np.ones((3, 2)))
+    start = [[1, 0], [-1, -1], [2, 1]]
+    res = sample_original(problem, 20, rng=1, method="exact", start=start)
+    assert_array_equal(res.assignments[0], start)
+
+
+def test_public_error_messages(registered):
+    problem = random_problem(2, (1, 1), 0)
+    bare = StandIn(problem.log_eta_dead, problem.log_eta_alive)
+    with pytest.raises(ValueError, match=r"method='mm' needs the separable factors"):
+        sample_original(bare, 5)  # the default method needs log_s and log_theta
+    with pytest.raises(TypeError, match=r"unexpected option\(s\) \['mode'\] for a multi-sensor "
+                                        r"problem; expected 'method' and 'survival_power'"):
+        sample_short_chains(problem, 2, 2, mode="x")
+    with pytest.raises(ValueError, match=r"unknown method 'gibbs'"):
+        sample_original(problem, 5, method="gibbs", backend="python")

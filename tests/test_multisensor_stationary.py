@@ -28,7 +28,7 @@ from oracle.transition import (
     target_distribution,
     transition_matrix,
 )
-from rankedassign._kernels import chain_state, zobrist_keys
+from rankedassign._rng_kernels import chain_state, zobrist_keys
 from rankedassign.multisensor import _kernels as K
 from rankedassign.multisensor.sampling import METHODS, prepare_data, start_state
 

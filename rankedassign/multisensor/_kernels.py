@@ -40,7 +40,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._kernels import next_uniform
+from .._chains import make_driver
+from .._rng_kernels import next_uniform
 from ..numba_options import jit
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
@@ -299,7 +300,7 @@ def sweep(data, work, b, zkeys, state, h, rs):
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign._kernels import zobrist_keys
+    >>> from rankedassign._rng_kernels import zobrist_keys
     >>> from rankedassign.multisensor.sampling import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
@@ -383,7 +384,7 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign._kernels import zobrist_keys
+    >>> from rankedassign._rng_kernels import zobrist_keys
     >>> from rankedassign.multisensor.sampling import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
@@ -407,3 +408,7 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
     for _ in range(n_sweeps):
         h = sweep(data, work, 0, zkeys, state, h, rs)
     return state, h
+
+
+#: The chain driver compiled for the multi-sensor problem (:func:`.._chains.make_driver`).
+run_chains = make_driver("multisensor", alloc_work, reset_work, sweep)
