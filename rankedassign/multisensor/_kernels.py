@@ -136,138 +136,24 @@ def reset_work(data, work, b, x0):
             occ[b, i % V, val - 1] += 1
 
 
-# The row helpers take the arrays they use (not the data/work tuples) and index slab ``b``
-# directly rather than through views: a call then passes a few pointers and no reference counts.
 @jit()
-def _row_exact(Wd, ld, Wa, la, strides, avail, navail, idx, wbuf, lbuf, row, b, n, V, rs):
-    """Spec eq. 2.1 over dead and the product of the available sets (into ``row[b]``).
-
-    Returns False if no candidate has positive weight (the row is left as it is).
-    """
-    wbuf[b, 0] = Wd[n]
-    lbuf[b, 0] = ld[n]
-    c = 1
+def _mm_log_alive(lth, las, avail, navail, b, n, V):
+    """``log(s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j))`` on exact log-weights (the
+    MM underflow fall-back)."""
+    lal = las[n]
     for v in range(V):
-        idx[b, v] = 0
-    while True:  # odometer over A_1 x ... x A_V, last sensor fastest (C order)
-        off = 0
-        for v in range(V):
-            off += avail[b, v, idx[b, v]] * strides[v]
-        wbuf[b, c] = Wa[n, off]
-        lbuf[b, c] = la[n, off]
-        c += 1
-        v = V - 1
-        while v >= 0:
-            idx[b, v] += 1
-            if idx[b, v] < navail[b, v]:
-                break
-            idx[b, v] = 0
-            v -= 1
-        if v < 0:
-            break
-    k = draw(wbuf, lbuf, b, c, next_uniform(rs))
-    if k < 0:
-        return False
-    if k == 0:
-        for v in range(V):
-            row[b, v] = -1
-        return True
-    r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
-    for v in range(V - 1, -1, -1):
-        row[b, v] = avail[b, v, r % navail[b, v]]
-        r //= navail[b, v]
-    return True
-
-
-@jit()
-def _sensor_draw(Th, lth, avail, navail, wbuf, lbuf, b, n, v, rs):
-    """``j ~ theta_n^(v)(j) 1[j in A_n^(v)]`` with one uniform; -1 if none is positive."""
-    na = navail[b, v]
-    for c in range(na):
-        j = avail[b, v, c]
-        wbuf[b, c] = Th[n, v, j]
-        lbuf[b, c] = lth[n, v, j]
-    k = draw(wbuf, lbuf, b, na, next_uniform(rs))
-    if k < 0:
-        return -1
-    return avail[b, v, k]
-
-
-@jit()
-def _row_mm(ld, Th, lth, las, Ea, Ed, qdead, avail, navail, wbuf, lbuf, row, b, n, V, rs,
-            fixed):
-    """Spec §3.2: dead with probability ``Q_n``, else independent per-sensor draws."""
-    u = next_uniform(rs)
-    if fixed:
-        dead = u < qdead[n]
-    else:
-        alive = Ea[n]
-        for v in range(V):
-            s = 0.0
-            for c in range(navail[b, v]):
-                s += Th[n, v, avail[b, v, c]]
-            alive *= s
-        wbuf[b, 0] = Ed[n]
-        wbuf[b, 1] = alive
-        k = pick(wbuf, b, 2, Ed[n] + alive, u)
-        if k < 0:  # both underflowed: the same decision on exact log-weights
-            lal = las[n]
-            for v in range(V):
-                m = -np.inf
-                for c in range(navail[b, v]):
-                    lw = lth[n, v, avail[b, v, c]]
-                    if lw > m:
-                        m = lw
-                if m == -np.inf:
-                    lal = -np.inf
-                    break
-                s = 0.0
-                for c in range(navail[b, v]):
-                    s += np.exp(lth[n, v, avail[b, v, c]] - m)
-                lal += m + np.log(s)
-            wbuf[b, 0] = 0.0
-            wbuf[b, 1] = 0.0
-            lbuf[b, 0] = ld[n]
-            lbuf[b, 1] = lal
-            k = draw(wbuf, lbuf, b, 2, u)
-            if k < 0:
-                return False
-        dead = k == 0
-    if dead:
-        for v in range(V):
-            row[b, v] = -1
-        return True
-    for v in range(V):
-        j = _sensor_draw(Th, lth, avail, navail, wbuf, lbuf, b, n, v, rs)
-        if j < 0:  # mm-fixed only: the alive branch is infeasible here
-            if ld[n] > -np.inf:
-                for w in range(V):
-                    row[b, w] = -1
-                return True
-            return False
-        row[b, v] = j
-    return True
-
-
-@jit()
-def _row_componentwise(Wa, la, strides, avail, navail, wbuf, lbuf, row, state, b, n, V, rs):
-    """Spec §2.4: each component in turn from its exact conditional under ``eta'``."""
-    for v in range(V):
-        row[b, v] = state[n * V + v] - 1
-    for v in range(V):
-        base = 0
-        for w in range(V):
-            if w != v:
-                base += row[b, w] * strides[w]
-        na = navail[b, v]
-        for c in range(na):
-            off = base + avail[b, v, c] * strides[v]
-            wbuf[b, c] = Wa[n, off]
-            lbuf[b, c] = la[n, off]
-        k = draw(wbuf, lbuf, b, na, next_uniform(rs))
-        if k >= 0:
-            row[b, v] = avail[b, v, k]
-    return True
+        m = -np.inf
+        for c in range(navail[b, v]):
+            lw = lth[n, v, avail[b, v, c]]
+            if lw > m:
+                m = lw
+        if m == -np.inf:
+            return -np.inf
+        s = 0.0
+        for c in range(navail[b, v]):
+            s += np.exp(lth[n, v, avail[b, v, c]] - m)
+        lal += m + np.log(s)
+    return lal
 
 
 @jit()
@@ -342,15 +228,161 @@ def sweep(data, work, b, zkeys, state, h, rs):
                     avail[b, v, c] = j
                     c += 1
             navail[b, v] = c
+        # Row update into row[b] (ok = False: no positive candidate, the row stays). The draws
+        # are written out (sum, then the inverse-CDF loop of pick) rather than called: a call
+        # per draw costs more than the draw on small problems. The rare underflow fall-back is
+        # a call to draw.
+        ok = True
         if method == EXACT:
-            ok = _row_exact(Wd, ld, Wa, la, strides, avail, navail, idx, wbuf, lbuf, row, b, n,
-                            V, rs)
+            # spec eq. 2.1: dead, then A_1 x ... x A_V in C order (odometer, last sensor fastest)
+            wbuf[b, 0] = Wd[n]
+            lbuf[b, 0] = ld[n]
+            nc = 1
+            for v in range(V):
+                idx[b, v] = 0
+            while True:
+                off = 0
+                for v in range(V):
+                    off += avail[b, v, idx[b, v]] * strides[v]
+                wbuf[b, nc] = Wa[n, off]
+                lbuf[b, nc] = la[n, off]
+                nc += 1
+                v = V - 1
+                while v >= 0:
+                    idx[b, v] += 1
+                    if idx[b, v] < navail[b, v]:
+                        break
+                    idx[b, v] = 0
+                    v -= 1
+                if v < 0:
+                    break
+            total = 0.0
+            for k in range(nc):
+                total += wbuf[b, k]
+            u = next_uniform(rs)
+            k = -1
+            if total > 0.0:
+                target = u * total
+                acc = 0.0
+                for kk in range(nc):
+                    wk = wbuf[b, kk]
+                    if wk > 0.0:
+                        acc += wk
+                        k = kk
+                        if acc > target:
+                            break
+            else:
+                k = draw(wbuf, lbuf, b, nc, u)
+            if k < 0:
+                ok = False
+            elif k == 0:
+                for v in range(V):
+                    row[b, v] = -1
+            else:
+                r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
+                for v in range(V - 1, -1, -1):
+                    row[b, v] = avail[b, v, r % navail[b, v]]
+                    r //= navail[b, v]
         elif method == COMPONENTWISE:
-            ok = _row_componentwise(Wa, la, strides, avail, navail, wbuf, lbuf, row, state, b,
-                                    n, V, rs)
+            # spec §2.4: each component from its exact conditional under eta', in turn
+            for v in range(V):
+                row[b, v] = state[n * V + v] - 1
+            for v in range(V):
+                base = 0
+                for w in range(V):
+                    if w != v:
+                        base += row[b, w] * strides[w]
+                na = navail[b, v]
+                sv = strides[v]
+                total = 0.0
+                for c in range(na):
+                    total += Wa[n, base + avail[b, v, c] * sv]
+                u = next_uniform(rs)
+                k = -1
+                if total > 0.0:
+                    target = u * total
+                    acc = 0.0
+                    for c in range(na):
+                        wk = Wa[n, base + avail[b, v, c] * sv]
+                        if wk > 0.0:
+                            acc += wk
+                            k = c
+                            if acc > target:
+                                break
+                else:
+                    for c in range(na):
+                        off = base + avail[b, v, c] * sv
+                        wbuf[b, c] = Wa[n, off]
+                        lbuf[b, c] = la[n, off]
+                    k = draw(wbuf, lbuf, b, na, u)
+                if k >= 0:
+                    row[b, v] = avail[b, v, k]
         else:
-            ok = _row_mm(ld, Th, lth, las, Ea, Ed, qdead, avail, navail, wbuf, lbuf, row, b, n,
-                         V, rs, method == MM_FIXED)
+            # spec §3.2: dead with probability Q_n, else independent per-sensor draws
+            u = next_uniform(rs)
+            if method == MM_FIXED:
+                dead = u < qdead[n]
+            else:
+                # alive mass s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j), shifted
+                alive = Ea[n]
+                for v in range(V):
+                    sv = 0.0
+                    for c in range(navail[b, v]):
+                        sv += Th[n, v, avail[b, v, c]]
+                    alive *= sv
+                wd = Ed[n]
+                target = u * (wd + alive)
+                k = -1
+                acc = 0.0
+                if wd > 0.0:
+                    acc += wd
+                    k = 0
+                if not (k == 0 and acc > target) and alive > 0.0:
+                    acc += alive
+                    k = 1
+                if k < 0:  # both underflowed: the same decision on exact log-weights
+                    wbuf[b, 0] = 0.0
+                    wbuf[b, 1] = 0.0
+                    lbuf[b, 0] = ld[n]
+                    lbuf[b, 1] = _mm_log_alive(lth, las, avail, navail, b, n, V)
+                    k = draw(wbuf, lbuf, b, 2, u)
+                    if k < 0:
+                        ok = False
+                dead = k == 0
+            if ok and dead:
+                for v in range(V):
+                    row[b, v] = -1
+            elif ok:
+                for v in range(V):  # j ~ theta_n^(v)(j) 1[j in A_n^(v)], one uniform each
+                    na = navail[b, v]
+                    total = 0.0
+                    for c in range(na):
+                        total += Th[n, v, avail[b, v, c]]
+                    u = next_uniform(rs)
+                    k = -1
+                    if total > 0.0:
+                        target = u * total
+                        acc = 0.0
+                        for c in range(na):
+                            wk = Th[n, v, avail[b, v, c]]
+                            if wk > 0.0:
+                                acc += wk
+                                k = c
+                                if acc > target:
+                                    break
+                    else:
+                        for c in range(na):
+                            wbuf[b, c] = Th[n, v, avail[b, v, c]]
+                            lbuf[b, c] = lth[n, v, avail[b, v, c]]
+                        k = draw(wbuf, lbuf, b, na, u)
+                    if k < 0:  # mm-fixed only: the alive branch is infeasible here
+                        if ld[n] > -np.inf:
+                            for w in range(V):
+                                row[b, w] = -1
+                        else:
+                            ok = False
+                        break
+                    row[b, v] = avail[b, v, k]
         if not ok:
             continue
         for v in range(V):
