@@ -12,7 +12,8 @@ set); the reference side is :func:`rankedassign.multisensor.reference.sweep` in 
 
 Problems (spec §6.5 random-coupled family): A ``P = 4, M = (4, 4)``, B ``P = 2, M = (16,
 16)``, C ``P = 3, M = (4, 4, 4)``, a tracking-sized ``P = 20, V = 3, M_v = 20``, and for the
-scaling table ``P = 10, M_v = 8``, ``V = 2..4``.
+scaling table ``P = 3, M_v = 10``, ``V = 2..4`` (more measurements than rows, so a
+row's available sets stay large in the chain's steady state, as in clutter-rich scans).
 """
 
 import numpy as np
@@ -30,7 +31,7 @@ SIZES = {
     "C": (3, (4, 4, 4)),
     "tracking": (20, (20, 20, 20)),
 }
-SCALING = {f"V={V}": (10, (8,) * V) for V in (2, 3, 4)}
+SCALING = {f"V={V}": (3, (10,) * V) for V in (2, 3, 4)}
 
 
 class _Arrays:
@@ -84,8 +85,7 @@ def _numba(data, zk, x0, n):
     return K.run_sweeps(data, zk, x0, np.uint64(1), n)
 
 
-def _python(data, x0, n):
-    rd = R.RefData(data)
+def _python(rd, x0, n):
     x = x0.tolist()
     occ = R.new_work(rd, x)
     g = SplitMix64(1)
@@ -103,7 +103,8 @@ def _bench(benchmark, P, M, method, backend, group, budget):
         _numba(data, zk, x0, 1)  # compiled (or loaded from the cache) before timing
         benchmark.pedantic(_numba, args=(data, zk, x0, n), rounds=5, warmup_rounds=1)
     else:
-        benchmark.pedantic(_python, args=(data, x0, n), rounds=3, warmup_rounds=0)
+        rd = R.RefData(data)  # the reference's inputs as lists, built once per call, untimed
+        benchmark.pedantic(_python, args=(rd, x0, n), rounds=3, warmup_rounds=0)
     benchmark.extra_info.update(sweeps=n, P=P, M=list(M), method=method, backend=backend,
                                 candidates_per_sweep=cand)
 
