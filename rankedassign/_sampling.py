@@ -20,7 +20,7 @@ the result holds column indices of the full ``P x (M + 2P)`` matrix.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
@@ -37,11 +37,19 @@ from .validation import (
 )
 
 __all__ = ["SamplerResult", "Prepared", "prepare", "package", "shifted_weights", "STARTS",
-           "SCANS", "BACKENDS", "zero_length_run"]
+           "SCANS", "BACKENDS", "zero_length_run", "SingleData", "prefix_sums",
+           "M_DIRECT", "CANCEL_GUARD"]
 
 STARTS = ("all_missed", "all_dead", "lsap")
 SCANS = ("systematic", "random")
 BACKENDS = ("numba", "python")
+
+#: Rows of problems with at most this many measurements draw with the direct sum (for few
+#: measurements it is the cheaper of the two; above, the prefix-sum draw does not grow with M).
+M_DIRECT = 32
+#: The prefix-sum draw falls back to the direct sum when the measurements held by other rows
+#: carry all but this fraction of the row's measurement weight: ``S[M] - held`` then cancels.
+CANCEL_GUARD = 2.0**-20
 
 
 @dataclass(frozen=True, eq=False)
@@ -144,6 +152,18 @@ class Prepared:
     to_result: Any = field(repr=False)
 
 
+class SingleData(NamedTuple):
+    """The single-sensor sampler's inputs as plain lists (the reference's ``data``)."""
+
+    W: list        # (P, M + 2) shifted weights
+    cc: list       # (P, M + 2) compact costs
+    S: list        # (P, M + 1) prefix sums of the measurement weights
+    next_pos: list  # (P, M) first positive weight at or after each measurement
+    random_scan: bool
+    M: int
+
+
+
 # ------------------------------------------------------------------------------ arguments
 def check_rules(tau_stall, tau_stale, stall, stale):
     """Validate the stall/stale thresholds and readings; return ``(tau_stall, tau_stale)``.
@@ -210,6 +230,31 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
         W = np.exp(-(cc - mn))
     W[~np.isfinite(cc)] = 0.0
     return np.ascontiguousarray(W)
+
+
+def prefix_sums(W: np.ndarray):
+    """Per-row prefix sums of the measurement weights and the next positive weight.
+
+    Returns
+    -------
+    S : ndarray, shape (P, M + 1), float64
+        ``S[i, k] = W[i, 0] + ... + W[i, k - 1]``, accumulated left to right (``S[i, 0] = 0``).
+    next_pos : ndarray, shape (P, M), int64
+        ``next_pos[i, k]``: the first ``k' >= k`` with ``W[i, k'] > 0``, or ``M``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> S, nxt = prefix_sums(np.array([[0.5, 0.0, 0.25, 1.0, 0.0]]))
+    >>> S.tolist(), nxt.tolist()
+    ([[0.0, 0.5, 0.5, 0.75]], [[0, 2, 2]])
+    """
+    P, M = W.shape[0], W.shape[1] - 2
+    S = np.zeros((P, M + 1))
+    np.add.accumulate(W[:, :M], axis=1, out=S[:, 1:])  # sequential, as the direct draw sums
+    idx = np.where(W[:, :M] > 0.0, np.arange(M), M)
+    next_pos = np.ascontiguousarray(np.minimum.accumulate(idx[:, ::-1], axis=1)[:, ::-1])
+    return S, next_pos.astype(np.int64)
 
 
 def to_compact(problem: AssignmentProblem, cols: np.ndarray) -> np.ndarray:
@@ -282,14 +327,17 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     cc = np.array(problem.compact_cost, dtype=np.float64, order="C")  # writable: one numba type
     random_scan = scan == "random"
     P, M = problem.n_rows, problem.n_meas
+    S, next_pos = prefix_sums(W)
 
     def to_result(states):
         assignments = to_columns(problem, states)
         return assignments, np.asarray(problem.cost_of(assignments), dtype=np.float64).reshape(-1)
 
     return Prepared(
-        kind="single", problem=problem, data=(W, cc, random_scan),
-        ref_data=(W.tolist(), cc.tolist(), random_scan, M), x0=x0, n_values=M + 2,
+        kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan),
+        ref_data=SingleData(W.tolist(), cc.tolist(), S.tolist(), next_pos.tolist(),
+                            random_scan, M),
+        x0=x0, n_values=M + 2,
         base=base_key(rng), rows=P, sweep_cost=P * (M + 2), to_result=to_result,
     )
 
