@@ -16,8 +16,8 @@ State representation. A state is the vector of *compact* indices ``k_i`` in ``0.
 columns of :attr:`AssignmentProblem.compact_cost`): ``k < M`` is measurement ``k``, ``M`` is
 missed, ``M + 1`` is dead. ``free[j]`` is 1.0 while measurement ``j`` is free, 0.0 while held.
 
-``data`` is the tuple ``(W, cc, S, next_pos, random_scan)`` (shifted weights, compact costs,
-prefix sums, next positive weight, scan order); the workspace of ``nb`` chains is
+``data`` is the tuple ``(W, cc, S, next_pos, random_scan, prefix)`` (shifted weights, compact
+costs, prefix sums, next positive weight, scan order, draw rule); the workspace of ``nb`` chains is
 ``(free, perm, cum, held, n_held)``: the free-measurement masks ``(nb, M)``, the row
 permutations ``(nb, P)``, the running sums ``(nb, M + 2)``, and the sorted held measurements
 ``(nb, P)`` with their count ``(nb, 1)``.
@@ -38,7 +38,7 @@ import numpy as np
 
 from ._chains import make_driver
 from ._rng_kernels import next_uniform
-from ._sampling import CANCEL_GUARD, M_DIRECT
+from ._sampling import CANCEL_GUARD
 from .numba_options import jit
 
 
@@ -87,35 +87,41 @@ def draw_prefix(W, S, next_pos, cc, i, free, held, n_held, cum, u):
     are those of :func:`rankedassign.reference.draw_prefix`, operation for operation.
     """
     M = W.shape[1] - 2
-    c = 0.0
+    cs = cum  # cs[t]: held weight left of run t, summed left to right (scratch row)
+    cs[0] = 0.0
     for t in range(n_held):
-        c += W[i, held[t]]
-    meas = S[i, M] - c
+        cs[t + 1] = cs[t] + W[i, held[t]]
+    meas = S[i, M] - cs[n_held]
     if meas < CANCEL_GUARD * S[i, M]:  # held weight cancels the prefix sum: direct draw
         return draw_direct(W, cc, i, free, cum, u)
     total = (meas + W[i, M]) + W[i, M + 1]
     if not total > 0.0:  # every available weight underflowed
         return draw_direct(W, cc, i, free, cum, u)
     target = u * total
-    lo = 0
-    c = 0.0
-    for t in range(n_held + 1):  # runs [lo, h) of free measurements
+    a = 0
+    b = n_held + 1
+    while a < b:  # the first run whose last cum exceeds target
+        mid = (a + b) // 2
+        h = held[mid] if mid < n_held else M
+        if S[i, h] - cs[mid] > target:
+            b = mid
+        else:
+            a = mid + 1
+    for t in range(a, n_held + 1):  # normally one run
+        lo = held[t - 1] + 1 if t > 0 else 0
         h = held[t] if t < n_held else M
-        if h > lo and S[i, h] - c > target:
-            a = lo
-            b = h - 1
-            while a < b:  # the first k in the run with S[i, k + 1] - c > target
-                mid = (a + b) // 2
-                if S[i, mid + 1] - c > target:
-                    b = mid
+        if h > lo and S[i, h] - cs[t] > target:
+            p = lo
+            q = h - 1
+            while p < q:  # the first k in the run with S[i, k + 1] - cs[t] > target
+                mid = (p + q) // 2
+                if S[i, mid + 1] - cs[t] > target:
+                    q = mid
                 else:
-                    a = mid + 1
-            k = next_pos[i, a]
+                    p = mid + 1
+            k = next_pos[i, p]
             if k < h:
                 return k
-        if h < M:
-            c += W[i, h]
-        lo = h + 1
     if W[i, M] > 0.0 and meas + W[i, M] > target:
         return M
     if W[i, M + 1] > 0.0:
@@ -189,7 +195,8 @@ def _hold(held, n_held, k):
 
 
 @jit()
-def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum, random_scan):
+def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum, random_scan,
+          prefix):
     """One Gibbs sweep over all rows, in place (Gauss-Seidel, spec §2.2); return the new hash.
 
     Parameters
@@ -209,7 +216,7 @@ def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum
         1.0 for a free measurement, 0.0 for a held one; updated in place.
     held : ndarray, shape (P,), int64
         The held measurements in increasing order in ``held[:n_held[0]]`` (kept only when
-        ``M >`` :data:`M_DIRECT`); updated in place.
+        ``prefix``); updated in place.
     n_held : ndarray, shape (1,), int64
         Their number.
     h : uint64
@@ -222,6 +229,8 @@ def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum
         Systematic order ``0..P-1`` if False; otherwise a fresh uniformly random order drawn
         first, by Fisher-Yates from the identity: for ``t = P-1..1``,
         ``j = min(floor(u (t + 1)), t)``, swap ``perm[t], perm[j]``.
+    prefix : bool
+        Draw from prefix sums (:func:`rankedassign._sampling.uses_prefix_sums`).
 
     Returns
     -------
@@ -231,12 +240,11 @@ def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum
     Notes
     -----
     Row ``i`` releases its measurement and is drawn from its conditional (spec eq. 2.1) with
-    one uniform: by :func:`draw_direct` when ``M <=`` :data:`M_DIRECT`, else by
-    :func:`draw_prefix`, whose cost does not grow with ``M``.
+    one uniform: by :func:`draw_direct`, or by :func:`draw_prefix`, whose cost does not grow
+    with ``M``.
     """
     P = state.shape[0]
     M = W.shape[1] - 2
-    prefix = M > M_DIRECT
     if random_scan:
         for t in range(P):
             perm[t] = t
@@ -299,7 +307,7 @@ def reset_work(data, work, b, x0):
 def row_sweep(data, work, b, zkeys, state, h, rs):
     """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
     return sweep(data[0], data[1], data[2], data[3], zkeys, state, work[0][b], work[3][b],
-                 work[4][b], h, rs, work[1][b], work[2][b], data[4])
+                 work[4][b], h, rs, work[1][b], work[2][b], data[4], data[5])
 
 
 #: The chain driver compiled for the single-sensor problem (:func:`._chains.make_driver`).

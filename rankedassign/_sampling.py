@@ -19,6 +19,7 @@ the result holds column indices of the full ``P x (M + 2P)`` matrix.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
@@ -38,15 +39,32 @@ from .validation import (
 
 __all__ = ["SamplerResult", "Prepared", "prepare", "package", "shifted_weights", "STARTS",
            "SCANS", "BACKENDS", "zero_length_run", "SingleData", "prefix_sums",
-           "M_DIRECT", "CANCEL_GUARD"]
+           "M_DIRECT", "CANCEL_GUARD", "uses_prefix_sums"]
 
 STARTS = ("all_missed", "all_dead", "lsap")
 SCANS = ("systematic", "random")
 BACKENDS = ("numba", "python")
 
-#: Rows of problems with at most this many measurements draw with the direct sum (for few
-#: measurements it is the cheaper of the two; above, the prefix-sum draw does not grow with M).
+#: Problems with at most this many measurements draw with the direct sum.
 M_DIRECT = 32
+
+
+def uses_prefix_sums(P: int, M: int) -> bool:
+    """Whether rows draw from prefix sums (:func:`rankedassign.reference.draw_prefix`).
+
+    A direct draw costs ``O(M)`` per row, a prefix-sum draw ``O(P + log M)`` (the held
+    measurements are summed and kept sorted); the prefix sums are used where they are the
+    cheaper of the two: more than :data:`M_DIRECT` measurements and more than ``2 P``. The
+    rule depends only on the problem's shape, so both implementations follow it.
+
+    Examples
+    --------
+    >>> uses_prefix_sums(4, 16), uses_prefix_sums(50, 50), uses_prefix_sums(50, 5000)
+    (False, False, True)
+    """
+    return M > M_DIRECT and M > 2 * P
+
+
 #: The prefix-sum draw falls back to the direct sum when the measurements held by other rows
 #: carry all but this fraction of the row's measurement weight: ``S[M] - held`` then cancels.
 CANCEL_GUARD = 2.0**-20
@@ -125,7 +143,8 @@ class Prepared:
     data : tuple
         The kernels' read-only arrays and scalars (one numba type per kind).
     ref_data : tuple
-        The same inputs as plain Python lists and numbers for the reference.
+        The same inputs as plain Python lists and numbers for the reference (built on first
+        use, so a compiled run does not pay for the conversion).
     x0 : ndarray, shape (L,), int32
         Start state.
     n_values : int
@@ -143,13 +162,18 @@ class Prepared:
     kind: str
     problem: Any
     data: tuple
-    ref_data: tuple
+    make_ref_data: Any = field(repr=False)
     x0: np.ndarray
     n_values: int
     base: int
     rows: int
     sweep_cost: int
     to_result: Any = field(repr=False)
+
+    @functools.cached_property
+    def ref_data(self):
+        """The reference's inputs (see the class docstring)."""
+        return self.make_ref_data()
 
 
 class SingleData(NamedTuple):
@@ -161,6 +185,7 @@ class SingleData(NamedTuple):
     next_pos: list  # (P, M) first positive weight at or after each measurement
     random_scan: bool
     M: int
+    prefix: bool   # rows draw from prefix sums (uses_prefix_sums)
 
 
 
@@ -328,15 +353,16 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     random_scan = scan == "random"
     P, M = problem.n_rows, problem.n_meas
     S, next_pos = prefix_sums(W)
+    prefix = uses_prefix_sums(P, M)
 
     def to_result(states):
         assignments = to_columns(problem, states)
         return assignments, np.asarray(problem.cost_of(assignments), dtype=np.float64).reshape(-1)
 
     return Prepared(
-        kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan),
-        ref_data=SingleData(W.tolist(), cc.tolist(), S.tolist(), next_pos.tolist(),
-                            random_scan, M),
+        kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan, prefix),
+        make_ref_data=lambda: SingleData(W.tolist(), cc.tolist(), S.tolist(),
+                                         next_pos.tolist(), random_scan, M, prefix),
         x0=x0, n_values=M + 2,
         base=base_key(rng), rows=P, sweep_cost=P * (M + 2), to_result=to_result,
     )

@@ -19,7 +19,7 @@ The arithmetic that both implementations share, and that makes them agree bit fo
   sums (:func:`rankedassign._sampling.prefix_sums`), computed once with numpy;
 * the SplitMix64 stream of each chain (:mod:`rankedassign._rng`);
 * one uniform per row update, turned into a candidate by the inverse-CDF rule of
-  :func:`draw_direct` (``M <= 32``) or :func:`draw_prefix`; in a random-scan sweep, first
+  :func:`draw_direct` or (many measurements) :func:`draw_prefix`; in a random-scan sweep, first
   ``P - 1`` uniforms for the Fisher-Yates permutation of :func:`sweep`.
 
 States are compact index vectors: ``k < M`` measurement ``k``, ``k = M`` missed,
@@ -36,7 +36,6 @@ from typing import NamedTuple
 from ._rng import SplitMix64, chain_state
 from ._sampling import (
     CANCEL_GUARD,
-    M_DIRECT,
     SingleData,
     check_chain_budget,
     check_rules,
@@ -48,7 +47,7 @@ from .multisensor import reference as _ms_reference
 from .validation import check_int
 
 __all__ = ["sample_original", "sample_short_chains", "run_chains", "draw_direct", "draw_prefix",
-           "sweep", "new_work", "SingleWork", "M_DIRECT", "CANCEL_GUARD"]
+           "sweep", "new_work", "SingleWork"]
 
 
 def draw_direct(W_i, cc_i, i, owner, u) -> int:
@@ -149,10 +148,13 @@ def draw_prefix(W_i, S_i, next_i, cc_i, i, owner, held, u) -> int:
         W_i[M] > 0 and meas + W_i[M] > target; else dead if W_i[M + 1] > 0 (its cum is total)
 
     The free measurements form runs between held ones; in each run ``c`` is constant and
-    ``cum`` does not decrease, so the first ``k`` of a run with ``cum(k) > target`` is found
-    by bisection, and ``next_i`` skips zero weights (a run may start with one whose rounded
-    ``cum`` already exceeds ``target``). If rounding leaves no candidate, the last available
-    positive-weight candidate is taken, as in :func:`draw_direct`. When the held measurements
+    ``cum`` does not decrease. The run is found by bisection over the runs' last ``cum``
+    (``cs[t]``, the held weight left of run ``t``, is summed once per draw), the first ``k``
+    of the run with ``cum(k) > target`` by bisection inside it, and ``next_i`` skips zero
+    weights (a run may start with one whose rounded ``cum`` already exceeds ``target``; the
+    search then moves on to the next run), so a draw costs ``O(P + log M)``. If rounding
+    leaves no candidate, the last available positive-weight candidate is taken, as in
+    :func:`draw_direct`. When the held measurements
     carry all but :data:`CANCEL_GUARD` of the row's measurement weight, ``S_i[M] - c`` loses
     its digits to cancellation and the draw is :func:`draw_direct`'s; so is it when every
     available weight underflowed to 0.
@@ -165,33 +167,40 @@ def draw_prefix(W_i, S_i, next_i, cc_i, i, owner, held, u) -> int:
     3
     """
     M = len(owner)
-    c = 0.0
-    for m in held:
-        c += W_i[m]
-    meas = S_i[M] - c
+    n = len(held)
+    cs = [0.0] * (n + 1)  # cs[t]: held weight left of run t, summed left to right
+    for t in range(n):
+        cs[t + 1] = cs[t] + W_i[held[t]]
+    meas = S_i[M] - cs[n]
     if meas < CANCEL_GUARD * S_i[M]:  # held weight cancels the prefix sum: direct draw
         return draw_direct(W_i, cc_i, i, owner, u)
     total = (meas + W_i[M]) + W_i[M + 1]
     if not total > 0.0:  # every available weight underflowed
         return draw_direct(W_i, cc_i, i, owner, u)
     target = u * total
-    lo = 0
-    c = 0.0
-    for h in held + [M]:  # runs [lo, h) of free measurements
-        if h > lo and S_i[h] - c > target:
-            a, b = lo, h - 1  # the first k in the run with S_i[k + 1] - c > target
-            while a < b:
-                mid = (a + b) // 2
-                if S_i[mid + 1] - c > target:
-                    b = mid
+    ends = held + [M]  # run t is [lo_t, ends[t]) with lo_0 = 0, lo_t = ends[t - 1] + 1
+    # the first run whose last cum, S_i[ends[t]] - cs[t], exceeds target (bisection over runs)
+    a, b = 0, n + 1
+    while a < b:
+        mid = (a + b) // 2
+        if S_i[ends[mid]] - cs[mid] > target:
+            b = mid
+        else:
+            a = mid + 1
+    for t in range(a, n + 1):  # normally one run; more only past zero weights or rounding
+        lo = ends[t - 1] + 1 if t > 0 else 0
+        h = ends[t]
+        if h > lo and S_i[h] - cs[t] > target:
+            p, q = lo, h - 1  # the first k in the run with S_i[k + 1] - cs[t] > target
+            while p < q:
+                mid = (p + q) // 2
+                if S_i[mid + 1] - cs[t] > target:
+                    q = mid
                 else:
-                    a = mid + 1
-            k = next_i[a]
+                    p = mid + 1
+            k = next_i[p]
             if k < h:
                 return k
-        if h < M:
-            c += W_i[h]
-        lo = h + 1
     if W_i[M] > 0.0 and meas + W_i[M] > target:
         return M
     if W_i[M + 1] > 0.0:
@@ -239,13 +248,14 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
     ``t`` and ``j``). Gauss-Seidel: row ``n`` conditions on the rows already updated in this
     sweep and on the others from the previous sweep (Vo 2017, Alg. 1). Each row update
     releases the row's measurement, draws one uniform and turns it into a candidate with
-    :func:`draw_direct` (``M <=`` :data:`M_DIRECT`) or :func:`draw_prefix`.
+    :func:`draw_direct` or, where :func:`rankedassign._sampling.uses_prefix_sums` says
+    so, :func:`draw_prefix`.
 
     Examples
     --------
     >>> from rankedassign._rng import SplitMix64
     >>> data = SingleData([[0.0, 1.0, 0.0]], [[9.0, 0.0, float("inf")]], [[0.0, 0.0]], [[1]],
-    ...                   False, 1)
+    ...                   False, 1, False)
     >>> x = [1]
     >>> work = new_work(data, x)
     >>> sweep(data, work, x, SplitMix64(0))
@@ -265,7 +275,7 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
             owner[x[i]] = -1
             held.remove(x[i])
         u = g.uniform()
-        if M <= M_DIRECT:
+        if not data.prefix:
             k_new = draw_direct(data.W[i], data.cc[i], i, owner, u)
         else:
             k_new = draw_prefix(data.W[i], data.S[i], data.next_pos[i], data.cc[i], i, owner,

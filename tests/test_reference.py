@@ -102,10 +102,10 @@ def problems(draw, max_rows=3, max_meas=3):
 
 @st.composite
 def wide_problems(draw, max_rows=5):
-    """Problems with more than ``M_DIRECT`` measurements, so rows draw from prefix sums: runs of
+    """Problems with more than ``max(M_DIRECT, 2 P)`` measurements, so rows draw from prefix sums: runs of
     gated-out (+inf) measurements, ties, and rows whose cheapest measurement dominates."""
     P = draw(st.integers(1, max_rows))
-    M = draw(st.integers(_sampling.M_DIRECT + 1, _sampling.M_DIRECT + 24))
+    M = draw(st.integers(max(_sampling.M_DIRECT, 2 * P) + 1, max(_sampling.M_DIRECT, 2 * P) + 24))
     cost = st.one_of(st.floats(-4.0, 30.0, allow_nan=False), st.just(INF), st.just(INF),
                      st.sampled_from([0.0, 2.5]))
     D = np.array(draw(st.lists(cost, min_size=P * M, max_size=P * M)), float).reshape(P, M)
@@ -226,7 +226,7 @@ def test_speculative_batches_of_any_size_replay_exactly(data):
 
 @given(data=st.data())
 def test_prefix_sum_draws_reference_equals_numba_and_parallel(data):
-    """Rows with M > M_DIRECT draw from prefix sums: same bits in both implementations."""
+    """Rows of wide problems draw from prefix sums: same bits in both implementations."""
     problem = data.draw(wide_problems())
     kw = dict(
         tau_stall=data.draw(st.one_of(st.none(), st.integers(1, 4))),

@@ -107,7 +107,7 @@ def chi2_statistic(dev, cov):
 
 
 def _wide(rows_allowed, M, seed):
-    """``len(rows_allowed)`` rows over ``M > M_DIRECT`` measurements (prefix-sum draws), each row
+    """``len(rows_allowed)`` rows over ``M > max(M_DIRECT, 2 P)`` measurements (prefix-sum draws), each row
     allowed only the measurements listed (the rest gated out, so runs of zero weight)."""
     rng = np.random.default_rng(seed)
     D = np.full((len(rows_allowed), M), INF)
@@ -125,7 +125,7 @@ PROBLEMS = {
     "3x2-gated": AssignmentProblem.from_eta(
         [[1.5, 0.0], [0.8, 2.5], [0.0, 1.2]], [0.5, 0.9, 0.4], [0.3, 0.0, 0.6]
     ),
-    # M = 40 > M_DIRECT: prefix-sum draws with held measurements between free runs
+    # M = 40 > max(M_DIRECT, 2 P): prefix-sum draws with held measurements between free runs
     "3x40-prefix": _wide([[0, 7, 20, 39], [0, 20, 33], [7, 33, 39]], 40, seed=3),
 }
 
