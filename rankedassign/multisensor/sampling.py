@@ -339,8 +339,9 @@ def prepare_fields(problem, start, scan, rng, options):
     Returns
     -------
     dict
-        ``kind``, ``problem``, ``data`` (the kernels' tuple), ``ref_data``
-        (:class:`~rankedassign.multisensor.reference.RefData`), ``x0`` (int32, ``P * V``),
+        ``kind``, ``problem``, ``data`` (the kernels' tuple), ``make_ref_data`` (builds the
+        reference's :class:`~rankedassign.multisensor.reference.RefData` on first use, so a
+        compiled run does not convert the arrays to lists), ``x0`` (int32, ``P * V``),
         ``n_values`` (``max M_v + 2``), ``base``, ``rows`` (``P``), ``sweep_cost`` and
         ``to_result`` (chain states ``(n, P * V)`` -> ``(assignments (n, P, V), costs)``).
 
@@ -376,7 +377,8 @@ def prepare_fields(problem, start, scan, rng, options):
         return assignments, assignment_costs(problem, assignments, method)
 
     return dict(
-        kind="multisensor", problem=problem, data=data, ref_data=RefData(data), x0=x0,
+        kind="multisensor", problem=problem, data=data, make_ref_data=lambda: RefData(data),
+        x0=x0,
         n_values=max((int(m) for m in problem.n_meas), default=0) + 2, base=base_key(rng),
         rows=int(problem.n_rows), sweep_cost=sweep_cost(problem, method), to_result=to_result,
     )
