@@ -28,6 +28,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
 from .multisensor.sampling import prepare_fields as _multisensor_fields
+from .numba_options import jit
 from .problem import AssignmentProblem
 from .validation import (
     STALE_READINGS,
@@ -257,7 +258,8 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
     return np.ascontiguousarray(W)
 
 
-def prefix_sums(W: np.ndarray):
+@jit()
+def prefix_sums(W):
     """Per-row prefix sums of the measurement weights and the next positive weight.
 
     Returns
@@ -275,11 +277,20 @@ def prefix_sums(W: np.ndarray):
     ([[0.0, 0.5, 0.5, 0.75]], [[0, 2, 2]])
     """
     P, M = W.shape[0], W.shape[1] - 2
-    S = np.zeros((P, M + 1))
-    np.add.accumulate(W[:, :M], axis=1, out=S[:, 1:])  # sequential, as the direct draw sums
-    idx = np.where(W[:, :M] > 0.0, np.arange(M), M)
-    next_pos = np.ascontiguousarray(np.minimum.accumulate(idx[:, ::-1], axis=1)[:, ::-1])
-    return S, next_pos.astype(np.int64)
+    S = np.empty((P, M + 1))
+    next_pos = np.empty((P, M), dtype=np.int64)
+    for i in range(P):
+        acc = 0.0
+        S[i, 0] = 0.0
+        for k in range(M):
+            acc += W[i, k]  # left to right, as the direct draw sums
+            S[i, k + 1] = acc
+        nxt = M
+        for k in range(M - 1, -1, -1):
+            if W[i, k] > 0.0:
+                nxt = k
+            next_pos[i, k] = nxt
+    return S, next_pos
 
 
 def to_compact(problem: AssignmentProblem, cols: np.ndarray) -> np.ndarray:
@@ -352,8 +363,11 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     cc = np.array(problem.compact_cost, dtype=np.float64, order="C")  # writable: one numba type
     random_scan = scan == "random"
     P, M = problem.n_rows, problem.n_meas
-    S, next_pos = prefix_sums(W)
     prefix = uses_prefix_sums(P, M)
+    if prefix:
+        S, next_pos = prefix_sums(W)
+    else:  # not read by the direct draw; same array types, so one compiled kernel
+        S, next_pos = np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64)
 
     def to_result(states):
         assignments = to_columns(problem, states)
