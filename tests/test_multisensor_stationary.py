@@ -200,3 +200,34 @@ def test_oracle_error_messages():
         multisensor_states(problem, limit=10)
     with pytest.raises(ValueError, match=r"unknown method 'mm-fixed'; expected one of"):
         target_distribution(problem, multisensor_states(problem), "mm-fixed")
+
+
+@pytest.fixture(scope="module")
+def registered():
+    """The stand-in problem dispatches like the real MultiSensorProblem."""
+    from ms_standin import StandIn
+
+    from rankedassign import _sampling
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setitem(_sampling._PREPARE, StandIn, _sampling._prepare_multisensor)
+        yield
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_public_sampler_one_sweep_law(registered, method):
+    # sample_short_chains with chains of one sweep: the counts of the returned unique set are
+    # multinomial(N, delta_{x0} K) exactly (independent chains); chi-square at ALPHA, through
+    # the whole public path (preparation, chain driver, parallel replay, packaging)
+    from rankedassign import sample_short_chains
+
+    problem = random_problem(2, (2, 1), 12, "coupled")
+    Kmat, states = transition_matrix(problem, method, scan="random")
+    x0 = start_state(problem, "all_missed", method)
+    law = Kmat[_key(states + 1)[tuple(x0.tolist())]]
+    res = sample_short_chains(problem, 20_000, 1, scan="random", method=method, rng=5,
+                              workers=2)
+    samples = [tuple((g.reshape(-1) + 1).tolist()) for g, c in
+               zip(res.assignments, res.counts, strict=True) for _ in range(c)]
+    assert len(samples) == 20_000
+    assert chi_square_p(samples, states, law) > ALPHA
