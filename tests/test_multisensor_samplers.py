@@ -320,3 +320,24 @@ def test_public_error_messages(registered):
         sample_short_chains(problem, 2, 2, mode="x")
     with pytest.raises(ValueError, match=r"unknown method 'gibbs'"):
         sample_original(problem, 5, method="gibbs", backend="python")
+
+
+# ------------------------------------------------------------------------------ real class
+@pytest.mark.parametrize("family", ["random", "random_coupled", "diagonal", "uniform"])
+def test_real_problem_class(family):
+    from rankedassign.multisensor import MultiSensorProblem, synthetic
+
+    make = getattr(synthetic, family)
+    problem = make(P=3, M=(2, 2), rng=1) if family.startswith("random") else make(P=3, M=(2, 2))
+    assert isinstance(problem, MultiSensorProblem)
+    for method in METHODS:
+        res = sample_short_chains(problem, 30, 10, tau_stall=5, tau_stale=10, rng=2,
+                                  method=method)
+        assert_same(res, sample_short_chains(problem, 30, 10, tau_stall=5, tau_stale=10, rng=2,
+                                             method=method, backend="python"))
+        if method != "componentwise":
+            assert_allclose(res.costs, -problem.log_weight_of(res.assignments), rtol=1e-13)
+    bare = MultiSensorProblem.from_log_eta(problem.log_eta_dead, problem.log_eta_alive)
+    with pytest.raises(ValueError, match=r"method='mm' needs the separable factors"):
+        sample_original(bare, 5)
+    assert len(sample_original(bare, 5, method="exact", rng=0)) >= 1
