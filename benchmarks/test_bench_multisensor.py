@@ -9,6 +9,8 @@ Run the timings with::
 sweeps per call, so ``mean / sweeps`` is the time per sweep. The numba side is the sweep
 kernel alone (:func:`rankedassign.multisensor._kernels.run_sweeps`, one chain, no unique
 set); the reference side is :func:`rankedassign.multisensor.reference.sweep` in a loop.
+``test_bench_public_original`` times the public original sampler (driver, unique set and
+packaging included) with both backends on family A.
 
 Problems (spec §6.5 random-coupled family): A ``P = 4, M = (4, 4)``, B ``P = 2, M = (16,
 16)``, C ``P = 3, M = (4, 4, 4)``, a tracking-sized ``P = 20, V = 3, M_v = 20``, and for the
@@ -19,10 +21,12 @@ row's available sets stay large in the chain's steady state, as in clutter-rich 
 import numpy as np
 import pytest
 
+from rankedassign import sample_original
 from rankedassign._rng import SplitMix64
 from rankedassign._rng_kernels import zobrist_keys
 from rankedassign.multisensor import _kernels as K
 from rankedassign.multisensor import reference as R
+from rankedassign.multisensor import synthetic
 from rankedassign.multisensor.sampling import METHODS, prepare_data, start_state
 
 SIZES = {
@@ -123,3 +127,18 @@ def test_bench_sweep(benchmark, backend, method, size):
 def test_bench_scaling(benchmark, method, V):
     P, M = SCALING[V]
     _bench(benchmark, P, M, method, "numba", f"multisensor scaling {method}", 20_000_000)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("backend", ["numba", "python"])
+def test_bench_public_original(benchmark, backend, method):
+    """The public original sampler (chain driver and unique set included) on family A."""
+    problem = synthetic.random_coupled(P=4, M=(4, 4), rng=0)
+    n = 100_000 if backend == "numba" else 300
+    sample_original(problem, 2, method=method, rng=0)  # compiled before timing
+    benchmark.group = f"multisensor original sampler A {method}"
+    res = benchmark.pedantic(sample_original, args=(problem, n),
+                             kwargs=dict(method=method, rng=1, backend=backend), rounds=3,
+                             warmup_rounds=0)
+    benchmark.extra_info.update(sweeps=n, P=4, M=[4, 4], method=method, backend=backend,
+                                n_unique=len(res))
