@@ -84,8 +84,6 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import reduce_mixtures
     >>> P = np.tile(np.eye(4), (3, 1, 1))
     >>> m = np.array([[0.0, 0, 0, 0], [0.5, 0, 0, 0], [9.0, 0, 0, 0]])
@@ -115,8 +113,6 @@ def gate_and_distances(m, P, R, z, offsets, gate, use_gate):
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import gate_and_distances
     >>> det, Sinv, nu, maha, gated = gate_and_distances(
     ...     np.zeros((1, 4)), np.zeros((1, 4, 4)), np.eye(2), np.array([[3.0, 4.0]]),
@@ -156,8 +152,6 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import detection_log_weights
     >>> lw, log_g, log_det = detection_log_weights(
     ...     np.zeros((2, 1)), np.zeros(2), np.log([0.5, 0.5]), np.array([0, 2]),
@@ -183,8 +177,6 @@ def connected_groups(gated):
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import connected_groups
     >>> g = np.array([[1, 0, 0], [0, 0, 1], [1, 1, 0], [0, 0, 0]], dtype=bool)
     >>> [a.tolist() if hasattr(a, "tolist") else a for a in connected_groups(g)]
@@ -208,8 +200,6 @@ def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import group_cost_matrix
     >>> group_cost_matrix(np.array([[-1.0]]), np.array([-2.0]), np.array([-3.0]),
     ...                   np.array([0]), np.array([0])).tolist()
@@ -230,8 +220,6 @@ def truncated_marginals(a, w, M):
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import truncated_marginals
     >>> truncated_marginals(np.array([[0], [1], [2]]), np.array([0.6, 0.3, 0.1]), 1).tolist()
     [[0.6, 0.3, 0.1]]
@@ -250,8 +238,6 @@ def cardinality_distribution(r):
     Examples
     --------
     >>> import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
     >>> from rankedassign.tracking.reference import cardinality_distribution
     >>> cardinality_distribution(np.array([0.5, 0.5])).tolist()
     [0.25, 0.5, 0.25]
