@@ -309,7 +309,7 @@ class ShortChainGibbs(Association):
         (:func:`marginals_from_hypotheses`); ``"truncated"`` is the paper's construction.
         The short chains stop after a few dozen sweeps and miss hypotheses of a few per mille,
         e.g. a newborn track that exists but was not detected; ``"rao-blackwell"`` restores
-        their weight (on the ``"vo"`` preset it keeps two targets the truncated marginals lose).
+        their weight (the Tracking page of the documentation shows what that changes).
     **sampler_options
         Passed to :func:`rankedassign.sample_short_chains` (``stall``, ``stale``, ``start``,
         ``scan``, ``backend``, ``workers``).
@@ -389,10 +389,11 @@ class Exact(Association):
 
     The oracle solves each connected component of the gated problem separately, densely when
     ``min(P_c, M_c) <= 20`` and otherwise by a frontier DP over the measurements (at most
-    ``2^20`` states); it raises ``ValueError`` on a component beyond both limits. On the
-    paper's preset (one group of about 20 rows and 57 gated measurements per scan) every scan
-    of seeds 0-19 is solved, in about 9 ms per scan; the filter's grouping (spec §6.5a) keeps
-    problems small on presets with narrow births.
+    ``2^20`` states); it raises ``ValueError`` on a component beyond both limits. The problems
+    of the paper's preset (one group of some 20 rows and 60 gated measurements per scan) are
+    within the frontier DP's reach (sizes and times on the Tracking page of the
+    documentation); the filter's grouping (spec §6.5a) keeps problems small on presets with
+    narrow births.
 
     Examples
     --------
