@@ -189,3 +189,28 @@ def test_cost_matrix_and_marginal_kernels_agree_bit_for_bit(seed):
 def test_cardinality_distribution_matches_reference(r):
     r = np.array(r, dtype=np.float64)
     assert_array_equal(_kernels.cardinality_distribution(r), reference.cardinality_distribution(r))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_posterior_kernels_agree_bit_for_bit(seed):
+    offsets, m, P, R, z, w, r = _scan(seed)
+    rng = np.random.default_rng(100 + seed)
+    T, C, U = offsets.size - 1, m.shape[0], z.shape[0]
+    # sparse marginals: most pairs below the threshold, some tracks never missed
+    rel = np.where(rng.random((T, U + 1)) < 0.4, rng.random((T, U + 1)), 0.0)
+    lw, log_g = rng.normal(-8.0, 2.0, (C, U)), rng.normal(-7.0, 2.0, (T, U))
+    got = _kernels.posterior_sources(offsets, rel, 1e-5, lw, log_g)
+    want = reference.posterior_sources(offsets, rel, 1e-5, lw, log_g)
+    for g, e in zip(got, want, strict=True):
+        assert_array_equal(g, e)
+    comp, track, meas, log_ratio, _ = got
+    ratio = np.exp(log_ratio)
+    Sinv = np.linalg.inv(P[:, [0, 2]][:, :, [0, 2]] + R)
+    PHt = P[:, :, [0, 2]]
+    K = PHt @ Sinv
+    P_upd = P - K @ PHt.transpose(0, 2, 1)
+    nu = rng.normal(0.0, 30.0, (C, U, 2))
+    args = (comp, track, meas, ratio, rel, w, m, P, K, nu, P_upd)
+    for g, e in zip(_kernels.posterior_components(*args), reference.posterior_components(*args),
+                    strict=True):
+        assert_array_equal(g, e)

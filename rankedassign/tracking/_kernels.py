@@ -20,6 +20,8 @@ __all__ = [
     "detection_log_weights",
     "gate_and_distances",
     "group_cost_matrix",
+    "posterior_components",
+    "posterior_sources",
     "reduce_mixtures",
     "truncated_marginals",
 ]
@@ -541,3 +543,96 @@ def cardinality_distribution(r):  # pragma: no cover (jit)
             rho[k] = rho[k] * p + rho[k - 1] * q
         rho[0] *= p
     return rho
+
+
+# ------------------------------------------------------------------ update from the marginals
+@jit()
+def posterior_sources(offsets, rel, elim, lw, log_g):  # pragma: no cover (jit)
+    """Where each posterior component comes from, grouped by track (spec eq. 6.4).
+
+    Parameters
+    ----------
+    offsets : ndarray of int64, shape (T + 1,)
+        Component ranges of the predicted tracks.
+    rel : ndarray, shape (T, M + 1)
+        ``β_ij / r_i``; column ``M`` is the missed detection.
+    elim : float
+        Pairs with ``rel <= elim`` are not expanded (their components would be pruned).
+    lw, log_g : ndarray, shapes (C, M), (T, M)
+        ``ln w_c N(z_j; ...)`` and its log-sum over each track's components.
+
+    Returns
+    -------
+    comp, track, meas : ndarray of int64, shape (N,)
+        Predicted component, track and measurement (``-1``: missed detection) of every
+        posterior component; per track the missed-detection components first, then the
+        updates with each measurement in turn, each over the track's components in order.
+    log_ratio : ndarray, shape (N,)
+        ``lw[c, j] − log_g[t, j]`` for an update (0 for a missed detection).
+    counts : ndarray of int64, shape (T,)
+        Posterior components per track.
+    """
+    T = offsets.size - 1
+    M = rel.shape[1] - 1
+    n = 0
+    for t in range(T):
+        nc = offsets[t + 1] - offsets[t]
+        for j in range(M + 1):
+            if rel[t, j] > elim:
+                n += nc
+    comp = np.empty(n, dtype=np.int64)
+    track = np.empty(n, dtype=np.int64)
+    meas = np.empty(n, dtype=np.int64)
+    log_ratio = np.zeros(n)
+    counts = np.zeros(T, dtype=np.int64)
+    k = 0
+    for t in range(T):
+        start = k
+        if rel[t, M] > elim:
+            for c in range(offsets[t], offsets[t + 1]):
+                comp[k] = c
+                track[k] = t
+                meas[k] = -1
+                k += 1
+        for j in range(M):
+            if rel[t, j] > elim:
+                for c in range(offsets[t], offsets[t + 1]):
+                    comp[k] = c
+                    track[k] = t
+                    meas[k] = j
+                    log_ratio[k] = lw[c, j] - log_g[t, j]
+                    k += 1
+        counts[t] = k - start
+    return comp, track, meas, log_ratio, counts
+
+
+@jit()
+def posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu,
+                         P_upd):  # pragma: no cover (jit)
+    """Weights, means and covariances of the posterior components (spec eq. 6.4).
+
+    For a missed detection of track ``t``: ``(rel[t, M] w_c, m_c, P_c)``; for an update with
+    measurement ``j``: ``(ratio · rel[t, j], m_c + K_c ν_cj, P'_c)`` with ``ratio = w_c N_cj /
+    Σ_c' w_c' N_c'j`` and ``K_c``, ``P'_c`` the Kalman gain and updated covariance (computed by
+    the caller; ``K`` and ``P_upd`` may be empty when there is no update).
+    """
+    n = comp.size
+    M = rel.shape[1] - 1
+    w_out = np.empty(n)
+    m_out = np.empty((n, 4))
+    P_out = np.empty((n, 4, 4))
+    for k in range(n):
+        c = comp[k]
+        t = track[k]
+        j = meas[k]
+        if j < 0:
+            w_out[k] = rel[t, M] * w[c]
+            m_out[k] = m[c]
+            P_out[k] = P[c]
+        else:
+            w_out[k] = ratio[k] * rel[t, j]
+            # m' = m + K (z_j − H m)
+            for i in range(4):
+                m_out[k, i] = m[c, i] + (K[c, i, 0] * nu[c, j, 0] + K[c, i, 1] * nu[c, j, 1])
+            P_out[k] = P_upd[c]
+    return w_out, m_out, P_out

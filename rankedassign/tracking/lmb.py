@@ -541,53 +541,30 @@ class LMBFilter:
         by track: the missed-detection components first, then the updates with each
         measurement in turn.
         """
-        T = self.n_tracks
         M = z.shape[0]
         Sinv, nu, lw, log_g = terms.Sinv, terms.nu, terms.lw, terms.log_g
         # r_i = Σ_{j >= 0} β_ij  (6.3)
         r_new = np.clip(beta[:, : M + 1].sum(axis=1), 0.0, 1.0)
         safe_r = np.where(r_new > 0, r_new, 1.0)
         rel = beta[:, : M + 1] / safe_r[:, None]  # β_ij / r_i, (T, M + 1)
-        elim = self.prune_component
-        ncomp = np.diff(self.offsets)
-        tidx = self.track_index()
-        # missed detection: predicted components, weight β_i0 / r_i · w_k
-        miss_keep = rel[:, M] > elim
-        cm = np.flatnonzero(miss_keep[tidx])
-        w_parts = [rel[tidx[cm], M] * self.w[cm]]
-        m_parts = [self.m[cm]]
-        P_parts = [self.P[cm]]
-        t_parts = [tidx[cm]]
-        # detections: pairs (i, j) worth expanding, every component of track i
-        pi, pj = np.nonzero(rel[:, :M] > elim)
-        if pi.size:
+        # which predicted component, track and measurement (-1: missed) each posterior
+        # component comes from, grouped by track
+        comp, track, meas, log_ratio, counts = _kernels.posterior_sources(
+            self.offsets, rel, self.prune_component, lw, log_g
+        )
+        # w̃_cj = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
+        ratio = np.exp(log_ratio)
+        if (meas >= 0).any():
             # Kalman gain and updated covariance per component: K = P H' S⁻¹, P' = P − K S K'
             PHt = self.P[:, :, [0, 2]]  # (C, 4, 2)
             K = PHt @ Sinv
             P_upd = self.P - K @ PHt.transpose(0, 2, 1)
             P_upd = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
-            cnt = ncomp[pi]
-            tot = int(cnt.sum())
-            first = np.repeat(self.offsets[pi], cnt)
-            within = np.arange(tot) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-            cc = first + within  # component index
-            pt = np.repeat(pi, cnt)
-            pz = np.repeat(pj, cnt)
-            # w̃_kj = w_k N(z_j; H m_k, S_k) / Σ_k' w_k' N(z_j; H m_k', S_k')
-            wt = np.exp(lw[cc, pz] - log_g[pt, pz]) * rel[pt, pz]
-            # m' = m + K (z_j − H m)
-            mu = self.m[cc] + np.einsum("cij,cj->ci", K[cc], nu[cc, pz])
-            w_parts.append(wt)
-            m_parts.append(mu)
-            P_parts.append(P_upd[cc])
-            t_parts.append(pt)
-        w_all = np.concatenate(w_parts)
-        m_all = np.concatenate(m_parts)
-        P_all = np.concatenate(P_parts)
-        t_all = np.concatenate(t_parts)
-        order = np.argsort(t_all, kind="stable")
-        w_all, m_all, P_all, t_all = w_all[order], m_all[order], P_all[order], t_all[order]
-        counts = np.bincount(t_all, minlength=T)
+        else:
+            K, P_upd = np.empty((0, 4, 2)), np.empty((0, 4, 4))
+        w_all, m_all, P_all = _kernels.posterior_components(
+            comp, track, meas, ratio, rel, self.w, self.m, self.P, K, nu, P_upd
+        )
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         return r_new, (offsets, w_all, m_all, P_all)
 

@@ -19,6 +19,8 @@ __all__ = [
     "detection_log_weights",
     "gate_and_distances",
     "group_cost_matrix",
+    "posterior_components",
+    "posterior_sources",
     "reduce_mixtures",
     "truncated_marginals",
 ]
@@ -248,3 +250,67 @@ def cardinality_distribution(r):
         rho[1:] = rho[1:] * (1.0 - q) + rho[:-1] * q
         rho[0] *= 1.0 - q
     return rho
+
+
+def posterior_sources(offsets, rel, elim, lw, log_g):
+    """Where each posterior component comes from, grouped by track (reference; see the kernel).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.reference import posterior_sources
+    >>> comp, track, meas, log_ratio, counts = posterior_sources(
+    ...     np.array([0, 2]), np.array([[0.7, 0.3]]), 1e-5, np.zeros((2, 1)), np.zeros((1, 1)))
+    >>> comp.tolist(), meas.tolist(), counts.tolist()
+    ([0, 1, 0, 1], [-1, -1, 0, 0], [4])
+    """
+    T = offsets.size - 1
+    M = rel.shape[1] - 1
+    ncomp = np.diff(offsets)
+    tidx = np.repeat(np.arange(T), ncomp)
+    # missed detection: every component of the tracks with β_i0 / r_i above the threshold
+    cm = np.flatnonzero((rel[:, M] > elim)[tidx])
+    # updates: the pairs (i, j) worth expanding, every component of track i
+    pi, pj = np.nonzero(rel[:, :M] > elim)
+    cnt = ncomp[pi]
+    within = np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    cc = np.repeat(offsets[:-1][pi], cnt) + within
+    pt, pz = np.repeat(pi, cnt), np.repeat(pj, cnt)
+    comp = np.concatenate([cm, cc]).astype(np.int64)
+    track = np.concatenate([tidx[cm], pt]).astype(np.int64)
+    meas = np.concatenate([np.full(cm.size, -1), pz]).astype(np.int64)
+    log_ratio = np.concatenate([np.zeros(cm.size), lw[cc, pz] - log_g[pt, pz]])
+    # grouped by track, the missed-detection components first (a stable sort)
+    order = np.argsort(track, kind="stable")
+    counts = np.bincount(track, minlength=T).astype(np.int64)
+    return comp[order], track[order], meas[order], log_ratio[order], counts
+
+
+def posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu, P_upd):
+    """Weights, means and covariances of the posterior components (reference; see the kernel).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.reference import posterior_components
+    >>> w, m, P = posterior_components(
+    ...     np.array([0]), np.array([0]), np.array([-1]), np.ones(1), np.array([[0.2, 0.8]]),
+    ...     np.ones(1), np.zeros((1, 4)), np.eye(4)[None], np.empty((0, 4, 2)),
+    ...     np.empty((1, 1, 2)), np.empty((0, 4, 4)))
+    >>> w.tolist()
+    [0.8]
+    """
+    M = rel.shape[1] - 1
+    miss = meas < 0
+    det = ~miss
+    w_out = np.empty(comp.size)
+    w_out[miss] = rel[track[miss], M] * w[comp[miss]]
+    m_out = m[comp].copy()
+    P_out = P[comp].copy()
+    if det.any():
+        cc, pt, pz = comp[det], track[det], meas[det]
+        w_out[det] = ratio[det] * rel[pt, pz]
+        # m' = m + K (z_j − H m)
+        m_out[det] = m[cc] + np.einsum("cij,cj->ci", K[cc], nu[cc, pz])
+        P_out[det] = P_upd[cc]
+    return w_out, m_out, P_out
