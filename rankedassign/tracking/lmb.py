@@ -224,7 +224,7 @@ class LMBFilter:
     prune_component, merge_threshold, max_components : float, float, int, optional
         Mixture pruning (``10⁻⁵``), merging (4) and cap (10) per track.
     merge_rule : {"bhattacharyya", "vo-ma", "heaviest"}, optional
-        Which pairs of components merge (``_reduce_mixtures``): eight times their
+        Which pairs of components merge (``tracking._kernels.reduce_mixtures``): eight times their
         Bhattacharyya distance at most ``merge_threshold`` (default; the Mahalanobis test when
         the two covariances are equal), the Mahalanobis distance in the candidate's covariance
         (Vo & Ma 2006), or in the heaviest component's covariance (Vo's MATLAB).
