@@ -413,10 +413,23 @@ def test_filter_errors(kwargs, exc, match):
         LMBFilter(model, assoc, **args)
 
 
+class Uniform(Association):
+    """Equal weight on every column, forbidden pairs included (a broken association)."""
+
+    def __call__(self, problem, rng):
+        P, M = problem.n_rows, problem.n_meas
+        return AssociationResult(np.full((P, M + 2), 1.0 / (M + 2)), 1, 0, 0, 0)
+
+
 def test_step_errors():
     f = LMBFilter(one_birth_model(), BadShape())
     with pytest.raises(ValueError, match="association returned beta of shape"):
         f.step([[25.0, -30.0]])
+    # "vo" births are 10 m wide: each of these measurements is in one birth's gate only, so the
+    # one problem of the scan has forbidden pairs
+    u = LMBFilter(make_model("vo"), Uniform())
+    with pytest.raises(ValueError, match="nonzero marginal for a pair outside the gate"):
+        u.step([[0.0, 0.0], [0.0, 5.0], [400.0, -600.0]])
     g = LMBFilter(one_birth_model(), Enumerate())
     with pytest.raises(ValueError, match="measurements must be finite"):
         g.step([[np.nan, 0.0]])

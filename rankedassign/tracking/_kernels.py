@@ -417,12 +417,19 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
     Returns
     -------
     lw : ndarray, shape (C, U)
-        ``ln w_c + ln N(z_j; H m_c, S_c)``.
+        ``ln w_c + ln N(z_j; H m_c, S_c)`` where track ``t`` of component ``c`` gates ``j``,
+        ``−inf`` elsewhere.
     log_g : ndarray, shape (T, U)
         ``ln Σ_c w_c N(z_j; H m_c, S_c)`` over the components of each track (log-sum-exp,
-        folded in component order as numpy's ``logaddexp.reduceat``).
+        folded in component order as numpy's ``logaddexp.reduceat``) in the gate, ``−inf``
+        elsewhere.
     log_det : ndarray, shape (T, U)
         ``ln η_t(j) = ln r_t + ln P_D + log_g − ln κ`` in the gate, ``−inf`` outside (eq. 6.2).
+
+    Notes
+    -----
+    Pairs outside the gate are forbidden (``η = 0``): their marginals are 0 and the update never
+    reads their likelihoods, so only gated pairs are computed.
     """
     C = maha.shape[0]
     T = offsets.size - 1
@@ -430,23 +437,25 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
     lw = np.empty((C, U))
     log_g = np.empty((T, U))
     log_det = np.empty((T, U))
-    for c in range(C):
-        half = 0.5 * log_det_S[c]
-        for k in range(U):
-            # ln N(z; H m, S) = -(d ln 2π + ln|S| + ν' S⁻¹ ν) / 2, d = 2
-            log_n = (-0.5 * maha[c, used[k]] - _LOG_2PI) - half
-            lw[c, k] = log_w[c] + log_n
     for t in range(T):
         a = offsets[t]
+        b = offsets[t + 1]
         for k in range(U):
+            if not gated[t, k]:
+                for c in range(a, b):
+                    lw[c, k] = -np.inf
+                log_g[t, k] = -np.inf
+                log_det[t, k] = -np.inf
+                continue
+            for c in range(a, b):
+                # ln N(z; H m, S) = -(d ln 2π + ln|S| + ν' S⁻¹ ν) / 2, d = 2
+                log_n = (-0.5 * maha[c, used[k]] - _LOG_2PI) - 0.5 * log_det_S[c]
+                lw[c, k] = log_w[c] + log_n
             acc = lw[a, k]
-            for c in range(a + 1, offsets[t + 1]):
+            for c in range(a + 1, b):
                 acc = _logaddexp(acc, lw[c, k])
             log_g[t, k] = acc
-            if gated[t, k]:
-                log_det[t, k] = ((log_r[t] + log_pd) + acc) - log_kappa
-            else:
-                log_det[t, k] = -np.inf
+            log_det[t, k] = ((log_r[t] + log_pd) + acc) - log_kappa
     return lw, log_g, log_det
 
 

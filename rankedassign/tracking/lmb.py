@@ -460,7 +460,14 @@ class LMBFilter:
                     f"association returned beta of shape {b.shape}, expected "
                     f"{(rows.size, cols.size + 2)}"
                 )
-            if rows.size == T and cols.size == U:  # one problem: every track and measurement
+            whole = rows.size == T and cols.size == U  # one problem: every track and measurement
+            gated = terms.gated if whole else terms.gated[np.ix_(rows, cols)]
+            if (b[:, :-2][~gated] != 0).any():
+                # a forbidden pair (cost +inf) has marginal 0; the update does not compute its
+                # likelihoods
+                raise ValueError("association returned a nonzero marginal for a pair outside "
+                                 "the gate (a forbidden pair of the problem)")
+            if whole:
                 beta = np.ascontiguousarray(b)
             else:
                 beta[np.ix_(rows, cols)] = b[:, :-2]
@@ -491,7 +498,7 @@ class LMBFilter:
         ValueError
             On measurements not of shape ``(M, 2)`` (an empty list is a scan without
             measurements), on non-finite measurements, or if the association returns ``beta``
-            of the wrong shape.
+            of the wrong shape or with weight on a forbidden pair.
 
         Examples
         --------

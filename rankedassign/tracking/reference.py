@@ -170,6 +170,10 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
     else:
         log_g = np.empty((T, used.size))
     log_det = np.where(gated, log_r[:, None] + log_pd + log_g - log_kappa, -np.inf)
+    # pairs outside the gate are forbidden: their likelihoods are never read
+    comp_gated = np.repeat(gated, np.diff(offsets), axis=0)
+    lw = np.where(comp_gated, lw, -np.inf)
+    log_g = np.where(gated, log_g, -np.inf)
     return lw, log_g, log_det
 
 
