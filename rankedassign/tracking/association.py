@@ -219,8 +219,8 @@ class Association:
     Subclass it (or pass any callable with that signature) to plug a new method into
     :class:`~rankedassign.tracking.lmb.LMBFilter`: return the marginals ``beta`` of shape
     ``(P, M + 2)`` and the accounting. A forbidden pair (cost ``+inf``, outside the gate) must
-    have marginal 0; the filter refuses anything else. ``rng`` is a :class:`numpy.random.Generator` spawned
-    for this problem alone.
+    have marginal 0; the filter refuses anything else. ``rng`` is a
+    :class:`numpy.random.Generator` spawned for this problem alone.
 
     Examples
     --------
