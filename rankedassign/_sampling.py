@@ -253,9 +253,7 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
     if cc.shape[0] == 0:
         return np.zeros(cc.shape)
     mn = np.min(cc, axis=1, keepdims=True)  # finite: every row has a finite entry
-    with np.errstate(invalid="ignore"):
-        W = np.exp(-(cc - mn))
-    W[~np.isfinite(cc)] = 0.0
+    W = np.exp(-(cc - mn))  # exp(-inf) = 0 for a forbidden entry
     return np.ascontiguousarray(W)
 
 
@@ -372,7 +370,7 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
 
     def to_result(states):
         assignments = to_columns(problem, states)
-        return assignments, np.asarray(problem.cost_of(assignments), dtype=np.float64).reshape(-1)
+        return assignments, problem._sum_costs(assignments)  # feasible by construction
 
     return Prepared(
         kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan, prefix),

@@ -30,6 +30,8 @@ of observations that returned to it.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numba import parallel_chunksize
 
@@ -87,10 +89,19 @@ def _batch_size(workers: int, n_chains: int, chain_length: int, L: int, sweep_co
     return min(max(64, 16 * workers, by_work), n_chains, room)
 
 
+@functools.lru_cache(maxsize=16)
+def _zobrist(L: int, K: int) -> np.ndarray:
+    """Zobrist keys of an ``L``-position state with values ``0..K-1`` (fixed; cached, read-only:
+    a filter calls the samplers on problems of few shapes, thousands of times)."""
+    keys = zobrist_keys(L, K, np.uint64(ZOBRIST_SEED))
+    keys.setflags(write=False)
+    return keys
+
+
 def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers: int):
     """Run the kind's compiled driver and package the result."""
     L = prep.x0.shape[0]
-    zkeys = zobrist_keys(L, prep.n_values, np.uint64(ZOBRIST_SEED))
+    zkeys = _zobrist(L, prep.n_values)
     batch = _batch_size(workers, n_chains, chain_length, L, prep.sweep_cost)
     args = (prep.data, zkeys, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules,
             batch, workers)
