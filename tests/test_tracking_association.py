@@ -147,7 +147,7 @@ def test_reprs():
         (lambda: ShortChainGibbs(10, 25, tau_stale=-2), ValueError,
          r"tau_stale must be None \(off\) or an int >= 1, got -2"),
         (lambda: ShortChainGibbs(10, 25, tau_stale=2.0), TypeError,
-         "tau_stale must be an int, got float 2.0"),
+         "tau_stale must be None or an int, got float 2.0"),
         (lambda: Murty(0), ValueError, "k must be an int >= 1, got 0"),
         (lambda: Murty(3, method="lapjv"), ValueError,
          r"unknown method 'lapjv'; expected one of \('numba', 'scipy'\)"),
