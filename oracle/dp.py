@@ -20,6 +20,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
+from rankedassign.multisensor import AdaptiveBirthProblem
+
+from . import adaptive_birth
 from ._kernels import (
     _ENTER,
     _RETIRE,
@@ -465,6 +468,8 @@ def log_normalizer(problem) -> float:
     >>> round(log_normalizer(band), 6)
     45.630949
     """
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.log_normalizer(problem)
     check_problem(problem)
     if problem.n_rows == 0:
         return 0.0
@@ -534,6 +539,8 @@ def marginals(problem) -> np.ndarray:
     >>> marginals(q).round(4).tolist()       # Z_c = 3 + 1 + 1 = 5 for rows 0 and 1
     [[0.6, 0.4, 0.0], [0.2, 0.8, 0.0], [0.0, 0.25, 0.75]]
     """
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.marginals(problem)
     check_problem(problem)
     P, M = problem.n_rows, problem.n_meas
     if P == 0:

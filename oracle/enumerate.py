@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from rankedassign.multisensor import AdaptiveBirthProblem
+
+from . import adaptive_birth
 from ._kernels import count_kernel, enumerate_kernel
 from ._result import Ranked, check_count, check_problem, ranked
 
@@ -73,6 +76,8 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     >>> len(enumerate_assignments(synthetic.uniform()).costs)
     76848
     """
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.enumerate_assignments(problem, limit=limit)
     check_problem(problem)
     limit = check_count(limit, "limit", minimum=1)
     n, exact = _count(problem, limit)

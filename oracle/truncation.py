@@ -5,6 +5,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
+from rankedassign.multisensor import AdaptiveBirthProblem
+
+from . import adaptive_birth
 from ._result import check_count, check_problem
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
@@ -98,6 +101,8 @@ def truncation_error(problem, assignments) -> float:
     >>> round(truncation_error(synthetic.diagonal(), [[0, 1, 2, 3]]), 5)
     0.00423
     """
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.truncation_error(problem, assignments)
     check_problem(problem)
     a = _unique_feasible(problem, assignments)
     if a.shape[0] == 0:

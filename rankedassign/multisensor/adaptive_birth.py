@@ -1,4 +1,6 @@
-"""The multi-sensor adaptive-birth problem (Trezza, Bucci & Varshney 2022; spec ``multisensor.md`` §4).
+"""The multi-sensor adaptive-birth problem (Trezza, Bucci & Varshney 2022; spec §4).
+
+Specification of record: ``multisensor.md`` §4 (target, conditional, birth LMB).
 
 Newborn tracks are proposed from *measurement tuples* ``J = (j^(1), ..., j^(V))``, one entry
 per sensor: ``j^(v) = 0`` means sensor ``v`` missed the newborn target, ``j^(v) = m >= 1``
