@@ -162,8 +162,7 @@ def truncation_error(problem, assignments) -> float:
     0.555555555556
     """
     _check(problem)
-    J, _ = problem._as_tuples(np.asarray(assignments).reshape(-1, problem.n_sensors),
-                              "assignments")
+    J, _ = problem._as_tuples(assignments, "assignments")
     lw = problem.log_weights()
     mask = kept_mask(problem)
     if not mask.any() or not np.isfinite(lw[mask]).any():

@@ -147,11 +147,12 @@ class AdaptiveBirthProblem:
         self.kept = kept
         self._tensor = tensor
         self._model = model
+        self._dense = None
         self.is_gaussian = model is not None
 
     # ------------------------------------------------------------------ constructors
     @classmethod
-    def from_log_weights(cls, log_weights, *, n_min: int = 2) -> AdaptiveBirthProblem:
+    def from_log_weights(cls, log_weights, *, n_min: int | None = None) -> AdaptiveBirthProblem:
         """A problem whose target is ``rho = exp(log_weights)`` on the tuple space.
 
         Parameters
@@ -160,7 +161,8 @@ class AdaptiveBirthProblem:
             ``ln rho(J)`` for every tuple; ``-inf`` = weight zero. The all-missed entry
             ``[0, ..., 0]`` (the chains' start) must be finite.
         n_min : int, optional
-            Minimum number of detections of a birth tuple (``0 <= n_min <= V``).
+            Minimum number of detections of a birth tuple (``0 <= n_min <= V``; default
+            ``min(2, V)``, spec §8 Q2).
 
         Returns
         -------
@@ -198,14 +200,15 @@ class AdaptiveBirthProblem:
         if not np.isfinite(t[(0,) * t.ndim]):
             raise ValueError("log_weights of the all-missed tuple (the chains' start) must be "
                              "finite")
-        n_min = check_int(n_min, "n_min", minimum=0, maximum=t.ndim)
+        n_min = min(2, t.ndim) if n_min is None else check_int(n_min, "n_min", minimum=0,
+                                                               maximum=t.ndim)
         t = np.ascontiguousarray(t)
         t.setflags(write=False)
         return cls(shape=t.shape, n_min=n_min, tensor=t)
 
     @classmethod
     def from_measurements(cls, measurements, r_U, *, H, R, P_D, clutter_intensity, mu0, P0,
-                          tau_rU: float = 0.9, n_min: int = 2) -> AdaptiveBirthProblem:
+                          tau_rU: float = 0.9, n_min: int | None = None) -> AdaptiveBirthProblem:
         """Build the linear-Gaussian problem of spec §4 from raw measurements.
 
         Parameters
@@ -231,7 +234,8 @@ class AdaptiveBirthProblem:
         tau_rU : float, optional
             Keep only measurements with ``r_U > tau_rU`` (spec §4.1; default 0.9, the port's).
         n_min : int, optional
-            Minimum number of detections of a birth tuple (default 2, spec §8 Q2).
+            Minimum number of detections of a birth tuple (``0 <= n_min <= V``; default
+            ``min(2, V)``, spec §8 Q2).
 
         Returns
         -------
@@ -282,7 +286,7 @@ class AdaptiveBirthProblem:
             raise ValueError(f"P0 must have shape (n, n) = ({n}, {n}), got {P0.shape}")
         half_logdet_P0 = _spd_half_logdet(P0, "P0")
         tau_rU = check_real(tau_rU, "tau_rU", minimum=0.0, maximum=1.0)
-        n_min = check_int(n_min, "n_min", minimum=0, maximum=V)
+        n_min = min(2, V) if n_min is None else check_int(n_min, "n_min", minimum=0, maximum=V)
         Hs, Rs, pds, kappas = (_per_sensor(H, "H", V, 2), _per_sensor(R, "R", V, 2),
                                _per_sensor(P_D, "P_D", V, 0),
                                _per_sensor(clutter_intensity, "clutter_intensity", V, 0))
@@ -457,11 +461,16 @@ class AdaptiveBirthProblem:
         """
         if self._tensor is not None:
             return self._tensor
-        N = self.n_feasible()
-        if N > _MAX_TENSOR:
-            raise ValueError(f"tuple space too large for a dense tensor: {N} > {_MAX_TENSOR}")
-        J = np.indices(self.shape).reshape(self.n_sensors, -1).T
-        return self._log_rho(J).reshape(self.shape)
+        if self._dense is None:                             # computed once, read-only
+            N = self.n_feasible()
+            if N > _MAX_TENSOR:
+                raise ValueError(f"tuple space too large for a dense tensor: {N} > "
+                                 f"{_MAX_TENSOR}")
+            J = np.indices(self.shape).reshape(self.n_sensors, -1).T
+            dense = self._log_rho(J).reshape(self.shape)
+            dense.setflags(write=False)
+            self._dense = dense
+        return self._dense
 
     def _log_rho(self, J: np.ndarray) -> np.ndarray:
         """Closed-form ``ln rho`` of tuples ``J`` (n, V), one factorisation per pattern."""
@@ -693,7 +702,7 @@ def birth_from_samples(problem, result, *, F=None, Q=None, r_b_max: float = 0.01
         if X.shape != (n, n):
             raise ValueError(f"{name} must have shape ({n}, {n}), got {X.shape}")
     tuples = getattr(result, "assignments", result)
-    J, _ = problem._as_tuples(np.asarray(tuples).reshape(-1, problem.n_sensors))
+    J, _ = problem._as_tuples(tuples)
     _, first = np.unique(J, axis=0, return_index=True)
     J = J[np.sort(first)]                                   # unique, discovery order
     J = J[(J > 0).sum(axis=1) >= max(problem.n_min, 1)]
