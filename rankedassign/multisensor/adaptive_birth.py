@@ -38,10 +38,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._rng import base_key
 from ..validation import check_choice, check_int, check_real, check_type
+from .ab_reference import reference_data
 
 __all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples", "chain_inputs",
-           "SENSOR_ORDERS"]
+           "sampler_fields", "SENSOR_ORDERS"]
 
 #: Sensor order of a sweep (spec §4.3, open question Q8): a fresh uniformly random permutation
 #: per sweep (default, as the port) or ``0..V-1`` every sweep.
@@ -601,6 +603,78 @@ def chain_inputs(problem: AdaptiveBirthProblem, sensor_order: str = "random"):
             np.ascontiguousarray(m["b0"]), float(m["c0"]), np.ascontiguousarray(m["A"]),
             np.ascontiguousarray(a), np.ascontiguousarray(cz), np.ascontiguousarray(const),
             np.ascontiguousarray(m["log_miss"]))
+
+
+def sampler_fields(problem, start, scan, rng, options) -> dict:
+    """Validate a sampler call on an :class:`AdaptiveBirthProblem`; the fields of its
+    ``Prepared`` record (:mod:`rankedassign._sampling`).
+
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+    start : "all_missed" or array_like of int, shape (V,)
+        Start tuple of every chain (spec §5: the all-missed tuple); an explicit tuple must be
+        in range and of positive weight.
+    scan : str
+        Must be ``"systematic"`` (the default): the sweep order of this sampler is the
+        ``sensor_order`` option.
+    rng
+        As for the samplers.
+    options : dict
+        ``sensor_order`` (``"random"``, default, or ``"fixed"``; spec §4.3, Q8); nothing else.
+
+    Returns
+    -------
+    dict
+        ``kind, problem, data, ref_data, x0, n_values, base, rows, sweep_cost, to_result``.
+
+    Raises
+    ------
+    TypeError
+        On an unknown option or a non-integer start tuple.
+    ValueError
+        On ``scan != "systematic"``, an unknown ``sensor_order`` or start, or a start tuple out
+        of range or of zero weight.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3)))
+    >>> f = sampler_fields(p, "all_missed", "systematic", 0, {"sensor_order": "fixed"})
+    >>> f["kind"], f["x0"].tolist(), f["n_values"], f["rows"]
+    ('adaptive_birth', [0, 0], 3, 2)
+    """
+    options = dict(options)
+    sensor_order = options.pop("sensor_order", "random")
+    if options:
+        raise TypeError(f"unexpected option(s) {sorted(options)} for an AdaptiveBirthProblem "
+                        "(its only option is sensor_order)")
+    sensor_order = check_choice(sensor_order, "sensor_order", SENSOR_ORDERS)
+    if scan != "systematic":
+        raise ValueError(f"scan={scan!r} does not apply to an AdaptiveBirthProblem: its sweep "
+                         "order is the option sensor_order='random' (default) or 'fixed'")
+    V = problem.n_sensors
+    if isinstance(start, str):
+        check_choice(start, "start", ("all_missed",))
+        x0 = np.zeros(V, dtype=np.int32)
+    else:
+        J, single = problem._as_tuples(start, "start")
+        if not single:
+            raise ValueError(f"start must be a single tuple of shape ({V},), got "
+                             f"{np.shape(start)}")
+        if not np.isfinite(problem.log_weight_of(J[0])):
+            raise ValueError(f"start tuple {J[0].tolist()} has zero weight")
+        x0 = J[0].astype(np.int32)
+    data = chain_inputs(problem, sensor_order)
+    n = int(data[2])
+
+    def to_result(states):
+        states = np.asarray(states, dtype=np.int64).reshape(-1, V)
+        return states, np.asarray(problem.cost_of(states), dtype=np.float64).reshape(-1)
+
+    return dict(kind="adaptive_birth", problem=problem, data=data, ref_data=reference_data(data),
+                x0=x0, n_values=max(problem.shape), base=base_key(rng), rows=V,
+                sweep_cost=sum(problem.shape) * (n * n + 1), to_result=to_result)
 
 
 # ---------------------------------------------------------------------------- birth LMB

@@ -31,6 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import oracle
+
+from ..samplers import sample_original, sample_short_chains
 from ..validation import check_choice, check_int
 from .adaptive_birth import AdaptiveBirthProblem
 
@@ -158,8 +161,6 @@ def _seeds(seed: int, run: int, family: str, V: int) -> list:
 
 
 def _record(problem, res) -> dict:
-    import oracle
-
     return {"n_obs": int(res.n_observations), "n_unique": len(res),
             "n_chains": int(res.n_chains_run), "stop_reason": res.stop_reason,
             "error": float(oracle.truncation_error(problem, res.assignments))}
@@ -184,8 +185,6 @@ def run_task(cfg: StudyConfig, seed: int, run: int, family: str, V: int) -> dict
     >>> out["original"]["n_obs"], out["full"]["n_obs"] <= 100
     (100, True)
     """
-    from .. import sample_original, sample_short_chains
-
     s = _seeds(seed, run, family, V)
     problem = make_family(family, V, rng=s[0])
     out = {"run": run, "family": family, "V": V,
@@ -257,8 +256,6 @@ def curve(cfg: StudyConfig, seed: int, family: str, V: int) -> list:
     >>> [r["n_obs"] for r in curve(cfg, 0, "uniform", 4)]
     [25, 50]
     """
-    from .. import sample_original, sample_short_chains
-
     out = []
     for budget in cfg.curve_obs:
         eo, es = [], []
