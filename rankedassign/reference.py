@@ -3,13 +3,19 @@
 Same names and signatures as :func:`rankedassign.sample_original` and
 :func:`rankedassign.sample_short_chains` (the ``backend`` switch is absent: this *is* the
 Python backend; ``workers`` is accepted and ignored because the run is sequential). Written
-for reading, not speed: plain loops over lists, a dict for the unique set. The kernels in
-:mod:`rankedassign._kernels` must return exactly the same result for the same inputs (tested
-with hypothesis over random problems and every option).
+for reading, not speed: plain loops over lists, a dict for the unique set. The kernels
+(:mod:`rankedassign._chains` with each problem type's row update) must return exactly the same
+result for the same inputs (tested with hypothesis over random problems and every option).
+
+:func:`run_chains` is the architecture of the paper written once — chains from a common start,
+one observation per sweep, the unique set, every reading of stall and stale — for any problem
+type; a problem type supplies ``new_work(data, x)`` (its per-chain bookkeeping, e.g. which row
+holds each measurement) and ``sweep(data, work, x, g)`` (one sweep in place), registered in
+:data:`ROW_UPDATES` under the kind name of :mod:`rankedassign._sampling`.
 
 The arithmetic that both implementations share, and that makes them agree bit for bit:
 
-* the weights ``W`` (:func:`rankedassign.samplers.shifted_weights`), computed once with numpy;
+* the weights ``W`` (:func:`rankedassign._sampling.shifted_weights`), computed once with numpy;
 * the SplitMix64 stream of each chain (:mod:`rankedassign._rng`);
 * one uniform per row update, turned into a candidate by the sequential inverse-CDF loop of
   :func:`draw_row`; in a random-scan sweep, first ``P - 1`` uniforms for the Fisher-Yates
@@ -25,18 +31,16 @@ from __future__ import annotations
 import math
 
 from ._rng import SplitMix64, chain_state
-from .samplers import (
-    STALE_READINGS,
-    STALL_READINGS,
-    _check_choice,
-    _check_count,
-    _check_tau,
-    _check_workers,
-    _package,
-    _prepare,
+from ._sampling import (
+    check_chain_budget,
+    check_rules,
+    package,
+    prepare,
+    zero_length_run,
 )
+from .validation import check_int
 
-__all__ = ["sample_original", "sample_short_chains", "draw_row", "sweep"]
+__all__ = ["sample_original", "sample_short_chains", "run_chains", "draw_row", "sweep"]
 
 
 def draw_row(W_i, cc_i, i, owner, g) -> int:
@@ -154,7 +158,9 @@ def sweep(W, cc, x, owner, g, random_scan) -> None:
         x[i] = k_new
 
 
-def _owner_of(x, M):
+def _owner_of(data, x):
+    """Single-sensor bookkeeping: the row holding each measurement, ``-1`` if free."""
+    M = data[3]
     owner = [-1] * M
     for i, k in enumerate(x):
         if k < M:
@@ -162,100 +168,68 @@ def _owner_of(x, M):
     return owner
 
 
-def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None):
-    """Reference original Gibbs sampler (spec §2.2); see :func:`rankedassign.sample_original`.
+def _single_sweep(data, owner, x, g):
+    W, cc, random_scan, _ = data
+    sweep(W, cc, x, owner, g, random_scan)
+
+
+#: Row updates of each problem type: kind -> (new_work, sweep).
+ROW_UPDATES = {"single": (_owner_of, _single_sweep)}
+
+
+def run_chains(sweep, new_work, data, x0, base, n_chains, chain_length, *, tau_stall=None,
+               tau_stale=None, stall="global-consecutive", stale="consecutive"):
+    """The short-chain architecture for any problem type (spec §3.3); plain Python.
 
     Parameters
     ----------
-    problem : AssignmentProblem
-    n_obs : int
-        Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
-    start, scan, rng
-        As in :func:`rankedassign.sample_original`.
-
-    Returns
-    -------
-    SamplerResult
-
-    References
-    ----------
-    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
-       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
-
-    Examples
-    --------
-    >>> from rankedassign import synthetic
-    >>> res = sample_original(synthetic.diagonal(), 200, rng=0)
-    >>> int(res.counts.sum()), res.assignments[0].tolist()
-    (200, [16, 17, 18, 19])
-    """
-    n_obs = _check_count("n_obs", n_obs)
-    prep = _prepare(problem, start, scan, rng)
-    W, cc, M = prep.W.tolist(), prep.cc.tolist(), prep.problem.n_meas
-    x = prep.x0.tolist()                       # x <- x0 (stored, not an observation)
-    owner = _owner_of(x, M)
-    g = SplitMix64(chain_state(prep.base, 0))  # the original chain is stream 0
-    index = {tuple(x): 0}                      # unique states in order of discovery
-    states, counts = [tuple(x)], [0]
-    for _ in range(n_obs):                     # t = 2..T: one sweep = one observation
-        sweep(W, cc, x, owner, g, prep.random_scan)
-        key = tuple(x)
-        if key not in index:
-            index[key] = len(states)
-            states.append(key)
-            counts.append(0)
-        counts[index[key]] += 1
-    return _package(prep, states, counts, n_obs, 1, False, 0)
-
-
-def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
-                        stall="global-consecutive", stale="consecutive", start="all_missed",
-                        scan="systematic", rng=None, workers=1):
-    """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
-
-    Parameters
-    ----------
-    problem : AssignmentProblem
+    sweep : callable
+        ``sweep(data, work, x, g)``: one sweep (one observation) in place on the list ``x`` and
+        the bookkeeping ``work``, drawing from the stream ``g``.
+    new_work : callable
+        ``new_work(data, x) -> work``: the bookkeeping of a chain started at ``x``.
+    data : tuple
+        The problem type's inputs (``Prepared.ref_data``).
+    x0 : sequence of int
+        Start state of every chain.
+    base : int
+        Base key; chain ``c`` draws from ``SplitMix64(chain_state(base, c))``.
     n_chains, chain_length : int
         ``N_S`` and ``N_C``.
     tau_stall, tau_stale : int or None
         Thresholds; ``None`` disables a rule.
     stall, stale : str
         Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
-    start, scan, rng
-        As in :func:`rankedassign.sample_short_chains`.
-    workers : int
-        Accepted and ignored (sequential).
 
     Returns
     -------
-    SamplerResult
-        ``n_speculative_discarded`` is 0.
+    states : list of tuple
+        Unique states in discovery order, ``x0`` first.
+    counts : list of int
+        Observations of each.
+    n_obs, chains_run : int
+        Observations made and chains started.
+    stale_fired : bool
+        Whether the stale rule stopped the run.
 
-    References
-    ----------
-    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
-       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+    Notes
+    -----
+    The original sampler (Vo, Vo & Hoang 2017, Alg. 1) is one chain of ``n_obs`` sweeps with
+    neither rule.
 
     Examples
     --------
-    >>> from rankedassign import synthetic
-    >>> res = sample_short_chains(synthetic.diagonal(), 200, 25, tau_stall=5, tau_stale=25,
-    ...                           rng=3)
-    >>> res.stop_reason, res.n_chains_run < 200
-    ('stale', True)
-    """
-    n_chains = _check_count("n_chains", n_chains)
-    chain_length = _check_count("chain_length", chain_length)
-    tau_stall = _check_tau("tau_stall", tau_stall) or None
-    tau_stale = _check_tau("tau_stale", tau_stale) or None
-    _check_choice("stall reading", stall, STALL_READINGS)
-    _check_choice("stale reading", stale, STALE_READINGS)
-    _check_workers(workers)
-    prep = _prepare(problem, start, scan, rng)
-    W, cc, M = prep.W.tolist(), prep.cc.tolist(), prep.problem.n_meas
-    x0 = tuple(prep.x0.tolist())
+    A coin that one uniform per sweep turns:
 
+    >>> def flip(data, work, x, g):
+    ...     if g.uniform() < 0.5:
+    ...         x[0] = 1 - x[0]
+    >>> states, counts, n_obs, chains, stale = run_chains(flip, lambda d, x: None, (), [0],
+    ...                                                   7, 1, 100)
+    >>> sorted(states), sum(counts), stale
+    ([(0,), (1,)], 100, False)
+    """
+    x0 = tuple(x0)
     index = {x0: 0}                 # U <- {x0}; x0 is returned but is not an observation
     states, counts = [x0], [0]
     n_obs = 0
@@ -265,14 +239,14 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     stale_fired = False
     for c in range(n_chains):
         x = list(x0)
-        owner = _owner_of(x, M)
-        g = SplitMix64(chain_state(prep.base, c))
+        work = new_work(data, x)
+        g = SplitMix64(chain_state(base, c))
         stall_run = 0               # S3: observations since the chain's last new find
         stall_cum = 0               # S2: observations already in U
         new_in_chain = 0
         chain_states = {x0}         # S1: distinct states among x[0..j]
         for j in range(1, chain_length + 1):
-            sweep(W, cc, x, owner, g, prep.random_scan)
+            sweep(data, work, x, g)
             n_obs += 1
             key = tuple(x)
             if key not in index:    # new to U
@@ -314,4 +288,95 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
             if fired:
                 stale_fired = True
                 break
-    return _package(prep, states, counts, n_obs, chains_run, stale_fired, 0)
+    return states, counts, n_obs, chains_run, stale_fired
+
+
+def _run(prep, n_chains, chain_length, **rules):
+    new_work, row_sweep = ROW_UPDATES[prep.kind]
+    states, counts, n_obs, chains_run, stale = run_chains(
+        row_sweep, new_work, prep.ref_data, prep.x0.tolist(), prep.base, n_chains, chain_length,
+        **rules,
+    )
+    return package(prep, states, counts, n_obs, chains_run, stale, 0)
+
+
+def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None,
+                    **options):
+    """Reference original Gibbs sampler (spec §2.2); see :func:`rankedassign.sample_original`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_obs : int
+        Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
+    start, scan, rng, **options
+        As in :func:`rankedassign.sample_original`.
+
+    Returns
+    -------
+    SamplerResult
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_original(synthetic.diagonal(), 200, rng=0)
+    >>> int(res.counts.sum()), res.assignments[0].tolist()
+    (200, [16, 17, 18, 19])
+    """
+    n_obs = check_int(n_obs, "n_obs")
+    prep = prepare(problem, start, scan, rng, **options)
+    return _run(prep, 1, n_obs)     # one chain, neither rule: Vo's long chain
+
+
+def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
+                        stall="global-consecutive", stale="consecutive", start="all_missed",
+                        scan="systematic", rng=None, workers=1, **options):
+    """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_chains, chain_length : int
+        ``N_S`` and ``N_C``.
+    tau_stall, tau_stale : int or None
+        Thresholds; ``None`` disables a rule.
+    stall, stale : str
+        Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
+    start, scan, rng, **options
+        As in :func:`rankedassign.sample_short_chains`.
+    workers : int
+        Accepted and ignored (sequential).
+
+    Returns
+    -------
+    SamplerResult
+        ``n_speculative_discarded`` is 0.
+
+    References
+    ----------
+    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_short_chains(synthetic.diagonal(), 200, 25, tau_stall=5, tau_stale=25,
+    ...                           rng=3)
+    >>> res.stop_reason, res.n_chains_run < 200
+    ('stale', True)
+    """
+    n_chains, chain_length = check_chain_budget(n_chains, chain_length)
+    tau_stall, tau_stale = check_rules(tau_stall, tau_stale, stall, stale)
+    check_int(workers, "workers", minimum=1)
+    prep = prepare(problem, start, scan, rng, **options)
+    if chain_length == 0:  # empty chains: closed form instead of looping over them
+        chains_run, stale_fired = zero_length_run(n_chains, tau_stale, stale)
+        return package(prep, [prep.x0.tolist()], [0], 0, chains_run, stale_fired, 0)
+    return _run(prep, n_chains, chain_length, tau_stall=tau_stall, tau_stale=tau_stale,
+                stall=stall, stale=stale)
+

@@ -15,13 +15,23 @@ from rankedassign import (
     AssignmentProblem,
     _kernels,
     _rng,
+    _rng_kernels,
+    _sampling,
     reference,
     sample_original,
     sample_short_chains,
-    samplers,
 )
+from rankedassign._chains import Rules
+from rankedassign.validation import STALE_READINGS, STALL_READINGS
 
 INF = np.inf
+
+
+def _driver_args(problem, start, scan, seed, n_chains, chain_length, rules):
+    """Positional arguments of the compiled single-sensor driver, up to ``batch, workers``."""
+    prep = _sampling.prepare(problem, start, scan, seed)
+    zk = _rng_kernels.zobrist_keys(problem.n_rows, prep.n_values, np.uint64(_rng.ZOBRIST_SEED))
+    return (prep.data, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules)
 
 
 # ------------------------------------------------------------------------------ RNG
@@ -30,10 +40,10 @@ def test_rng_streams_agree_bit_for_bit(seed):
     n = 20_000
     for chain in (0, 1, 7, 10_000):
         state = _rng.chain_state(seed, chain)
-        assert int(_kernels.chain_state(np.uint64(seed), chain)) == state
+        assert int(_rng_kernels.chain_state(np.uint64(seed), chain)) == state
         g = _rng.SplitMix64(state)
         py = np.array([g.uniform() for _ in range(n)])
-        nb = _kernels.uniform_stream(np.uint64(state), n)
+        nb = _rng_kernels.uniform_stream(np.uint64(state), n)
         assert_array_equal(py.view(np.uint64), nb.view(np.uint64))
 
 
@@ -45,7 +55,7 @@ def test_rng_known_values_and_range():
         "0x6e789e6aa1b965f4",
         "0x6c45d188009454f",
     ]
-    u = _kernels.uniform_stream(np.uint64(12345), 100_000)
+    u = _rng_kernels.uniform_stream(np.uint64(12345), 100_000)
     assert u.min() >= 0.0 and u.max() < 1.0
     # every uniform is a multiple of 2**-53
     assert_array_equal(u * 2.0**53, np.floor(u * 2.0**53))
@@ -60,7 +70,7 @@ def test_base_key_from_generator_advances_it():
 
 
 def test_zobrist_keys_match_python_stream():
-    keys = _kernels.zobrist_keys(3, 4, np.uint64(_rng.ZOBRIST_SEED))
+    keys = _rng_kernels.zobrist_keys(3, 4, np.uint64(_rng.ZOBRIST_SEED))
     g = _rng.SplitMix64(_rng.ZOBRIST_SEED)
     expected = np.array([g.next_u64() for _ in range(12)], dtype=np.uint64).reshape(3, 4)
     assert_array_equal(keys, expected)
@@ -150,8 +160,8 @@ def test_short_chains_reference_equals_numba_and_parallel(data):
     kw = dict(
         tau_stall=data.draw(st.one_of(st.none(), st.integers(1, 4))),
         tau_stale=data.draw(st.one_of(st.none(), st.integers(1, 6))),
-        stall=data.draw(st.sampled_from(sorted(samplers.STALL_READINGS))),
-        stale=data.draw(st.sampled_from(sorted(samplers.STALE_READINGS))),
+        stall=data.draw(st.sampled_from(sorted(STALL_READINGS))),
+        stale=data.draw(st.sampled_from(sorted(STALE_READINGS))),
         start=data.draw(st.sampled_from(feasible_starts(problem))),
         scan=data.draw(st.sampled_from(["systematic", "random"])),
         rng=data.draw(st.integers(0, 2**32)),
@@ -175,21 +185,18 @@ def test_speculative_batches_of_any_size_replay_exactly(data):
     """The kernel's speculate-and-replay path equals the sequential path for every batch
     size (batches smaller than the run exercise the stale stop inside a later batch)."""
     problem = data.draw(problems(max_rows=2, max_meas=2))
-    stall = data.draw(st.sampled_from(sorted(samplers.STALL_READINGS)))
-    stale = data.draw(st.sampled_from(sorted(samplers.STALE_READINGS)))
+    stall = data.draw(st.sampled_from(sorted(STALL_READINGS)))
+    stale = data.draw(st.sampled_from(sorted(STALE_READINGS)))
     tau_stall = data.draw(st.integers(0, 3))
     tau_stale = data.draw(st.integers(0, 4))
     n_chains = data.draw(st.integers(1, 30))
     chain_length = data.draw(st.integers(0, 6))
     random_scan = data.draw(st.booleans())
     seed = data.draw(st.integers(0, 2**32))
-    prep = samplers._prepare(problem, "lsap", "random" if random_scan else "systematic", seed)
-    zk = samplers._zobrist(problem)
-    args = (
-        prep.W, prep.cc, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length,
-        samplers.STALL_READINGS[stall] if tau_stall else 0, tau_stall,
-        samplers.STALE_READINGS[stale] if tau_stale else 0, tau_stale, prep.random_scan,
-    )
+    rules = Rules(STALL_READINGS[stall] if tau_stall else 0, tau_stall,
+                  STALE_READINGS[stale] if tau_stale else 0, tau_stale)
+    args = _driver_args(problem, "lsap", "random" if random_scan else "systematic", seed,
+                        n_chains, chain_length, rules)
     u0, c0, k0 = _kernels.run_chains(*args, 0, 1)
     for batch, workers in ((1, 2), (2, 2), (3, 4), (7, 2), (7, 3), (64, 2)):
         u, c, k = _kernels.run_chains(*args, batch, workers)
@@ -230,7 +237,7 @@ def _underflow_problem():
 
 def test_underflow_fallback_reference_equals_numba():
     p = _underflow_problem()
-    W = samplers.shifted_weights(p)
+    W = _sampling.shifted_weights(p)
     assert W[0, 1] == 0.0 and W[0, 2] == 0.0 and W[0, 3] == 0.0  # underflowed
     start = np.array([2, 0])  # row 0 missed, row 1 on measurement 0
     for scan in ("systematic", "random"):
@@ -251,9 +258,8 @@ def test_many_speculation_batches():
     from rankedassign import synthetic
 
     p = synthetic.random(R=3, M=5, rng=2)
-    prep = samplers._prepare(p, "all_missed", "systematic", 6)
-    args = (prep.W, prep.cc, samplers._zobrist(p), prep.x0, np.uint64(prep.base), 300, 4,
-            samplers.STALL_READINGS["global-consecutive"], 2, 0, 0, False)
+    args = _driver_args(p, "all_missed", "systematic", 6, 300, 4,
+                        Rules(STALL_READINGS["global-consecutive"], 2, 0, 0))
     u0, c0, k0 = _kernels.run_chains(*args, 0, 1)
     for batch in (1, 3):
         u, c, k = _kernels.run_chains(*args, batch, 2)
