@@ -26,6 +26,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
+from .multisensor.adaptive_birth import AdaptiveBirthProblem, sampler_fields
 from .problem import AssignmentProblem
 from .validation import (
     STALE_READINGS,
@@ -294,7 +295,11 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
 
 
 # ------------------------------------------------------------------------------ dispatch
-_PREPARE = {AssignmentProblem: _prepare_single}
+def _prepare_adaptive_birth(problem, start, scan, rng, options) -> Prepared:
+    return Prepared(**sampler_fields(problem, start, scan, rng, options))
+
+
+_PREPARE = {AssignmentProblem: _prepare_single, AdaptiveBirthProblem: _prepare_adaptive_birth}
 
 
 def prepare(problem, start, scan, rng, **options) -> Prepared:

@@ -38,6 +38,7 @@ from ._sampling import (
     prepare,
     zero_length_run,
 )
+from .multisensor import ab_reference
 from .validation import check_int
 
 __all__ = ["sample_original", "sample_short_chains", "run_chains", "draw_row", "sweep"]
@@ -174,7 +175,8 @@ def _single_sweep(data, owner, x, g):
 
 
 #: Row updates of each problem type: kind -> (new_work, sweep).
-ROW_UPDATES = {"single": (_owner_of, _single_sweep)}
+ROW_UPDATES = {"single": (_owner_of, _single_sweep),
+               "adaptive_birth": (ab_reference.new_work, ab_reference.sweep)}
 
 
 def run_chains(sweep, new_work, data, x0, base, n_chains, chain_length, *, tau_stall=None,

@@ -28,10 +28,12 @@ import math
 
 import numpy as np
 
-from .._kernels import next_uniform
+from .._chains import make_driver
+from .._rng_kernels import next_uniform
 from ..numba_options import jit
 
-__all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet_quad"]
+__all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet_quad",
+           "run_chains"]
 
 
 @jit()
@@ -259,3 +261,7 @@ def sweep(data, work, b, zkeys, state, h, rs):
             h ^= zkeys[s, old] ^ zkeys[s, j]
             state[s] = j
     return h
+
+
+#: The chain driver compiled for the adaptive-birth problem (:func:`.._chains.make_driver`).
+run_chains = make_driver("adaptive_birth", alloc_work, reset_work, sweep)
