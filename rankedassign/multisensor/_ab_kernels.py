@@ -32,7 +32,7 @@ from .._chains import make_driver
 from .._rng_kernels import next_uniform
 from ..numba_options import jit
 
-__all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet_quad",
+__all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
            "run_chains"]
 
 
@@ -130,19 +130,31 @@ def cholesky(M, L, n):
 
 
 @jit()
-def half_logdet_quad(L, b, y, n):
-    """``(sum_i ln L_ii, |L^-1 b|^2)``, using ``y`` as scratch.
+def half_logdet(L, n):
+    """``sum_i ln L_ii = ln|M| / 2`` for ``M = L L'``.
 
     Examples
     --------
     >>> import numpy as np
-    >>> half_logdet_quad(np.array([[2.0, 0.0], [1.0, 2.0]]), np.array([2.0, 1.0]),
-    ...                  np.zeros(2), 2)
-    (1.3862943611198906, 1.0)
+    >>> half_logdet(np.array([[2.0, 0.0], [1.0, 2.0]]), 2)
+    1.3862943611198906
     """
     hl = 0.0
     for i in range(n):
         hl += math.log(L[i, i])
+    return hl
+
+
+@jit()
+def quad(L, b, y, n):
+    """``|L^-1 b|^2 = b' M^-1 b`` for ``M = L L'``, using ``y`` as scratch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> quad(np.array([[2.0, 0.0], [1.0, 2.0]]), np.array([2.0, 1.0]), np.zeros(2), 2)
+    1.0
+    """
     q = 0.0
     for i in range(n):
         s = b[i]
@@ -150,7 +162,7 @@ def half_logdet_quad(L, b, y, n):
             s -= L[i, k] * y[k]
         y[i] = s / L[i, i]
         q += y[i] * y[i]
-    return hl, q
+    return q
 
 
 @jit()
@@ -187,18 +199,17 @@ def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
             b[i] -= a[t, i]
         c[0] -= cz[t]
     cholesky(M, L, n)
-    hl, q = half_logdet_quad(L, b, y, n)
-    lw[0] = data[15][s] - hl - 0.5 * (c[0] - q)          # missed by s
+    lw[0] = data[15][s] - half_logdet(L, n) - 0.5 * (c[0] - quad(L, b, y, n))   # missed by s
     for i in range(n):
         for k in range(n):
             Mp[i, k] = M[i, k] + A[s, i, k]              # M+ = M- + A_s
     cholesky(Mp, L, n)
+    hl = half_logdet(L, n)
     for j in range(1, Ms + 1):
         t = off[s] + j - 1
         for i in range(n):
             bj[i] = b[i] + a[t, i]                       # b_j = b- + H' R^-1 z_j
-        hl, q = half_logdet_quad(L, bj, y, n)
-        lw[j] = const[t] - hl - 0.5 * ((c[0] + cz[t]) - q)
+        lw[j] = const[t] - hl - 0.5 * ((c[0] + cz[t]) - quad(L, bj, y, n))
 
 
 @jit()

@@ -26,8 +26,8 @@ of every sweep, updated after each sensor)::
     lw[j] = const_sj - ln|M+|/2 - (c- + cz_sj - |L+^-1 (b- + a_sj)|^2)/2   j >= 1
 
 (``ln|M|/2 = sum_i ln L_ii``). The Cholesky factor and the forward substitution are written
-out as plain loops (:func:`cholesky`, :func:`half_logdet_quad`) so that both implementations
-do the same operations.
+out as plain loops (:func:`cholesky`, :func:`half_logdet`, :func:`quad`) so that both
+implementations do the same operations; ``ln|M+|/2`` is computed once per update.
 
 References
 ----------
@@ -40,8 +40,8 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-__all__ = ["RefData", "reference_data", "new_work", "sweep", "draw", "cholesky",
-           "half_logdet_quad", "conditional_log_weights"]
+__all__ = ["RefData", "reference_data", "new_work", "sweep", "draw", "cholesky", "half_logdet",
+           "quad", "conditional_log_weights"]
 
 
 class RefData(NamedTuple):
@@ -174,17 +174,28 @@ def cholesky(M, n):
     return L
 
 
-def half_logdet_quad(L, b, n):
-    """``(sum_i ln L_ii, |L^-1 b|^2)``: ``ln|M|/2`` and ``b' M^-1 b`` for ``M = L L'``.
+def half_logdet(L, n):
+    """``sum_i ln L_ii = ln|M| / 2`` for ``M = L L'``.
 
     Examples
     --------
-    >>> half_logdet_quad([[2.0, 0.0], [1.0, 2.0]], [2.0, 1.0], 2)
-    (1.3862943611198906, 1.0)
+    >>> half_logdet([[2.0, 0.0], [1.0, 2.0]], 2)
+    1.3862943611198906
     """
     hl = 0.0
     for i in range(n):
         hl += math.log(L[i][i])
+    return hl
+
+
+def quad(L, b, n):
+    """``|L^-1 b|^2 = b' M^-1 b`` for ``M = L L'`` (forward substitution).
+
+    Examples
+    --------
+    >>> quad([[2.0, 0.0], [1.0, 2.0]], [2.0, 1.0], 2)
+    1.0
+    """
     y = [0.0] * n
     q = 0.0
     for i in range(n):
@@ -193,7 +204,7 @@ def half_logdet_quad(L, b, n):
             s -= L[i][k] * y[k]
         y[i] = s / L[i][i]
         q += y[i] * y[i]
-    return hl, q
+    return q
 
 
 def _sums(data: RefData, work: Work, x) -> None:
@@ -253,17 +264,17 @@ def conditional_log_weights(data: RefData, work: Work, x, s):
             b[i] -= data.a[t][i]
         c[0] -= data.cz[t]
     lw = [0.0] * (Ms + 1)
-    hl, q = half_logdet_quad(cholesky(M, n), b, n)
-    lw[0] = data.log_miss[s] - hl - 0.5 * (c[0] - q)     # missed by s
+    L = cholesky(M, n)
+    lw[0] = data.log_miss[s] - half_logdet(L, n) - 0.5 * (c[0] - quad(L, b, n))   # missed
     Mp = [[M[i][k] + data.A[s][i][k] for k in range(n)] for i in range(n)]   # M+ = M- + A_s
     Lp = cholesky(Mp, n)
+    hl = half_logdet(Lp, n)
     bj = [0.0] * n
     for j in range(1, Ms + 1):
         t = data.off[s] + j - 1
         for i in range(n):
             bj[i] = b[i] + data.a[t][i]                  # b_j = b- + H' R^-1 z_j
-        hl, q = half_logdet_quad(Lp, bj, n)
-        lw[j] = data.const[t] - hl - 0.5 * ((c[0] + data.cz[t]) - q)
+        lw[j] = data.const[t] - hl - 0.5 * ((c[0] + data.cz[t]) - quad(Lp, bj, n))
     return lw, Mp
 
 
