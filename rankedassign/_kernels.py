@@ -16,9 +16,11 @@ State representation. A state is the vector of *compact* indices ``k_i`` in ``0.
 columns of :attr:`AssignmentProblem.compact_cost`): ``k < M`` is measurement ``k``, ``M`` is
 missed, ``M + 1`` is dead. ``free[j]`` is 1.0 while measurement ``j`` is free, 0.0 while held.
 
-``data`` is the tuple ``(W, cc, random_scan)`` (shifted weights, compact costs, scan order);
-the workspace of ``nb`` chains is ``(free, perm, cum)``: the free-measurement masks
-``(nb, M)``, the row permutations ``(nb, P)`` and the running sums ``(nb, M + 2)``.
+``data`` is the tuple ``(W, cc, S, next_pos, random_scan, prefix)`` (shifted weights, compact
+costs, prefix sums, next positive weight, scan order, draw rule); the workspace of ``nb`` chains is
+``(free, perm, cum, held, n_held)``: the free-measurement masks ``(nb, M)``, the row
+permutations ``(nb, P)``, the running sums ``(nb, M + 2)``, and the sorted held measurements
+``(nb, P)`` with their count ``(nb, 1)``.
 
 References
 ----------
@@ -36,6 +38,7 @@ import numpy as np
 
 from ._chains import make_driver
 from ._rng_kernels import next_uniform
+from ._sampling import CANCEL_GUARD
 from .numba_options import jit
 
 
@@ -76,7 +79,124 @@ def draw_exact(cc, i, free, u):
 
 
 @jit()
-def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
+def draw_prefix(W, S, next_pos, cc, i, free, held, n_held, cum, u):
+    """Row ``i``'s draw from its prefix sums, ``O(P + log M)`` (twin of the reference's).
+
+    ``held[:n_held]`` are the measurements held by the other rows, sorted. The rule, its
+    bisection over the runs of free measurements, the cancellation guard and the fall-backs
+    are those of :func:`rankedassign.reference.draw_prefix`, operation for operation.
+    """
+    M = W.shape[1] - 2
+    cs = cum  # cs[t]: held weight left of run t, summed left to right (scratch row)
+    cs[0] = 0.0
+    for t in range(n_held):
+        cs[t + 1] = cs[t] + W[i, held[t]]
+    meas = S[i, M] - cs[n_held]
+    if meas < CANCEL_GUARD * S[i, M]:  # held weight cancels the prefix sum: direct draw
+        return draw_direct(W, cc, i, free, cum, u)
+    total = (meas + W[i, M]) + W[i, M + 1]
+    if not total > 0.0:  # every available weight underflowed
+        return draw_direct(W, cc, i, free, cum, u)
+    target = u * total
+    a = 0
+    b = n_held + 1
+    while a < b:  # the first run whose last cum exceeds target
+        mid = (a + b) // 2
+        h = held[mid] if mid < n_held else M
+        if S[i, h] - cs[mid] > target:
+            b = mid
+        else:
+            a = mid + 1
+    for t in range(a, n_held + 1):  # normally one run
+        lo = held[t - 1] + 1 if t > 0 else 0
+        h = held[t] if t < n_held else M
+        if h > lo and S[i, h] - cs[t] > target:
+            p = lo
+            q = h - 1
+            while p < q:  # the first k in the run with S[i, k + 1] - cs[t] > target
+                mid = (p + q) // 2
+                if S[i, mid + 1] - cs[t] > target:
+                    q = mid
+                else:
+                    p = mid + 1
+            k = next_pos[i, p]
+            if k < h:
+                return k
+    if W[i, M] > 0.0 and meas + W[i, M] > target:
+        return M
+    if W[i, M + 1] > 0.0:
+        return M + 1
+    if W[i, M] > 0.0:
+        return M
+    for k in range(M - 1, -1, -1):  # rounding: the last positive free measurement
+        if W[i, k] > 0.0 and free[k] > 0.0:
+            return k
+    return -1  # unreachable: total > 0 means some available weight is positive
+
+
+@jit()
+def draw_direct(W, cc, i, free, cum, u):
+    """Row ``i``'s draw by the direct sum (twin of the reference's ``draw_direct``), ``O(M)``.
+
+    ``p(k) ∝ W[i, k]`` over the available candidates, in the order measurements ``0..M-1``
+    (free ones: row ``i``'s own is released first), missed, dead. ``total`` is their sum
+    accumulated sequentially in that order, ``target = u * total``, and the pick is the first
+    candidate whose running sum exceeds ``target`` (inverse CDF), or the last positive-weight
+    candidate if rounding leaves none; :func:`draw_exact` if ``total = 0``. Held measurements
+    enter the running sum as ``W * 0.0 = +0.0``, which leaves every partial sum bit-identical
+    to the reference's loop that skips them; the running sums are stored so that the search is
+    a branch-free count of ``cum[k] <= target`` (the sums never decrease, so the count is the
+    index of the first one above ``target``).
+    """
+    M = W.shape[1] - 2
+    K = M + 2
+    total = 0.0
+    for k in range(M):
+        total += W[i, k] * free[k]
+        cum[k] = total
+    total += W[i, M]
+    cum[M] = total
+    total += W[i, M + 1]
+    cum[M + 1] = total
+    if total > 0.0:
+        target = u * total
+        pick = 0
+        for k in range(K):
+            pick += cum[k] <= target
+        if pick < K:
+            return pick
+        # rounding left u * total at or above the last running sum
+        for k in range(K - 1, -1, -1):
+            if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
+                return k
+    return draw_exact(cc, i, free, u)
+
+
+@jit()
+def _release(held, n_held, k):
+    """Remove ``k`` from the sorted ``held[:n_held]``; return the new count."""
+    t = 0
+    while held[t] != k:
+        t += 1
+    for s in range(t, n_held - 1):
+        held[s] = held[s + 1]
+    return n_held - 1
+
+
+@jit()
+def _hold(held, n_held, k):
+    """Insert ``k`` into the sorted ``held[:n_held]``; return the new count."""
+    t = n_held
+    while t > 0 and held[t - 1] > k:
+        held[t] = held[t - 1]
+        t -= 1
+    held[t] = k
+    return n_held + 1
+
+
+@jit()
+def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum, random_scan,
+          prefix):
     """One Gibbs sweep over all rows, in place (Gauss-Seidel, spec §2.2); return the new hash.
 
     Parameters
@@ -85,12 +205,20 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
         ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``).
     cc : ndarray, shape (P, M + 2), float64
         Compact costs (used only by :func:`draw_exact`).
+    S, next_pos : ndarray, shapes (P, M + 1) float64 and (P, M) int64
+        Prefix sums of the measurement weights and the next positive weight
+        (:func:`rankedassign._sampling.prefix_sums`).
     zkeys : ndarray, shape (P, M + 2), uint64
         Zobrist keys.
     state : ndarray, shape (P,), int32
         Compact state, updated in place.
     free : ndarray, shape (M,), float64
         1.0 for a free measurement, 0.0 for a held one; updated in place.
+    held : ndarray, shape (P,), int64
+        The held measurements in increasing order in ``held[:n_held[0]]`` (kept only when
+        ``prefix``); updated in place.
+    n_held : ndarray, shape (1,), int64
+        Their number.
     h : uint64
         Zobrist hash of ``state``.
     rs : ndarray, shape (1,), uint64
@@ -101,6 +229,8 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
         Systematic order ``0..P-1`` if False; otherwise a fresh uniformly random order drawn
         first, by Fisher-Yates from the identity: for ``t = P-1..1``,
         ``j = min(floor(u (t + 1)), t)``, swap ``perm[t], perm[j]``.
+    prefix : bool
+        Draw from prefix sums (:func:`rankedassign._sampling.uses_prefix_sums`).
 
     Returns
     -------
@@ -109,21 +239,12 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
 
     Notes
     -----
-    Row ``i`` is drawn from its conditional (spec eq. 2.1) with one uniform ``u``:
-    ``p(k) ∝ W[i, k]`` over the available candidates, in the order measurements ``0..M-1``
-    (free, or held by row ``i`` itself, which is released first), missed, dead. ``total`` is
-    their sum accumulated sequentially in that order, ``target = u * total``, and the pick is
-    the first candidate whose running sum exceeds ``target`` (inverse CDF), or the last
-    positive-weight candidate if rounding leaves none; :func:`draw_exact` if ``total = 0``.
-    Held measurements enter the running sum as ``W * 0.0 = +0.0``, which leaves every partial
-    sum bit-identical to the reference's loop that skips them; the running sums are stored so
-    that the search is a branch-free count of ``cum[k] <= target`` (the sums never decrease,
-    so the count is the index of the first one above ``target``). The draw is written out
-    here rather than in a helper because a call per row costs ~10 % of the sweep.
+    Row ``i`` releases its measurement and is drawn from its conditional (spec eq. 2.1) with
+    one uniform: by :func:`draw_direct`, or by :func:`draw_prefix`, whose cost does not grow
+    with ``M``.
     """
     P = state.shape[0]
     M = W.shape[1] - 2
-    K = M + 2
     if random_scan:
         for t in range(P):
             perm[t] = t
@@ -137,35 +258,19 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
     for t in range(P):
         i = perm[t] if random_scan else t
         k_old = state[i]
-        if k_old < M:  # row i's own measurement is available to it
+        if k_old < M:  # release row i's own measurement
             free[k_old] = 1.0
-        # total = sum over available k of W[i, k], sequentially in candidate order
-        total = 0.0
-        for k in range(M):
-            total += W[i, k] * free[k]
-            cum[k] = total
-        total += W[i, M]
-        cum[M] = total
-        total += W[i, M + 1]
-        cum[M + 1] = total
+            if prefix:
+                n_held[0] = _release(held, n_held[0], k_old)
         u = next_uniform(rs)
-        k_new = -1
-        if total > 0.0:
-            target = u * total
-            pick = 0
-            for k in range(K):
-                pick += cum[k] <= target
-            if pick < K:
-                k_new = pick
-            else:  # rounding left u * total at or above the last running sum
-                for k in range(K - 1, -1, -1):
-                    if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
-                        k_new = k
-                        break
-        if k_new < 0:
-            k_new = draw_exact(cc, i, free, u)
+        if prefix:
+            k_new = draw_prefix(W, S, next_pos, cc, i, free, held, n_held[0], cum, u)
+        else:
+            k_new = draw_direct(W, cc, i, free, cum, u)
         if k_new < M:
             free[k_new] = 0.0
+            if prefix:
+                n_held[0] = _hold(held, n_held[0], k_new)
         if k_new != k_old:
             state[i] = k_new
             h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
@@ -175,29 +280,34 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, cum, random_scan):
 # ------------------------------------------------------------------------ the problem type
 @jit()
 def alloc_work(data, nb):
-    """Workspace of ``nb`` chains: free-measurement masks, row permutations, running sums."""
+    """Workspace of ``nb`` chains: free masks, row permutations, running sums, held lists."""
     W = data[0]
     P = W.shape[0]
     M = W.shape[1] - 2
-    return np.empty((nb, M)), np.empty((nb, P), dtype=np.int64), np.empty((nb, M + 2))
+    return (np.empty((nb, M)), np.empty((nb, P), dtype=np.int64), np.empty((nb, M + 2)),
+            np.empty((nb, max(P, 1)), dtype=np.int64), np.empty((nb, 1), dtype=np.int64))
 
 
 @jit()
 def reset_work(data, work, b, x0):
-    """Slab ``b``'s free-measurement mask for the start state ``x0``."""
+    """Slab ``b``'s free-measurement mask and sorted held list for the start state ``x0``."""
     free = work[0][b]
+    held = work[3][b]
     M = free.shape[0]
     free[:] = 1.0
+    n = 0
     for i in range(x0.shape[0]):
         if x0[i] < M:
             free[x0[i]] = 0.0
+            n = _hold(held, n, x0[i])
+    work[4][b, 0] = n
 
 
 @jit()
 def row_sweep(data, work, b, zkeys, state, h, rs):
     """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
-    return sweep(data[0], data[1], zkeys, state, work[0][b], h, rs, work[1][b], work[2][b],
-                 data[2])
+    return sweep(data[0], data[1], data[2], data[3], zkeys, state, work[0][b], work[3][b],
+                 work[4][b], h, rs, work[1][b], work[2][b], data[4], data[5])
 
 
 #: The chain driver compiled for the single-sensor problem (:func:`._chains.make_driver`).

@@ -19,14 +19,16 @@ the result holds column indices of the full ``P x (M + 2P)`` matrix.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
 from .multisensor.adaptive_birth import AdaptiveBirthProblem, sampler_fields
+from .numba_options import jit
 from .problem import AssignmentProblem
 from .validation import (
     STALE_READINGS,
@@ -37,11 +39,36 @@ from .validation import (
 )
 
 __all__ = ["SamplerResult", "Prepared", "prepare", "package", "shifted_weights", "STARTS",
-           "SCANS", "BACKENDS", "zero_length_run"]
+           "SCANS", "BACKENDS", "zero_length_run", "SingleData", "prefix_sums",
+           "M_DIRECT", "CANCEL_GUARD", "uses_prefix_sums"]
 
 STARTS = ("all_missed", "all_dead", "lsap")
 SCANS = ("systematic", "random")
 BACKENDS = ("numba", "python")
+
+#: Problems with at most this many measurements draw with the direct sum.
+M_DIRECT = 32
+
+
+def uses_prefix_sums(P: int, M: int) -> bool:
+    """Whether rows draw from prefix sums (:func:`rankedassign.reference.draw_prefix`).
+
+    A direct draw costs ``O(M)`` per row, a prefix-sum draw ``O(P + log M)`` (the held
+    measurements are summed and kept sorted); the prefix sums are used where they are the
+    cheaper of the two: more than :data:`M_DIRECT` measurements and more than ``2 P``. The
+    rule depends only on the problem's shape, so both implementations follow it.
+
+    Examples
+    --------
+    >>> uses_prefix_sums(4, 16), uses_prefix_sums(50, 50), uses_prefix_sums(50, 5000)
+    (False, False, True)
+    """
+    return M > M_DIRECT and M > 2 * P
+
+
+#: The prefix-sum draw falls back to the direct sum when the measurements held by other rows
+#: carry all but this fraction of the row's measurement weight: ``S[M] - held`` then cancels.
+CANCEL_GUARD = 2.0**-20
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,7 +144,8 @@ class Prepared:
     data : tuple
         The kernels' read-only arrays and scalars (one numba type per kind).
     ref_data : tuple
-        The same inputs as plain Python lists and numbers for the reference.
+        The same inputs as plain Python lists and numbers for the reference (built on first
+        use, so a compiled run does not pay for the conversion).
     x0 : ndarray, shape (L,), int32
         Start state.
     n_values : int
@@ -135,13 +163,31 @@ class Prepared:
     kind: str
     problem: Any
     data: tuple
-    ref_data: tuple
+    make_ref_data: Any = field(repr=False)
     x0: np.ndarray
     n_values: int
     base: int
     rows: int
     sweep_cost: int
     to_result: Any = field(repr=False)
+
+    @functools.cached_property
+    def ref_data(self):
+        """The reference's inputs (see the class docstring)."""
+        return self.make_ref_data()
+
+
+class SingleData(NamedTuple):
+    """The single-sensor sampler's inputs as plain lists (the reference's ``data``)."""
+
+    W: list        # (P, M + 2) shifted weights
+    cc: list       # (P, M + 2) compact costs
+    S: list        # (P, M + 1) prefix sums of the measurement weights
+    next_pos: list  # (P, M) first positive weight at or after each measurement
+    random_scan: bool
+    M: int
+    prefix: bool   # rows draw from prefix sums (uses_prefix_sums)
+
 
 
 # ------------------------------------------------------------------------------ arguments
@@ -210,6 +256,41 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
         W = np.exp(-(cc - mn))
     W[~np.isfinite(cc)] = 0.0
     return np.ascontiguousarray(W)
+
+
+@jit()
+def prefix_sums(W):
+    """Per-row prefix sums of the measurement weights and the next positive weight.
+
+    Returns
+    -------
+    S : ndarray, shape (P, M + 1), float64
+        ``S[i, k] = W[i, 0] + ... + W[i, k - 1]``, accumulated left to right (``S[i, 0] = 0``).
+    next_pos : ndarray, shape (P, M), int64
+        ``next_pos[i, k]``: the first ``k' >= k`` with ``W[i, k'] > 0``, or ``M``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> S, nxt = prefix_sums(np.array([[0.5, 0.0, 0.25, 1.0, 0.0]]))
+    >>> S.tolist(), nxt.tolist()
+    ([[0.0, 0.5, 0.5, 0.75]], [[0, 2, 2]])
+    """
+    P, M = W.shape[0], W.shape[1] - 2
+    S = np.empty((P, M + 1))
+    next_pos = np.empty((P, M), dtype=np.int64)
+    for i in range(P):
+        acc = 0.0
+        S[i, 0] = 0.0
+        for k in range(M):
+            acc += W[i, k]  # left to right, as the direct draw sums
+            S[i, k + 1] = acc
+        nxt = M
+        for k in range(M - 1, -1, -1):
+            if W[i, k] > 0.0:
+                nxt = k
+            next_pos[i, k] = nxt
+    return S, next_pos
 
 
 def to_compact(problem: AssignmentProblem, cols: np.ndarray) -> np.ndarray:
@@ -282,14 +363,21 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     cc = np.array(problem.compact_cost, dtype=np.float64, order="C")  # writable: one numba type
     random_scan = scan == "random"
     P, M = problem.n_rows, problem.n_meas
+    prefix = uses_prefix_sums(P, M)
+    if prefix:
+        S, next_pos = prefix_sums(W)
+    else:  # not read by the direct draw; same array types, so one compiled kernel
+        S, next_pos = np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64)
 
     def to_result(states):
         assignments = to_columns(problem, states)
         return assignments, np.asarray(problem.cost_of(assignments), dtype=np.float64).reshape(-1)
 
     return Prepared(
-        kind="single", problem=problem, data=(W, cc, random_scan),
-        ref_data=(W.tolist(), cc.tolist(), random_scan, M), x0=x0, n_values=M + 2,
+        kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan, prefix),
+        make_ref_data=lambda: SingleData(W.tolist(), cc.tolist(), S.tolist(),
+                                         next_pos.tolist(), random_scan, M, prefix),
+        x0=x0, n_values=M + 2,
         base=base_key(rng), rows=P, sweep_cost=P * (M + 2), to_result=to_result,
     )
 

@@ -259,7 +259,6 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     generated chain by chain with the reference sweep (the same streams as the samplers).
     Each counter is recomputed from the whole history, not updated incrementally."""
     prep = _sampling.prepare(problem, "all_missed", "systematic", seed)
-    W, cc, M = prep.data[0].tolist(), prep.data[1].tolist(), problem.n_meas
     x0 = tuple(prep.x0.tolist())
     found = [x0]          # U in discovery order
     visits = {x0: 0}
@@ -268,11 +267,11 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     for c in range(n_chains):
         g = _rng.SplitMix64(_rng.chain_state(prep.base, c))
         x = list(x0)
-        owner = [-1] * M
+        work = reference.new_work(prep.ref_data, x)
         traj = [x0]
         known = []        # known[t-1]: was observation t of this chain already in U?
         for j in range(1, chain_length + 1):
-            reference.sweep(W, cc, x, owner, g, False)
+            reference.sweep(prep.ref_data, work, x, g)
             s = tuple(x)
             traj.append(s)
             observations.append(s)

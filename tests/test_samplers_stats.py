@@ -106,6 +106,18 @@ def chi2_statistic(dev, cov):
     return float(np.sum(z**2 / evals[keep])), int(keep.sum())
 
 
+def _wide(rows_allowed, M, seed):
+    """``len(rows_allowed)`` rows over ``M > max(M_DIRECT, 2 P)`` measurements (prefix-sum draws), each row
+    allowed only the measurements listed (the rest gated out, so runs of zero weight)."""
+    rng = np.random.default_rng(seed)
+    D = np.full((len(rows_allowed), M), INF)
+    for i, allowed in enumerate(rows_allowed):
+        D[i, allowed] = rng.uniform(-1.5, 1.5, len(allowed))
+    miss = rng.uniform(-0.5, 0.5, len(rows_allowed))
+    dead = rng.uniform(-0.5, 0.5, len(rows_allowed))
+    return AssignmentProblem.from_cost(AssignmentProblem._assemble(D, miss, dead))
+
+
 PROBLEMS = {
     # P = 2, M = 2, every pair allowed: |Gamma| = 14
     "2x2": AssignmentProblem.from_eta([[2.0, 0.5], [0.7, 3.0]], [0.6, 0.3], [0.4, 0.5]),
@@ -113,6 +125,8 @@ PROBLEMS = {
     "3x2-gated": AssignmentProblem.from_eta(
         [[1.5, 0.0], [0.8, 2.5], [0.0, 1.2]], [0.5, 0.9, 0.4], [0.3, 0.0, 0.6]
     ),
+    # M = 40 > max(M_DIRECT, 2 P): prefix-sum draws with held measurements between free runs
+    "3x40-prefix": _wide([[0, 7, 20, 39], [0, 20, 33], [7, 33, 39]], 40, seed=3),
 }
 
 

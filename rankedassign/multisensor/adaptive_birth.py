@@ -626,7 +626,8 @@ def sampler_fields(problem, start, scan, rng, options) -> dict:
     Returns
     -------
     dict
-        ``kind, problem, data, ref_data, x0, n_values, base, rows, sweep_cost, to_result``.
+        ``kind, problem, data, make_ref_data, x0, n_values, base, rows, sweep_cost,
+        to_result`` (the reference's lists are built only when the Python backend asks).
 
     Raises
     ------
@@ -672,7 +673,8 @@ def sampler_fields(problem, start, scan, rng, options) -> dict:
         states = np.asarray(states, dtype=np.int64).reshape(-1, V)
         return states, np.asarray(problem.cost_of(states), dtype=np.float64).reshape(-1)
 
-    return dict(kind="adaptive_birth", problem=problem, data=data, ref_data=reference_data(data),
+    return dict(kind="adaptive_birth", problem=problem, data=data,
+                make_ref_data=lambda: reference_data(data),
                 x0=x0, n_values=max(problem.shape), base=base_key(rng), rows=V,
                 sweep_cost=sum(problem.shape) * (n * n + 1), to_result=to_result)
 
