@@ -64,6 +64,16 @@ def test_numba_python_and_parallel_agree(problem, stall, stale, order, seed, n_c
     assert len({tuple(r) for r in a.assignments.tolist()}) == len(a)
 
 
+@pytest.mark.parametrize("stale", STALES)
+@pytest.mark.parametrize("stall", STALLS)
+def test_every_reading_numba_python_parallel(stall, stale):
+    p = make_family("random", 3, 4, rng=9)
+    kw = dict(tau_stall=2, tau_stale=3, stall=stall, stale=stale, rng=5)
+    a = sample_short_chains(p, 300, 8, **kw)
+    _same(a, sample_short_chains(p, 300, 8, backend="python", **kw))
+    _same(a, sample_short_chains(p, 300, 8, workers=2, **kw), discarded=False)
+
+
 def test_original_equals_one_long_chain_and_reference():
     p = make_family("random", 4, 5, rng=2)
     a = sample_original(p, 300, rng=4)
