@@ -20,9 +20,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
-from rankedassign.multisensor import AdaptiveBirthProblem
+from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
 
-from . import adaptive_birth
+from . import adaptive_birth, multisensor_dp
 from ._kernels import (
     _ENTER,
     _RETIRE,
@@ -383,9 +383,10 @@ def log_normalizer(problem) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem or MultiSensorProblem
         The ``P x (M + 2P)`` problem. Every connected component of its row–measurement graph
-        must fit one of the two DPs (see Notes).
+        must fit one of the two DPs (see Notes). A multi-sensor problem goes to
+        :func:`oracle.multisensor_dp.log_normalizer`.
 
     Returns
     -------
@@ -468,6 +469,8 @@ def log_normalizer(problem) -> float:
     >>> round(log_normalizer(band), 6)
     45.630949
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_dp.log_normalizer(problem)
     if isinstance(problem, AdaptiveBirthProblem):
         return adaptive_birth.log_normalizer(problem)
     check_problem(problem)
@@ -481,8 +484,10 @@ def marginals(problem) -> np.ndarray:
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`.
+    problem : AssignmentProblem or MultiSensorProblem
+        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`. A
+        multi-sensor problem goes to :func:`oracle.multisensor_dp.marginals` (which returns a
+        :class:`~oracle.multisensor_dp.MultiSensorMarginals`).
 
     Returns
     -------
@@ -539,6 +544,8 @@ def marginals(problem) -> np.ndarray:
     >>> marginals(q).round(4).tolist()       # Z_c = 3 + 1 + 1 = 5 for rows 0 and 1
     [[0.6, 0.4, 0.0], [0.2, 0.8, 0.0], [0.0, 0.25, 0.75]]
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_dp.marginals(problem)
     if isinstance(problem, AdaptiveBirthProblem):
         return adaptive_birth.marginals(problem)
     check_problem(problem)

@@ -1,5 +1,27 @@
-"""Multi-sensor ranked-assignment problems and samplers (spec ``multisensor.md``)."""
+"""Multi-sensor ranked assignment (Vo, Vo & Beard 2019) and adaptive birth (Trezza et al. 2022).
 
+A row takes ``-1`` (dead) or a tuple with one entry per sensor (``0`` missed, ``j >= 1``
+measurement ``j`` of that sensor); every sensor's measurements are used at most once. See
+:class:`MultiSensorProblem` and the families of :mod:`rankedassign.multisensor.synthetic`;
+the exact oracle (enumeration, row DP over used-measurement masks, the separable surrogate's
+normaliser) is the companion package :mod:`oracle`, whose public functions accept either
+problem type.
+
+The adaptive-birth sampler's state is one measurement tuple (no constraint between tuples):
+:class:`AdaptiveBirthProblem` (:mod:`rankedassign.multisensor.adaptive_birth`) and
+:func:`birth_from_samples`, which turns sampled tuples into LMB birth components.
+
+Examples
+--------
+>>> from rankedassign.multisensor import MultiSensorProblem, synthetic
+>>> p = synthetic.diagonal()
+>>> isinstance(p, MultiSensorProblem), p.n_sensors, p.n_feasible()
+(True, 2, 67744)
+"""
+
+from . import synthetic
 from .adaptive_birth import AdaptiveBirthProblem, BirthLMB, birth_from_samples
+from .problem import MultiSensorProblem, count_feasible_all_positive
 
-__all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples"]
+__all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic",
+           "AdaptiveBirthProblem", "BirthLMB", "birth_from_samples"]
