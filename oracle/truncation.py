@@ -6,9 +6,10 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.validation import check_int
 
 from . import adaptive_birth, multisensor_truncation
-from ._result import check_count, check_problem
+from ._result import check_problem
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
 from .murty import murty
@@ -167,7 +168,7 @@ def best_mass(problem, k: int) -> float:
     if isinstance(problem, MultiSensorProblem):
         return multisensor_truncation.best_mass(problem, k)
     check_problem(problem)
-    k = check_count(k, "k", minimum=0)
+    k = check_int(k, "k", minimum=0)
     if k == 0:
         return 0.0
     try:
