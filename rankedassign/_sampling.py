@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
+from .multisensor.adaptive_birth import AdaptiveBirthProblem, sampler_fields
 from .multisensor.problem import MultiSensorProblem
 from .multisensor.sampling import prepare_fields as _multisensor_fields
 from .numba_options import jit
@@ -387,7 +388,13 @@ def _prepare_multisensor(problem, start, scan, rng, options) -> Prepared:
 
 
 # ------------------------------------------------------------------------------ dispatch
-_PREPARE = {AssignmentProblem: _prepare_single, MultiSensorProblem: _prepare_multisensor}
+def _prepare_adaptive_birth(problem, start, scan, rng, options) -> Prepared:
+    """Adaptive-birth problems (:mod:`rankedassign.multisensor.adaptive_birth`)."""
+    return Prepared(**sampler_fields(problem, start, scan, rng, options))
+
+
+_PREPARE = {AssignmentProblem: _prepare_single, MultiSensorProblem: _prepare_multisensor,
+            AdaptiveBirthProblem: _prepare_adaptive_birth}
 
 
 def prepare(problem, start, scan, rng, **options) -> Prepared:

@@ -50,6 +50,7 @@ from ._sampling import (
     prepare,
     zero_length_run,
 )
+from .multisensor import _ab_kernels
 from .multisensor import _kernels as _ms_kernels
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import threads
@@ -59,7 +60,8 @@ from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 __all__ = ["SamplerResult", "sample_original", "sample_short_chains", "warmup"]
 
 #: Compiled chain drivers of each problem type (kind name of :mod:`rankedassign._sampling`).
-DRIVERS = {"single": _kernels.run_chains, "multisensor": _ms_kernels.run_chains}
+DRIVERS = {"single": _kernels.run_chains, "multisensor": _ms_kernels.run_chains,
+           "adaptive_birth": _ab_kernels.run_chains}
 
 # Upper bound on the speculation slab (batch x chain_length x L int32 entries, 64 MiB).
 _MAX_SLAB = 1 << 24
