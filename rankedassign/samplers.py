@@ -52,6 +52,7 @@ from ._sampling import (
 )
 from .multisensor import _ab_kernels
 from .multisensor import _kernels as _ms_kernels
+from .multisensor.adaptive_birth import AdaptiveBirthProblem
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import threads
 from .problem import AssignmentProblem
@@ -357,3 +358,14 @@ def warmup() -> None:
         sample_original(ms, 3, scan=scan, rng=0, start=[[0, 0], [1, 0]], method="exact")
         sample_short_chains(ms, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0)
         sample_short_chains(ms, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0, workers=2)
+    # Adaptive birth: the dense-tensor and the Gaussian closed-form problems, both orders.
+    z = [np.array([[0.0], [50.0]]), np.array([[1.0]])]
+    gauss = AdaptiveBirthProblem.from_measurements(
+        z, [[0.99, 0.95], [0.95]], H=[[1.0]], R=[[1.0]], P_D=0.9, clutter_intensity=0.01,
+        mu0=[0.0], P0=[[100.0]])
+    dense = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]), n_min=1)
+    for ab in (gauss, dense):
+        for order in ("random", "fixed"):
+            sample_original(ab, 3, rng=0, sensor_order=order)
+            sample_short_chains(ab, 3, 2, tau_stall=1, tau_stale=1, rng=0, workers=2,
+                                sensor_order=order)
