@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
+from rankedassign import AssignmentProblem
+
 from ._result import check_count, check_problem
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
@@ -14,6 +16,29 @@ __all__ = ["truncation_error", "best_mass"]
 
 # best_mass enumerates instead of running Murty when |Gamma| is at most this
 _ENUMERATE_BELOW = 200_000
+
+
+def _shifted(problem) -> AssignmentProblem:
+    """The problem with a common offset taken out of each row whose costs share one.
+
+    Every assignment takes one entry per row, so subtracting a constant from a row moves every
+    assignment's cost by that constant and changes neither the truncation error nor
+    ``best_mass``. What it changes is that ``ln Z`` and the log of the kept mass no longer
+    share a large offset: with all costs near ``1e307`` an ulp of a cost is about ``1e291``,
+    far more than ``ln |Gamma|``, so ``ln Z`` and ``ln sum_kept w`` would round to the same
+    number and every error to 0. A row is shifted by its smallest finite cost ``low`` only if
+    its finite costs span at most ``|low| / 2``: then every subtraction is exact (Sterbenz), so
+    the shifted problem is exactly equivalent, and problems without such an offset are used
+    as they are, bit for bit.
+    """
+    C = problem.cost
+    finite = np.isfinite(C)
+    low = np.where(finite, C, np.inf).min(axis=1, initial=np.inf)
+    top = np.where(finite, C, -np.inf).max(axis=1, initial=-np.inf)
+    shift = np.where(top - low <= np.abs(low) / 2, low, 0.0)
+    if not shift.any():
+        return problem
+    return AssignmentProblem.from_cost(C - shift[:, None])
 
 
 def _log_z(problem) -> float:
@@ -77,7 +102,10 @@ def truncation_error(problem, assignments) -> float:
     -----
     Spec eq. (1.9), with the paper's "cost" read as the weight ``w = exp(-cost)`` (spec A6):
     ``eps = 1 - exp(logsumexp(-cost(unique)) - ln Z)``. Everything stays in log space, so
-    problems whose weights overflow ``exp`` are fine. ``ln Z`` comes from the subset DP
+    problems whose weights overflow ``exp`` are fine, and a row whose costs share a large
+    common offset is first shifted by it, exactly (which moves every assignment's cost by the
+    same constant), so that costs as large as :data:`~rankedassign.problem.COST_LIMIT` keep
+    their differences. ``ln Z`` comes from the subset DP
     (:func:`~oracle.log_normalizer`); when the DP refuses the size but the feasible set is
     small enough to enumerate (many forbidden pairs), from the enumeration.
 
@@ -102,6 +130,7 @@ def truncation_error(problem, assignments) -> float:
     a = _unique_feasible(problem, assignments)
     if a.shape[0] == 0:
         return 1.0
+    problem = _shifted(problem)
     log_kept = logsumexp(-problem.cost_of(a))
     err = float(-np.expm1(log_kept - _log_z(problem)))
     return err if err > 0.0 else 0.0  # clip round-off (and -0.0) to 0.0
@@ -159,6 +188,7 @@ def best_mass(problem, k: int) -> float:
     k = check_count(k, "k", minimum=0)
     if k == 0:
         return 0.0
+    problem = _shifted(problem)
     try:
         n = problem.n_feasible()
     except ValueError:

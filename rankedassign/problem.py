@@ -59,9 +59,9 @@ def _as_float_array(x, name: str) -> np.ndarray:
             try:
                 flat[k] = float(v)
             except OverflowError:
-                raise ValueError(
-                    f"{name} has an entry {v!r} too large for a float64"
-                ) from None
+                text = repr(v)
+                text = text if len(text) <= 24 else f"{text[:12]}... ({len(text)} digits)"
+                raise ValueError(f"{name} has an entry too large for a float64: {text}") from None
         arr = flat.reshape(arr.shape)
     if (
         arr.dtype == object
@@ -481,6 +481,12 @@ class AssignmentProblem:
         except Exception as exc:  # ragged lists and the like
             raise TypeError(f"{kind}, could not convert: {exc}") from None
         shape = a.shape
+        if a.dtype.kind == "f" and a.size and not isinstance(assignments, np.ndarray):
+            # numpy turns a list mixing ints beyond int64 with small ones into floats; keep
+            # the Python ints exact instead
+            b = np.array(assignments, dtype=object)
+            if all(isinstance(v, numbers.Integral) for v in b.reshape(-1)):
+                a = b
         if a.dtype == object:
             flat = a.reshape(-1)
             if not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in flat):

@@ -448,7 +448,7 @@ def test_ospa_any_order_matches_the_exact_definition(xs, ys, c, p):
     Y = np.array(ys, dtype=float).reshape(-1, 1)
     got = ospa(X, Y, c, p)
     want = exact_log_ospa(xs, ys, c, p)
-    for g, w in zip(got, want):
+    for g, w in zip(got, want, strict=True):
         # relative 1e-12 on the value: the p-th root undoes the p-th power's error
         assert_allclose(g, c * math.exp(w), rtol=1e-12, atol=0)
 
