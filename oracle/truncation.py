@@ -19,26 +19,29 @@ _ENUMERATE_BELOW = 200_000
 
 
 def _shifted(problem) -> AssignmentProblem:
-    """The problem with a common offset taken out of each row whose costs share one.
+    """The problem with each row shifted by its entry in the best assignment.
 
     Every assignment takes one entry per row, so subtracting a constant from a row moves every
     assignment's cost by that constant and changes neither the truncation error nor
     ``best_mass``. What it changes is that ``ln Z`` and the log of the kept mass no longer
-    share a large offset: with all costs near ``1e307`` an ulp of a cost is about ``1e291``,
-    far more than ``ln |Gamma|``, so ``ln Z`` and ``ln sum_kept w`` would round to the same
-    number and every error to 0. A row is shifted by its smallest finite cost ``low`` only if
-    its finite costs span at most ``|low| / 2``: then every subtraction is exact (Sterbenz), so
-    the shifted problem is exactly equivalent, and problems without such an offset are used
-    as they are, bit for bit.
+    share the best cost as a large offset: with costs near ``4e9`` an ulp of ``ln Z`` is
+    ``5e-7``, and near ``1e307`` about ``1e291``, far more than the ``ln`` of any ratio of
+    weights, so the difference of the two logs would keep only that much accuracy (or none).
+    After the shift the best assignment costs exactly 0 and the others their (rounded)
+    excess over it. If the shifted costs would exceed ``COST_LIMIT`` the problem is used as it
+    is.
     """
+    if problem.n_rows == 0:
+        return problem
+    best = murty(problem, 1).assignments[0]
     C = problem.cost
-    finite = np.isfinite(C)
-    low = np.where(finite, C, np.inf).min(axis=1, initial=np.inf)
-    top = np.where(finite, C, -np.inf).max(axis=1, initial=-np.inf)
-    shift = np.where(top - low <= np.abs(low) / 2, low, 0.0)
+    shift = C[np.arange(problem.n_rows), best]
     if not shift.any():
         return problem
-    return AssignmentProblem.from_cost(C - shift[:, None])
+    try:
+        return AssignmentProblem.from_cost(C - shift[:, None])
+    except ValueError:
+        return problem
 
 
 def _log_z(problem) -> float:
@@ -84,8 +87,10 @@ def truncation_error(problem, assignments) -> float:
     Returns
     -------
     float
-        In ``[0, 1]``, accurate to about ``1e-15`` absolute (``Z`` and the kept sum each
-        carry a relative round-off of a few ulps). Round-off can therefore make
+        In ``[0, 1]``. After the shift described in Notes, ``Z`` and the kept sum each
+        carry a relative round-off of a few ulps of the (shifted) costs that matter: about
+        ``1e-15`` absolute when those are of order 1, less accurate when an assignment mixes
+        costs of very different magnitude (see Validation in the docs). Round-off can make
         ``1 - sum w / Z`` a few ulps negative when the assignments hold (nearly) all the
         mass; such values are clipped to ``0.0``.
 
@@ -102,10 +107,10 @@ def truncation_error(problem, assignments) -> float:
     -----
     Spec eq. (1.9), with the paper's "cost" read as the weight ``w = exp(-cost)`` (spec A6):
     ``eps = 1 - exp(logsumexp(-cost(unique)) - ln Z)``. Everything stays in log space, so
-    problems whose weights overflow ``exp`` are fine, and a row whose costs share a large
-    common offset is first shifted by it, exactly (which moves every assignment's cost by the
-    same constant), so that costs as large as :data:`~rankedassign.problem.COST_LIMIT` keep
-    their differences. ``ln Z`` comes from the subset DP
+    problems whose weights overflow ``exp`` are fine, and each row is first shifted by its
+    entry in the best assignment (which moves every assignment's cost by the same constant),
+    so that large costs, up to :data:`~rankedassign.problem.COST_LIMIT`, keep their
+    differences. ``ln Z`` comes from the subset DP
     (:func:`~oracle.log_normalizer`); when the DP refuses the size but the feasible set is
     small enough to enumerate (many forbidden pairs), from the enumeration.
 
