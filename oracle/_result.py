@@ -1,13 +1,12 @@
-"""The result type of the ranking functions and the input checks shared by the oracle."""
+"""The result type of the ranking functions and the problem check shared by the oracle."""
 
 from __future__ import annotations
 
-import operator
 from typing import NamedTuple
 
 import numpy as np
 
-from rankedassign.problem import AssignmentProblem
+from rankedassign import AssignmentProblem
 
 __all__ = ["Ranked"]
 
@@ -44,20 +43,6 @@ def check_problem(problem) -> AssignmentProblem:
             f"AssignmentProblem.from_cost or from_eta), got {type(problem).__name__}"
         )
     return problem
-
-
-def check_count(value, name: str, *, minimum: int) -> int:
-    """Validate a non-boolean integer ``>= minimum`` and return it as a Python int."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name} must be an int, got bool")
-    try:
-        v = operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an int, got {type(value).__name__}") from None
-    if v < minimum:
-        kind = "non-negative" if minimum == 0 else "positive"
-        raise ValueError(f"{name} must be a {kind} int, got {v}")
-    return int(v)
 
 
 def ranked(problem: AssignmentProblem, assignments: np.ndarray) -> Ranked:

@@ -20,16 +20,19 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
-from ._kernels import (
-    _ENTER,
-    _RETIRE,
-    _TRANS,
+from rankedassign.multisensor import MultiSensorProblem
+
+from . import multisensor_dp
+from ._kernels.dp import (
+    ENTER,
+    RETIRE,
+    TRANS,
     dp_marginal_kernel,
     dp_total_kernel,
     frontier_marginal_kernel,
     frontier_total_kernel,
-    lsap_kernel,
 )
+from ._kernels.lsap import lsap_kernel
 from ._result import check_problem
 
 __all__ = ["log_normalizer", "marginals", "MAX_SUBSET_BITS", "MAX_FRONTIER"]
@@ -115,7 +118,7 @@ def _scaled(cm: np.ndarray, c_un: np.ndarray):
 
 # ----------------------------------------------------------------------------- subset DP
 def _dense_inputs(w_meas, e_meas, w_un, e_un):
-    """The generic subset DP of :mod:`oracle._kernels` for one component (spec eq. 5.1)."""
+    """The generic subset DP of :mod:`oracle._kernels.dp` for one component (spec eq. 5.1)."""
     P, M = w_meas.shape
     if P <= M:
         # states: subsets of rows; steps: measurements
@@ -250,9 +253,9 @@ def _frontier_ops(finite: np.ndarray, order: np.ndarray, width: int):
     Returns
     -------
     ops : ndarray, int64, shape (K + 2P, 3)
-        Per step ``t``: ``_ENTER`` for the rows whose first measurement it is, one
-        ``_TRANS``, then ``_RETIRE`` for the rows whose last measurement it is (see
-        :mod:`oracle._kernels`). A retiring row's slot is taken over by the row in the
+        Per step ``t``: ``ENTER`` for the rows whose first measurement it is, one
+        ``TRANS``, then ``RETIRE`` for the rows whose last measurement it is (see
+        :mod:`oracle._kernels.dp`). A retiring row's slot is taken over by the row in the
         highest slot, exactly as the kernel moves the bits.
     row_in_slot : ndarray, int64, shape (K, width)
         Row in slot ``e`` during the transition of step ``t`` (``-1``: free).
@@ -268,13 +271,13 @@ def _frontier_ops(finite: np.ndarray, order: np.ndarray, width: int):
     for t in range(K):
         for i in np.flatnonzero(first == t):
             slot_of[i] = len(slots)
-            ops.append((_ENTER, i, len(slots)))
+            ops.append((ENTER, i, len(slots)))
             slots.append(int(i))
         row_in_slot[t, : len(slots)] = slots
-        ops.append((_TRANS, t, 0))
+        ops.append((TRANS, t, 0))
         for i in np.flatnonzero(last == t):
             e = int(slot_of[i])
-            ops.append((_RETIRE, i, e))
+            ops.append((RETIRE, i, e))
             top = slots.pop()
             if top != i:
                 slots[e] = top
@@ -380,9 +383,10 @@ def log_normalizer(problem) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem or MultiSensorProblem
         The ``P x (M + 2P)`` problem. Every connected component of its row–measurement graph
-        must fit one of the two DPs (see Notes).
+        must fit one of the two DPs (see Notes). A multi-sensor problem goes to
+        :func:`oracle.multisensor_dp.log_normalizer`.
 
     Returns
     -------
@@ -465,6 +469,8 @@ def log_normalizer(problem) -> float:
     >>> round(log_normalizer(band), 6)
     45.630949
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_dp.log_normalizer(problem)
     check_problem(problem)
     if problem.n_rows == 0:
         return 0.0
@@ -476,8 +482,10 @@ def marginals(problem) -> np.ndarray:
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`.
+    problem : AssignmentProblem or MultiSensorProblem
+        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`. A
+        multi-sensor problem goes to :func:`oracle.multisensor_dp.marginals` (which returns a
+        :class:`~oracle.multisensor_dp.MultiSensorMarginals`).
 
     Returns
     -------
@@ -534,6 +542,8 @@ def marginals(problem) -> np.ndarray:
     >>> marginals(q).round(4).tolist()       # Z_c = 3 + 1 + 1 = 5 for rows 0 and 1
     [[0.6, 0.4, 0.0], [0.2, 0.8, 0.0], [0.0, 0.25, 0.75]]
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_dp.marginals(problem)
     check_problem(problem)
     P, M = problem.n_rows, problem.n_meas
     if P == 0:

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import count_kernel, enumerate_kernel
-from ._result import Ranked, check_count, check_problem, ranked
+from rankedassign.multisensor import MultiSensorProblem
+from rankedassign.validation import check_int
+
+from . import multisensor_enumerate
+from ._kernels.enumeration import count_kernel, enumerate_sorted_kernel
+from ._result import Ranked, check_problem, ranked
 
 __all__ = ["enumerate_assignments"]
 
@@ -25,8 +29,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` problem.
+    problem : AssignmentProblem or MultiSensorProblem
+        The ``P x (M + 2P)`` problem; a multi-sensor problem goes to
+        :func:`oracle.multisensor_enumerate.enumerate_assignments` (assignments of shape
+        ``(|Gamma|, P, V)``).
     limit : int, optional
         Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments; the output
         takes ``8 P |Gamma|`` bytes.
@@ -49,7 +55,9 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     Notes
     -----
     A compiled depth-first search over rows; row ``i`` takes a measurement not used by the
-    rows before it, or its own missed or dead column, skipping ``+inf`` entries. The count is
+    rows before it, or its own missed or dead column, skipping ``+inf`` entries. The search
+    scores each assignment as it goes (row by row from ``0.0``, as ``cost_of``) and the result
+    is sorted once by a stable radix sort. The count is
     checked first with :meth:`~rankedassign.AssignmentProblem.n_feasible` (spec eq. 1.3, or
     its exact subset DP when pairs are forbidden). The number of feasible assignments is
     ``sum_k C(P,k) C(M,k) k! 2^(P-k)`` without forbidden pairs: 76 848 for the paper's
@@ -73,8 +81,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     >>> len(enumerate_assignments(synthetic.uniform()).costs)
     76848
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_enumerate.enumerate_assignments(problem, limit=limit)
     check_problem(problem)
-    limit = check_count(limit, "limit", minimum=1)
+    limit = check_int(limit, "limit", minimum=1)
     n, exact = _count(problem, limit)
     if n > limit:
         count = f"{n}" if exact else f"more than {limit}"
@@ -85,11 +95,9 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     P = problem.n_rows
     if P == 0:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
-    a = enumerate_kernel(np.ascontiguousarray(problem.compact_cost), n)
-    costs = problem.cost_of(a)
     # The search emits assignments in lexicographic order of their column indices (row 0
     # slowest; a row's options in increasing column order: measurements j < M, then its
-    # missed column M + i, then its dead column M + P + i), so a stable sort by cost alone
-    # leaves equal costs in lexicographic order.
-    order = np.argsort(costs, kind="stable")
-    return Ranked(np.ascontiguousarray(a[order]), costs[order])
+    # missed column M + i, then its dead column M + P + i) and scores each one as it goes; one
+    # stable sort by cost then leaves equal costs in lexicographic order.
+    a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
+    return Ranked(a, costs)

@@ -123,10 +123,10 @@ def test_too_large_message_states_count_and_limit():
 @pytest.mark.parametrize(
     "kwargs, exc, match",
     [
-        ({"limit": 0}, ValueError, "limit must be a positive int, got 0"),
-        ({"limit": -3}, ValueError, "limit must be a positive int, got -3"),
-        ({"limit": 2.5}, TypeError, "limit must be an int, got float"),
-        ({"limit": True}, TypeError, "limit must be an int, got bool"),
+        ({"limit": 0}, ValueError, "limit must be an int >= 1, got 0"),
+        ({"limit": -3}, ValueError, "limit must be an int >= 1, got -3"),
+        ({"limit": 2.5}, TypeError, "limit must be an int, got float 2.5"),
+        ({"limit": True}, TypeError, "limit must be an int, got bool True"),
     ],
 )
 def test_bad_limit(kwargs, exc, match):
@@ -137,3 +137,14 @@ def test_bad_limit(kwargs, exc, match):
 def test_not_a_problem():
     with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
         enumerate_assignments(np.zeros((1, 3)))
+
+
+def test_radix_sort_is_a_stable_argsort():
+    from oracle._kernels.enumeration import _radix_argsort
+
+    rng = np.random.default_rng(0)
+    x = np.concatenate([rng.normal(0, 1e3, 500), rng.integers(-3, 3, 500).astype(float),
+                        [0.0, -0.0, np.inf, -1e308, 1e308, 5e-324, -5e-324, 0.0, -0.0]])
+    rng.shuffle(x)
+    assert_array_equal(_radix_argsort(x), np.argsort(x, kind="stable"))
+    assert _radix_argsort(np.zeros(0)).shape == (0,)

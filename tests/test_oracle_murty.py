@@ -141,10 +141,10 @@ def test_k_zero_and_degenerate_shapes():
 @pytest.mark.parametrize(
     "k, exc, match",
     [
-        (-1, ValueError, "k must be a non-negative int, got -1"),
-        (1.0, TypeError, "k must be an int, got float"),
-        (True, TypeError, "k must be an int, got bool"),
-        ("3", TypeError, "k must be an int, got str"),
+        (-1, ValueError, "k must be an int >= 0, got -1"),
+        (1.0, TypeError, "k must be an int, got float 1.0"),
+        (True, TypeError, "k must be an int, got bool True"),
+        ("3", TypeError, "k must be an int, got str '3'"),
     ],
 )
 def test_bad_k(k, exc, match):
@@ -168,3 +168,25 @@ def test_comparison_helper_detects_a_wrong_ranking():
     with pytest.raises(AssertionError):
         assert_same_ranking((wrong, p.cost_of(wrong)), (full.assignments[:10], full.costs[:10]),
                             complete=False)
+
+
+@pytest.mark.parametrize("seed", [67, 73, 89, 224, 243])
+def test_every_prefix_is_the_k_best(seed):
+    # regression: a lazily bounded child must never leave the queue after a worse solution
+    # (these problems once lost their 10th-best assignment behind a too-high bound)
+    p = synthetic.random(R=4, M=2, rng=seed)
+    full = enumerate_assignments(p)
+    for k in range(1, len(full.costs) + 1):
+        assert_array_equal(murty(p, k).costs, full.costs[:k])
+
+
+def test_gated_rows_and_huge_costs():
+    # sparse rows (most pairs forbidden) with costs far apart in magnitude: exact, no big-M
+    rng = np.random.default_rng(5)
+    D = rng.uniform(-1e12, 1e12, (5, 7))
+    D[rng.random((5, 7)) < 0.6] = np.inf
+    p = AssignmentProblem.from_log_eta(-D, -rng.uniform(-1e12, 1e12, 5), np.full(5, -np.inf))
+    full = enumerate_assignments(p)
+    r = murty(p, len(full.costs))
+    check_output(p, r)
+    assert_same_ranking(r, full, complete=True)

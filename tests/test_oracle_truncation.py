@@ -101,7 +101,7 @@ def test_best_mass_edges():
     assert best_mass(p, 0) == 0.0
     assert best_mass(p, n) == pytest.approx(1.0, abs=1e-14)
     assert best_mass(p, 10 * n) == pytest.approx(1.0, abs=1e-14)
-    with pytest.raises(ValueError, match="k must be a non-negative int, got -2"):
+    with pytest.raises(ValueError, match="k must be an int >= 0, got -2"):
         best_mass(p, -2)
     with pytest.raises(TypeError, match="k must be an int, got float"):
         best_mass(p, 2.0)

@@ -1,0 +1,225 @@
+"""Compiled kernels of the exhaustive enumeration of ``Gamma`` (spec §1.2, eq. 1.3).
+
+The search walks the compact per-row layout ``cc = [meas 0..M-1 | missed | dead]``
+(:attr:`rankedassign.AssignmentProblem.compact_cost`): row ``i`` takes a measurement not used by
+the rows before it, or its own missed or dead column, skipping ``+inf`` entries. A cost is
+accumulated row by row in the order ``0..P-1`` starting from ``0.0``, exactly as
+:meth:`rankedassign.AssignmentProblem.cost_of` does, so a kernel's cost is bit-for-bit the
+public one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rankedassign.numba_options import jit
+
+__all__ = ["count_kernel", "enumerate_kernel", "enumerate_sorted_kernel"]
+
+NO_OPTION = -1  # a row on the search stack before its first option
+
+# Digit width of the radix sort: 2^11 buckets, six passes over the 64-bit keys.
+_RADIX_BITS = 11
+_SIGN = np.uint64(1) << np.uint64(63)
+
+
+@jit()
+def _next_option(cc, row, o, used):
+    """The first option of ``row`` after ``o`` that is finite and, for a measurement, unused.
+
+    Returns ``M + 2`` when the row's options are exhausted.
+    """
+    M = cc.shape[1] - 2
+    o += 1
+    while o < M + 2 and (not np.isfinite(cc[row, o]) or (o < M and used[o])):
+        o += 1
+    return o
+
+
+@jit()
+def _full_column(o, i, P, M):
+    """Column of compact option ``o`` of row ``i`` in the ``(P, M + 2P)`` layout."""
+    if o < M:
+        return o
+    if o == M:
+        return M + i  # the row's own missed column
+    return M + P + i  # the row's own dead column
+
+
+@jit()
+def enumerate_kernel(cc, n_out):
+    """Depth-first enumeration of every feasible assignment, with its cost.
+
+    Parameters
+    ----------
+    cc : ndarray, float64, shape (P, M + 2)
+        Compact costs ``[meas 0..M-1 | missed | dead]`` per row (``+inf`` = forbidden),
+        ``P >= 1``.
+    n_out : int
+        Exact number of feasible assignments (the caller counted them).
+
+    Returns
+    -------
+    assignments : ndarray, int64, shape (n_out, P)
+        Column indices in the full ``(P, M + 2P)`` layout (:func:`_full_column`), in
+        depth-first order: row 0 slowest, the options of each row in increasing compact index
+        (measurements, missed, dead), which is the lexicographic order of the columns.
+    costs : ndarray, float64, shape (n_out,)
+        ``cc`` summed row by row from ``0.0`` (bit for bit ``AssignmentProblem.cost_of``).
+    """
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    out = np.empty((n_out, P), dtype=np.int64)
+    costs = np.empty(n_out)
+    used = np.zeros(M, dtype=np.bool_)
+    opt = np.full(P, NO_OPTION, dtype=np.int64)  # current compact option of each row
+    partial = np.zeros(P + 1)  # partial[i]: cost of rows 0..i-1 (left-to-right sum)
+    row = 0
+    n = 0
+    while row >= 0:
+        # release the option this row held before trying the next one
+        o = opt[row]
+        if 0 <= o < M:
+            used[o] = False
+        o = _next_option(cc, row, o, used)
+        if o == M + 2:  # options of this row exhausted: backtrack
+            opt[row] = NO_OPTION
+            row -= 1
+            continue
+        opt[row] = o
+        if o < M:
+            used[o] = True
+        partial[row + 1] = partial[row] + cc[row, o]
+        if row == P - 1:
+            if n < n_out:
+                for i in range(P):
+                    out[n, i] = _full_column(opt[i], i, P, M)
+                costs[n] = partial[P]
+            n += 1
+        else:
+            row += 1
+    return out, costs
+
+
+@jit()
+def _radix_argsort(x):
+    """Stable argsort of a float64 array without NaN (LSD radix sort on order-preserving keys).
+
+    ``-0.0`` sorts as ``+0.0``, and equal values keep their input order, as
+    ``np.argsort(x, kind="stable")``.
+    """
+    n = x.shape[0]
+    keys = (x + 0.0).view(np.uint64)  # a copy (+ 0.0 maps -0.0 to +0.0), viewed as bits
+    for t in range(n):
+        # negative floats: flip every bit (reverses their order); others: set the sign bit
+        b = keys[t]
+        keys[t] = ~b if b & _SIGN else b | _SIGN
+    idx = np.arange(n).astype(np.int32)  # n < 2**31: the caller's limit keeps it far below
+    tmp = np.empty(n, dtype=np.int32)
+    keys_tmp = np.empty(n, dtype=np.uint64)  # keys travel with their indices: sequential reads
+    n_buckets = 1 << _RADIX_BITS
+    mask = np.uint64(n_buckets - 1)
+    count = np.empty(n_buckets + 1, dtype=np.int64)
+    shift = 0
+    while shift < 64:
+        sh = np.uint64(shift)
+        for b in range(n_buckets + 1):
+            count[b] = 0
+        for t in range(n):
+            count[((keys[t] >> sh) & mask) + 1] += 1
+        if n == 0 or count[((keys[0] >> sh) & mask) + 1] == n:
+            shift += _RADIX_BITS  # every key has the same digit here: the pass changes nothing
+            continue
+        for b in range(n_buckets):
+            count[b + 1] += count[b]
+        for t in range(n):
+            kt = keys[t]
+            b = (kt >> sh) & mask
+            p = count[b]
+            tmp[p] = idx[t]
+            keys_tmp[p] = kt
+            count[b] = p + 1
+        idx, tmp = tmp, idx
+        keys, keys_tmp = keys_tmp, keys
+        shift += _RADIX_BITS
+    return idx
+
+
+@jit()
+def _permute_rows(a, c, order):
+    """Reorder ``a`` (rows) and ``c`` in place so that new row ``t`` is old row ``order[t]``.
+
+    Follows the cycles of the permutation with one row of scratch, so no second copy of the
+    (possibly large) assignment array is made.
+    """
+    n = order.shape[0]
+    P = a.shape[1]
+    row = np.empty(P, dtype=a.dtype)
+    done = np.zeros(n, dtype=np.bool_)
+    for start in range(n):
+        if done[start] or order[start] == start:
+            continue
+        for i in range(P):
+            row[i] = a[start, i]
+        c_start = c[start]
+        t = start
+        while True:
+            done[t] = True
+            src = order[t]
+            if src == start:
+                for i in range(P):
+                    a[t, i] = row[i]
+                c[t] = c_start
+                break
+            for i in range(P):
+                a[t, i] = a[src, i]
+            c[t] = c[src]
+            t = src
+
+
+@jit()
+def enumerate_sorted_kernel(cc, n_out):
+    """:func:`enumerate_kernel` followed by one stable sort by cost.
+
+    Returns ``(assignments, costs)`` as :func:`enumerate_kernel`, sorted by cost (in place);
+    equal costs stay in the search's (lexicographic) order.
+    """
+    a, c = enumerate_kernel(cc, n_out)
+    _permute_rows(a, c, _radix_argsort(c))
+    return a, c
+
+
+@jit()
+def count_kernel(cc, cap):
+    """Count feasible assignments by depth-first search, stopping once the count exceeds ``cap``.
+
+    Returns ``min(count, cap + 1)``. Used only when the exact counting DP of
+    :meth:`~rankedassign.AssignmentProblem.n_feasible` refuses the size.
+    """
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    if P == 0:
+        return 1
+    used = np.zeros(M, dtype=np.bool_)
+    opt = np.full(P, NO_OPTION, dtype=np.int64)
+    row = 0
+    n = 0
+    while row >= 0:
+        o = opt[row]
+        if 0 <= o < M:
+            used[o] = False
+        o = _next_option(cc, row, o, used)
+        if o == M + 2:
+            opt[row] = NO_OPTION
+            row -= 1
+            continue
+        opt[row] = o
+        if o < M:
+            used[o] = True
+        if row == P - 1:
+            n += 1
+            if n > cap:
+                return n
+        else:
+            row += 1
+    return n
