@@ -171,9 +171,9 @@ def test_huge_seeds_are_seeds():
         (([0.5], [0.5], [0.5], [[1.0]]), {"n_persisting": 2}, ValueError,
          r"n_persisting must be an int <= 1 \(2\*\*0\), got 2"),
         (([0.5], [0.5], [0.5], [[1.0]]), {"n_persisting": -1}, ValueError,
-         r"n_persisting must be an int >= 0, got -1"),
+         r"n_persisting must be None \(off\) or an int >= 0, got -1"),
         (([0.5], [0.5], [0.5], [[1.0]]), {"n_persisting": 1.0}, TypeError,
-         r"n_persisting must be an int, got float 1.0"),
+         r"n_persisting must be None or an int, got float 1.0"),
     ],
 )
 def test_eta_from_parameters_bad_arguments(args, kwargs, exc, match):
