@@ -17,6 +17,10 @@ from .murty import murty
 
 __all__ = ["truncation_error", "best_mass"]
 
+# Problems whose assignment costs can exceed this in magnitude are shifted (see _shifted): an
+# ulp of a cost of 2**12 is 9e-13, below that the shift would only change the last bits.
+_SHIFT_ABOVE = 2.0**12
+
 # best_mass enumerates instead of running Murty when |Gamma| is at most this
 _ENUMERATE_BELOW = 200_000
 
@@ -31,13 +35,14 @@ def _shifted(problem) -> AssignmentProblem:
     ``5e-7``, and near ``1e307`` about ``1e291``, far more than the ``ln`` of any ratio of
     weights, so the difference of the two logs would keep only that much accuracy (or none).
     After the shift the best assignment costs exactly 0 and the others their (rounded)
-    excess over it. If the shifted costs would exceed ``COST_LIMIT`` the problem is used as it
-    is.
+    excess over it. Problems whose costs cannot add up to more than ``2**12`` in magnitude,
+    and problems whose shifted costs would exceed ``COST_LIMIT``, are used as they are.
     """
-    if problem.n_rows == 0:
-        return problem
-    best = murty(problem, 1).assignments[0]
     C = problem.cost
+    finite = np.isfinite(C)
+    if np.where(finite, np.abs(C), 0.0).max(axis=1, initial=0.0).sum() <= _SHIFT_ABOVE:
+        return problem  # no assignment costs more than 2**12 in magnitude: nothing to gain
+    best = murty(problem, 1).assignments[0]
     shift = C[np.arange(problem.n_rows), best]
     if not shift.any():
         return problem
