@@ -20,9 +20,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
-from rankedassign.multisensor import MultiSensorProblem
+from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
 
-from . import multisensor_dp
+from . import adaptive_birth, multisensor_dp
 from ._kernels.dp import (
     ENTER,
     RETIRE,
@@ -471,6 +471,8 @@ def log_normalizer(problem) -> float:
     """
     if isinstance(problem, MultiSensorProblem):
         return multisensor_dp.log_normalizer(problem)
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.log_normalizer(problem)
     check_problem(problem)
     if problem.n_rows == 0:
         return 0.0
@@ -544,6 +546,8 @@ def marginals(problem) -> np.ndarray:
     """
     if isinstance(problem, MultiSensorProblem):
         return multisensor_dp.marginals(problem)
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.marginals(problem)
     check_problem(problem)
     P, M = problem.n_rows, problem.n_meas
     if P == 0:

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from rankedassign.multisensor import MultiSensorProblem
+from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
 from rankedassign.validation import check_int
 
-from . import multisensor_enumerate
+from . import adaptive_birth, multisensor_enumerate
 from ._kernels.enumeration import count_kernel, enumerate_sorted_kernel
 from ._result import Ranked, check_problem, ranked
 
@@ -83,6 +83,8 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     """
     if isinstance(problem, MultiSensorProblem):
         return multisensor_enumerate.enumerate_assignments(problem, limit=limit)
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.enumerate_assignments(problem, limit=limit)
     check_problem(problem)
     limit = check_int(limit, "limit", minimum=1)
     n, exact = _count(problem, limit)

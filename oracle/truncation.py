@@ -6,10 +6,10 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign import AssignmentProblem
-from rankedassign.multisensor import MultiSensorProblem
+from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
 from rankedassign.validation import check_int
 
-from . import multisensor_truncation
+from . import adaptive_birth, multisensor_truncation
 from ._result import check_problem
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
@@ -142,6 +142,8 @@ def truncation_error(problem, assignments) -> float:
     """
     if isinstance(problem, MultiSensorProblem):
         return multisensor_truncation.truncation_error(problem, assignments)
+    if isinstance(problem, AdaptiveBirthProblem):
+        return adaptive_birth.truncation_error(problem, assignments)
     check_problem(problem)
     a = _unique_feasible(problem, assignments)
     if a.shape[0] == 0:

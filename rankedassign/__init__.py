@@ -2,11 +2,12 @@
 
 The ranked-assignment problem of the joint GLMB/LMB prediction/update (Vo, Vo & Hoang 2017),
 the original long-chain Gibbs sampler and the short-chain sampler with stall/stale termination
-of Trezza, Bucci & Varshney (2023), an LMB filter with pluggable association, and OSPA(2).
-Exact ground truth lives in the companion package :mod:`oracle`.
+of Trezza, Bucci & Varshney (2023), and OSPA(2). Exact ground truth lives in the companion
+package :mod:`oracle`. The LMB filter with pluggable association, :mod:`rankedassign.tracking`,
+builds on both and is imported on its own (``from rankedassign.tracking import ...``).
 """
 
-from . import metrics, synthetic, tracking
+from . import metrics, synthetic
 from ._version import __version__
 from .problem import AssignmentProblem
 from .samplers import SamplerResult, sample_original, sample_short_chains, warmup
@@ -19,6 +20,5 @@ __all__ = [
     "warmup",
     "synthetic",
     "metrics",
-    "tracking",
     "__version__",
 ]

@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
+from .multisensor.adaptive_birth import AdaptiveBirthProblem, sampler_fields
 from .multisensor.problem import MultiSensorProblem
 from .multisensor.sampling import prepare_fields as _multisensor_fields
 from .numba_options import jit
@@ -253,9 +254,7 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
     if cc.shape[0] == 0:
         return np.zeros(cc.shape)
     mn = np.min(cc, axis=1, keepdims=True)  # finite: every row has a finite entry
-    with np.errstate(invalid="ignore"):
-        W = np.exp(-(cc - mn))
-    W[~np.isfinite(cc)] = 0.0
+    W = np.exp(-(cc - mn))  # exp(-inf) = 0 for a forbidden entry
     return np.ascontiguousarray(W)
 
 
@@ -372,7 +371,7 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
 
     def to_result(states):
         assignments = to_columns(problem, states)
-        return assignments, np.asarray(problem.cost_of(assignments), dtype=np.float64).reshape(-1)
+        return assignments, problem._sum_costs(assignments)  # feasible by construction
 
     return Prepared(
         kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan, prefix),
@@ -389,7 +388,13 @@ def _prepare_multisensor(problem, start, scan, rng, options) -> Prepared:
 
 
 # ------------------------------------------------------------------------------ dispatch
-_PREPARE = {AssignmentProblem: _prepare_single, MultiSensorProblem: _prepare_multisensor}
+def _prepare_adaptive_birth(problem, start, scan, rng, options) -> Prepared:
+    """Adaptive-birth problems (:mod:`rankedassign.multisensor.adaptive_birth`)."""
+    return Prepared(**sampler_fields(problem, start, scan, rng, options))
+
+
+_PREPARE = {AssignmentProblem: _prepare_single, MultiSensorProblem: _prepare_multisensor,
+            AdaptiveBirthProblem: _prepare_adaptive_birth}
 
 
 def prepare(problem, start, scan, rng, **options) -> Prepared:

@@ -551,15 +551,24 @@ class AssignmentProblem:
         """
         a, single = self._as_assignments(assignments)
         self._check_range(a)
-        n, P = a.shape
-        out = np.zeros(n)
-        rows = np.arange(P)
-        if P:
-            picked = self._cost[rows[None, :], a]
-            for i in range(P):  # fixed left-to-right order: reproducible to the last bit
-                out += picked[:, i]
+        out = self._sum_costs(a)
+        if a.shape[1]:
             out[self._has_duplicate_measurement(a)] = np.inf
         return float(out[0]) if single else out
+
+    def _sum_costs(self, a: np.ndarray) -> np.ndarray:
+        """Row-by-row sums of the chosen entries of valid ``(n, P)`` int64 column indices.
+
+        The arithmetic of :meth:`cost_of` without its checks, for callers that built ``a``
+        themselves (the samplers, whose states are feasible by construction).
+        """
+        n, P = a.shape
+        out = np.zeros(n)
+        if P:
+            picked = self._cost[np.arange(P)[None, :], a]
+            for i in range(P):  # fixed left-to-right order: reproducible to the last bit
+                out += picked[:, i]
+        return out
 
     def log_weight_of(self, assignments) -> np.ndarray | float:
         """Log-weight ``ln w(gamma) = -cost`` of each assignment (``-inf`` if infeasible).

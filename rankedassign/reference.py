@@ -43,6 +43,7 @@ from ._sampling import (
     prepare,
     zero_length_run,
 )
+from .multisensor import ab_reference
 from .multisensor import reference as _ms_reference
 from .validation import check_int
 
@@ -290,6 +291,7 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
 ROW_UPDATES = {
     "single": (new_work, sweep),
     "multisensor": (_ms_reference.new_work, _ms_reference.sweep),
+    "adaptive_birth": (ab_reference.new_work, ab_reference.sweep),
 }
 
 

@@ -30,6 +30,8 @@ of observations that returned to it.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numba import parallel_chunksize
 
@@ -48,6 +50,7 @@ from ._sampling import (
     prepare,
     zero_length_run,
 )
+from .multisensor import _ab_kernels
 from .multisensor import _kernels as _ms_kernels
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import threads
@@ -57,7 +60,8 @@ from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 __all__ = ["SamplerResult", "sample_original", "sample_short_chains", "warmup"]
 
 #: Compiled chain drivers of each problem type (kind name of :mod:`rankedassign._sampling`).
-DRIVERS = {"single": _kernels.run_chains, "multisensor": _ms_kernels.run_chains}
+DRIVERS = {"single": _kernels.run_chains, "multisensor": _ms_kernels.run_chains,
+           "adaptive_birth": _ab_kernels.run_chains}
 
 # Upper bound on the speculation slab (batch x chain_length x L int32 entries, 64 MiB).
 _MAX_SLAB = 1 << 24
@@ -87,10 +91,19 @@ def _batch_size(workers: int, n_chains: int, chain_length: int, L: int, sweep_co
     return min(max(64, 16 * workers, by_work), n_chains, room)
 
 
+@functools.lru_cache(maxsize=16)
+def _zobrist(L: int, K: int) -> np.ndarray:
+    """Zobrist keys of an ``L``-position state with values ``0..K-1`` (fixed; cached, read-only:
+    a filter calls the samplers on problems of few shapes, thousands of times)."""
+    keys = zobrist_keys(L, K, np.uint64(ZOBRIST_SEED))
+    keys.setflags(write=False)
+    return keys
+
+
 def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers: int):
     """Run the kind's compiled driver and package the result."""
     L = prep.x0.shape[0]
-    zkeys = zobrist_keys(L, prep.n_values, np.uint64(ZOBRIST_SEED))
+    zkeys = _zobrist(L, prep.n_values)
     batch = _batch_size(workers, n_chains, chain_length, L, prep.sweep_cost)
     args = (prep.data, zkeys, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules,
             batch, workers)

@@ -89,7 +89,8 @@ def check_int(value, name: str, *, minimum: int = 0, maximum: int = MAX_COUNT) -
     ...
     TypeError: n_obs must be an int, got float 2.0
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+    if type(value) is not int and (  # fast path for a plain int
+            isinstance(value, bool) or not isinstance(value, numbers.Integral)):
         raise TypeError(f"{name} must be an int, got {type(value).__name__} {value!r}")
     v = int(value)
     if v < minimum:

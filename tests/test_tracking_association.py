@@ -138,13 +138,19 @@ def test_reprs():
 @pytest.mark.parametrize(
     ("build", "exc", "match"),
     [
-        (lambda: OriginalGibbs(0), ValueError, "n_obs must be >= 1"),
-        (lambda: OriginalGibbs(1.5), TypeError, "n_obs must be an integer"),
-        (lambda: ShortChainGibbs(0, 25), ValueError, "n_chains must be >= 1"),
-        (lambda: ShortChainGibbs(10, True), TypeError, "chain_length must be an integer"),
-        (lambda: ShortChainGibbs(10, 25, tau_stall=0), ValueError, "tau_stall must be >= 1"),
-        (lambda: ShortChainGibbs(10, 25, tau_stale=-2), ValueError, "tau_stale must be >= 1"),
-        (lambda: Murty(0), ValueError, "k must be >= 1"),
+        (lambda: OriginalGibbs(0), ValueError, "n_obs must be an int >= 1, got 0"),
+        (lambda: OriginalGibbs(1.5), TypeError, "n_obs must be an int, got float 1.5"),
+        (lambda: ShortChainGibbs(0, 25), ValueError, "n_chains must be an int >= 1, got 0"),
+        (lambda: ShortChainGibbs(10, True), TypeError, "chain_length must be an int, got bool"),
+        (lambda: ShortChainGibbs(10, 25, tau_stall=0), ValueError,
+         r"tau_stall must be None \(off\) or an int >= 1, got 0"),
+        (lambda: ShortChainGibbs(10, 25, tau_stale=-2), ValueError,
+         r"tau_stale must be None \(off\) or an int >= 1, got -2"),
+        (lambda: ShortChainGibbs(10, 25, tau_stale=2.0), TypeError,
+         "tau_stale must be None or an int, got float 2.0"),
+        (lambda: Murty(0), ValueError, "k must be an int >= 1, got 0"),
+        (lambda: Murty(3, method="lapjv"), ValueError,
+         r"unknown method 'lapjv'; expected one of \('numba', 'scipy'\)"),
     ],
 )
 def test_association_errors(build, exc, match):

@@ -33,7 +33,7 @@ from rankedassign.tracking import (
     paper_truth,
     run_scenario,
 )
-from rankedassign.tracking.lmb import MERGE_RULES, _reduce_mixtures
+from rankedassign.tracking._kernels import MERGE_RULES, reduce_mixtures
 
 BHATTA, VO_MA, HEAVIEST = (MERGE_RULES[k] for k in ("bhattacharyya", "vo-ma", "heaviest"))
 
@@ -73,8 +73,12 @@ def test_gate_threshold_matches_chi2():
         assert_allclose(gate_threshold(g), chi2.ppf(g, 2), rtol=1e-9)
     assert_allclose(gate_threshold(0.9, 4), chi2.ppf(0.9, 4), rtol=1e-12)
     assert_allclose(gate_threshold(0.9999999), -2 * math.log(1e-7), rtol=1e-9)
-    with pytest.raises(ValueError, match=r"gate_prob must be in \(0, 1\)"):
+    with pytest.raises(ValueError, match=r"gate_prob must be in \(0, 1\), got 1.0"):
         gate_threshold(1.0)
+    with pytest.raises(TypeError, match="dim must be an int, got float 2.0"):
+        gate_threshold(0.9, 2.0)
+    with pytest.raises(ValueError, match="dim must be an int >= 1, got 0"):
+        gate_threshold(0.9, 0)
 
 
 def test_group_tracks_components():
@@ -84,6 +88,9 @@ def test_group_tracks_components():
     groups = group_tracks(g)
     got = [(r.tolist(), c.tolist()) for r, c in groups]
     assert got == [([0, 3, 4], [1, 2]), ([1], [3]), ([2], [])]
+    assert group_tracks(np.zeros((0, 3), dtype=bool)) == []
+    with pytest.raises(ValueError, match=re.escape("gated must be a 2-D (T, M) array, got shape (3,)")):
+        group_tracks(np.ones(3, dtype=bool))
 
 
 def test_map_cardinality_brute_force():
@@ -106,10 +113,10 @@ def test_reduce_mixtures_prune_merge_cap():
     m[4:, 0] = [0.0, 100.0, 200.0, 300.0]
     offsets = np.array([0, 3, 4, 8])
     keep = np.array([True, False, True])
-    off, w2, m2, P2 = _reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2, BHATTA)
+    off, w2, m2, P2 = reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2, BHATTA)
     # equal covariances: every rule is the same Mahalanobis test
     for rule in (VO_MA, HEAVIEST):
-        other = _reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2, rule)
+        other = reduce_mixtures(offsets, w, m, P, keep, 1e-5, 4.0, 2, rule)
         for a, b in zip(other, (off, w2, m2, P2), strict=True):
             assert_array_equal(a, b)
     assert_array_equal(off, [0, 1, 3])
@@ -131,7 +138,7 @@ def test_reduce_mixtures_merge_distance_uses_candidate_covariance():
     m[1, 0] = 5.0
     P = np.stack([np.eye(4), 100.0 * np.eye(4)])
     w = np.array([0.6, 0.4])
-    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+    off, w2, m2, P2 = reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
                                        VO_MA)
     assert_array_equal(off, [0, 1])
     assert_allclose(m2[0, 0], 0.4 * 5.0, rtol=1e-12)
@@ -140,22 +147,22 @@ def test_reduce_mixtures_merge_distance_uses_candidate_covariance():
     expect[0, 0] += spread
     assert_allclose(P2[0], expect, rtol=1e-12)
     # the other way round (broad component heaviest, sharp candidate): 25 > 4, kept apart
-    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(),
+    off, w2, m2, P2 = reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(),
                                        np.array([True]), 1e-5, 4.0, 10, VO_MA)
     assert_array_equal(off, [0, 2])
     assert_allclose(w2, [0.6, 0.4], rtol=1e-12)
     assert_allclose(P2, P[::-1], rtol=1e-12)
     # the heaviest component's covariance (Vo's MATLAB distance) gives the mirror image
-    off, *_ = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+    off, *_ = reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
                                HEAVIEST)
     assert_array_equal(off, [0, 2])
-    off, *_ = _reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(), np.array([True]), 1e-5,
+    off, *_ = reduce_mixtures(np.array([0, 2]), w, m, P[::-1].copy(), np.array([True]), 1e-5,
                                4.0, 10, HEAVIEST)
     assert_array_equal(off, [0, 1])
     # the Bhattacharyya criterion keeps a sharp and a broad component apart either way:
     # 25 / 50.5 + 4 ln(50.5⁴ / √(1 · 100⁴)) = 0.50 + 25.9 > 4
     for Pk in (P, P[::-1].copy()):
-        off, *_ = _reduce_mixtures(np.array([0, 2]), w, m, Pk, np.array([True]), 1e-5, 4.0, 10,
+        off, *_ = reduce_mixtures(np.array([0, 2]), w, m, Pk, np.array([True]), 1e-5, 4.0, 10,
                                    BHATTA)
         assert_array_equal(off, [0, 2])
 
@@ -169,7 +176,7 @@ def test_reduce_mixtures_bhattacharyya_threshold(scale, merged):
     m = np.zeros((2, 4))
     P = np.stack([np.eye(4), scale * np.eye(4)])
     w = np.array([0.7, 0.3])
-    off, w2, m2, P2 = _reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+    off, w2, m2, P2 = reduce_mixtures(np.array([0, 2]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
                                        BHATTA)
     assert_array_equal(off, [0, 1] if merged else [0, 2])
     if merged:
@@ -183,11 +190,11 @@ def test_reduce_mixtures_orders_by_merged_weight():
     m[1:, 0] = [100.0, 100.5, 101.0]
     P = np.broadcast_to(np.eye(4), (4, 4, 4)).copy()
     w = np.array([0.3, 0.25, 0.25, 0.2])
-    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
+    off, w2, m2, _ = reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 10,
                                   BHATTA)
     assert_allclose(w2, [0.7, 0.3], rtol=1e-12)
     assert_allclose(m2[0, 0], (0.25 * 100 + 0.25 * 100.5 + 0.2 * 101) / 0.7, rtol=1e-12)
-    off, w2, m2, _ = _reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 1,
+    off, w2, m2, _ = reduce_mixtures(np.array([0, 4]), w, m, P, np.array([True]), 1e-5, 4.0, 1,
                                   BHATTA)
     assert_array_equal(off, [0, 1])
     assert_allclose(w2, [1.0], rtol=1e-12)
@@ -377,16 +384,24 @@ class BadShape(Association):
     [
         ({"model": "paper"}, TypeError, "model must be a Model"),
         ({"association": 3}, TypeError, "association must be callable"),
-        ({"extraction": "best"}, ValueError, "extraction must be 'hysteresis' or 'map'"),
-        ({"estimate": "median"}, ValueError, "estimate must be 'max-weight' or 'mean'"),
-        ({"theta_lower": 0.95}, ValueError, "theta_lower <= theta_upper"),
-        ({"prune_track": 1.0}, ValueError, r"prune_track must be in \[0, 1\)"),
-        ({"prune_component": -1.0}, ValueError, r"prune_component must be in \[0, 1\)"),
-        ({"merge_threshold": -1.0}, ValueError, "merge_threshold must be >= 0"),
-        ({"merge_rule": "runnalls"}, ValueError, "merge_rule must be one of"),
-        ({"max_tracks": 0}, ValueError, "max_tracks must be a positive integer"),
-        ({"max_components": 2.5}, ValueError, "max_components must be a positive integer"),
-        ({"gate_prob": 1.5}, ValueError, "gate_prob must be in"),
+        ({"extraction": "best"}, ValueError,
+         re.escape("unknown extraction 'best'; expected one of ('hysteresis', 'map')")),
+        ({"estimate": "median"}, ValueError,
+         re.escape("unknown estimate 'median'; expected one of ('max-weight', 'mean')")),
+        ({"theta_upper": 1.5}, ValueError, "theta_upper must be <= 1.0, got 1.5"),
+        ({"theta_upper": "high"}, TypeError, "theta_upper must be a real number, got str"),
+        ({"theta_lower": 0.95}, ValueError, "theta_lower must be <= 0.9, got 0.95"),
+        ({"prune_track": 1.0}, ValueError, "prune_track must be < 1, got 1.0"),
+        ({"prune_component": -1.0}, ValueError, "prune_component must be >= 0.0, got -1.0"),
+        ({"prune_component": 1.0}, ValueError, "prune_component must be < 1, got 1.0"),
+        ({"merge_threshold": -1.0}, ValueError, "merge_threshold must be >= 0.0, got -1.0"),
+        ({"merge_rule": "runnalls"}, ValueError, "unknown merge_rule 'runnalls'; expected one of"),
+        ({"max_tracks": 0}, ValueError, "max_tracks must be an int >= 1, got 0"),
+        ({"max_components": 2.5}, TypeError, "max_components must be an int, got float 2.5"),
+        ({"gate_prob": 1.5}, ValueError, re.escape("gate_prob must be in (0, 1), got 1.5")),
+        ({"gate_prob": "0.9"}, TypeError, "gate_prob must be a real number, got str"),
+        ({"model": "paper"}, TypeError, "model must be a Model, got str; build one with"),
+        ({"association": 3}, TypeError, "association must be callable"),
     ],
 )
 def test_filter_errors(kwargs, exc, match):
@@ -398,10 +413,23 @@ def test_filter_errors(kwargs, exc, match):
         LMBFilter(model, assoc, **args)
 
 
+class Uniform(Association):
+    """Equal weight on every column, forbidden pairs included (a broken association)."""
+
+    def __call__(self, problem, rng):
+        P, M = problem.n_rows, problem.n_meas
+        return AssociationResult(np.full((P, M + 2), 1.0 / (M + 2)), 1, 0, 0, 0)
+
+
 def test_step_errors():
     f = LMBFilter(one_birth_model(), BadShape())
     with pytest.raises(ValueError, match="association returned beta of shape"):
         f.step([[25.0, -30.0]])
+    # "vo" births are 10 m wide: each of these measurements is in one birth's gate only, so the
+    # one problem of the scan has forbidden pairs
+    u = LMBFilter(make_model("vo"), Uniform())
+    with pytest.raises(ValueError, match="nonzero marginal for a pair outside the gate"):
+        u.step([[0.0, 0.0], [0.0, 5.0], [400.0, -600.0]])
     g = LMBFilter(one_birth_model(), Enumerate())
     with pytest.raises(ValueError, match="measurements must be finite"):
         g.step([[np.nan, 0.0]])
@@ -416,11 +444,13 @@ def test_step_errors():
 def test_run_scenario_requires_association():
     with pytest.raises(TypeError, match="run_scenario needs an association"):
         run_scenario("paper")
-    with pytest.raises(ValueError, match="unknown preset"):
+    with pytest.raises(ValueError, match="unknown preset 'nope'; expected one of"):
         run_scenario("nope", Enumerate())
-    with pytest.raises(ValueError, match="n_scans must be a positive integer"):
+    with pytest.raises(ValueError, match="n_scans must be an int >= 1, got 0"):
         run_scenario("vo", Enumerate(), n_scans=0)
-    with pytest.raises(ValueError, match="extraction must be"):
+    with pytest.raises(TypeError, match="n_scans must be an int, got float 2.0"):
+        run_scenario("vo", Enumerate(), n_scans=2.0)
+    with pytest.raises(ValueError, match="unknown extraction 'top'"):
         run_scenario("vo", Enumerate(), n_scans=2, extraction="top")
 
 

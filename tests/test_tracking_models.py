@@ -157,8 +157,10 @@ def test_truth_region_and_positions():
     assert_array_equal(X, t.states[75, labels])
     short = paper_truth(30)
     assert_array_equal(short.states, t.states[:30])
-    with pytest.raises(ValueError, match="n_scans must be a positive integer"):
+    with pytest.raises(ValueError, match="n_scans must be an int >= 1, got 0"):
         paper_truth(0)
+    with pytest.raises(TypeError, match="n_scans must be an int, got bool True"):
+        paper_truth(True)
 
 
 # --------------------------------------------------------------------------- measurements

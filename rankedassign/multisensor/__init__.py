@@ -1,4 +1,4 @@
-"""Multi-sensor ranked assignment (Vo, Vo & Beard 2019): the problem and its test families.
+"""Multi-sensor ranked assignment (Vo, Vo & Beard 2019) and adaptive birth (Trezza et al. 2022).
 
 A row takes ``-1`` (dead) or a tuple with one entry per sensor (``0`` missed, ``j >= 1``
 measurement ``j`` of that sensor); every sensor's measurements are used at most once. See
@@ -10,6 +10,10 @@ problem type. The samplers :func:`rankedassign.sample_original` and
 ``method`` (``"exact"``, ``"mm"``, ``"mm-fixed"``, ``"componentwise"``; see
 :mod:`rankedassign.multisensor.sampling`).
 
+The adaptive-birth sampler's state is one measurement tuple (no constraint between tuples):
+:class:`AdaptiveBirthProblem` (:mod:`rankedassign.multisensor.adaptive_birth`) and
+:func:`birth_from_samples`, which turns sampled tuples into LMB birth components.
+
 Examples
 --------
 >>> from rankedassign.multisensor import MultiSensorProblem, synthetic
@@ -19,6 +23,8 @@ Examples
 """
 
 from . import synthetic
+from .adaptive_birth import AdaptiveBirthProblem, BirthLMB, birth_from_samples
 from .problem import MultiSensorProblem, count_feasible_all_positive
 
-__all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic"]
+__all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic",
+           "AdaptiveBirthProblem", "BirthLMB", "birth_from_samples"]

@@ -20,8 +20,13 @@ from typing import NamedTuple
 
 import numpy as np
 
+import oracle
+
 from ..numba_options import jit
 from ..problem import AssignmentProblem
+from ..samplers import sample_original, sample_short_chains
+from ..validation import check_choice, check_int, check_optional_int
+from . import _kernels
 
 __all__ = [
     "AssociationResult",
@@ -37,6 +42,8 @@ __all__ = [
 #: How association marginals are formed from a set of hypotheses (``marginals=`` of the
 #: sampler and Murty associations, ``method=`` of :func:`marginals_from_hypotheses`).
 MARGINALS = ("truncated", "rao-blackwell")
+#: Implementations of Murty's method (``method=`` of :class:`Murty`, see :func:`oracle.murty`).
+MURTY_METHODS = ("numba", "scipy")
 
 
 class AssociationResult(NamedTuple):
@@ -173,10 +180,9 @@ def marginals_from_hypotheses(
     >>> marginals_from_hypotheses(p, [[0]], method="rao-blackwell").round(2).tolist()
     [[0.6, 0.2, 0.2]]
     """
-    if method not in MARGINALS:
-        raise ValueError(f"method must be one of {MARGINALS}, got {method!r}")
+    check_choice(method, "method", MARGINALS)
     a = np.asarray(assignments, dtype=np.int64)
-    P, M = problem.n_rows, problem.n_meas
+    P = problem.n_rows
     if a.ndim != 2 or a.shape[1] != P:
         raise ValueError(f"assignments must have shape (H, P) = (H, {P}), got {a.shape}")
     if a.shape[0] == 0:
@@ -186,21 +192,25 @@ def marginals_from_hypotheses(
         raise ValueError(f"costs must have shape ({a.shape[0]},), got {c.shape}")
     if not np.isfinite(c).all():
         raise ValueError("every hypothesis must be feasible (finite cost)")
+    return _marginals(problem, a, c, method)
+
+
+def _marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, method: str):
+    """:func:`marginals_from_hypotheses` on inputs already checked (a sampler's own output)."""
+    M = problem.n_meas
+    c = np.asarray(c, dtype=np.float64)
     # w_h ∝ exp(-cost_h), normalised in log space (log-sum-exp)
     lw = -c - (-c).max()
     w = np.exp(lw)
     w /= w.sum()
+    a = np.ascontiguousarray(a, dtype=np.int64)
     if method == "rao-blackwell":
         C = np.ascontiguousarray(problem.cost, dtype=np.float64)
         finite = np.isfinite(C[:, :M])
         ptr = np.concatenate([[0], np.cumsum(finite.sum(axis=1))]).astype(np.int64)
         cols = np.nonzero(finite)[1].astype(np.int64)
-        return _rao_blackwell(C, np.ascontiguousarray(a), w, M, ptr, cols)
-    # compact column: measurement j -> j, missed (M + i) -> M, dead (M + P + i) -> M + 1
-    compact = np.where(a < M, a, np.where(a < M + P, M, M + 1))
-    flat = (np.arange(P)[None, :] * (M + 2) + compact).ravel()
-    beta = np.bincount(flat, weights=np.repeat(w, P), minlength=P * (M + 2))
-    return beta.reshape(P, M + 2)
+        return _rao_blackwell(C, a, w, M, ptr, cols)
+    return _kernels.truncated_marginals(a, w, M)
 
 
 class Association:
@@ -208,8 +218,9 @@ class Association:
 
     Subclass it (or pass any callable with that signature) to plug a new method into
     :class:`~rankedassign.tracking.lmb.LMBFilter`: return the marginals ``beta`` of shape
-    ``(P, M + 2)`` and the accounting. ``rng`` is a :class:`numpy.random.Generator` spawned
-    for this problem alone.
+    ``(P, M + 2)`` and the accounting. A forbidden pair (cost ``+inf``, outside the gate) must
+    have marginal 0; the filter refuses anything else. ``rng`` is a
+    :class:`numpy.random.Generator` spawned for this problem alone.
 
     Examples
     --------
@@ -234,18 +245,8 @@ class Association:
         raise NotImplementedError
 
 
-def _check_positive_int(value, name):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
-    if value < 1:
-        raise ValueError(f"{name} must be >= 1, got {value}")
-    return int(value)
-
-
 def _check_marginals(marginals):
-    if marginals not in MARGINALS:
-        raise ValueError(f"marginals must be one of {MARGINALS}, got {marginals!r}")
-    return marginals
+    return check_choice(marginals, "marginals", MARGINALS)
 
 
 def _marginals_repr(marginals):
@@ -253,7 +254,7 @@ def _marginals_repr(marginals):
 
 
 def _from_sampler(problem, res, marginals) -> AssociationResult:
-    beta = marginals_from_hypotheses(problem, res.assignments, res.costs, method=marginals)
+    beta = _marginals(problem, res.assignments, res.costs, marginals)
     return AssociationResult(
         beta, 1, int(res.n_observations), int(res.n_row_updates), int(len(res.costs))
     )
@@ -282,7 +283,7 @@ class OriginalGibbs(Association):
     name = "original"
 
     def __init__(self, n_obs: int, *, marginals: str = "truncated", **sampler_options):
-        self.n_obs = _check_positive_int(n_obs, "n_obs")
+        self.n_obs = check_int(n_obs, "n_obs", minimum=1)
         self.marginals = _check_marginals(marginals)
         self.options = dict(sampler_options)
 
@@ -291,8 +292,6 @@ class OriginalGibbs(Association):
         return f"OriginalGibbs({self.n_obs}{_marginals_repr(self.marginals)}{extra})"
 
     def __call__(self, problem, rng) -> AssociationResult:
-        from .. import sample_original
-
         res = sample_original(problem, self.n_obs, rng=rng, **self.options)
         return _from_sampler(problem, res, self.marginals)
 
@@ -311,7 +310,7 @@ class ShortChainGibbs(Association):
         (:func:`marginals_from_hypotheses`); ``"truncated"`` is the paper's construction.
         The short chains stop after a few dozen sweeps and miss hypotheses of a few per mille,
         e.g. a newborn track that exists but was not detected; ``"rao-blackwell"`` restores
-        their weight (on the ``"vo"`` preset it keeps two targets the truncated marginals lose).
+        their weight (the Tracking page of the documentation shows what that changes).
     **sampler_options
         Passed to :func:`rankedassign.sample_short_chains` (``stall``, ``stale``, ``start``,
         ``scan``, ``backend``, ``workers``).
@@ -329,10 +328,10 @@ class ShortChainGibbs(Association):
 
     def __init__(self, n_chains: int, chain_length: int, tau_stall=None, tau_stale=None, *,
                  marginals: str = "truncated", **sampler_options):
-        self.n_chains = _check_positive_int(n_chains, "n_chains")
-        self.chain_length = _check_positive_int(chain_length, "chain_length")
-        self.tau_stall = None if tau_stall is None else _check_positive_int(tau_stall, "tau_stall")
-        self.tau_stale = None if tau_stale is None else _check_positive_int(tau_stale, "tau_stale")
+        self.n_chains = check_int(n_chains, "n_chains", minimum=1)
+        self.chain_length = check_int(chain_length, "chain_length", minimum=1)
+        self.tau_stall = check_optional_int(tau_stall, "tau_stall", minimum=1)
+        self.tau_stale = check_optional_int(tau_stale, "tau_stale", minimum=1)
         self.marginals = _check_marginals(marginals)
         self.options = dict(sampler_options)
 
@@ -342,8 +341,6 @@ class ShortChainGibbs(Association):
                 f", tau_stale={self.tau_stale}{_marginals_repr(self.marginals)}{extra})")
 
     def __call__(self, problem, rng) -> AssociationResult:
-        from .. import sample_short_chains
-
         res = sample_short_chains(
             problem, self.n_chains, self.chain_length, tau_stall=self.tau_stall,
             tau_stale=self.tau_stale, rng=rng, **self.options,
@@ -374,8 +371,8 @@ class Murty(Association):
     name = "murty"
 
     def __init__(self, k: int, *, method: str = "numba", marginals: str = "truncated"):
-        self.k = _check_positive_int(k, "k")
-        self.method = method
+        self.k = check_int(k, "k", minimum=1)
+        self.method = check_choice(method, "method", MURTY_METHODS)
         self.marginals = _check_marginals(marginals)
 
     def __repr__(self):
@@ -383,12 +380,8 @@ class Murty(Association):
         return f"Murty({self.k}{extra}{_marginals_repr(self.marginals)})"
 
     def __call__(self, problem, rng) -> AssociationResult:
-        import oracle
-
         ranked = oracle.murty(problem, self.k, method=self.method)
-        beta = marginals_from_hypotheses(
-            problem, ranked.assignments, ranked.costs, method=self.marginals
-        )
+        beta = _marginals(problem, ranked.assignments, ranked.costs, self.marginals)
         return AssociationResult(beta, 1, 0, 0, int(len(ranked.costs)))
 
 
@@ -397,10 +390,11 @@ class Exact(Association):
 
     The oracle solves each connected component of the gated problem separately, densely when
     ``min(P_c, M_c) <= 20`` and otherwise by a frontier DP over the measurements (at most
-    ``2^20`` states); it raises ``ValueError`` on a component beyond both limits. On the
-    paper's preset (one group of about 20 rows and 57 gated measurements per scan) every scan
-    of seeds 0-19 is solved, in about 9 ms per scan; the filter's grouping (spec §6.5a) keeps
-    problems small on presets with narrow births.
+    ``2^20`` states); it raises ``ValueError`` on a component beyond both limits. The problems
+    of the paper's preset (one group of some 20 rows and 60 gated measurements per scan) are
+    within the frontier DP's reach (sizes and times on the Tracking page of the
+    documentation); the filter's grouping (spec §6.5a) keeps problems small on presets with
+    narrow births.
 
     Examples
     --------
@@ -415,7 +409,5 @@ class Exact(Association):
         return "Exact()"
 
     def __call__(self, problem, rng) -> AssociationResult:
-        import oracle
-
         beta = np.array(oracle.marginals(problem), dtype=np.float64)
         return AssociationResult(beta, 1, 0, 0, 0)

@@ -1,22 +1,32 @@
 """The labeled multi-Bernoulli (LMB) filter with a pluggable ranked-assignment association.
 
-One scan of :class:`LMBFilter` (spec §6):
+One scan of :class:`LMBFilter` (spec §6) runs these phases, each a method of its own so that a
+filter with several sensors can reuse them (one measurement array and one set of problems per
+sensor):
 
-1. prediction (6.1): survivors ``r ← P_S r``, Gaussian components ``m ← F m``,
-   ``P ← F P Fᵀ + Q``; the birth Bernoullis are appended with labels ``(k, b)``;
-2. cost matrix (6.2): ``η_i(−1) = 1 − r_i``, ``η_i(0) = r_i (1 − P_D)``,
-   ``η_i(j) = r_i P_D q_i(z_j)`` with ``q_i`` the mixture likelihood over ``κ``, built in log
-   space with :meth:`AssignmentProblem.from_log_eta`; optional χ² gating drops pairs and the
-   measurements no track gates; optional grouping (§6.5a) splits the problem into independent
-   groups;
-3. association: any :class:`~rankedassign.tracking.association.Association` returns the
-   marginals ``β`` of every problem;
-4. update (6.3–6.4): ``r_i = Σ_{j≥0} β_ij`` and the posterior mixture
-   ``(1/r_i) Σ_j β_ij p^(j)``; housekeeping (track pruning and cap, mixture pruning, merging and
-   cap) and state extraction (hysteresis 6.5, or MAP cardinality).
+1. prediction (6.1, :meth:`LMBFilter.predict`): survivors ``r ← P_S r``, Gaussian components
+   ``m ← F m``, ``P ← F P Fᵀ + Q``; then the birth Bernoullis of the scan are appended with
+   labels ``(k, b)`` (:meth:`LMBFilter._append_births`);
+2. likelihoods and gate (:meth:`LMBFilter._measurement_terms`): the innovation statistics of
+   every component and measurement, the χ² gate, and the measurements some track gates;
+3. groups (§6.5a, :func:`group_tracks`): tracks that share no gated measurement are
+   independent problems (one problem per scan without grouping);
+4. the association problem of a group (6.2, :meth:`LMBFilter._group_problem`):
+   ``η_i(−1) = 1 − r_i``, ``η_i(0) = r_i (1 − P_D)``, ``η_i(j) = r_i P_D q_i(z_j)`` with
+   ``q_i`` the mixture likelihood over ``κ``, in log space;
+5. association (:meth:`LMBFilter._associate`): any
+   :class:`~rankedassign.tracking.association.Association` returns the marginals ``β`` of every
+   problem; a group without measurements is solved in closed form;
+6. update from the marginals (6.3–6.4, :meth:`LMBFilter._posterior`): ``r_i = Σ_{j≥0} β_ij``
+   and the posterior mixture ``(1/r_i) Σ_j β_ij p^(j)``;
+7. track pruning and cap, then mixture pruning, merging and cap
+   (:meth:`LMBFilter._prune_and_merge`, one compiled kernel per scan);
+8. state extraction (:meth:`LMBFilter._extract`: hysteresis 6.5, or MAP cardinality).
 
-The Kalman and likelihood algebra is batched with numpy over all components and measurements;
-the mixture reduction runs in one compiled kernel per scan.
+The Kalman algebra is batched with numpy over all components; the per-pair likelihoods, the
+log-sum-exp over each mixture, the cost matrices and the mixture reduction run in compiled
+kernels (:mod:`rankedassign.tracking._kernels`), which repeat numpy's operations in numpy's
+order, so the filter's numbers do not depend on which of the two computes them.
 """
 
 from __future__ import annotations
@@ -26,13 +36,18 @@ from time import perf_counter
 from typing import NamedTuple
 
 import numpy as np
+from scipy.stats import chi2
 
-from ..numba_options import jit
 from ..problem import AssignmentProblem
+from ..validation import check_choice, check_int, check_real, check_type
+from . import _kernels
+from ._kernels import MERGE_RULES
 from .association import Association, AssociationResult
 from .models import Model
 
 __all__ = [
+    "EXTRACTIONS",
+    "ESTIMATES",
     "MERGE_RULES",
     "LMBFilter",
     "ScanRecord",
@@ -41,11 +56,10 @@ __all__ = [
     "map_cardinality",
 ]
 
-#: Mixture merging criteria of :class:`LMBFilter` (``merge_rule``), with their kernel codes.
-MERGE_RULES = {"bhattacharyya": 0, "vo-ma": 1, "heaviest": 2}
-
-_LOG_2PI = math.log(2.0 * math.pi)
-
+#: State extraction rules of :class:`LMBFilter` (``extraction``).
+EXTRACTIONS = ("hysteresis", "map")
+#: State estimates of a reported track (``estimate``).
+ESTIMATES = ("max-weight", "mean")
 
 def gate_threshold(gate_prob: float, dim: int = 2) -> float:
     """χ² gate on the squared Mahalanobis distance for a ``dim``-dimensional measurement.
@@ -62,18 +76,25 @@ def gate_threshold(gate_prob: float, dim: int = 2) -> float:
     float
         ``χ²_dim⁻¹(gate_prob)``; for ``dim = 2`` exactly ``−2 ln(1 − gate_prob)``.
 
+    Raises
+    ------
+    TypeError
+        If ``gate_prob`` is not a real number or ``dim`` not an int.
+    ValueError
+        If ``gate_prob`` is outside ``(0, 1)`` or ``dim < 1``.
+
     Examples
     --------
     >>> from rankedassign.tracking.lmb import gate_threshold
     >>> round(gate_threshold(0.9999999), 3)
     32.236
     """
+    gate_prob = check_real(gate_prob, "gate_prob")
+    dim = check_int(dim, "dim", minimum=1)
     if not (0 < gate_prob < 1):
         raise ValueError(f"gate_prob must be in (0, 1), got {gate_prob}")
     if dim == 2:
         return -2.0 * math.log1p(-gate_prob)
-    from scipy.stats import chi2
-
     return float(chi2.ppf(gate_prob, dim))
 
 
@@ -92,6 +113,11 @@ def group_tracks(gated: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         track and measurement indices, ordered by their first track. Tracks that gate nothing are
         singleton groups with no measurement; measurements that no track gates belong to no group.
 
+    Raises
+    ------
+    ValueError
+        If ``gated`` is not 2-D.
+
     Examples
     --------
     >>> import numpy as np
@@ -100,24 +126,12 @@ def group_tracks(gated: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     >>> [(r.tolist(), c.tolist()) for r, c in group_tracks(g)]
     [([0, 2], [0, 1]), ([1], [2]), ([3], [])]
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    T, M = gated.shape
-    i, j = np.nonzero(gated)
-    n = T + M
-    graph = coo_matrix((np.ones(i.size), (i, T + j)), shape=(n, n))
-    _, comp = connected_components(graph, directed=False)
-    groups = []
-    seen = {}
-    for t in range(T):
-        c = comp[t]
-        if c not in seen:
-            seen[c] = len(groups)
-            groups.append(c)
-    track_comp = comp[:T]
-    meas_comp = comp[T:]
-    return [(np.flatnonzero(track_comp == c), np.flatnonzero(meas_comp == c)) for c in groups]
+    gated = np.ascontiguousarray(gated, dtype=np.bool_)
+    if gated.ndim != 2:
+        raise ValueError(f"gated must be a 2-D (T, M) array, got shape {gated.shape}")
+    track_group, meas_group, n = _kernels.connected_groups(gated)
+    return [(np.flatnonzero(track_group == g), np.flatnonzero(meas_group == g))
+            for g in range(n)]
 
 
 def map_cardinality(r: np.ndarray) -> int:
@@ -132,12 +146,8 @@ def map_cardinality(r: np.ndarray) -> int:
     >>> map_cardinality([0.9, 0.8, 0.1]), map_cardinality([])
     (2, 0)
     """
-    rho = np.zeros(len(r) + 1)
-    rho[0] = 1.0
-    for q in np.asarray(r, dtype=np.float64):
-        rho[1:] = rho[1:] * (1.0 - q) + rho[:-1] * q
-        rho[0] *= 1.0 - q
-    return int(np.argmax(rho))
+    r = np.ascontiguousarray(r, dtype=np.float64).reshape(-1)
+    return int(np.argmax(_kernels.cardinality_distribution(r)))
 
 
 class ScanRecord(NamedTuple):
@@ -181,181 +191,6 @@ class ScanRecord(NamedTuple):
     timings: dict
 
 
-# ------------------------------------------------------------------------------- kernels
-@jit()
-def _reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):  # pragma: no cover
-    """Prune, merge and cap the Gaussian mixture of every kept track.
-
-    Parameters
-    ----------
-    offsets : int64 (T + 1,)
-        Component range of track ``t`` is ``offsets[t]:offsets[t + 1]``.
-    w, m, P : (C,), (C, 4), (C, 4, 4)
-        Component weights (summing to 1 per track), means and covariances.
-    keep : bool (T,)
-        Tracks to keep; the others are dropped.
-    elim, merge_thr, cap : float, float, int
-        Pruning threshold (keep ``w > elim``; the heaviest component always stays), merging
-        threshold ``U`` and the maximum number of components.
-    rule : int
-        Merging criterion (:data:`MERGE_RULES`), ``j`` the heaviest remaining component and
-        ``i`` a candidate, ``d = m_i − m_j``:
-
-        * 0, ``"bhattacharyya"``: ``dᵀ P̄⁻¹ d + 4 ln(|P̄| / √(|P_i| |P_j|)) <= U`` with
-          ``P̄ = (P_i + P_j) / 2``, i.e. eight times the Bhattacharyya distance of the two
-          Gaussians. It equals the Mahalanobis test below when ``P_i = P_j`` and refuses to
-          merge components of very different spread;
-        * 1, ``"vo-ma"``: ``dᵀ P_i⁻¹ d <= U`` (Vo & Ma 2006, Table II);
-        * 2, ``"heaviest"``: ``dᵀ P_j⁻¹ d <= U`` (the distance of Vo's MATLAB ``gaus_merge``).
-
-    Returns
-    -------
-    (offsets', w', m', P')
-        Components of each kept track in decreasing weight, weights renormalised.
-
-    Notes
-    -----
-    Pruning and merging of Vo & Ma (2006, Table II) followed by the cap of Vo's code
-    (``gaus_cap``), with the thresholds of spec §6.4: repeatedly take the heaviest remaining
-    component ``j``, merge every remaining ``i`` that passes the ``rule`` into
-    ``w = Σ w_i``, ``m = Σ w_i m_i / w``, ``P = Σ w_i (P_i + (m − m_i)(m − m_i)ᵀ) / w``
-    (moment matching). Vo's MATLAB ``gaus_merge`` also omits the spread-of-means term; that
-    is not offered.
-
-    Why the Bhattacharyya criterion is the default: after its first scan, a newborn track of
-    the paper's preset holds sharp detection components (σ ≈ 10 m) and the broad
-    missed-detection component of the birth (σ = 300 m). Both Mahalanobis rules merge the
-    broad component into the detection component of a target born near the birth mean, and
-    moment matching then gives a σ ≈ 100 m component that explains the next detection
-    poorly; the track's existence barely grows, the next scan's birth picks the target up as
-    well, and the two duplicate tracks share it for several scans with ``r ≈ 0.5`` each. The
-    Bhattacharyya test keeps the two apart. Measured with ``Exact()`` on the paper's preset,
-    seeds 0–4: mean OSPA(2) 39.2 m (Vo & Ma), 43.8 m (heaviest), 36.0 m (Bhattacharyya),
-    36.5 m with ``merge_threshold=0`` (only coincident components merge).
-
-    References
-    ----------
-    .. [1] B.-N. Vo, W.-K. Ma, "The Gaussian Mixture Probability Hypothesis Density Filter",
-       IEEE Trans. Signal Process. 54(11), 2006.
-    """
-    T = offsets.size - 1
-    C = w.size
-    ow = np.empty(C)
-    om = np.empty((C, 4))
-    oP = np.empty((C, 4, 4))
-    n_kept = 0
-    for t in range(T):
-        if keep[t]:
-            n_kept += 1
-    ooff = np.zeros(n_kept + 1, dtype=np.int64)
-    n_out = 0
-    tk = 0
-    for t in range(T):
-        if not keep[t]:
-            continue
-        a = offsets[t]
-        b = offsets[t + 1]
-        # prune: w > elim, always keep the heaviest component
-        best = a
-        for c in range(a, b):
-            if w[c] > w[best]:
-                best = c
-        idx = np.empty(b - a, dtype=np.int64)
-        n = 0
-        for c in range(a, b):
-            if w[c] > elim or c == best:
-                idx[n] = c
-                n += 1
-        idx = idx[:n]
-        inv = np.empty((n, 4, 4))
-        logdet = np.empty(n)
-        for q in range(n):
-            if rule == 0:
-                logdet[q] = np.linalg.slogdet(P[idx[q]])[1]
-            else:
-                inv[q] = np.linalg.inv(P[idx[q]])
-        alive = np.ones(n, dtype=np.bool_)
-        start = n_out
-        n_alive = n
-        while n_alive > 0:
-            # heaviest remaining component
-            jq = -1
-            for q in range(n):
-                if alive[q] and (jq < 0 or w[idx[q]] > w[idx[jq]]):
-                    jq = q
-            mj = m[idx[jq]]
-            wsum = 0.0
-            mean = np.zeros(4)
-            members = np.empty(n, dtype=np.int64)
-            nm = 0
-            for q in range(n):
-                if not alive[q]:
-                    continue
-                d = m[idx[q]] - mj
-                val = 0.0
-                if q == jq:
-                    pass
-                elif rule == 0:
-                    # dᵀ P̄⁻¹ d >= |d|² / λ_max(P̄) >= |d|² / tr(P̄) and the log-det term is
-                    # >= 0: pairs farther apart than that cannot merge, skip the 4 × 4 algebra
-                    dd = 0.0
-                    tr = 0.0
-                    for u in range(4):
-                        dd += d[u] * d[u]
-                        tr += 0.5 * (P[idx[q], u, u] + P[idx[jq], u, u])
-                    if dd > merge_thr * tr:
-                        continue
-                    Pbar = 0.5 * (P[idx[q]] + P[idx[jq]])
-                    Pbi = np.linalg.inv(Pbar)
-                    for u in range(4):
-                        for v in range(4):
-                            val += d[u] * Pbi[u, v] * d[v]
-                    val += 4.0 * (np.linalg.slogdet(Pbar)[1] - 0.5 * (logdet[q] + logdet[jq]))
-                else:
-                    qq = q if rule == 1 else jq
-                    for u in range(4):
-                        for v in range(4):
-                            val += d[u] * inv[qq, u, v] * d[v]
-                if val <= merge_thr:
-                    members[nm] = q
-                    nm += 1
-                    alive[q] = False
-                    n_alive -= 1
-                    wq = w[idx[q]]
-                    wsum += wq
-                    mean += wq * m[idx[q]]
-            mean /= wsum
-            cov = np.zeros((4, 4))
-            for s in range(nm):
-                c = idx[members[s]]
-                d = m[c] - mean
-                cov += w[c] * (P[c] + np.outer(d, d))
-            cov /= wsum
-            ow[n_out] = wsum
-            om[n_out] = mean
-            oP[n_out] = 0.5 * (cov + cov.T)
-            n_out += 1
-        # sort the merged components by decreasing weight (a later cluster can outweigh an
-        # earlier one), then cap and renormalise
-        n_new = n_out - start
-        order = np.argsort(-ow[start:n_out], kind="mergesort")
-        sw = ow[start:n_out][order].copy()
-        sm = om[start:n_out][order].copy()
-        sP = oP[start:n_out][order].copy()
-        ow[start:n_out] = sw
-        om[start:n_out] = sm
-        oP[start:n_out] = sP
-        n_out = start + min(n_new, cap)
-        tot = 0.0
-        for c in range(start, n_out):
-            tot += ow[c]
-        for c in range(start, n_out):
-            ow[c] /= tot
-        tk += 1
-        ooff[tk] = n_out
-    return ooff, ow[:n_out].copy(), om[:n_out].copy(), oP[:n_out].copy()
-
-
 # ------------------------------------------------------------------------------- filter
 class LMBFilter:
     """Compact LMB filter with Gaussian-mixture tracks and pluggable association.
@@ -389,7 +224,7 @@ class LMBFilter:
     prune_component, merge_threshold, max_components : float, float, int, optional
         Mixture pruning (``10⁻⁵``), merging (4) and cap (10) per track.
     merge_rule : {"bhattacharyya", "vo-ma", "heaviest"}, optional
-        Which pairs of components merge (``_reduce_mixtures``): eight times their
+        Which pairs of components merge (``tracking._kernels.reduce_mixtures``): eight times their
         Bhattacharyya distance at most ``merge_threshold`` (default; the Mahalanobis test when
         the two covariances are equal), the Mahalanobis distance in the candidate's covariance
         (Vo & Ma 2006), or in the heaviest component's covariance (Vo's MATLAB).
@@ -452,59 +287,48 @@ class LMBFilter:
         max_components: int = 10,
         estimate: str = "max-weight",
     ):
-        if not isinstance(model, Model):
-            raise TypeError(f"model must be a Model, got {type(model).__name__}")
+        check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
         if not callable(association):
             raise TypeError(
                 f"association must be callable as association(problem, rng), got "
                 f"{type(association).__name__}"
             )
-        if extraction not in ("hysteresis", "map"):
-            raise ValueError(f"extraction must be 'hysteresis' or 'map', got {extraction!r}")
-        if estimate not in ("max-weight", "mean"):
-            raise ValueError(f"estimate must be 'max-weight' or 'mean', got {estimate!r}")
-        if not (0 <= theta_lower <= theta_upper <= 1):
-            raise ValueError(
-                f"need 0 <= theta_lower <= theta_upper <= 1, got {theta_lower}, {theta_upper}"
-            )
-        if not (0 <= prune_track < 1):
-            raise ValueError(f"prune_track must be in [0, 1), got {prune_track}")
-        if not (0 <= prune_component < 1):
-            raise ValueError(f"prune_component must be in [0, 1), got {prune_component}")
-        if not merge_threshold >= 0:
-            raise ValueError(f"merge_threshold must be >= 0, got {merge_threshold}")
-        if merge_rule not in MERGE_RULES:
-            raise ValueError(
-                f"merge_rule must be one of {sorted(MERGE_RULES)}, got {merge_rule!r}"
-            )
-        for name, v in (("max_tracks", max_tracks), ("max_components", max_components)):
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                raise ValueError(f"{name} must be a positive integer, got {v!r}")
+        self.extraction = check_choice(extraction, "extraction", EXTRACTIONS)
+        self.estimate = check_choice(estimate, "estimate", ESTIMATES)
+        self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
+        self.theta_upper = check_real(theta_upper, "theta_upper", minimum=0.0, maximum=1.0)
+        self.theta_lower = check_real(theta_lower, "theta_lower", minimum=0.0,
+                                      maximum=self.theta_upper)
+        self.prune_track = check_real(prune_track, "prune_track", minimum=0.0)
+        if self.prune_track >= 1:
+            raise ValueError(f"prune_track must be < 1, got {self.prune_track}")
+        self.prune_component = check_real(prune_component, "prune_component", minimum=0.0)
+        if self.prune_component >= 1:
+            raise ValueError(f"prune_component must be < 1, got {self.prune_component}")
+        self.merge_threshold = check_real(merge_threshold, "merge_threshold", minimum=0.0,
+                                          finite=False)
+        self.max_tracks = check_int(max_tracks, "max_tracks", minimum=1)
+        self.max_components = check_int(max_components, "max_components", minimum=1)
         self.model = model
         self.association = association
         self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
         self.grouping = bool(grouping)
         self.sample_empty_groups = bool(sample_empty_groups)
-        self.extraction = extraction
-        self.theta_upper = float(theta_upper)
-        self.theta_lower = float(theta_lower)
-        self.prune_track = float(prune_track)
-        self.max_tracks = int(max_tracks)
-        self.prune_component = float(prune_component)
-        self.merge_threshold = float(merge_threshold)
-        self.merge_rule = merge_rule
-        self.max_components = int(max_components)
-        self.estimate = estimate
-        # model matrices, cached
+        # model matrices and constants, cached
         self._F = np.array(model.motion.F)
+        self._FT = self._F.T
         self._Q = np.array(model.motion.Q)
         self._R = np.array(model.sensor.R)
         self._pd = float(model.sensor.p_d)
         self._ps = float(model.survival.p_s)
+        self._log_pd = math.log(self._pd)
+        self._log_miss = math.log1p(-self._pd) if self._pd < 1 else -np.inf
         self._log_kappa = math.log(model.clutter.intensity)
         self._birth_r = model.birth.r
         self._birth_m = model.birth.means
         self._birth_P = model.birth.covs
+        self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
+        self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
 
     # ----------------------------------------------------------------------- state
@@ -528,7 +352,7 @@ class LMBFilter:
         """Track of every component, shape (C,)."""
         return np.repeat(np.arange(self.n_tracks), np.diff(self.offsets))
 
-    # ----------------------------------------------------------------------- steps
+    # ----------------------------------------------------------------------- 1. prediction
     def predict(self) -> None:
         """LMB prediction (spec 6.1): survive, propagate, append the births of the next scan.
 
@@ -543,46 +367,117 @@ class LMBFilter:
         (4, [0.03, 0.03, 0.03, 0.03])
         """
         self.k += 1
-        F, Q = self._F, self._Q
-        # m <- F m ; P <- F P F' + Q
-        m = self.m @ F.T
-        P = F @ self.P @ F.T + Q
-        r = self._ps * self.r
+        F = self._F
+        # m <- F m ; P <- F P F' + Q ; r <- P_S r (weights and labels kept)
+        self.m = self.m @ self._FT
+        self.P = F @ self.P @ self._FT + self._Q
+        self.r = self._ps * self.r
+        self._append_births()
+
+    def _append_births(self) -> None:
+        """Append the birth Bernoullis of scan ``k``, labels ``(k, 1..B)``, one component each."""
         B = self._birth_r.size
-        Tn = self.n_tracks
-        labels = np.column_stack([np.full(B, self.k, dtype=np.int64), np.arange(1, B + 1)])
-        self.labels = np.vstack([self.labels, labels]).astype(np.int64)
-        self.r = np.concatenate([r, self._birth_r])
-        C = self.w.size
-        self.offsets = np.concatenate([self.offsets, C + np.arange(1, B + 1)]).astype(np.int64)
+        labels = np.empty((B, 2), dtype=np.int64)
+        labels[:, 0] = self.k
+        labels[:, 1] = self._birth_index
+        self.labels = np.concatenate([self.labels, labels])
+        self.r = np.concatenate([self.r, self._birth_r])
+        self.offsets = np.concatenate([self.offsets, self.w.size + self._birth_index])
         self.w = np.concatenate([self.w, np.ones(B)])
-        self.m = np.vstack([m, self._birth_m])
-        self.P = np.concatenate([P, self._birth_P], axis=0)
+        self.m = np.concatenate([self.m, self._birth_m])
+        self.P = np.concatenate([self.P, self._birth_P])
         self.confirmed = np.concatenate([self.confirmed, np.zeros(B, dtype=bool)])
-        assert self.offsets.size == Tn + B + 1
 
-    def _likelihoods(self, z: np.ndarray):
-        """Per component: innovation covariance, gain, updated covariance; per pair: log N."""
-        m, P, R = self.m, self.P, self._R
-        Hm = m[:, [0, 2]]
-        # S = H P H' + R (H picks p_x, p_y)
-        S = P[:, [0, 2]][:, :, [0, 2]] + R
-        det = S[:, 0, 0] * S[:, 1, 1] - S[:, 0, 1] * S[:, 1, 0]
-        Sinv = np.empty_like(S)
-        Sinv[:, 0, 0] = S[:, 1, 1] / det
-        Sinv[:, 1, 1] = S[:, 0, 0] / det
-        Sinv[:, 0, 1] = -S[:, 0, 1] / det
-        Sinv[:, 1, 0] = -S[:, 1, 0] / det
-        nu = z[None, :, :] - Hm[:, None, :]  # (C, M, 2)
-        maha = (
-            Sinv[:, None, 0, 0] * nu[..., 0] ** 2
-            + (Sinv[:, None, 0, 1] + Sinv[:, None, 1, 0]) * nu[..., 0] * nu[..., 1]
-            + Sinv[:, None, 1, 1] * nu[..., 1] ** 2
+    # ----------------------------------------------------------------------- 2. likelihoods
+    def _measurement_terms(self, z: np.ndarray) -> _Terms:
+        """Likelihoods of one measurement array against the predicted tracks, and the gate.
+
+        Keeps the measurements that some track gates (all of them without gating) and returns
+        per component the innovation statistics the update needs, per track the log-weights
+        ``ln η`` of eq. (6.2).
+        """
+        T = self.n_tracks
+        M = z.shape[0]
+        if M == 0:
+            return _Terms.empty(self, T)
+        gate = 0.0 if self.gate is None else self.gate
+        det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
+            self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None
         )
-        # ln N(z; H m, S) = -(d ln 2π + ln|S| + ν' S⁻¹ ν) / 2, d = 2
-        logN = -0.5 * maha - _LOG_2PI - 0.5 * np.log(det)[:, None]
-        return S, Sinv, nu, maha, logN
+        used = np.flatnonzero(gated.any(axis=0))
+        gated = gated[:, used]
+        with np.errstate(divide="ignore"):
+            log_r = np.log(self.r)
+            log_dead = np.log1p(-self.r)
+        # ln w_c + ln N(z_j; H m_c, S_c), ln Σ_c w_c N(...) per track, ln η_t(j) (6.2)
+        lw, log_g, log_det = _kernels.detection_log_weights(
+            maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_r, self._log_pd,
+            self._log_kappa,
+        )
+        return _Terms(
+            used=used, gated=gated, Sinv=Sinv, nu=nu[:, used], lw=lw, log_g=log_g,
+            log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead,
+        )
 
+    # ----------------------------------------------------------------------- 3.-5. association
+    def _groups(self, terms: _Terms) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The problems of the scan: one group per connected component, or all tracks in one."""
+        if self.grouping and terms.used.size:
+            return group_tracks(terms.gated)
+        return [(np.arange(self.n_tracks), np.arange(terms.used.size))]
+
+    @staticmethod
+    def _group_problem(terms: _Terms, rows: np.ndarray, cols: np.ndarray) -> AssignmentProblem:
+        """The ranked-assignment problem (cost ``−ln η``, paper layout) of tracks ``rows``."""
+        return AssignmentProblem(
+            _kernels.group_cost_matrix(terms.log_det, terms.log_miss, terms.log_dead, rows, cols)
+        )
+
+    def _associate(self, terms: _Terms, groups, gen: np.random.Generator):
+        """Marginals ``β`` (T, U + 2) of every group and the accounting summed over them."""
+        T = self.n_tracks
+        U = terms.used.size
+        beta = np.zeros((T, U + 2))
+        sample_empty = self.sample_empty_groups
+        n_problems = sum(1 for _, cols in groups if cols.size or sample_empty)
+        children = iter(gen.spawn(n_problems)) if n_problems else iter(())
+        counts = np.zeros(4, dtype=np.int64)  # invocations, sweeps, row updates, unique
+        for rows, cols in groups:
+            if cols.size == 0 and not sample_empty:
+                # rows take only missed/dead: independent Bernoullis, closed form
+                lm, ld = terms.log_miss[rows], terms.log_dead[rows]
+                top = np.maximum(lm, ld)
+                em, ed = np.exp(lm - top), np.exp(ld - top)
+                beta[rows, -2] = em / (em + ed)
+                beta[rows, -1] = ed / (em + ed)
+                continue
+            res = self.association(self._group_problem(terms, rows, cols), next(children))
+            if not isinstance(res, AssociationResult):
+                res = AssociationResult(*res)
+            b = np.asarray(res.beta, dtype=np.float64)
+            if b.shape != (rows.size, cols.size + 2):
+                raise ValueError(
+                    f"association returned beta of shape {b.shape}, expected "
+                    f"{(rows.size, cols.size + 2)}"
+                )
+            whole = rows.size == T and cols.size == U  # one problem: every track and measurement
+            gated = terms.gated if whole else terms.gated[np.ix_(rows, cols)]
+            if (b[:, :-2][~gated] != 0).any():
+                # a forbidden pair (cost +inf) has marginal 0; the update does not compute its
+                # likelihoods
+                raise ValueError("association returned a nonzero marginal for a pair outside "
+                                 "the gate (a forbidden pair of the problem)")
+            if whole:
+                beta = np.ascontiguousarray(b)
+            else:
+                beta[np.ix_(rows, cols)] = b[:, :-2]
+                beta[rows, -2] = b[:, -2]
+                beta[rows, -1] = b[:, -1]
+            counts += (int(res.invocations), int(res.sweeps), int(res.row_updates),
+                       int(res.n_unique))
+        return beta, n_problems, counts
+
+    # ----------------------------------------------------------------------- the scan
     def step(self, z, rng=None) -> ScanRecord:
         """Run one scan: predict, build the problem(s), associate, update, extract.
 
@@ -603,7 +498,7 @@ class LMBFilter:
         ValueError
             On measurements not of shape ``(M, 2)`` (an empty list is a scan without
             measurements), on non-finite measurements, or if the association returns ``beta``
-            of the wrong shape.
+            of the wrong shape or with weight on a forbidden pair.
 
         Examples
         --------
@@ -615,19 +510,11 @@ class LMBFilter:
         >>> rec.labels.tolist(), rec.existence.round(3).tolist()
         ([[1, 2]], [1.0])
         """
-        z = np.asarray(z, dtype=np.float64)
-        if z.size == 0:  # no measurements, e.g. [] or an empty (0, 2) array
-            z = z.reshape(0, 2)
-        elif z.ndim != 2 or z.shape[1] != 2:
-            raise ValueError(f"measurements must have shape (M, 2), got shape {z.shape}")
-        if not np.isfinite(z).all():
-            raise ValueError("measurements must be finite")
+        z = _check_measurements(z)
         gen = np.random.default_rng(rng)
         t0 = perf_counter()
         self.predict()
         t1 = perf_counter()
-
-        # ---- cost matrix (6.2)
         T = self.n_tracks
         M_all = z.shape[0]
         if T == 0:  # an empty birth model and no tracks: nothing to associate
@@ -637,150 +524,80 @@ class LMBFilter:
                 self.labels.copy(), self.r.copy(), 0, M_all, 0, 0, 0, 0, 0, 0,
                 {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0},
             )
-        starts = self.offsets[:-1]
-        S, Sinv, nu, maha, logN = self._likelihoods(z)
-        if M_all:
-            lw = np.log(self.w)[:, None] + logN  # ln w_k + ln N(z_j; H m_k, S_k)
-            log_g = np.logaddexp.reduceat(lw, starts, axis=0)  # ln Σ_k w_k N(...), (T, M)
-            if self.gate is None:
-                gated = np.ones((T, M_all), dtype=bool)
-            else:
-                gated = np.logical_or.reduceat(maha <= self.gate, starts, axis=0)
-        else:
-            lw = np.empty((self.w.size, 0))
-            log_g = np.empty((T, 0))
-            gated = np.zeros((T, 0), dtype=bool)
-        used = np.flatnonzero(gated.any(axis=0))
-        gated = gated[:, used]
-        r = self.r
-        log_r = np.log(r)
-        with np.errstate(divide="ignore"):
-            log_det = np.where(gated, log_r[:, None] + math.log(self._pd) + log_g[:, used]
-                               - self._log_kappa, -np.inf)
-            log_miss = log_r + (math.log1p(-self._pd) if self._pd < 1 else -np.inf)
-            log_dead = np.log1p(-r)
-        if self.grouping and used.size:
-            groups = group_tracks(gated)
-        else:
-            groups = [(np.arange(T), np.arange(used.size))]
+        terms = self._measurement_terms(z)
+        groups = self._groups(terms)
         t2 = perf_counter()
-
-        # ---- association
-        beta = np.zeros((T, used.size + 2))
-        sample_empty = self.sample_empty_groups
-        n_problems = sum(1 for _, cols in groups if cols.size or sample_empty)
-        children = iter(gen.spawn(n_problems)) if n_problems else iter(())
-        inv = sweeps = rows_upd = n_unique = 0
-        for rows, cols in groups:
-            if cols.size == 0 and not sample_empty:
-                # rows take only missed/dead: independent Bernoullis, closed form
-                lm, ld = log_miss[rows], log_dead[rows]
-                top = np.maximum(lm, ld)
-                em, ed = np.exp(lm - top), np.exp(ld - top)
-                beta[rows, -2] = em / (em + ed)
-                beta[rows, -1] = ed / (em + ed)
-                continue
-            prob = AssignmentProblem.from_log_eta(
-                log_det[np.ix_(rows, cols)], log_miss[rows], log_dead[rows]
-            )
-            res = self.association(prob, next(children))
-            if not isinstance(res, AssociationResult):
-                res = AssociationResult(*res)
-            b = np.asarray(res.beta, dtype=np.float64)
-            if b.shape != (rows.size, cols.size + 2):
-                raise ValueError(
-                    f"association returned beta of shape {b.shape}, expected "
-                    f"{(rows.size, cols.size + 2)}"
-                )
-            beta[np.ix_(rows, cols)] = b[:, :-2]
-            beta[rows, -2] = b[:, -2]
-            beta[rows, -1] = b[:, -1]
-            inv += int(res.invocations)
-            sweeps += int(res.sweeps)
-            rows_upd += int(res.row_updates)
-            n_unique += int(res.n_unique)
+        beta, n_problems, counts = self._associate(terms, groups, gen)
         t3 = perf_counter()
-
-        # ---- update (6.3, 6.4) and housekeeping
-        self._update(z[used], beta, Sinv, nu[:, used], lw[:, used], log_g[:, used])
+        r_new, mixture = self._posterior(z[terms.used], beta, terms)
+        self._prune_and_merge(r_new, *mixture)
         labels, states, ex = self._extract()
         t4 = perf_counter()
+        inv, sweeps, rows_upd, n_unique = counts.tolist()
         return ScanRecord(
-            labels, states, ex, self.labels.copy(), self.r.copy(), T, M_all, int(used.size),
-            n_problems, inv, sweeps, rows_upd, n_unique,
+            labels, states, ex, self.labels.copy(), self.r.copy(), T, M_all,
+            int(terms.used.size), n_problems, inv, sweeps, rows_upd, n_unique,
             {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2, "update": t4 - t3},
         )
 
-    def _update(self, z, beta, Sinv, nu, lw, log_g) -> None:
-        T = self.n_tracks
+    # ----------------------------------------------------------------------- 6. update
+    def _posterior(self, z, beta, terms: _Terms):
+        """Posterior existence and mixtures from the marginals (6.3, 6.4), before pruning.
+
+        Returns ``r_new`` (T,) and ``(offsets, w, m, P)`` of the posterior components, grouped
+        by track: the missed-detection components first, then the updates with each
+        measurement in turn.
+        """
         M = z.shape[0]
+        Sinv, nu, lw, log_g = terms.Sinv, terms.nu, terms.lw, terms.log_g
         # r_i = Σ_{j >= 0} β_ij  (6.3)
         r_new = np.clip(beta[:, : M + 1].sum(axis=1), 0.0, 1.0)
         safe_r = np.where(r_new > 0, r_new, 1.0)
         rel = beta[:, : M + 1] / safe_r[:, None]  # β_ij / r_i, (T, M + 1)
-        elim = self.prune_component
-        ncomp = np.diff(self.offsets)
-        tidx = self.track_index()
-        # Kalman gain and updated covariance per component: K = P H' S⁻¹, P' = P − K S K'
-        PHt = self.P[:, :, [0, 2]]  # (C, 4, 2)
-        K = PHt @ Sinv
-        P_upd = self.P - K @ PHt.transpose(0, 2, 1)
-        P_upd = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
-
-        # missed detection: predicted components, weight β_i0 / r_i · w_k
-        miss_keep = rel[:, M] > elim
-        cm = np.flatnonzero(miss_keep[tidx])
-        w_parts = [rel[tidx[cm], M] * self.w[cm]]
-        m_parts = [self.m[cm]]
-        P_parts = [self.P[cm]]
-        t_parts = [tidx[cm]]
-        # detections: pairs (i, j) worth expanding, every component of track i
-        pi, pj = np.nonzero(rel[:, :M] > elim)
-        if pi.size:
-            cnt = ncomp[pi]
-            tot = int(cnt.sum())
-            first = np.repeat(self.offsets[pi], cnt)
-            within = np.arange(tot) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-            cc = first + within  # component index
-            pt = np.repeat(pi, cnt)
-            pz = np.repeat(pj, cnt)
-            # w̃_kj = w_k N(z_j; H m_k, S_k) / Σ_k' w_k' N(z_j; H m_k', S_k')
-            wt = np.exp(lw[cc, pz] - log_g[pt, pz]) * rel[pt, pz]
-            # m' = m + K (z_j − H m)
-            mu = self.m[cc] + np.einsum("cij,cj->ci", K[cc], nu[cc, pz])
-            w_parts.append(wt)
-            m_parts.append(mu)
-            P_parts.append(P_upd[cc])
-            t_parts.append(pt)
-        w_all = np.concatenate(w_parts)
-        m_all = np.concatenate(m_parts)
-        P_all = np.concatenate(P_parts)
-        t_all = np.concatenate(t_parts)
-        order = np.argsort(t_all, kind="stable")
-        w_all, m_all, P_all, t_all = w_all[order], m_all[order], P_all[order], t_all[order]
-        counts = np.bincount(t_all, minlength=T)
+        # which predicted component, track and measurement (-1: missed) each posterior
+        # component comes from, grouped by track
+        comp, track, meas, log_ratio, counts = _kernels.posterior_sources(
+            self.offsets, rel, self.prune_component, lw, log_g
+        )
+        # w̃_cj = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
+        ratio = np.exp(log_ratio)
+        if (meas >= 0).any():
+            # Kalman gain and updated covariance per component: K = P H' S⁻¹, P' = P − K S K'
+            PHt = self.P[:, :, [0, 2]]  # (C, 4, 2)
+            K = PHt @ Sinv
+            P_upd = self.P - K @ PHt.transpose(0, 2, 1)
+            P_upd = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+        else:
+            K, P_upd = np.empty((0, 4, 2)), np.empty((0, 4, 4))
+        w_all, m_all, P_all = _kernels.posterior_components(
+            comp, track, meas, ratio, rel, self.w, self.m, self.P, K, nu, P_upd
+        )
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        return r_new, (offsets, w_all, m_all, P_all)
 
-        # track pruning (r <= prune_track) and cap (most likely max_tracks)
-        keep = (r_new > self.prune_track) & (counts > 0)
+    # ----------------------------------------------------------------------- 7. housekeeping
+    def _prune_and_merge(self, r_new, offsets, w, m, P) -> None:
+        """Drop unlikely tracks (``r <= prune_track``, then all but the ``max_tracks`` most
+        likely) and prune, merge and cap every kept mixture (``_kernels.reduce_mixtures``)."""
+        T = r_new.size
+        keep = (r_new > self.prune_track) & (offsets[1:] > offsets[:-1])
         if keep.sum() > self.max_tracks:
             cand = np.flatnonzero(keep)
             best = cand[np.argsort(-r_new[cand], kind="stable")[: self.max_tracks]]
             keep = np.zeros(T, dtype=bool)
             keep[best] = True
         # weights within each track sum to Σ_j β_ij / r_i · Σ w̃ = 1 before pruning
-        new_off, w, m, P = _reduce_mixtures(
-            offsets, np.ascontiguousarray(w_all), np.ascontiguousarray(m_all),
-            np.ascontiguousarray(P_all), keep, elim, self.merge_threshold, self.max_components,
-            MERGE_RULES[self.merge_rule],
+        self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+            offsets, np.ascontiguousarray(w), np.ascontiguousarray(m), np.ascontiguousarray(P),
+            keep, self.prune_component, self.merge_threshold, self.max_components, self._rule,
         )
-        self.offsets = new_off
-        self.w, self.m, self.P = w, m, P
         self.r = r_new[keep]
         self.labels = self.labels[keep]
         self.confirmed = self.confirmed[keep]
 
+    # ----------------------------------------------------------------------- 8. extraction
     def _extract(self):
+        """Labels, states and existence of the reported tracks (hysteresis 6.5 or MAP)."""
         r = self.r
         if self.extraction == "hysteresis":
             # confirmed_k = [r >= ϑ_u] or (confirmed_{k-1} and r >= ϑ_l)   (6.5)
@@ -795,4 +612,44 @@ class LMBFilter:
             wm = self.w[:, None] * self.m
             sums = np.add.reduceat(wm, self.offsets[:-1], axis=0) if wm.size else wm
             states = sums[sel] if sel.size else np.empty((0, 4))
-        return self.labels[sel].copy(), np.array(states).reshape(-1, 4), r[sel].copy()
+        return self.labels[sel], np.array(states).reshape(-1, 4), r[sel]
+
+
+class _Terms(NamedTuple):
+    """Per-scan quantities of one measurement array (``U`` = measurements some track gates)."""
+
+    used: np.ndarray  # (U,) kept measurement columns
+    gated: np.ndarray  # (T, U) bool
+    Sinv: np.ndarray  # (C, 2, 2) inverse innovation covariances
+    nu: np.ndarray  # (C, U, 2) innovations
+    lw: np.ndarray  # (C, U) ln w_c + ln N(z_j; H m_c, S_c)
+    log_g: np.ndarray  # (T, U) ln Σ_c w_c N(z_j; H m_c, S_c)
+    log_det: np.ndarray  # (T, U) ln η_t(j), -inf outside the gate
+    log_miss: np.ndarray  # (T,) ln η_t(0)
+    log_dead: np.ndarray  # (T,) ln η_t(-1)
+
+    @classmethod
+    def empty(cls, filt: LMBFilter, T: int) -> _Terms:
+        """The terms of a scan without measurements."""
+        with np.errstate(divide="ignore"):
+            log_r = np.log(filt.r)
+            log_dead = np.log1p(-filt.r)
+        C = filt.w.size
+        return cls(
+            used=np.empty(0, dtype=np.int64), gated=np.zeros((T, 0), dtype=bool),
+            Sinv=np.empty((C, 2, 2)), nu=np.empty((C, 0, 2)), lw=np.empty((C, 0)),
+            log_g=np.empty((T, 0)), log_det=np.empty((T, 0)),
+            log_miss=log_r + filt._log_miss, log_dead=log_dead,
+        )
+
+
+def _check_measurements(z) -> np.ndarray:
+    """One scan's measurements as a float64 (M, 2) array; an empty input is (0, 2)."""
+    z = np.array(z, dtype=np.float64)  # a writable copy: one compiled variant of each kernel
+    if z.size == 0:  # no measurements, e.g. [] or an empty (0, 2) array
+        return np.empty((0, 2))
+    if z.ndim != 2 or z.shape[1] != 2:
+        raise ValueError(f"measurements must have shape (M, 2), got shape {z.shape}")
+    if not np.isfinite(z).all():
+        raise ValueError("measurements must be finite")
+    return np.ascontiguousarray(z)

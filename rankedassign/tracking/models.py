@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..validation import check_choice
+
 __all__ = [
     "ConstantVelocity",
     "PositionSensor",
@@ -408,7 +410,4 @@ def make_model(preset: str = "paper") -> Model:
     >>> make_model("paper-var").birth.covs[0].diagonal().round(6).tolist()
     [300.0, 10.0, 300.0, 10.0]
     """
-    try:
-        return PRESETS[preset]()
-    except (KeyError, TypeError):
-        raise ValueError(f"unknown preset {preset!r}; choose one of {sorted(PRESETS)}") from None
+    return PRESETS[check_choice(preset, "preset", tuple(PRESETS))]()

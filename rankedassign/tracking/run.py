@@ -15,6 +15,9 @@ from .scenario import Scenario, make_scenario
 __all__ = ["ScenarioRun", "run_scenario"]
 
 TIMING_KEYS = ("prediction", "cost", "association", "update")
+#: Per-scan counters of :class:`ScanRecord` that :class:`ScenarioRun` keeps as arrays.
+COUNTER_KEYS = ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks", "n_meas",
+                "n_meas_gated", "n_groups")
 
 
 @dataclass(frozen=True, eq=False)
@@ -144,29 +147,21 @@ def run_scenario(
         scenario.model, association, grouping=grouping, extraction=extraction, **filter_options
     )
     K = scenario.truth.n_scans
-    counters = {
-        k: np.zeros(K, dtype=np.int64)
-        for k in ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks", "n_estimated",
-                  "n_meas", "n_meas_gated", "n_groups")
-    }
-    timings = {k: np.zeros(K) for k in TIMING_KEYS}
-    labelled, existence = [], []
+    labelled, existence, counts, times = [], [], [], []
     scan_rngs = filter_rng.spawn(K)
     for k, scan in enumerate(scenario.scans):
         rec = filt.step(scan.z, rng=scan_rngs[k])
-        labelled.append(
-            {tuple(int(v) for v in lab): x for lab, x in zip(rec.labels, rec.states, strict=True)}
-        )
-        existence.append(
-            {tuple(int(v) for v in lab): float(r)
-             for lab, r in zip(rec.track_labels, rec.track_existence, strict=True)}
-        )
-        for name in ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks",
-                     "n_meas", "n_meas_gated", "n_groups"):
-            counters[name][k] = getattr(rec, name)
-        counters["n_estimated"][k] = rec.labels.shape[0]
-        for name in TIMING_KEYS:
-            timings[name][k] = rec.timings[name]
+        # labels as tuples of Python ints, existence as Python floats
+        labelled.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
+        existence.append(dict(zip(map(tuple, rec.track_labels.tolist()),
+                                  rec.track_existence.tolist(), strict=True)))
+        counts.append([getattr(rec, name) for name in COUNTER_KEYS] + [rec.labels.shape[0]])
+        times.append([rec.timings[name] for name in TIMING_KEYS])
+    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 1)
+    counters = {name: counts[:, i].copy() for i, name in enumerate(COUNTER_KEYS)}
+    counters["n_estimated"] = counts[:, -1].copy()
+    times = np.array(times, dtype=np.float64).reshape(K, len(TIMING_KEYS))
+    timings = {name: times[:, i].copy() for i, name in enumerate(TIMING_KEYS)}
     est, labels = tracks_to_array(labelled, dims=(0, 2), return_labels=True)
     if est.shape[2] == 0:  # nothing was ever reported
         est = np.full((K, 0, 2), np.nan)

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..validation import check_int
 from .models import Model, make_model
 
 __all__ = ["TARGETS", "Truth", "Scan", "paper_truth", "generate_measurements", "Scenario",
@@ -100,9 +101,7 @@ def paper_truth(n_scans: int = 100, F=None) -> Truth:
     >>> t.n_targets[[0, 19, 39, 59, 70, 79]].tolist()
     [3, 6, 8, 10, 8, 10]
     """
-    if isinstance(n_scans, bool) or not isinstance(n_scans, (int, np.integer)) or n_scans < 1:
-        raise ValueError(f"n_scans must be a positive integer, got {n_scans!r}")
-    K = int(n_scans)
+    K = check_int(n_scans, "n_scans", minimum=1)
     if F is None:
         F = np.kron(np.eye(2), [[1.0, 1.0], [0.0, 1.0]])
     F = np.asarray(F, dtype=np.float64)
