@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
+from rankedassign import AssignmentProblem
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
 from rankedassign.validation import check_int
 
@@ -16,8 +17,39 @@ from .murty import murty
 
 __all__ = ["truncation_error", "best_mass"]
 
+# Problems whose assignment costs can exceed this in magnitude are shifted (see _shifted): an
+# ulp of a cost of 2**12 is 9e-13, below that the shift would only change the last bits.
+_SHIFT_ABOVE = 2.0**12
+
 # best_mass enumerates instead of running Murty when |Gamma| is at most this
 _ENUMERATE_BELOW = 200_000
+
+
+def _shifted(problem) -> AssignmentProblem:
+    """The problem with each row shifted by its entry in the best assignment.
+
+    Every assignment takes one entry per row, so subtracting a constant from a row moves every
+    assignment's cost by that constant and changes neither the truncation error nor
+    ``best_mass``. What it changes is that ``ln Z`` and the log of the kept mass no longer
+    share the best cost as a large offset: with costs near ``4e9`` an ulp of ``ln Z`` is
+    ``5e-7``, and near ``1e307`` about ``1e291``, far more than the ``ln`` of any ratio of
+    weights, so the difference of the two logs would keep only that much accuracy (or none).
+    After the shift the best assignment costs exactly 0 and the others their (rounded)
+    excess over it. Problems whose costs cannot add up to more than ``2**12`` in magnitude,
+    and problems whose shifted costs would exceed ``COST_LIMIT``, are used as they are.
+    """
+    C = problem.cost
+    finite = np.isfinite(C)
+    if np.where(finite, np.abs(C), 0.0).max(axis=1, initial=0.0).sum() <= _SHIFT_ABOVE:
+        return problem  # no assignment costs more than 2**12 in magnitude: nothing to gain
+    best = murty(problem, 1).assignments[0]
+    shift = C[np.arange(problem.n_rows), best]
+    if not shift.any():
+        return problem
+    try:
+        return AssignmentProblem.from_cost(C - shift[:, None])
+    except ValueError:
+        return problem
 
 
 def _log_z(problem) -> float:
@@ -64,8 +96,10 @@ def truncation_error(problem, assignments) -> float:
     Returns
     -------
     float
-        In ``[0, 1]``, accurate to about ``1e-15`` absolute (``Z`` and the kept sum each
-        carry a relative round-off of a few ulps). Round-off can therefore make
+        In ``[0, 1]``. After the shift described in Notes, ``Z`` and the kept sum each
+        carry a relative round-off of a few ulps of the (shifted) costs that matter: about
+        ``1e-15`` absolute when those are of order 1, less accurate when an assignment mixes
+        costs of very different magnitude (see Validation in the docs). Round-off can make
         ``1 - sum w / Z`` a few ulps negative when the assignments hold (nearly) all the
         mass; such values are clipped to ``0.0``.
 
@@ -82,7 +116,10 @@ def truncation_error(problem, assignments) -> float:
     -----
     Spec eq. (1.9), with the paper's "cost" read as the weight ``w = exp(-cost)`` (spec A6):
     ``eps = 1 - exp(logsumexp(-cost(unique)) - ln Z)``. Everything stays in log space, so
-    problems whose weights overflow ``exp`` are fine. ``ln Z`` comes from the subset DP
+    problems whose weights overflow ``exp`` are fine, and each row is first shifted by its
+    entry in the best assignment (which moves every assignment's cost by the same constant),
+    so that large costs, up to :data:`~rankedassign.problem.COST_LIMIT`, keep their
+    differences. ``ln Z`` comes from the subset DP
     (:func:`~oracle.log_normalizer`); when the DP refuses the size but the feasible set is
     small enough to enumerate (many forbidden pairs), from the enumeration.
 
@@ -111,6 +148,7 @@ def truncation_error(problem, assignments) -> float:
     a = _unique_feasible(problem, assignments)
     if a.shape[0] == 0:
         return 1.0
+    problem = _shifted(problem)
     log_kept = logsumexp(-problem.cost_of(a))
     err = float(-np.expm1(log_kept - _log_z(problem)))
     return err if err > 0.0 else 0.0  # clip round-off (and -0.0) to 0.0
@@ -171,6 +209,7 @@ def best_mass(problem, k: int) -> float:
     k = check_int(k, "k", minimum=0)
     if k == 0:
         return 0.0
+    problem = _shifted(problem)
     try:
         n = problem.n_feasible()
     except ValueError:

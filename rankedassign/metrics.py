@@ -14,10 +14,17 @@ at scan ``k``, all-NaN where the track does not exist.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Hashable, Mapping, Sequence
 from typing import NamedTuple
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import maximum_bipartite_matching
+
+from .problem import _as_float_array
+from .validation import check_choice, check_int, check_real
 
 __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "track_coverage"]
 
@@ -38,25 +45,20 @@ class OSPA2Result(NamedTuple):
     cardinality: np.ndarray
 
 
+# exp() of anything below this is subnormal or zero: a matrix of ln(d^p / c^p) whose finite
+# entries all lie above it can be exponentiated as it is, without losing a digit.
+_EXP_SAFE = -700.0
+
+
 # ---------------------------------------------------------------------------------- validation
 def _check_cp(c, p) -> tuple[float, float]:
-    try:
-        c = float(c)
-        p = float(p)
-    except (TypeError, ValueError):
-        raise TypeError(f"c and p must be real numbers, got c={c!r}, p={p!r}") from None
-    if not np.isfinite(c) or c <= 0:
-        raise ValueError(f"cut-off c must be a positive finite number, got {c}")
-    if not np.isfinite(p) or p < 1:
-        raise ValueError(f"order p must be a finite number >= 1, got {p}")
+    c = check_real(c, "c", minimum=0.0, strict_minimum=True)
+    p = check_real(p, "p", minimum=1.0)
     return c, p
 
 
 def _as_points(X, name: str) -> np.ndarray:
-    try:
-        a = np.asarray(X, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a numeric array of points") from None
+    a = _as_float_array(X, name)
     if a.ndim == 1 and a.size == 0:
         a = a.reshape(0, 0)
     if a.ndim != 2:
@@ -66,25 +68,98 @@ def _as_points(X, name: str) -> np.ndarray:
     return a
 
 
-def _ospa_from_matrix(D: np.ndarray, m: int, n: int, c: float, p: float) -> OSPAResult:
-    """OSPA from an ``(m, n)`` matrix of cut-off base distances raised to the power ``p``."""
-    if m == 0 and n == 0:
-        return OSPAResult(0.0, 0.0, 0.0)
-    big = max(m, n)
-    if m and n:
-        from scipy.optimize import linear_sum_assignment  # deferred: keeps the import light
+def _norm(diff: np.ndarray) -> np.ndarray:
+    """Euclidean norm over the last axis, without overflow or underflow; ``d = 0`` gives 0.
 
-        rows, cols = linear_sum_assignment(D)
-        loc = float(D[rows, cols].sum())
-    else:
-        loc = 0.0
-    card = c**p * abs(m - n)
-    # d_p^(c)(X, Y) = ((1/n) [min_pi sum d^p + c^p (n - m)])^(1/p)   (spec 7.3)
-    return OSPAResult(
-        float(((loc + card) / big) ** (1.0 / p)),
-        float((loc / big) ** (1.0 / p)),
-        float((card / big) ** (1.0 / p)),
-    )
+    An entry that is ``inf`` (a difference of two finite states that overflowed) gives ``inf``,
+    which is right wherever the norm is only compared with, or cut off at, a finite ``c``.
+    """
+    a = np.abs(diff)
+    s = a.max(axis=-1, initial=0.0)
+    safe = np.where((s > 0) & np.isfinite(s), s, 1.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        r = s * np.sqrt(((a / safe[..., None]) ** 2).sum(axis=-1))
+    return np.where(np.isinf(s), np.inf, r)
+
+
+def _masked_logsumexp(x: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """``ln sum_t exp(x_t)`` over axis 0 where ``mask`` holds (``-inf`` if it holds nowhere)."""
+    x = np.where(mask, x, -np.inf)
+    top = x.max(axis=0, initial=-np.inf)
+    top = np.where(np.isfinite(top), top, 0.0)
+    with np.errstate(divide="ignore"):
+        return top + np.log(np.exp(x - top).sum(axis=0))
+
+
+def _bottleneck(L: np.ndarray) -> float:
+    """Smallest ``t`` such that every row of ``L`` (``m <= n``) gets its own column with
+    ``L <= t``: the bottleneck assignment value, by bisection over the entries of ``L``."""
+    m = L.shape[0]
+    vals = np.unique(L)
+    vals = vals[vals >= L.min(axis=1).max()]  # each row needs one of its entries
+    lo, hi = 0, len(vals) - 1  # vals[-1] is the largest entry: every matching is allowed
+    while lo < hi:
+        mid = (lo + hi) // 2
+        match = maximum_bipartite_matching(
+            csr_matrix((L <= vals[mid]).astype(np.int8)), perm_type="column"
+        )
+        if int((match >= 0).sum()) == m:
+            hi = mid
+        else:
+            lo = mid + 1
+    return float(vals[lo])
+
+
+def _ospa_from_log(L: np.ndarray, m: int, n: int, c: float, p: float,
+                   U: np.ndarray | None = None) -> OSPAResult:
+    """OSPA from ``L = ln(d^p / c^p)``, an ``(m, n)`` matrix (``m <= n``) of entries ``<= 0``.
+
+    ``U``, if given, is the same matrix in linear form, ``(d / c)^p``; it is used (for its
+    last-digit accuracy) when no entry of it is below ``exp(-700)``. Otherwise everything stays
+    in log space, so every finite order ``p`` is exact: ``(d / c)^p`` is at most 1, so it
+    cannot overflow, and after the rescaling below the optimum's entries cannot underflow.
+    """
+    if n == 0:
+        return OSPAResult(0.0, 0.0, 0.0)
+    finite = L[np.isfinite(L)]
+    safe = finite.size == 0 or finite.min() > _EXP_SAFE
+    if U is not None and safe:
+        # d_p^(c) = c ((1/n) [min_pi sum (d/c)^p + (n - m)])^(1/p)   (spec 7.3, units of c)
+        if m:
+            rows, cols = linear_sum_assignment(U)
+            loc = float(U[rows, cols].sum())
+        else:
+            loc = 0.0
+        return OSPAResult(
+            min(c, c * ((loc + (n - m)) / n) ** (1.0 / p)),
+            min(c, c * (loc / n) ** (1.0 / p)),
+            c * ((n - m) / n) ** (1.0 / p),
+        )
+    log_loc = -math.inf
+    if m:
+        if safe:
+            shift = 0.0  # exp(L) loses nothing
+        else:
+            # Rescale by the bottleneck value b^p (spec 7.3 minimises sum d^p; its optimum S*
+            # satisfies b^p <= S* <= m b^p). After the shift the optimum's entries are at most
+            # m; larger entries cannot be in it and are clipped to 2m + 2, and entries that
+            # underflow are below 1e-300 of S*.
+            shift = _bottleneck(L)
+        if shift > -math.inf:  # else a zero-distance matching exists
+            with np.errstate(over="ignore", under="ignore"):
+                S = np.exp(np.minimum(L - shift, math.log(2 * m + 2)))
+            rows, cols = linear_sum_assignment(S)
+            total = float(S[rows, cols].sum())
+            log_loc = shift + math.log(total) if total > 0 else -math.inf
+    log_card = math.log(n - m) if n > m else -math.inf
+    log_all = float(np.logaddexp(log_loc, log_card))
+    log_n = math.log(n)
+
+    def scaled(log_sum):
+        # c ((1/n) sum)^(1/p), with the sum in units of c^p   (spec 7.3)
+        return min(c, c * math.exp((log_sum - log_n) / p)) if log_sum > -math.inf else 0.0
+
+    return OSPAResult(scaled(log_all), scaled(log_loc), scaled(log_card))
 
 
 # ---------------------------------------------------------------------------------- OSPA
@@ -144,19 +219,19 @@ def ospa(X, Y, c: float, p: float) -> OSPAResult:
     if A.shape[0] > B.shape[0]:
         A, B = B, A
     m, n = A.shape[0], B.shape[0]
-    if m and n:
-        D = np.minimum(c, np.linalg.norm(A[:, None, :] - B[None, :, :], axis=-1)) ** p
-    else:
-        D = np.zeros((m, n))
-    return _ospa_from_matrix(D, m, n, c, p)
+    with np.errstate(over="ignore"):  # a difference beyond the largest double is beyond c
+        diff = A[:, None, :] - B[None, :, :]
+    with np.errstate(over="ignore", under="ignore"):
+        u = np.minimum(_norm(diff) / c, 1.0)  # min(c, ||x - y||) / c
+        U = u**p
+    with np.errstate(divide="ignore"):
+        L = p * np.log(u)  # ln(min(c, ||x - y||)^p / c^p)
+    return _ospa_from_log(L, m, n, c, p, U)
 
 
 # ---------------------------------------------------------------------------------- OSPA(2)
 def _as_tracks(a, name: str) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        arr = np.asarray(a, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a numeric array") from None
+    arr = _as_float_array(a, name)
     if arr.ndim != 3:
         raise ValueError(
             f"{name} must be 3-D with shape (n_scans, n_tracks, d), got shape {arr.shape}"
@@ -274,58 +349,68 @@ def ospa2(
     [10.0, 6.5, 3.0]
     """
     c, p = _check_cp(c, p)
-    if isinstance(window, bool) or not isinstance(window, (int, np.integer)):
-        raise TypeError(f"window must be an integer, got {type(window).__name__}")
-    if window < 1:
-        raise ValueError(f"window must be >= 1, got {window}")
-    try:
-        r = float(weight_power)
-    except (TypeError, ValueError):
-        raise TypeError(f"weight_power must be a real number, got {weight_power!r}") from None
-    if not np.isfinite(r) or r < 0:
-        raise ValueError(f"weight_power must be a finite number >= 0, got {weight_power}")
-    if base not in ("euclidean", "lp"):
-        raise ValueError(f"base must be 'euclidean' or 'lp', got {base!r}")
+    N = check_int(window, "window", minimum=1)
+    r = check_real(weight_power, "weight_power", minimum=0.0)
+    check_choice(base, "base", ("euclidean", "lp"))
     X, ex, Y, ey = _as_track_pair(truth, estimates)
     K = X.shape[0]
-    N = int(window)
-    cp = c**p
-    # Per-scan base distances between every truth and every estimate, shape (K, m, n).
-    # Missing states are NaN, so the difference is NaN; replace by 0 and mask with existence.
-    diff = np.nan_to_num(X[:, :, None, :] - Y[:, None, :, :])
-    if base == "euclidean":
-        step = np.minimum(c, np.linalg.norm(diff, axis=-1))
-    else:
-        step = np.minimum(cp, (np.abs(diff) ** p).sum(axis=-1))
-        # "lp" works with d^p throughout; the one-exists penalty is c^p.
-    penalty = c if base == "euclidean" else cp
+    # Per-scan base distances between every truth and every estimate, shape (K, m, n), in
+    # units of c ("euclidean", d_t / c) or of c^p ("lp", d_t / c^p), kept both as they are (s,
+    # for the last digit) and as logarithms (g, which no order p or cut-off c can overflow or
+    # underflow). Missing states are NaN: set the difference to 0 there and mask with existence.
+    with np.errstate(over="ignore", invalid="ignore"):
+        diff = X[:, :, None, :] - Y[:, None, :, :]
+    diff = np.where(np.isnan(diff), 0.0, diff)
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):
+        if base == "euclidean":
+            s = np.minimum(_norm(diff) / c, 1.0)  # min(c, ||x - y||) / c       (7.1)
+            g = np.log(s)
+        else:
+            # min(c^p, sum_dims |x - y|^p) / c^p                                   (A18)
+            q = np.abs(diff) / c
+            s = np.minimum((q**p).sum(axis=-1), 1.0)
+            g = np.minimum(0.0, _masked_logsumexp(np.moveaxis(p * np.log(q), -1, 0), True))
     both = ex[:, :, None] & ey[:, None, :]
     one = ex[:, :, None] ^ ey[:, None, :]
-    dt = np.where(both, step, 0.0) + np.where(one, penalty, 0.0)
-    union = (both | one).astype(np.float64)
+    # where exactly one track exists d_t = c: 1 in units of c (or c^p), 0 as a logarithm
+    s = np.where(both, s, 1.0)
+    g = np.where(both, g, 0.0)
+    union = both | one
 
     value = np.empty(K)
     loc = np.empty(K)
     card = np.empty(K)
     for k in range(K):
         lo = max(0, k - N + 1)
-        # w_t = (t - k + N)^r with 1-based t, k: the newest scan has weight N^r.
-        wt = (np.arange(lo, k + 1) - k + N).astype(np.float64) ** r
+        # ln w_t = r ln(t - k + N) with 1-based t, k: the newest scan has weight N^r.
+        lw = r * np.log((np.arange(lo, k + 1) - k + N).astype(np.float64))
         fx = ex[lo : k + 1].any(axis=0)
         fy = ey[lo : k + 1].any(axis=0)
-        num = np.einsum("t,tmn->mn", wt, dt[lo : k + 1][:, fx][:, :, fy])
-        den = np.einsum("t,tmn->mn", wt, union[lo : k + 1][:, fx][:, :, fy])
         m, n = int(fx.sum()), int(fy.sum())
         if m and n:
-            avg = num / den  # den > 0: each track exists somewhere in the window (7.2)
-            D = avg**p if base == "euclidean" else avg
+            uw = union[lo : k + 1][:, fx][:, :, fy]  # each pair's union is non-empty (7.2)
+            lwb = np.where(uw, lw[:, None, None], -np.inf)
+            lwb = lwb - lwb.max(axis=0)  # per pair, the largest weight in the union is 1
+            # weighted time average over the union of the two domains (7.2), as it is and as
+            # a logarithm
+            with np.errstate(under="ignore"):
+                w = np.exp(lwb)
+                avg = (w * s[lo : k + 1][:, fx][:, :, fy]).sum(axis=0) / w.sum(axis=0)
+            A = _masked_logsumexp(lwb + g[lo : k + 1][:, fx][:, :, fy], uw) - _masked_logsumexp(
+                lwb, uw
+            )
+            if base == "euclidean":
+                with np.errstate(under="ignore"):
+                    U = avg**p
+                L = p * A  # ln(d~^p / c^p)
+            else:
+                U, L = avg, A
         else:
-            D = np.zeros((m, n))
+            U = L = np.zeros((m, n))
         if m > n:
-            D = D.T
+            L, U = L.T, U.T
             m, n = n, m
-        res = _ospa_from_matrix(D, m, n, c, p)
-        value[k], loc[k], card[k] = res
+        value[k], loc[k], card[k] = _ospa_from_log(L, m, n, c, p, U)
     return OSPA2Result(value, loc, card)
 
 
@@ -372,27 +457,51 @@ def tracks_to_array(
     >>> arr.tolist()
     [[[0.0, 5.0], [nan, nan]], [[1.0, 5.0], [9.0, 9.0]]]
     """
+    if isinstance(labelled_estimates, (str, bytes, Mapping)) or not isinstance(
+        labelled_estimates, (Sequence, np.ndarray)
+    ):
+        raise TypeError(
+            "labelled_estimates must be a sequence (one mapping per scan), got "
+            f"{type(labelled_estimates).__name__}"
+        )
+    if not isinstance(return_labels, (bool, np.bool_)):
+        raise TypeError(
+            f"return_labels must be a bool, got {type(return_labels).__name__} {return_labels!r}"
+        )
+    scans = []
     order: dict[Hashable, int] = {}
     dim = None
-    for scan in labelled_estimates:
+    for k, scan in enumerate(labelled_estimates):
+        if not isinstance(scan, Mapping):
+            raise TypeError(
+                f"labelled_estimates[{k}] must be a mapping from track label to state, got "
+                f"{type(scan).__name__}"
+            )
+        states = {}
         for lab, x in scan.items():
-            v = np.asarray(x, dtype=np.float64).reshape(-1)
+            v = _as_float_array(x, f"state of track {lab!r} at scan {k}").reshape(-1)
             if dim is None:
                 dim = v.size
             elif v.size != dim:
                 raise ValueError(
                     f"state of track {lab!r} has {v.size} components, expected {dim}"
                 )
+            states[lab] = v
             order.setdefault(lab, len(order))
+        scans.append(states)
     dim = 0 if dim is None else dim
-    idx = np.arange(dim) if dims is None else np.asarray(dims, dtype=np.int64).reshape(-1)
-    if idx.size and (idx.min() < 0 or idx.max() >= max(dim, 1)) and dim:
-        raise ValueError(f"dims {idx.tolist()} out of range for states of length {dim}")
-    K = len(labelled_estimates)
-    out = np.full((K, len(order), idx.size), np.nan)
-    for k, scan in enumerate(labelled_estimates):
-        for lab, x in scan.items():
-            out[k, order[lab]] = np.asarray(x, dtype=np.float64).reshape(-1)[idx]
+    if dims is None:
+        idx = np.arange(dim)
+    else:
+        if isinstance(dims, (str, bytes)) or not isinstance(dims, (Sequence, np.ndarray)):
+            raise TypeError(f"dims must be a sequence of ints, got {type(dims).__name__}")
+        idx = np.array([check_int(j, f"dims[{i}]") for i, j in enumerate(dims)], dtype=np.int64)
+        if dim and idx.size and idx.max() >= dim:
+            raise ValueError(f"dims {idx.tolist()} out of range for states of length {dim}")
+    out = np.full((len(scans), len(order), idx.size), np.nan)
+    for k, states in enumerate(scans):
+        for lab, v in states.items():
+            out[k, order[lab]] = v[idx]
     if return_labels:
         return out, list(order)
     return out
@@ -449,19 +558,12 @@ def track_coverage(truth, estimates, radius: float, *, settle: int = 0) -> np.nd
     [1.0, 0.0]
     """
     X, x_exists, Y, y_exists = _as_track_pair(truth, estimates)
-    try:
-        radius = float(radius)
-    except (TypeError, ValueError):
-        raise TypeError(f"radius must be a real number, got {radius!r}") from None
-    if not np.isfinite(radius) or radius <= 0:
-        raise ValueError(f"radius must be a positive finite number, got {radius}")
-    if isinstance(settle, bool) or not isinstance(settle, (int, np.integer)):
-        raise TypeError(f"settle must be an integer, got {type(settle).__name__}")
-    if settle < 0:
-        raise ValueError(f"settle must be >= 0, got {settle}")
+    radius = check_real(radius, "radius", minimum=0.0, strict_minimum=True)
+    settle = check_int(settle, "settle", minimum=0)
     # distance of every truth to every estimate per scan, (K, m, n); NaN where either is absent,
     # and NaN <= radius is False
-    dist = np.linalg.norm(X[:, :, None, :] - Y[:, None, :, :], axis=-1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        dist = _norm(X[:, :, None, :] - Y[:, None, :, :])
     covered = (dist <= radius).any(axis=2)
     counted = x_exists & (np.cumsum(x_exists, axis=0) > settle)  # past each life's first scans
     n = counted.sum(axis=0)

@@ -18,11 +18,22 @@ Weights stay in log space: ``log w(gamma) = -cost(gamma)``; costs may be negativ
 from __future__ import annotations
 
 import math
+import numbers
 from functools import cached_property
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
-__all__ = ["AssignmentProblem"]
+__all__ = ["AssignmentProblem", "COST_LIMIT"]
+
+# The finite costs of a problem are refused when the rows' largest |finite cost| sum beyond
+# this: then the cost of every assignment, and the difference of any two, stays finite
+# (<= 2**1021 < the largest double), so sums, log-sum-exps and ratios of weights never overflow.
+COST_LIMIT = 2.0**1020
+
+# Column indices and gamma labels beyond this magnitude cannot index anything; they are refused
+# before the cast to int64 (which would wrap them around).
+_INDEX_LIMIT = 2**62
 
 # Exact counting (n_feasible on a problem with forbidden pairs) refuses beyond this work.
 _COUNT_MAX_SUBSET_BITS = 22
@@ -30,13 +41,32 @@ _COUNT_MAX_WORK = 2 * 10**8
 
 
 def _as_float_array(x, name: str) -> np.ndarray:
-    """Validate numeric array-like input and return a float64 copy."""
+    """Validate numeric array-like input and return a float64 C-contiguous copy.
+
+    ``TypeError`` for what is not an array of real numbers (strings, ``None``, complex, dates,
+    ragged lists); ``ValueError`` for a Python int too large for a double.
+    """
     try:
         arr = np.asarray(x)
     except Exception as exc:  # ragged lists and the like
         raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
+    if arr.dtype == object and arr.size and all(
+        isinstance(v, numbers.Real) for v in arr.reshape(-1)
+    ):
+        # Python ints beyond int64 (e.g. 10**30) land in an object array; convert one by one
+        flat = np.empty(arr.size)
+        for k, v in enumerate(arr.reshape(-1)):
+            try:
+                flat[k] = float(v)
+            except OverflowError:
+                text = repr(v)
+                text = text if len(text) <= 24 else f"{text[:12]}... ({len(text)} digits)"
+                raise ValueError(f"{name} has an entry too large for a float64: {text}") from None
+        arr = flat.reshape(arr.shape)
+    if (
+        arr.dtype == object
+        or arr.dtype.kind in "mM"  # datetime64 / timedelta64 count as numbers to numpy
+        or not (np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_))
     ):
         raise TypeError(f"{name} must be a numeric array, got dtype {arr.dtype}")
     if np.issubdtype(arr.dtype, np.complexfloating):
@@ -145,6 +175,7 @@ class AssignmentProblem:
                 f"row {i} has no finite entry: it can be neither detected, missed nor dead, so "
                 "no assignment is feasible"
             )
+        _check_cost_range(C, finite)
         C.setflags(write=False)
         self._cost = C
         self._check_feasible()
@@ -168,9 +199,11 @@ class AssignmentProblem:
         ------
         ValueError
             On a wrong shape, NaN, ``-inf``, a finite entry where the layout requires ``+inf``,
-            a row with no finite entry, or a problem with no feasible assignment.
+            a row with no finite entry, a problem with no feasible assignment, or finite costs
+            so large that an assignment's cost could overflow: the rows' largest ``|cost|``
+            must sum to at most :data:`COST_LIMIT` ``= 2**1020``.
         TypeError
-            On non-numeric input.
+            On non-numeric input (strings, ``None``, complex numbers, dates, ragged lists).
 
         Examples
         --------
@@ -435,15 +468,44 @@ class AssignmentProblem:
         return self.n_meas + self.n_rows + np.arange(self.n_rows, dtype=np.int64)
 
     def _as_assignments(self, assignments, name="assignments") -> tuple[np.ndarray, bool]:
-        """Validate an ``(n, P)`` or ``(P,)`` integer array; return 2-D int64 and a 1-D flag."""
-        a = np.asarray(assignments)
-        if a.dtype == bool or not (np.issubdtype(a.dtype, np.integer) or a.size == 0):
-            if np.issubdtype(a.dtype, np.floating) and a.size and np.all(a == np.round(a)):
-                a = a.astype(np.int64)
-            else:
-                raise TypeError(
-                    f"{name} must be an integer array of column indices, got dtype {a.dtype}"
-                )
+        """Validate an ``(n, P)`` or ``(P,)`` integer array; return 2-D int64 and a 1-D flag.
+
+        Integer dtypes and Python ints are accepted, and so are floats holding whole numbers
+        (``2.0``); any other kind of value is a ``TypeError``. A value beyond ``+-2**62`` (no
+        column index or label reaches it) is a ``ValueError``, raised before the cast to int64
+        could wrap it around.
+        """
+        kind = f"{name} must be an integer array of column indices"
+        try:
+            a = np.asarray(assignments)
+        except Exception as exc:  # ragged lists and the like
+            raise TypeError(f"{kind}, could not convert: {exc}") from None
+        shape = a.shape
+        if a.dtype.kind == "f" and a.size and not isinstance(assignments, np.ndarray):
+            # numpy turns a list mixing ints beyond int64 with small ones into floats; keep
+            # the Python ints exact instead
+            b = np.array(assignments, dtype=object)
+            if all(isinstance(v, numbers.Integral) for v in b.reshape(-1)):
+                a = b
+        if a.dtype == object:
+            flat = a.reshape(-1)
+            if not all(isinstance(v, numbers.Integral) and not isinstance(v, bool) for v in flat):
+                raise TypeError(f"{kind}, got dtype object")
+            bad = [int(v) for v in flat if abs(int(v)) > _INDEX_LIMIT]
+            if bad:
+                raise ValueError(f"{name} contains {bad[0]}, beyond any index (|value| <= 2**62)")
+            a = np.array([int(v) for v in flat], dtype=np.int64).reshape(a.shape)
+        elif a.size == 0 and a.dtype.kind in "biuf":
+            a = a.astype(np.int64)
+        elif a.dtype.kind == "f":
+            if not (np.isfinite(a).all() and np.all(a == np.round(a))):
+                raise TypeError(f"{kind}, got dtype {a.dtype} with non-integer values")
+        elif a.dtype.kind not in "iu":
+            raise TypeError(f"{kind}, got dtype {a.dtype}")
+        if a.size and (a.max() > _INDEX_LIMIT or a.min() < -_INDEX_LIMIT):
+            bad = a[(a > _INDEX_LIMIT) | (a < -_INDEX_LIMIT)].reshape(-1)[0]
+            bad = int(bad) if a.dtype.kind in "iu" else float(bad)
+            raise ValueError(f"{name} contains {bad}, beyond any index (|value| <= 2**62)")
         a = a.astype(np.int64, copy=False)
         P = self.n_rows
         single = a.ndim == 1
@@ -452,7 +514,7 @@ class AssignmentProblem:
         if a.ndim != 2 or a.shape[1] != P:
             raise ValueError(
                 f"{name} must have shape (n, P) = (n, {P}) or (P,) = ({P},), got shape "
-                f"{np.shape(assignments)}"
+                f"{shape}"
             )
         return a, single
 
@@ -540,7 +602,8 @@ class AssignmentProblem:
         Returns
         -------
         ndarray of bool, shape (n,), or bool
-            Column indices outside ``[0, M + 2P)`` are infeasible, not an error.
+            Column indices outside ``[0, M + 2P)`` are infeasible, not an error (but a value
+            beyond ``+-2**62``, which no index can reach, is a ``ValueError``).
 
         Examples
         --------
@@ -688,8 +751,6 @@ class AssignmentProblem:
         must = ~(np.isfinite(cc[:, M]) | np.isfinite(cc[:, M + 1]))
         if not must.any():
             return
-        from scipy.optimize import linear_sum_assignment
-
         B = np.where(np.isfinite(cc[must, :M]), 0.0, np.inf)
         try:
             if B.shape[0] > B.shape[1]:  # more rows that need a measurement than measurements
@@ -701,6 +762,23 @@ class AssignmentProblem:
                 f"no feasible assignment: rows {rows} can be neither missed nor dead and cannot "
                 "all be given distinct measurements"
             ) from None
+
+
+def _check_cost_range(C: np.ndarray, finite: np.ndarray) -> None:
+    """Refuse finite costs whose assignment sums could overflow (see :data:`COST_LIMIT`)."""
+    big = np.where(finite, np.abs(C), 0.0).max(axis=1, initial=0.0)
+    # summed in units of 2**-64, so that the sum itself cannot overflow
+    total = float(np.sum(big * 2.0**-64))
+    if total > COST_LIMIT * 2.0**-64:
+        i = int(np.argmax(big))
+        log10 = math.log10(total) + 64 * math.log10(2.0)
+        e = math.floor(log10)
+        raise ValueError(
+            f"cost matrix has finite costs too large to add up: the rows' largest |finite "
+            f"cost| sum to {10 ** (log10 - e):.3f}e+{e} (row {i}: {big[i]:.6g}), beyond "
+            "COST_LIMIT = 2**1020 = 1.124e+307, the bound that keeps every assignment's cost "
+            "finite; a forbidden pair is +inf"
+        )
 
 
 def _count_rows_small(B: np.ndarray, a: np.ndarray, dtype) -> int:

@@ -17,25 +17,44 @@ from __future__ import annotations
 import numpy as np
 
 from .problem import AssignmentProblem
+from .validation import check_choice, check_int, check_optional_int
 
 __all__ = ["diagonal", "uniform", "random", "eta_from_parameters"]
 
 _PBAR_D = ("r_pd", "pd")
 _GRANULARITY = ("row", "matrix")
 
-
-def _check_sizes(R, B, M):
-    for name, v in (("R", R), ("B", B), ("M", M)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-            raise TypeError(f"{name} must be an int, got {type(v).__name__}")
-        if v < 0:
-            raise ValueError(f"{name} must be >= 0, got {v}")
-    return int(R), int(B), int(M)
+# Largest cost matrix (entries) the families build: 2**27 doubles are 1 GiB.
+_MAX_ENTRIES = 2**27
 
 
-def _check_choice(name, value, choices):
-    if value not in choices:
-        raise ValueError(f"{name} must be one of {choices}, got {value!r}")
+def _check_sizes(R, B, M) -> tuple[int, int, int]:
+    R = check_int(R, "R")
+    B = check_int(B, "B")
+    M = check_int(M, "M")
+    P = R + B
+    n = P * (M + 2 * P)
+    if n > _MAX_ENTRIES:
+        raise ValueError(
+            f"R = {R}, B = {B}, M = {M} give a {P} x {M + 2 * P} cost matrix of {n} entries, "
+            f"more than the {_MAX_ENTRIES} (2**27) these families build"
+        )
+    return R, B, M
+
+
+def _as_real_array(x, name: str, ndim: int) -> np.ndarray:
+    try:
+        a = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
+    if a.dtype.kind not in "biuf":
+        raise TypeError(f"{name} must be an array of real numbers, got dtype {a.dtype}")
+    a = a.astype(np.float64)
+    if a.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {a.shape}")
+    if np.isnan(a).any():
+        raise ValueError(f"{name} contains NaN")
+    return a
 
 
 def eta_from_parameters(r, p_s, p_d, q, *, n_persisting=None, pbar_d="r_pd"):
@@ -59,19 +78,41 @@ def eta_from_parameters(r, p_s, p_d, q, *, n_persisting=None, pbar_d="r_pd"):
     eta_detect : ndarray, shape (P, M)
     eta_missed, eta_dead : ndarray, shape (P,)
 
+    Raises
+    ------
+    TypeError
+        If an array is not numeric, ``n_persisting`` is not an int or ``pbar_d`` not a string.
+    ValueError
+        If a probability is outside ``[0, 1]``, ``q`` has a negative or non-finite entry, a
+        shape does not match ``(P,)`` / ``(P, M)``, ``n_persisting`` is outside ``[0, P]`` or
+        ``pbar_d`` is unknown.
+
     Examples
     --------
     >>> d, m, x = eta_from_parameters([0.99], [0.99], [0.99], [[50.0]])
     >>> round(float(x[0]), 4), round(float(m[0]), 6), round(float(d[0, 0]), 4)
     (0.0199, 0.019504, 48.0298)
     """
-    _check_choice("pbar_d", pbar_d, _PBAR_D)
-    r = np.asarray(r, dtype=float)
-    p_s = np.asarray(p_s, dtype=float)
-    p_d = np.asarray(p_d, dtype=float)
-    q = np.asarray(q, dtype=float)
+    check_choice(pbar_d, "pbar_d", _PBAR_D)
+    r = _as_real_array(r, "r", 1)
+    p_s = _as_real_array(p_s, "p_s", 1)
+    p_d = _as_real_array(p_d, "p_d", 1)
+    q = _as_real_array(q, "q", 2)
     P = r.shape[0]
-    R = P if n_persisting is None else int(n_persisting)
+    for name, a in (("p_s", p_s), ("p_d", p_d)):
+        if a.shape != (P,):
+            raise ValueError(f"{name} must have shape (P,) = ({P},) like r, got {a.shape}")
+    if q.shape[0] != P:
+        raise ValueError(f"q must have shape (P, M) with P = {P} rows like r, got {q.shape}")
+    for name, a in (("r", r), ("p_s", p_s), ("p_d", p_d)):
+        if a.size and not ((a >= 0) & (a <= 1)).all():
+            bad = float(a[(a < 0) | (a > 1)][0])
+            raise ValueError(f"{name} must hold probabilities in [0, 1], got {bad}")
+    if q.size and not (np.isfinite(q) & (q >= 0)).all():
+        bad = float(q[~(np.isfinite(q) & (q >= 0))][0])
+        raise ValueError(f"q must hold finite likelihood ratios >= 0, got {bad}")
+    R = check_optional_int(n_persisting, "n_persisting", minimum=0, maximum=P)
+    R = P if R is None else R
     pbar_s = r.copy()
     pbar_s[:R] = r[:R] * p_s[:R]
     pbar_dd = r * p_d if pbar_d == "r_pd" else p_d.copy()
@@ -99,6 +140,13 @@ def diagonal(R: int = 4, B: int = 0, M: int = 16, *, pbar_d: str = "r_pd") -> As
     AssignmentProblem
         Shape ``(R + B, M + 2(R + B))``.
 
+    Raises
+    ------
+    TypeError
+        If ``R``, ``B`` or ``M`` is not an int.
+    ValueError
+        If one is negative, the matrix would exceed ``2**27`` entries or ``pbar_d`` is unknown.
+
     Examples
     --------
     >>> from rankedassign import synthetic
@@ -110,7 +158,7 @@ def diagonal(R: int = 4, B: int = 0, M: int = 16, *, pbar_d: str = "r_pd") -> As
     (48.0298, 0.0009606, 0.019504)
     """
     R, B, M = _check_sizes(R, B, M)
-    _check_choice("pbar_d", pbar_d, _PBAR_D)
+    check_choice(pbar_d, "pbar_d", _PBAR_D)
     P = R + B
     q = np.full((P, M), 1e-3)
     k = min(P, M)
@@ -134,6 +182,13 @@ def uniform(R: int = 4, B: int = 0, M: int = 16) -> AssignmentProblem:
     Returns
     -------
     AssignmentProblem
+
+    Raises
+    ------
+    TypeError
+        If ``R``, ``B`` or ``M`` is not an int.
+    ValueError
+        If one is negative, the matrix would exceed ``2**27`` entries.
 
     Examples
     --------
@@ -178,6 +233,14 @@ def random(
     -------
     AssignmentProblem
 
+    Raises
+    ------
+    TypeError
+        If ``R``, ``B`` or ``M`` is not an int, or ``rng`` is not a valid seed type.
+    ValueError
+        If one is negative, the matrix would exceed ``2**27`` entries, an option is unknown
+        or the seed is negative.
+
     Notes
     -----
     Draw order (fixed, so a seed always gives the same matrix): ``r`` (P values), then
@@ -192,9 +255,9 @@ def random(
     (True, (4, 24))
     """
     R, B, M = _check_sizes(R, B, M)
-    _check_choice("pbar_d", pbar_d, _PBAR_D)
-    _check_choice("granularity", granularity, _GRANULARITY)
-    gen = np.random.default_rng(rng)
+    check_choice(pbar_d, "pbar_d", _PBAR_D)
+    check_choice(granularity, "granularity", _GRANULARITY)
+    gen = _generator(rng)
     P = R + B
     r = gen.uniform(1e-3, 1.0, size=P)
     n = P if granularity == "row" else 1
@@ -204,3 +267,21 @@ def random(
     return AssignmentProblem.from_eta(
         *eta_from_parameters(r, p_s, p_d, q, n_persisting=R, pbar_d=pbar_d)
     )
+
+
+def _generator(rng) -> np.random.Generator:
+    """``np.random.default_rng(rng)``, its errors made ``TypeError``/``ValueError`` naming rng."""
+    if isinstance(rng, (bool, float, complex, str, bytes)):
+        raise TypeError(
+            f"rng must be None, an int, a SeedSequence, a BitGenerator or a Generator, got "
+            f"{type(rng).__name__} {rng!r}"
+        )
+    try:
+        return np.random.default_rng(rng)
+    except TypeError as exc:
+        raise TypeError(
+            f"rng must be None, an int, a SeedSequence, a BitGenerator or a Generator, got "
+            f"{type(rng).__name__}: {exc}"
+        ) from None
+    except ValueError as exc:
+        raise ValueError(f"rng {rng!r} is not a valid seed: {exc}") from None

@@ -1,6 +1,7 @@
 """Tests of rankedassign.metrics: OSPA, OSPA(2) and tracks_to_array."""
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -89,13 +90,20 @@ def test_ospa_hand_values():
 @pytest.mark.parametrize(
     ("args", "exc", "match"),
     [
-        (([[0.0]], [[0.0]], -1.0, 1), ValueError, "cut-off c must be a positive"),
-        (([[0.0]], [[0.0]], 0.0, 1), ValueError, "cut-off c must be a positive"),
-        (([[0.0]], [[0.0]], 1.0, 0.5), ValueError, "order p must be a finite number >= 1"),
+        (([[0.0]], [[0.0]], -1.0, 1), ValueError, r"c must be > 0.0, got -1.0"),
+        (([[0.0]], [[0.0]], 0.0, 1), ValueError, r"c must be > 0.0, got 0.0"),
+        (([[0.0]], [[0.0]], np.inf, 1), ValueError, r"c must be a finite real number, got inf"),
+        (([[0.0]], [[0.0]], 1.0, 0.5), ValueError, r"p must be >= 1.0, got 0.5"),
+        (([[0.0]], [[0.0]], 1.0, np.inf), ValueError, r"p must be a finite real number, got inf"),
+        (([[0.0]], [[0.0]], 1.0, np.nan), ValueError, r"p must be a finite real number, got nan"),
         (([[0.0]], [[np.nan]], 1.0, 1), ValueError, "Y contains NaN or inf"),
         (([[0.0, 1.0]], [[0.0]], 1.0, 1), ValueError, "same point dimension"),
         (([0.0, 1.0], [[0.0]], 1.0, 1), ValueError, "X must be 2-D"),
-        (([[0.0]], [[0.0]], "a", 1), TypeError, "c and p must be real numbers"),
+        (([[0.0]], [[0.0]], "a", 1), TypeError, r"c must be a real number, got str 'a'"),
+        (([[0.0]], [[0.0]], 1.0, True), TypeError, r"p must be a real number, got bool True"),
+        (([["a"]], [[0.0]], 1.0, 1), TypeError, r"X must be a numeric array, got dtype <U1"),
+        (([[0.0], [1.0, 2.0]], [[0.0]], 1.0, 1), TypeError, r"X must be a numeric array, could not convert"),
+        (([[0.0]], [[1j]], 1.0, 1), TypeError, r"Y must be real, got dtype complex128"),
     ],
 )
 def test_ospa_errors(args, exc, match):
@@ -260,12 +268,18 @@ def test_ospa2_lp_base_matches_compute_ospa2_convention():
         ({"estimates": np.zeros((2, 1, 2))}, ValueError, "same number of scans"),
         ({"estimates": np.zeros((3, 1, 3))}, ValueError, "same state dimension"),
         ({"estimates": np.array([[[0.0, np.nan]]] * 3)}, ValueError, r"estimates\[0, 0\] is partly NaN"),
-        ({"c": -1.0}, ValueError, "cut-off c must be a positive"),
-        ({"p": 0.0}, ValueError, "order p must be"),
-        ({"window": 0}, ValueError, "window must be >= 1"),
-        ({"window": 1.5}, TypeError, "window must be an integer"),
-        ({"base": "manhattan"}, ValueError, "base must be 'euclidean' or 'lp'"),
-        ({"weight_power": -1}, ValueError, "weight_power must be a finite number >= 0"),
+        ({"c": -1.0}, ValueError, r"c must be > 0.0, got -1.0"),
+        ({"p": 0.0}, ValueError, r"p must be >= 1.0, got 0.0"),
+        ({"window": 0}, ValueError, r"window must be an int >= 1, got 0"),
+        ({"window": 2**63}, ValueError, r"window must be an int <= 4611686018427387904 \(2\*\*62\), got 9223372036854775808"),
+        ({"window": 1.5}, TypeError, r"window must be an int, got float 1.5"),
+        ({"window": True}, TypeError, r"window must be an int, got bool True"),
+        ({"base": "manhattan"}, ValueError, r"unknown base 'manhattan'; expected one of \('euclidean', 'lp'\)"),
+        ({"weight_power": -1}, ValueError, r"weight_power must be >= 0.0, got -1.0"),
+        ({"weight_power": np.nan}, ValueError, r"weight_power must be a finite real number, got nan"),
+        ({"weight_power": "1"}, TypeError, r"weight_power must be a real number, got str '1'"),
+        ({"truth": np.full((3, 1, 2), np.inf)}, ValueError, r"truth contains inf"),
+        ({"truth": [[["x"]]]}, TypeError, r"truth must be a numeric array, got dtype <U1"),
         ({"truth": np.zeros((3, 2))}, ValueError, "truth must be 3-D"),
     ],
 )
@@ -303,8 +317,22 @@ def test_tracks_to_array_orders_by_first_appearance():
 def test_tracks_to_array_errors():
     with pytest.raises(ValueError, match="has 2 components, expected 4"):
         tracks_to_array([{1: [0.0] * 4}, {1: [0.0, 0.0]}])
-    with pytest.raises(ValueError, match="out of range"):
+    with pytest.raises(ValueError, match=r"dims \[0, 4\] out of range for states of length 4"):
         tracks_to_array([{1: [0.0] * 4}], dims=(0, 4))
+    with pytest.raises(ValueError, match=r"dims\[1\] must be an int >= 0, got -1"):
+        tracks_to_array([{1: [0.0] * 4}], dims=(0, -1))
+    with pytest.raises(TypeError, match=r"dims\[0\] must be an int, got float 0.5"):
+        tracks_to_array([{1: [0.0] * 4}], dims=(0.5,))  # once silently truncated to 0
+    with pytest.raises(TypeError, match=r"dims must be a sequence of ints, got int"):
+        tracks_to_array([{1: [0.0] * 4}], dims=0)
+    with pytest.raises(TypeError, match=r"labelled_estimates must be a sequence \(one mapping per scan\), got dict"):
+        tracks_to_array({1: [0.0]})
+    with pytest.raises(TypeError, match=r"labelled_estimates\[1\] must be a mapping from track label to state, got list"):
+        tracks_to_array([{}, [0.0]])
+    with pytest.raises(TypeError, match=r"state of track 'a' at scan 0 must be a numeric array, got dtype <U3"):
+        tracks_to_array([{"a": ["one", "two"]}])
+    with pytest.raises(TypeError, match=r"return_labels must be a bool, got int 1"):
+        tracks_to_array([{}], return_labels=1)
     assert tracks_to_array([{}, {}]).shape == (2, 0, 0)
 
 
@@ -357,15 +385,15 @@ def test_track_coverage_hand_case_and_labels_play_no_part():
         ((np.array([[[np.nan, 0.0]]]), np.zeros((1, 1, 2)), 1.0), {}, ValueError,
          r"truth\[0, 0\] is partly NaN"),
         ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), 0.0), {}, ValueError,
-         "radius must be a positive finite number, got 0.0"),
+         r"radius must be > 0.0, got 0.0"),
         ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), np.inf), {}, ValueError,
-         "radius must be a positive finite number, got inf"),
+         r"radius must be a finite real number, got inf"),
         ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), "far"), {}, TypeError,
-         "radius must be a real number"),
+         r"radius must be a real number, got str 'far'"),
         ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), 1.0), {"settle": -1}, ValueError,
-         "settle must be >= 0, got -1"),
+         r"settle must be an int >= 0, got -1"),
         ((np.zeros((3, 1, 2)), np.zeros((3, 1, 2)), 1.0), {"settle": 1.5}, TypeError,
-         "settle must be an integer, got float"),
+         r"settle must be an int, got float 1.5"),
     ],
 )
 def test_track_coverage_errors(args, kwargs, exc, match):
@@ -381,3 +409,137 @@ def test_nothing_reported_is_accepted_whatever_its_dimension():
     assert_array_equal(ospa2(X, none, 10.0, 1, 1).value, [10.0, 0.0, 10.0])
     assert_array_equal(ospa2(none, X, 10.0, 1, 1).value, [10.0, 0.0, 10.0])
     assert_array_equal(track_coverage(X, none, 1.0), [0.0])
+
+
+# ------------------------------------------------------------------ extreme orders and ranges
+# The definition (spec 7.3) in exact rational arithmetic: with u = min(c, d) / c,
+#   (value / c)^p = (min_pi sum u^p + (n - m)) / n,
+# compared in log space, ln(value / c) = (ln T - ln n) / p, which no order p can over- or
+# underflow. Points lie on a grid of quarters in 1-D, so every distance is an exact double.
+grid = st.integers(-80, 80).map(lambda k: k / 4)
+
+
+def exact_log_ospa(X, Y, c, p):
+    """``ln(value / c)``, ``ln(loc / c)``, ``ln(card / c)`` from exact rationals (p an int)."""
+    from fractions import Fraction
+
+    if len(X) > len(Y):
+        X, Y = Y, X
+    m, n = len(X), len(Y)
+    cf = Fraction(c)
+    best = None
+    for perm in itertools.permutations(range(n), m):
+        s = sum((min(cf, abs(Fraction(X[i]) - Fraction(Y[j]))) / cf) ** p
+                for i, j in enumerate(perm))
+        best = s if best is None or s < best else best
+
+    def log(q):
+        return -np.inf if q == 0 else (math.log(q.numerator) - math.log(q.denominator))
+
+    ln_n = math.log(n)
+    return ((log(best + (n - m)) - ln_n) / p, (log(best) - ln_n) / p,
+            (log(Fraction(n - m)) - ln_n) / p)
+
+
+@given(st.lists(grid, max_size=3), st.lists(grid, min_size=1, max_size=3),
+       st.sampled_from([0.25, 1.0, 3.0, 7.25]), st.integers(1, 3000))
+def test_ospa_any_order_matches_the_exact_definition(xs, ys, c, p):
+    X = np.array(xs, dtype=float).reshape(-1, 1)
+    Y = np.array(ys, dtype=float).reshape(-1, 1)
+    got = ospa(X, Y, c, p)
+    want = exact_log_ospa(xs, ys, c, p)
+    for g, w in zip(got, want, strict=True):
+        # relative 1e-12 on the value: the p-th root undoes the p-th power's error
+        assert_allclose(g, c * math.exp(w), rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("p", [1, 2, 100, 134, 135, 200, 1000, 1e6, 1e300])
+def test_ospa_large_order_one_pair_is_the_cut_off_distance(p):
+    # the hardening issue: p = 200 gave 0.0 (underflow), p > ~134 an OverflowError
+    r = ospa([[0, 0]], [[0.001, 0]], c=0.01, p=p)
+    assert_allclose(r, (0.001, 0.001, 0.0), rtol=1e-12)
+    assert_allclose(ospa([[0.0]], [[5.0]], c=2.0, p=p), (2.0, 2.0, 0.0), rtol=1e-15)
+    # one unmatched point: value = c ((u^p + 1) / 2)^(1/p) -> c as p grows
+    r = ospa([[0.0], [100.0]], [[0.5]], c=1.0, p=p)
+    assert_allclose(r.cardinality, 2.0 ** (-1.0 / p), rtol=1e-14)
+    assert r.localisation == pytest.approx(0.5 * 2.0 ** (-1.0 / p), rel=1e-13)
+    assert r.cardinality <= r.value <= 1.0
+
+
+def log_brute_ospa(X, Y, c, p):
+    """``ln(value / c)`` by enumerating injections, every sum of p-th powers in log space."""
+    from scipy.special import logsumexp
+
+    X, Y = np.asarray(X, float), np.asarray(Y, float)
+    if len(X) > len(Y):
+        X, Y = Y, X
+    m, n = len(X), len(Y)
+    extra = [math.log(n - m)] if n > m else []
+    best = np.inf
+    for perm in itertools.permutations(range(n), m):
+        terms = [p * math.log(min(1.0, np.linalg.norm(X[i] - Y[j]) / c))
+                 if np.linalg.norm(X[i] - Y[j]) > 0 else -np.inf for i, j in enumerate(perm)]
+        best = min(best, logsumexp(terms + extra) if terms + extra else -np.inf)
+    return (best - math.log(n)) / p
+
+
+@given(point_sets(3), point_sets(3), cutoffs, st.sampled_from([150.0, 700.0, 5000.0, 1e5]))
+def test_ospa_large_order_matches_log_domain_brute_force(X, Y, c, p):
+    # (d / c)^p underflows a double for most pairs here: the optimum is found among terms that
+    # differ by thousands of orders of magnitude, and tends to the bottleneck matching.
+    got = ospa(X, Y, c, p).value
+    if len(X) == 0 and len(Y) == 0:
+        assert got == 0.0
+    else:
+        assert_allclose(got, c * math.exp(log_brute_ospa(X, Y, c, p)), rtol=1e-10, atol=0)
+
+
+def test_ospa_extreme_coordinates_and_cut_offs():
+    big = np.finfo(float).max
+    # differences beyond the largest double are beyond any finite cut-off
+    assert_allclose(ospa([[big]], [[-big]], 5.0, 1), (5.0, 5.0, 0.0), rtol=1e-15)
+    assert_allclose(ospa([[0.0, 0.0]], [[1e200, 1e200]], 1e300, 2).value,
+                    np.sqrt(2) * 1e200, rtol=1e-15)  # no overflow in the norm
+    # c^p beyond the largest double (c = 1e308, p = 3): no overflow
+    r = ospa([[0.0]], [[1e308], [-1e308]], c=1e308, p=3)
+    assert_allclose(r, (1e308, 1e308 * 2 ** (-1 / 3), 1e308 * 2 ** (-1 / 3)), rtol=1e-14)
+    # subnormal distances and cut-offs
+    tiny = 5e-324
+    assert_allclose(ospa([[0.0]], [[4 * tiny]], c=1e-300, p=1).value, 4 * tiny, rtol=0.3)
+    assert_allclose(ospa([[0.0]], [[1.0]], c=tiny, p=1).value, tiny, rtol=1e-15)
+    # zero-dimensional points: every distance is 0
+    assert_allclose(ospa(np.zeros((2, 0)), np.zeros((3, 0)), 2.0, 1), (2 / 3, 0.0, 2 / 3),
+                    rtol=1e-15)
+
+
+@given(truth_estimate_pairs(), cutoffs, st.sampled_from([150.0, 700.0, 5000.0]),
+       st.integers(1, 3), st.sampled_from(["euclidean", "lp"]))
+def test_ospa2_large_order_window_one_equals_ospa(pair, c, p, window, base):
+    X, Y = pair
+    res = ospa2(X, Y, c, p, window=1, base=base)
+    assert np.isfinite(res.value).all()
+    assert np.all(res.value <= c * (1 + 1e-12))
+    if base == "euclidean":
+        for k in range(X.shape[0]):
+            x = X[k][~np.isnan(X[k]).any(axis=1)]
+            y = Y[k][~np.isnan(Y[k]).any(axis=1)]
+            assert_allclose(list(res[0][k:k + 1]) + [res.localisation[k], res.cardinality[k]],
+                            ospa(x, y, c, p), rtol=1e-10, atol=1e-300)
+
+
+def test_ospa2_large_order_and_weight_power_by_hand():
+    # one truth, one estimate at distance 1 then 3, c = 10, window 2
+    truth = np.array([[[0.0, 0.0]], [[0.0, 0.0]]])
+    est = np.array([[[1.0, 0.0]], [[3.0, 0.0]]])
+    for p in (1, 300, 1e5):
+        # euclidean: averages d (not d^p) over time, so the value is the mean distance 2
+        assert_allclose(ospa2(truth, est, 10.0, p, 2).value, [1.0, 2.0], rtol=1e-13)
+        # lp: averages d^p: ((1 + 3^p) / 2)^(1/p) = 3 (1/2 + 3^-p / 2)^(1/p)
+        want = 3.0 * (0.5 + 0.5 * 3.0 ** -p) ** (1 / p)
+        assert_allclose(ospa2(truth, est, 10.0, p, 2, base="lp").value, [1.0, want], rtol=1e-13)
+    # weight power r = 2000: the newest scan weighs 2^2000 (beyond a double) against 1
+    w = 2.0**-2000  # relative weight of the older scan, itself subnormal-free in log space
+    assert_allclose(ospa2(truth, est, 10.0, 1, 2, weight_power=2000).value,
+                    [1.0, (w * 1.0 + 3.0) / (w + 1.0)], rtol=1e-15)
+    # window 2**62: the whole history
+    assert_allclose(ospa2(truth, est, 10.0, 1, 2**62).value, [1.0, 2.0], rtol=1e-15)

@@ -13,13 +13,32 @@ from oracle import log_normalizer as oracle_log_normalizer
 from rankedassign import AssignmentProblem, synthetic
 
 
+def exact_weights(problem, assignments):
+    """Weights relative to the best, from exact (Decimal) sums of the cost entries."""
+    from decimal import Decimal, getcontext
+
+    getcontext().prec = 50
+    C = problem.cost
+    costs = [sum((Decimal(float(C[i, j])) for i, j in enumerate(a)), Decimal(0))
+             for a in assignments]
+    low = min(costs)
+    return [(-(c - low)).exp() for c in costs]
+
+
 @pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
 def test_cases_all_zero_best_and_monotone(name, problem):
     full = enumerate_assignments(problem)
     # zero up to the round-off of Z (relative ~1e-16 per term)
     assert_allclose(truncation_error(problem, full.assignments), 0.0, atol=1e-14)
-    assert_allclose(truncation_error(problem, full.assignments[:1]), 1 - best_mass(problem, 1),
-                    rtol=1e-9, atol=1e-12)
+    # Against the exact weights (Decimal sums of the exact double entries). The enumeration's
+    # first assignment is the best only up to the rounding of cost_of: in "huge_range" (costs
+    # of 1e9 and 1e-8 in one assignment) it is 1e-8 worse than the best, so its error is not
+    # 1 - best_mass(1) exactly; the DP's ln Z there carries a relative 3e-9.
+    w = exact_weights(problem, full.assignments)
+    err1 = float(1 - w[0] / sum(w))
+    assert_allclose(truncation_error(problem, full.assignments[:1]), err1, rtol=1e-8, atol=1e-12)
+    assert_allclose(best_mass(problem, 1), float(max(w) / sum(w)), rtol=1e-12, atol=1e-14)
+    assert truncation_error(problem, full.assignments[:1]) >= 1 - best_mass(problem, 1) - 1e-12
     # adding assignments never increases the error
     rng = np.random.default_rng(0)
     shuffled = full.assignments[rng.permutation(len(full.costs))]
@@ -141,3 +160,43 @@ def test_falls_back_to_enumeration_when_the_dp_refuses():
     want = 1 - np.exp(logsumexp(-full.costs[:3]) - logsumexp(-full.costs))
     assert_allclose(truncation_error(p, full.assignments[:3]), want, rtol=1e-12)
     assert_allclose(best_mass(p, 3), 1 - want, rtol=1e-12)
+
+
+# ------------------------------------------------------------------ both ends of the cost range
+def test_costs_at_the_overflow_limit():
+    # The hardening issue: costs of +-1e308 were accepted, their sum overflowed, and a
+    # feasible assignment was called infeasible. Such costs are now refused by the problem
+    # (see test_problem); at the limit (rows' largest |cost| summing to 2**1020) every oracle
+    # answer is exact.
+    inf = np.inf
+    h = 2.0**1019
+    # all finite entries equal: the distribution is uniform on the 8 feasible assignments
+    p = AssignmentProblem.from_cost([[-h, -h, inf, -h, inf], [-h, inf, -h, inf, -h]])
+    full = enumerate_assignments(p)
+    assert len(full.costs) == 8 and np.isfinite(full.costs).all()
+    assert_allclose(oracle_log_normalizer(p), 2 * h, rtol=1e-15)  # ln(8 e^(2h)) = 2h + ln 8
+    for k in range(9):
+        assert_allclose(truncation_error(p, full.assignments[:k]), 1 - k / 8, rtol=1e-14,
+                        atol=1e-15)
+    assert_allclose(best_mass(p, 3), 3 / 8, rtol=1e-14)
+    # +h costs weigh exp(-h) = 0 against the rest; -h costs dominate everything else
+    hi = AssignmentProblem.from_cost([[h, 0.0, inf, 1.0, inf], [0.0, inf, h, inf, 1.0]])
+    lo = AssignmentProblem.from_cost([[-h, 0.0, inf, 1.0, inf], [0.0, inf, -h, inf, 1.0]])
+    z_hi = 1 + 2 * np.exp(-1) + np.exp(-2)  # the four assignments without an h entry
+    assert_allclose(truncation_error(hi, [[1, 4], [0, 4]]), 1 - np.exp(-1) / z_hi, rtol=1e-14)
+    assert truncation_error(hi, [[0, 2]]) == 1.0  # cost h: weight 0, but feasible
+    assert truncation_error(lo, [[1, 2]]) == 1.0  # cost -h: all but the best
+    assert truncation_error(lo, [[0, 2]]) == 0.0  # the best, cost -2h, holds all the mass
+    assert best_mass(lo, 1) == 1.0
+
+
+def test_subnormal_costs():
+    tiny = 5e-324
+    p = AssignmentProblem.from_cost([[tiny, -tiny, np.inf, 0.0, np.inf],
+                                     [0.0, np.inf, tiny, np.inf, 0.0]])
+    full = enumerate_assignments(p)
+    assert len(full.costs) == 8
+    # every weight is 1 to double precision
+    for k in range(9):
+        assert_allclose(truncation_error(p, full.assignments[:k]), 1 - k / 8, rtol=1e-14,
+                        atol=1e-15)

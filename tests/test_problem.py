@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 
 from rankedassign import AssignmentProblem, synthetic
+from rankedassign.problem import COST_LIMIT
 
 inf = np.inf
 
@@ -300,3 +301,111 @@ def test_repr_and_equality():
     assert p == synthetic.diagonal()
     assert p != synthetic.uniform()
     assert (p == 3) is False
+
+
+# ---------------------------------------------------------------- extremes (hardening)
+def test_costs_whose_sums_could_overflow_are_refused():
+    # the hardening issue: +-1e308 was accepted and an assignment's cost overflowed to inf
+    C = [[1e308, 1e308, inf, 1e308, inf], [1e308, inf, 1e308, inf, 1e308]]
+    with pytest.raises(ValueError, match=r"cost matrix has finite costs too large to add up: the "
+                                         r"rows' largest \|finite cost\| sum to 2\.000e\+308 "
+                                         r"\(row 0: 1e\+308\), beyond COST_LIMIT = 2\*\*1020"):
+        AssignmentProblem.from_cost(C)
+    with pytest.raises(ValueError, match=r"sum to 1\.798e\+308"):
+        AssignmentProblem.from_cost([[-np.finfo(float).max, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"finite costs too large to add up"):
+        AssignmentProblem.from_log_eta([[1e308]], [0.0], [0.0])
+    with pytest.raises(ValueError, match=r"finite costs too large to add up"):
+        AssignmentProblem.from_vo_layout([[0.0, -1e308, 0.0]])
+    # at the limit exactly: accepted, and every assignment's cost is finite
+    h = 2.0**1019
+    p = AssignmentProblem.from_cost([[h, -h, inf, 1.0, inf], [-h, inf, h, inf, 1.0]])
+    assert p.cost_of([1, 0]) == -2 * h == -COST_LIMIT
+    assert np.isfinite(p.cost_of(brute_force(p))).all()
+    # many rows: the bound is on the sum over rows, not on any one entry
+    P = 1024
+    ok = np.full((P, 2 * P), inf)
+    ok[np.arange(P), np.arange(P)] = 2.0**1010  # sums to exactly 2**1020
+    AssignmentProblem.from_cost(ok)
+    ok[0, 0] = 2.0**1011
+    with pytest.raises(ValueError, match=r"row 0: 2\.19445e\+304"):
+        AssignmentProblem.from_cost(ok)
+
+
+def test_tiny_and_subnormal_costs_are_exact():
+    tiny = 5e-324
+    p = AssignmentProblem.from_cost([[tiny, -tiny, inf, 1e-300, inf], [0.0, inf, tiny, inf, 1.0]])
+    assert p.cost_of([0, 2]) == 2 * tiny
+    assert p.cost_of([1, 0]) == -tiny
+    assert COST_LIMIT == 2.0**1020
+
+
+@pytest.mark.parametrize(
+    ("cost", "exc", "match"),
+    [
+        ([[10**400, 0, 0]], ValueError,
+         r"cost matrix has an entry too large for a float64: 100000000000\.\.\. \(401 digits\)"),
+        ([[None, 0.0, 0.0]], TypeError, r"cost matrix must be a numeric array, got dtype object"),
+        (np.zeros((1, 3), dtype="datetime64[s]"), TypeError, r"got dtype datetime64\[s\]"),
+        (np.zeros((1, 3), dtype="timedelta64[s]"), TypeError, r"got dtype timedelta64\[s\]"),
+        ([[b"a", b"b", b"c"]], TypeError, r"got dtype \|S1"),
+        (np.zeros((1, 1, 3)), ValueError, r"got 3-D shape \(1, 1, 3\)"),
+        (np.float64(1.0), ValueError, r"got 0-D shape \(\)"),
+    ],
+)
+def test_from_cost_extreme_input(cost, exc, match):
+    with pytest.raises(exc, match=match):
+        AssignmentProblem.from_cost(cost)
+
+
+def test_huge_python_ints_that_fit_a_double_are_costs():
+    assert AssignmentProblem.from_cost([[10**30, 0, 0]]).cost_of([0]) == 1e30
+    assert AssignmentProblem.from_cost([[2**64, 0, 0]]).cost_of([0]) == 2.0**64
+
+
+def test_empty_shapes():
+    for shape in [(0, 0), (0, 7), (2, 4)]:
+        C = np.full(shape, inf)
+        if shape[0]:
+            C[np.arange(2), 2 + np.arange(2)] = 0.0
+        p = AssignmentProblem.from_cost(C)
+        assert p.shape == shape
+    with pytest.raises(ValueError, match=r"got 1-D shape \(0,\)"):
+        AssignmentProblem.from_cost([])
+
+
+@pytest.mark.parametrize(
+    ("assignments", "exc", "match"),
+    [
+        ([2**63, 0, 0, 0], ValueError, r"assignments contains 9223372036854775808, beyond any index"),
+        ([2**64, 0, 0, 0], ValueError, r"assignments contains 18446744073709551616, beyond any index"),
+        ([-(10**30), 0, 0, 0], ValueError, r"assignments contains -1000000000000000000000000000000"),
+        (np.array([2**62 + 1, 0, 0, 0]), ValueError, r"contains 4611686018427387905, beyond"),
+        ([1e30, 0.0, 0.0, 0.0], ValueError, r"assignments contains 1e\+30, beyond any index"),
+        ([np.inf, 0.0, 0.0, 0.0], TypeError, r"got dtype float64 with non-integer values"),
+        ([np.nan, 0.0, 0.0, 0.0], TypeError, r"got dtype float64 with non-integer values"),
+        ([True, False, True, False], TypeError, r"integer array of column indices, got dtype bool"),
+        (["0", "1", "2", "3"], TypeError, r"got dtype <U1"),
+        ([None, 1, 2, 3], TypeError, r"got dtype object"),
+        ([[0, 1, 2, 3], [0, 1]], TypeError, r"could not convert"),
+        (5, ValueError, r"must have shape \(n, P\) = \(n, 4\) or \(P,\) = \(4,\), got shape \(\)"),
+        (np.zeros((1, 1, 4), dtype=int), ValueError, r"got shape \(1, 1, 4\)"),
+    ],
+)
+def test_assignment_arguments_at_the_extremes(assignments, exc, match):
+    p = synthetic.uniform()
+    for method in (p.cost_of, p.is_feasible, p.log_weight_of):
+        with pytest.raises(exc, match=match):
+            method(assignments)
+
+
+def test_assignment_extremes_that_are_accepted():
+    p = synthetic.uniform()
+    # whole floats, unsigned ints, int64 values within 2**62 (infeasible, not an error)
+    assert p.cost_of([0.0, 1.0, 2.0, 3.0]) == 2.0
+    assert p.cost_of(np.array([0, 1, 2, 3], dtype=np.uint64)) == 2.0
+    assert not p.is_feasible([2**62, 0, 0, 0])
+    assert p.is_feasible(np.zeros((0, 4))).shape == (0,)
+    assert p.cost_of(np.zeros((0, 4), dtype=np.uint8)).shape == (0,)
+    with pytest.raises(ValueError, match=r"gamma contains 4611686018427387904 outside \[-1, M\]"):
+        p.gamma_to_cols([2**62, 0, 0, 0])

@@ -115,15 +115,77 @@ def test_sizes_and_degenerate(family):
 @pytest.mark.parametrize(
     ("call", "exc", "match"),
     [
-        (lambda: synthetic.diagonal(R=-1), ValueError, r"R must be >= 0, got -1"),
-        (lambda: synthetic.uniform(M=2.5), TypeError, r"M must be an int, got float"),
-        (lambda: synthetic.random(B=True), TypeError, r"B must be an int, got bool"),
+        (lambda: synthetic.diagonal(R=-1), ValueError, r"R must be an int >= 0, got -1"),
+        (lambda: synthetic.uniform(M=2.5), TypeError, r"M must be an int, got float 2.5"),
+        (lambda: synthetic.uniform(M=4.0), TypeError, r"M must be an int, got float 4.0"),
+        (lambda: synthetic.random(B=True), TypeError, r"B must be an int, got bool True"),
+        (lambda: synthetic.random(R="4"), TypeError, r"R must be an int, got str '4'"),
+        (lambda: synthetic.uniform(R=2**63), ValueError,
+         r"R must be an int <= 4611686018427387904 \(2\*\*62\), got 9223372036854775808"),
+        (lambda: synthetic.uniform(R=10**30), ValueError, r"R must be an int <= 4611686018427387904"),
+        (lambda: synthetic.diagonal(R=2**62), ValueError,
+         r"R = 4611686018427387904, B = 0, M = 16 give a 4611686018427387904 x "
+         r"9223372036854775824 cost matrix of \d+ entries, more than the 134217728 \(2\*\*27\)"),
+        (lambda: synthetic.random(R=10, M=2**27), ValueError, r"more than the 134217728"),
         (lambda: synthetic.diagonal(pbar_d="x"), ValueError,
-         r"pbar_d must be one of \('r_pd', 'pd'\), got 'x'"),
+         r"unknown pbar_d 'x'; expected one of \('r_pd', 'pd'\)"),
+        (lambda: synthetic.diagonal(pbar_d=None), ValueError, r"unknown pbar_d None"),
         (lambda: synthetic.random(granularity="col"), ValueError,
-         r"granularity must be one of \('row', 'matrix'\), got 'col'"),
+         r"unknown granularity 'col'; expected one of \('row', 'matrix'\)"),
+        (lambda: synthetic.random(rng=-1), ValueError, r"rng -1 is not a valid seed"),
+        (lambda: synthetic.random(rng=1.5), TypeError,
+         r"rng must be None, an int, a SeedSequence, a BitGenerator or a Generator, got float 1.5"),
+        (lambda: synthetic.random(rng="seed"), TypeError, r"rng must be None, an int.*got str"),
+        (lambda: synthetic.random(rng=object()), TypeError, r"rng must be None, an int.*got object"),
     ],
 )
 def test_bad_arguments(call, exc, match):
     with pytest.raises(exc, match=match):
         call()
+
+
+def test_huge_seeds_are_seeds():
+    assert synthetic.random(rng=2**64) == synthetic.random(rng=2**64)
+    assert synthetic.random(rng=10**30).shape == (4, 24)
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "exc", "match"),
+    [
+        (([0.5], [0.5], [0.5], [[1.0]]), {"pbar_d": "x"}, ValueError, r"unknown pbar_d 'x'"),
+        ((0.5, [0.5], [0.5], [[1.0]]), {}, ValueError, r"r must be 1-D, got shape \(\)"),
+        (([0.5], [0.5], [0.5], [1.0]), {}, ValueError, r"q must be 2-D, got shape \(1,\)"),
+        (([0.5], [0.5, 0.5], [0.5], [[1.0]]), {}, ValueError,
+         r"p_s must have shape \(P,\) = \(1,\) like r, got \(2,\)"),
+        (([0.5], [0.5], [0.5], [[1.0], [1.0]]), {}, ValueError,
+         r"q must have shape \(P, M\) with P = 1 rows like r, got \(2, 1\)"),
+        (([1.5], [0.5], [0.5], [[1.0]]), {}, ValueError, r"r must hold probabilities in \[0, 1\], got 1.5"),
+        (([0.5], [-0.1], [0.5], [[1.0]]), {}, ValueError, r"p_s must hold probabilities in \[0, 1\], got -0.1"),
+        (([0.5], [0.5], [np.inf], [[1.0]]), {}, ValueError, r"p_d must hold probabilities in \[0, 1\], got inf"),
+        (([np.nan], [0.5], [0.5], [[1.0]]), {}, ValueError, r"r contains NaN"),
+        (([0.5], [0.5], [0.5], [[-1.0]]), {}, ValueError, r"q must hold finite likelihood ratios >= 0, got -1.0"),
+        (([0.5], [0.5], [0.5], [[np.inf]]), {}, ValueError, r"q must hold finite likelihood ratios >= 0, got inf"),
+        ((["a"], [0.5], [0.5], [[1.0]]), {}, TypeError, r"r must be an array of real numbers, got dtype <U1"),
+        (([0.5], [0.5], [0.5], [[1j]]), {}, TypeError, r"q must be an array of real numbers, got dtype complex128"),
+        (([0.5], [0.5], [0.5], [[1.0], [1.0, 2.0]]), {}, TypeError, r"q must be a numeric array, could not convert"),
+        (([0.5], [0.5], [0.5], [[1.0]]), {"n_persisting": 2}, ValueError,
+         r"n_persisting must be an int <= 1 \(2\*\*0\), got 2"),
+        (([0.5], [0.5], [0.5], [[1.0]]), {"n_persisting": -1}, ValueError,
+         r"n_persisting must be None \(off\) or an int >= 0, got -1"),
+        (([0.5], [0.5], [0.5], [[1.0]]), {"n_persisting": 1.0}, TypeError,
+         r"n_persisting must be None or an int, got float 1.0"),
+    ],
+)
+def test_eta_from_parameters_bad_arguments(args, kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        eta_from_parameters(*args, **kwargs)
+
+
+def test_eta_from_parameters_edges():
+    # no rows, no measurements, probabilities 0 and 1 exactly
+    d, m, x = eta_from_parameters(np.zeros(0), np.zeros(0), np.zeros(0), np.zeros((0, 3)))
+    assert d.shape == (0, 3) and m.shape == x.shape == (0,)
+    d, m, x = eta_from_parameters([1.0, 0.0], [1.0, 1.0], [1.0, 0.5], np.zeros((2, 0)),
+                                  n_persisting=0)
+    assert_array_equal(x, [0.0, 1.0])
+    assert_array_equal(m, [0.0, 0.0])
