@@ -99,8 +99,20 @@ def base_key(rng) -> int:
     --------
     >>> base_key(7) == base_key(7)
     True
+    >>> base_key(-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: rng must be None, a non-negative int or sequence of them, a SeedSequence, a
+    BitGenerator or a Generator; got -1 (expected non-negative integer)
     """
-    return int(np.random.default_rng(rng).integers(0, 2**63, dtype=np.uint64))
+    try:
+        gen = np.random.default_rng(rng)
+    except (TypeError, ValueError) as exc:  # numpy's message does not name the argument
+        raise type(exc)(
+            "rng must be None, a non-negative int or sequence of them, a SeedSequence, a "
+            f"BitGenerator or a Generator; got {rng!r} ({exc})"
+        ) from None
+    return int(gen.integers(0, 2**63, dtype=np.uint64))
 
 
 class SplitMix64:

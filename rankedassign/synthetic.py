@@ -111,7 +111,8 @@ def eta_from_parameters(r, p_s, p_d, q, *, n_persisting=None, pbar_d="r_pd"):
     if q.size and not (np.isfinite(q) & (q >= 0)).all():
         bad = float(q[~(np.isfinite(q) & (q >= 0))][0])
         raise ValueError(f"q must hold finite likelihood ratios >= 0, got {bad}")
-    R = check_optional_int(n_persisting, "n_persisting", minimum=0, maximum=P)
+    R = check_optional_int(n_persisting, "n_persisting", minimum=0, maximum=P,
+                           none_means="every row persists")
     R = P if R is None else R
     pbar_s = r.copy()
     pbar_s[:R] = r[:R] * p_s[:R]

@@ -96,13 +96,17 @@ def check_int(value, name: str, *, minimum: int = 0, maximum: int = MAX_COUNT) -
     if v < minimum:
         raise ValueError(f"{name} must be an int >= {minimum}, got {v}")
     if v > maximum:
-        raise ValueError(f"{name} must be an int <= {maximum} (2**{maximum.bit_length() - 1}), "
-                         f"got {v}")
+        power = maximum.bit_length() - 1
+        note = f" (2**{power})" if maximum > 1 and maximum == 2**power else ""
+        raise ValueError(f"{name} must be an int <= {maximum}{note}, got {v}")
     return v
 
 
-def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX_COUNT):
+def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX_COUNT,
+                       none_means: str = "off"):
     """``None`` passes through (a rule switched off); anything else as :func:`check_int`.
+
+    ``none_means`` says in the messages what ``None`` stands for (default ``"off"``).
 
     Examples
     --------
@@ -120,7 +124,8 @@ def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be None or an int, got {type(value).__name__} {value!r}")
     if value < minimum:
-        raise ValueError(f"{name} must be None (off) or an int >= {minimum}, got {value}")
+        raise ValueError(f"{name} must be None ({none_means}) or an int >= {minimum}, "
+                         f"got {value}")
     return check_int(value, name, minimum=minimum, maximum=maximum)
 
 
