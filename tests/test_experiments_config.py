@@ -93,3 +93,31 @@ def test_config_from_dict_errors(overrides, match):
 def test_config_validation(make, match):
     with pytest.raises(ValueError, match=match):
         make()
+
+
+def test_config_is_read_from_the_registry():
+    from rankedassign.experiments import get_study, study_names
+
+    c = Config.quick()
+    assert set(c.studies) == set(study_names())
+    assert all(c[s] == get_study(s).quick() for s in study_names())
+    assert Config.full()["tracking_var"] == TrackingConfig.paper_var()
+    assert c.to_dict()["mode"] == "quick" and c.to_dict()["table1"]["n_mc"] == c.table1.n_mc
+    assert c.replace(table1=Table1Config(n_mc=3)).table1.n_mc == 3
+
+
+@pytest.mark.parametrize(
+    ("make", "error", "match"),
+    [
+        (lambda: Config("medium"), ReproduceError, "mode must be 'quick' or 'full', got 'medium'"),
+        (lambda: Config("full", tabel1=Table1Config()), ReproduceError,
+         "unknown study 'tabel1'; choose from table1, sweep"),
+        (lambda: Config("full", sweep=Table1Config()), TypeError,
+         "sweep settings must be a SweepConfig, got Table1Config"),
+        (lambda: Config.full().tabel1, AttributeError, "Config has no study 'tabel1'"),
+        (lambda: Config.full()["tabel1"], ReproduceError, "unknown study 'tabel1'"),
+    ],
+)
+def test_config_errors(make, error, match):
+    with pytest.raises(error, match=match):
+        make()

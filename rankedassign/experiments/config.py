@@ -1,4 +1,5 @@
-"""Settings of the reproduction studies: the paper's (``full``) and a quick subset.
+"""Settings types of the reproduction studies (each study's ``full`` and ``quick`` are in its
+module; :class:`~rankedassign.experiments.Config` gathers them).
 
 ``quick`` keeps every per-run setting of the paper (chain lengths, observation budgets,
 thresholds) and only lowers the number of Monte Carlo runs and of sweep points, so each number
@@ -7,8 +8,10 @@ it prints estimates the same quantity as the paper's, with a larger standard err
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+
+from ..tracking.association import MARGINALS
+from ..tracking.models import PRESETS
 
 __all__ = [
     "FAMILIES",
@@ -16,13 +19,13 @@ __all__ = [
     "STALL_READINGS",
     "STALE_READINGS",
     "CRITERIA",
-    "STUDIES",
     "Table1Config",
     "SweepConfig",
     "TrackingConfig",
     "AblationConfig",
     "OptimumConfig",
-    "Config",
+    "ReadingsConfig",
+    "RANDOM_READINGS",
 ]
 
 #: The paper's synthetic matrix families (spec §1.6), in report order.
@@ -37,8 +40,6 @@ STALL_READINGS = ("global-consecutive", "global-cumulative", "chain-local")
 STALE_READINGS = ("consecutive", "cumulative", "literal-set", "literal-multiset")
 #: Table I columns: which termination rules are active.
 CRITERIA = ("stall", "stale", "full")
-#: Studies of ``rankedassign reproduce``, in run order.
-STUDIES = ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum")
 
 
 def _positive(name: str, value) -> None:
@@ -222,9 +223,6 @@ class TrackingConfig:
             "tau_stale", "ospa_window",
         ):
             _positive(name, getattr(self, name))
-        from ..tracking.association import MARGINALS
-        from ..tracking.models import PRESETS
-
         if self.preset not in PRESETS:
             raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {self.preset!r}")
         if self.marginals not in MARGINALS:
@@ -233,74 +231,40 @@ class TrackingConfig:
             )
 
 
+#: Readings of the random family the paper's text admits (spec A2, A5): ``(pbar_d,
+#: granularity)`` with ``Pbar_D`` = ``r P_d`` or ``P_d`` and ``P_s, P_d`` drawn per row or once
+#: per matrix (``q`` is per entry in every reading).
+RANDOM_READINGS = (("r_pd", "row"), ("pd", "row"), ("r_pd", "matrix"), ("pd", "matrix"))
+
+
 @dataclass(frozen=True)
-class Config:
-    """Settings of every study of ``rankedassign reproduce``.
+class ReadingsConfig:
+    """Table I (all nine cells) under each reading of the random family (spec A2, A5).
+
+    ``pbar_d`` also enters the diagonal family, so each reading is a complete Table I; the
+    uniform family does not depend on either choice and is run once.
 
     Examples
     --------
-    >>> from rankedassign.experiments import Config
-    >>> Config.full().table1.n_mc, Config.quick().table1.n_chains
-    (100, 10000)
-    >>> Config.quick().with_mc(3).sweep.n_mc
-    3
+    >>> from rankedassign.experiments.config import ReadingsConfig
+    >>> ReadingsConfig().readings[:2]
+    (('r_pd', 'row'), ('pd', 'row'))
     """
 
-    mode: str = "full"
-    table1: Table1Config = field(default_factory=Table1Config)
-    sweep: SweepConfig = field(default_factory=SweepConfig)
-    tracking: TrackingConfig = field(default_factory=TrackingConfig)
-    tracking_var: TrackingConfig = field(default_factory=TrackingConfig.paper_var)
-    ablation: AblationConfig = field(default_factory=AblationConfig)
-    optimum: OptimumConfig = field(default_factory=OptimumConfig)
+    n_mc: int = 100
+    readings: tuple[tuple[str, str], ...] = RANDOM_READINGS
+    original_obs: int = 250_000
+    n_chains: int = 10_000
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 25
 
-    @classmethod
-    def full(cls) -> Config:
-        """The paper's settings: 100 Monte Carlo runs everywhere."""
-        return cls(mode="full")
-
-    @classmethod
-    def quick(cls) -> Config:
-        """The paper's per-run settings with fewer Monte Carlo runs and sweep points.
-
-        Tuned so that every study together finishes within about five minutes on two cores.
-        """
-        return cls(
-            mode="quick",
-            table1=Table1Config(n_mc=QUICK_MC["table1"]),
-            sweep=SweepConfig(
-                n_mc=QUICK_MC["sweep"], obs_grid=(100, 1_000, 10_000, 100_000, 250_000),
-            ),
-            tracking=TrackingConfig(n_mc=QUICK_MC["tracking"]),
-            tracking_var=TrackingConfig.paper_var(n_mc=QUICK_MC["tracking_var"]),
-            ablation=AblationConfig(n_mc=QUICK_MC["ablation"]),
-            optimum=OptimumConfig(n_mc=QUICK_MC["optimum"]),
-        )
-
-    def with_mc(self, n_mc: int) -> Config:
-        """The same settings with ``n_mc`` Monte Carlo runs in every study."""
-        _positive("n_mc", n_mc)
-        return dataclasses.replace(
-            self,
-            **{s: dataclasses.replace(getattr(self, s), n_mc=n_mc) for s in STUDIES},
-        )
-
-    def to_dict(self) -> dict:
-        """Plain-data view (for the report's JSON)."""
-        return dataclasses.asdict(self)
-
-
-#: Monte Carlo runs of each study in quick mode (the rest of the settings are the paper's).
-QUICK_MC = {"table1": 40, "sweep": 10, "tracking": 10, "tracking_var": 10, "ablation": 10,
-            "optimum": 20}
-
-
-def study_config(config, name: str, cls):
-    """Settings of study ``name`` from ``config`` (a study config, a :class:`Config`, None)."""
-    if config is None:
-        return cls()
-    if isinstance(config, Config):
-        return getattr(config, name)
-    if not isinstance(config, cls):
-        raise TypeError(f"config must be a {cls.__name__} or Config, got {type(config).__name__}")
-    return config
+    def __post_init__(self):
+        for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
+            _positive(name, getattr(self, name))
+        readings = tuple(tuple(r) for r in self.readings)
+        if not readings or any(r not in RANDOM_READINGS for r in readings):
+            raise ValueError(
+                f"readings must be a non-empty subset of {RANDOM_READINGS}, got {self.readings!r}"
+            )
+        object.__setattr__(self, "readings", readings)
