@@ -337,7 +337,7 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     for png in PNGS:
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", png
     t1 = _strict_json(out / "table1.json")
-    assert len(t1) == 9 and t1[0]["n_mc"] == 2 and t1[0]["family"] == "diagonal"
+    assert len(t1) == 12 and t1[0]["n_mc"] == 2 and t1[0]["family"] == "diagonal"
     tr = _strict_json(out / "tracking.json")
     assert {"obs_original", "obs_proposed", "reduction_pct", "row_updates_original",
             "row_updates_proposed", "reduction_row_updates_pct", "ospa2_mean_original",

@@ -22,7 +22,8 @@ def test_full_is_the_papers_settings():
     t = c.table1
     assert (t.n_mc, t.original_obs, t.n_chains, t.chain_length, t.tau_stall, t.tau_stale) == (
         100, 250_000, 10_000, 25, 5, 25)
-    assert t.families == ("diagonal", "uniform", "random")
+    # the paper's three families and the random family under the other reading of Pbar_D
+    assert t.families == ("diagonal", "uniform", "random", "random-r_pd")
     k = c.tracking
     assert (k.n_mc, k.original_obs, k.n_chains, k.chain_length, k.tau_stall, k.tau_stale) == (
         100, 10_000, 400, 25, 5, 10)
@@ -79,6 +80,7 @@ def test_config_from_dict_errors(overrides, match):
         (lambda: Table1Config(families=("square",)), "unknown family 'square'"),
         (lambda: Table1Config(families=()), "must name at least one family"),
         (lambda: Table1Config(pbar_d="x"), "pbar_d must be 'r_pd' or 'pd'"),
+        (lambda: Table1Config(diagonal_pbar_d="x"), "diagonal_pbar_d must be 'r_pd' or 'pd'"),
         (lambda: Table1Config(granularity="x"), "granularity must be 'row' or 'matrix'"),
         (lambda: AblationConfig(stall_readings=("S9",)), "stall_readings must be a non-empty"),
         (lambda: SweepConfig(obs_grid=(10, 5)), "obs_grid must be strictly increasing"),

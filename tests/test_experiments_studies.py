@@ -46,10 +46,10 @@ def table1():
 def test_table1_structure_and_ranges(table1):
     rows, runs = table1
     assert [(r.family, r.criterion) for r in rows] == [
-        (f, c) for f in ("diagonal", "uniform", "random") for c in CRITERIA
+        (f, c) for f in ("diagonal", "uniform", "random", "random-r_pd") for c in CRITERIA
     ]
     for r in rows:
-        assert TABLE1_KEYS <= set(r)
+        assert TABLE1_KEYS <= {f.name for f in dataclasses.fields(r)}
         assert r.n_mc == 2
         assert 0.0 <= r.error_original_mean <= 100.0
         assert 0.0 <= r.error_proposed_mean <= 100.0
@@ -110,7 +110,7 @@ def test_table1_random_matrix_redrawn_and_errors_exact(table1):
     from rankedassign.experiments import child_seed, run_seed
 
     s = run_seed(11, 1)
-    p = synthetic.random(rng=child_seed(s, 0))
+    p = synthetic.random(pbar_d="pd", granularity="matrix", rng=child_seed(s, 0))  # A2, A5
     res = sample_original(p, 5_000, rng=child_seed(s, 1, 2))
     assert rs[1]["original"]["error"] == oracle.truncation_error(p, res.assignments)
 
@@ -147,7 +147,7 @@ def test_ablation_structure_and_readings():
     assert len(rows) == len(STALL_READINGS) * len(STALE_READINGS) * 2 * len(CRITERIA)
     assert {(r.stall, r.stale) for r in rows} == {
         (a, b) for a in STALL_READINGS for b in STALE_READINGS}
-    assert all(TABLE1_KEYS <= set(r) for r in rows)
+    assert all(TABLE1_KEYS <= {f.name for f in dataclasses.fields(r)} for r in rows)
     by = {(r.stall, r.stale, r.criterion): r for r in rows if r.family == "uniform"}
     diag = {(r.stall, r.stale, r.criterion): r for r in rows if r.family == "diagonal"}
     # Literal set form |x| - n_u never fires; the multiset form fires after the first chain.
@@ -322,17 +322,22 @@ def test_tracking_tiny_rao_blackwell_marginals():
         assert sum(by_r[m]["n_tracks"]) > sum(by_t[m]["n_tracks"])
 
 
-def test_random_pd_family_is_paired_with_random():
+def test_other_random_reading_is_paired_with_random():
     from rankedassign.experiments import child_seed, run_seed
     from rankedassign.experiments._synthetic import make_problem
 
     cfg = AblationConfig()
-    assert cfg.families == ("diagonal", "uniform", "random", "random-pd")
+    assert cfg.families == ("diagonal", "uniform", "random", "random-r_pd")
+    assert Table1Config().families == cfg.families
+    # the readings the random_readings study found consistent with Table I (A2, A5)
+    assert (cfg.pbar_d, cfg.diagonal_pbar_d, cfg.granularity) == ("pd", "r_pd", "matrix")
     s = run_seed(8, 3)
     a = make_problem("random", s, cfg)
-    b = make_problem("random-pd", s, cfg)
-    assert a == synthetic.random(rng=child_seed(s, 0))
-    assert b == synthetic.random(pbar_d="pd", rng=child_seed(s, 0))
+    b = make_problem("random-r_pd", s, cfg)
+    assert a == synthetic.random(pbar_d="pd", granularity="matrix", rng=child_seed(s, 0))
+    assert a == make_problem("random-pd", s, cfg)
+    assert b == synthetic.random(pbar_d="r_pd", granularity="matrix", rng=child_seed(s, 0))
+    assert make_problem("diagonal", s, cfg) == synthetic.diagonal(pbar_d="r_pd")
     # Same draws: the dead weights 1 - r P_s do not depend on Pbar_D.
     assert_allclose(a.eta()[2], b.eta()[2], rtol=1e-15)
     with pytest.raises(ValueError, match="unknown family 'square'"):
@@ -425,20 +430,23 @@ def test_random_readings_study(tmp_path):
     rows, runs = run_study("random_readings", cfg, seed=4, progress=False, return_runs=True)
     # 2 diagonal readings + 1 uniform + 4 random, 2 runs each
     assert len(runs) == 7 * 2
-    assert len(rows) == 4 * 9
-    assert {(r.pbar_d, r.granularity) for r in rows} == set(cfg.readings)
-    # the default reading is the table1 study's, run for run
-    t1 = run_study("table1", Table1Config(n_mc=2, original_obs=1_000, n_chains=40), seed=4,
-                   progress=False)
-    default = [r for r in rows if (r.pbar_d, r.granularity) == ("r_pd", "row")]
+    assert len(rows) == 8 * 9  # every diagonal reading with every random reading
+    combos = {(r.diagonal_pbar_d, r.pbar_d, r.granularity) for r in rows}
+    assert combos == {(d, a, b) for d in ("r_pd", "pd") for a, b in cfg.readings}
+    # the default combination is the table1 study's, run for run
+    t1 = run_study("table1", Table1Config(n_mc=2, original_obs=1_000, n_chains=40,
+                                          families=("diagonal", "uniform", "random")),
+                   seed=4, progress=False)
+    default = [r for r in rows if (r.diagonal_pbar_d, r.pbar_d, r.granularity)
+               == ("r_pd", "pd", "matrix")]
     for a, t in zip(default, t1, strict=True):
         fields = dataclasses.asdict(a)
-        del fields["pbar_d"], fields["granularity"]
+        del fields["diagonal_pbar_d"], fields["pbar_d"], fields["granularity"]
         assert Table1Row(**fields) == t
     # the uniform family is shared by every reading
-    uni = {dataclasses.astuple(r)[:-2] for r in rows if r.family == "uniform"}
+    uni = {dataclasses.astuple(r)[:-3] for r in rows if r.family == "uniform"}
     assert len(uni) == 3
-    assert reading_verdicts(rows) == {k: [] for k in cfg.readings}  # not judged: tiny budget
+    assert reading_verdicts(rows) == {k: [] for k in combos}  # not judged: tiny budget
     with pytest.raises(ValueError, match="readings must be a non-empty subset"):
         ReadingsConfig(readings=(("pd", "cell"),))
 

@@ -48,14 +48,14 @@ def _deterministic(family: str, pbar_d: str):
 
 def make_problem(family: str, run_ss: np.random.SeedSequence, cfg):
     """The matrix of ``family`` for one Monte Carlo run (the random family is re-drawn)."""
-    if family in ("random", "random-pd"):
+    if family in ("random", "random-pd", "random-r_pd"):
         return synthetic.random(
-            pbar_d="pd" if family == "random-pd" else cfg.pbar_d,
+            pbar_d=cfg.pbar_d if family == "random" else family.split("-", 1)[1],
             granularity=cfg.granularity,
             rng=child_seed(run_ss, KEY_MATRIX),
         )
     if family in ("diagonal", "uniform"):
-        return _deterministic(family, cfg.pbar_d)
+        return _deterministic(family, getattr(cfg, "diagonal_pbar_d", cfg.pbar_d))
     raise ValueError(f"unknown family {family!r}; choose from {ALL_FAMILIES}")
 
 

@@ -26,14 +26,26 @@ __all__ = [
     "OptimumConfig",
     "ReadingsConfig",
     "RANDOM_READINGS",
+    "DEFAULT_PBAR_D",
+    "DEFAULT_DIAGONAL_PBAR_D",
+    "DEFAULT_GRANULARITY",
+    "OTHER_RANDOM",
 ]
 
 #: The paper's synthetic matrix families (spec §1.6), in report order.
 FAMILIES = ("diagonal", "uniform", "random")
-#: Every family a synthetic study accepts: ``"random-pd"`` is the random family with
-#: ``Pbar_D = P_d`` instead of the paper's ``r P_d`` (spec A2), drawn from the same uniforms as
-#: ``"random"`` in the same run, so the two are paired.
-ALL_FAMILIES = (*FAMILIES, "random-pd")
+#: Every family a synthetic study accepts: ``"random-pd"`` and ``"random-r_pd"`` are the random
+#: family with ``Pbar_D = P_d`` and with the paper's literal ``r P_d`` (spec A2) whatever the
+#: setting ``pbar_d`` says, drawn from the same uniforms as ``"random"`` in the same run, so they
+#: are paired with it.
+ALL_FAMILIES = (*FAMILIES, "random-pd", "random-r_pd")
+#: Default reading of ``Pbar_D`` in the random family and in the diagonal family, and of the
+#: granularity of the random family's ``P_s, P_d`` (spec A2, A5): chosen by the
+#: ``random_readings`` study, see the documentation's ambiguity list.
+DEFAULT_PBAR_D, DEFAULT_DIAGONAL_PBAR_D, DEFAULT_GRANULARITY = "pd", "r_pd", "matrix"
+#: The random family under the other reading of ``Pbar_D``, shown beside the default one.
+OTHER_RANDOM = "random-r_pd" if DEFAULT_PBAR_D == "pd" else "random-pd"
+_PBAR_D = ("r_pd", "pd")
 #: Readings of the stall rule (spec §3.2), the recommended one (S3) first.
 STALL_READINGS = ("global-consecutive", "global-cumulative", "chain-local")
 #: Readings of the stale rule (spec §3.2), the recommended one (T3) first.
@@ -68,15 +80,18 @@ class _Synthetic:
     tau_stall: int = 5
     tau_stale: int = 25
     #: ``Pbar_D`` of the random family (spec A2) and granularity of ``P_s, P_d`` (A5).
-    pbar_d: str = "r_pd"
-    granularity: str = "row"
+    pbar_d: str = DEFAULT_PBAR_D
+    granularity: str = DEFAULT_GRANULARITY
+    #: ``Pbar_D`` of the diagonal family (spec A2).
+    diagonal_pbar_d: str = DEFAULT_DIAGONAL_PBAR_D
 
     def __post_init__(self):
         for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
             _positive(name, getattr(self, name))
         _families("families", self.families)
-        if self.pbar_d not in ("r_pd", "pd"):
-            raise ValueError(f"pbar_d must be 'r_pd' or 'pd', got {self.pbar_d!r}")
+        for name in ("pbar_d", "diagonal_pbar_d"):
+            if getattr(self, name) not in _PBAR_D:
+                raise ValueError(f"{name} must be 'r_pd' or 'pd', got {getattr(self, name)!r}")
         if self.granularity not in ("row", "matrix"):
             raise ValueError(f"granularity must be 'row' or 'matrix', got {self.granularity!r}")
 
@@ -85,6 +100,9 @@ class _Synthetic:
 class Table1Config(_Synthetic):
     """Table I: original vs short-chain sampler with stall only, stale only and both.
 
+    By default the random family is also run under the other reading of ``Pbar_D``
+    (:data:`OTHER_RANDOM`), so the report shows both readings beside the paper's row.
+
     Examples
     --------
     >>> from rankedassign.experiments import Table1Config
@@ -92,13 +110,15 @@ class Table1Config(_Synthetic):
     10000
     """
 
+    families: tuple[str, ...] = (*FAMILIES, OTHER_RANDOM)
+
 
 @dataclass(frozen=True)
 class AblationConfig(_Synthetic):
     """Table I under every pair of stall x stale readings (spec §3.2).
 
-    By default it adds the ``"random-pd"`` family (``Pbar_D = P_d``, spec A2) to the paper's
-    three, so the reading of ``Pbar_D`` is ablated too.
+    By default it adds the random family under the other reading of ``Pbar_D``
+    (:data:`OTHER_RANDOM`, spec A2) to the paper's three, so that reading is ablated too.
 
     Examples
     --------
@@ -107,7 +127,7 @@ class AblationConfig(_Synthetic):
     12
     """
 
-    families: tuple[str, ...] = ALL_FAMILIES
+    families: tuple[str, ...] = (*FAMILIES, OTHER_RANDOM)
     stall_readings: tuple[str, ...] = STALL_READINGS
     stale_readings: tuple[str, ...] = STALE_READINGS
 
@@ -151,8 +171,8 @@ class SweepConfig:
         100, 200, 500, 1_000, 2_000, 5_000, 10_000, 20_000, 50_000, 100_000, 250_000,
     )
     chain_lengths: tuple[int, ...] = (5, 10, 25, 50, 100)
-    pbar_d: str = "r_pd"
-    granularity: str = "row"
+    pbar_d: str = DEFAULT_PBAR_D
+    granularity: str = DEFAULT_GRANULARITY
 
     def __post_init__(self):
         _positive("n_mc", self.n_mc)
@@ -241,8 +261,9 @@ RANDOM_READINGS = (("r_pd", "row"), ("pd", "row"), ("r_pd", "matrix"), ("pd", "m
 class ReadingsConfig:
     """Table I (all nine cells) under each reading of the random family (spec A2, A5).
 
-    ``pbar_d`` also enters the diagonal family, so each reading is a complete Table I; the
-    uniform family does not depend on either choice and is run once.
+    ``Pbar_D`` also enters the diagonal family: every random reading is combined with each
+    reading of the diagonal family's ``Pbar_D`` in ``diagonal_readings``, so each combination
+    is a complete Table I; the uniform family depends on neither choice and is run once.
 
     Examples
     --------
@@ -253,6 +274,7 @@ class ReadingsConfig:
 
     n_mc: int = 100
     readings: tuple[tuple[str, str], ...] = RANDOM_READINGS
+    diagonal_readings: tuple[str, ...] = _PBAR_D
     original_obs: int = 250_000
     n_chains: int = 10_000
     chain_length: int = 25
@@ -268,3 +290,6 @@ class ReadingsConfig:
                 f"readings must be a non-empty subset of {RANDOM_READINGS}, got {self.readings!r}"
             )
         object.__setattr__(self, "readings", readings)
+        if not self.diagonal_readings or any(r not in _PBAR_D for r in self.diagonal_readings):
+            raise ValueError(f"diagonal_readings must be a non-empty subset of {_PBAR_D}, got "
+                             f"{self.diagonal_readings!r}")

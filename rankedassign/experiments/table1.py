@@ -81,11 +81,14 @@ def summarise_table1(runs: list[dict], cfg: Table1Config) -> list[Table1Row]:
 
 def family_label(family: str, cfg) -> str:
     """The family with the reading of P̄_D and of the P_s, P_d draws it uses (spec A2, A5)."""
-    if family == "random-pd":
-        return f"random, P̄_D = P_d ({cfg.granularity} P_s, P_d)"
-    if family == "random":
-        pbar = "r·P_d" if cfg.pbar_d == "r_pd" else "P_d"
-        return f"random, P̄_D = {pbar} ({cfg.granularity} P_s, P_d)"
+    def pbar(p):
+        return "r·P_d" if p == "r_pd" else "P_d"
+
+    if family.startswith("random"):
+        p = cfg.pbar_d if family == "random" else family.split("-", 1)[1]
+        return f"{family}: P̄_D = {pbar(p)}, {cfg.granularity} P_s, P_d"
+    if family == "diagonal" and hasattr(cfg, "diagonal_pbar_d"):
+        return f"diagonal: P̄_D = {pbar(cfg.diagonal_pbar_d)}"
     return family
 
 
