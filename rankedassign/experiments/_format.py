@@ -64,12 +64,18 @@ def versus(ours: float, se, paper: float) -> str:
     >>> from rankedassign.experiments._format import versus
     >>> versus(41.0, 0.25, 40.27), versus(43.0, 0.25, 40.27), versus(1.0, None, 0.0)
     ('+2.9 SE', '+10.9 SE — differs from the paper', 'no SE (one run)')
+    >>> versus(0.0358, 0.00075, 0.04)
+    "-5.6 SE (within the paper's rounding)"
     """
     z = distance_in_se(ours, se, paper)
     if z is None:
         return "no SE (one run)"
     text = f"{z:+.1f} SE" if math.isfinite(z) else f"{'+' if z > 0 else '-'}inf SE (SE 0)"
-    return text if agrees(ours, se, paper) else f"{text} — differs from the paper"
+    if not agrees(ours, se, paper):
+        return f"{text} — differs from the paper"
+    if abs(z) > Z_LIMIT:
+        return f"{text} (within the paper's rounding)"
+    return text
 
 
 __all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "integer", "plural", "table", "versus"]
