@@ -297,9 +297,11 @@ def test_tracking_var_tiny():
     assert_allclose(out.paper_calls_per_scan, 10.76)
     assert_allclose(out.paper_sweeps_per_call_proposed, 63_474 / 1_076)
     # a Config contributes its tracking_var field; None means TrackingConfig.paper_var()
-    from rankedassign.experiments.config import study_config
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments.registry import study_config
 
-    assert study_config(Config.quick(), "tracking_var", TrackingConfig).preset == "paper-var"
+    assert Config.quick()["tracking_var"].preset == "paper-var"
+    assert study_config(None, get_study("tracking_var")) == TrackingConfig.paper_var()
 
 
 def test_tracking_tiny_rao_blackwell_marginals():
@@ -405,7 +407,9 @@ def test_table1_report_shows_the_paper_beside_ours(table1):
     # TINY is not the paper's budget: the paper's cells are shown, not judged
     assert all(r.agrees_with_paper is None for r in rows)
     text = get_study("table1").render(rows, Table1Config(**TINY))
-    assert "| diagonal | stall |" in text and "| 79.95 |" in text and "| 10.46 |" in text
+    assert "| diagonal: P̄_D = r·P_d | stall |" in text
+    assert "| 79.95 |" in text and "| 10.46 |" in text
+    assert "| random-r_pd: P̄_D = r·P_d, matrix P_s, P_d | full |" in text
     assert "These settings are not the paper's" in text
     assert "2 Monte Carlo runs" in text
 
