@@ -17,7 +17,9 @@ from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from typing import Any
 
+import numba
 import numpy as np
+from tqdm.auto import tqdm
 
 __all__ = [
     "run_seed",
@@ -100,8 +102,6 @@ def child_seed(parent: np.random.SeedSequence, *keys: int) -> np.random.SeedSequ
 def _worker_init() -> None:  # pragma: no cover - runs in child processes
     # Numba's own thread pool stays at one thread per worker process: the processes already
     # use every core, and nested parallelism would oversubscribe the machine.
-    import numba
-
     numba.set_num_threads(1)
 
 
@@ -233,8 +233,6 @@ def run_tasks(
     >>> run_tasks(add, [(1, 2), (3, 4)], progress=False)
     [3, 7]
     """
-    from tqdm.auto import tqdm
-
     bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr)
     try:
         if executor is None:

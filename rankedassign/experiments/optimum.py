@@ -18,6 +18,7 @@ import oracle
 
 from . import _format as fmt
 from ._executor import run_seed
+from ._plots import figure
 from ._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
 from .config import STALE_READINGS, STALL_READINGS, OptimumConfig
 from .registry import Study, as_rows, per_family_tasks, register_study
@@ -184,8 +185,6 @@ The paper has no such study.
 
 def plot_optimum(rows: list[OptimumRow], directory: Path) -> list[str]:
     """Sampled error vs the best error at the same number of distinct solutions."""
-    from ._plots import figure
-
     fams = list(dict.fromkeys(r.family for r in rows))
     fig, (ax,) = figure()
     x = np.arange(len(fams))

@@ -9,6 +9,7 @@ import numpy as np
 
 from . import _format as fmt
 from ._executor import run_seed
+from ._plots import figure
 from ._synthetic import (
     Table1Row,
     make_problem,
@@ -213,8 +214,6 @@ def _reference_checks(rows, cfg) -> str:
 
 def plot_table1(rows: list[Table1Row], directory: Path) -> list[str]:
     """ΔObs and ΔError per family and criterion (±1 SE bars), the paper's values marked."""
-    from ._plots import figure
-
     fams = list(dict.fromkeys(r.family for r in rows))
     fig, axes = figure(2, width=5.5)
     x = np.arange(len(fams))

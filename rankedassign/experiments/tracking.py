@@ -17,6 +17,7 @@ import numpy as np
 from .. import metrics, tracking
 from . import _format as fmt
 from ._executor import run_seed
+from ._plots import figure
 from .config import TrackingConfig
 from .paper import PAPER_TOTALS
 from .registry import Study, register_study
@@ -324,8 +325,6 @@ def plot_tracking(summary: TrackingSummary, directory: Path, study: str = "track
 
     Both plots' titles name the study, so the two tracking studies' plots differ.
     """
-    from ._plots import figure
-
     cur = summary.curves
     k = np.array(cur["scan"])
     which = _SHORT_TITLES.get(study, study)
