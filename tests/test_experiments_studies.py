@@ -384,6 +384,23 @@ def test_rows_carry_the_papers_cells_and_the_three_se_rule():
     assert unjudged.paper_delta_obs_pct == 56.96 and unjudged.agrees_with_paper is None
 
 
+def test_table1_verdict_separates_the_default_reading_from_the_other():
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments._synthetic import with_paper
+
+    rows = [with_paper(f, c, _stats(p.delta_obs_pct, 0.5, p.delta_error_pp, 0.1))
+            for (f, c), p in PAPER_TABLE1.items()]
+    rows += [with_paper("random-r_pd", c, _stats(65.0, 1.3, 5.3, 0.17))
+             for c in ("stall", "full")]
+    text = get_study("table1").render(rows, Table1Config())
+    assert ("Under the default readings, all 18 numbers of the 9 compared cells lie within 3 "
+            "standard errors of the paper's.") in text
+    assert ("Under the other reading of the random family, 4 numbers of the 4 compared lie "
+            "more than 3 standard errors from the paper's:") in text
+    assert ("- random-r_pd: P̄_D = r·P_d, matrix P_s, P_d, stall: ΔObs 65.00 ± 1.30 % against "
+            "the paper's 56.97 % (+6.2 SE)") in text
+
+
 def test_ablation_verdict_uses_the_three_se_rule():
     from rankedassign.experiments._synthetic import with_paper
     from rankedassign.experiments.ablation import consistency
