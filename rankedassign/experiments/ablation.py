@@ -131,10 +131,12 @@ def render_ablation(rows: list[AblationRow], cfg: AblationConfig) -> str:
              if pairs and not off else
              f"Under the recommended pair, cells more than {Z_LIMIT:g} SE from the paper's:\n\n"
              + "\n".join(f"- {line}" for line in off) if pairs else "")
-    alt = ("`random-pd` is the random family with P̄_D = P_d instead of the paper's r·P_d "
-           "(spec A2), drawn from the same uniforms as `random` in each run; its cells are "
-           "compared with the paper's random row in a column of their own."
-           if "random-pd" in fams else "")
+    alt = " ".join(
+        f"`{f}` is the random family read as {family_label(f, cfg).split(': ', 1)[1]} "
+        "(spec A2), drawn from the same uniforms as `random` in each run; its cells are "
+        "compared with the paper's random row in a column of their own."
+        for f in extra
+    )
     return f"""## Ablation — every reading of stall × stale (spec §3.2), beside the paper's
 
 Each cell is **ΔObs (%) / ΔError (pp)** against the original sampler on the same matrices,
@@ -149,7 +151,7 @@ only on the stall reading and the stale-only columns only on the stale reading (
 
 "consistent with the paper?" applies Table I's rule to every cell of the paper's three
 families: ΔObs and ΔError each within {Z_LIMIT:g} of our standard errors of the paper's number
-(or within half a unit of its last printed digit); "no" lists the cells that are not. With
+± half a unit of its last printed digit; "no" lists the cells that are not. With
 {fmt.plural(n, "run")} the standard errors are wide, so "yes" means "not contradicted at this
 precision".
 

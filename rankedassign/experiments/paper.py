@@ -2,8 +2,8 @@
 
 Trezza, Bucci & Varshney (2023), Table I and §V-B, as restated in spec §3.4 and §3.6. A
 reproduced number agrees with the paper's when it lies within three of its Monte Carlo standard
-errors of it (:func:`agrees`); the paper prints two decimals, so half a unit of its last digit is
-always allowed too.
+errors of the interval its printed value stands for (:func:`agrees`): the paper prints two
+decimals, so its value is known to half a unit of the last digit.
 """
 
 from __future__ import annotations
@@ -78,10 +78,11 @@ def distance_in_se(ours: float, se: float | None, paper: float) -> float | None:
 
 
 def agrees(ours: float, se: float | None, paper: float) -> bool | None:
-    """Whether ``ours`` lies within :data:`Z_LIMIT` standard errors of ``paper``.
+    """Whether ``ours`` lies within :data:`Z_LIMIT` standard errors of ``paper``'s rounding
+    interval, ``|ours - paper| <= 3 se + 0.005``.
 
-    Half a unit of the paper's last printed digit is always allowed (the paper rounds);
-    ``None`` without a standard error (one Monte Carlo run).
+    The paper prints two decimals, so its number stands for an interval half a unit of the last
+    digit wide on either side; ``None`` without a standard error (one Monte Carlo run).
 
     Examples
     --------
@@ -91,4 +92,4 @@ def agrees(ours: float, se: float | None, paper: float) -> bool | None:
     """
     if se is None:
         return None
-    return abs(ours - paper) <= max(Z_LIMIT * se, 0.5 * 10.0**-PAPER_DECIMALS)
+    return abs(ours - paper) <= Z_LIMIT * se + 0.5 * 10.0**-PAPER_DECIMALS

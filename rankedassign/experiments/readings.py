@@ -133,9 +133,9 @@ def render_readings(rows: list[ReadingRow], cfg: ReadingsConfig) -> str:
         off = verdicts[combo]
         compared = any(by[combo + (f, c)].agrees_with_paper is not None for f, c in cols)
         verdict = "–" if not compared else ("yes" if not off else "no: " + ", ".join(off))
+        notes = [n for n, on in (("default", combo == default), ("mixed", d != a)) if on]
         name = (f"diagonal {_pbar(d)}; random {_pbar(a)}, {b} P_s, P_d"
-                + (" (default)" if combo == default else "")
-                + ("" if d == a else " (mixed)"))
+                + (f" ({', '.join(notes)})" if notes else ""))
         body.append([name, *cells, verdict])
     if combos:
         first = combos[0]

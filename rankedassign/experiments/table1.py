@@ -183,8 +183,8 @@ re-drawn every run; {fmt.plural(n, "Monte Carlo run")}. Errors are exact truncat
 ΔObs = 100 (N̄_o − N̄_s)/N̄_o and ΔError = |ε̄_o − ε̄_s| (spec eq. 1.10). `±` is one Monte
 Carlo standard error (SE): the delta method for the ratio of paired means (ΔObs), the standard
 error of the mean per-run paired difference (ΔError). "ours − paper" is the difference in our
-standard errors; a cell more than {Z_LIMIT:g} SE away is flagged in words (the paper prints two
-decimals, so a difference within half a unit of its last digit always agrees). Rows of a
+standard errors; a cell more than {Z_LIMIT:g} SE away from the paper's rounding interval (its
+value ± half a unit of its last printed digit) is flagged in words. Rows of a
 family's alternative reading are compared with the paper's row of that family.
 
 {verdict}
