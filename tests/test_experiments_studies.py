@@ -168,6 +168,19 @@ def test_ablation_structure_and_readings():
             diag["global-cumulative", "consecutive", "stall"])
 
 
+def test_ablation_report_names_the_other_random_reading():
+    from rankedassign.experiments import get_study
+
+    cfg = AblationConfig(n_mc=2, original_obs=500, n_chains=20, families=("random", "random-r_pd"),
+                         stall_readings=(STALL_READINGS[0],), stale_readings=(STALE_READINGS[0],))
+    rows = run_study("ablation", cfg, seed=1, progress=False)
+    text = get_study("ablation").render(rows, cfg)
+    assert ("`random-r_pd` is the random family read as P̄_D = r·P_d, matrix P_s, P_d (spec A2)"
+            in text)
+    assert "| random-r_pd consistent? |" in text
+    assert "These settings are not the paper's (spec §3.4), so no cell is judged" in text
+
+
 def test_ablation_recommended_pair_equals_table1():
     kw = {"n_mc": 2, "original_obs": 2_000, "n_chains": 80, "families": ("diagonal", "random")}
     t1 = run_study("table1", Table1Config(**kw), seed=4, progress=False)

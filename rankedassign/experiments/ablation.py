@@ -131,6 +131,9 @@ def render_ablation(rows: list[AblationRow], cfg: AblationConfig) -> str:
              if pairs and not off else
              f"Under the recommended pair, cells more than {Z_LIMIT:g} SE from the paper's:\n\n"
              + "\n".join(f"- {line}" for line in off) if pairs else "")
+    if not paper_settings(cfg):
+        first = ("These settings are not the paper's (spec §3.4), so no cell is judged against "
+                 "the paper's.")
     alt = " ".join(
         f"`{f}` is the random family read as {family_label(f, cfg).split(': ', 1)[1]} "
         "(spec A2), drawn from the same uniforms as `random` in each run; its cells are "
