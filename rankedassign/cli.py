@@ -1,19 +1,27 @@
-"""Command-line interface: ``rankedassign``."""
+"""Command-line interface: ``rankedassign``.
+
+Every failure the user can cause ends with a one-line message on stderr and exit status 2, never
+a traceback; an interrupted ``reproduce`` (Ctrl-C or SIGTERM) ends with status 130 (143) and
+leaves no partial report behind.
+"""
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import shlex
+import signal
 import sys
 from pathlib import Path
 
+import numpy as np
+
+from . import experiments, synthetic
 from ._version import __version__
 
 
 def _cmd_demo(args) -> int:
-    import numpy as np
-
-    from . import synthetic
-
     rng = np.random.default_rng(args.seed)
     for name, prob in (
         ("diagonal", synthetic.diagonal()),
@@ -53,50 +61,67 @@ def _error(message: str) -> int:
     return 2
 
 
+def available_cpus() -> int:
+    """CPUs this process may run on (its affinity mask where the platform has one)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - platforms without affinity
+        return max(1, os.cpu_count() or 1)
+
+
+class _Terminated(BaseException):
+    """Raised in the main thread when SIGTERM arrives: handled like Ctrl-C."""
+
+
+def _on_sigterm(signum, frame):
+    raise _Terminated
+
+
 def _cmd_reproduce(args) -> int:
-    import json
-    import shlex
-
-    from .experiments import (
-        STUDIES,
-        Config,
-        ReproduceError,
-        SchedulerError,
-        config_from_dict,
-        reproduce,
-    )
-
-    unknown = [s for s in args.studies if s not in STUDIES]
+    names = experiments.study_names()
+    unknown = [s for s in args.studies if s not in names]
     if unknown:
-        return _error(f"unknown study {unknown[0]!r}; choose from {', '.join(STUDIES)}")
+        return _error(f"unknown study {unknown[0]!r}; choose from {', '.join(names)}")
+    workers = args.workers
+    if workers is not None and args.dask_scheduler is None and workers > available_cpus():
+        n = available_cpus()
+        print(f"rankedassign reproduce: note: --workers {workers} is more than the {n} "
+              f"CPU{'s' if n != 1 else ''} available; using {n}", file=sys.stderr)
+        workers = n
     mode = "full" if args.full else "quick"
     config = None
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         if args.config is not None:
             try:
                 overrides = json.loads(Path(args.config).read_text())
             except (OSError, ValueError) as exc:
                 return _error(f"cannot read --config {args.config!r}: {exc}")
-            base = Config.full() if mode == "full" else Config.quick()
-            config = config_from_dict(base, overrides)
-        reproduce(
+            config = experiments.config_from_dict(experiments.Config(mode), overrides)
+        experiments.reproduce(
             args.studies,
             mode,
             args.out,
             config=config,
             seed=args.seed,
             mc=args.mc,
-            workers=args.workers,
+            workers=workers,
             dask_scheduler=args.dask_scheduler,
             force=args.force,
             progress=not args.quiet,
             command=shlex.join(["rankedassign", *args.argv]),
         )
-    except (ReproduceError, SchedulerError) as exc:
+    except (experiments.ReproduceError, experiments.SchedulerError) as exc:
         return _error(str(exc))
     except KeyboardInterrupt:
         print("rankedassign reproduce: interrupted; no report written", file=sys.stderr)
         return 130
+    except _Terminated:
+        print("rankedassign reproduce: terminated (SIGTERM); no report written",
+              file=sys.stderr)
+        return 128 + signal.SIGTERM
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     return 0
 
 
@@ -109,28 +134,26 @@ def build_parser() -> argparse.ArgumentParser:
             "short-chain with stall/stale), exact oracle, LMB filter, paper reproduction."
         ),
     )
+    names = experiments.study_names()
     parser.add_argument("--version", action="version", version=f"rankedassign {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     demo = sub.add_parser("demo", help="print the paper's synthetic matrices and their sizes")
-    demo.add_argument("--seed", type=int, default=0, help="seed of the random matrix")
+    demo.add_argument("--seed", type=_seed, default=0, help="seed of the random matrix")
     demo.set_defaults(func=_cmd_demo)
 
     rep = sub.add_parser(
         "reproduce",
         help="run the paper's studies and write a report (markdown, PNG, JSON, CSV)",
         description=(
-            "Reproduce the studies of Trezza, Bucci & Varshney (2023): table1 (Table I), "
-            "sweep (error vs observations), tracking (LMB filter, OSPA(2)), tracking_var (the "
-            "same with the birth covariance read as variances, one call per group), "
-            "ablation (every stall/stale reading), optimum (error vs the best error for as "
-            "many solutions). "
-            "Without --full every study runs the paper's per-run settings with fewer Monte "
+            "Reproduce the studies of Trezza, Bucci & Varshney (2023): "
+            + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, names))
+            + ". Without --full every study runs the paper's per-run settings with fewer Monte "
             "Carlo runs (a few minutes on two cores)."
         ),
     )
     rep.add_argument(
         "studies", nargs="*", metavar="STUDY",
-        help="table1, sweep, tracking, tracking_var, ablation, optimum (default: all)",
+        help=f"{', '.join(names)} (default: all)",
     )
     size = rep.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true", help="fewer Monte Carlo runs (default)")
@@ -141,7 +164,8 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--out", default="rankedassign-report", metavar="DIR",
                      help="report directory (default ./rankedassign-report)")
     rep.add_argument("--workers", type=_positive_int, metavar="N",
-                     help="local worker processes (default: number of CPUs; 1 = in-process)")
+                     help="local worker processes (default: number of CPUs; 1 = in-process; "
+                          "more than the CPUs available is capped to them, with a note)")
     rep.add_argument("--dask-scheduler", metavar="ADDRESS",
                      help="run on a Dask cluster, e.g. tcp://host:8786")
     rep.add_argument("--config", metavar="FILE",

@@ -1,10 +1,16 @@
 """The ``rankedassign`` command line: demo, reproduce, and its error handling."""
 
+import dataclasses
 import json
+import os
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from rankedassign import __version__
 from rankedassign.cli import main
@@ -38,6 +44,7 @@ def test_demo(capsys):
     ],
 )
 def test_reproduce_bad_input_exit_2(argv, message, capsys, tmp_path):
+    # every message is one line on stderr
     assert main([*argv, "--out", str(tmp_path / "r")]) == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "r").exists()
@@ -48,6 +55,189 @@ def test_reproduce_existing_out_needs_force(tmp_path, capsys):
     out.mkdir()
     assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
     assert f"output directory '{out}' exists; use --force to replace it" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("force", [[], ["--force"]])
+def test_reproduce_out_is_a_file(tmp_path, capsys, force):
+    # --force cannot help with a file: the message says what is wrong instead
+    out = tmp_path / "notes.txt"
+    out.write_text("precious")
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet", *force]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"rankedassign reproduce: error: output path '{out}' is a file, not a "
+                   "directory; --force replaces only an earlier report directory: choose "
+                   "another --out\n")
+    assert out.read_text() == "precious"
+
+
+def _never_run(monkeypatch):
+    """Make every study fail loudly if it starts: the checks must come first."""
+    from rankedassign.experiments import study_names
+
+    def ran(*args, **kwargs):
+        raise AssertionError("a study ran")
+
+    for name in study_names():
+        _replace_study(monkeypatch, name, task=ran)
+
+
+def test_reproduce_out_under_a_file(tmp_path, capsys, monkeypatch):
+    _never_run(monkeypatch)
+    parent = tmp_path / "notes.txt"
+    parent.write_text("x")
+    for out in (parent / "sub", parent / "a" / "b"):
+        assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+        assert capsys.readouterr().err == (
+            f"rankedassign reproduce: error: cannot write the report to '{out}': a parent, "
+            f"'{parent}', is a file, not a directory\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="Linux /proc and /sys paths")
+@pytest.mark.parametrize(("out", "reason"), [
+    ("/proc/rankedassign-test/report", "No such file or directory"),  # cannot be created
+    ("/sys/rankedassign-test/report", "Operation not permitted"),  # read-only, even for root
+])
+def test_reproduce_out_under_system_path(out, reason, capsys, monkeypatch):
+    _never_run(monkeypatch)
+    assert main(["reproduce", "table1", "--out", out, "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: cannot write the report to '{out}': {reason}\n")
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root ignores directory permissions")
+def test_reproduce_read_only_parent(tmp_path, capsys, monkeypatch):
+    _never_run(monkeypatch)
+    parent = tmp_path / "ro"
+    parent.mkdir(mode=0o555)
+    try:
+        assert main(["reproduce", "table1", "--out", str(parent / "r"), "--quiet"]) == 2
+        assert "cannot write the report to" in capsys.readouterr().err
+        assert list(parent.iterdir()) == []
+    finally:
+        parent.chmod(0o755)
+
+
+def _earlier_report(tmp_path, tiny_config):
+    out = tmp_path / "report"
+    assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 0
+    return out, {p.name: p.read_bytes() for p in out.iterdir()}
+
+
+def test_force_checks_that_out_can_be_replaced_first(tmp_path, tiny_config, capsys,
+                                                     monkeypatch):
+    # a directory that cannot be moved away (e.g. a mount point): found before the studies run
+    out, before = _earlier_report(tmp_path, tiny_config)
+    real = os.replace
+
+    def no_move(src, dst):
+        if os.fspath(src) == os.fspath(out):
+            raise OSError(16, "Device or resource busy")
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", no_move)
+    _never_run(monkeypatch)
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet", "--force"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: cannot replace '{out}': it cannot be moved (Device or "
+        "resource busy)\n")
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert _no_leftovers(tmp_path)
+
+
+def test_failed_final_move_keeps_the_finished_report(tmp_path, tiny_config, capsys,
+                                                     monkeypatch):
+    out, before = _earlier_report(tmp_path, tiny_config)
+    real = os.replace
+
+    def no_final_move(src, dst):
+        if ".partial-" in os.fspath(src) and os.fspath(dst) == os.fspath(out):
+            raise OSError(28, "No space left on device")
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", no_final_move)
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet", "--force"]) == 2
+    err = capsys.readouterr().err
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("report.new-")]
+    assert len(kept) == 1 and (kept[0] / "manifest.json").exists()
+    assert (kept[0] / "table1.json").exists()
+    assert err == (f"rankedassign reproduce: error: could not move the finished report into "
+                   f"'{out}' (No space left on device); it is kept in '{kept[0]}'\n")
+    # the earlier report is back in place; no hidden directory is left behind
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert _no_leftovers(tmp_path)
+
+
+def test_workers_capped_at_the_cpus(tmp_path, capsys, monkeypatch):
+    calls = []
+    monkeypatch.setattr("rankedassign.cli.available_cpus", lambda: 2)
+    monkeypatch.setattr("rankedassign.experiments.reproduce",
+                        lambda *a, **kw: calls.append(kw))
+    assert main(["reproduce", "--workers", "16", "--out", str(tmp_path / "r")]) == 0
+    assert capsys.readouterr().err == (
+        "rankedassign reproduce: note: --workers 16 is more than the 2 CPUs available; "
+        "using 2\n")
+    assert calls[-1]["workers"] == 2
+    assert main(["reproduce", "--workers", "2", "--out", str(tmp_path / "r")]) == 0
+    assert calls[-1]["workers"] == 2 and capsys.readouterr().err == ""
+
+
+def test_sigterm_is_handled_as_an_interrupt(tmp_path):
+    # a run long enough to be inside a study when the signal arrives
+    cfg = tmp_path / "long.json"
+    cfg.write_text(json.dumps({"table1": {"n_mc": 400, "original_obs": 20_000}}))
+    out = tmp_path / "r"
+    err_path = tmp_path / "stderr.txt"
+    with err_path.open("w") as err:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "rankedassign", "reproduce", "table1", "--config", str(cfg),
+             "--out", str(out), "--workers", "2"],
+            stderr=err, stdout=subprocess.DEVNULL, text=True,
+        )
+        try:
+            deadline = time.monotonic() + 600
+            while "[1/1] table1" not in err_path.read_text():
+                assert proc.poll() is None, err_path.read_text()
+                assert time.monotonic() < deadline, "the study never started"
+                time.sleep(0.2)
+            proc.send_signal(signal.SIGTERM)
+            code = proc.wait(timeout=300)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+    text = err_path.read_text()
+    assert code == 128 + signal.SIGTERM, text
+    assert "terminated (SIGTERM); no report written" in text
+    assert "leaked semaphore" not in text and "Traceback" not in text
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "stderr.txt"]
+
+
+TOKENS = ["reproduce", "demo", "table1", "sweep", "nosuch", "--full", "--quick", "--mc",
+          "--seed", "--out", "--workers", "--dask-scheduler", "--config", "--force", "--quiet",
+          "--help", "--version", "-h", "0", "1", "-1", "2", "x", "", "--", "=", "--mc=3",
+          "/nonexistent/c.json"]
+
+
+@given(st.lists(st.one_of(st.sampled_from(TOKENS), st.text(max_size=8)), max_size=6))
+def test_fuzz_argument_handling(argv):
+    # arbitrary argument lists: exit 0 or 2 with a message, never a traceback. The studies
+    # themselves are replaced by a stub (the parsing and the checks are under test).
+    import contextlib
+    import io
+    from unittest import mock
+
+    calls = []
+    out, err = io.StringIO(), io.StringIO()
+    with mock.patch("rankedassign.experiments.reproduce", lambda *a, **kw: calls.append(kw)), \
+            contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(argv)
+    assert code in (0, 2), (argv, code)
+    if code == 2:
+        assert err.getvalue().strip(), argv
+    assert "Traceback" not in err.getvalue()
 
 
 def test_reproduce_force_refuses_unrelated_directory(tmp_path, capsys):
@@ -103,6 +293,7 @@ TINY_CONFIG = {
     "tracking_var": {"n_mc": 1, "n_scans": 6, "original_obs": 100, "n_chains": 10},
     "ablation": {"n_mc": 1, "original_obs": 1_000, "n_chains": 40},
     "optimum": {"n_mc": 2, "original_obs": 1_000, "n_chains": 40},
+    "random_readings": {"n_mc": 2, "original_obs": 1_000, "n_chains": 40},
 }
 PNGS = ["table1.png", "sweep.png", "tracking_ospa2.png", "tracking_observations.png",
         "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png"]
@@ -133,8 +324,11 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     assert main(["reproduce", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
-    assert "table1" in err and f"report written to {out / 'report.md'}" in err  # progress
-    for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum"):
+    assert "[1/7] table1" in err and "[7/7] random_readings" in err  # study i of n
+    assert "preparing the compiled kernels" in err
+    assert f"report written to {out / 'report.md'}" in err
+    for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum",
+                  "random_readings"):
         data = _strict_json(out / f"{study}.json")
         assert data, study
         assert isinstance(_strict_json(out / f"{study}_runs.json"), list)
@@ -143,7 +337,7 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     for png in PNGS:
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", png
     t1 = _strict_json(out / "table1.json")
-    assert len(t1) == 9 and t1[0]["n_mc"] == 2 and t1[0]["family"] == "diagonal"
+    assert len(t1) == 12 and t1[0]["n_mc"] == 2 and t1[0]["family"] == "diagonal"
     tr = _strict_json(out / "tracking.json")
     assert {"obs_original", "obs_proposed", "reduction_pct", "row_updates_original",
             "row_updates_proposed", "reduction_row_updates_pct", "ospa2_mean_original",
@@ -151,9 +345,13 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     ab = _strict_json(out / "ablation.json")
     assert len(ab) == 12 * 4 * 3 and {"stall", "stale", "delta_obs_pct"} <= set(ab[0])
     report = (out / "report.md").read_text()
-    for title in ("## Table I", "## Sweep", "## Tracking — LMB", "## Tracking — the paper's",
-                  "## Ablation", "## Optimum"):
+    for title in ("## Table I", "## Sweep", "## Tracking — LMB", "## Tracking (variance",
+                  "## Ablation", "## Optimum", "## Readings of the random family"):
         assert title in report
+    assert "algorithms.md" not in report and "docs/specification.md" in report
+    assert "1 Monte Carlo runs" not in report and "Grouping: False" not in report
+    assert "1 Monte Carlo run" in report and "one sampler call per scan" in report
+    assert t1[0]["paper_delta_obs_pct"] == 79.95 and t1[0]["paper_delta_error_pp"] == 0.04
     for png in PNGS:
         assert f"({png})" in report
     manifest = _strict_json(out / "manifest.json")
@@ -171,13 +369,18 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     assert _no_leftovers(tmp_path)
 
 
-def test_interrupted_run_leaves_no_report(tmp_path, tiny_config, capsys, monkeypatch):
-    from rankedassign.experiments import runner as rep
+def _replace_study(monkeypatch, name, **changes):
+    from rankedassign.experiments import get_study, registry
 
+    monkeypatch.setitem(registry._REGISTRY, name,
+                        dataclasses.replace(get_study(name), **changes))
+
+
+def test_interrupted_run_leaves_no_report(tmp_path, tiny_config, capsys, monkeypatch):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setitem(rep._RUNNERS, "sweep", interrupted)
+    _replace_study(monkeypatch, "sweep", task=interrupted)
     out = tmp_path / "report"
     code = main(["reproduce", "table1", "sweep", "--config", str(tiny_config), "--out",
                  str(out), "--workers", "1", "--quiet"])

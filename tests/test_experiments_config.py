@@ -22,7 +22,8 @@ def test_full_is_the_papers_settings():
     t = c.table1
     assert (t.n_mc, t.original_obs, t.n_chains, t.chain_length, t.tau_stall, t.tau_stale) == (
         100, 250_000, 10_000, 25, 5, 25)
-    assert t.families == ("diagonal", "uniform", "random")
+    # the paper's three families and the random family under the other reading of Pbar_D
+    assert t.families == ("diagonal", "uniform", "random", "random-r_pd")
     k = c.tracking
     assert (k.n_mc, k.original_obs, k.n_chains, k.chain_length, k.tau_stall, k.tau_stale) == (
         100, 10_000, 400, 25, 5, 10)
@@ -79,6 +80,7 @@ def test_config_from_dict_errors(overrides, match):
         (lambda: Table1Config(families=("square",)), "unknown family 'square'"),
         (lambda: Table1Config(families=()), "must name at least one family"),
         (lambda: Table1Config(pbar_d="x"), "pbar_d must be 'r_pd' or 'pd'"),
+        (lambda: Table1Config(diagonal_pbar_d="x"), "diagonal_pbar_d must be 'r_pd' or 'pd'"),
         (lambda: Table1Config(granularity="x"), "granularity must be 'row' or 'matrix'"),
         (lambda: AblationConfig(stall_readings=("S9",)), "stall_readings must be a non-empty"),
         (lambda: SweepConfig(obs_grid=(10, 5)), "obs_grid must be strictly increasing"),
@@ -92,4 +94,32 @@ def test_config_from_dict_errors(overrides, match):
 )
 def test_config_validation(make, match):
     with pytest.raises(ValueError, match=match):
+        make()
+
+
+def test_config_is_read_from_the_registry():
+    from rankedassign.experiments import get_study, study_names
+
+    c = Config.quick()
+    assert set(c.studies) == set(study_names())
+    assert all(c[s] == get_study(s).quick() for s in study_names())
+    assert Config.full()["tracking_var"] == TrackingConfig.paper_var()
+    assert c.to_dict()["mode"] == "quick" and c.to_dict()["table1"]["n_mc"] == c.table1.n_mc
+    assert c.replace(table1=Table1Config(n_mc=3)).table1.n_mc == 3
+
+
+@pytest.mark.parametrize(
+    ("make", "error", "match"),
+    [
+        (lambda: Config("medium"), ReproduceError, "mode must be 'quick' or 'full', got 'medium'"),
+        (lambda: Config("full", tabel1=Table1Config()), ReproduceError,
+         "unknown study 'tabel1'; choose from table1, sweep"),
+        (lambda: Config("full", sweep=Table1Config()), TypeError,
+         "sweep settings must be a SweepConfig, got Table1Config"),
+        (lambda: Config.full().tabel1, AttributeError, "Config has no study 'tabel1'"),
+        (lambda: Config.full()["tabel1"], ReproduceError, "unknown study 'tabel1'"),
+    ],
+)
+def test_config_errors(make, error, match):
+    with pytest.raises(error, match=match):
         make()

@@ -1,5 +1,6 @@
 """The reproduction studies on tiny configurations: structure, sanity, reproducibility."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -10,22 +11,21 @@ import oracle
 from rankedassign import synthetic
 from rankedassign.experiments import (
     CRITERIA,
+    PAPER_TABLE1,
     STALE_READINGS,
     STALL_READINGS,
     AblationConfig,
     Config,
     OptimumConfig,
+    ReproduceError,
     SweepConfig,
+    SweepRow,
     Table1Config,
+    Table1Row,
     TrackingConfig,
     best_error,
     local_executor,
-    run_ablation,
-    run_optimum,
-    run_sweep,
-    run_table1,
-    run_tracking,
-    run_tracking_var,
+    run_study,
 )
 from rankedassign.experiments.tracking import summarise_tracking
 
@@ -40,46 +40,46 @@ TABLE1_KEYS = {
 
 @pytest.fixture(scope="module")
 def table1():
-    return run_table1(Table1Config(**TINY), seed=11, progress=False, return_runs=True)
+    return run_study("table1", Table1Config(**TINY), seed=11, progress=False, return_runs=True)
 
 
 def test_table1_structure_and_ranges(table1):
     rows, runs = table1
-    assert [(r["family"], r["criterion"]) for r in rows] == [
-        (f, c) for f in ("diagonal", "uniform", "random") for c in CRITERIA
+    assert [(r.family, r.criterion) for r in rows] == [
+        (f, c) for f in ("diagonal", "uniform", "random", "random-r_pd") for c in CRITERIA
     ]
     for r in rows:
-        assert TABLE1_KEYS <= set(r)
-        assert r["n_mc"] == 2
-        assert 0.0 <= r["error_original_mean"] <= 100.0
-        assert 0.0 <= r["error_proposed_mean"] <= 100.0
-        assert r["obs_proposed_mean"] <= 200 * 25
-        assert r["obs_original_mean"] == 5_000
-        assert r["delta_error_pp"] == pytest.approx(
-            abs(r["error_original_mean"] - r["error_proposed_mean"]), rel=1e-12, abs=1e-12)
-        assert r["mean_abs_delta_error_pp"] >= r["delta_error_pp"] - 1e-12
-        assert r["delta_obs_pct_se"] is not None and r["delta_obs_pct_se"] >= 0
+        assert TABLE1_KEYS <= {f.name for f in dataclasses.fields(r)}
+        assert r.n_mc == 2
+        assert 0.0 <= r.error_original_mean <= 100.0
+        assert 0.0 <= r.error_proposed_mean <= 100.0
+        assert r.obs_proposed_mean <= 200 * 25
+        assert r.obs_original_mean == 5_000
+        assert r.delta_error_pp == pytest.approx(
+            abs(r.error_original_mean - r.error_proposed_mean), rel=1e-12, abs=1e-12)
+        assert r.mean_abs_delta_error_pp >= r.delta_error_pp - 1e-12
+        assert r.delta_obs_pct_se is not None and r.delta_obs_pct_se >= 0
     for run in runs:
         for k in ("original", *CRITERIA):
             assert 0.0 <= run[k]["error"] <= 1.0
-    by = {(r["family"], r["criterion"]): r for r in rows}
+    by = {(r.family, r.criterion): r for r in rows}
     # One dominant assignment: every rule stops early (spec §3.4, Table I diagonal row).
     for c in CRITERIA:
-        assert by["diagonal", c]["delta_obs_pct"] > 50.0
+        assert by["diagonal", c].delta_obs_pct > 50.0
     # Spec §3.5: the consecutive stale rule (T3) does not fire on the uniform/random families.
-    assert by["uniform", "stale"]["stale_stop_fraction"] == 0.0
-    assert by["random", "stale"]["stale_stop_fraction"] == 0.0
+    assert by["uniform", "stale"].stale_stop_fraction == 0.0
+    assert by["random", "stale"].stale_stop_fraction == 0.0
 
 
 def test_table1_no_rule_active_gives_zero_delta_obs():
     huge = 10**9
     cfg = Table1Config(n_mc=2, original_obs=1_000, n_chains=40, chain_length=25,
                        tau_stall=huge, tau_stale=huge, families=("uniform", "random"))
-    rows = run_table1(cfg, seed=3, progress=False)
+    rows = run_study("table1", cfg, seed=3, progress=False)
     for r in rows:
-        assert r["delta_obs_pct"] == 0.0
-        assert r["delta_obs_pct_se"] == 0.0
-        assert r["obs_proposed_mean"] == 1_000
+        assert r.delta_obs_pct == 0.0
+        assert r.delta_obs_pct_se == 0.0
+        assert r.obs_proposed_mean == 1_000
 
 
 def test_table1_statistics_by_hand(table1):
@@ -90,13 +90,13 @@ def test_table1_statistics_by_hand(table1):
     Ns = np.array([r[crit]["n_obs"] for r in rs], float)
     eo = 100 * np.array([r["original"]["error"] for r in rs])
     es = 100 * np.array([r[crit]["error"] for r in rs])
-    row = next(r for r in rows if (r["family"], r["criterion"]) == (fam, crit))
-    assert_allclose(row["delta_obs_pct"], 100 * (No.mean() - Ns.mean()) / No.mean(), rtol=1e-12)
-    assert_allclose(row["delta_error_pp"], abs(eo.mean() - es.mean()), rtol=1e-12)
-    assert_allclose(row["delta_error_pp_se"], np.std(es - eo, ddof=1) / math.sqrt(2), rtol=1e-12)
-    assert_allclose(row["mean_abs_delta_error_pp"], np.abs(es - eo).mean(), rtol=1e-12)
+    row = next(r for r in rows if (r.family, r.criterion) == (fam, crit))
+    assert_allclose(row.delta_obs_pct, 100 * (No.mean() - Ns.mean()) / No.mean(), rtol=1e-12)
+    assert_allclose(row.delta_error_pp, abs(eo.mean() - es.mean()), rtol=1e-12)
+    assert_allclose(row.delta_error_pp_se, np.std(es - eo, ddof=1) / math.sqrt(2), rtol=1e-12)
+    assert_allclose(row.mean_abs_delta_error_pp, np.abs(es - eo).mean(), rtol=1e-12)
     # Original N_o is constant, so the delta method reduces to sd(N_s) / (mean N_o sqrt(n)).
-    assert_allclose(row["delta_obs_pct_se"], 100 * Ns.std(ddof=1) / No.mean() / math.sqrt(2),
+    assert_allclose(row.delta_obs_pct_se, 100 * Ns.std(ddof=1) / No.mean() / math.sqrt(2),
                     rtol=1e-10)
 
 
@@ -110,20 +110,20 @@ def test_table1_random_matrix_redrawn_and_errors_exact(table1):
     from rankedassign.experiments import child_seed, run_seed
 
     s = run_seed(11, 1)
-    p = synthetic.random(rng=child_seed(s, 0))
+    p = synthetic.random(pbar_d="pd", granularity="matrix", rng=child_seed(s, 0))  # A2, A5
     res = sample_original(p, 5_000, rng=child_seed(s, 1, 2))
     assert rs[1]["original"]["error"] == oracle.truncation_error(p, res.assignments)
 
 
 def test_table1_same_seed_same_numbers_any_executor(table1):
     rows, runs = table1
-    again = run_table1(Table1Config(**TINY), seed=11, progress=False)
+    again = run_study("table1", Table1Config(**TINY), seed=11, progress=False)
     assert again == rows
     with local_executor(2) as ex:
-        pooled = run_table1(Table1Config(**TINY), seed=11, executor=ex, progress=False,
+        pooled = run_study("table1", Table1Config(**TINY), seed=11, executor=ex, progress=False,
                             return_runs=True)
     assert pooled == (rows, runs)
-    other = run_table1(Table1Config(**TINY), seed=12, progress=False)
+    other = run_study("table1", Table1Config(**TINY), seed=12, progress=False)
     assert other != rows
 
 
@@ -131,11 +131,11 @@ def test_table1_same_seed_same_numbers_any_executor(table1):
 def test_dask_cluster_matches_serial(processes):
     distributed = pytest.importorskip("distributed")
     cfg = Table1Config(n_mc=2, original_obs=2_000, n_chains=80, families=("uniform", "random"))
-    serial = run_table1(cfg, seed=5, progress=False, return_runs=True)
+    serial = run_study("table1", cfg, seed=5, progress=False, return_runs=True)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=processes,
                                   dashboard_address=":0") as cluster:
         with distributed.Client(cluster) as client:
-            dask = run_table1(cfg, seed=5, executor=client.get_executor(), progress=False,
+            dask = run_study("table1", cfg, seed=5, executor=client.get_executor(), progress=False,
                               return_runs=True)
     assert dask == serial
 
@@ -143,57 +143,71 @@ def test_dask_cluster_matches_serial(processes):
 def test_ablation_structure_and_readings():
     cfg = AblationConfig(n_mc=2, original_obs=2_000, n_chains=80,
                          families=("diagonal", "uniform"))
-    rows, runs = run_ablation(cfg, seed=11, progress=False, return_runs=True)
+    rows, runs = run_study("ablation", cfg, seed=11, progress=False, return_runs=True)
     assert len(rows) == len(STALL_READINGS) * len(STALE_READINGS) * 2 * len(CRITERIA)
-    assert {(r["stall"], r["stale"]) for r in rows} == {
+    assert {(r.stall, r.stale) for r in rows} == {
         (a, b) for a in STALL_READINGS for b in STALE_READINGS}
-    assert all(TABLE1_KEYS <= set(r) for r in rows)
-    by = {(r["stall"], r["stale"], r["criterion"]): r for r in rows if r["family"] == "uniform"}
-    diag = {(r["stall"], r["stale"], r["criterion"]): r for r in rows if r["family"] == "diagonal"}
+    assert all(TABLE1_KEYS <= {f.name for f in dataclasses.fields(r)} for r in rows)
+    by = {(r.stall, r.stale, r.criterion): r for r in rows if r.family == "uniform"}
+    diag = {(r.stall, r.stale, r.criterion): r for r in rows if r.family == "diagonal"}
     # Literal set form |x| - n_u never fires; the multiset form fires after the first chain.
-    assert by["global-consecutive", "literal-set", "stale"]["stale_stop_fraction"] == 0.0
+    assert by["global-consecutive", "literal-set", "stale"].stale_stop_fraction == 0.0
     multiset = by["global-consecutive", "literal-multiset", "stale"]
-    assert multiset["stale_stop_fraction"] == 1.0
-    assert multiset["chains_proposed_mean"] <= cfg.tau_stale + 1
+    assert multiset.stale_stop_fraction == 1.0
+    assert multiset.chains_proposed_mean <= cfg.tau_stale + 1
     # Chain-local stall (S1) never fires on the uniform matrix (spec A10): no saving at all.
-    assert by["chain-local", "consecutive", "stall"]["delta_obs_pct"] == 0.0
+    assert by["chain-local", "consecutive", "stall"].delta_obs_pct == 0.0
     # Global stall (S3) stops chains on the diagonal matrix, where few solutions matter.
-    assert diag["global-consecutive", "consecutive", "stall"]["delta_obs_pct"] > 50.0
+    assert diag["global-consecutive", "consecutive", "stall"].delta_obs_pct > 50.0
     # Stall-only rows depend on the stall reading only (shared runs).
     def numbers(row):
-        return {k: v for k, v in row.items() if k != "stale"}
+        return {k: v for k, v in dataclasses.asdict(row).items() if k != "stale"}
 
     for b in STALE_READINGS:
         assert numbers(diag["global-cumulative", b, "stall"]) == numbers(
             diag["global-cumulative", "consecutive", "stall"])
 
 
+def test_ablation_report_names_the_other_random_reading():
+    from rankedassign.experiments import get_study
+
+    cfg = AblationConfig(n_mc=2, original_obs=500, n_chains=20, families=("random", "random-r_pd"),
+                         stall_readings=(STALL_READINGS[0],), stale_readings=(STALE_READINGS[0],))
+    rows = run_study("ablation", cfg, seed=1, progress=False)
+    text = get_study("ablation").render(rows, cfg)
+    assert ("`random-r_pd` is the random family read as P̄_D = r·P_d, matrix P_s, P_d (spec A2)"
+            in text)
+    assert "| random-r_pd consistent? |" in text
+    assert "These settings are not the paper's (spec §3.4), so no cell is judged" in text
+
+
 def test_ablation_recommended_pair_equals_table1():
     kw = {"n_mc": 2, "original_obs": 2_000, "n_chains": 80, "families": ("diagonal", "random")}
-    t1 = run_table1(Table1Config(**kw), seed=4, progress=False)
-    ab = run_ablation(AblationConfig(**kw, stall_readings=(STALL_READINGS[0],),
+    t1 = run_study("table1", Table1Config(**kw), seed=4, progress=False)
+    ab = run_study("ablation", AblationConfig(**kw, stall_readings=(STALL_READINGS[0],),
                                      stale_readings=(STALE_READINGS[0],)), seed=4, progress=False)
-    for r in ab:
-        del r["stall"], r["stale"]
-    assert ab == t1
+    for a, t in zip(ab, t1, strict=True):
+        fields = dataclasses.asdict(a)
+        del fields["stall"], fields["stale"]
+        assert Table1Row(**fields) == t
 
 
 def test_sweep_structure_and_monotone_original():
     cfg = SweepConfig(n_mc=2, families=("uniform", "random"), obs_grid=(10, 100, 1_000),
                       chain_lengths=(5, 25))
-    rows, runs = run_sweep(cfg, seed=2, progress=False, return_runs=True)
-    keys = {(r["family"], r["sampler"], r["budget"]) for r in rows}
+    rows, runs = run_study("sweep", cfg, seed=2, progress=False, return_runs=True)
+    keys = {(r.family, r.sampler, r.budget) for r in rows}
     assert ("uniform", "short-25", 10) not in keys  # budget below the chain length
     assert ("uniform", "short-25", 100) in keys and ("random", "original", 1_000) in keys
     for r in rows:
-        assert 0.0 <= r["error_pct_q10"] <= r["error_pct_mean"] <= r["error_pct_q90"] <= 100.0
-        if r["sampler"] != "original":
-            L = r["chain_length"]
-            assert r["n_obs_mean"] == (r["budget"] // L) * L
-    by = {(r["family"], r["sampler"], r["budget"]): r for r in rows}
+        assert 0.0 <= r.error_pct_q10 <= r.error_pct_mean <= r.error_pct_q90 <= 100.0
+        if r.sampler != "original":
+            L = r.chain_length
+            assert r.n_obs_mean == (r.budget // L) * L
+    by = {(r.family, r.sampler, r.budget): r for r in rows}
     for (fam, sampler, budget), r in by.items():
         if sampler == "original":
-            assert r["diff_vs_original_pp_mean"] == 0.0
+            assert r.diff_vs_original_pp_mean == 0.0
         else:
             paired = [
                 100 * (p["error"] - q["error"])
@@ -201,7 +215,7 @@ def test_sweep_structure_and_monotone_original():
                 for p in run["points"] if (p["sampler"], p["budget"]) == (sampler, budget)
                 for q in run["points"] if (q["sampler"], q["budget"]) == ("original", budget)
             ]
-            assert_allclose(r["diff_vs_original_pp_mean"], np.mean(paired), rtol=1e-12,
+            assert_allclose(r.diff_vs_original_pp_mean, np.mean(paired), rtol=1e-12,
                             atol=1e-12)
     for run in runs:
         # Same stream at every budget: the original chain's unique set only grows.
@@ -224,8 +238,8 @@ def test_best_error_exact():
 
 def test_optimum_bounds():
     cfg = OptimumConfig(n_mc=2, original_obs=2_000, n_chains=80)
-    rows, runs = run_optimum(cfg, seed=1, progress=False, return_runs=True)
-    assert [(r["family"], r["sampler"]) for r in rows] == [
+    rows, runs = run_study("optimum", cfg, seed=1, progress=False, return_runs=True)
+    assert [(r.family, r.sampler) for r in rows] == [
         (f, s) for f in ("diagonal", "uniform", "random") for s in ("original", "proposed")]
     for run in runs:
         for s in ("original", "proposed"):
@@ -234,70 +248,73 @@ def test_optimum_bounds():
             if run["family"] == "uniform":  # equal weights: any k solutions are optimal
                 assert_allclose(rec["error"], rec["best_error"], rtol=1e-9)
     for r in rows:
-        assert r["excess_error_pp_mean"] >= -1e-9
+        assert r.excess_error_pp_mean >= -1e-9
 
 
 def test_tracking_tiny():
     cfg = TrackingConfig(n_mc=2, n_scans=8, original_obs=200, n_chains=20)
-    out, runs = run_tracking(cfg, seed=0, progress=False, return_runs=True)
+    out, runs = run_study("tracking", cfg, seed=0, progress=False, return_runs=True)
     for key in ("obs_original", "obs_proposed", "reduction_pct", "row_updates_original",
                 "row_updates_proposed", "reduction_row_updates_pct", "ospa2_mean_original",
                 "ospa2_mean_proposed"):
-        assert math.isfinite(out[key]), key
-    assert out["obs_original"] == 8 * 200  # one call per scan without grouping
-    assert out["obs_proposed"] <= 8 * 20 * 25
-    assert_allclose(out["reduction_pct"], 100 * (1 - out["obs_proposed"] / out["obs_original"]),
+        assert math.isfinite(getattr(out, key)), key
+    assert out.obs_original == 8 * 200  # one call per scan without grouping
+    assert out.obs_proposed <= 8 * 20 * 25
+    assert_allclose(out.reduction_pct, 100 * (1 - out.obs_proposed / out.obs_original),
                     rtol=1e-12)
-    cur = out["curves"]
+    cur = out.curves
     assert len(cur["ospa2_original"]) == len(cur["cumulative_obs_proposed"]) == 8
-    assert cur["cumulative_obs_original"][-1] == out["obs_original"]
+    assert cur["cumulative_obs_original"][-1] == out.obs_original
     assert all(0.0 <= v <= 200.0 for v in cur["ospa2_proposed"])
     by = {(r["run"], r["method"]): r for r in runs}
     for r in range(2):  # same measurements for both samplers in a run
         assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
     assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
-    assert out["config"]["marginals"] == "truncated"
+    assert out.config["marginals"] == "truncated"
     # 8 scans: no target lives past the 10 settling scans, so none is counted, none lost
     assert all(rec["coverage"] == [None] * 12 for rec in runs)
-    assert out["targets_lost_original"] == out["targets_lost_proposed"] == 0
+    assert out.targets_lost_original == out.targets_lost_proposed == 0
 
 
 def test_tracking_lost_targets_counted_by_hand():
     cfg = TrackingConfig(n_mc=2, n_scans=4, original_obs=50, n_chains=5)
-    _, runs = run_tracking(cfg, seed=0, progress=False, return_runs=True)
+    _, runs = run_study("tracking", cfg, seed=0, progress=False, return_runs=True)
     cover = {(0, "original"): [1.0, None, 0.5], (1, "original"): [1.0, 1.0, 1.0],
              (0, "proposed"): [1.0, 0.2, 0.49], (1, "proposed"): [0.0, None, 1.0]}
     for rec in runs:
         rec["coverage"] = cover[rec["run"], rec["method"]]
     out = summarise_tracking(runs, cfg)
     # lost: coverage < 0.5; 0.5 itself is kept and None (too short-lived) is not counted
-    assert (out["targets_lost_original"], out["runs_with_lost_target_original"]) == (0, 0)
-    assert (out["targets_lost_proposed"], out["runs_with_lost_target_proposed"]) == (3, 2)
+    assert (out.targets_lost_original, out.runs_with_lost_target_original) == (0, 0)
+    assert (out.targets_lost_proposed, out.runs_with_lost_target_proposed) == (3, 2)
 
 
 def test_tracking_var_tiny():
     # the paper-var reading, one call per group with the empty groups: every group is a call,
     # and the runs see the tracking study's measurements (same seed)
     cfg = TrackingConfig.paper_var(n_mc=2, n_scans=6, original_obs=200, n_chains=20)
-    out, runs = run_tracking_var(cfg, seed=0, progress=False, return_runs=True)
-    _, base = run_tracking(TrackingConfig(n_mc=2, n_scans=6, original_obs=200, n_chains=20),
-                           seed=0, progress=False, return_runs=True)
-    assert out["config"]["preset"] == "paper-var"
-    assert out["config"]["sample_empty_groups"] is True
+    out, runs = run_study("tracking_var", cfg, seed=0, progress=False, return_runs=True)
+    _, base = run_study("tracking",
+                        TrackingConfig(n_mc=2, n_scans=6, original_obs=200, n_chains=20),
+                        seed=0, progress=False, return_runs=True)
+    assert out.config["preset"] == "paper-var"
+    assert out.config["sample_empty_groups"] is True
     by = {(r["run"], r["method"]): r for r in runs}
     by_base = {(r["run"], r["method"]): r for r in base}
     for key, rec in by.items():
         assert rec["n_meas"] == by_base[key]["n_meas"]
         assert rec["invocations"] == rec["n_groups"]
         assert all(g >= 4 for g in rec["n_groups"])  # the 4 births are 4 groups at least
-    assert out["obs_original"] == 200 * out["invocations_original"]
-    assert_allclose(out["sweeps_per_call_original"], 200.0)
-    assert_allclose(out["paper_calls_per_scan"], 10.76)
-    assert_allclose(out["paper_sweeps_per_call_proposed"], 63_474 / 1_076)
+    assert out.obs_original == 200 * out.invocations_original
+    assert_allclose(out.sweeps_per_call_original, 200.0)
+    assert_allclose(out.paper_calls_per_scan, 10.76)
+    assert_allclose(out.paper_sweeps_per_call_proposed, 63_474 / 1_076)
     # a Config contributes its tracking_var field; None means TrackingConfig.paper_var()
-    from rankedassign.experiments.config import study_config
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments.registry import study_config
 
-    assert study_config(Config.quick(), "tracking_var", TrackingConfig).preset == "paper-var"
+    assert Config.quick()["tracking_var"].preset == "paper-var"
+    assert study_config(None, get_study("tracking_var")) == TrackingConfig.paper_var()
 
 
 def test_tracking_tiny_rao_blackwell_marginals():
@@ -306,9 +323,9 @@ def test_tracking_tiny_rao_blackwell_marginals():
     base = TrackingConfig(n_mc=1, n_scans=6, original_obs=200, n_chains=20)
     rb = TrackingConfig(n_mc=1, n_scans=6, original_obs=200, n_chains=20,
                         marginals="rao-blackwell")
-    _, runs_t = run_tracking(base, seed=0, progress=False, return_runs=True)
-    out, runs_r = run_tracking(rb, seed=0, progress=False, return_runs=True)
-    assert out["config"]["marginals"] == "rao-blackwell"
+    _, runs_t = run_study("tracking", base, seed=0, progress=False, return_runs=True)
+    out, runs_r = run_study("tracking", rb, seed=0, progress=False, return_runs=True)
+    assert out.config["marginals"] == "rao-blackwell"
     by_t = {r["method"]: r for r in runs_t}
     by_r = {r["method"]: r for r in runs_r}
     for m in ("original", "proposed"):
@@ -321,38 +338,167 @@ def test_tracking_tiny_rao_blackwell_marginals():
         assert sum(by_r[m]["n_tracks"]) > sum(by_t[m]["n_tracks"])
 
 
-def test_random_pd_family_is_paired_with_random():
+def test_other_random_reading_is_paired_with_random():
     from rankedassign.experiments import child_seed, run_seed
     from rankedassign.experiments._synthetic import make_problem
 
     cfg = AblationConfig()
-    assert cfg.families == ("diagonal", "uniform", "random", "random-pd")
+    assert cfg.families == ("diagonal", "uniform", "random", "random-r_pd")
+    assert Table1Config().families == cfg.families
+    # the readings the random_readings study found consistent with Table I (A2, A5)
+    assert (cfg.pbar_d, cfg.diagonal_pbar_d, cfg.granularity) == ("pd", "r_pd", "matrix")
     s = run_seed(8, 3)
     a = make_problem("random", s, cfg)
-    b = make_problem("random-pd", s, cfg)
-    assert a == synthetic.random(rng=child_seed(s, 0))
-    assert b == synthetic.random(pbar_d="pd", rng=child_seed(s, 0))
+    b = make_problem("random-r_pd", s, cfg)
+    assert a == synthetic.random(pbar_d="pd", granularity="matrix", rng=child_seed(s, 0))
+    assert a == make_problem("random-pd", s, cfg)
+    assert b == synthetic.random(pbar_d="r_pd", granularity="matrix", rng=child_seed(s, 0))
+    assert make_problem("diagonal", s, cfg) == synthetic.diagonal(pbar_d="r_pd")
     # Same draws: the dead weights 1 - r P_s do not depend on Pbar_D.
     assert_allclose(a.eta()[2], b.eta()[2], rtol=1e-15)
     with pytest.raises(ValueError, match="unknown family 'square'"):
         make_problem("square", s, cfg)
 
 
-def test_consistency_checks_of_the_ablation_report():
-    from rankedassign.experiments.report import _consistency
+def _stats(obs, obs_se, err, err_se, n=100):
+    from rankedassign.experiments._synthetic import PairedStats
 
-    def row(obs, se=0.1):
-        return {"delta_obs_pct": obs, "delta_obs_pct_se": se}
+    return PairedStats(
+        n_mc=n, obs_original_mean=1.0, obs_proposed_mean=1.0, error_original_mean=1.0,
+        error_proposed_mean=1.0, delta_obs_pct=obs, delta_error_pp=err,
+        delta_error_signed_pp=err, mean_abs_delta_error_pp=err, unique_original_mean=1.0,
+        unique_proposed_mean=1.0, chains_proposed_mean=1.0, stale_stop_fraction=0.0,
+        delta_obs_pct_se=obs_se, delta_error_pp_se=err_se, mean_abs_delta_error_pp_se=err_se,
+        error_original_se=0.1, error_proposed_se=0.1,
+    )
 
-    fams = ("diagonal", "uniform", "random")
-    good = {("a", "b", "uniform", "stall"): row(40.0), ("a", "b", "diagonal", "stale"): row(99.0),
-            ("a", "b", "uniform", "stale"): row(0.0), ("a", "b", "random", "stale"): row(0.5)}
-    assert _consistency(good, "a", "b", fams) == "yes"
-    bad = dict(good)
-    bad["a", "b", "random", "stale"] = row(3.0, se=0.5)
-    bad["a", "b", "uniform", "stall"] = row(0.0)
-    assert _consistency(bad, "a", "b", fams) == (
-        "no: stall silent on uniform; stale saves on random")
-    noisy = dict(good)
-    noisy["a", "b", "random", "stale"] = row(3.0, se=1.9)  # within two standard errors
-    assert _consistency(noisy, "a", "b", fams) == "yes"
+
+def test_rows_carry_the_papers_cells_and_the_three_se_rule():
+    from rankedassign.experiments._synthetic import with_paper
+
+    # the issue's quick-run random stale cell: 6.3 +- 2.7 % against the paper's 0.00
+    r = with_paper("random", "stale", _stats(6.3, 2.7, 0.0, 0.0))
+    assert (r.paper_delta_obs_pct, r.paper_delta_error_pp) == (0.0, 0.0)
+    assert r.delta_obs_z == pytest.approx(2.33) and r.agrees_with_paper is True
+    # the same saving with the standard error of 100 runs is more than 3 SE away
+    r = with_paper("random", "stale", _stats(6.3, 1.3, 0.0, 0.0))
+    assert r.delta_obs_z == pytest.approx(4.85) and r.agrees_with_paper is False
+    # a zero standard error agrees only to the paper's printed precision (half a unit)
+    assert with_paper("uniform", "stale", _stats(0.004, 0.0, 0.0, 0.0)).agrees_with_paper
+    assert with_paper("uniform", "stale", _stats(0.006, 0.0, 0.0, 0.0)).delta_obs_z == math.inf
+    # the alternative reading of a family is compared with the paper's row of that family
+    alt = with_paper("random-pd", "full", _stats(56.0, 0.5, 6.0, 0.2))
+    assert (alt.paper_family, alt.paper_delta_obs_pct, alt.agrees_with_paper) == (
+        "random", 56.96, True)
+    # one run has no standard error: nothing is judged; other settings are not judged either
+    assert with_paper("random", "full", _stats(57.0, None, 6.3, None, n=1)).agrees_with_paper \
+        is None
+    unjudged = with_paper("random", "full", _stats(0.0, 0.1, 0.0, 0.1), judge=False)
+    assert unjudged.paper_delta_obs_pct == 56.96 and unjudged.agrees_with_paper is None
+
+
+def test_table1_verdict_separates_the_default_reading_from_the_other():
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments._synthetic import with_paper
+
+    rows = [with_paper(f, c, _stats(p.delta_obs_pct, 0.5, p.delta_error_pp, 0.1))
+            for (f, c), p in PAPER_TABLE1.items()]
+    rows += [with_paper("random-r_pd", c, _stats(65.0, 1.3, 5.3, 0.17))
+             for c in ("stall", "full")]
+    text = get_study("table1").render(rows, Table1Config())
+    assert ("Under the default readings, all 18 numbers of the 9 compared cells lie within 3 "
+            "standard errors of the paper's.") in text
+    assert ("Under the other reading of the random family, 4 numbers of the 4 compared lie "
+            "more than 3 standard errors from the paper's:") in text
+    assert ("- random-r_pd: P̄_D = r·P_d, matrix P_s, P_d, stall: ΔObs 65.00 ± 1.30 % against "
+            "the paper's 56.97 % (+6.2 SE)") in text
+
+
+def test_ablation_verdict_uses_the_three_se_rule():
+    from rankedassign.experiments._synthetic import with_paper
+    from rankedassign.experiments.ablation import consistency
+
+    good = [with_paper(f, c, _stats(p.delta_obs_pct, 0.5, p.delta_error_pp, 0.1))
+            for (f, c), p in PAPER_TABLE1.items()]
+    assert consistency(good) == "yes"
+    bad = [r if (r.family, r.criterion) != ("random", "stale")
+           else with_paper("random", "stale", _stats(6.3, 1.3, 0.0, 0.0)) for r in good]
+    assert consistency(bad) == "no: random stale"
+    assert consistency([with_paper("random", "stale", _stats(6.3, None, 0.0, None, n=1))]) \
+        == "–"
+
+
+def test_table1_report_shows_the_paper_beside_ours(table1):
+    from rankedassign.experiments import get_study
+
+    rows, _ = table1
+    assert all(r.paper_delta_obs_pct == PAPER_TABLE1[r.family.split("-")[0], r.criterion]
+               .delta_obs_pct for r in rows)
+    # TINY is not the paper's budget: the paper's cells are shown, not judged
+    assert all(r.agrees_with_paper is None for r in rows)
+    text = get_study("table1").render(rows, Table1Config(**TINY))
+    assert "| diagonal: P̄_D = r·P_d | stall |" in text
+    assert "| 79.95 |" in text and "| 10.46 |" in text
+    assert "| random-r_pd: P̄_D = r·P_d, matrix P_s, P_d | full |" in text
+    assert "These settings are not the paper's" in text
+    assert "2 Monte Carlo runs" in text
+
+
+def test_sweep_checks_the_papers_chain_length_statement():
+    from rankedassign.experiments.sweep import chain_length_checks, render_sweep
+
+    def row(L, e, se=0.01, budget=1000):
+        return SweepRow("random", f"short-{L}", L, budget, budget, 900, e, se, e, e, 0, 0, 10)
+
+    checks = chain_length_checks([row(5, 10.0), row(25, 10.19), row(100, 10.05)])
+    assert [(c.spread_pp, c.holds) for c in checks] == [(pytest.approx(0.19), True)]
+    rows = [row(5, 10.0), row(25, 10.5), row(5, 3.0, budget=2000), row(25, 3.05, budget=2000)]
+    text = render_sweep(rows, SweepConfig(obs_grid=(1000, 2000), chain_lengths=(5, 25)))
+    assert "- random: **does not hold** at 1 of 2 budgets: 1,000 (0.500 pp)." in text
+
+
+def test_random_readings_study(tmp_path):
+    from rankedassign.experiments.config import ReadingsConfig
+    from rankedassign.experiments.readings import reading_verdicts
+
+    cfg = ReadingsConfig(n_mc=2, original_obs=1_000, n_chains=40)
+    rows, runs = run_study("random_readings", cfg, seed=4, progress=False, return_runs=True)
+    # 2 diagonal readings + 1 uniform + 4 random, 2 runs each
+    assert len(runs) == 7 * 2
+    assert len(rows) == 8 * 9  # every diagonal reading with every random reading
+    combos = {(r.diagonal_pbar_d, r.pbar_d, r.granularity) for r in rows}
+    assert combos == {(d, a, b) for d in ("r_pd", "pd") for a, b in cfg.readings}
+    # the default combination is the table1 study's, run for run
+    t1 = run_study("table1", Table1Config(n_mc=2, original_obs=1_000, n_chains=40,
+                                          families=("diagonal", "uniform", "random")),
+                   seed=4, progress=False)
+    default = [r for r in rows if (r.diagonal_pbar_d, r.pbar_d, r.granularity)
+               == ("r_pd", "pd", "matrix")]
+    for a, t in zip(default, t1, strict=True):
+        fields = dataclasses.asdict(a)
+        del fields["diagonal_pbar_d"], fields["pbar_d"], fields["granularity"]
+        assert Table1Row(**fields) == t
+    # the uniform family is shared by every reading
+    uni = {dataclasses.astuple(r)[:-3] for r in rows if r.family == "uniform"}
+    assert len(uni) == 3
+    assert reading_verdicts(rows) == {k: [] for k in combos}  # not judged: tiny budget
+    with pytest.raises(ValueError, match="readings must be a non-empty subset"):
+        ReadingsConfig(readings=(("pd", "cell"),))
+
+
+def test_registry_drives_config_and_runner():
+    from rankedassign.experiments import Study, get_study, register_study, study_names
+
+    assert study_names()[:6] == ("table1", "sweep", "tracking", "tracking_var", "ablation",
+                                 "optimum")
+    st = get_study("sweep")
+    assert register_study(st) is st
+    with pytest.raises(ReproduceError, match="a different study named 'sweep'"):
+        register_study(dataclasses.replace(st, title="other"))
+    with pytest.raises(ReproduceError, match="unknown study 'tabel1'; choose from table1"):
+        get_study("tabel1")
+    with pytest.raises(TypeError, match="study must be a Study, got dict"):
+        register_study({})
+    with pytest.raises(TypeError, match="config must be a SweepConfig or Config, got"):
+        run_study("sweep", Table1Config(), progress=False)
+    assert isinstance(st, Study) and Config.quick()["sweep"] == st.quick()

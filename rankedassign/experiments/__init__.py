@@ -1,21 +1,28 @@
 """Reproduction of the studies of Trezza, Bucci & Varshney (2023).
 
-Each study is a plain function returning plain data (lists of dicts or a dict), so the command
-line (``rankedassign reproduce``), the documentation and notebooks share one implementation:
+Every study is described once, by a :class:`Study` in the registry (:func:`get_study`,
+:func:`study_names`), and run by :func:`run_study`, which returns typed summary records; the
+command line (``rankedassign reproduce``), :func:`reproduce` and the report read the same
+registry:
 
-* :func:`run_table1` — the paper's Table I (ΔObs, ΔError, with Monte Carlo standard errors);
-* :func:`run_sweep` — truncation error against observations for several chain lengths;
-* :func:`run_tracking` — the LMB tracking study (OSPA(2), observations, row updates);
-* :func:`run_tracking_var` — the same under the reading that reproduces the paper's totals;
-* :func:`run_ablation` — Table I under every reading of the stall/stale rules (spec §3.2);
-* :func:`run_optimum` — sampled error against the best error for as many distinct solutions;
-* :func:`reproduce` — all of the above into a report directory (markdown, PNG, JSON, CSV).
+* ``table1`` — the paper's Table I (ΔObs, ΔError, with Monte Carlo standard errors), beside the
+  paper's numbers;
+* ``sweep`` — truncation error against observations for several chain lengths;
+* ``tracking`` — the LMB tracking study (OSPA(2), observations, row updates);
+* ``tracking_var`` — the same under the reading that reproduces the paper's totals;
+* ``ablation`` — Table I under every reading of the stall/stale rules (spec §3.2);
+* ``optimum`` — sampled error against the best error for as many distinct solutions;
+* ``random_readings`` — Table I under every reading of the random family (spec A2, A5).
+
+Adding a study is adding one module that registers a :class:`Study` and importing it below.
 
 Monte Carlo runs go through a :mod:`concurrent.futures` executor (local processes or a Dask
 cluster); run ``r`` draws only from ``np.random.SeedSequence(seed).spawn(n)[r]``, so results do
 not depend on where or in which order runs execute.
 """
 
+# Importing a study module registers its studies (run order: each Study's ``order``).
+from . import ablation, optimum, readings, sweep, table1, tracking  # noqa: F401
 from ._executor import (
     SchedulerError,
     child_seed,
@@ -24,55 +31,76 @@ from ._executor import (
     run_seed,
     run_tasks,
 )
-from .ablation import run_ablation
+from ._synthetic import Table1Row
+from .ablation import AblationRow
 from .config import (
     ALL_FAMILIES,
     CRITERIA,
     FAMILIES,
     STALE_READINGS,
     STALL_READINGS,
-    STUDIES,
     AblationConfig,
-    Config,
     OptimumConfig,
     SweepConfig,
     Table1Config,
     TrackingConfig,
 )
-from .optimum import best_error, run_optimum
-from .runner import ReproduceError, config_from_dict, reproduce
-from .sweep import run_sweep
-from .table1 import run_table1
-from .tracking import PAPER_TOTALS, run_tracking, run_tracking_var
+from .optimum import OptimumRow, best_error
+from .paper import PAPER_TABLE1, PAPER_TOTALS
+from .readings import ReadingRow
+from .registry import (
+    Config,
+    ReproduceError,
+    Study,
+    config_from_dict,
+    get_study,
+    register_study,
+    run_study,
+    study_names,
+)
+from .runner import check_output, reproduce
+from .sweep import ChainLengthCheck, SweepRow
+from .tracking import TrackingSummary
+
+#: The built-in studies, in run order (:func:`study_names` also lists studies registered later).
+STUDIES = study_names()
 
 __all__ = [
     "ALL_FAMILIES",
     "AblationConfig",
+    "AblationRow",
     "CRITERIA",
+    "ChainLengthCheck",
     "Config",
     "FAMILIES",
     "OptimumConfig",
+    "OptimumRow",
+    "PAPER_TABLE1",
     "PAPER_TOTALS",
+    "ReadingRow",
     "ReproduceError",
     "STALE_READINGS",
     "STALL_READINGS",
     "STUDIES",
     "SchedulerError",
+    "Study",
     "SweepConfig",
+    "SweepRow",
     "Table1Config",
+    "Table1Row",
     "TrackingConfig",
+    "TrackingSummary",
     "best_error",
+    "check_output",
     "child_seed",
     "config_from_dict",
     "dask_executor",
+    "get_study",
     "local_executor",
+    "register_study",
     "reproduce",
-    "run_ablation",
-    "run_optimum",
     "run_seed",
-    "run_sweep",
-    "run_table1",
+    "run_study",
     "run_tasks",
-    "run_tracking",
-    "run_tracking_var",
+    "study_names",
 ]

@@ -11,13 +11,17 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
 import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from typing import Any
 
+import numba
 import numpy as np
+from tqdm.auto import tqdm
 
 __all__ = [
     "run_seed",
@@ -100,9 +104,34 @@ def child_seed(parent: np.random.SeedSequence, *keys: int) -> np.random.SeedSequ
 def _worker_init() -> None:  # pragma: no cover - runs in child processes
     # Numba's own thread pool stays at one thread per worker process: the processes already
     # use every core, and nested parallelism would oversubscribe the machine.
-    import numba
-
     numba.set_num_threads(1)
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM while worker processes start, and deliver them afterwards.
+
+    ``ProcessPoolExecutor.submit`` spawns workers; a signal handled halfway through writing a
+    worker's start-up data leaves the worker a truncated message (an ``EOFError`` traceback in
+    the child, a leaked semaphore). Only the main thread can install handlers; elsewhere this
+    does nothing.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+
+    def hold(signum, frame):
+        caught.append(signum)
+
+    previous = {s: signal.signal(s, hold) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, signal.SIG_DFL if handler is None else handler)
+        if caught:
+            signal.raise_signal(caught[0])
 
 
 @contextmanager
@@ -233,8 +262,6 @@ def run_tasks(
     >>> run_tasks(add, [(1, 2), (3, 4)], progress=False)
     [3, 7]
     """
-    from tqdm.auto import tqdm
-
     bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr)
     try:
         if executor is None:
@@ -243,7 +270,8 @@ def run_tasks(
                 out.append(fn(*t))
                 bar.update()
             return out
-        futures = {executor.submit(fn, *t): i for i, t in enumerate(tasks)}
+        with _signals_held():
+            futures = {executor.submit(fn, *t): i for i, t in enumerate(tasks)}
         results: list[Any] = [None] * len(tasks)
         try:
             for fut in as_completed(futures):

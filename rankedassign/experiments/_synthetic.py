@@ -13,14 +13,19 @@ study draws the same matrix and the same sampler trajectories for the same ``(se
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
-from .. import synthetic
+import oracle
+
+from .. import sample_original, sample_short_chains, synthetic
 from ._executor import child_seed
 from .config import ALL_FAMILIES, STALE_READINGS, STALL_READINGS
+from .paper import PAPER_TABLE1, agrees, distance_in_se
 
 KEY_MATRIX, KEY_ORIGINAL, KEY_PROPOSED, KEY_SWEEP = 0, 1, 2, 3
 
@@ -43,21 +48,19 @@ def _deterministic(family: str, pbar_d: str):
 
 def make_problem(family: str, run_ss: np.random.SeedSequence, cfg):
     """The matrix of ``family`` for one Monte Carlo run (the random family is re-drawn)."""
-    if family in ("random", "random-pd"):
+    if family in ("random", "random-pd", "random-r_pd"):
         return synthetic.random(
-            pbar_d="pd" if family == "random-pd" else cfg.pbar_d,
+            pbar_d=cfg.pbar_d if family == "random" else family.split("-", 1)[1],
             granularity=cfg.granularity,
             rng=child_seed(run_ss, KEY_MATRIX),
         )
     if family in ("diagonal", "uniform"):
-        return _deterministic(family, cfg.pbar_d)
+        return _deterministic(family, getattr(cfg, "diagonal_pbar_d", cfg.pbar_d))
     raise ValueError(f"unknown family {family!r}; choose from {ALL_FAMILIES}")
 
 
 def record(problem, res) -> dict:
     """What a study keeps of one sampler run: counts and the exact truncation error (1.9)."""
-    import oracle
-
     return {
         "n_obs": int(res.n_observations),
         "n_row_updates": int(res.n_row_updates),
@@ -69,15 +72,11 @@ def record(problem, res) -> dict:
 
 
 def run_original(problem, n_obs: int, rng) -> dict:
-    from .. import sample_original
-
     return record(problem, sample_original(problem, n_obs, rng=rng))
 
 
 def run_proposed(problem, cfg, rng, *, stall: str | None, stale: str | None) -> dict:
     """The short-chain sampler with the paper's settings; a ``None`` reading turns its rule off."""
-    from .. import sample_short_chains
-
     res = sample_short_chains(
         problem,
         cfg.n_chains,
@@ -99,7 +98,97 @@ def original_seed(run_ss, family: str):
     return child_seed(run_ss, KEY_ORIGINAL, family_index(family))
 
 
-def paired_summary(original: list[dict], proposed: list[dict]) -> dict:
+@dataclass(frozen=True, kw_only=True)
+class PairedStats:
+    """Table I statistics of one (family, criterion) cell, from paired per-run records.
+
+    Errors are in percent, their differences in percentage points; standard errors are
+    ``None`` for one run.
+    """
+
+    n_mc: int
+    obs_original_mean: float
+    obs_proposed_mean: float
+    error_original_mean: float
+    error_proposed_mean: float
+    delta_obs_pct: float
+    delta_error_pp: float
+    delta_error_signed_pp: float
+    mean_abs_delta_error_pp: float
+    unique_original_mean: float
+    unique_proposed_mean: float
+    chains_proposed_mean: float
+    stale_stop_fraction: float
+    delta_obs_pct_se: float | None
+    delta_error_pp_se: float | None
+    mean_abs_delta_error_pp_se: float | None
+    error_original_se: float | None
+    error_proposed_se: float | None
+
+
+@dataclass(frozen=True, kw_only=True)
+class Table1Row(PairedStats):
+    """One row of Table I: a family, a criterion, our statistics and the paper's numbers.
+
+    ``paper_*`` are the paper's values (``None`` where the paper has no such cell, e.g. the
+    alternative reading of a family), ``*_z`` our distance to them in standard errors and
+    ``agrees_with_paper`` whether both lie within three standard errors (spec §3.6).
+    """
+
+    family: str
+    criterion: str
+    paper_family: str | None = None
+    paper_delta_obs_pct: float | None = None
+    paper_delta_error_pp: float | None = None
+    delta_obs_z: float | None = None
+    delta_error_z: float | None = None
+    agrees_with_paper: bool | None = None
+
+
+def paper_family(family: str) -> str:
+    """The paper's family that ``family`` reads (``"random-pd"`` -> ``"random"``)."""
+    return family.split("-", 1)[0]
+
+
+#: The paper's per-run settings of Table I (spec §3.4); other settings are not judged.
+PAPER_SETTINGS = {"original_obs": 250_000, "n_chains": 10_000, "chain_length": 25,
+                  "tau_stall": 5, "tau_stale": 25}
+
+
+def paper_settings(cfg) -> bool:
+    """Whether ``cfg`` runs the paper's per-run settings (only then are cells judged)."""
+    return all(getattr(cfg, k) == v for k, v in PAPER_SETTINGS.items())
+
+
+def with_paper(family: str, criterion: str, stats: PairedStats, cls=Table1Row, *,
+               judge: bool = True, **extra):
+    """A Table I row of ``cls`` carrying the paper's numbers of the same cell (if any).
+
+    With ``judge=False`` (settings other than the paper's) the paper's numbers are carried but
+    the distances and the verdict are left ``None``.
+    """
+    fields = dataclasses.asdict(stats)
+    pf = paper_family(family)
+    cell = PAPER_TABLE1.get((pf, criterion))
+    if cell is None:
+        return cls(family=family, criterion=criterion, **extra, **fields)
+    if not judge:
+        return cls(family=family, criterion=criterion, **extra, **fields, paper_family=pf,
+                   paper_delta_obs_pct=cell.delta_obs_pct,
+                   paper_delta_error_pp=cell.delta_error_pp)
+    zo = distance_in_se(stats.delta_obs_pct, stats.delta_obs_pct_se, cell.delta_obs_pct)
+    ze = distance_in_se(stats.delta_error_pp, stats.delta_error_pp_se, cell.delta_error_pp)
+    ok = [agrees(stats.delta_obs_pct, stats.delta_obs_pct_se, cell.delta_obs_pct),
+          agrees(stats.delta_error_pp, stats.delta_error_pp_se, cell.delta_error_pp)]
+    return cls(
+        family=family, criterion=criterion, **extra, **fields, paper_family=pf,
+        paper_delta_obs_pct=cell.delta_obs_pct, paper_delta_error_pp=cell.delta_error_pp,
+        delta_obs_z=zo, delta_error_z=ze,
+        agrees_with_paper=None if None in ok else all(ok),
+    )
+
+
+def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
     """Table I statistics of one (family, criterion) cell from paired per-run records.
 
     ``delta_obs_pct = 100 (mean N_o - mean N_s) / mean N_o`` with a delta-method standard error
@@ -154,4 +243,4 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> dict:
             )
         )
     out.update(se)
-    return out
+    return PairedStats(**out)

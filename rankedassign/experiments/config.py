@@ -1,4 +1,5 @@
-"""Settings of the reproduction studies: the paper's (``full``) and a quick subset.
+"""Settings types of the reproduction studies (each study's ``full`` and ``quick`` are in its
+module; :class:`~rankedassign.experiments.Config` gathers them).
 
 ``quick`` keeps every per-run setting of the paper (chain lengths, observation budgets,
 thresholds) and only lowers the number of Monte Carlo runs and of sweep points, so each number
@@ -7,8 +8,10 @@ it prints estimates the same quantity as the paper's, with a larger standard err
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+
+from ..tracking.association import MARGINALS
+from ..tracking.models import PRESETS
 
 __all__ = [
     "FAMILIES",
@@ -16,29 +19,39 @@ __all__ = [
     "STALL_READINGS",
     "STALE_READINGS",
     "CRITERIA",
-    "STUDIES",
     "Table1Config",
     "SweepConfig",
     "TrackingConfig",
     "AblationConfig",
     "OptimumConfig",
-    "Config",
+    "ReadingsConfig",
+    "RANDOM_READINGS",
+    "DEFAULT_PBAR_D",
+    "DEFAULT_DIAGONAL_PBAR_D",
+    "DEFAULT_GRANULARITY",
+    "OTHER_RANDOM",
 ]
 
 #: The paper's synthetic matrix families (spec §1.6), in report order.
 FAMILIES = ("diagonal", "uniform", "random")
-#: Every family a synthetic study accepts: ``"random-pd"`` is the random family with
-#: ``Pbar_D = P_d`` instead of the paper's ``r P_d`` (spec A2), drawn from the same uniforms as
-#: ``"random"`` in the same run, so the two are paired.
-ALL_FAMILIES = (*FAMILIES, "random-pd")
+#: Every family a synthetic study accepts: ``"random-pd"`` and ``"random-r_pd"`` are the random
+#: family with ``Pbar_D = P_d`` and with the paper's literal ``r P_d`` (spec A2) whatever the
+#: setting ``pbar_d`` says, drawn from the same uniforms as ``"random"`` in the same run, so they
+#: are paired with it.
+ALL_FAMILIES = (*FAMILIES, "random-pd", "random-r_pd")
+#: Default reading of ``Pbar_D`` in the random family and in the diagonal family, and of the
+#: granularity of the random family's ``P_s, P_d`` (spec A2, A5): chosen by the
+#: ``random_readings`` study, see the documentation's ambiguity list.
+DEFAULT_PBAR_D, DEFAULT_DIAGONAL_PBAR_D, DEFAULT_GRANULARITY = "pd", "r_pd", "matrix"
+#: The random family under the other reading of ``Pbar_D``, shown beside the default one.
+OTHER_RANDOM = "random-r_pd" if DEFAULT_PBAR_D == "pd" else "random-pd"
+_PBAR_D = ("r_pd", "pd")
 #: Readings of the stall rule (spec §3.2), the recommended one (S3) first.
 STALL_READINGS = ("global-consecutive", "global-cumulative", "chain-local")
 #: Readings of the stale rule (spec §3.2), the recommended one (T3) first.
 STALE_READINGS = ("consecutive", "cumulative", "literal-set", "literal-multiset")
 #: Table I columns: which termination rules are active.
 CRITERIA = ("stall", "stale", "full")
-#: Studies of ``rankedassign reproduce``, in run order.
-STUDIES = ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum")
 
 
 def _positive(name: str, value) -> None:
@@ -67,15 +80,18 @@ class _Synthetic:
     tau_stall: int = 5
     tau_stale: int = 25
     #: ``Pbar_D`` of the random family (spec A2) and granularity of ``P_s, P_d`` (A5).
-    pbar_d: str = "r_pd"
-    granularity: str = "row"
+    pbar_d: str = DEFAULT_PBAR_D
+    granularity: str = DEFAULT_GRANULARITY
+    #: ``Pbar_D`` of the diagonal family (spec A2).
+    diagonal_pbar_d: str = DEFAULT_DIAGONAL_PBAR_D
 
     def __post_init__(self):
         for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
             _positive(name, getattr(self, name))
         _families("families", self.families)
-        if self.pbar_d not in ("r_pd", "pd"):
-            raise ValueError(f"pbar_d must be 'r_pd' or 'pd', got {self.pbar_d!r}")
+        for name in ("pbar_d", "diagonal_pbar_d"):
+            if getattr(self, name) not in _PBAR_D:
+                raise ValueError(f"{name} must be 'r_pd' or 'pd', got {getattr(self, name)!r}")
         if self.granularity not in ("row", "matrix"):
             raise ValueError(f"granularity must be 'row' or 'matrix', got {self.granularity!r}")
 
@@ -84,6 +100,9 @@ class _Synthetic:
 class Table1Config(_Synthetic):
     """Table I: original vs short-chain sampler with stall only, stale only and both.
 
+    By default the random family is also run under the other reading of ``Pbar_D``
+    (:data:`OTHER_RANDOM`), so the report shows both readings beside the paper's row.
+
     Examples
     --------
     >>> from rankedassign.experiments import Table1Config
@@ -91,13 +110,15 @@ class Table1Config(_Synthetic):
     10000
     """
 
+    families: tuple[str, ...] = (*FAMILIES, OTHER_RANDOM)
+
 
 @dataclass(frozen=True)
 class AblationConfig(_Synthetic):
     """Table I under every pair of stall x stale readings (spec §3.2).
 
-    By default it adds the ``"random-pd"`` family (``Pbar_D = P_d``, spec A2) to the paper's
-    three, so the reading of ``Pbar_D`` is ablated too.
+    By default it adds the random family under the other reading of ``Pbar_D``
+    (:data:`OTHER_RANDOM`, spec A2) to the paper's three, so that reading is ablated too.
 
     Examples
     --------
@@ -106,7 +127,7 @@ class AblationConfig(_Synthetic):
     12
     """
 
-    families: tuple[str, ...] = ALL_FAMILIES
+    families: tuple[str, ...] = (*FAMILIES, OTHER_RANDOM)
     stall_readings: tuple[str, ...] = STALL_READINGS
     stale_readings: tuple[str, ...] = STALE_READINGS
 
@@ -150,8 +171,8 @@ class SweepConfig:
         100, 200, 500, 1_000, 2_000, 5_000, 10_000, 20_000, 50_000, 100_000, 250_000,
     )
     chain_lengths: tuple[int, ...] = (5, 10, 25, 50, 100)
-    pbar_d: str = "r_pd"
-    granularity: str = "row"
+    pbar_d: str = DEFAULT_PBAR_D
+    granularity: str = DEFAULT_GRANULARITY
 
     def __post_init__(self):
         _positive("n_mc", self.n_mc)
@@ -222,9 +243,6 @@ class TrackingConfig:
             "tau_stale", "ospa_window",
         ):
             _positive(name, getattr(self, name))
-        from ..tracking.association import MARGINALS
-        from ..tracking.models import PRESETS
-
         if self.preset not in PRESETS:
             raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {self.preset!r}")
         if self.marginals not in MARGINALS:
@@ -233,74 +251,45 @@ class TrackingConfig:
             )
 
 
+#: Readings of the random family the paper's text admits (spec A2, A5): ``(pbar_d,
+#: granularity)`` with ``Pbar_D`` = ``r P_d`` or ``P_d`` and ``P_s, P_d`` drawn per row or once
+#: per matrix (``q`` is per entry in every reading).
+RANDOM_READINGS = (("r_pd", "row"), ("pd", "row"), ("r_pd", "matrix"), ("pd", "matrix"))
+
+
 @dataclass(frozen=True)
-class Config:
-    """Settings of every study of ``rankedassign reproduce``.
+class ReadingsConfig:
+    """Table I (all nine cells) under each reading of the random family (spec A2, A5).
+
+    ``Pbar_D`` also enters the diagonal family: every random reading is combined with each
+    reading of the diagonal family's ``Pbar_D`` in ``diagonal_readings``, so each combination
+    is a complete Table I; the uniform family depends on neither choice and is run once.
 
     Examples
     --------
-    >>> from rankedassign.experiments import Config
-    >>> Config.full().table1.n_mc, Config.quick().table1.n_chains
-    (100, 10000)
-    >>> Config.quick().with_mc(3).sweep.n_mc
-    3
+    >>> from rankedassign.experiments.config import ReadingsConfig
+    >>> ReadingsConfig().readings[:2]
+    (('r_pd', 'row'), ('pd', 'row'))
     """
 
-    mode: str = "full"
-    table1: Table1Config = field(default_factory=Table1Config)
-    sweep: SweepConfig = field(default_factory=SweepConfig)
-    tracking: TrackingConfig = field(default_factory=TrackingConfig)
-    tracking_var: TrackingConfig = field(default_factory=TrackingConfig.paper_var)
-    ablation: AblationConfig = field(default_factory=AblationConfig)
-    optimum: OptimumConfig = field(default_factory=OptimumConfig)
+    n_mc: int = 100
+    readings: tuple[tuple[str, str], ...] = RANDOM_READINGS
+    diagonal_readings: tuple[str, ...] = _PBAR_D
+    original_obs: int = 250_000
+    n_chains: int = 10_000
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 25
 
-    @classmethod
-    def full(cls) -> Config:
-        """The paper's settings: 100 Monte Carlo runs everywhere."""
-        return cls(mode="full")
-
-    @classmethod
-    def quick(cls) -> Config:
-        """The paper's per-run settings with fewer Monte Carlo runs and sweep points.
-
-        Tuned so that every study together finishes within about five minutes on two cores.
-        """
-        return cls(
-            mode="quick",
-            table1=Table1Config(n_mc=QUICK_MC["table1"]),
-            sweep=SweepConfig(
-                n_mc=QUICK_MC["sweep"], obs_grid=(100, 1_000, 10_000, 100_000, 250_000),
-            ),
-            tracking=TrackingConfig(n_mc=QUICK_MC["tracking"]),
-            tracking_var=TrackingConfig.paper_var(n_mc=QUICK_MC["tracking_var"]),
-            ablation=AblationConfig(n_mc=QUICK_MC["ablation"]),
-            optimum=OptimumConfig(n_mc=QUICK_MC["optimum"]),
-        )
-
-    def with_mc(self, n_mc: int) -> Config:
-        """The same settings with ``n_mc`` Monte Carlo runs in every study."""
-        _positive("n_mc", n_mc)
-        return dataclasses.replace(
-            self,
-            **{s: dataclasses.replace(getattr(self, s), n_mc=n_mc) for s in STUDIES},
-        )
-
-    def to_dict(self) -> dict:
-        """Plain-data view (for the report's JSON)."""
-        return dataclasses.asdict(self)
-
-
-#: Monte Carlo runs of each study in quick mode (the rest of the settings are the paper's).
-QUICK_MC = {"table1": 40, "sweep": 10, "tracking": 10, "tracking_var": 10, "ablation": 10,
-            "optimum": 20}
-
-
-def study_config(config, name: str, cls):
-    """Settings of study ``name`` from ``config`` (a study config, a :class:`Config`, None)."""
-    if config is None:
-        return cls()
-    if isinstance(config, Config):
-        return getattr(config, name)
-    if not isinstance(config, cls):
-        raise TypeError(f"config must be a {cls.__name__} or Config, got {type(config).__name__}")
-    return config
+    def __post_init__(self):
+        for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
+            _positive(name, getattr(self, name))
+        readings = tuple(tuple(r) for r in self.readings)
+        if not readings or any(r not in RANDOM_READINGS for r in readings):
+            raise ValueError(
+                f"readings must be a non-empty subset of {RANDOM_READINGS}, got {self.readings!r}"
+            )
+        object.__setattr__(self, "readings", readings)
+        if not self.diagonal_readings or any(r not in _PBAR_D for r in self.diagonal_readings):
+            raise ValueError(f"diagonal_readings must be a non-empty subset of {_PBAR_D}, got "
+                             f"{self.diagonal_readings!r}")

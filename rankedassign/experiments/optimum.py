@@ -8,16 +8,25 @@ original sampler's) error next to ``eps*`` at the same ``k``.
 from __future__ import annotations
 
 import math
-from concurrent.futures import Executor
+from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 
-from ._executor import run_seed, run_tasks
-from ._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
-from .config import STALE_READINGS, STALL_READINGS, Config, OptimumConfig, study_config
+import oracle
 
-__all__ = ["run_optimum", "best_error", "summarise_optimum"]
+from . import _format as fmt
+from ._executor import run_seed
+from ._plots import figure
+from ._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
+from .config import STALE_READINGS, STALL_READINGS, OptimumConfig
+from .registry import Study, as_rows, per_family_tasks, register_study
+
+__all__ = ["OPTIMUM", "OptimumRow", "best_error", "summarise_optimum"]
+
+#: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
+QUICK_MC = 20
 
 #: Enumerate (and sort) every feasible assignment up to this many; beyond, ask the oracle.
 _ENUMERATION_LIMIT = 2_000_000
@@ -25,8 +34,6 @@ _ENUMERATION_LIMIT = 2_000_000
 
 def _tail_weights(problem) -> np.ndarray | None:
     """Suffix sums of the sorted normalised weights: ``tail[k] = sum_{i >= k} w_(i) / Z``."""
-    import oracle
-
     if problem.n_feasible() > _ENUMERATION_LIMIT:
         return None
     costs = oracle.enumerate_assignments(problem, limit=_ENUMERATION_LIMIT).costs
@@ -77,13 +84,11 @@ def best_error(problem, k: int, *, _tail=None) -> float:
         raise ValueError(f"k must be a non-negative integer, got {k!r}")
     tail = _tail if _tail is not None else _tail_weights(problem)
     if tail is None:
-        import oracle
-
         return max(0.0, 1.0 - float(oracle.best_mass(problem, int(k))))
     return float(tail[min(int(k), len(tail) - 1)])
 
 
-def _optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
+def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
     s = run_seed(seed, run)
     problem = make_problem(family, s, cfg)
     tail = _cached_tail(problem) if family in ("diagonal", "uniform") else _tail_weights(problem)
@@ -103,7 +108,24 @@ def _optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
     return out
 
 
-def summarise_optimum(runs: list[dict], families) -> list[dict]:
+@dataclass(frozen=True)
+class OptimumRow:
+    """One family and sampler: mean distinct solutions, error and best error (percent)."""
+
+    family: str
+    sampler: str
+    n_mc: int
+    obs_mean: float
+    n_unique_mean: float
+    error_pct_mean: float
+    error_pct_se: float | None
+    best_error_pct_mean: float
+    best_error_pct_se: float | None
+    excess_error_pp_mean: float
+    excess_error_pp_se: float | None
+
+
+def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
     """Rows ``(family, sampler)``: mean distinct solutions, error and best error (in %)."""
     rows = []
     for fam in families:
@@ -118,73 +140,84 @@ def summarise_optimum(runs: list[dict], families) -> list[dict]:
             def se(x, n=n):
                 return float(x.std(ddof=1) / math.sqrt(n)) if n > 1 else None
 
-            rows.append(
-                {
-                    "family": fam,
-                    "sampler": sampler,
-                    "n_mc": n,
-                    "obs_mean": float(obs.mean()),
-                    "n_unique_mean": float(k.mean()),
-                    "error_pct_mean": float(e.mean()),
-                    "error_pct_se": se(e),
-                    "best_error_pct_mean": float(b.mean()),
-                    "best_error_pct_se": se(b),
-                    "excess_error_pp_mean": float((e - b).mean()),
-                    "excess_error_pp_se": se(e - b),
-                }
-            )
+            rows.append(OptimumRow(
+                family=fam,
+                sampler=sampler,
+                n_mc=n,
+                obs_mean=float(obs.mean()),
+                n_unique_mean=float(k.mean()),
+                error_pct_mean=float(e.mean()),
+                error_pct_se=se(e),
+                best_error_pct_mean=float(b.mean()),
+                best_error_pct_se=se(b),
+                excess_error_pp_mean=float((e - b).mean()),
+                excess_error_pp_se=se(e - b),
+            ))
     return rows
 
 
-def run_optimum(
-    config: OptimumConfig | Config | None = None,
-    *,
-    seed: int = 0,
-    executor: Executor | None = None,
-    progress: bool = True,
-    return_runs: bool = False,
-):
-    """Sampled truncation error against the best error with as many distinct solutions.
+_HEADER = ["family", "sampler", "observations", "unique k", "ε (%)", "ε*(k) (%)",
+           "ε − ε* (pp)"]
 
-    Parameters
-    ----------
-    config : OptimumConfig or Config, optional
-        Settings (default: the paper's per-run settings, 100 runs).
-    seed : int, optional
-        Study seed (same streams as :func:`run_table1`: the ``"proposed"`` runs are Table I's
-        ``"full"`` runs and the ``"original"`` runs its original runs).
-    executor : concurrent.futures.Executor, optional
-        Where to run the Monte Carlo runs (default: in this process).
-    progress : bool, optional
-        Show a progress bar on stderr.
-    return_runs : bool, optional
-        Also return the per-run records.
 
-    Returns
-    -------
-    rows : list of dict
-        One row per family and sampler (``"original"``, ``"proposed"``) with keys
-        ``n_unique_mean``, ``error_pct_mean``, ``best_error_pct_mean``,
-        ``excess_error_pp_mean`` (and standard errors over runs, ``None`` for one run).
-    runs : list of dict
-        Per-run records, only if ``return_runs``.
+def render_optimum(rows: list[OptimumRow], cfg: OptimumConfig) -> str:
+    """The optimum section (the paper has no such study)."""
+    body = [
+        [r.family, r.sampler, fmt.integer(r.obs_mean), fmt.integer(r.n_unique_mean),
+         fmt.pm(r.error_pct_mean, r.error_pct_se),
+         fmt.pm(r.best_error_pct_mean, r.best_error_pct_se),
+         fmt.pm(r.excess_error_pp_mean, r.excess_error_pp_se)]
+        for r in rows
+    ]
+    n = rows[0].n_mc if rows else 0
+    return f"""## Optimum — sampled error against the best error for the same number of solutions
 
-    References
-    ----------
-    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, arXiv:2306.15135, 2023.
-    .. [2] K. G. Murty, "An Algorithm for Ranking all the Assignments in Order of Increasing
-       Cost", Operations Research 16(3), 1968.
+For k distinct solutions the smallest possible truncation error is that of the k heaviest
+assignments, ε*(k) = 1 − best_mass(k) (exact: all 76,848 feasible assignments enumerated and
+sorted). Proposed = the Table I "full" runs (same streams), {fmt.plural(n, "Monte Carlo run")}.
+The paper has no such study.
 
-    Examples
-    --------
-    >>> from rankedassign.experiments import OptimumConfig, run_optimum
-    >>> cfg = OptimumConfig(n_mc=1, families=("uniform",), original_obs=200, n_chains=8)
-    >>> row = run_optimum(cfg, progress=False)[1]
-    >>> row["sampler"], row["error_pct_mean"] >= row["best_error_pct_mean"]
-    ('proposed', True)
-    """
-    cfg = study_config(config, "optimum", OptimumConfig)
-    tasks = [(cfg, seed, r, fam) for fam in cfg.families for r in range(cfg.n_mc)]
-    runs = run_tasks(_optimum_task, tasks, executor=executor, progress=progress, desc="optimum")
-    rows = summarise_optimum(runs, cfg.families)
-    return (rows, runs) if return_runs else rows
+{fmt.table(_HEADER, body)}
+
+![optimum](optimum.png)
+"""
+
+
+def plot_optimum(rows: list[OptimumRow], directory: Path) -> list[str]:
+    """Sampled error vs the best error at the same number of distinct solutions."""
+    fams = list(dict.fromkeys(r.family for r in rows))
+    fig, (ax,) = figure()
+    x = np.arange(len(fams))
+    by = {(r.family, r.sampler): r for r in rows}
+    series = [("original", "error_pct_mean", "original ε"),
+              ("original", "best_error_pct_mean", "ε*(k original)"),
+              ("proposed", "error_pct_mean", "short-chain ε"),
+              ("proposed", "best_error_pct_mean", "ε*(k short-chain)")]
+    w = 0.8 / len(series)
+    for j, (s, key, label) in enumerate(series):
+        v = [max(getattr(by[f, s], key), 1e-12) for f in fams]
+        ax.bar(x + (j - 1.5) * w, v, w, label=label)
+    ax.set_yscale("log")
+    ax.set_xticks(x, fams)
+    ax.set_ylabel("truncation error (%)")
+    ax.set_title("Sampled error against the best error for as many solutions")
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.savefig(directory / "optimum.png", dpi=110)
+    return ["optimum.png"]
+
+
+OPTIMUM = register_study(Study(
+    name="optimum",
+    title="sampled error against the best error for as many distinct solutions",
+    config_type=OptimumConfig,
+    full=OptimumConfig,
+    quick=lambda: OptimumConfig(n_mc=QUICK_MC),
+    tasks=per_family_tasks,
+    task=optimum_task,
+    summarise=lambda runs, cfg: summarise_optimum(runs, cfg.families),
+    render=render_optimum,
+    plot=plot_optimum,
+    csv_rows=as_rows,
+    order=60,
+))

@@ -1,0 +1,81 @@
+"""Number and table formatting shared by the report sections.
+
+One unit throughout the report: errors and fractions are percentages (``%``) and differences of
+percentages are percentage points (``pp``). :func:`pm` chooses the decimals from the standard
+error (two significant digits of it), so a tiny error such as the diagonal family's is shown
+with as many digits as it needs instead of as ``0.000``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .paper import Z_LIMIT, agrees, distance_in_se
+
+
+def finite(x) -> bool:
+    return x is not None and not (isinstance(x, float) and not math.isfinite(x))
+
+
+def decimals_for(x, se=None, *, least: int = 2, most: int = 8) -> int:
+    """Decimals that show two significant digits of ``se`` (or three of ``x`` without one)."""
+    tiny = finite(se) and finite(x) and se <= 1e-9 * abs(x)  # a zero up to rounding
+    ref, sig = (se, 2) if finite(se) and se > 0 and not tiny else (x, 3)
+    if not finite(ref) or ref == 0:
+        return least
+    return max(least, min(most, sig - 1 - math.floor(math.log10(abs(ref)))))
+
+
+def num(x, digits: int | None = None) -> str:
+    """A number with ``digits`` decimals (default: :func:`decimals_for`); ``–`` if missing."""
+    if not finite(x):
+        return "–"
+    return f"{x:.{decimals_for(x) if digits is None else digits}f}"
+
+
+def pm(x, se, digits: int | None = None) -> str:
+    """``x ± se`` with the same decimals for both (chosen from ``se`` unless given)."""
+    if not finite(x):
+        return "–"
+    d = decimals_for(x, se) if digits is None else digits
+    return f"{x:.{d}f}" if not finite(se) else f"{x:.{d}f} ± {se:.{d}f}"
+
+
+def integer(x) -> str:
+    return "–" if not finite(x) else f"{x:,.0f}"
+
+
+def plural(n: int, word: str, words: str | None = None) -> str:
+    """``"1 Monte Carlo run"``, ``"2 Monte Carlo runs"``."""
+    return f"{n:,} {word if n == 1 else (words or word + 's')}"
+
+
+def table(header: list[str], rows: list[list[str]]) -> str:
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def versus(ours: float, se, paper: float) -> str:
+    """The distance to the paper's number in standard errors, flagged in words beyond the limit.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments._format import versus
+    >>> versus(41.0, 0.25, 40.27), versus(43.0, 0.25, 40.27), versus(1.0, None, 0.0)
+    ('+2.9 SE', '+10.9 SE — differs from the paper', 'no SE (one run)')
+    >>> versus(0.0358, 0.00075, 0.04)
+    "-5.6 SE (within the paper's rounding)"
+    """
+    z = distance_in_se(ours, se, paper)
+    if z is None:
+        return "no SE (one run)"
+    text = f"{z:+.1f} SE" if math.isfinite(z) else f"{'+' if z > 0 else '-'}inf SE (SE 0)"
+    if not agrees(ours, se, paper):
+        return f"{text} — differs from the paper"
+    if abs(z) > Z_LIMIT:
+        return f"{text} (within the paper's rounding)"
+    return text
+
+
+__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "integer", "plural", "table", "versus"]

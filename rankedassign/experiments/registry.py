@@ -1,0 +1,356 @@
+"""The study registry: what ``rankedassign reproduce``, :func:`run_study` and the report read.
+
+A study is described once, by a :class:`Study`: its settings type, how its settings split into
+independent tasks, the task itself (one Monte Carlo run, a module-level function), how the
+per-run records are summarised into typed records, and how the summary is rendered (a markdown
+section) and plotted. Adding a study is adding one module that builds a :class:`Study` and
+passes it to :func:`register_study`, and importing that module in
+``rankedassign/experiments/__init__.py``; the command line, the runner, the report, the
+settings (:class:`Config`) and :func:`config_from_dict` pick it up from the registry.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ._executor import run_tasks
+
+__all__ = [
+    "Study",
+    "register_study",
+    "get_study",
+    "study_names",
+    "run_study",
+    "Config",
+    "config_from_dict",
+    "ReproduceError",
+]
+
+
+class ReproduceError(ValueError):
+    """Bad input to a study or to ``reproduce`` (unknown study, bad count, unusable output)."""
+
+
+@dataclass(frozen=True)
+class Study:
+    """Everything the runner, the command line and the report need to know about one study.
+
+    Parameters
+    ----------
+    name : str
+        Identifier on the command line, in :class:`Config` and in the report's file names.
+    title : str
+        One line describing the study (command-line help, progress bar).
+    config_type : type
+        Frozen dataclass of the study's settings, with an ``n_mc`` field.
+    full, quick : callable
+        ``() -> config``: the paper's settings and the quick ones.
+    tasks : callable
+        ``(config, seed) -> list of tuple``: arguments of every call of ``task``.
+    task : callable
+        Module-level (picklable) function run once per task, returning a plain-data record.
+    summarise : callable
+        ``(runs, config) -> summary`` (typed records).
+    render : callable
+        ``(summary, config) -> str``: the markdown section of the report.
+    plot : callable, optional
+        ``(summary, directory) -> list of file names`` written there.
+    csv_rows : callable, optional
+        ``summary -> list of dict`` for ``<name>.csv`` (default: the summary's records).
+    paper : str
+        Where the paper shows the same study ("Table I", "§V-B", or "" for none).
+    order : float
+        Place in the run order (the built-in studies use 10, 20, ..., 70).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import get_study
+    >>> s = get_study("table1")
+    >>> s.name, s.config_type.__name__, s.paper
+    ('table1', 'Table1Config', 'Table I')
+    """
+
+    name: str
+    title: str
+    config_type: type
+    full: Callable[[], Any]
+    quick: Callable[[], Any]
+    tasks: Callable[[Any, int], list[tuple]]
+    task: Callable[..., Any]
+    summarise: Callable[[list, Any], Any]
+    render: Callable[[Any, Any], str]
+    plot: Callable[[Any, Path], list[str]] | None = None
+    csv_rows: Callable[[Any], list[dict]] | None = None
+    paper: str = ""
+    order: float = 100.0
+
+
+_REGISTRY: dict[str, Study] = {}
+
+
+def register_study(study: Study) -> Study:
+    """Add ``study`` to the registry (run order: ``study.order``, then registration); returns it.
+
+    Raises
+    ------
+    ReproduceError
+        If a different study of the same name is registered already.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import get_study, register_study
+    >>> register_study(get_study("sweep")) is get_study("sweep")  # idempotent
+    True
+    """
+    if not isinstance(study, Study):
+        raise TypeError(f"study must be a Study, got {type(study).__name__}")
+    known = _REGISTRY.get(study.name)
+    if known is not None and known is not study:
+        raise ReproduceError(f"a different study named {study.name!r} is registered already")
+    _REGISTRY[study.name] = study
+    return study
+
+
+def study_names() -> tuple[str, ...]:
+    """Names of the registered studies, in run order.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import study_names
+    >>> study_names()[:2]
+    ('table1', 'sweep')
+    """
+    return tuple(sorted(_REGISTRY, key=lambda n: _REGISTRY[n].order))
+
+
+def get_study(name: str) -> Study:
+    """The registered study called ``name``.
+
+    Raises
+    ------
+    ReproduceError
+        For an unknown name; the message lists the known ones.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import get_study
+    >>> get_study("optimum").title
+    'sampled error against the best error for as many distinct solutions'
+    """
+    try:
+        return _REGISTRY[name]
+    except (KeyError, TypeError):
+        raise ReproduceError(
+            f"unknown study {name!r}; choose from {', '.join(study_names())}"
+        ) from None
+
+
+def study_config(config, study: Study):
+    """Settings of ``study`` from ``config`` (its own settings, a :class:`Config` or None)."""
+    if config is None:
+        return study.full()
+    if isinstance(config, Config):
+        return config[study.name]
+    if not isinstance(config, study.config_type):
+        raise TypeError(
+            f"config must be a {study.config_type.__name__} or Config, "
+            f"got {type(config).__name__}"
+        )
+    return config
+
+
+def run_study(
+    study: str | Study,
+    config=None,
+    *,
+    seed: int = 0,
+    executor: Executor | None = None,
+    progress: bool = True,
+    return_runs: bool = False,
+    desc: str | None = None,
+):
+    """Run one study: its tasks through ``executor``, then its summary.
+
+    Parameters
+    ----------
+    study : str or Study
+        A registered name (``"table1"``, ``"sweep"``, ...) or a :class:`Study`.
+    config : optional
+        The study's settings, or a :class:`Config` (its field of that name); default the
+        paper's settings.
+    seed : int, optional
+        Study seed; Monte Carlo run ``r`` draws only from
+        ``np.random.SeedSequence(seed).spawn(n)[r]``.
+    executor : concurrent.futures.Executor, optional
+        Where to run the tasks (default: in this process).
+    progress : bool, optional
+        Show a progress bar on stderr.
+    return_runs : bool, optional
+        Also return the per-run records.
+    desc : str, optional
+        Label of the progress bar (default: the study's name).
+
+    Returns
+    -------
+    summary
+        The study's typed summary (e.g. a list of :class:`~rankedassign.experiments.Table1Row`).
+    runs : list
+        Per-run records, only if ``return_runs``.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import Table1Config, run_study
+    >>> cfg = Table1Config(n_mc=1, families=("diagonal",), original_obs=500, n_chains=40)
+    >>> rows = run_study("table1", cfg, seed=1, progress=False)
+    >>> [(r.family, r.criterion) for r in rows]
+    [('diagonal', 'stall'), ('diagonal', 'stale'), ('diagonal', 'full')]
+    """
+    st = study if isinstance(study, Study) else get_study(study)
+    cfg = study_config(config, st)
+    runs = run_tasks(st.task, st.tasks(cfg, seed), executor=executor, progress=progress,
+                     desc=desc or st.name)
+    summary = st.summarise(runs, cfg)
+    return (summary, runs) if return_runs else summary
+
+
+@dataclass(frozen=True, init=False)
+class Config:
+    """Settings of every registered study, by name: ``config.table1``, ``config["sweep"]``.
+
+    Parameters
+    ----------
+    mode : {"full", "quick"}
+        Whose settings fill the studies not given.
+    **studies
+        Settings of single studies, by name.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import Config
+    >>> Config.full().table1.n_mc, Config.quick().table1.n_chains
+    (100, 10000)
+    >>> Config.quick().with_mc(3).sweep.n_mc
+    3
+    """
+
+    mode: str
+    studies: dict = field(default_factory=dict)
+
+    def __init__(self, mode: str = "full", **studies):
+        if mode not in ("quick", "full"):
+            raise ReproduceError(f"mode must be 'quick' or 'full', got {mode!r}")
+        settings = {}
+        for name in study_names():
+            st = get_study(name)
+            given = studies.pop(name, None)
+            if given is None:
+                given = st.full() if mode == "full" else st.quick()
+            elif not isinstance(given, st.config_type):
+                raise TypeError(f"{name} settings must be a {st.config_type.__name__}, "
+                                f"got {type(given).__name__}")
+            settings[name] = given
+        if studies:
+            raise ReproduceError(
+                f"unknown study {next(iter(studies))!r}; choose from {', '.join(study_names())}"
+            )
+        object.__setattr__(self, "mode", mode)
+        object.__setattr__(self, "studies", settings)
+
+    def __getattr__(self, name: str):
+        studies = self.__dict__.get("studies", {})
+        if name in studies:
+            return studies[name]
+        raise AttributeError(f"Config has no study {name!r}")
+
+    def __getitem__(self, name: str):
+        get_study(name)
+        return self.studies[name]
+
+    @classmethod
+    def full(cls) -> Config:
+        """The paper's settings: 100 Monte Carlo runs everywhere."""
+        return cls("full")
+
+    @classmethod
+    def quick(cls) -> Config:
+        """The paper's per-run settings with fewer Monte Carlo runs and sweep points."""
+        return cls("quick")
+
+    def replace(self, **studies) -> Config:
+        """The same settings with some studies' settings replaced."""
+        return Config(self.mode, **{**self.studies, **studies})
+
+    def with_mc(self, n_mc: int) -> Config:
+        """The same settings with ``n_mc`` Monte Carlo runs in every study."""
+        if isinstance(n_mc, bool) or not isinstance(n_mc, int) or n_mc < 1:
+            raise ValueError(f"n_mc must be a positive integer, got {n_mc!r}")
+        return self.replace(
+            **{s: dataclasses.replace(c, n_mc=n_mc) for s, c in self.studies.items()}
+        )
+
+    def to_dict(self) -> dict:
+        """Plain-data view (for the report's ``config.json``)."""
+        return {"mode": self.mode,
+                **{s: dataclasses.asdict(c) for s, c in self.studies.items()}}
+
+
+def config_from_dict(base: Config, overrides: dict) -> Config:
+    """``base`` with per-study fields replaced, e.g. ``{"table1": {"n_mc": 3}}``.
+
+    Parameters
+    ----------
+    base : Config
+    overrides : dict
+        ``{study: {field: value}}``; lists become tuples.
+
+    Returns
+    -------
+    Config
+
+    Raises
+    ------
+    ReproduceError
+        Unknown study or setting, or a value the study's settings reject.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import Config, config_from_dict
+    >>> config_from_dict(Config.quick(), {"sweep": {"chain_lengths": [5]}}).sweep.chain_lengths
+    (5,)
+    """
+    if not isinstance(overrides, dict):
+        raise ReproduceError(f"config overrides must be a mapping of studies, got {overrides!r}")
+    changes = {}
+    for name, fields in overrides.items():
+        if name not in study_names():
+            raise ReproduceError(
+                f"config: unknown study {name!r}; choose from {study_names()}"
+            )
+        sub = base[name]
+        known = {f.name for f in dataclasses.fields(sub)}
+        if not isinstance(fields, dict) or not set(fields) <= known:
+            bad = sorted(set(fields) - known) if isinstance(fields, dict) else fields
+            raise ReproduceError(f"config: unknown setting(s) {bad} for study {name!r}")
+        vals = {k: tuple(v) if isinstance(v, list) else v for k, v in fields.items()}
+        try:
+            changes[name] = dataclasses.replace(sub, **vals)
+        except (TypeError, ValueError) as exc:
+            raise ReproduceError(f"config for {name!r}: {exc}") from None
+    return base.replace(**changes)
+
+
+def per_family_tasks(cfg, seed: int) -> list[tuple]:
+    """``(cfg, seed, run, family)`` for every family and Monte Carlo run (family-major)."""
+    return [(cfg, seed, r, fam) for fam in cfg.families for r in range(cfg.n_mc)]
+
+
+def as_rows(summary) -> list[dict]:
+    """Records (dataclasses) as plain dicts, for CSV."""
+    if isinstance(summary, Sequence):
+        return [dataclasses.asdict(r) for r in summary]
+    return [dataclasses.asdict(summary)]
