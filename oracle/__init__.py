@@ -5,6 +5,15 @@ normalising constant and association marginals by dynamic programming (a subset 
 frontier DP per connected component for gated problems), and the exact truncation error of a
 set of sampled assignments.
 
+The same functions accept a multi-sensor problem
+(:class:`rankedassign.multisensor.MultiSensorProblem`: enumeration, a row DP over
+used-measurement masks, :class:`MultiSensorMarginals`) or an adaptive-birth problem
+(:class:`rankedassign.multisensor.AdaptiveBirthProblem`: the dense tuple tensor).
+:func:`surrogate_log_normalizer` is the exact normaliser of the MM-Gibbs surrogate target, and
+the submodules :mod:`oracle.transition` and :mod:`oracle.adaptive_birth` build the exact
+one-sweep transition matrices of the multi-sensor and adaptive-birth Gibbs samplers on tiny
+problems.
+
 Examples
 --------
 >>> from rankedassign import synthetic
@@ -14,20 +23,30 @@ Examples
 [[0, 1, 2, 3]]
 >>> round(oracle.best_mass(p, 1), 5)
 0.99577
+>>> from rankedassign.multisensor import synthetic as ms_synthetic
+>>> q = ms_synthetic.random(3, (3, 3), rng=0)        # sensor-separable: the surrogate is exact
+>>> bool(abs(oracle.surrogate_log_normalizer(q) - oracle.log_normalizer(q)) < 1e-9)
+True
 """
 
+from . import adaptive_birth, transition
 from ._result import Ranked
 from .dp import log_normalizer, marginals
 from .enumerate import enumerate_assignments
+from .multisensor_dp import MultiSensorMarginals, surrogate_log_normalizer
 from .murty import murty
 from .truncation import best_mass, truncation_error
 
 __all__ = [
+    "MultiSensorMarginals",
     "Ranked",
+    "adaptive_birth",
     "best_mass",
     "enumerate_assignments",
     "log_normalizer",
     "marginals",
     "murty",
+    "surrogate_log_normalizer",
+    "transition",
     "truncation_error",
 ]
