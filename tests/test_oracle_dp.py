@@ -3,6 +3,7 @@
 The sparse (frontier DP) path and the decomposition into components: test_oracle_sparse.py.
 """
 
+import naive
 import numpy as np
 import pytest
 from cases import CASE_IDS, CASES, marginal_atol, problems
@@ -15,19 +16,8 @@ from rankedassign import AssignmentProblem, synthetic
 
 
 def enumerated_marginals(problem):
-    """Marginals by summing the normalised weights of every enumerated assignment."""
-    r = enumerate_assignments(problem)
-    P, M = problem.n_rows, problem.n_meas
-    w = np.exp(-(r.costs - r.costs[0]))
-    w /= w.sum()
-    gamma = problem.cols_to_gamma(r.assignments) if P else np.zeros((1, 0), dtype=int)
-    out = np.zeros((P, M + 2))
-    for i in range(P):
-        g = gamma[:, i]
-        out[i, :M] = np.bincount(np.where(g >= 1, g - 1, M), weights=w, minlength=M + 1)[:M]
-        out[i, M] = w[g == 0].sum()
-        out[i, M + 1] = w[g == -1].sum()
-    return out
+    """Marginals by summing π over the oracle's enumeration (itself held to brute force)."""
+    return naive.marginals(problem, enumerate_assignments(problem).assignments)
 
 
 def pairwise_marginals(problem):

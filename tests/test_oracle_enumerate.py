@@ -1,24 +1,15 @@
 """Exhaustive enumeration: count, order, costs, against a naive itertools enumeration."""
 
-import itertools
 
 import numpy as np
 import pytest
 from cases import CASE_IDS, CASES, problems
 from hypothesis import given
+from naive import feasible_assignments as naive_enumeration
 from numpy.testing import assert_array_equal
 
 from oracle import Ranked, enumerate_assignments
 from rankedassign import AssignmentProblem, synthetic
-
-
-def naive_enumeration(problem):
-    """All feasible assignments by brute force over every column tuple (obviously correct)."""
-    P, N = problem.n_rows, problem.n_cols
-    if P == 0:
-        return np.zeros((1, 0), dtype=np.int64)  # the one, empty, assignment
-    every = np.array(list(itertools.product(range(N), repeat=P)), dtype=np.int64)
-    return every[problem.is_feasible(every)]  # lexicographic, like np.unique
 
 
 def check_ranked(problem, r):

@@ -1,12 +1,13 @@
 """Tests of rankedassign.problem: layout, conversions, costs, counting and bad input."""
 
-import itertools
 import math
 
 import numpy as np
 import pytest
+from cases import problems
 from hypothesis import given
 from hypothesis import strategies as st
+from naive import feasible_assignments as brute_force
 from numpy.testing import assert_allclose, assert_array_equal
 
 from rankedassign import AssignmentProblem, synthetic
@@ -16,40 +17,6 @@ inf = np.inf
 
 
 # ---------------------------------------------------------------- strategies and helpers
-@st.composite
-def problems(draw, max_rows=4, max_meas=5, forbid=True):
-    """Small random problems, including P = 0 and M = 0, with optional forbidden pairs."""
-    P = draw(st.integers(0, max_rows))
-    M = draw(st.integers(0, max_meas))
-    cost = st.floats(-20, 20, allow_nan=False, allow_infinity=False)
-    D = np.array(draw(st.lists(cost, min_size=P * M, max_size=P * M)), dtype=float).reshape(P, M)
-    m = np.array(draw(st.lists(cost, min_size=P, max_size=P)), dtype=float)
-    d = np.array(draw(st.lists(cost, min_size=P, max_size=P)), dtype=float)
-    if forbid and P:
-        mask = draw(st.lists(st.booleans(), min_size=P * M, max_size=P * M))
-        D[np.array(mask, dtype=bool).reshape(P, M)] = inf
-        # forbid missed or dead (never both) on some rows
-        which = draw(st.lists(st.sampled_from(["none", "missed", "dead"]), min_size=P, max_size=P))
-        for i, w in enumerate(which):
-            if w == "missed":
-                m[i] = inf
-            elif w == "dead":
-                d[i] = inf
-    return AssignmentProblem(AssignmentProblem._assemble(D, m, d))
-
-
-def brute_force(problem):
-    """Every feasible assignment by brute force over each row's finite columns."""
-    P = problem.n_rows
-    choices = [np.flatnonzero(np.isfinite(problem.cost[i])) for i in range(P)]
-    out = []
-    for cols in itertools.product(*choices):
-        meas = [c for c in cols if c < problem.n_meas]
-        if len(meas) == len(set(meas)):
-            out.append(cols)
-    return np.array(out, dtype=np.int64).reshape(len(out), P)
-
-
 # ---------------------------------------------------------------- construction
 def test_from_eta_layout():
     p = AssignmentProblem.from_eta([[2.0, 0.0], [0.5, 4.0]], [0.25, 0.5], [0.125, 1.0])

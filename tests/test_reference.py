@@ -7,10 +7,12 @@ theirs for the same problem, options and ``rng``, on any number of threads.
 
 import numpy as np
 import pytest
+from cases import CASE_IDS, CASES, problems
 from hypothesis import given
 from hypothesis import strategies as st
 from numpy.testing import assert_array_equal
 
+import oracle
 from rankedassign import (
     AssignmentProblem,
     _kernels,
@@ -79,28 +81,6 @@ def test_zobrist_keys_match_python_stream():
 
 # ------------------------------------------------------------------------------ problems
 @st.composite
-def problems(draw, max_rows=3, max_meas=3):
-    """Small problems with negative costs, +inf (gated-out) pairs and optional +inf
-    missed/dead entries; always feasible (the constructor checks it)."""
-    P = draw(st.integers(0, max_rows))
-    M = draw(st.integers(0, max_meas))
-    cost = st.one_of(
-        st.floats(-6.0, 6.0, allow_nan=False),
-        st.just(INF),
-        st.sampled_from([0.0, -1.0, 2.5]),  # ties
-    )
-    D = np.array(draw(st.lists(cost, min_size=P * M, max_size=P * M)), float).reshape(P, M)
-    miss = np.array(draw(st.lists(st.one_of(st.floats(-3, 3), st.just(INF)), min_size=P,
-                                  max_size=P)), float)
-    dead = np.array(draw(st.lists(st.floats(-3, 3), min_size=P, max_size=P)), float)
-    # some rows may only die or only be missed: put +inf on dead where missed is finite
-    kill = np.array(draw(st.lists(st.booleans(), min_size=P, max_size=P)), bool)
-    dead = np.where(kill & np.isfinite(miss), INF, dead)
-    C = AssignmentProblem._assemble(D, miss, dead)
-    return AssignmentProblem.from_cost(C)
-
-
-@st.composite
 def wide_problems(draw, max_rows=5):
     """Problems with more than ``max(M_DIRECT, 2 P)`` measurements, so rows draw from prefix sums: runs of
     gated-out (+inf) measurements, ties, and rows whose cheapest measurement dominates."""
@@ -153,7 +133,7 @@ def assert_valid(problem, res):
 # ------------------------------------------------------------------------------ equivalence
 @given(data=st.data())
 def test_original_reference_equals_numba(data):
-    problem = data.draw(problems())
+    problem = data.draw(problems(max_rows=3, max_meas=3))
     start = data.draw(st.sampled_from(feasible_starts(problem)))
     scan = data.draw(st.sampled_from(["systematic", "random"]))
     n_obs = data.draw(st.integers(0, 120))
@@ -171,7 +151,7 @@ def test_original_reference_equals_numba(data):
 
 @given(data=st.data())
 def test_short_chains_reference_equals_numba_and_parallel(data):
-    problem = data.draw(problems())
+    problem = data.draw(problems(max_rows=3, max_meas=3))
     kw = dict(
         tau_stall=data.draw(st.one_of(st.none(), st.integers(1, 4))),
         tau_stale=data.draw(st.one_of(st.none(), st.integers(1, 6))),
@@ -353,3 +333,24 @@ def test_many_speculation_batches():
         assert_array_equal(c, c0)
         assert_array_equal(k[:6], k0[:6])
         assert k[2] == 300
+
+
+# ------------------------------------------------------------------------------ the case table
+@pytest.mark.parametrize("name", CASE_IDS)
+def test_case_table_through_the_samplers(name):
+    """Every hand-built hard case (degenerate shapes, all-forbidden rows, ties, a dominant
+    assignment, huge cost ranges) through both samplers and both backends: identical results,
+    valid states, and a long enough chain finds the best assignment the oracle ranks first."""
+    problem = dict(zip(CASE_IDS, [p for _, p in CASES], strict=True))[name]
+    for start in feasible_starts(problem):
+        kw = dict(start=start, rng=7)
+        ref = reference.sample_original(problem, 60, **kw)
+        nb = sample_original(problem, 60, **kw)
+        assert_same(ref, nb)
+        assert_valid(problem, nb)
+        sc = dict(tau_stall=3, tau_stale=5, **kw)
+        assert_same(reference.sample_short_chains(problem, 40, 6, **sc),
+                    sample_short_chains(problem, 40, 6, workers=2, **sc))
+    long = sample_original(problem, 3000, start=feasible_starts(problem)[0], rng=1)
+    best = oracle.enumerate_assignments(problem, limit=10**6).costs[0]
+    assert long.costs.min() <= best + 1e-9 * max(1.0, abs(best))

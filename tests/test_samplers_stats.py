@@ -22,6 +22,7 @@ import itertools
 
 import numpy as np
 import pytest
+from naive import compact_states as enumerate_gamma
 from numpy.testing import assert_allclose
 from scipy import stats
 
@@ -29,19 +30,6 @@ from rankedassign import AssignmentProblem, _sampling, sample_original, sample_s
 
 FALSE_FAILURE = 1e-6
 INF = np.inf
-
-
-def enumerate_gamma(problem):
-    """Feasible compact states (k_i in 0..M+1, measurements distinct, finite cost)."""
-    cc = problem.compact_cost
-    P, M = problem.n_rows, problem.n_meas
-    options = [[k for k in range(M + 2) if np.isfinite(cc[i, k])] for i in range(P)]
-    out = []
-    for x in itertools.product(*options):
-        meas = [k for k in x if k < M]
-        if len(meas) == len(set(meas)):
-            out.append(x)
-    return out
 
 
 def target(problem, states):

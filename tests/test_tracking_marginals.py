@@ -11,6 +11,7 @@ import pytest
 from cases import CASE_IDS, CASES, marginal_atol, problems
 from hypothesis import given
 from hypothesis import strategies as st
+from naive import rao_blackwell as dense_rao_blackwell
 from numpy.testing import assert_allclose
 
 import oracle
@@ -24,27 +25,6 @@ from rankedassign.tracking import (
     run_scenario,
 )
 from rankedassign.tracking.association import MARGINALS
-
-
-def dense_rao_blackwell(problem, assignments):
-    """The formula written out densely: Σ_h w_h π(γ_i = · | γ_{−i}^(h)), compact columns."""
-    P, M = problem.n_rows, problem.n_meas
-    C = problem.cost
-    a = np.asarray(assignments)
-    costs = problem.cost_of(a)
-    w = np.exp(-(costs - costs.min()))
-    w /= w.sum()
-    beta = np.zeros((P, M + 2))
-    for h in range(a.shape[0]):
-        for i in range(P):
-            taken = {int(a[h, k]) for k in range(P) if k != i}
-            logp = np.array([-C[i, c] if c not in taken else -np.inf for c in range(C.shape[1])])
-            p = np.exp(logp - logp.max())
-            p /= p.sum()
-            beta[i, :M] += w[h] * p[:M]
-            beta[i, M] += w[h] * p[M:M + P].sum()
-            beta[i, M + 1] += w[h] * p[M + P:].sum()
-    return beta
 
 
 @pytest.mark.parametrize(("name", "problem"), CASES, ids=CASE_IDS)
