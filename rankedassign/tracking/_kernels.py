@@ -36,7 +36,7 @@ _VO_MA = 1
 
 # ------------------------------------------------------------------ mixture reduction phases
 @jit()
-def _prune_components(w, a, b, elim):  # pragma: no cover (jit)
+def _prune_components(w, a, b, elim):
     """Components ``a <= c < b`` with ``w[c] > elim``, and always the heaviest (first maximum)."""
     best = a
     for c in range(a, b):
@@ -52,7 +52,7 @@ def _prune_components(w, a, b, elim):  # pragma: no cover (jit)
 
 
 @jit()
-def _merge_prepare(idx):  # pragma: no cover (jit)
+def _merge_prepare(idx):
     """Room for ``P⁻¹`` (the Mahalanobis rules) or ``ln|P|`` (Bhattacharyya) of every kept
     component, filled on first use (:func:`_component_inverse`, :func:`_component_logdet`):
     most pairs are decided by a cheap bound and never need them."""
@@ -61,7 +61,7 @@ def _merge_prepare(idx):  # pragma: no cover (jit)
 
 
 @jit()
-def _component_logdet(P, idx, logdet, q):  # pragma: no cover (jit)
+def _component_logdet(P, idx, logdet, q):
     """``ln|P_q|``, computed once."""
     if np.isnan(logdet[q]):
         logdet[q] = np.linalg.slogdet(P[idx[q]])[1]
@@ -69,7 +69,7 @@ def _component_logdet(P, idx, logdet, q):  # pragma: no cover (jit)
 
 
 @jit()
-def _component_inverse(P, idx, inv, have_inv, q):  # pragma: no cover (jit)
+def _component_inverse(P, idx, inv, have_inv, q):
     """``P_q⁻¹``, computed once."""
     if not have_inv[q]:
         inv[q] = np.linalg.inv(P[idx[q]])
@@ -78,7 +78,7 @@ def _component_inverse(P, idx, inv, have_inv, q):  # pragma: no cover (jit)
 
 
 @jit()
-def _position_bound(d, A):  # pragma: no cover (jit)
+def _position_bound(d, A):
     """``d_pᵀ A_pp⁻¹ d_p`` over the position coordinates (0, 2) of the 4 x 4 SPD ``A``.
 
     A lower bound of ``dᵀ A⁻¹ d``: the Mahalanobis distance of a sub-vector under its marginal
@@ -97,7 +97,7 @@ _BOUND_MARGIN = 1e-9
 
 
 @jit()
-def _heaviest(w, idx, alive):  # pragma: no cover (jit)
+def _heaviest(w, idx, alive):
     """Position in ``idx`` of the heaviest alive component (the first one on ties)."""
     jq = -1
     for q in range(idx.size):
@@ -108,7 +108,7 @@ def _heaviest(w, idx, alive):  # pragma: no cover (jit)
 
 @jit()
 def _merge_distance(m, P, idx, inv, have_inv, logdet, q, jq, rule,
-                    merge_thr):  # pragma: no cover (jit)
+                    merge_thr):
     """Merging statistic of candidate ``q`` against the heaviest ``jq`` (``inf``: cannot merge).
 
     ``d = m_q − m_j``; rule 0: ``dᵀ P̄⁻¹ d + 4 ln(|P̄| / √(|P_q| |P_j|))``, ``P̄ = (P_q + P_j)/2``;
@@ -156,7 +156,7 @@ def _merge_distance(m, P, idx, inv, have_inv, logdet, q, jq, rule,
 
 
 @jit()
-def _moment_match(w, m, P, idx, members, nm):  # pragma: no cover (jit)
+def _moment_match(w, m, P, idx, members, nm):
     """``w = Σ w_i``, ``m = Σ w_i m_i / w``, ``P = Σ w_i (P_i + (m − m_i)(m − m_i)ᵀ) / w``."""
     wsum = 0.0
     mean = np.zeros(4)
@@ -175,7 +175,7 @@ def _moment_match(w, m, P, idx, members, nm):  # pragma: no cover (jit)
 
 
 @jit()
-def _sort_cap_normalise(ow, om, oP, start, stop, cap):  # pragma: no cover (jit)
+def _sort_cap_normalise(ow, om, oP, start, stop, cap):
     """Sort ``start:stop`` by decreasing weight (stable), keep ``cap``, renormalise; new stop."""
     order = np.argsort(-ow[start:stop], kind="mergesort")
     sw = ow[start:stop][order].copy()
@@ -194,7 +194,7 @@ def _sort_cap_normalise(ow, om, oP, start, stop, cap):  # pragma: no cover (jit)
 
 
 @jit()
-def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):  # pragma: no cover
+def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
     """Prune, merge and cap the Gaussian mixture of every kept track.
 
     Parameters
@@ -305,7 +305,7 @@ _LOGE2 = math.log(2.0)
 
 
 @jit()
-def gate_and_distances(m, P, R, z, offsets, gate, use_gate):  # pragma: no cover (jit)
+def gate_and_distances(m, P, R, z, offsets, gate, use_gate):
     """Innovation statistics of every component and measurement, and the χ² gate per track.
 
     Parameters
@@ -381,7 +381,7 @@ def gate_and_distances(m, P, R, z, offsets, gate, use_gate):  # pragma: no cover
 
 
 @jit()
-def _logaddexp(x, y):  # pragma: no cover (jit)
+def _logaddexp(x, y):
     """``ln(eˣ + eʸ)`` by the same steps as numpy's ``logaddexp`` (so, bit for bit, the same)."""
     if x == y:
         return x + _LOGE2
@@ -395,7 +395,7 @@ def _logaddexp(x, y):  # pragma: no cover (jit)
 
 @jit()
 def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, log_pd,
-                          log_kappa):  # pragma: no cover (jit)
+                          log_kappa):
     """Per component and per track: the log-likelihoods of the measurements ``used``.
 
     Parameters
@@ -461,7 +461,7 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
 
 # ------------------------------------------------------------------ association problems
 @jit()
-def connected_groups(gated):  # pragma: no cover (jit)
+def connected_groups(gated):
     """Connected components of the bipartite track–measurement graph of ``gated`` (T, M).
 
     Returns ``(track_group (T,), meas_group (M,), n_groups)``: groups are numbered in the order
@@ -494,7 +494,7 @@ def connected_groups(gated):  # pragma: no cover (jit)
 
 
 @jit()
-def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):  # pragma: no cover (jit)
+def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):
     """Cost matrix ``−ln η`` of the tracks ``rows`` and measurements ``cols``, paper layout.
 
     ``C[i, j] = −log_det[rows[i], cols[j]]``, ``C[i, M + i] = −log_miss[rows[i]]``,
@@ -513,7 +513,7 @@ def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):  # pragma: no co
 
 
 @jit()
-def truncated_marginals(a, w, M):  # pragma: no cover (jit)
+def truncated_marginals(a, w, M):
     """``β[i, j] = Σ_h w_h 1[γ_i^(h) = j]`` in compact columns ``[meas | missed | dead]``.
 
     ``a`` (H, P): assignments as cost-matrix columns; ``w`` (H,): normalised weights. The sum
@@ -536,7 +536,7 @@ def truncated_marginals(a, w, M):  # pragma: no cover (jit)
 
 # ------------------------------------------------------------------ extraction
 @jit()
-def cardinality_distribution(r):  # pragma: no cover (jit)
+def cardinality_distribution(r):
     """Poisson-binomial distribution of the number of tracks that exist, shape (T + 1,).
 
     ``ρ ← ρ (1 − r_i)`` shifted-added ``ρ r_i`` for every track in turn (the convolution
@@ -556,7 +556,7 @@ def cardinality_distribution(r):  # pragma: no cover (jit)
 
 # ------------------------------------------------------------------ update from the marginals
 @jit()
-def posterior_sources(offsets, rel, elim, lw, log_g):  # pragma: no cover (jit)
+def posterior_sources(offsets, rel, elim, lw, log_g):
     """Where each posterior component comes from, grouped by track (spec eq. 6.4).
 
     Parameters
@@ -617,7 +617,7 @@ def posterior_sources(offsets, rel, elim, lw, log_g):  # pragma: no cover (jit)
 
 @jit()
 def posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu,
-                         P_upd):  # pragma: no cover (jit)
+                         P_upd):
     """Weights, means and covariances of the posterior components (spec eq. 6.4).
 
     For a missed detection of track ``t``: ``(rel[t, M] w_c, m_c, P_c)``; for an update with
