@@ -84,3 +84,45 @@ def test_bench_short_chains_full_budget(benchmark, workers, size):
     )
     assert res.n_observations == 50_000
     _info(benchmark, res, problem, workers=workers)
+
+
+@pytest.fixture
+def busy_core():
+    """A process spinning on the machine's last core for the duration of the benchmark."""
+    import multiprocessing as mp
+    import os
+
+    cpus = sorted(os.sched_getaffinity(0))
+    if len(cpus) < 2:
+        pytest.skip("needs two cores to keep one busy")
+    ctx = mp.get_context("spawn")
+    proc = ctx.Process(target=_spin, args=(cpus[-1],), daemon=True)
+    proc.start()
+    yield cpus[-1]
+    proc.terminate()
+    proc.join()
+
+
+def _spin(cpu):
+    import os
+    import time
+
+    os.sched_setaffinity(0, {cpu})
+    end = time.monotonic() + 600  # bounded even if the parent dies
+    while time.monotonic() < end:
+        pass
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_bench_short_chains_with_a_busy_core(benchmark, busy_core, workers):
+    """The paper's settings on 30 x 160 while another process keeps one core busy: two workers
+    must not be slower than one (idle OpenMP threads sleep, chains are handed out in small
+    chunks)."""
+    problem = PROBLEMS["30x160"]()
+    benchmark.group = "short chains, paper settings 30x160, one core busy"
+    res = benchmark.pedantic(
+        sample_short_chains, args=(problem, 10_000, 25),
+        kwargs=dict(tau_stall=5, tau_stale=25, rng=1, workers=workers), rounds=3,
+        warmup_rounds=1,
+    )
+    _info(benchmark, res, problem, workers=workers, stop_reason=res.stop_reason)

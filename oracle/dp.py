@@ -20,6 +20,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
+from rankedassign.multisensor import MultiSensorProblem
+
+from . import multisensor_dp
 from ._kernels import (
     _ENTER,
     _RETIRE,
@@ -380,9 +383,10 @@ def log_normalizer(problem) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem or MultiSensorProblem
         The ``P x (M + 2P)`` problem. Every connected component of its row–measurement graph
-        must fit one of the two DPs (see Notes).
+        must fit one of the two DPs (see Notes). A multi-sensor problem goes to
+        :func:`oracle.multisensor_dp.log_normalizer`.
 
     Returns
     -------
@@ -465,6 +469,8 @@ def log_normalizer(problem) -> float:
     >>> round(log_normalizer(band), 6)
     45.630949
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_dp.log_normalizer(problem)
     check_problem(problem)
     if problem.n_rows == 0:
         return 0.0
@@ -476,8 +482,10 @@ def marginals(problem) -> np.ndarray:
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`.
+    problem : AssignmentProblem or MultiSensorProblem
+        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`. A
+        multi-sensor problem goes to :func:`oracle.multisensor_dp.marginals` (which returns a
+        :class:`~oracle.multisensor_dp.MultiSensorMarginals`).
 
     Returns
     -------
@@ -534,6 +542,8 @@ def marginals(problem) -> np.ndarray:
     >>> marginals(q).round(4).tolist()       # Z_c = 3 + 1 + 1 = 5 for rows 0 and 1
     [[0.6, 0.4, 0.0], [0.2, 0.8, 0.0], [0.0, 0.25, 0.75]]
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_dp.marginals(problem)
     check_problem(problem)
     P, M = problem.n_rows, problem.n_meas
     if P == 0:

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from rankedassign.multisensor import MultiSensorProblem
+
+from . import multisensor_enumerate
 from ._kernels import count_kernel, enumerate_kernel
 from ._result import Ranked, check_count, check_problem, ranked
 
@@ -25,8 +28,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` problem.
+    problem : AssignmentProblem or MultiSensorProblem
+        The ``P x (M + 2P)`` problem; a multi-sensor problem goes to
+        :func:`oracle.multisensor_enumerate.enumerate_assignments` (assignments of shape
+        ``(|Gamma|, P, V)``).
     limit : int, optional
         Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments; the output
         takes ``8 P |Gamma|`` bytes.
@@ -73,6 +78,8 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     >>> len(enumerate_assignments(synthetic.uniform()).costs)
     76848
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_enumerate.enumerate_assignments(problem, limit=limit)
     check_problem(problem)
     limit = check_count(limit, "limit", minimum=1)
     n, exact = _count(problem, limit)

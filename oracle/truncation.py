@@ -5,6 +5,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
+from rankedassign.multisensor import MultiSensorProblem
+
+from . import multisensor_truncation
 from ._result import check_count, check_problem
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
@@ -49,9 +52,10 @@ def truncation_error(problem, assignments) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem or MultiSensorProblem
         The ``P x (M + 2P)`` problem; ``Z`` is computed by :func:`~oracle.log_normalizer`, so
-        ``min(P, M) <= 20``.
+        ``min(P, M) <= 20``. A multi-sensor problem goes to
+        :func:`oracle.multisensor_truncation.truncation_error` (assignments ``(n, P, V)``).
     assignments : array_like of int, shape (n, P) or (P,)
         Column indices (for instance a sampler's output). Duplicates count once; ``n = 0``
         gives an error of 1.
@@ -98,6 +102,8 @@ def truncation_error(problem, assignments) -> float:
     >>> round(truncation_error(synthetic.diagonal(), [[0, 1, 2, 3]]), 5)
     0.00423
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_truncation.truncation_error(problem, assignments)
     check_problem(problem)
     a = _unique_feasible(problem, assignments)
     if a.shape[0] == 0:
@@ -114,7 +120,8 @@ def best_mass(problem, k: int) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem or MultiSensorProblem
+        A multi-sensor problem goes to :func:`oracle.multisensor_truncation.best_mass`.
     k : int
         Number of assignments, ``k >= 0`` (``0`` gives ``0.0``; ``k >= |Gamma|`` gives 1).
 
@@ -155,6 +162,8 @@ def best_mass(problem, k: int) -> float:
     >>> round(best_mass(synthetic.uniform(), 76848 // 2), 12)
     0.5
     """
+    if isinstance(problem, MultiSensorProblem):
+        return multisensor_truncation.best_mass(problem, k)
     check_problem(problem)
     k = check_count(k, "k", minimum=0)
     if k == 0:

@@ -12,6 +12,13 @@ switched in one place:
     compilation, never a wrong kernel, so the cache is on by default here. Turn it off for a
     read-only installation or when numba warns that it cannot write ``__pycache__``.
 
+``OMP_WAIT_POLICY``
+    Set to ``"PASSIVE"`` unless already set, before numba first starts its OpenMP thread pool:
+    idle workers then sleep instead of spinning. With spinning (GNU OpenMP's default), a
+    parallel run on a machine whose other core is busy lost 15-37 % against one worker,
+    because the waiting threads burnt the cycles the busy core's share needed. Set the
+    variable yourself before importing :mod:`rankedassign` to choose otherwise.
+
 ``fastmath`` is always off: the sampler kernels must agree bit for bit with the pure-Python
 reference (:mod:`rankedassign.reference`), and fast-math reassociation would break that.
 Setting ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the coverage run does).
@@ -39,6 +46,8 @@ import numba
 __all__ = ["CACHE", "jit", "threads", "instantiate", "source_digest"]
 
 CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
+# Read by the OpenMP runtime when numba's thread pool starts (on the first parallel call).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 
 @functools.cache

@@ -3,17 +3,24 @@
 Same names and signatures as :func:`rankedassign.sample_original` and
 :func:`rankedassign.sample_short_chains` (the ``backend`` switch is absent: this *is* the
 Python backend; ``workers`` is accepted and ignored because the run is sequential). Written
-for reading, not speed: plain loops over lists, a dict for the unique set. The kernels in
-:mod:`rankedassign._kernels` must return exactly the same result for the same inputs (tested
-with hypothesis over random problems and every option).
+for reading, not speed: plain loops over lists, a dict for the unique set. The kernels
+(:mod:`rankedassign._chains` with each problem type's row update) must return exactly the same
+result for the same inputs (tested with hypothesis over random problems and every option).
+
+:func:`run_chains` is the architecture of the paper written once — chains from a common start,
+one observation per sweep, the unique set, every reading of stall and stale — for any problem
+type; a problem type supplies ``new_work(data, x)`` (its per-chain bookkeeping, e.g. which row
+holds each measurement) and ``sweep(data, work, x, g)`` (one sweep in place), registered in
+:data:`ROW_UPDATES` under the kind name of :mod:`rankedassign._sampling`.
 
 The arithmetic that both implementations share, and that makes them agree bit for bit:
 
-* the weights ``W`` (:func:`rankedassign.samplers.shifted_weights`), computed once with numpy;
+* the weights ``W`` (:func:`rankedassign._sampling.shifted_weights`) and their per-row prefix
+  sums (:func:`rankedassign._sampling.prefix_sums`), computed once with numpy;
 * the SplitMix64 stream of each chain (:mod:`rankedassign._rng`);
-* one uniform per row update, turned into a candidate by the sequential inverse-CDF loop of
-  :func:`draw_row`; in a random-scan sweep, first ``P - 1`` uniforms for the Fisher-Yates
-  permutation of :func:`sweep`.
+* one uniform per row update, turned into a candidate by the inverse-CDF rule of
+  :func:`draw_direct` or (many measurements) :func:`draw_prefix`; in a random-scan sweep, first
+  ``P - 1`` uniforms for the Fisher-Yates permutation of :func:`sweep`.
 
 States are compact index vectors: ``k < M`` measurement ``k``, ``k = M`` missed,
 ``k = M + 1`` dead (the columns of :attr:`AssignmentProblem.compact_cost`); the result holds
@@ -22,25 +29,28 @@ column indices of the full ``P x (M + 2P)`` matrix.
 
 from __future__ import annotations
 
+import bisect
 import math
+from typing import NamedTuple
 
 from ._rng import SplitMix64, chain_state
-from .samplers import (
-    STALE_READINGS,
-    STALL_READINGS,
-    _check_choice,
-    _check_count,
-    _check_tau,
-    _check_workers,
-    _package,
-    _prepare,
+from ._sampling import (
+    CANCEL_GUARD,
+    SingleData,
+    check_chain_budget,
+    check_rules,
+    package,
+    prepare,
+    zero_length_run,
 )
+from .validation import check_int
 
-__all__ = ["sample_original", "sample_short_chains", "draw_row", "sweep"]
+__all__ = ["sample_original", "sample_short_chains", "run_chains", "draw_direct", "draw_prefix",
+           "sweep", "new_work", "SingleWork"]
 
 
-def draw_row(W_i, cc_i, i, owner, g) -> int:
-    """Draw row ``i``'s compact index from its conditional (spec eq. 2.1) with one uniform.
+def draw_direct(W_i, cc_i, i, owner, u) -> int:
+    """Row ``i``'s draw by the direct sum over its available candidates, ``O(M)``.
 
     Parameters
     ----------
@@ -52,8 +62,8 @@ def draw_row(W_i, cc_i, i, owner, g) -> int:
         The row.
     owner : list of int, length M
         Row holding each measurement, ``-1`` if free.
-    g : SplitMix64
-        The chain's stream; advanced by exactly one draw.
+    u : float
+        The row's uniform in ``[0, 1)``.
 
     Returns
     -------
@@ -66,7 +76,7 @@ def draw_row(W_i, cc_i, i, owner, g) -> int:
     measurements ``0..M-1`` not held by another row, missed (``M``) and dead (``M + 1``)::
 
         total  = sum of W_i[k] over available k, left to right
-        target = u * total,  u ~ U[0, 1)
+        target = u * total
         pick the first k with  W_i[0] + ... + W_i[k] > target   (available, positive k only)
 
     (inverse CDF, like Vo's ``histc(rand, [0; cumsum / sum])``). If rounding leaves no such
@@ -77,8 +87,7 @@ def draw_row(W_i, cc_i, i, owner, g) -> int:
 
     Examples
     --------
-    >>> from rankedassign._rng import SplitMix64
-    >>> draw_row([1.0, 0.0, 0.0], [0.0, float("inf"), float("inf")], 0, [-1], SplitMix64(0))
+    >>> draw_direct([1.0, 0.0, 0.0], [0.0, float("inf"), float("inf")], 0, [-1], 0.5)
     0
     """
     M = len(owner)
@@ -86,7 +95,6 @@ def draw_row(W_i, cc_i, i, owner, g) -> int:
     total = 0.0
     for k in avail:
         total += W_i[k]
-    u = g.uniform()
     if total > 0.0:
         weights = [W_i[k] for k in avail]
     else:  # underflow fall-back: exact weights relative to the cheapest available entry
@@ -107,155 +115,233 @@ def draw_row(W_i, cc_i, i, owner, g) -> int:
     return last
 
 
-def sweep(W, cc, x, owner, g, random_scan) -> None:
-    """One Gibbs sweep over all rows, updating ``x`` and ``owner`` in place (spec §2.2).
+def draw_prefix(W_i, S_i, next_i, cc_i, i, owner, held, u) -> int:
+    """Row ``i``'s draw from per-row prefix sums, ``O(P + log M)`` (row ``i`` released).
 
     Parameters
     ----------
-    W, cc : list of list of float, shape (P, M + 2)
-        Shifted weights and compact costs.
-    x : list of int, length P
-        Compact state.
-    owner : list of int, length M
-        Row holding each measurement, ``-1`` if free.
-    g : SplitMix64
-        The chain's stream.
-    random_scan : bool
-        If True, rows are visited in a random order drawn first by Fisher-Yates from the
-        identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``, swap ``t`` and ``j``);
-        otherwise in order ``0..P-1``.
+    W_i, cc_i, i, owner, u
+        As in :func:`draw_direct`.
+    S_i : sequence of float, length M + 1
+        Prefix sums of the row's measurement weights, ``S_i[k] = W_i[0] + ... + W_i[k-1]``
+        summed left to right (``S_i[0] = 0``).
+    next_i : sequence of int, length M
+        ``next_i[k]``: the first ``k' >= k`` with ``W_i[k'] > 0`` (``M`` if none).
+    held : list of int
+        Sorted measurements held by the *other* rows.
+
+    Returns
+    -------
+    int
+        The compact index drawn.
 
     Notes
     -----
-    Gauss-Seidel: row ``n`` conditions on the rows already updated in this sweep and on the
-    others from the previous sweep (Vo 2017, Alg. 1).
+    The same conditional as :func:`draw_direct`, with the sums over available measurements
+    written as a prefix sum minus the held measurements before it. With ``c`` the sum of
+    ``W_i`` over the held measurements (in column order) and ``meas = S_i[M] - c``::
+
+        total  = (meas + W_i[M]) + W_i[M + 1],   target = u * total
+        cum(k) = S_i[k + 1] - c(k)   for a free k < M, c(k) the held weight left of k
+        pick the first free k with W_i[k] > 0 and cum(k) > target; else missed if
+        W_i[M] > 0 and meas + W_i[M] > target; else dead if W_i[M + 1] > 0 (its cum is total)
+
+    The free measurements form runs between held ones; in each run ``c`` is constant and
+    ``cum`` does not decrease. The run is found by bisection over the runs' last ``cum``
+    (``cs[t]``, the held weight left of run ``t``, is summed once per draw), the first ``k``
+    of the run with ``cum(k) > target`` by bisection inside it, and ``next_i`` skips zero
+    weights (a run may start with one whose rounded ``cum`` already exceeds ``target``; the
+    search then moves on to the next run), so a draw costs ``O(P + log M)``. If rounding
+    leaves no candidate, the last available positive-weight candidate is taken, as in
+    :func:`draw_direct`. When the held measurements
+    carry all but :data:`CANCEL_GUARD` of the row's measurement weight, ``S_i[M] - c`` loses
+    its digits to cancellation and the draw is :func:`draw_direct`'s; so is it when every
+    available weight underflowed to 0.
+
+    Examples
+    --------
+    >>> W = [0.5, 0.0, 0.25, 1.0, 0.0]            # M = 3 measurements, missed, dead
+    >>> draw_prefix(W, [0.0, 0.5, 0.5, 0.75], [0, 2, 2], [0.7, 9e9, 1.4, 0.0, 9e9], 0,
+    ...             [-1, -1, -1], [], 0.5)       # target 0.875: past 0.75, missed
+    3
+    """
+    M = len(owner)
+    n = len(held)
+    cs = [0.0] * (n + 1)  # cs[t]: held weight left of run t, summed left to right
+    for t in range(n):
+        cs[t + 1] = cs[t] + W_i[held[t]]
+    meas = S_i[M] - cs[n]
+    if meas < CANCEL_GUARD * S_i[M]:  # held weight cancels the prefix sum: direct draw
+        return draw_direct(W_i, cc_i, i, owner, u)
+    total = (meas + W_i[M]) + W_i[M + 1]
+    if not total > 0.0:  # every available weight underflowed
+        return draw_direct(W_i, cc_i, i, owner, u)
+    target = u * total
+    ends = held + [M]  # run t is [lo_t, ends[t]) with lo_0 = 0, lo_t = ends[t - 1] + 1
+    # the first run whose last cum, S_i[ends[t]] - cs[t], exceeds target (bisection over runs)
+    a, b = 0, n + 1
+    while a < b:
+        mid = (a + b) // 2
+        if S_i[ends[mid]] - cs[mid] > target:
+            b = mid
+        else:
+            a = mid + 1
+    for t in range(a, n + 1):  # normally one run; more only past zero weights or rounding
+        lo = ends[t - 1] + 1 if t > 0 else 0
+        h = ends[t]
+        if h > lo and S_i[h] - cs[t] > target:
+            p, q = lo, h - 1  # the first k in the run with S_i[k + 1] - cs[t] > target
+            while p < q:
+                mid = (p + q) // 2
+                if S_i[mid + 1] - cs[t] > target:
+                    q = mid
+                else:
+                    p = mid + 1
+            k = next_i[p]
+            if k < h:
+                return k
+    if W_i[M] > 0.0 and meas + W_i[M] > target:
+        return M
+    if W_i[M + 1] > 0.0:
+        return M + 1  # cum(M + 1) = total > target, or rounding: the last candidate
+    if W_i[M] > 0.0:
+        return M
+    free = set(range(M)) - set(held)
+    return max(k for k in free if W_i[k] > 0.0)  # rounding: last positive free measurement
+
+
+class SingleWork(NamedTuple):
+    """A chain's bookkeeping: who holds each measurement, and the held ones in order."""
+
+    owner: list    # length M: row holding each measurement, -1 if free
+    held: list     # sorted measurements held by some row
+
+
+def new_work(data: SingleData, x) -> SingleWork:
+    """Bookkeeping of a chain in state ``x``."""
+    owner = [-1] * data.M
+    for i, k in enumerate(x):
+        if k < data.M:
+            owner[k] = i
+    return SingleWork(owner, sorted(k for k in x if k < data.M))
+
+
+def sweep(data: SingleData, work: SingleWork, x, g) -> None:
+    """One Gibbs sweep over all rows, updating ``x`` and ``work`` in place (spec §2.2).
+
+    Parameters
+    ----------
+    data : SingleData
+        Shifted weights, compact costs, prefix sums, scan order.
+    work : SingleWork
+        The chain's bookkeeping (:func:`new_work`).
+    x : list of int, length P
+        Compact state.
+    g : SplitMix64
+        The chain's stream.
+
+    Notes
+    -----
+    Rows are visited in order ``0..P-1`` or, for a random scan, in an order drawn first by
+    Fisher-Yates from the identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``, swap
+    ``t`` and ``j``). Gauss-Seidel: row ``n`` conditions on the rows already updated in this
+    sweep and on the others from the previous sweep (Vo 2017, Alg. 1). Each row update
+    releases the row's measurement, draws one uniform and turns it into a candidate with
+    :func:`draw_direct` or, where :func:`rankedassign._sampling.uses_prefix_sums` says
+    so, :func:`draw_prefix`.
 
     Examples
     --------
     >>> from rankedassign._rng import SplitMix64
-    >>> x, owner = [1], [-1]
-    >>> sweep([[0.0, 1.0, 0.0]], [[9.0, 0.0, float("inf")]], x, owner, SplitMix64(0), False)
-    >>> x, owner
+    >>> data = SingleData([[0.0, 1.0, 0.0]], [[9.0, 0.0, float("inf")]], [[0.0, 0.0]], [[1]],
+    ...                   False, 1, False)
+    >>> x = [1]
+    >>> work = new_work(data, x)
+    >>> sweep(data, work, x, SplitMix64(0))
+    >>> x, work.owner
     ([1], [-1])
     """
     P = len(x)
-    M = len(owner)
+    M = data.M
+    owner, held = work
     order = list(range(P))
-    if random_scan:
+    if data.random_scan:
         for t in range(P - 1, 0, -1):
             j = min(int(g.uniform() * (t + 1)), t)
             order[t], order[j] = order[j], order[t]
     for i in order:
-        k_new = draw_row(W[i], cc[i], i, owner, g)
-        if x[i] < M:
+        if x[i] < M:  # release row i's measurement
             owner[x[i]] = -1
+            held.remove(x[i])
+        u = g.uniform()
+        if not data.prefix:
+            k_new = draw_direct(data.W[i], data.cc[i], i, owner, u)
+        else:
+            k_new = draw_prefix(data.W[i], data.S[i], data.next_pos[i], data.cc[i], i, owner,
+                                held, u)
         if k_new < M:
             owner[k_new] = i
+            bisect.insort(held, k_new)
         x[i] = k_new
 
 
-def _owner_of(x, M):
-    owner = [-1] * M
-    for i, k in enumerate(x):
-        if k < M:
-            owner[k] = i
-    return owner
+#: Row updates of each problem type: kind -> (new_work, sweep).
+ROW_UPDATES = {"single": (new_work, sweep)}
 
 
-def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None):
-    """Reference original Gibbs sampler (spec §2.2); see :func:`rankedassign.sample_original`.
+def run_chains(sweep, new_work, data, x0, base, n_chains, chain_length, *, tau_stall=None,
+               tau_stale=None, stall="global-consecutive", stale="consecutive"):
+    """The short-chain architecture for any problem type (spec §3.3); plain Python.
 
     Parameters
     ----------
-    problem : AssignmentProblem
-    n_obs : int
-        Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
-    start, scan, rng
-        As in :func:`rankedassign.sample_original`.
-
-    Returns
-    -------
-    SamplerResult
-
-    References
-    ----------
-    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
-       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
-
-    Examples
-    --------
-    >>> from rankedassign import synthetic
-    >>> res = sample_original(synthetic.diagonal(), 200, rng=0)
-    >>> int(res.counts.sum()), res.assignments[0].tolist()
-    (200, [16, 17, 18, 19])
-    """
-    n_obs = _check_count("n_obs", n_obs)
-    prep = _prepare(problem, start, scan, rng)
-    W, cc, M = prep.W.tolist(), prep.cc.tolist(), prep.problem.n_meas
-    x = prep.x0.tolist()                       # x <- x0 (stored, not an observation)
-    owner = _owner_of(x, M)
-    g = SplitMix64(chain_state(prep.base, 0))  # the original chain is stream 0
-    index = {tuple(x): 0}                      # unique states in order of discovery
-    states, counts = [tuple(x)], [0]
-    for _ in range(n_obs):                     # t = 2..T: one sweep = one observation
-        sweep(W, cc, x, owner, g, prep.random_scan)
-        key = tuple(x)
-        if key not in index:
-            index[key] = len(states)
-            states.append(key)
-            counts.append(0)
-        counts[index[key]] += 1
-    return _package(prep, states, counts, n_obs, 1, False, 0)
-
-
-def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
-                        stall="global-consecutive", stale="consecutive", start="all_missed",
-                        scan="systematic", rng=None, workers=1):
-    """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
-
-    Parameters
-    ----------
-    problem : AssignmentProblem
+    sweep : callable
+        ``sweep(data, work, x, g)``: one sweep (one observation) in place on the list ``x`` and
+        the bookkeeping ``work``, drawing from the stream ``g``.
+    new_work : callable
+        ``new_work(data, x) -> work``: the bookkeeping of a chain started at ``x``.
+    data : tuple
+        The problem type's inputs (``Prepared.ref_data``).
+    x0 : sequence of int
+        Start state of every chain.
+    base : int
+        Base key; chain ``c`` draws from ``SplitMix64(chain_state(base, c))``.
     n_chains, chain_length : int
         ``N_S`` and ``N_C``.
     tau_stall, tau_stale : int or None
         Thresholds; ``None`` disables a rule.
     stall, stale : str
         Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
-    start, scan, rng
-        As in :func:`rankedassign.sample_short_chains`.
-    workers : int
-        Accepted and ignored (sequential).
 
     Returns
     -------
-    SamplerResult
-        ``n_speculative_discarded`` is 0.
+    states : list of tuple
+        Unique states in discovery order, ``x0`` first.
+    counts : list of int
+        Observations of each.
+    n_obs, chains_run : int
+        Observations made and chains started.
+    stale_fired : bool
+        Whether the stale rule stopped the run.
 
-    References
-    ----------
-    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
-       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+    Notes
+    -----
+    The original sampler (Vo, Vo & Hoang 2017, Alg. 1) is one chain of ``n_obs`` sweeps with
+    neither rule.
 
     Examples
     --------
-    >>> from rankedassign import synthetic
-    >>> res = sample_short_chains(synthetic.diagonal(), 200, 25, tau_stall=5, tau_stale=25,
-    ...                           rng=3)
-    >>> res.stop_reason, res.n_chains_run < 200
-    ('stale', True)
-    """
-    n_chains = _check_count("n_chains", n_chains)
-    chain_length = _check_count("chain_length", chain_length)
-    tau_stall = _check_tau("tau_stall", tau_stall) or None
-    tau_stale = _check_tau("tau_stale", tau_stale) or None
-    _check_choice("stall reading", stall, STALL_READINGS)
-    _check_choice("stale reading", stale, STALE_READINGS)
-    _check_workers(workers)
-    prep = _prepare(problem, start, scan, rng)
-    W, cc, M = prep.W.tolist(), prep.cc.tolist(), prep.problem.n_meas
-    x0 = tuple(prep.x0.tolist())
+    A coin that one uniform per sweep turns:
 
+    >>> def flip(data, work, x, g):
+    ...     if g.uniform() < 0.5:
+    ...         x[0] = 1 - x[0]
+    >>> states, counts, n_obs, chains, stale = run_chains(flip, lambda d, x: None, (), [0],
+    ...                                                   7, 1, 100)
+    >>> sorted(states), sum(counts), stale
+    ([(0,), (1,)], 100, False)
+    """
+    x0 = tuple(x0)
     index = {x0: 0}                 # U <- {x0}; x0 is returned but is not an observation
     states, counts = [x0], [0]
     n_obs = 0
@@ -265,14 +351,14 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     stale_fired = False
     for c in range(n_chains):
         x = list(x0)
-        owner = _owner_of(x, M)
-        g = SplitMix64(chain_state(prep.base, c))
+        work = new_work(data, x)
+        g = SplitMix64(chain_state(base, c))
         stall_run = 0               # S3: observations since the chain's last new find
         stall_cum = 0               # S2: observations already in U
         new_in_chain = 0
         chain_states = {x0}         # S1: distinct states among x[0..j]
         for j in range(1, chain_length + 1):
-            sweep(W, cc, x, owner, g, prep.random_scan)
+            sweep(data, work, x, g)
             n_obs += 1
             key = tuple(x)
             if key not in index:    # new to U
@@ -314,4 +400,95 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
             if fired:
                 stale_fired = True
                 break
-    return _package(prep, states, counts, n_obs, chains_run, stale_fired, 0)
+    return states, counts, n_obs, chains_run, stale_fired
+
+
+def _run(prep, n_chains, chain_length, **rules):
+    new_work, row_sweep = ROW_UPDATES[prep.kind]
+    states, counts, n_obs, chains_run, stale = run_chains(
+        row_sweep, new_work, prep.ref_data, prep.x0.tolist(), prep.base, n_chains, chain_length,
+        **rules,
+    )
+    return package(prep, states, counts, n_obs, chains_run, stale, 0)
+
+
+def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None,
+                    **options):
+    """Reference original Gibbs sampler (spec §2.2); see :func:`rankedassign.sample_original`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_obs : int
+        Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
+    start, scan, rng, **options
+        As in :func:`rankedassign.sample_original`.
+
+    Returns
+    -------
+    SamplerResult
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_original(synthetic.diagonal(), 200, rng=0)
+    >>> int(res.counts.sum()), res.assignments[0].tolist()
+    (200, [16, 17, 18, 19])
+    """
+    n_obs = check_int(n_obs, "n_obs")
+    prep = prepare(problem, start, scan, rng, **options)
+    return _run(prep, 1, n_obs)     # one chain, neither rule: Vo's long chain
+
+
+def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
+                        stall="global-consecutive", stale="consecutive", start="all_missed",
+                        scan="systematic", rng=None, workers=1, **options):
+    """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_chains, chain_length : int
+        ``N_S`` and ``N_C``.
+    tau_stall, tau_stale : int or None
+        Thresholds; ``None`` disables a rule.
+    stall, stale : str
+        Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
+    start, scan, rng, **options
+        As in :func:`rankedassign.sample_short_chains`.
+    workers : int
+        Accepted and ignored (sequential).
+
+    Returns
+    -------
+    SamplerResult
+        ``n_speculative_discarded`` is 0.
+
+    References
+    ----------
+    .. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_short_chains(synthetic.diagonal(), 200, 25, tau_stall=5, tau_stale=25,
+    ...                           rng=3)
+    >>> res.stop_reason, res.n_chains_run < 200
+    ('stale', True)
+    """
+    n_chains, chain_length = check_chain_budget(n_chains, chain_length)
+    tau_stall, tau_stale = check_rules(tau_stall, tau_stale, stall, stale)
+    check_int(workers, "workers", minimum=1)
+    prep = prepare(problem, start, scan, rng, **options)
+    if chain_length == 0:  # empty chains: closed form instead of looping over them
+        chains_run, stale_fired = zero_length_run(n_chains, tau_stale, stale)
+        return package(prep, [prep.x0.tolist()], [0], 0, chains_run, stale_fired, 0)
+    return _run(prep, n_chains, chain_length, tau_stall=tau_stall, tau_stale=tau_stale,
+                stall=stall, stale=stale)
+

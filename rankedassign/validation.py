@@ -18,6 +18,8 @@ import numbers
 
 __all__ = [
     "MAX_COUNT",
+    "STALL_READINGS",
+    "STALE_READINGS",
     "check_choice",
     "check_int",
     "check_optional_int",
@@ -29,6 +31,26 @@ __all__ = [
 # well below 2**63. Larger values are refused in Python with a message instead of surfacing as
 # a numba typing or overflow error.
 MAX_COUNT = 2**62
+
+# Readings of the stall and stale rules (spec §3.2) and the integer codes the kernels use for
+# them; 0 switches a rule off.
+STALL_OFF, STALL_GLOBAL_CONSECUTIVE, STALL_GLOBAL_CUMULATIVE, STALL_CHAIN_LOCAL = 0, 1, 2, 3
+STALE_OFF, STALE_CONSECUTIVE, STALE_CUMULATIVE, STALE_LITERAL_SET, STALE_LITERAL_MULTISET = (
+    0, 1, 2, 3, 4,
+)
+#: Public names of the stall readings and their kernel codes.
+STALL_READINGS = {
+    "global-consecutive": STALL_GLOBAL_CONSECUTIVE,
+    "global-cumulative": STALL_GLOBAL_CUMULATIVE,
+    "chain-local": STALL_CHAIN_LOCAL,
+}
+#: Public names of the stale readings and their kernel codes.
+STALE_READINGS = {
+    "consecutive": STALE_CONSECUTIVE,
+    "cumulative": STALE_CUMULATIVE,
+    "literal-set": STALE_LITERAL_SET,
+    "literal-multiset": STALE_LITERAL_MULTISET,
+}
 
 
 def check_int(value, name: str, *, minimum: int = 0, maximum: int = MAX_COUNT) -> int:
@@ -87,9 +109,17 @@ def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX
     True
     >>> check_optional_int(5, "tau_stall")
     5
+    >>> check_optional_int(0, "tau_stall")
+    Traceback (most recent call last):
+    ...
+    ValueError: tau_stall must be None (off) or an int >= 1, got 0
     """
     if value is None:
         return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be None or an int, got {type(value).__name__} {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be None (off) or an int >= {minimum}, got {value}")
     return check_int(value, name, minimum=minimum, maximum=maximum)
 
 

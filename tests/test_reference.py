@@ -15,13 +15,23 @@ from rankedassign import (
     AssignmentProblem,
     _kernels,
     _rng,
+    _rng_kernels,
+    _sampling,
     reference,
     sample_original,
     sample_short_chains,
-    samplers,
 )
+from rankedassign._chains import Rules
+from rankedassign.validation import STALE_READINGS, STALL_READINGS
 
 INF = np.inf
+
+
+def _driver_args(problem, start, scan, seed, n_chains, chain_length, rules):
+    """Positional arguments of the compiled single-sensor driver, up to ``batch, workers``."""
+    prep = _sampling.prepare(problem, start, scan, seed)
+    zk = _rng_kernels.zobrist_keys(problem.n_rows, prep.n_values, np.uint64(_rng.ZOBRIST_SEED))
+    return (prep.data, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules)
 
 
 # ------------------------------------------------------------------------------ RNG
@@ -30,10 +40,10 @@ def test_rng_streams_agree_bit_for_bit(seed):
     n = 20_000
     for chain in (0, 1, 7, 10_000):
         state = _rng.chain_state(seed, chain)
-        assert int(_kernels.chain_state(np.uint64(seed), chain)) == state
+        assert int(_rng_kernels.chain_state(np.uint64(seed), chain)) == state
         g = _rng.SplitMix64(state)
         py = np.array([g.uniform() for _ in range(n)])
-        nb = _kernels.uniform_stream(np.uint64(state), n)
+        nb = _rng_kernels.uniform_stream(np.uint64(state), n)
         assert_array_equal(py.view(np.uint64), nb.view(np.uint64))
 
 
@@ -45,7 +55,7 @@ def test_rng_known_values_and_range():
         "0x6e789e6aa1b965f4",
         "0x6c45d188009454f",
     ]
-    u = _kernels.uniform_stream(np.uint64(12345), 100_000)
+    u = _rng_kernels.uniform_stream(np.uint64(12345), 100_000)
     assert u.min() >= 0.0 and u.max() < 1.0
     # every uniform is a multiple of 2**-53
     assert_array_equal(u * 2.0**53, np.floor(u * 2.0**53))
@@ -60,7 +70,7 @@ def test_base_key_from_generator_advances_it():
 
 
 def test_zobrist_keys_match_python_stream():
-    keys = _kernels.zobrist_keys(3, 4, np.uint64(_rng.ZOBRIST_SEED))
+    keys = _rng_kernels.zobrist_keys(3, 4, np.uint64(_rng.ZOBRIST_SEED))
     g = _rng.SplitMix64(_rng.ZOBRIST_SEED)
     expected = np.array([g.next_u64() for _ in range(12)], dtype=np.uint64).reshape(3, 4)
     assert_array_equal(keys, expected)
@@ -88,6 +98,21 @@ def problems(draw, max_rows=3, max_meas=3):
     dead = np.where(kill & np.isfinite(miss), INF, dead)
     C = AssignmentProblem._assemble(D, miss, dead)
     return AssignmentProblem.from_cost(C)
+
+
+@st.composite
+def wide_problems(draw, max_rows=5):
+    """Problems with more than ``max(M_DIRECT, 2 P)`` measurements, so rows draw from prefix sums: runs of
+    gated-out (+inf) measurements, ties, and rows whose cheapest measurement dominates."""
+    P = draw(st.integers(1, max_rows))
+    M = draw(st.integers(max(_sampling.M_DIRECT, 2 * P) + 1, max(_sampling.M_DIRECT, 2 * P) + 24))
+    cost = st.one_of(st.floats(-4.0, 30.0, allow_nan=False), st.just(INF), st.just(INF),
+                     st.sampled_from([0.0, 2.5]))
+    D = np.array(draw(st.lists(cost, min_size=P * M, max_size=P * M)), float).reshape(P, M)
+    miss = np.array(draw(st.lists(st.floats(-3, 30), min_size=P, max_size=P)), float)
+    dead = np.array(draw(st.lists(st.one_of(st.floats(-3, 30), st.just(INF)), min_size=P,
+                                  max_size=P)), float)
+    return AssignmentProblem.from_cost(AssignmentProblem._assemble(D, miss, dead))
 
 
 def feasible_starts(problem):
@@ -150,8 +175,8 @@ def test_short_chains_reference_equals_numba_and_parallel(data):
     kw = dict(
         tau_stall=data.draw(st.one_of(st.none(), st.integers(1, 4))),
         tau_stale=data.draw(st.one_of(st.none(), st.integers(1, 6))),
-        stall=data.draw(st.sampled_from(sorted(samplers.STALL_READINGS))),
-        stale=data.draw(st.sampled_from(sorted(samplers.STALE_READINGS))),
+        stall=data.draw(st.sampled_from(sorted(STALL_READINGS))),
+        stale=data.draw(st.sampled_from(sorted(STALE_READINGS))),
         start=data.draw(st.sampled_from(feasible_starts(problem))),
         scan=data.draw(st.sampled_from(["systematic", "random"])),
         rng=data.draw(st.integers(0, 2**32)),
@@ -175,21 +200,18 @@ def test_speculative_batches_of_any_size_replay_exactly(data):
     """The kernel's speculate-and-replay path equals the sequential path for every batch
     size (batches smaller than the run exercise the stale stop inside a later batch)."""
     problem = data.draw(problems(max_rows=2, max_meas=2))
-    stall = data.draw(st.sampled_from(sorted(samplers.STALL_READINGS)))
-    stale = data.draw(st.sampled_from(sorted(samplers.STALE_READINGS)))
+    stall = data.draw(st.sampled_from(sorted(STALL_READINGS)))
+    stale = data.draw(st.sampled_from(sorted(STALE_READINGS)))
     tau_stall = data.draw(st.integers(0, 3))
     tau_stale = data.draw(st.integers(0, 4))
     n_chains = data.draw(st.integers(1, 30))
     chain_length = data.draw(st.integers(0, 6))
     random_scan = data.draw(st.booleans())
     seed = data.draw(st.integers(0, 2**32))
-    prep = samplers._prepare(problem, "lsap", "random" if random_scan else "systematic", seed)
-    zk = samplers._zobrist(problem)
-    args = (
-        prep.W, prep.cc, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length,
-        samplers.STALL_READINGS[stall] if tau_stall else 0, tau_stall,
-        samplers.STALE_READINGS[stale] if tau_stale else 0, tau_stale, prep.random_scan,
-    )
+    rules = Rules(STALL_READINGS[stall] if tau_stall else 0, tau_stall,
+                  STALE_READINGS[stale] if tau_stale else 0, tau_stale)
+    args = _driver_args(problem, "lsap", "random" if random_scan else "systematic", seed,
+                        n_chains, chain_length, rules)
     u0, c0, k0 = _kernels.run_chains(*args, 0, 1)
     for batch, workers in ((1, 2), (2, 2), (3, 4), (7, 2), (7, 3), (64, 2)):
         u, c, k = _kernels.run_chains(*args, batch, workers)
@@ -200,6 +222,77 @@ def test_speculative_batches_of_any_size_replay_exactly(data):
         n_batches = -(-k[2] // batch) if k[2] else 0
         assert k[1] + k[6] <= n_batches * batch * chain_length
         assert k[6] >= 0
+
+
+@given(data=st.data())
+def test_prefix_sum_draws_reference_equals_numba_and_parallel(data):
+    """Rows of wide problems draw from prefix sums: same bits in both implementations."""
+    problem = data.draw(wide_problems())
+    kw = dict(
+        tau_stall=data.draw(st.one_of(st.none(), st.integers(1, 4))),
+        tau_stale=data.draw(st.one_of(st.none(), st.integers(1, 6))),
+        start=data.draw(st.sampled_from(feasible_starts(problem))),
+        scan=data.draw(st.sampled_from(["systematic", "random"])),
+        rng=data.draw(st.integers(0, 2**32)),
+    )
+    n_chains = data.draw(st.integers(1, 30))
+    chain_length = data.draw(st.integers(1, 8))
+    ref = reference.sample_short_chains(problem, n_chains, chain_length, **kw)
+    nb = sample_short_chains(problem, n_chains, chain_length, **kw)
+    assert_same(ref, nb)
+    assert_valid(problem, nb)
+    assert_same(ref, sample_short_chains(problem, n_chains, chain_length, workers=2, **kw))
+
+
+@given(data=st.data())
+def test_prefix_draw_equals_direct_draw(data):
+    """The prefix-sum draw and the direct sum pick the same candidate for the same uniform,
+    except where rounding puts ``target`` within a few ulps of a cumulative boundary (the two
+    sums are associated differently once a held measurement lies before it)."""
+    problem = data.draw(wide_problems(max_rows=1))
+    prep = _sampling.prepare(problem, "all_dead", "systematic", 0) \
+        if np.isfinite(problem.compact_cost[0, -1]) else None
+    if prep is None:
+        return
+    d = prep.ref_data
+    M = d.M
+    held = sorted(data.draw(st.sets(st.integers(0, M - 1), max_size=6)))
+    owner = [-1] * M
+    for k in held:
+        owner[k] = 1  # held by "another row"
+    for u in data.draw(st.lists(st.floats(0.0, 1.0, exclude_max=True), min_size=1,
+                                max_size=20)) + [0.0, 0.5]:
+        a = reference.draw_direct(d.W[0], d.cc[0], 0, owner, u)
+        b = reference.draw_prefix(d.W[0], d.S[0], d.next_pos[0], d.cc[0], 0, owner, held, u)
+        if a != b:  # only a rounding edge may separate them
+            avail = [k for k in range(M + 2) if k >= M or owner[k] < 0]
+            w = np.array([d.W[0][k] for k in avail])
+            cum = np.cumsum(w)
+            target = u * cum[-1]
+            assert np.min(np.abs(cum - target)) <= 1e-12 * cum[-1], (a, b, u)
+        assert d.W[0][b] > 0.0 and (b >= M or owner[b] < 0)
+
+
+def test_cancellation_guard_draws_directly():
+    """Row 0's dominant measurement is held by row 1 almost always; the rest of row 0's
+    measurement weight is ~5e-10 of its total, so ``S[M] - held`` would cancel: the guard
+    takes the direct sum. Both implementations agree and row 0 then draws every free
+    measurement in proportion to its (tiny) weight."""
+    M = _sampling.M_DIRECT + 2
+    D = np.full((2, M), 25.0)
+    D[0, 0] = 0.0
+    D[1, 0] = -30.0
+    D[1, 1:] = INF
+    p = AssignmentProblem.from_cost(AssignmentProblem._assemble(D, [25.0, 0.0], [INF, 0.0]))
+    start = [M, 0]  # row 0 missed, row 1 on measurement 0
+    ref = reference.sample_original(p, 300, rng=2, start=start)
+    nb = sample_original(p, 300, rng=2, start=start)
+    assert_same(ref, nb)
+    held = nb.assignments[:, 1] == 0
+    assert held.all()
+    # with measurement 0 held, row 0's candidates 1..M-1 and missed are equally likely
+    row0 = nb.assignments[held, 0]
+    assert len(set(row0.tolist())) > 5 and (row0 != 0).all()
 
 
 def test_parallel_discards_are_reported():
@@ -230,7 +323,7 @@ def _underflow_problem():
 
 def test_underflow_fallback_reference_equals_numba():
     p = _underflow_problem()
-    W = samplers.shifted_weights(p)
+    W = _sampling.shifted_weights(p)
     assert W[0, 1] == 0.0 and W[0, 2] == 0.0 and W[0, 3] == 0.0  # underflowed
     start = np.array([2, 0])  # row 0 missed, row 1 on measurement 0
     for scan in ("systematic", "random"):
@@ -251,9 +344,8 @@ def test_many_speculation_batches():
     from rankedassign import synthetic
 
     p = synthetic.random(R=3, M=5, rng=2)
-    prep = samplers._prepare(p, "all_missed", "systematic", 6)
-    args = (prep.W, prep.cc, samplers._zobrist(p), prep.x0, np.uint64(prep.base), 300, 4,
-            samplers.STALL_READINGS["global-consecutive"], 2, 0, 0, False)
+    args = _driver_args(p, "all_missed", "systematic", 6, 300, 4,
+                        Rules(STALL_READINGS["global-consecutive"], 2, 0, 0))
     u0, c0, k0 = _kernels.run_chains(*args, 0, 1)
     for batch in (1, 3):
         u, c, k = _kernels.run_chains(*args, batch, 2)

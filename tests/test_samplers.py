@@ -10,12 +10,14 @@ from rankedassign import (
     AssignmentProblem,
     SamplerResult,
     _rng,
+    _sampling,
     reference,
     sample_original,
     sample_short_chains,
     samplers,
     synthetic,
 )
+from rankedassign.validation import STALE_READINGS, STALL_READINGS
 
 INF = np.inf
 PAPER = dict(tau_stall=5, tau_stale=25)  # paper's synthetic study: N_S = 10 000, N_C = 25
@@ -126,8 +128,32 @@ def test_zero_budgets_return_only_the_start_state():
         assert res.n_observations == 0 and res.n_row_updates == 0
         assert_array_equal(res.costs, [p.cost_of(p.all_missed())])
     # a zero-length chain adds nothing, so the stale rule counts it
-    res = sample_short_chains(p, 10, 0, tau_stale=3, rng=1)
-    assert (res.n_chains_run, res.stop_reason) == (3, "stale")
+    for backend in ("numba", "python"):
+        res = sample_short_chains(p, 10, 0, tau_stale=3, rng=1, backend=backend)
+        assert (res.n_chains_run, res.stop_reason) == (3, "stale")
+        res = sample_short_chains(p, 10, 0, tau_stale=3, stale="literal-multiset", rng=1,
+                                  backend=backend)
+        assert (res.n_chains_run, res.stop_reason) == (4, "stale")
+        res = sample_short_chains(p, 10, 0, tau_stale=3, stale="literal-set", rng=1,
+                                  backend=backend)
+        assert (res.n_chains_run, res.stop_reason) == (10, "budget")
+    # a billion empty chains return at once (they used to be looped over, for minutes)
+    res = sample_short_chains(p, 10**9, 0, rng=1, workers=2)
+    assert (res.n_chains_run, res.n_observations, res.stop_reason) == (10**9, 0, "budget")
+
+
+def test_zero_length_closed_form_equals_the_loop():
+    """The closed form for empty chains equals the generic driver run over them."""
+    p = small_problem()
+    prep = _sampling.prepare(p, "all_missed", "systematic", 1)
+    new_work, sweep = reference.ROW_UPDATES["single"]
+    for stale in sorted(STALE_READINGS):
+        for tau in (None, 1, 2, 5, 12):
+            _, _, n_obs, chains, fired = reference.run_chains(
+                sweep, new_work, prep.ref_data, prep.x0.tolist(), prep.base, 10, 0,
+                tau_stale=tau, stale=stale)
+            assert (chains, fired) == _sampling.zero_length_run(10, tau, stale)
+            assert n_obs == 0
 
 
 def test_no_rows():
@@ -232,8 +258,7 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     """Independent re-implementation of the stopping logic of spec §3.2 on trajectories
     generated chain by chain with the reference sweep (the same streams as the samplers).
     Each counter is recomputed from the whole history, not updated incrementally."""
-    prep = samplers._prepare(problem, "all_missed", "systematic", seed)
-    W, cc, M = prep.W.tolist(), prep.cc.tolist(), problem.n_meas
+    prep = _sampling.prepare(problem, "all_missed", "systematic", seed)
     x0 = tuple(prep.x0.tolist())
     found = [x0]          # U in discovery order
     visits = {x0: 0}
@@ -242,11 +267,11 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     for c in range(n_chains):
         g = _rng.SplitMix64(_rng.chain_state(prep.base, c))
         x = list(x0)
-        owner = [-1] * M
+        work = reference.new_work(prep.ref_data, x)
         traj = [x0]
         known = []        # known[t-1]: was observation t of this chain already in U?
         for j in range(1, chain_length + 1):
-            reference.sweep(W, cc, x, owner, g, False)
+            reference.sweep(prep.ref_data, work, x, g)
             s = tuple(x)
             traj.append(s)
             observations.append(s)
@@ -284,8 +309,8 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     return found, visits, len(observations), len(completed), "budget"
 
 
-@pytest.mark.parametrize("stall", sorted(samplers.STALL_READINGS))
-@pytest.mark.parametrize("stale", sorted(samplers.STALE_READINGS))
+@pytest.mark.parametrize("stall", sorted(STALL_READINGS))
+@pytest.mark.parametrize("stale", sorted(STALE_READINGS))
 def test_stall_and_stale_match_their_definitions(stall, stale):
     # P = 2, M = 1 with a dominant assignment: repeats are frequent, both rules fire.
     p = AssignmentProblem.from_eta([[6.0], [2.0]], [1.0, 0.5], [0.3, 0.5])
@@ -296,7 +321,7 @@ def test_stall_and_stale_match_their_definitions(stall, stale):
             for workers in (1, 2):
                 res = sample_short_chains(p, 40, 6, tau_stall=tau_stall, tau_stale=tau_stale,
                                           stall=stall, stale=stale, rng=seed, workers=workers)
-                compact = samplers._to_compact(p, res.assignments)
+                compact = _sampling.to_compact(p, res.assignments)
                 assert [tuple(r) for r in compact.tolist()] == found
                 assert_array_equal(res.counts, [visits[s] for s in found])
                 assert (res.n_observations, res.n_chains_run, res.stop_reason) == (
@@ -332,29 +357,36 @@ def test_paper_uniform_never_stale():
 # ------------------------------------------------------------------------------ validation
 ORIG, SHORT = "sample_original", "sample_short_chains"
 BAD = [
-    (ORIG, ("cost", 5), {}, TypeError, "must be an AssignmentProblem, got ndarray"),
-    (SHORT, (None, 5, 5), {}, TypeError, "must be an AssignmentProblem, got NoneType"),
-    (ORIG, ("p", -1), {}, ValueError, "n_obs must be >= 0, got -1"),
-    (ORIG, ("p", 2.5), {}, TypeError, "n_obs must be a non-negative int, got float"),
-    (ORIG, ("p", True), {}, TypeError, "n_obs must be a non-negative int, got bool"),
+    (ORIG, ("cost", 5), {}, TypeError,
+     r"problem must be one of \(AssignmentProblem.*\), got ndarray"),
+    (SHORT, (None, 5, 5), {}, TypeError, r"problem must be one of \(AssignmentProblem.*NoneType"),
+    (ORIG, ("p", -1), {}, ValueError, "n_obs must be an int >= 0, got -1"),
+    (ORIG, ("p", 2.5), {}, TypeError, "n_obs must be an int, got float 2.5"),
+    (ORIG, ("p", True), {}, TypeError, "n_obs must be an int, got bool True"),
+    (ORIG, ("p", 2**63), {}, ValueError, r"n_obs must be an int <= 4611686018427387904 \(2\*\*62\), got 9223372036854775808"),
+    (ORIG, ("p", 2**64), {}, ValueError, r"n_obs must be an int <= .* got 18446744073709551616"),
     (ORIG, ("p", 5), dict(scan="sideways"), ValueError, "unknown scan 'sideways'"),
     (ORIG, ("p", 5), dict(start="best"), ValueError, "unknown start 'best'"),
     (ORIG, ("p", 5), dict(start=[0, 0]), ValueError, r"start assignment \[0, 0\] is infeasible"),
     (ORIG, ("p", 5), dict(start=[0, 99]), ValueError, "is infeasible"),
     (ORIG, ("p", 5), dict(start=[0]), ValueError, r"shape \(P,\) = \(2,\), got \(1,\)"),
     (ORIG, ("p", 5), dict(start=[0.0, 1.0]), TypeError, "or an integer array of column"),
-    (SHORT, ("p", -3, 5), {}, ValueError, "n_chains must be >= 0, got -3"),
-    (SHORT, ("p", 3, -5), {}, ValueError, "chain_length must be >= 0, got -5"),
-    (SHORT, ("p", 3.0, 5), {}, TypeError, "n_chains must be a non-negative int"),
+    (ORIG, ("p", 5), dict(method="exact"), TypeError,
+     r"unexpected option\(s\) \['method'\] for an AssignmentProblem"),
+    (SHORT, ("p", -3, 5), {}, ValueError, "n_chains must be an int >= 0, got -3"),
+    (SHORT, ("p", 3, -5), {}, ValueError, "chain_length must be an int >= 0, got -5"),
+    (SHORT, ("p", 3.0, 5), {}, TypeError, "n_chains must be an int, got float 3.0"),
+    (SHORT, ("p", 3, 10**30), {}, ValueError, "chain_length must be an int <= "),
     (SHORT, ("p", 3, 5), dict(tau_stall=0), ValueError,
-     r"tau_stall must be None \(rule off\) or >= 1, got 0"),
+     r"tau_stall must be None \(off\) or an int >= 1, got 0"),
     (SHORT, ("p", 3, 5), dict(tau_stale=-2), ValueError,
-     r"tau_stale must be None \(rule off\) or >= 1, got -2"),
-    (SHORT, ("p", 3, 5), dict(tau_stale=1.5), TypeError, "tau_stale must be None or a positive"),
+     r"tau_stale must be None \(off\) or an int >= 1, got -2"),
+    (SHORT, ("p", 3, 5), dict(tau_stale=1.5), TypeError, "tau_stale must be None or an int, got float"),
+    (SHORT, ("p", 3, 5), dict(tau_stall=10**30), ValueError, "tau_stall must be an int <= "),
     (SHORT, ("p", 3, 5), dict(stall="local"), ValueError, "unknown stall reading 'local'"),
     (SHORT, ("p", 3, 5), dict(stale="set"), ValueError, "unknown stale reading 'set'"),
-    (SHORT, ("p", 3, 5), dict(workers=0), ValueError, "workers must be >= 1, got 0"),
-    (SHORT, ("p", 3, 5), dict(workers=2.0), TypeError, "workers must be an int >= 1"),
+    (SHORT, ("p", 3, 5), dict(workers=0), ValueError, "workers must be an int >= 1, got 0"),
+    (SHORT, ("p", 3, 5), dict(workers=2.0), TypeError, "workers must be an int, got float"),
     (SHORT, ("p", 3, 5), dict(scan=None), ValueError, "unknown scan None"),
 ]
 
@@ -384,3 +416,19 @@ def test_infeasible_all_missed_and_all_dead_name_the_rows():
         sample_short_chains(p, 3, 3, start="all_dead", backend="python")
     res = sample_original(p, 20, start="lsap", rng=0)
     assert p.is_feasible(res.assignments).all()
+
+
+def test_memory_does_not_grow_with_chain_length():
+    """A run of a few thousand sweeps allocates nothing in proportion to ``chain_length``
+    (regression: a histogram of chain lengths took 8 GB for chain_length = 10**9, and
+    10**10 raised MemoryError). The peak resident size of the process is checked, with a
+    margin of 200 MB for compilation and the interpreter."""
+    import resource
+
+    p = synthetic.random(rng=0)
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
+    for workers in (1, 2):
+        res = sample_short_chains(p, 100, 10**10, tau_stall=5, rng=0, workers=workers)
+        assert res.n_chains_run == 100 and res.n_observations < 10_000
+    grown_mib = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024
+    assert grown_mib < 200, f"peak memory grew by {grown_mib:.0f} MiB"

@@ -25,7 +25,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy import stats
 
-from rankedassign import AssignmentProblem, sample_original, sample_short_chains, samplers
+from rankedassign import AssignmentProblem, _sampling, sample_original, sample_short_chains
 
 FALSE_FAILURE = 1e-6
 INF = np.inf
@@ -92,7 +92,7 @@ def transition(problem, states, scan):
 def visit_counts(problem, res, states):
     index = {x: n for n, x in enumerate(states)}
     counts = np.zeros(len(states))
-    compact = samplers._to_compact(problem, res.assignments)
+    compact = _sampling.to_compact(problem, res.assignments)
     for x, c in zip(map(tuple, compact.tolist()), res.counts, strict=True):
         counts[index[x]] += c
     return counts
@@ -106,6 +106,18 @@ def chi2_statistic(dev, cov):
     return float(np.sum(z**2 / evals[keep])), int(keep.sum())
 
 
+def _wide(rows_allowed, M, seed):
+    """``len(rows_allowed)`` rows over ``M > max(M_DIRECT, 2 P)`` measurements (prefix-sum draws), each row
+    allowed only the measurements listed (the rest gated out, so runs of zero weight)."""
+    rng = np.random.default_rng(seed)
+    D = np.full((len(rows_allowed), M), INF)
+    for i, allowed in enumerate(rows_allowed):
+        D[i, allowed] = rng.uniform(-1.5, 1.5, len(allowed))
+    miss = rng.uniform(-0.5, 0.5, len(rows_allowed))
+    dead = rng.uniform(-0.5, 0.5, len(rows_allowed))
+    return AssignmentProblem.from_cost(AssignmentProblem._assemble(D, miss, dead))
+
+
 PROBLEMS = {
     # P = 2, M = 2, every pair allowed: |Gamma| = 14
     "2x2": AssignmentProblem.from_eta([[2.0, 0.5], [0.7, 3.0]], [0.6, 0.3], [0.4, 0.5]),
@@ -113,6 +125,8 @@ PROBLEMS = {
     "3x2-gated": AssignmentProblem.from_eta(
         [[1.5, 0.0], [0.8, 2.5], [0.0, 1.2]], [0.5, 0.9, 0.4], [0.3, 0.0, 0.6]
     ),
+    # M = 40 > max(M_DIRECT, 2 P): prefix-sum draws with held measurements between free runs
+    "3x40-prefix": _wide([[0, 7, 20, 39], [0, 20, 33], [7, 33, 39]], 40, seed=3),
 }
 
 
@@ -164,7 +178,7 @@ def test_short_chain_visits_match_exact_finite_time_law(name, scan):
     #   E V = sum_j p_j,   p_j = delta_x0 K^j
     #   E V V' = sum_j diag(p_j) + sum_{j<j'} (diag(p_j) K^(j'-j) + its transpose)
     s = len(states)
-    p_j = [np.eye(s)[index[tuple(samplers._to_compact(p, p.all_missed()).tolist())]]]
+    p_j = [np.eye(s)[index[tuple(_sampling.to_compact(p, p.all_missed()).tolist())]]]
     for _ in range(L):
         p_j.append(p_j[-1] @ K)
     mean = sum(p_j[1:])

@@ -1,0 +1,551 @@
+"""The chain driver, written once for every problem type (numba; clean inputs only).
+
+The architecture of the samplers — chains started from one state, one observation per sweep,
+the global unique set ``U``, the stall and stale rules in every reading, speculative parallel
+chains replayed in chain order — does not depend on what a *row update* is. A problem type
+(single-sensor ranked assignment, multi-sensor, adaptive birth) supplies only
+
+* ``alloc_work(data, nb) -> work``: a tuple of arrays, each with leading dimension ``nb``, the
+  per-chain workspace of ``nb`` chains simulated at once (free-measurement masks, occupancy
+  counters, scratch rows);
+* ``reset_work(data, work, b, x0)``: put slab ``b`` of the workspace in the start state ``x0``;
+* ``sweep(data, work, b, zkeys, state, h, rs) -> h``: one sweep (one observation) in place on
+  the ``int32`` state vector ``state``, returning its new Zobrist hash (for every position
+  ``l`` whose value changes from ``a`` to ``c``: ``h ^= zkeys[l, a] ^ zkeys[l, c]``), drawing
+  uniforms from the chain's stream ``rs`` with :func:`rankedassign._rng_kernels.next_uniform`;
+
+and :func:`make_driver` compiles :func:`run_chains` for it. ``data`` is the problem's tuple of
+read-only arrays and scalars. A state is a flat ``int32`` vector of length ``L`` whose values
+index the columns of the Zobrist table ``zkeys`` of shape ``(L, K)``.
+
+How it is generic. :func:`_speculate`, :func:`_advance` and :func:`_run_chains` below are plain
+Python templates that call the three functions above by their global names;
+:func:`rankedassign.numba_options.instantiate` compiles a copy of each template whose globals
+bind those names to the problem's compiled functions. numba freezes global functions at
+compile time, so an instantiation calls the row update directly (as inlined as a hand-written
+kernel) and has its own cache file.
+
+Unique set. States are de-duplicated with an open-addressing hash set keyed by the Zobrist hash
+(XOR of one random 64-bit key per (position, value)), updated incrementally by the sweep; a
+hash hit is confirmed on the full state. It is the :class:`UniqueSet` record.
+
+Parallelism. :func:`_speculate` (``parallel=True``) simulates a batch of chains, one ``prange``
+iteration per chain with its own stream and slab rows; :func:`_run_chains` replays the batch in
+chain order with the sequential stall/stale logic (spec §3.3, "Parallelism"), so its result is
+independent of the number of threads.
+
+References
+----------
+.. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+   Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+.. [2] A. L. Zobrist, "A New Hashing Method with Application for Game Playing", Tech. Rep.
+   88, Univ. of Wisconsin, 1970.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+import numpy as np
+from numba import prange
+
+from ._rng_kernels import chain_state
+from .numba_options import instantiate, jit
+from .validation import (
+    STALE_CONSECUTIVE,
+    STALE_CUMULATIVE,
+    STALE_LITERAL_MULTISET,
+    STALE_LITERAL_SET,
+    STALL_CHAIN_LOCAL,
+    STALL_GLOBAL_CONSECUTIVE,
+    STALL_GLOBAL_CUMULATIVE,
+)
+
+__all__ = ["Rules", "UniqueSet", "Slab", "make_driver", "N_COUNTERS"]
+
+# Slots of the run counter array ``ctr`` (returned by run_chains).
+NU, NOBS, NCHAINS, STALE_RUN, STALE_CUM, STALE_FIRED, DISCARDED = 0, 1, 2, 3, 4, 5, 6
+N_COUNTERS = 7
+# Slots of the per-chain counter array ``cctr``.
+_STALL_RUN, _STALL_CUM, _NEW_IN_CHAIN, _LOCAL_UNIQUE = 0, 1, 2, 3
+
+#: Termination rules: reading codes (:data:`rankedassign.validation.STALL_READINGS`,
+#: ``STALE_READINGS``; 0 = off) and thresholds.
+Rules = namedtuple("Rules", ["stall_mode", "tau_stall", "stale_mode", "tau_stale"])
+#: The unique set ``U``: states in discovery order, their hashes, visit counts, the last chain
+#: that visited each (for the chain-local stall reading), and the hash table of
+#: ``[hash, index + 1]`` rows (0 = empty slot, linear probing).
+UniqueSet = namedtuple("UniqueSet", ["states", "hashes", "counts", "last_chain", "table"])
+#: Per-chain simulation slabs: speculated trajectories and their hashes, the live state, its
+#: hash and the stream state (one cache line per chain) of each of ``nb`` chains.
+Slab = namedtuple("Slab", ["traj", "hashes", "states", "h", "rs"])
+
+# Initial capacity of the unique set (doubles when full).
+_CAP = 1024
+
+
+# ------------------------------------------------------------------------ problem interface
+# Placeholders: make_driver binds these names to a problem type's compiled functions.
+def alloc_work(data, nb):  # pragma: no cover - replaced in every instantiation
+    """Per-chain workspace of ``nb`` chains (a tuple of arrays with leading dimension ``nb``)."""
+    raise NotImplementedError
+
+
+def reset_work(data, work, b, x0):  # pragma: no cover - replaced in every instantiation
+    """Put slab ``b`` of the workspace in the start state ``x0``."""
+    raise NotImplementedError
+
+
+def sweep(data, work, b, zkeys, state, h, rs):  # pragma: no cover - replaced
+    """One sweep in place on ``state``; return its new Zobrist hash."""
+    raise NotImplementedError
+
+
+def _speculate_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _advance_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+# ------------------------------------------------------------------------ unique set
+@jit()
+def hash_of(zkeys, x):
+    """Zobrist hash of the state ``x``: XOR of ``zkeys[l, x[l]]`` over positions ``l``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> z = np.array([[1, 2], [4, 8]], dtype=np.uint64)
+    >>> int(hash_of(z, np.array([1, 0], dtype=np.int32)))
+    6
+    """
+    h = np.uint64(0)
+    for i in range(x.shape[0]):
+        h = h ^ zkeys[i, x[i]]
+    return h
+
+
+@jit()
+def _new_unique_set(L, cap):
+    return UniqueSet(
+        np.empty((cap, L), dtype=np.int32),
+        np.empty(cap, dtype=np.uint64),
+        np.zeros(cap, dtype=np.int64),
+        np.full(cap, -1, dtype=np.int64),
+        np.zeros((2 * cap, 2), dtype=np.uint64),
+    )
+
+
+@jit()
+def _find(U, state, h):
+    """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill."""
+    table = U.table
+    mask = table.shape[0] - 1
+    s = np.int64(h & np.uint64(mask))
+    L = state.shape[0]
+    while True:
+        v = table[s, 1]
+        if v == 0:
+            return -1 - s
+        if table[s, 0] == h:
+            u = np.int64(v) - 1
+            same = True
+            for i in range(L):
+                if U.states[u, i] != state[i]:
+                    same = False
+                    break
+            if same:
+                return u
+        s = (s + 1) & mask
+
+
+@jit()
+def _insert(U, slot, state, h, n_unique, count, chain):
+    """Store ``state`` as unique number ``n_unique`` at the empty hash-table ``slot``."""
+    U.table[slot, 0] = h
+    U.table[slot, 1] = np.uint64(n_unique + 1)
+    U.states[n_unique, :] = state
+    U.hashes[n_unique] = h
+    U.counts[n_unique] = count
+    U.last_chain[n_unique] = chain
+
+
+@jit()
+def _grow(U, n_unique):
+    """Double the arrays of ``U`` when full; rehash at load factor 0.5. Returns the new ``U``."""
+    states, hashes, counts, last_chain, table = U
+    cap = states.shape[0]
+    if n_unique >= cap:
+        new_cap = 2 * cap
+        s2 = np.empty((new_cap, states.shape[1]), dtype=states.dtype)
+        s2[:cap] = states
+        h2 = np.empty(new_cap, dtype=hashes.dtype)
+        h2[:cap] = hashes
+        c2 = np.zeros(new_cap, dtype=counts.dtype)
+        c2[:cap] = counts
+        l2 = np.full(new_cap, -1, dtype=last_chain.dtype)
+        l2[:cap] = last_chain
+        states, hashes, counts, last_chain = s2, h2, c2, l2
+    if 2 * (n_unique + 1) > table.shape[0]:
+        size = table.shape[0]
+        while 2 * (n_unique + 1) > size:
+            size *= 2
+        table = np.zeros((size, 2), dtype=np.uint64)
+        mask = size - 1
+        for u in range(n_unique):
+            s = np.int64(hashes[u] & np.uint64(mask))
+            while table[s, 1] != 0:
+                s = (s + 1) & mask
+            table[s, 0] = hashes[u]
+            table[s, 1] = np.uint64(u + 1)
+    return UniqueSet(states, hashes, counts, last_chain, table)
+
+
+@jit()
+def _room(U, n_unique):
+    """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5)."""
+    return min(U.states.shape[0], U.table.shape[0] // 2) - n_unique
+
+
+# ------------------------------------------------------------------------ stall and stale
+@jit()
+def _begin_chain(c, last_chain, cctr):
+    """Reset the per-chain counters; the start state (unique 0) is the chain's ``x[0]``."""
+    cctr[:] = 0
+    cctr[_LOCAL_UNIQUE] = 1
+    last_chain[0] = c
+
+
+@jit()
+def _stalled(cctr, j, stall_mode, tau_stall):
+    """The stall rule after observation ``j`` of a chain (spec §3.2).
+
+    * global-consecutive (S3): observations since the chain's last find new to ``U``;
+    * global-cumulative (S2): the chain's observations that were already in ``U``;
+    * chain-local (S1): ``(j + 1) - NumUnique(x[0..j])``, repeats among the chain's own
+      states including its start state.
+    """
+    if stall_mode == STALL_GLOBAL_CONSECUTIVE:
+        return cctr[_STALL_RUN] >= tau_stall
+    if stall_mode == STALL_GLOBAL_CUMULATIVE:
+        return cctr[_STALL_CUM] >= tau_stall
+    if stall_mode == STALL_CHAIN_LOCAL:
+        return (j + 1) - cctr[_LOCAL_UNIQUE] >= tau_stall
+    return False
+
+
+@jit()
+def _end_chain(ctr, cctr, stale_mode, tau_stale):
+    """Close a chain; return True if the stale rule stops the run (spec §3.2).
+
+    * consecutive (T3): most recent completed chains in a row that added nothing to ``U``;
+    * cumulative (T2): completed chains, ever, that added nothing;
+    * literal-set (T1): ``|x| - n_u`` with ``x`` the set of samples, i.e. ``|U| - |U|``;
+    * literal-multiset (T1): ``|x| - n_u`` with ``x`` the multiset of every chain's start state
+      and every observation, i.e. ``(chains + observations) - |U|``.
+    """
+    ctr[NCHAINS] += 1
+    if cctr[_NEW_IN_CHAIN] > 0:
+        ctr[STALE_RUN] = 0
+    else:
+        ctr[STALE_RUN] += 1
+        ctr[STALE_CUM] += 1
+    fired = False
+    if stale_mode == STALE_CONSECUTIVE:
+        fired = ctr[STALE_RUN] >= tau_stale
+    elif stale_mode == STALE_CUMULATIVE:
+        fired = ctr[STALE_CUM] >= tau_stale
+    elif stale_mode == STALE_LITERAL_SET:
+        size_of_set = ctr[NU]
+        fired = size_of_set - ctr[NU] >= tau_stale
+    elif stale_mode == STALE_LITERAL_MULTISET:
+        size_of_multiset = ctr[NCHAINS] + ctr[NOBS]
+        fired = size_of_multiset - ctr[NU] >= tau_stale
+    if fired:
+        ctr[STALE_FIRED] = 1
+    return fired
+
+
+@jit()
+def _prefix_length(used_hist, chain_length, workers):
+    """Sweeps to speculate per chain: the ``1 - 1/workers`` quantile of the used lengths.
+
+    Speculating ``s`` sweeps costs ``s / workers`` per chain in parallel; each sweep a chain
+    needs beyond ``s`` costs 1 in the (sequential) replay. The expected time is minimal where
+    ``P(length > s) = 1 / workers``. Before any chain has finished, speculate everything.
+    """
+    n = used_hist.sum()
+    if n == 0:
+        return chain_length
+    need = n - n // workers  # at least this many chains end within s sweeps
+    acc = 0
+    for s in range(chain_length + 1):
+        acc += used_hist[s]
+        if acc >= need:
+            return min(max(s, 1), chain_length)
+    return chain_length
+
+
+# ------------------------------------------------------------------------ templates
+def _speculate(data, work, zkeys, traj, hashes, states, hs, rss, x0, h0, base, c_first, n_batch,
+               n_sweeps):
+    """Simulate the first ``n_sweeps`` sweeps of chains ``c_first .. c_first + n_batch - 1``.
+
+    The arrays are the fields of the :class:`Slab` (passed one by one: inside a parallel loop
+    numba loses writes to arrays reached through a tuple argument). Chain ``c_first + b``
+    writes its trajectory to ``traj[b, :n_sweeps]`` and the hash of each state to
+    ``hashes[b, :n_sweeps]``, and leaves its simulation state (``states[b]``, ``hs[b]``,
+    ``rss[b, 0]``, workspace slab ``b``) ready for the replay to continue it. Chains
+    are independent (each has its own stream), so the loop over chains runs in parallel
+    (``prange``); each iteration writes only its own slab rows (``rs`` rows are padded to a
+    cache line so that neighbouring streams do not share one).
+    """
+    for b in prange(n_batch):
+        state = states[b]
+        rs = rss[b, 0:1]
+        state[:] = x0
+        reset_work(data, work, b, x0)
+        rs[0] = chain_state(base, c_first + b)
+        h = h0
+        for j in range(n_sweeps):
+            h = sweep(data, work, b, zkeys, state, h, rs)
+            traj[b, j, :] = state
+            hashes[b, j] = h
+        hs[b] = h
+
+
+def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
+    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``.
+
+    Sweeps ``<= done`` were simulated ahead by the speculation and are read from the slab; later
+    ones are simulated here from the saved state (``done = 0``: all of them, the sequential
+    run). Each observation is looked up in ``U`` (inserted if new, spec §3.3) and counted, then
+    the stall rule is applied (:func:`_stalled`).
+
+    The caller guarantees room for ``j1 - j0`` new unique states (:func:`_room`), so this hot
+    loop never reallocates; the look-up is written out here rather than called because a call
+    passing the arrays of the unique set costs as much as the look-up itself.
+
+    Returns
+    -------
+    (j, stalled, done) : (int, bool, int)
+        The last observation made, whether the stall rule fired there, sweeps simulated.
+    """
+    L = U.states.shape[1]
+    table = U.table
+    mask = table.shape[0] - 1
+    state = slab.states[b]
+    rs = slab.rs[b, 0:1]
+    h = slab.h[b]
+    for j in range(j0 + 1, j1 + 1):
+        if j <= done:
+            x = slab.traj[b, j - 1]
+            hx = slab.hashes[b, j - 1]
+        else:
+            h = sweep(data, work, b, zkeys, state, h, rs)
+            x = state
+            hx = h
+            done = j
+        # look x up in U: linear probing from its hash, confirmed on the full state
+        slot = np.int64(hx & np.uint64(mask))
+        u = -1
+        while True:
+            v = table[slot, 1]
+            if v == 0:
+                break
+            if table[slot, 0] == hx:
+                cand = np.int64(v) - 1
+                same = True
+                for i in range(L):
+                    if U.states[cand, i] != x[i]:
+                        same = False
+                        break
+                if same:
+                    u = cand
+                    break
+            slot = (slot + 1) & mask
+        if u < 0:  # new to U: U.add(x); the stall run restarts
+            u = ctr[NU]
+            table[slot, 0] = hx
+            table[slot, 1] = np.uint64(u + 1)
+            U.states[u, :] = x
+            U.hashes[u] = hx
+            U.counts[u] = 1
+            U.last_chain[u] = c
+            ctr[NU] += 1
+            cctr[_NEW_IN_CHAIN] += 1
+            cctr[_STALL_RUN] = 0
+            cctr[_LOCAL_UNIQUE] += 1
+        else:
+            U.counts[u] += 1
+            cctr[_STALL_RUN] += 1
+            cctr[_STALL_CUM] += 1
+            if U.last_chain[u] != c:  # first visit of this chain to a state found before
+                U.last_chain[u] = c
+                cctr[_LOCAL_UNIQUE] += 1
+        ctr[NOBS] += 1
+        if _stalled(cctr, j, rules.stall_mode, rules.tau_stall):
+            slab.h[b] = h
+            return j, True, done
+    slab.h[b] = h
+    return j1, False, done
+
+
+def _run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers):
+    """Short-chain sampler (spec §3.3); the original sampler is one chain without rules.
+
+    Parameters
+    ----------
+    data : tuple
+        The problem type's arrays (passed to its ``alloc_work``, ``reset_work``, ``sweep``).
+    zkeys : ndarray, shape (L, K), uint64
+        Zobrist keys.
+    x0 : ndarray, shape (L,), int32
+        Feasible start state.
+    base : uint64
+        Base key of the run (chain ``c`` uses ``chain_state(base, c)``).
+    n_chains, chain_length : int
+        ``N_S`` and ``N_C``.
+    rules : Rules
+        Stall and stale readings and thresholds.
+    batch : int
+        0: simulate chain after chain, stopping each as soon as the stall rule fires.
+        ``> 0``: take up to ``batch`` chains at a time (``max(64, 16 workers)`` in the first
+        batch, doubling), simulate a prefix of each in parallel (:func:`_speculate`, prefix
+        length from :func:`_prefix_length`), then replay them in chain order applying stall
+        and stale exactly as the sequential run does, continuing a chain in the replay if it
+        outlives its prefix (spec §3.3, "Parallelism"). A chain's trajectory depends only on
+        its stream, so the result does not depend on ``batch``, ``workers`` or the prefix
+        lengths; only the discarded sweeps do.
+    workers : int
+        Threads of the speculation (sets the prefix quantile).
+
+    Returns
+    -------
+    states : ndarray, shape (n_unique, L), int32
+        Unique states in discovery order, ``x0`` first.
+    counts : ndarray, shape (n_unique,), int64
+        Observations of each.
+    ctr : ndarray, shape (7,), int64
+        ``[n_unique, n_observations, n_chains_run, stale_run, stale_cumulative, stale_fired,
+        n_speculative_discarded]``.
+    """
+    L = x0.shape[0]
+    h0 = hash_of(zkeys, x0)
+    U = _new_unique_set(L, _CAP)
+    ctr = np.zeros(N_COUNTERS, dtype=np.int64)
+    cctr = np.zeros(4, dtype=np.int64)
+    # U <- {x0}: x0 is stored (unique 0) but is not an observation (count 0 so far)
+    _insert(U, -1 - _find(U, x0, h0), x0, h0, 0, 0, -1)
+    ctr[NU] = 1
+
+    speculative = batch > 0
+    nb = min(batch, n_chains) if speculative else 1
+    n_spec = chain_length if speculative else 0  # bounded by the caller's slab limit
+    slab = Slab(
+        np.empty((nb, n_spec, L), dtype=np.int32),
+        np.empty((nb, n_spec), dtype=np.uint64),
+        np.empty((nb, L), dtype=np.int32),
+        np.empty(nb, dtype=np.uint64),
+        np.empty((nb, 8), dtype=np.uint64),  # one stream per cache line
+    )
+    work = alloc_work(data, nb)
+    used_hist = np.zeros(n_spec + 1, dtype=np.int64)  # chain lengths seen (speculation only)
+    # Batches start small (the first one learns the chain lengths for the prefix) and double
+    # up to ``batch``: a run that stops early by stale then discards little.
+    ramp = max(64, 16 * workers)
+    c0 = 0
+    while c0 < n_chains:
+        n_b = min(nb, n_chains - c0)
+        if speculative:
+            n_b = min(n_b, ramp)
+            ramp = min(2 * ramp, nb)
+            s = _prefix_length(used_hist, chain_length, workers)
+            _speculate_impl(data, work, zkeys, slab.traj, slab.hashes, slab.states, slab.h,
+                            slab.rs, x0, h0, base, c0, n_b, s)
+        else:
+            s = 0
+        stale = False
+        for b in range(n_b):
+            c = c0 + b
+            if not speculative:
+                slab.states[b, :] = x0
+                reset_work(data, work, b, x0)
+                slab.h[b] = h0
+                slab.rs[b, 0] = chain_state(base, c)
+            _begin_chain(c, U.last_chain, cctr)
+            done = s
+            j = 0
+            stalled = False
+            while j < chain_length and not stalled:
+                if _room(U, ctr[NU]) <= 0:
+                    U = _grow(U, ctr[NU])
+                j1 = min(chain_length, j + _room(U, ctr[NU]))
+                j, stalled, done = _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
+                                                 b, c, j, j1, done)
+            if speculative:
+                used_hist[j] += 1
+            ctr[DISCARDED] += done - j
+            if _end_chain(ctr, cctr, rules.stale_mode, rules.tau_stale):
+                ctr[DISCARDED] += (n_b - b - 1) * s
+                stale = True
+                break
+        if stale:
+            break
+        c0 += n_b
+    n = ctr[NU]
+    return U.states[:n].copy(), U.counts[:n].copy(), ctr
+
+
+def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
+    """Compile the chain driver for one problem type.
+
+    Parameters
+    ----------
+    name : str
+        Unique name of the problem type (names the compiled functions and their cache files).
+    alloc_work, reset_work, sweep : compiled functions
+        The problem type's workspace allocation, reset and sweep (see the module docstring).
+    cache : bool, optional
+        As in :func:`rankedassign.numba_options.jit`; off for functions defined interactively.
+
+    Returns
+    -------
+    run_chains : compiled function
+        ``run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers)
+        -> (states, counts, ctr)`` as documented in :func:`_run_chains`.
+
+    Examples
+    --------
+    A toy "problem" whose state is one bit flipped with probability one half per sweep:
+
+    >>> import numpy as np
+    >>> from rankedassign.numba_options import jit
+    >>> from rankedassign._rng_kernels import next_uniform
+    >>> @jit(cache=False)
+    ... def alloc(data, nb):
+    ...     return (np.zeros((nb, 1)),)
+    >>> @jit(cache=False)
+    ... def reset(data, work, b, x0):
+    ...     pass
+    >>> @jit(cache=False)
+    ... def flip(data, work, b, zkeys, state, h, rs):
+    ...     if next_uniform(rs) < data[0]:
+    ...         h ^= zkeys[0, state[0]] ^ zkeys[0, 1 - state[0]]
+    ...         state[0] = 1 - state[0]
+    ...     return h
+    >>> run = make_driver("coin", alloc, reset, flip, cache=False)
+    >>> zkeys = np.array([[1, 2]], dtype=np.uint64)
+    >>> states, counts, ctr = run((0.5,), zkeys, np.zeros(1, np.int32), np.uint64(7), 1, 100,
+    ...                           Rules(0, 0, 0, 0), 0, 1)
+    >>> sorted(states[:, 0].tolist()), int(counts.sum())
+    ([0, 1], 100)
+    """
+    spec = instantiate(_speculate, f"speculate_{name}",
+                       {"sweep": sweep, "reset_work": reset_work}, parallel=True, cache=cache)
+    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache)
+    return instantiate(_run_chains, f"run_chains_{name}",
+                       {"_speculate_impl": spec, "_advance_impl": adv,
+                        "alloc_work": alloc_work, "reset_work": reset_work}, cache=cache)
