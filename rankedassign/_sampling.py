@@ -27,6 +27,8 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ._rng import base_key
+from .multisensor.problem import MultiSensorProblem
+from .multisensor.sampling import prepare_fields as _multisensor_fields
 from .numba_options import jit
 from .problem import AssignmentProblem
 from .validation import (
@@ -381,8 +383,13 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     )
 
 
+def _prepare_multisensor(problem, start, scan, rng, options) -> Prepared:
+    """Multi-sensor problems (:mod:`rankedassign.multisensor.sampling`)."""
+    return Prepared(**_multisensor_fields(problem, start, scan, rng, options))
+
+
 # ------------------------------------------------------------------------------ dispatch
-_PREPARE = {AssignmentProblem: _prepare_single}
+_PREPARE = {AssignmentProblem: _prepare_single, MultiSensorProblem: _prepare_multisensor}
 
 
 def prepare(problem, start, scan, rng, **options) -> Prepared:
@@ -390,12 +397,14 @@ def prepare(problem, start, scan, rng, **options) -> Prepared:
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem or MultiSensorProblem
         The problem (its type selects the preparation).
     start, scan, rng
         As in :func:`rankedassign.sample_original`.
     **options
-        Options of the problem type (none for an :class:`AssignmentProblem`).
+        Options of the problem type (none for an :class:`AssignmentProblem`; ``method`` and
+        ``survival_power`` for a :class:`~rankedassign.multisensor.MultiSensorProblem`, see
+        :func:`rankedassign.multisensor.sampling.prepare_fields`).
 
     Raises
     ------

@@ -43,6 +43,7 @@ from ._sampling import (
     prepare,
     zero_length_run,
 )
+from .multisensor import reference as _ms_reference
 from .validation import check_int
 
 __all__ = ["sample_original", "sample_short_chains", "run_chains", "draw_direct", "draw_prefix",
@@ -286,7 +287,10 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
 
 
 #: Row updates of each problem type: kind -> (new_work, sweep).
-ROW_UPDATES = {"single": (new_work, sweep)}
+ROW_UPDATES = {
+    "single": (new_work, sweep),
+    "multisensor": (_ms_reference.new_work, _ms_reference.sweep),
+}
 
 
 def run_chains(sweep, new_work, data, x0, base, n_chains, chain_length, *, tau_stall=None,

@@ -48,6 +48,8 @@ from ._sampling import (
     prepare,
     zero_length_run,
 )
+from .multisensor import _kernels as _ms_kernels
+from .multisensor.problem import MultiSensorProblem
 from .numba_options import threads
 from .problem import AssignmentProblem
 from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
@@ -55,7 +57,7 @@ from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 __all__ = ["SamplerResult", "sample_original", "sample_short_chains", "warmup"]
 
 #: Compiled chain drivers of each problem type (kind name of :mod:`rankedassign._sampling`).
-DRIVERS = {"single": _kernels.run_chains}
+DRIVERS = {"single": _kernels.run_chains, "multisensor": _ms_kernels.run_chains}
 
 # Upper bound on the speculation slab (batch x chain_length x L int32 entries, 64 MiB).
 _MAX_SLAB = 1 << 24
@@ -330,3 +332,15 @@ def warmup() -> None:
         sample_original(p, 3, scan=scan, rng=0, start=[1, 0])
         sample_short_chains(p, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0)
         sample_short_chains(p, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0, workers=2)
+    # The multi-sensor kind: one compiled sweep serves every method; row 0's best tuple sits
+    # ~800 above the rest of its row, so its underflow fall-back runs while row 1 holds it.
+    log_s = np.zeros(2)
+    th0 = np.array([[-800.0, 0.0], [-1.0, 0.0]])
+    th1 = np.array([[0.0, -0.5], [0.0, -2.0]])
+    ms = MultiSensorProblem(np.array([-800.0, -1.0]),
+                            log_s[:, None, None] + th0[:, :, None] + th1[:, None, :],
+                            log_s, (th0, th1))
+    for scan in SCANS:
+        sample_original(ms, 3, scan=scan, rng=0, start=[[0, 0], [1, 0]], method="exact")
+        sample_short_chains(ms, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0)
+        sample_short_chains(ms, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0, workers=2)

@@ -5,7 +5,10 @@ measurement ``j`` of that sensor); every sensor's measurements are used at most 
 :class:`MultiSensorProblem` and the families of :mod:`rankedassign.multisensor.synthetic`;
 the exact oracle (enumeration, row DP over used-measurement masks, the separable surrogate's
 normaliser) is the companion package :mod:`oracle`, whose public functions accept either
-problem type.
+problem type. The samplers :func:`rankedassign.sample_original` and
+:func:`rankedassign.sample_short_chains` accept a :class:`MultiSensorProblem` with the option
+``method`` (``"exact"``, ``"mm"``, ``"mm-fixed"``, ``"componentwise"``; see
+:mod:`rankedassign.multisensor.sampling`).
 
 Examples
 --------
