@@ -398,7 +398,7 @@ class MultiSensorLMBFilter(LMBFilter):
         comp_w, comp_m, comp_P = [[] for _ in range(T)], [[] for _ in range(T)], \
             [[] for _ in range(T)]
         elim = self.prune_component
-        for rows, cols, dead, tup in parts:
+        for rows, cols, _dead, tup in parts:
             for i, row in enumerate(rows):
                 # r_n = Σ_t β_{n,t}  (as eq. 6.3)
                 r = float(np.clip(tup[i].sum(), 0.0, 1.0))
