@@ -245,8 +245,29 @@ class MultiSensorAssociation:
         raise NotImplementedError
 
 
-def _from_sampler(problem, res, marginals) -> MultiSensorAssociationResult:
+def _split_collapsed(problem, dead, tup):
+    """Split the all-missed mass of the collapsed target (spec §1.6) into dead and missed.
+
+    ``"componentwise"`` samples never hold a dead row: ``(0, ..., 0)`` stands for "dead or
+    missed by every sensor". Given the other rows both choices leave the same measurements
+    free, so the split is ``η_n(−1) : η_n(0, ..., 0)`` in every hypothesis.
+    """
+    P = problem.n_rows
+    zero = (slice(None),) + (0,) * problem.n_sensors
+    ld, lm = problem.log_eta_dead, problem.log_eta_alive[zero]
+    top = np.maximum(ld, lm)
+    ed = np.exp(ld - top)
+    em = np.exp(lm - top)
+    both = dead + tup[zero]
+    tup = tup.copy()
+    tup[zero] = both * em / (ed + em)
+    return (both * ed / (ed + em)).reshape(P), tup
+
+
+def _from_sampler(problem, res, marginals, method) -> MultiSensorAssociationResult:
     dead, tup = _marginals(problem, res.assignments, res.costs, marginals)
+    if method == "componentwise" and marginals == "truncated":
+        dead, tup = _split_collapsed(problem, dead, tup)
     return MultiSensorAssociationResult(dead, tup, 1, int(res.n_observations),
                                         int(res.n_row_updates), int(len(res.costs)))
 
@@ -266,7 +287,9 @@ class MultiSensorGibbs(MultiSensorAssociation):
         Observations (full sweeps) per call (spec §7.2: 10 000).
     method : {"exact", "mm", "mm-fixed", "componentwise"}, optional
         Row kernel of :func:`rankedassign.sample_original` (Alg. 1, MM-Gibbs with the
-        exclusion-aware or the fixed proposal, sensor-component-wise).
+        exclusion-aware or the fixed proposal, sensor-component-wise). The component-wise
+        kernel samples the collapsed target (spec §1.6), whose all-missed tuple stands for
+        "dead or missed"; its truncated marginals split that mass ``η(−1) : η(0, ..., 0)``.
     marginals : {"truncated", "rao-blackwell"}, optional
         How the unique hypotheses become marginals
         (:func:`multisensor_marginals_from_hypotheses`).
@@ -294,7 +317,7 @@ class MultiSensorGibbs(MultiSensorAssociation):
 
     def __call__(self, problem, rng) -> MultiSensorAssociationResult:
         res = sample_original(problem, self.n_obs, rng=rng, method=self.method, **self.options)
-        return _from_sampler(problem, res, self.marginals)
+        return _from_sampler(problem, res, self.marginals, self.method)
 
 
 class MultiSensorShortChains(MultiSensorAssociation):
@@ -342,7 +365,7 @@ class MultiSensorShortChains(MultiSensorAssociation):
             problem, self.n_chains, self.chain_length, tau_stall=self.tau_stall,
             tau_stale=self.tau_stale, rng=rng, method=self.method, **self.options,
         )
-        return _from_sampler(problem, res, self.marginals)
+        return _from_sampler(problem, res, self.marginals, self.method)
 
 
 class MultiSensorExact(MultiSensorAssociation):
