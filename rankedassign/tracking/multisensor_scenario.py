@@ -24,12 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..metrics import tracks_to_array
-from ..validation import check_int
+from ..validation import check_choice, check_int
 from .models import PoissonClutter, PositionSensor, make_model
 from .multisensor import MultiSensorLMBFilter, MultiSensorModel
 from .scenario import Truth, generate_measurements, paper_truth
 
 __all__ = [
+    "BIRTHS",
     "MULTI_SENSORS",
     "MultiSensorRun",
     "MultiSensorScenario",
@@ -48,13 +49,21 @@ _COUNTER_KEYS = ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks",
                  "n_meas_gated", "n_groups")
 
 
-def make_multisensor_model(sensors=(0, 1, 2)) -> MultiSensorModel:
+#: Static birth models: the paper's (``P_B = diag(300², 10², 300², 10²)``, spec §6.1) and the
+#: narrow birth of Vo's example (``P_B = 100 I``), whose birth tracks gate few measurements,
+#: so that the exact DP reaches the groups of the filter.
+BIRTHS = ("paper", "narrow")
+
+
+def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiSensorModel:
     """The model of the ``"multi"`` preset on the sensors of index ``sensors``.
 
     Parameters
     ----------
     sensors : sequence of int
         Indices into :data:`MULTI_SENSORS` (default the three sensors of spec §7.2).
+    birth : {"paper", "narrow"}
+        Static birth model (:data:`BIRTHS`).
 
     Returns
     -------
@@ -72,12 +81,13 @@ def make_multisensor_model(sensors=(0, 1, 2)) -> MultiSensorModel:
     >>> [(s.sigma_v, s.p_d) for s in m.sensors], m.clutters[0].intensity
     ([(10.0, 0.6), (20.0, 0.8)], 5e-06)
     """
+    check_choice(birth, "birth", BIRTHS)
     base = make_model("paper")
     full = MultiSensorModel(
         base.motion,
         tuple(PositionSensor(p_d, sigma) for sigma, p_d in MULTI_SENSORS),
         tuple(PoissonClutter(MULTI_CLUTTER) for _ in MULTI_SENSORS),
-        base.birth,
+        base.birth if birth == "paper" else make_model("vo").birth,
         base.survival,
     )
     return full.select(sensors)
@@ -106,8 +116,8 @@ class MultiSensorScenario:
     scans: list
 
 
-def make_multisensor_scenario(*, rng=None, n_scans: int = 100,
-                              sensors=(0, 1, 2)) -> MultiSensorScenario:
+def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2),
+                              birth: str = "paper") -> MultiSensorScenario:
     """The ``"multi"`` truth and measurements of the sensors ``sensors``.
 
     Parameters
@@ -119,6 +129,8 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100,
         Number of scans (default 100).
     sensors : sequence of int
         Which sensors to simulate.
+    birth : {"paper", "narrow"}
+        Static birth model of the filter (the measurements do not depend on it).
 
     Returns
     -------
@@ -133,7 +145,7 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100,
     True
     """
     n_scans = check_int(n_scans, "n_scans", minimum=1)
-    model = make_multisensor_model(sensors)
+    model = make_multisensor_model(sensors, birth=birth)
     sensors = tuple(int(v) for v in sensors)
     full = make_multisensor_model(range(len(MULTI_SENSORS)))
     truth = paper_truth(n_scans, model.motion.F)
@@ -189,7 +201,8 @@ class MultiSensorRun:
 
 def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
                              sensors=(0, 1, 2), grouping: bool = True,
-                             extraction: str = "hysteresis", **filter_options) -> MultiSensorRun:
+                             extraction: str = "hysteresis", birth: str = "paper",
+                             **filter_options) -> MultiSensorRun:
     """Simulate the ``"multi"`` scenario and run the multi-sensor LMB filter on it.
 
     Parameters
@@ -208,6 +221,8 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         One problem per group of tracks sharing gated measurements (default True).
     extraction : {"hysteresis", "map"}
         State extraction (spec 6.5).
+    birth : {"paper", "narrow"}
+        Static birth model (:data:`BIRTHS`).
     **filter_options
         Further options of :class:`~rankedassign.tracking.multisensor.MultiSensorLMBFilter`.
 
@@ -233,7 +248,8 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         raise TypeError("run_multisensor_scenario needs an association, e.g. "
                         "MultiSensorShortChains(400, 25, 5, 10)")
     meas_rng, filter_rng = np.random.default_rng(rng).spawn(2)
-    scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors)
+    scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
+                                         birth=birth)
     filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
                                 extraction=extraction, **filter_options)
     K = scenario.truth.n_scans

@@ -68,6 +68,8 @@ class MultiSensorStudyConfig:
         Short-chain settings (400, 25, 5, 10).
     marginals : {"truncated", "rao-blackwell"}
         How hypotheses become marginals.
+    birth : {"paper", "narrow"}
+        Static birth model (:data:`~rankedassign.tracking.multisensor_scenario.BIRTHS`).
     seed : int
         First seed.
     """
@@ -82,11 +84,12 @@ class MultiSensorStudyConfig:
     tau_stall: int = 5
     tau_stale: int = 10
     marginals: str = "truncated"
+    birth: str = "paper"
     seed: int = 0
 
     @classmethod
     def quick(cls) -> MultiSensorStudyConfig:
-        """A small version for the quick reproduction (2 runs of 15 scans, reduced long chain).
+        """A small version for the quick reproduction (1 run of 15 scans, reduced long chain).
 
         Examples
         --------
@@ -94,7 +97,7 @@ class MultiSensorStudyConfig:
         >>> MultiSensorStudyConfig.quick().n_scans
         15
         """
-        return cls(n_runs=2, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1), (0, 1, 2)),
+        return cls(n_runs=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1), (0, 1, 2)),
                    methods=("long", "short", "short-mm"), long_obs=1000)
 
 
@@ -179,7 +182,7 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
     check_int(run, "run")
     assoc = make_association(cfg, method)
     sr = run_multisensor_scenario(assoc, rng=cfg.seed + run, n_scans=cfg.n_scans,
-                                  sensors=sensors)
+                                  sensors=sensors, birth=cfg.birth)
     o2 = ospa2(sr.truth, sr.estimates, c=200.0, p=1.0, window=5).value
     n_true = (~np.isnan(sr.truth[:, :, 0])).sum(axis=1)
     cov = track_coverage(sr.truth, sr.estimates, COVERAGE_RADIUS, settle=COVERAGE_SETTLE)
