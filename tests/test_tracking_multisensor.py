@@ -254,3 +254,12 @@ def test_run_scenario_errors():
         run_multisensor_scenario(None, n_scans=1)
     with pytest.raises(ValueError, match="n_scans"):
         make_multisensor_scenario(n_scans=0)
+
+
+@pytest.mark.parametrize("method", ["exact", "mm", "componentwise"])
+def test_filter_runs_with_rao_blackwellised_marginals(method):
+    run = run_multisensor_scenario(
+        MultiSensorShortChains(20, 5, 5, 10, method=method, marginals="rao-blackwell"),
+        rng=3, n_scans=3, sensors=(0, 1), birth="narrow")
+    assert all(0 <= r <= 1 for scan in run.existence for r in scan.values())
+    assert (run.sweeps > 0).any()

@@ -28,8 +28,9 @@ def test_methods_share_the_measurements_and_are_recorded():
     assert exact.n_fallback >= 0 and exact.sweeps == 30 * exact.n_fallback
     summ = summarise_multisensor_tracking(recs)
     assert [s.method for s in summ] == ["long", "short", "exact"]
-    assert summ[0].sweep_reduction == 0.0
-    assert math.isclose(summ[1].sweep_reduction, 1 - short.sweeps / long.sweeps)
+    assert math.isclose(summ[0].sweep_reduction, 1 - 30 / 10_000)
+    assert math.isclose(summ[1].sweep_reduction,
+                        1 - short.sweeps / (10_000 * short.invocations))
     assert math.isnan(summ[0].ospa2_se)  # one run
     table = multisensor_tracking_table(summ)
     assert table.count("\n") == 4 and "| 0,2 | 2 | short |" in table
