@@ -5,7 +5,8 @@ Run the timings with::
 
     python -m pytest benchmarks/test_bench_tracking_multisensor.py --benchmark-enable
 
-In the default suite (benchmarks disabled) each case runs once on 3 scans as a smoke test.
+In the default suite (benchmarks disabled) each case runs once on 2 scans as a smoke test, the
+long chain with 1 000 sweeps per call instead of 10 000.
 Speed is measured, not asserted; the numbers are in ``benchmarks/README.md``. ``extra_info``
 holds the per-scan seconds of each phase and the run's sweeps, row updates and sampler calls.
 """
@@ -22,17 +23,19 @@ from rankedassign.tracking import (
 
 SENSORS = {"V1": (0,), "V2": (0, 1), "V3": (0, 1, 2)}
 METHODS = {
-    "short-400x25": lambda: MultiSensorShortChains(400, 25, 5, 10),
-    "short-400x25-mm": lambda: MultiSensorShortChains(400, 25, 5, 10, method="mm"),
-    "short-400x25-mm-fixed": lambda: MultiSensorShortChains(400, 25, 5, 10, method="mm-fixed"),
-    "long-10000": lambda: MultiSensorGibbs(10_000),
+    "short-400x25": lambda smoke=False: MultiSensorShortChains(400, 25, 5, 10),
+    "short-400x25-mm": lambda smoke=False: MultiSensorShortChains(400, 25, 5, 10, method="mm"),
+    "short-400x25-mm-fixed": lambda smoke=False: MultiSensorShortChains(
+        400, 25, 5, 10, method="mm-fixed"),
+    "long-10000": lambda smoke=False: MultiSensorGibbs(1_000 if smoke else 10_000),
 }
 
 
 def _run(benchmark, make, sensors, birth="paper"):
-    n_scans = 3 if benchmark.disabled else 100
+    smoke = benchmark.disabled
+    n_scans = 2 if smoke else 100
     run = benchmark.pedantic(
-        lambda: run_multisensor_scenario(make(), rng=0, n_scans=n_scans, sensors=sensors,
+        lambda: run_multisensor_scenario(make(smoke), rng=0, n_scans=n_scans, sensors=sensors,
                                          birth=birth),
         rounds=1, iterations=1, warmup_rounds=0,
     )
@@ -54,4 +57,4 @@ def test_bench_multi_scenario(benchmark, method, sensors):
 @pytest.mark.parametrize("sensors", sorted(SENSORS))
 def test_bench_multi_narrow_birth_exact(benchmark, sensors):
     # the exact DP needs the narrow birth (the paper's birth tracks gate every measurement)
-    _run(benchmark, MultiSensorExact, SENSORS[sensors], birth="narrow")
+    _run(benchmark, lambda smoke: MultiSensorExact(), SENSORS[sensors], birth="narrow")
