@@ -32,6 +32,19 @@ from .models import (
     PositionSensor,
     make_model,
 )
+from .multisensor import MultiSensorLMBFilter, MultiSensorModel
+from .multisensor_association import (
+    MultiSensorAssociationResult,
+    MultiSensorExact,
+    MultiSensorGibbs,
+    MultiSensorShortChains,
+)
+from .multisensor_scenario import (
+    MultiSensorRun,
+    make_multisensor_model,
+    make_multisensor_scenario,
+    run_multisensor_scenario,
+)
 from .run import ScenarioRun, run_scenario
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
 
@@ -46,6 +59,13 @@ __all__ = [
     "LMBFilter",
     "Model",
     "Murty",
+    "MultiSensorAssociationResult",
+    "MultiSensorExact",
+    "MultiSensorGibbs",
+    "MultiSensorLMBFilter",
+    "MultiSensorModel",
+    "MultiSensorRun",
+    "MultiSensorShortChains",
     "OriginalGibbs",
     "PRESET_EXTRACTION",
     "PoissonClutter",
@@ -60,9 +80,12 @@ __all__ = [
     "generate_measurements",
     "group_tracks",
     "make_model",
+    "make_multisensor_model",
+    "make_multisensor_scenario",
     "make_scenario",
     "map_cardinality",
     "marginals_from_hypotheses",
     "paper_truth",
+    "run_multisensor_scenario",
     "run_scenario",
 ]

@@ -10,6 +10,7 @@ from ..metrics import tracks_to_array
 from .association import Association
 from .lmb import LMBFilter
 from .models import PRESET_EXTRACTION
+from .multisensor_scenario import run_multisensor_scenario
 from .scenario import Scenario, make_scenario
 
 __all__ = ["ScenarioRun", "run_scenario"]
@@ -87,16 +88,20 @@ def run_scenario(
     *,
     rng=None,
     n_scans: int = 100,
-    grouping: bool = False,
+    grouping: bool | None = None,
     extraction: str | None = None,
+    sensors=None,
     **filter_options,
 ) -> ScenarioRun:
     """Simulate a preset scenario and run the LMB filter on it.
 
     Parameters
     ----------
-    preset : {"paper", "paper-var", "vo"}
-        Model preset (:func:`~rankedassign.tracking.models.make_model`).
+    preset : {"paper", "paper-var", "vo", "multi"}
+        Model preset (:func:`~rankedassign.tracking.models.make_model`); ``"multi"`` is the
+        multi-sensor scenario, run by
+        :func:`~rankedassign.tracking.multisensor_scenario.run_multisensor_scenario` (which
+        returns a :class:`~rankedassign.tracking.multisensor_scenario.MultiSensorRun`).
     association : Association
         E.g. ``ShortChainGibbs(400, 25, 5, 10)``, ``OriginalGibbs(10_000)``, ``Murty(k)``,
         ``Exact()``. Required.
@@ -107,13 +112,17 @@ def run_scenario(
         measurements whatever the association.
     n_scans : int
         Number of scans (the paper: 100).
-    grouping : bool
-        Solve independent groups of tracks separately (spec §6.5a).
+    grouping : bool or None
+        Solve independent groups of tracks separately (spec §6.5a). None (default): False,
+        except for ``"multi"`` (True).
     extraction : {"hysteresis", "map"} or None
         State extraction (spec 6.5): the paper's hysteresis or the MAP cardinality of Vo's
         code. None (default) takes the preset's own setting
         (:data:`~rankedassign.tracking.models.PRESET_EXTRACTION`): hysteresis for ``"paper"``,
         MAP cardinality for ``"vo"`` (Vo's public example, which extracts by MAP cardinality).
+    sensors : sequence of int or None
+        ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
+        measurements do not depend on which others are selected.
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.lmb.LMBFilter` (``gate_prob``,
         ``theta_upper``, ``prune_track``, ``max_components``, ...).
@@ -138,6 +147,16 @@ def run_scenario(
     """
     if association is None:
         raise TypeError("run_scenario needs an association, e.g. ShortChainGibbs(400, 25, 5, 10)")
+    if preset == "multi":
+        return run_multisensor_scenario(
+            association, rng=rng, n_scans=n_scans,
+            sensors=(0, 1, 2) if sensors is None else sensors,
+            grouping=True if grouping is None else grouping,
+            extraction=extraction or "hysteresis", **filter_options,
+        )
+    if sensors is not None:
+        raise ValueError(f"sensors applies to the 'multi' preset only, got preset {preset!r}")
+    grouping = False if grouping is None else grouping
     if extraction is None:
         extraction = PRESET_EXTRACTION.get(preset, "hysteresis")  # unknown presets fail below
     parent = np.random.default_rng(rng)

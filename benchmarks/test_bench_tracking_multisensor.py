@@ -1,0 +1,60 @@
+"""Multi-sensor LMB filter speed: one 100-scan run of the ``"multi"`` scenario per sensor set
+(``V = 1, 2, 3``) and association.
+
+Run the timings with::
+
+    python -m pytest benchmarks/test_bench_tracking_multisensor.py --benchmark-enable
+
+In the default suite (benchmarks disabled) each case runs once on 2 scans as a smoke test, the
+long chain with 1 000 sweeps per call instead of 10 000.
+Speed is measured, not asserted; the numbers are in ``benchmarks/README.md``. ``extra_info``
+holds the per-scan seconds of each phase and the run's sweeps, row updates and sampler calls.
+"""
+
+import numpy as np
+import pytest
+
+from rankedassign.tracking import (
+    MultiSensorExact,
+    MultiSensorGibbs,
+    MultiSensorShortChains,
+    run_multisensor_scenario,
+)
+
+SENSORS = {"V1": (0,), "V2": (0, 1), "V3": (0, 1, 2)}
+METHODS = {
+    "short-400x25": lambda smoke=False: MultiSensorShortChains(400, 25, 5, 10),
+    "short-400x25-mm": lambda smoke=False: MultiSensorShortChains(400, 25, 5, 10, method="mm"),
+    "short-400x25-mm-fixed": lambda smoke=False: MultiSensorShortChains(
+        400, 25, 5, 10, method="mm-fixed"),
+    "long-10000": lambda smoke=False: MultiSensorGibbs(1_000 if smoke else 10_000),
+}
+
+
+def _run(benchmark, make, sensors, birth="paper"):
+    smoke = benchmark.disabled
+    n_scans = 2 if smoke else 100
+    run = benchmark.pedantic(
+        lambda: run_multisensor_scenario(make(smoke), rng=0, n_scans=n_scans, sensors=sensors,
+                                         birth=birth),
+        rounds=1, iterations=1, warmup_rounds=0,
+    )
+    benchmark.extra_info.update(
+        {f"per_scan_{k}_s": float(np.mean(v)) for k, v in run.timings.items()}
+    )
+    benchmark.extra_info.update(
+        sweeps=int(run.sweeps.sum()), row_updates=int(run.row_updates.sum()),
+        invocations=int(run.invocations.sum()), mean_meas_gated=float(run.n_meas_gated.mean()),
+    )
+
+
+@pytest.mark.parametrize("sensors", sorted(SENSORS))
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_bench_multi_scenario(benchmark, method, sensors):
+    _run(benchmark, METHODS[method], SENSORS[sensors])
+
+
+@pytest.mark.parametrize("sensors", sorted(SENSORS))
+def test_bench_multi_narrow_birth_exact(benchmark, sensors):
+    # the exact DP needs the narrow birth (the paper's birth tracks gate every measurement)
+    _run(benchmark, lambda smoke: MultiSensorExact(), SENSORS[sensors], birth="narrow")

@@ -1,0 +1,114 @@
+"""Targets of the multi-sensor tracking study (slow): fusion gain, short chains against the
+exact update, many-sweep Gibbs against the exact marginals."""
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import oracle
+from rankedassign.metrics import ospa2
+from rankedassign.tracking import (
+    MultiSensorExact,
+    MultiSensorGibbs,
+    MultiSensorShortChains,
+    run_multisensor_scenario,
+)
+
+pytestmark = pytest.mark.slow
+
+SHORT = dict(n_chains=400, chain_length=25, tau_stall=5, tau_stale=10)
+
+
+def mean_ospa(run):
+    return float(ospa2(run.truth, run.estimates, c=200, p=1, window=5).value.mean())
+
+
+@pytest.fixture(scope="module")
+def paper_runs():
+    """Short-chain runs on the 'multi' scenario, seeds 0-2: each single sensor and all three."""
+    out = {}
+    for seed in range(3):
+        for sensors in [(0,), (1,), (2,), (0, 1, 2)]:
+            out[seed, sensors] = run_multisensor_scenario(
+                MultiSensorShortChains(**SHORT), rng=seed, sensors=sensors)
+    return out
+
+
+def test_fusing_three_sensors_beats_the_best_single_sensor_by_20_percent(paper_runs):
+    mean = {s: np.mean([mean_ospa(paper_runs[seed, s]) for seed in range(3)])
+            for s in [(0,), (1,), (2,), (0, 1, 2)]}
+    best_single = min(mean[(0,)], mean[(1,)], mean[(2,)])
+    assert mean[(0, 1, 2)] <= 0.8 * best_single
+
+
+@pytest.mark.xfail(strict=True,
+                   reason="paper birth, V = 3, seed 0: 153 791 sweeps over about 100 calls "
+                          "(one group per scan), a reduction of about 85 %, not 95 %")
+def test_short_chains_use_95_percent_fewer_sweeps_on_the_paper_birth(paper_runs):
+    # the long chain spends 10 000 sweeps on every sampler call; the short chains get the
+    # same calls (one per group with measurements)
+    for seed in range(3):
+        run = paper_runs[seed, (0, 1, 2)]
+        assert run.sweeps.sum() <= 0.05 * 10_000 * run.invocations.sum()
+
+
+@pytest.mark.xfail(strict=True, raises=ValueError,
+                   reason="the paper's birth tracks (sigma 300 m) gate every measurement of "
+                          "every sensor: one group per scan with about 69 measurements over "
+                          "V = 3 sensors, beyond the 22-bit exact DP")
+def test_exact_update_on_the_paper_birth():
+    run_multisensor_scenario(MultiSensorExact(), rng=0, n_scans=3, sensors=(0, 1, 2))
+
+
+@pytest.fixture(scope="module")
+def narrow_runs():
+    """Exact update and short chains on the narrow-birth 'multi' scenario, V = 3, seeds 0-9
+    (narrow births, P_B = 100 I, keep the groups within the exact DP; same measurements)."""
+    out = []
+    for seed in range(10):
+        exact = run_multisensor_scenario(MultiSensorExact(), rng=seed, sensors=(0, 1, 2),
+                                         birth="narrow")
+        short = run_multisensor_scenario(MultiSensorShortChains(**SHORT), rng=seed,
+                                         sensors=(0, 1, 2), birth="narrow")
+        out.append((exact, short))
+    return out
+
+
+def test_short_chains_use_95_percent_fewer_sweeps_than_the_long_chain(narrow_runs):
+    # a long chain spends 10 000 sweeps on every sampler call; the short chains get the same
+    # calls (one per group with measurements)
+    sweeps = sum(int(short.sweeps.sum()) for _, short in narrow_runs)
+    calls = sum(int(short.invocations.sum()) for _, short in narrow_runs)
+    assert sweeps <= 0.05 * 10_000 * calls
+
+
+@pytest.mark.xfail(strict=True,
+                   reason="10 seeds, V = 3, narrow birth: short chains 19.01 m, exact update "
+                          "20.65 m mean OSPA(2); the short chains are 8.0 % lower, outside 5 %")
+def test_short_chains_within_5_percent_of_the_exact_update(narrow_runs):
+    exact = np.mean([mean_ospa(e) for e, _ in narrow_runs])
+    short = np.mean([mean_ospa(s) for _, s in narrow_runs])
+    assert abs(short - exact) <= 0.05 * exact
+
+
+def test_many_sweep_gibbs_agrees_with_the_exact_marginals():
+    # The problems of a narrow-birth filter run that the exact DP takes. 20 000 sweeps visit
+    # practically every hypothesis of these small groups (a few hundred at most), and the
+    # marginals of the visited set are then exact; a missed hypothesis of mass q moves a
+    # marginal by at most q, and one of mass > 0.01 is missed by 20 000 sweeps with
+    # probability below 1e-80, so the tolerance 0.01 fails falsely with negligible probability.
+    problems = []
+
+    def capture(problem, rng):
+        problems.append(problem)
+        return MultiSensorExact()(problem, rng)
+
+    run_multisensor_scenario(capture, rng=0, n_scans=40, sensors=(0, 1, 2), birth="narrow")
+    problems = [p for p in problems if p.n_rows > 1][:30]
+    assert len(problems) >= 10
+    gibbs = MultiSensorGibbs(20_000)
+    for i, p in enumerate(problems):
+        ex = oracle.marginals(p)
+        res = gibbs(p, np.random.default_rng(i))
+        assert_allclose(res.dead, ex.dead, atol=0.01)
+        assert_allclose(res.tuples, ex.tuples, atol=0.01)
