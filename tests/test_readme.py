@@ -18,6 +18,7 @@ def test_readme_python_examples_run(capsys):
     out = capsys.readouterr().out
     assert "(4, 24) 76848" in out
     assert "[1 2] 6.0" in out
+    assert "(4, 2) True" in out  # the multi-sensor example
 
 
 def test_readme_has_two_quickstart_commands_and_ci_runs_the_test_one():
