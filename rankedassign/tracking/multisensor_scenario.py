@@ -27,7 +27,7 @@ from ..metrics import tracks_to_array
 from ..validation import check_choice, check_int
 from .models import PoissonClutter, PositionSensor, make_model
 from .multisensor import MultiSensorLMBFilter, MultiSensorModel
-from .scenario import Truth, generate_measurements, paper_truth
+from .scenario import COUNTER_KEYS, ScenarioRun, Truth, generate_measurements, paper_truth
 
 __all__ = [
     "BIRTHS",
@@ -45,8 +45,6 @@ MULTI_SENSORS = ((10.0, 0.6), (15.0, 0.7), (20.0, 0.8), (10.0, 0.7))
 MULTI_CLUTTER = 20.0
 
 _TIMING_KEYS = ("prediction", "cost", "association", "update")
-_COUNTER_KEYS = ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks", "n_meas",
-                 "n_meas_gated", "n_groups")
 
 
 #: Static birth models: the paper's (``P_B = diag(300², 10², 300², 10²)``, spec §6.1) and the
@@ -157,9 +155,9 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2)
 
 
 @dataclass(frozen=True, eq=False)
-class MultiSensorRun:
+class MultiSensorRun(ScenarioRun):
     """Result of :func:`run_multisensor_scenario` (the fields of
-    :class:`~rankedassign.tracking.run.ScenarioRun`; ``n_meas`` counts every sensor).
+    :class:`~rankedassign.tracking.scenario.ScenarioRun`; ``n_meas`` counts every sensor).
 
     Attributes
     ----------
@@ -175,28 +173,6 @@ class MultiSensorRun:
     """
 
     scenario: MultiSensorScenario
-    association: str
-    extraction: str
-    truth: np.ndarray
-    estimates: np.ndarray
-    estimate_labels: list
-    labelled_estimates: list
-    existence: list
-    invocations: np.ndarray
-    sweeps: np.ndarray
-    row_updates: np.ndarray
-    n_unique: np.ndarray
-    n_tracks: np.ndarray
-    n_estimated: np.ndarray
-    n_meas: np.ndarray
-    n_meas_gated: np.ndarray
-    n_groups: np.ndarray
-    timings: dict
-
-    @property
-    def n_scans(self) -> int:
-        """Number of scans."""
-        return int(self.truth.shape[0])
 
 
 def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
@@ -260,10 +236,10 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         labelled.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
         existence.append(dict(zip(map(tuple, rec.track_labels.tolist()),
                                   rec.track_existence.tolist(), strict=True)))
-        counts.append([getattr(rec, name) for name in _COUNTER_KEYS] + [rec.labels.shape[0]])
+        counts.append([getattr(rec, name) for name in COUNTER_KEYS] + [rec.labels.shape[0]])
         times.append([rec.timings[name] for name in _TIMING_KEYS])
-    counts = np.array(counts, dtype=np.int64).reshape(K, len(_COUNTER_KEYS) + 1)
-    counters = {name: counts[:, i].copy() for i, name in enumerate(_COUNTER_KEYS)}
+    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 1)
+    counters = {name: counts[:, i].copy() for i, name in enumerate(COUNTER_KEYS)}
     counters["n_estimated"] = counts[:, -1].copy()
     times = np.array(times, dtype=np.float64).reshape(K, len(_TIMING_KEYS))
     timings = {name: times[:, i].copy() for i, name in enumerate(_TIMING_KEYS)}

@@ -217,3 +217,68 @@ def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Sce
     model = make_model(preset)
     truth = paper_truth(n_scans, model.motion.F)
     return Scenario(preset, model, truth, generate_measurements(truth, model, rng=rng))
+
+
+COUNTER_KEYS = ("invocations", "sweeps", "row_updates", "n_unique", "n_tracks", "n_meas",
+                "n_meas_gated", "n_groups")
+
+
+@dataclass(frozen=True, eq=False)
+class ScenarioRun:
+    """Result of :func:`run_scenario`.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        Model, truth and the measurements the filter saw.
+    association : str
+        ``repr`` of the association used.
+    extraction : str
+        State extraction used (``"hysteresis"`` or ``"map"``).
+    truth : ndarray, shape (n_scans, n_targets, 2)
+        True positions, NaN where a target does not exist.
+    estimates : ndarray, shape (n_scans, n_est_tracks, 2)
+        Estimated positions, one column per reported label (order of first report), NaN where
+        a label is not reported.
+    estimate_labels : list of tuple
+        Labels ``(birth scan, birth index)`` of the columns of ``estimates``.
+    labelled_estimates : list of dict
+        Per scan, ``{label: state (4,)}`` of the reported tracks.
+    existence : list of dict
+        Per scan, ``{label: r}`` of every track held after the update.
+    invocations, sweeps, row_updates, n_unique : ndarray of int64, shape (n_scans,)
+        Association accounting per scan (sampler calls, Markov-chain observations = full
+        sweeps, single-row updates, unique hypotheses).
+    n_tracks : ndarray of int64, shape (n_scans,)
+        Predicted tracks per scan (rows of the association, births included).
+    n_estimated : ndarray of int64, shape (n_scans,)
+        Reported tracks per scan.
+    n_meas, n_meas_gated, n_groups : ndarray of int64, shape (n_scans,)
+        Measurements received, measurements inside some gate, problems solved.
+    timings : dict of ndarray
+        Per-scan seconds of ``prediction``, ``cost``, ``association``, ``update``.
+    """
+
+    scenario: Scenario
+    association: str
+    extraction: str
+    truth: np.ndarray
+    estimates: np.ndarray
+    estimate_labels: list
+    labelled_estimates: list
+    existence: list
+    invocations: np.ndarray
+    sweeps: np.ndarray
+    row_updates: np.ndarray
+    n_unique: np.ndarray
+    n_tracks: np.ndarray
+    n_estimated: np.ndarray
+    n_meas: np.ndarray
+    n_meas_gated: np.ndarray
+    n_groups: np.ndarray
+    timings: dict
+
+    @property
+    def n_scans(self) -> int:
+        """Number of scans."""
+        return int(self.truth.shape[0])
