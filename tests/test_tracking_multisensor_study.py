@@ -15,7 +15,7 @@ from rankedassign.tracking.multisensor_study import (
     summarise_multisensor_tracking,
 )
 
-TINY = MultiSensorStudyConfig(n_runs=1, n_scans=3, n_chains=10, chain_length=4, long_obs=30)
+TINY = MultiSensorStudyConfig(n_mc=1, n_scans=3, n_chains=10, chain_length=4, long_obs=30)
 
 
 def test_methods_share_the_measurements_and_are_recorded():

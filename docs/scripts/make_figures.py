@@ -185,7 +185,7 @@ def tracking_multisensor(out: Path) -> None:
         summarise_multisensor_tracking,
     )
 
-    cfg = MultiSensorStudyConfig(n_runs=1, n_scans=30, seed=SEED % 1000)
+    cfg = MultiSensorStudyConfig(n_mc=1, n_scans=30, seed=SEED % 1000)
     recs = [multisensor_tracking_task(cfg, 0, s, "short-mm")
             for s in ((0,), (1,), (2,), (0, 1, 2))]
     plot_multisensor_tracking(summarise_multisensor_tracking(recs), out)

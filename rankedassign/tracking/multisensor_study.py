@@ -58,8 +58,8 @@ class MultiSensorStudyConfig:
 
     Attributes
     ----------
-    n_runs, n_scans : int
-        Monte Carlo runs (seeds ``seed .. seed + n_runs - 1``) and scans per run.
+    n_mc, n_scans : int
+        Monte Carlo runs (seeds ``seed .. seed + n_mc - 1``) and scans per run.
     sensor_sets : tuple of tuple of int
         Sensor subsets (indices into
         :data:`~rankedassign.tracking.multisensor_scenario.MULTI_SENSORS`).
@@ -77,7 +77,7 @@ class MultiSensorStudyConfig:
         First seed.
     """
 
-    n_runs: int = 10
+    n_mc: int = 10
     n_scans: int = 100
     sensor_sets: tuple = ((0,), (1,), (2,), (0, 1), (0, 1, 2))
     methods: tuple = STUDY_METHODS
@@ -101,7 +101,7 @@ class MultiSensorStudyConfig:
         >>> MultiSensorStudyConfig.quick().n_scans
         15
         """
-        return cls(n_runs=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1, 2)),
+        return cls(n_mc=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1, 2)),
                    methods=("long", "short", "short-mm"), long_obs=300)
 
 
