@@ -65,7 +65,7 @@ METHODS = ("exact", "mm", "mm-fixed", "componentwise")
 #: Termination rules of each Table I column (``True`` = rule on), readings S3 / T3.
 RULES = {"stall": (True, False), "stale": (False, True), "full": (True, True)}
 #: Quick mode: Monte Carlo runs and chains (the other per-run settings are the full study's).
-QUICK_MC, QUICK_CHAINS = 5, 1_000
+QUICK_MC, QUICK_CHAINS = 8, 1_000
 
 
 def _case(case) -> tuple[str, str]:
