@@ -43,8 +43,7 @@ def test_registry_presence_and_order():
     names = study_names()
     assert names[-2:] == ("multisensor", "adaptive_birth")
     assert get_study("multisensor").paper == "" and get_study("adaptive_birth").paper == ""
-    assert Config.quick().multisensor == MS.MultiSensorConfig(
-        n_mc=MS.QUICK_MC, n_chains=MS.QUICK_CHAINS, original_obs=25 * MS.QUICK_CHAINS)
+    assert Config.quick().multisensor == MS.MultiSensorConfig(n_mc=MS.QUICK_MC)
     assert Config.full().multisensor == MS.MultiSensorConfig()
     assert Config.quick().adaptive_birth == S.QUICK and Config.full().adaptive_birth == S.FULL
     # the full study mirrors Table I's budget rule: original chain = N_S N_C sweeps
