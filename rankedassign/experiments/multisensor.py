@@ -344,8 +344,8 @@ merge "dead" with "missed by every sensor").
 **Verdict.** {summary.verdict}
 
 Accuracy and time at equal sweeps: each method's original chain of {cfg.original_obs:,} sweeps
-(its error, its paired difference to the exact sampler's, unique solutions, mean seconds of one
-chain on this machine, including nothing but the sampler):
+(its error, its paired difference to the exact sampler's, unique solutions, and the mean wall
+time in seconds of the sampler call alone, on this machine):
 
 {fmt.table(["case", "method", "ε̄ (%)", "ε̄ − ε̄ exact (pp)", "unique", "seconds"], acc)}
 
