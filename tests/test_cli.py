@@ -294,9 +294,14 @@ TINY_CONFIG = {
     "ablation": {"n_mc": 1, "original_obs": 1_000, "n_chains": 40},
     "optimum": {"n_mc": 2, "original_obs": 1_000, "n_chains": 40},
     "random_readings": {"n_mc": 2, "original_obs": 1_000, "n_chains": 40},
+    "multisensor": {"n_mc": 2, "cases": ["A/diagonal"], "methods": ["exact", "mm"],
+                    "original_obs": 200, "n_chains": 8},
+    "adaptive_birth": {"n_mc": 2, "sensors": [2], "original_obs": 60, "n_chains": 6,
+                       "chain_length": 10, "curve_obs": [20, 60]},
 }
 PNGS = ["table1.png", "sweep.png", "tracking_ospa2.png", "tracking_observations.png",
-        "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png"]
+        "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png",
+        "multisensor.png", "adaptive_birth.png"]
 
 
 def _strict_json(path):
@@ -324,11 +329,11 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     assert main(["reproduce", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
-    assert "[1/7] table1" in err and "[7/7] random_readings" in err  # study i of n
+    assert "[1/9] table1" in err and "[9/9] adaptive_birth" in err  # study i of n
     assert "preparing the compiled kernels" in err
     assert f"report written to {out / 'report.md'}" in err
     for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum",
-                  "random_readings"):
+                  "random_readings", "multisensor", "adaptive_birth"):
         data = _strict_json(out / f"{study}.json")
         assert data, study
         assert isinstance(_strict_json(out / f"{study}_runs.json"), list)
@@ -346,7 +351,8 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     assert len(ab) == 12 * 4 * 3 and {"stall", "stale", "delta_obs_pct"} <= set(ab[0])
     report = (out / "report.md").read_text()
     for title in ("## Table I", "## Sweep", "## Tracking — LMB", "## Tracking (variance",
-                  "## Ablation", "## Optimum", "## Readings of the random family"):
+                  "## Ablation", "## Optimum", "## Readings of the random family",
+                  "## Multi-sensor Table I", "## Adaptive birth"):
         assert title in report
     assert "algorithms.md" not in report and "docs/specification.md" in report
     assert "1 Monte Carlo runs" not in report and "Grouping: False" not in report

@@ -12,7 +12,11 @@ registry:
 * ``tracking_var`` — the same under the reading that reproduces the paper's totals;
 * ``ablation`` — Table I under every reading of the stall/stale rules (spec §3.2);
 * ``optimum`` — sampled error against the best error for as many distinct solutions;
-* ``random_readings`` — Table I under every reading of the random family (spec A2, A5).
+* ``random_readings`` — Table I under every reading of the random family (spec A2, A5);
+* ``multisensor`` — Table I for every multi-sensor sampler, and each one's error at equal
+  sweeps (no paper numbers);
+* ``adaptive_birth`` — Table I and error curves of the adaptive-birth sampler (no paper
+  numbers).
 
 Adding a study is adding one module that registers a :class:`Study` and importing it below.
 
@@ -22,7 +26,16 @@ not depend on where or in which order runs execute.
 """
 
 # Importing a study module registers its studies (run order: each Study's ``order``).
-from . import ablation, optimum, readings, sweep, table1, tracking  # noqa: F401
+from . import (  # noqa: F401
+    ablation,
+    adaptive_birth,
+    multisensor,
+    optimum,
+    readings,
+    sweep,
+    table1,
+    tracking,
+)
 from ._executor import (
     SchedulerError,
     child_seed,
