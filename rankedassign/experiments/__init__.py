@@ -30,6 +30,7 @@ from . import (  # noqa: F401
     ablation,
     adaptive_birth,
     multisensor,
+    multisensor_tracking,
     optimum,
     readings,
     sweep,
