@@ -1,5 +1,9 @@
-"""Targets of the multi-sensor tracking study (slow): fusion gain, short chains against the
-exact update, many-sweep Gibbs against the exact marginals."""
+"""Targets of the multi-sensor tracking study: fusion gain, short chains against the exact
+update, many-sweep Gibbs against the exact marginals.
+
+These run the multi-sensor filter over 100 scans on many seeds and sensor sets — about an hour
+on two cores, most of it in the three-sensor runs with the paper's wide births — so they sit
+behind their own marker, outside both CI tiers: ``python -m pytest -m study``."""
 
 import numpy as np
 import pytest
@@ -14,7 +18,7 @@ from rankedassign.tracking import (
     run_multisensor_scenario,
 )
 
-pytestmark = pytest.mark.slow
+pytestmark = pytest.mark.study
 
 SHORT = dict(n_chains=400, chain_length=25, tau_stall=5, tau_stale=10)
 
