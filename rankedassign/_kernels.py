@@ -16,11 +16,22 @@ State representation. A state is the vector of *compact* indices ``k_i`` in ``0.
 columns of :attr:`AssignmentProblem.compact_cost`): ``k < M`` is measurement ``k``, ``M`` is
 missed, ``M + 1`` is dead. ``free[j]`` is 1.0 while measurement ``j`` is free, 0.0 while held.
 
-``data`` is the tuple ``(W, cc, S, next_pos, random_scan, prefix)`` (shifted weights, compact
-costs, prefix sums, next positive weight, scan order, draw rule); the workspace of ``nb`` chains is
-``(free, perm, cum, held, n_held)``: the free-measurement masks ``(nb, M)``, the row
-permutations ``(nb, P)``, the running sums ``(nb, M + 2)``, and the sorted held measurements
-``(nb, P)`` with their count ``(nb, 1)``.
+Two problem types share the arithmetic: ``"single"`` (rows draw with the direct sum,
+:func:`sweep`) and ``"single_prefix"`` (rows draw from prefix sums, :func:`sweep_prefix`;
+:func:`rankedassign._sampling.uses_prefix_sums` picks one per problem). Each has its own
+compiled driver with only the arrays it reads: every array passed to a call costs several
+machine words, and a direct-draw problem of the paper's size is fast enough for that to show.
+
+* ``"single"``: ``data = (W, cc, random_scan)`` (shifted weights, compact costs, scan order);
+  the workspace of ``nb`` chains is ``(free, perm)``, the free-measurement masks ``(nb, M)``
+  and the row permutations ``(nb, P)``.
+* ``"single_prefix"``: ``data = (W, cc, S, next_pos, random_scan)`` (plus the prefix sums and
+  the next positive weight); the workspace is ``(free, perm, cum, held, n_held)``: also the
+  scratch rows ``(nb, M + 2)`` and the sorted held measurements ``(nb, P)`` with their count
+  ``(nb, 1)``.
+
+Both sweeps are compiled with ``inline="always"``: numba writes them into the driver's loop,
+which saves the call (its arguments are some 60 machine words) once per observation.
 
 References
 ----------
@@ -195,9 +206,23 @@ def _hold(held, n_held, k):
 
 
 @jit()
-def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum, random_scan,
-          prefix):
-    """One Gibbs sweep over all rows, in place (Gauss-Seidel, spec §2.2); return the new hash.
+def _shuffle(perm, rs):
+    """The random scan's row order: Fisher-Yates from the identity (see :func:`sweep`)."""
+    P = perm.shape[0]
+    for t in range(P):
+        perm[t] = t
+    for t in range(P - 1, 0, -1):
+        j = np.int64(next_uniform(rs) * (t + 1))
+        if j > t:
+            j = t
+        tmp = perm[t]
+        perm[t] = perm[j]
+        perm[j] = tmp
+
+
+@jit(inline="always")
+def sweep(W, cc, zkeys, state, free, h, rs, perm, random_scan):
+    """One Gibbs sweep over all rows with the direct draw, in place (Gauss-Seidel, spec §2.2).
 
     Parameters
     ----------
@@ -205,32 +230,22 @@ def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum
         ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``).
     cc : ndarray, shape (P, M + 2), float64
         Compact costs (used only by :func:`draw_exact`).
-    S, next_pos : ndarray, shapes (P, M + 1) float64 and (P, M) int64
-        Prefix sums of the measurement weights and the next positive weight
-        (:func:`rankedassign._sampling.prefix_sums`).
     zkeys : ndarray, shape (P, M + 2), uint64
         Zobrist keys.
     state : ndarray, shape (P,), int32
         Compact state, updated in place.
     free : ndarray, shape (M,), float64
         1.0 for a free measurement, 0.0 for a held one; updated in place.
-    held : ndarray, shape (P,), int64
-        The held measurements in increasing order in ``held[:n_held[0]]`` (kept only when
-        ``prefix``); updated in place.
-    n_held : ndarray, shape (1,), int64
-        Their number.
     h : uint64
         Zobrist hash of ``state``.
     rs : ndarray, shape (1,), uint64
         Stream state.
-    perm, cum : ndarray, shapes (P,) int64 and (M + 2,) float64
+    perm : ndarray, shape (P,), int64
         Work space.
     random_scan : bool
         Systematic order ``0..P-1`` if False; otherwise a fresh uniformly random order drawn
         first, by Fisher-Yates from the identity: for ``t = P-1..1``,
         ``j = min(floor(u (t + 1)), t)``, swap ``perm[t], perm[j]``.
-    prefix : bool
-        Draw from prefix sums (:func:`rankedassign._sampling.uses_prefix_sums`).
 
     Returns
     -------
@@ -239,48 +254,140 @@ def sweep(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum
 
     Notes
     -----
-    Row ``i`` releases its measurement and is drawn from its conditional (spec eq. 2.1) with
-    one uniform: by :func:`draw_direct`, or by :func:`draw_prefix`, whose cost does not grow
-    with ``M``.
+    Row ``i`` releases its measurement and draws from its conditional (spec eq. 2.1) with one
+    uniform by the rule of :func:`draw_direct`, written out here in two passes that give the
+    same bits: the first sums the available weights left to right without storing the running
+    sums, the second (only when the pick is a measurement) adds the same terms in the same
+    order again and stops at the first running sum above ``target``. Storing every running
+    sum, as :func:`draw_direct` does, costs more than adding half of them again at ``M = 24``.
     """
     P = state.shape[0]
     M = W.shape[1] - 2
     if random_scan:
-        for t in range(P):
-            perm[t] = t
-        for t in range(P - 1, 0, -1):
-            j = np.int64(next_uniform(rs) * (t + 1))
-            if j > t:
-                j = t
-            tmp = perm[t]
-            perm[t] = perm[j]
-            perm[j] = tmp
+        _shuffle(perm, rs)
     for t in range(P):
         i = perm[t] if random_scan else t
         k_old = state[i]
         if k_old < M:  # release row i's own measurement
             free[k_old] = 1.0
-            if prefix:
-                n_held[0] = _release(held, n_held[0], k_old)
+        meas = 0.0  # the available measurements' weight, left to right (held: W * 0.0 = +0.0)
+        for k in range(M):
+            meas += W[i, k] * free[k]
+        missed = meas + W[i, M]
+        total = missed + W[i, M + 1]
         u = next_uniform(rs)
-        if prefix:
-            k_new = draw_prefix(W, S, next_pos, cc, i, free, held, n_held[0], cum, u)
-        else:
-            k_new = draw_direct(W, cc, i, free, cum, u)
+        k_new = -1
+        if total > 0.0:
+            target = u * total
+            if meas > target:  # the same running sums again, up to the first above target
+                acc = 0.0
+                for k in range(M):
+                    acc += W[i, k] * free[k]
+                    if acc > target:
+                        k_new = k
+                        break
+            elif missed > target:
+                k_new = M
+            elif total > target:
+                k_new = M + 1
+            if k_new < 0:  # rounding left u * total at or above the last running sum
+                for k in range(M + 1, -1, -1):
+                    if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
+                        k_new = k
+                        break
+        if k_new < 0:
+            k_new = draw_exact(cc, i, free, u)
         if k_new < M:
             free[k_new] = 0.0
-            if prefix:
-                n_held[0] = _hold(held, n_held[0], k_new)
         if k_new != k_old:
             state[i] = k_new
             h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
     return h
 
 
-# ------------------------------------------------------------------------ the problem type
+@jit(inline="always")
+def sweep_prefix(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum,
+                 random_scan):
+    """One Gibbs sweep whose rows draw from prefix sums (:func:`draw_prefix`), in place.
+
+    Parameters
+    ----------
+    W, cc, zkeys, state, free, h, rs, perm, random_scan
+        As in :func:`sweep`.
+    S, next_pos : ndarray, shapes (P, M + 1) float64 and (P, M) int64
+        Prefix sums of the measurement weights and the next positive weight
+        (:func:`rankedassign._sampling.prefix_sums`).
+    held : ndarray, shape (P,), int64
+        The held measurements in increasing order in ``held[:n_held[0]]``; updated in place.
+    n_held : ndarray, shape (1,), int64
+        Their number.
+    cum : ndarray, shape (M + 2,), float64
+        Work space.
+
+    Returns
+    -------
+    uint64
+        Zobrist hash of the updated state.
+
+    Notes
+    -----
+    The scan order and the bookkeeping are those of :func:`sweep`; each row's draw costs
+    ``O(P + log M)`` instead of ``O(M)``.
+    """
+    P = state.shape[0]
+    M = W.shape[1] - 2
+    if random_scan:
+        _shuffle(perm, rs)
+    for t in range(P):
+        i = perm[t] if random_scan else t
+        k_old = state[i]
+        if k_old < M:  # release row i's own measurement
+            free[k_old] = 1.0
+            n_held[0] = _release(held, n_held[0], k_old)
+        u = next_uniform(rs)
+        k_new = draw_prefix(W, S, next_pos, cc, i, free, held, n_held[0], cum, u)
+        if k_new < M:
+            free[k_new] = 0.0
+            n_held[0] = _hold(held, n_held[0], k_new)
+        if k_new != k_old:
+            state[i] = k_new
+            h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
+    return h
+
+
+# ------------------------------------------------------------------------ the problem types
+@jit()
+def _reset_free(free, x0):
+    """The free-measurement mask of the start state ``x0``."""
+    M = free.shape[0]
+    free[:] = 1.0
+    for i in range(x0.shape[0]):
+        if x0[i] < M:
+            free[x0[i]] = 0.0
+
+
 @jit()
 def alloc_work(data, nb):
-    """Workspace of ``nb`` chains: free masks, row permutations, running sums, held lists."""
+    """Workspace of ``nb`` chains of the direct draw: free masks and row permutations."""
+    W = data[0]
+    return np.empty((nb, W.shape[1] - 2)), np.empty((nb, W.shape[0]), dtype=np.int64)
+
+
+@jit()
+def reset_work(data, work, b, x0):
+    """Slab ``b``'s free-measurement mask for the start state ``x0``."""
+    _reset_free(work[0][b], x0)
+
+
+@jit(inline="always")
+def row_sweep(data, work, b, zkeys, state, h, rs):
+    """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
+    return sweep(data[0], data[1], zkeys, state, work[0][b], h, rs, work[1][b], data[2])
+
+
+@jit()
+def alloc_work_prefix(data, nb):
+    """Workspace of ``nb`` chains of the prefix draw: also running sums and held lists."""
     W = data[0]
     P = W.shape[0]
     M = W.shape[1] - 2
@@ -289,26 +396,28 @@ def alloc_work(data, nb):
 
 
 @jit()
-def reset_work(data, work, b, x0):
+def reset_work_prefix(data, work, b, x0):
     """Slab ``b``'s free-measurement mask and sorted held list for the start state ``x0``."""
-    free = work[0][b]
+    _reset_free(work[0][b], x0)
     held = work[3][b]
-    M = free.shape[0]
-    free[:] = 1.0
+    M = work[0].shape[1]
     n = 0
     for i in range(x0.shape[0]):
         if x0[i] < M:
-            free[x0[i]] = 0.0
             n = _hold(held, n, x0[i])
     work[4][b, 0] = n
 
 
-@jit()
-def row_sweep(data, work, b, zkeys, state, h, rs):
-    """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
-    return sweep(data[0], data[1], data[2], data[3], zkeys, state, work[0][b], work[3][b],
-                 work[4][b], h, rs, work[1][b], work[2][b], data[4], data[5])
+@jit(inline="always")
+def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
+    """One sweep of chain slab ``b`` (:func:`sweep_prefix` on the slab's workspace)."""
+    return sweep_prefix(data[0], data[1], data[2], data[3], zkeys, state, work[0][b],
+                        work[3][b], work[4][b], h, rs, work[1][b], work[2][b], data[4])
 
 
-#: The chain driver compiled for the single-sensor problem (:func:`._chains.make_driver`).
+#: The chain driver compiled for the single-sensor problem with the direct draw
+#: (:func:`._chains.make_driver`).
 run_chains = make_driver("single", alloc_work, reset_work, row_sweep)
+#: The chain driver compiled for the single-sensor problem with the prefix-sum draw.
+run_chains_prefix = make_driver("single_prefix", alloc_work_prefix, reset_work_prefix,
+                                row_sweep_prefix)

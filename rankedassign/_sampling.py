@@ -366,15 +366,17 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     prefix = uses_prefix_sums(P, M)
     if prefix:
         S, next_pos = prefix_sums(W)
-    else:  # not read by the direct draw; same array types, so one compiled kernel
+        kind, data = "single_prefix", (W, cc, S, next_pos, random_scan)
+    else:  # the direct draw's driver takes only what it reads
         S, next_pos = np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64)
+        kind, data = "single", (W, cc, random_scan)
 
     def to_result(states):
         assignments = to_columns(problem, states)
         return assignments, problem._sum_costs(assignments)  # feasible by construction
 
     return Prepared(
-        kind="single", problem=problem, data=(W, cc, S, next_pos, random_scan, prefix),
+        kind=kind, problem=problem, data=data,
         make_ref_data=lambda: SingleData(W.tolist(), cc.tolist(), S.tolist(),
                                          next_pos.tolist(), random_scan, M, prefix),
         x0=x0, n_values=M + 2,

@@ -80,7 +80,7 @@ def _keyed(func, qualname: str | None = None):
     return func
 
 
-def jit(*, parallel: bool = False, cache: bool | None = None):
+def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "never"):
     """Return numba's ``njit`` decorator with the project's options.
 
     Parameters
@@ -89,6 +89,9 @@ def jit(*, parallel: bool = False, cache: bool | None = None):
         Compile with ``parallel=True`` (``prange`` loops run on numba's thread pool).
     cache : bool, optional
         Override the on-disk cache setting (default: ``RANKEDASSIGN_NUMBA_CACHE``).
+    inline : {"never", "always"}, optional
+        numba's ``inline`` option: ``"always"`` writes the function into each compiled caller
+        (at numba's IR level), which saves a call whose arguments are many arrays.
 
     Returns
     -------
@@ -110,7 +113,7 @@ def jit(*, parallel: bool = False, cache: bool | None = None):
         if use_cache:
             func = _keyed(func)
         return numba.njit(cache=use_cache, fastmath=False, nogil=True, parallel=parallel,
-                          error_model="numpy")(func)
+                          inline=inline, error_model="numpy")(func)
 
     return decorate
 

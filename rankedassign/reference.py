@@ -290,6 +290,7 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
 #: Row updates of each problem type: kind -> (new_work, sweep).
 ROW_UPDATES = {
     "single": (new_work, sweep),
+    "single_prefix": (new_work, sweep),
     "multisensor": (_ms_reference.new_work, _ms_reference.sweep),
     "adaptive_birth": (ab_reference.new_work, ab_reference.sweep),
 }

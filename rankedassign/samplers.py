@@ -35,7 +35,7 @@ import functools
 import numpy as np
 from numba import parallel_chunksize
 
-from . import _kernels, reference
+from . import _kernels, reference, synthetic
 from ._chains import DISCARDED, NCHAINS, NOBS, STALE_FIRED, Rules
 from ._rng import ZOBRIST_SEED
 from ._rng_kernels import zobrist_keys
@@ -61,7 +61,8 @@ from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 __all__ = ["SamplerResult", "sample_original", "sample_short_chains", "warmup"]
 
 #: Compiled chain drivers of each problem type (kind name of :mod:`rankedassign._sampling`).
-DRIVERS = {"single": _kernels.run_chains, "multisensor": _ms_kernels.run_chains,
+DRIVERS = {"single": _kernels.run_chains, "single_prefix": _kernels.run_chains_prefix,
+           "multisensor": _ms_kernels.run_chains,
            "adaptive_birth": _ab_kernels.run_chains}
 
 # Upper bound on the speculation slab (batch x chain_length x L int32 entries, 64 MiB).
@@ -346,6 +347,11 @@ def warmup() -> None:
         sample_original(p, 3, scan=scan, rng=0, start=[1, 0])
         sample_short_chains(p, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0)
         sample_short_chains(p, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0, workers=2)
+    # The prefix-sum draw (more than 32 measurements) has a driver of its own.
+    wide = synthetic.random(R=2, M=33, rng=0)
+    for scan in SCANS:
+        sample_original(wide, 3, scan=scan, rng=0)
+        sample_short_chains(wide, 3, 2, tau_stall=1, tau_stale=1, scan=scan, rng=0, workers=2)
     # The multi-sensor kind: one compiled sweep serves every method; row 0's best tuple sits
     # ~800 above the rest of its row, so its underflow fall-back runs while row 1 holds it.
     log_s = np.zeros(2)
