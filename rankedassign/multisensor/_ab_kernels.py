@@ -212,7 +212,7 @@ def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
         lw[j] = const[t] - hl - 0.5 * ((c[0] + cz[t]) - quad(L, bj, y, n))
 
 
-@jit()
+@jit(inline="always")
 def sweep(data, work, b, zkeys, state, h, rs):
     """One sweep over the sensors of slab ``b``'s chain; returns the updated Zobrist hash.
 

@@ -156,7 +156,7 @@ def _mm_log_alive(lth, las, avail, navail, b, n, V):
     return lal
 
 
-@jit()
+@jit(inline="always")
 def sweep(data, work, b, zkeys, state, h, rs):
     """One sweep over all rows of slab ``b``, in place on ``state``; return the new hash.
 
