@@ -191,8 +191,25 @@ def tracking_multisensor(out: Path) -> None:
     plot_multisensor_tracking(summarise_multisensor_tracking(recs), out)
 
 
+def sweep_scaling(out: Path) -> None:
+    """Time per sweep against M and P, direct sum against prefix sums: runs the scaling
+    benchmark (about 10 s; the timings depend on the machine) and plots its JSON."""
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        json_path = Path(tmp) / "scaling.json"
+        subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                        str(ROOT / "benchmarks" / "test_bench_sweep_scaling.py"),
+                        "--benchmark-enable", "--benchmark-only",
+                        f"--benchmark-json={json_path}"], cwd=ROOT, check=True)
+        subprocess.run([sys.executable, str(ROOT / "benchmarks" / "plot_sweep_scaling.py"),
+                        str(json_path), str(out)], check=True)
+
+
 FIGURES = {
     "cost_matrix_diagonal": cost_matrix_diagonal,
+    "sweep_scaling": sweep_scaling,
     "discovery": discovery,
     "tracking": tracking,
     "tracking_multisensor": tracking_multisensor,
