@@ -3,7 +3,8 @@ update, many-sweep Gibbs against the exact marginals, adaptive birth tracking ev
 
 These run the multi-sensor filter over 100 scans on many seeds and sensor sets — about an hour
 on two cores, most of it in the three-sensor runs with the paper's wide births — so they sit
-behind their own marker, outside both CI tiers: ``python -m pytest -m study``."""
+behind their own marker, outside both CI tiers: ``python -m pytest -m study``. The adaptive-birth
+target (about a minute for its ten runs) is also marked ``slow``."""
 
 import numpy as np
 import pytest
