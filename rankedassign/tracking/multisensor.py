@@ -267,7 +267,9 @@ class MultiSensorLMBFilter(LMBFilter):
         Returns
         -------
         ScanRecord
-            ``n_meas`` and ``n_meas_gated`` count the measurements of all sensors.
+            ``n_meas`` and ``n_meas_gated`` count the measurements of all sensors; with
+            adaptive birth, ``timings["birth"]`` holds the seconds spent making the births of
+            the next scan.
 
         Raises
         ------
