@@ -63,7 +63,7 @@ def test_bench_multi_narrow_birth_exact(benchmark, sensors):
 
 
 @pytest.mark.parametrize("sensors", sorted(SENSORS))
-@pytest.mark.parametrize("method", ["short-400x25", "short-400x25-mm", "long-10000"])
+@pytest.mark.parametrize("method", sorted(METHODS))
 def test_bench_multi_adaptive_birth(benchmark, method, sensors):
     # adaptive birth (AdaptiveBirth() defaults, spec §7.2): no static birth; extra_info holds
     # the per-scan seconds of the birth sampler ("per_scan_birth_s") and the births per scan
