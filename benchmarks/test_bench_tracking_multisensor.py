@@ -1,5 +1,5 @@
 """Multi-sensor LMB filter speed: one 100-scan run of the ``"multi"`` scenario per sensor set
-(``V = 1, 2, 3``) and association.
+(``V = 1, 2, 3``) and association, with the static birth and with adaptive birth.
 
 Run the timings with::
 
@@ -45,6 +45,8 @@ def _run(benchmark, make, sensors, birth="paper"):
     benchmark.extra_info.update(
         sweeps=int(run.sweeps.sum()), row_updates=int(run.row_updates.sum()),
         invocations=int(run.invocations.sum()), mean_meas_gated=float(run.n_meas_gated.mean()),
+        mean_births=float(run.n_births.mean()), max_births=int(run.n_births.max()),
+        mean_tracks=float(run.n_tracks.mean()),
     )
 
 
@@ -58,3 +60,11 @@ def test_bench_multi_scenario(benchmark, method, sensors):
 def test_bench_multi_narrow_birth_exact(benchmark, sensors):
     # the exact DP needs the narrow birth (the paper's birth tracks gate every measurement)
     _run(benchmark, lambda smoke: MultiSensorExact(), SENSORS[sensors], birth="narrow")
+
+
+@pytest.mark.parametrize("sensors", sorted(SENSORS))
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_bench_multi_adaptive_birth(benchmark, method, sensors):
+    # adaptive birth (AdaptiveBirth() defaults, spec §7.2): no static birth; extra_info holds
+    # the per-scan seconds of the birth sampler ("per_scan_birth_s") and the births per scan
+    _run(benchmark, METHODS[method], SENSORS[sensors], birth="adaptive")

@@ -33,7 +33,25 @@ def test_methods_share_the_measurements_and_are_recorded():
                         1 - short.sweeps / (10_000 * short.invocations))
     assert math.isnan(summ[0].ospa2_se)  # one run
     table = multisensor_tracking_table(summ)
-    assert table.count("\n") == 4 and "| 0,2 | 2 | short |" in table
+    assert table.count("\n") == 4 and "| 0,2 | 2 | short | paper |" in table
+    assert all(r.birth == "paper" and r.births_per_scan == 4.0 and r.birth_seconds == 0.0
+               for r in recs)
+
+
+def test_adaptive_birth_cells_share_the_measurements_and_are_summarised_apart():
+    static = multisensor_tracking_task(TINY, 0, (0, 1), "short")
+    adaptive = multisensor_tracking_task(TINY, 0, (0, 1), "short", "adaptive")
+    assert adaptive.birth == "adaptive" and static.birth == "paper"
+    # scan 1 has no birth (no track, no earlier measurement), then births from the pairs
+    assert 0 < adaptive.births_per_scan < 40 and adaptive.birth_seconds > 0
+    summ = summarise_multisensor_tracking([static, adaptive])
+    assert [(s.method, s.birth) for s in summ] == [("short", "paper"), ("short", "adaptive")]
+    assert summ[1].births_per_scan == adaptive.births_per_scan
+    table = multisensor_tracking_table(summ)
+    assert "| 0,1 | 2 | short | adaptive |" in table
+    with pytest.raises(ValueError, match=r"unknown birth 'wide'; expected one of "
+                                         r"\('paper', 'narrow', 'adaptive'\)"):
+        multisensor_tracking_task(TINY, 0, (0,), "short", "wide")
 
 
 def test_targets_lost_follows_the_coverage_rule():
@@ -51,8 +69,11 @@ def test_quick_config_and_plot(tmp_path):
     pytest.importorskip("matplotlib")
     cfg = MultiSensorStudyConfig.quick()
     assert set(cfg.methods) <= {"long", "short", "short-mm", "short-mm-fixed", "exact"}
+    assert (cfg.adaptive_sensor_sets, cfg.adaptive_methods) == (((0, 1, 2),), ("short",))
     rec = MultiSensorTrackingRecord(0, (0,), "short", np.ones(4), np.zeros(4), np.ones(12),
                                     10, 20, 1, 0, 1.0)
+    ad = MultiSensorTrackingRecord(0, (0,), "short", np.ones(4), np.zeros(4), np.ones(12),
+                                   10, 20, 1, 0, 1.0, "adaptive", 5.0, 0.1)
     out = tmp_path / "ms.png"
-    plot_multisensor_tracking(summarise_multisensor_tracking([rec]), out)
+    plot_multisensor_tracking(summarise_multisensor_tracking([rec, ad]), out)
     assert out.stat().st_size > 0

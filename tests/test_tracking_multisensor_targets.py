@@ -1,22 +1,24 @@
 """Targets of the multi-sensor tracking study: fusion gain, short chains against the exact
-update, many-sweep Gibbs against the exact marginals.
+update, many-sweep Gibbs against the exact marginals, adaptive birth tracking every target.
 
 These run the multi-sensor filter over 100 scans on many seeds and sensor sets — about an hour
 on two cores, most of it in the three-sensor runs with the paper's wide births — so they sit
-behind their own marker, outside both CI tiers: ``python -m pytest -m study``."""
+behind their own marker, outside both CI tiers: ``python -m pytest -m study``. The adaptive-birth
+target (about a minute for its ten runs) is also marked ``slow``."""
 
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
 import oracle
-from rankedassign.metrics import ospa2
+from rankedassign.metrics import ospa2, track_coverage
 from rankedassign.tracking import (
     MultiSensorExact,
     MultiSensorGibbs,
     MultiSensorShortChains,
     run_multisensor_scenario,
 )
+from rankedassign.tracking.multisensor_study import COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW
 
 pytestmark = pytest.mark.study
 
@@ -116,3 +118,18 @@ def test_many_sweep_gibbs_agrees_with_the_exact_marginals():
         res = gibbs(p, np.random.default_rng(i))
         assert_allclose(res.dead, ex.dead, atol=0.01)
         assert_allclose(res.tuples, ex.tuples, atol=0.01)
+
+
+@pytest.mark.slow  # about a minute for the ten seeds: also in the slow tier (-m slow)
+@pytest.mark.parametrize("seed", range(10))
+def test_adaptive_birth_tracks_every_target(seed):
+    # No birth positioned by hand: the model has no static birth, every track comes from the
+    # adaptive-birth sampler (spec §7.2 variant). V = 3, the study's short chains, 100 scans;
+    # the study's coverage rule decides whether a target is lost.
+    run = run_multisensor_scenario(MultiSensorShortChains(**SHORT), rng=seed,
+                                   sensors=(0, 1, 2), birth="adaptive")
+    assert run.scenario.model.birth.components == ()
+    cov = track_coverage(run.truth, run.estimates, COVERAGE_RADIUS, settle=COVERAGE_SETTLE)
+    cov = np.asarray(cov, dtype=float)
+    assert cov[~np.isnan(cov)].size == 12
+    assert (cov[~np.isnan(cov)] >= LOST_BELOW).all()

@@ -11,6 +11,7 @@ Quick start::
 See spec §6 (filter), §7 (OSPA(2)) and §8 (truth).
 """
 
+from .adaptive_birth import AdaptiveBirth
 from .association import (
     Association,
     AssociationResult,
@@ -49,6 +50,7 @@ from .run import ScenarioRun, run_scenario
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
 
 __all__ = [
+    "AdaptiveBirth",
     "Association",
     "AssociationResult",
     "BirthComponent",

@@ -20,7 +20,10 @@ mixture reduction, state extraction 6.5) and replaces the update:
 4. association marginals ``β`` from a multi-sensor association
    (:mod:`rankedassign.tracking.multisensor_association`);
 5. posterior ``r_n = 1 − β_n(−1)`` and ``p_n = r_n⁻¹ Σ_t β_{n,t} p_n^(t)`` with ``p^(t)`` the
-   stacked Kalman update on ``z_{D(t)}`` (§7.4), then the single-sensor housekeeping.
+   stacked Kalman update on ``z_{D(t)}`` (§7.4), then the single-sensor housekeeping;
+6. with adaptive birth (:class:`~rankedassign.tracking.adaptive_birth.AdaptiveBirth`), the
+   births of the next scan from the measurements the tracks do not explain
+   (``r_A^(v)(j) = Σ_n Σ_{t: t^(v)=j} β_{n,t}``, §7.4 and §4).
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ from scipy.special import logsumexp
 from ..multisensor import MultiSensorProblem
 from ..validation import check_type
 from . import _kernels
+from .adaptive_birth import AdaptiveBirth, empty_birth
 from .lmb import LMBFilter, ScanRecord, _check_measurements, group_tracks
 from .models import (
     ConstantSurvival,
@@ -150,6 +154,11 @@ class MultiSensorLMBFilter(LMBFilter):
     grouping : bool, optional
         One problem per group of tracks that share gated measurements of some sensor (default
         True: the dense tuple tables grow as ``∏_v (M_v + 1)``).
+    birth : AdaptiveBirth or None, optional
+        None (default): the static LMB birth of the model at every scan. An
+        :class:`~rankedassign.tracking.adaptive_birth.AdaptiveBirth`: adaptive birth instead
+        (the model's static birth is not used); after each update the measurements that the
+        tracks do not explain make the births of the next scan (see Notes).
     **options
         The housekeeping and extraction options of
         :class:`~rankedassign.tracking.lmb.LMBFilter` (``extraction``, ``theta_upper``,
@@ -163,6 +172,18 @@ class MultiSensorLMBFilter(LMBFilter):
     each measurement), so the filter reproduces :class:`LMBFilter` (tested). A group without
     gated measurements is solved in closed form. Posterior tuples with ``β_{n,t} / r_n`` at most
     ``prune_component`` are not expanded (their components would be pruned).
+
+    Adaptive birth: after the update of scan ``k``, ``r_A^(v)(j)`` sums the marginals
+    ``β_{n,t}`` of every tuple that gives measurement ``j`` of sensor ``v`` to a track
+    (spec §7.4), ``r_U = 1 − r_A`` clipped to ``[0, 1]`` (1 for a measurement no track gates,
+    and for every measurement while there is no track), and
+    :meth:`AdaptiveBirth.births <rankedassign.tracking.adaptive_birth.AdaptiveBirth.births>`
+    turns the measurements with ``r_U > τ_rU`` into the births appended by the prediction of
+    scan ``k + 1`` (labels ``(k + 1, b)``), keeping those with ``r_B > prune_track``. Its
+    sampler draws from the child of the scan's ``rng`` spawned after the association's
+    children, so a run is reproducible from ``rng``. The attributes :attr:`r_U` (per sensor,
+    the last scan's ``r_U``) and :attr:`n_births` (births appended by the last prediction)
+    report it.
 
     References
     ----------
@@ -189,11 +210,15 @@ class MultiSensorLMBFilter(LMBFilter):
     """
 
     def __init__(self, model, association, *, gate_prob: float | None = 0.9999999,
-                 grouping: bool = True, **options):
+                 grouping: bool = True, birth: AdaptiveBirth | None = None, **options):
         if isinstance(model, Model):
             model = MultiSensorModel.from_model(model)
         check_type(model, "model", MultiSensorModel,
                    "build one with MultiSensorModel(...) or make_multisensor_model()")
+        if birth is not None:
+            check_type(birth, "birth", AdaptiveBirth,
+                       "None for the model's static birth or AdaptiveBirth(...)")
+        self.adaptive_birth = birth
         options.pop("sample_empty_groups", None)
         super().__init__(model.single(0), association, gate_prob=gate_prob, grouping=grouping,
                          **options)
@@ -205,6 +230,28 @@ class MultiSensorLMBFilter(LMBFilter):
             self._log_pds = np.log(pds)
             self._log_misses = np.log1p(-pds)
         self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
+
+    def reset(self) -> None:
+        """Forget every track (and, with adaptive birth, the pending births); restart at scan 1.
+        """
+        super().reset()
+        #: Births appended by the last prediction.
+        self.n_births = 0
+        #: Per sensor, ``r_U`` of the last scan's measurements (adaptive birth only).
+        self.r_U = None
+        if getattr(self, "adaptive_birth", None) is not None:
+            self._set_births(empty_birth())
+
+    def _set_births(self, b) -> None:
+        """The births the next prediction appends (already predicted to the next scan)."""
+        self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
+        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
+        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
+        self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
+
+    def _append_births(self) -> None:
+        self.n_births = int(self._birth_r.size)
+        super()._append_births()
 
     # ----------------------------------------------------------------------- the scan
     def step(self, zs, rng=None) -> ScanRecord:
@@ -220,7 +267,9 @@ class MultiSensorLMBFilter(LMBFilter):
         Returns
         -------
         ScanRecord
-            ``n_meas`` and ``n_meas_gated`` count the measurements of all sensors.
+            ``n_meas`` and ``n_meas_gated`` count the measurements of all sensors; with
+            adaptive birth, ``timings["birth"]`` holds the seconds spent making the births of
+            the next scan.
 
         Raises
         ------
@@ -241,10 +290,13 @@ class MultiSensorLMBFilter(LMBFilter):
         M_all = int(sum(z.shape[0] for z in zs))
         if T == 0:
             t2 = perf_counter()
+            # no track explains anything: r_U = 1 for every measurement
+            birth_s = self._adaptive_births(zs, [np.ones(z.shape[0]) for z in zs], gen)
             return ScanRecord(
                 np.empty((0, 2), np.int64), np.empty((0, 4)), np.empty(0),
                 self.labels.copy(), self.r.copy(), 0, M_all, 0, 0, 0, 0, 0, 0,
-                {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0},
+                {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0,
+                 **birth_s},
             )
         used, gated = self._gates(zs)
         zu = [z[u] for z, u in zip(zs, used, strict=True)]
@@ -288,12 +340,45 @@ class MultiSensorLMBFilter(LMBFilter):
         self._prune_and_merge(r_new, *mixture)
         labels, states, ex = self._extract()
         t4 = perf_counter()
+        birth_s = {}
+        if self.adaptive_birth is not None:
+            birth_s = self._adaptive_births(zs, self._unexplained(zs, used, parts), gen)
         inv, sweeps, rows_upd, n_unique = counts.tolist()
         return ScanRecord(
             labels, states, ex, self.labels.copy(), self.r.copy(), T, M_all,
             int(sum(u.size for u in used)), n_problems, inv, sweeps, rows_upd, n_unique,
-            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2, "update": t4 - t3},
+            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2, "update": t4 - t3,
+             **birth_s},
         )
+
+    # ----------------------------------------------------------------------- adaptive birth
+    def _unexplained(self, zs, used, parts):
+        """Per sensor ``r_U = 1 − r_A`` of every measurement, clipped to ``[0, 1]``, with
+        ``r_A^(v)(j) = Σ_n Σ_{t: t^(v)=j} β_{n,t}`` (spec §7.4) summed over the groups."""
+        r_A = [np.zeros(z.shape[0]) for z in zs]
+        for _rows, cols, _dead, tup in parts:
+            for v in range(self.V):
+                if cols[v].size == 0:
+                    continue
+                # Σ over the rows and the other sensors' entries: (U_v + 1,), entry 0 = missed
+                other = tuple(a for a in range(tup.ndim) if a != v + 1)
+                per_meas = tup.sum(axis=other)[1:]
+                r_A[v][used[v][cols[v]]] += per_meas
+        return [np.clip(1.0 - a, 0.0, 1.0) for a in r_A]
+
+    def _adaptive_births(self, zs, r_U, gen) -> dict:
+        """Make the births of the next scan (adaptive birth on); ``{"birth": seconds}``."""
+        if self.adaptive_birth is None:
+            return {}
+        t0 = perf_counter()
+        self.r_U = r_U
+        birth_rng = gen.spawn(1)[0]  # after the association's children: reproducible
+        m = self.ms_model
+        b = self.adaptive_birth.births(zs, r_U, sensors=m.sensors, clutters=m.clutters,
+                                       F=self._F, Q=self._Q, rng=birth_rng,
+                                       r_min=self.prune_track)
+        self._set_births(b)
+        return {"birth": perf_counter() - t0}
 
     # ----------------------------------------------------------------------- gates and groups
     def _gates(self, zs):

@@ -12,9 +12,10 @@ sensor   σ (m)  P_D    clutter
 =======  =====  =====  ======================
 
 on ``[−1000, 1000]²`` (``κ_v = 5·10⁻⁶ m⁻²``), with the paper's motion, survival and static LMB
-birth (spec §6.1). Each sensor's measurements are drawn from its own random stream, so the
-measurements of a sensor do not depend on which other sensors a run uses and runs on subsets
-of the sensors compare on the same data.
+birth (spec §6.1), or adaptive birth from the measurements (``birth="adaptive"``, spec §7.2).
+Each sensor's measurements are drawn from its own random stream, so the measurements of a
+sensor do not depend on which other sensors a run uses and runs on subsets of the sensors
+compare on the same data.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ import numpy as np
 
 from ..metrics import tracks_to_array
 from ..validation import check_choice, check_int
-from .models import PoissonClutter, PositionSensor, make_model
+from .adaptive_birth import AdaptiveBirth
+from .models import LMBBirth, PoissonClutter, PositionSensor, make_model
 from .multisensor import MultiSensorLMBFilter, MultiSensorModel
 from .scenario import COUNTER_KEYS, ScenarioRun, Truth, generate_measurements, paper_truth
 
@@ -44,13 +46,15 @@ MULTI_SENSORS = ((10.0, 0.6), (15.0, 0.7), (20.0, 0.8), (10.0, 0.7))
 #: Mean clutter points per scan and sensor.
 MULTI_CLUTTER = 20.0
 
-_TIMING_KEYS = ("prediction", "cost", "association", "update")
+_TIMING_KEYS = ("prediction", "cost", "association", "update", "birth")
 
 
-#: Static birth models: the paper's (``P_B = diag(300², 10², 300², 10²)``, spec §6.1) and the
-#: narrow birth of Vo's example (``P_B = 100 I``), whose birth tracks gate few measurements,
-#: so that the exact DP reaches the groups of the filter.
-BIRTHS = ("paper", "narrow")
+#: Birth models: the paper's static birth (``P_B = diag(300², 10², 300², 10²)``, spec §6.1),
+#: the narrow static birth of Vo's example (``P_B = 100 I``), whose birth tracks gate few
+#: measurements, so that the exact DP reaches the groups of the filter, and adaptive birth
+#: (:class:`~rankedassign.tracking.adaptive_birth.AdaptiveBirth` with the defaults of spec §7.2;
+#: the model then has no static birth).
+BIRTHS = ("paper", "narrow", "adaptive")
 
 
 def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiSensorModel:
@@ -60,8 +64,9 @@ def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiS
     ----------
     sensors : sequence of int
         Indices into :data:`MULTI_SENSORS` (default the three sensors of spec §7.2).
-    birth : {"paper", "narrow"}
-        Static birth model (:data:`BIRTHS`).
+    birth : {"paper", "narrow", "adaptive"}
+        Birth model (:data:`BIRTHS`); ``"adaptive"`` gives a model without static birth (the
+        filter needs ``birth=AdaptiveBirth()`` then).
 
     Returns
     -------
@@ -81,11 +86,12 @@ def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiS
     """
     check_choice(birth, "birth", BIRTHS)
     base = make_model("paper")
+    static = {"paper": base.birth, "narrow": make_model("vo").birth, "adaptive": LMBBirth(())}
     full = MultiSensorModel(
         base.motion,
         tuple(PositionSensor(p_d, sigma) for sigma, p_d in MULTI_SENSORS),
         tuple(PoissonClutter(MULTI_CLUTTER) for _ in MULTI_SENSORS),
-        base.birth if birth == "paper" else make_model("vo").birth,
+        static[birth],
         base.survival,
     )
     return full.select(sensors)
@@ -127,8 +133,8 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2)
         Number of scans (default 100).
     sensors : sequence of int
         Which sensors to simulate.
-    birth : {"paper", "narrow"}
-        Static birth model of the filter (the measurements do not depend on it).
+    birth : {"paper", "narrow", "adaptive"}
+        Birth model of the filter (the measurements do not depend on it).
 
     Returns
     -------
@@ -169,10 +175,15 @@ class MultiSensorRun(ScenarioRun):
     estimate_labels, labelled_estimates, existence : list
     invocations, sweeps, row_updates, n_unique, n_tracks, n_estimated, n_meas, n_meas_gated,
     n_groups : ndarray of int64, shape (n_scans,)
+    n_births : ndarray of int64, shape (n_scans,)
+        Birth tracks appended by the prediction of each scan.
     timings : dict of ndarray
+        Seconds per scan of each phase (``prediction``, ``cost``, ``association``,
+        ``update``, and ``birth``: the adaptive birth, 0 for a static birth).
     """
 
     scenario: MultiSensorScenario
+    n_births: np.ndarray = None
 
 
 def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
@@ -197,8 +208,9 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         One problem per group of tracks sharing gated measurements (default True).
     extraction : {"hysteresis", "map"}
         State extraction (spec 6.5).
-    birth : {"paper", "narrow"}
-        Static birth model (:data:`BIRTHS`).
+    birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
+        Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
+        :class:`~rankedassign.tracking.adaptive_birth.AdaptiveBirth` sets its parameters.
     **filter_options
         Further options of :class:`~rankedassign.tracking.multisensor.MultiSensorLMBFilter`.
 
@@ -223,11 +235,15 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     if association is None:
         raise TypeError("run_multisensor_scenario needs an association, e.g. "
                         "MultiSensorShortChains(400, 25, 5, 10)")
+    adaptive = birth if isinstance(birth, AdaptiveBirth) else (
+        AdaptiveBirth() if birth == "adaptive" else None)
+    if adaptive is not None:
+        birth = "adaptive"
     meas_rng, filter_rng = np.random.default_rng(rng).spawn(2)
     scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
                                          birth=birth)
     filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
-                                extraction=extraction, **filter_options)
+                                extraction=extraction, birth=adaptive, **filter_options)
     K = scenario.truth.n_scans
     labelled, existence, counts, times = [], [], [], []
     scan_rngs = filter_rng.spawn(K)
@@ -236,11 +252,13 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         labelled.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
         existence.append(dict(zip(map(tuple, rec.track_labels.tolist()),
                                   rec.track_existence.tolist(), strict=True)))
-        counts.append([getattr(rec, name) for name in COUNTER_KEYS] + [rec.labels.shape[0]])
-        times.append([rec.timings[name] for name in _TIMING_KEYS])
-    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 1)
+        counts.append([getattr(rec, name) for name in COUNTER_KEYS]
+                      + [rec.labels.shape[0], filt.n_births])
+        times.append([rec.timings.get(name, 0.0) for name in _TIMING_KEYS])
+    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 2)
     counters = {name: counts[:, i].copy() for i, name in enumerate(COUNTER_KEYS)}
-    counters["n_estimated"] = counts[:, -1].copy()
+    counters["n_estimated"] = counts[:, -2].copy()
+    counters["n_births"] = counts[:, -1].copy()
     times = np.array(times, dtype=np.float64).reshape(K, len(_TIMING_KEYS))
     timings = {name: times[:, i].copy() for i, name in enumerate(_TIMING_KEYS)}
     est, labels = tracks_to_array(labelled, dims=(0, 2), return_labels=True)

@@ -1,11 +1,13 @@
 """The multi-sensor tracking study: fusion gain and the associations on the ``"multi"`` scenario.
 
 For every run (a seed) the measurements of the four sensors are drawn once; each sensor set
-(``V = 1, 2, 3``) and each association then run on the same data. Per run and scan the study
-records OSPA(2) and the cardinality error, and per run the sampler work (observations = full
-sweeps, row updates, sampler calls) and the targets lost (the single-sensor study's coverage
-rule: an estimate within 50 m covers a target, the first 10 scans of its life are left out,
-a target covered on less than half of the rest is lost).
+(``V = 1, 2, 3``) and each association then run on the same data, with the static birth of the
+configuration, and the adaptive-birth cells (spec §7.2 variant: births from the adaptive-birth
+sampler, no birth placed by hand) on the same data too. Per run and scan the study records
+OSPA(2) and the cardinality error, and per run the sampler work (observations = full sweeps,
+row updates, sampler calls), the births per scan and the targets lost (the single-sensor
+study's coverage rule: an estimate within 50 m covers a target, the first 10 scans of its life
+are left out, a target covered on less than half of the rest is lost).
 
 The functions here are the study's computation: :func:`multisensor_tracking_task` (one run),
 :func:`summarise_multisensor_tracking` (means, standard errors, totals, reductions),
@@ -27,7 +29,7 @@ from .multisensor_association import (
     MultiSensorGibbs,
     MultiSensorShortChains,
 )
-from .multisensor_scenario import run_multisensor_scenario
+from .multisensor_scenario import BIRTHS, run_multisensor_scenario
 
 __all__ = [
     "LONG_CHAIN_SWEEPS",
@@ -65,6 +67,10 @@ class MultiSensorStudyConfig:
         :data:`~rankedassign.tracking.multisensor_scenario.MULTI_SENSORS`).
     methods : tuple of str
         Associations (:data:`STUDY_METHODS`).
+    adaptive_sensor_sets, adaptive_methods : tuple
+        The (sensor set, association) cells that also run with adaptive birth
+        (:class:`~rankedassign.tracking.adaptive_birth.AdaptiveBirth` with its defaults, the
+        spec §7.2 values); empty to leave adaptive birth out.
     long_obs : int
         Sweeps of the long chain (spec §7.2: 10 000).
     n_chains, chain_length, tau_stall, tau_stale : int
@@ -72,7 +78,7 @@ class MultiSensorStudyConfig:
     marginals : {"truncated", "rao-blackwell"}
         How hypotheses become marginals.
     birth : {"paper", "narrow"}
-        Static birth model (:data:`~rankedassign.tracking.multisensor_scenario.BIRTHS`).
+        Static birth model of the cells of ``sensor_sets × methods``.
     seed : int
         First seed.
     """
@@ -81,6 +87,8 @@ class MultiSensorStudyConfig:
     n_scans: int = 100
     sensor_sets: tuple = ((0,), (1,), (2,), (0, 1), (0, 1, 2))
     methods: tuple = STUDY_METHODS
+    adaptive_sensor_sets: tuple = ((0,), (0, 1), (0, 1, 2))
+    adaptive_methods: tuple = ("short", "short-mm")
     long_obs: int = 10_000
     n_chains: int = 400
     chain_length: int = 25
@@ -93,7 +101,8 @@ class MultiSensorStudyConfig:
     @classmethod
     def quick(cls) -> MultiSensorStudyConfig:
         """A small version for the quick reproduction: 1 run of 15 scans, sensors 0, 1, 2 alone
-        and together, the short chains (Alg. 1 and MM kernels) and a 300-sweep long chain.
+        and together, the short chains (Alg. 1 and MM kernels) and a 300-sweep long chain with
+        the paper's static birth; the short chains with adaptive birth on sensors 0, 1, 2.
 
         Examples
         --------
@@ -102,7 +111,8 @@ class MultiSensorStudyConfig:
         15
         """
         return cls(n_mc=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1, 2)),
-                   methods=("long", "short", "short-mm"), long_obs=300)
+                   methods=("long", "short", "short-mm"), long_obs=300,
+                   adaptive_sensor_sets=((0, 1, 2),), adaptive_methods=("short",))
 
 
 def make_association(cfg: MultiSensorStudyConfig, method: str):
@@ -149,6 +159,12 @@ class MultiSensorTrackingRecord:
         Groups the exact DP could not take (solved by the long chain); 0 for the others.
     seconds : float
         Filter time of the run.
+    birth : str
+        ``cfg.birth`` (static) or ``"adaptive"``.
+    births_per_scan : float
+        Mean birth tracks appended per scan.
+    birth_seconds : float
+        Seconds of the run spent making adaptive births (0 for a static birth).
     """
 
     run: int
@@ -162,6 +178,9 @@ class MultiSensorTrackingRecord:
     invocations: int
     n_fallback: int
     seconds: float
+    birth: str = "paper"
+    births_per_scan: float = float("nan")
+    birth_seconds: float = 0.0
 
     @property
     def targets_lost(self) -> int:
@@ -171,8 +190,10 @@ class MultiSensorTrackingRecord:
 
 
 def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
-                              method: str) -> MultiSensorTrackingRecord:
+                              method: str, birth: str | None = None) -> MultiSensorTrackingRecord:
     """Run the filter once (seed ``cfg.seed + run``) and measure it.
+
+    ``birth`` is ``cfg.birth`` (the default) or ``"adaptive"``.
 
     Examples
     --------
@@ -184,9 +205,10 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
     ((3,), (0,), True)
     """
     check_int(run, "run")
+    birth = cfg.birth if birth is None else check_choice(birth, "birth", BIRTHS)
     assoc = make_association(cfg, method)
     sr = run_multisensor_scenario(assoc, rng=cfg.seed + run, n_scans=cfg.n_scans,
-                                  sensors=sensors, birth=cfg.birth)
+                                  sensors=sensors, birth=birth)
     o2 = ospa2(sr.truth, sr.estimates, c=200.0, p=1.0, window=5).value
     n_true = (~np.isnan(sr.truth[:, :, 0])).sum(axis=1)
     cov = track_coverage(sr.truth, sr.estimates, COVERAGE_RADIUS, settle=COVERAGE_SETTLE)
@@ -199,6 +221,8 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
         invocations=int(sr.invocations.sum()),
         n_fallback=int(getattr(assoc, "n_fallback", 0)),
         seconds=float(sum(np.sum(v) for v in sr.timings.values())),
+        birth=birth, births_per_scan=float(np.mean(sr.n_births)),
+        birth_seconds=float(np.sum(sr.timings["birth"])),
     )
 
 
@@ -209,7 +233,7 @@ def _se(x) -> float:
 
 @dataclass(frozen=True)
 class MultiSensorTrackingSummary:
-    """Means over runs of one (sensor set, association) cell.
+    """Means over runs of one (sensor set, association, birth) cell.
 
     Attributes
     ----------
@@ -234,6 +258,12 @@ class MultiSensorTrackingSummary:
         ``1 − sweeps / (10 000 × calls)``: the saving against a long chain of
         :data:`LONG_CHAIN_SWEEPS` sweeps on every sampler call of the same runs (1 for the
         exact DP, which sweeps nothing; NaN without any call).
+    birth : str
+        The static birth's name or ``"adaptive"``.
+    births_per_scan : float
+        Mean birth tracks appended per scan.
+    birth_seconds : float
+        Mean seconds per run spent making adaptive births.
     """
 
     sensors: tuple
@@ -252,10 +282,13 @@ class MultiSensorTrackingSummary:
     n_fallback: int
     seconds: float
     sweep_reduction: float
+    birth: str = "paper"
+    births_per_scan: float = float("nan")
+    birth_seconds: float = 0.0
 
 
 def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
-    """One summary per (sensor set, association), in order of first appearance.
+    """One summary per (sensor set, association, birth), in order of first appearance.
 
     Examples
     --------
@@ -271,12 +304,13 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
     """
     keys = []
     for r in records:
-        if (r.sensors, r.method) not in keys:
-            keys.append((r.sensors, r.method))
-    cells = {k: sorted((r for r in records if (r.sensors, r.method) == k), key=lambda r: r.run)
+        if (r.sensors, r.method, r.birth) not in keys:
+            keys.append((r.sensors, r.method, r.birth))
+    cells = {k: sorted((r for r in records if (r.sensors, r.method, r.birth) == k),
+                       key=lambda r: r.run)
              for k in keys}
     out = []
-    for (sensors, method), rs in cells.items():
+    for (sensors, method, birth), rs in cells.items():
         o = np.array([r.ospa2 for r in rs])
         c = np.array([r.cardinality_error for r in rs])
         sweeps = float(np.mean([r.sweeps for r in rs]))
@@ -293,6 +327,8 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
             seconds=float(np.mean([r.seconds for r in rs])),
             sweep_reduction=float("nan") if calls == 0 else
             float(1.0 - sweeps / (LONG_CHAIN_SWEEPS * calls)),
+            birth=birth, births_per_scan=float(np.mean([r.births_per_scan for r in rs])),
+            birth_seconds=float(np.mean([r.birth_seconds for r in rs])),
         ))
     return out
 
@@ -306,23 +342,25 @@ def multisensor_tracking_table(summaries) -> str:
     >>> multisensor_tracking_table([]).splitlines()[0].startswith("| sensors")
     True
     """
-    head = ("| sensors | V | association | OSPA(2) mean ± se (m) | card. error ± se | "
-            "sweeps / run | row updates / run | calls / run | sweep reduction | targets lost "
-            "| s / run |")
-    lines = [head, "|" + "---|" * 11]
+    head = ("| sensors | V | association | birth | OSPA(2) mean ± se (m) | card. error ± se | "
+            "sweeps / run | row updates / run | calls / run | sweep reduction | births / scan | "
+            "targets lost | s / run |")
+    lines = [head, "|" + "---|" * 13]
     for s in summaries:
         red = "" if math.isnan(s.sweep_reduction) else f"{100 * s.sweep_reduction:.1f} %"
+        births = "" if math.isnan(s.births_per_scan) else f"{s.births_per_scan:.1f}"
         lines.append(
-            f"| {','.join(map(str, s.sensors))} | {len(s.sensors)} | {s.method} | "
+            f"| {','.join(map(str, s.sensors))} | {len(s.sensors)} | {s.method} | {s.birth} | "
             f"{s.ospa2_mean:.1f} ± {s.ospa2_se:.1f} | {s.card_mean:.2f} ± {s.card_se:.2f} | "
             f"{s.sweeps:,.0f} | {s.row_updates:,.0f} | {s.invocations:,.0f} | {red} | "
-            f"{s.targets_lost} | {s.seconds:.1f} |"
+            f"{births} | {s.targets_lost} | {s.seconds:.1f} |"
         )
     return "\n".join(lines)
 
 
 def plot_multisensor_tracking(summaries, path) -> None:
-    """OSPA(2) and cardinality error per scan, one line per (sensor set, association).
+    """OSPA(2) and cardinality error per scan, one line per (sensor set, association, birth);
+    the adaptive-birth cells are drawn thick.
 
     Parameters
     ----------
@@ -337,11 +375,14 @@ def plot_multisensor_tracking(summaries, path) -> None:
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
     for s in summaries:
-        label = f"{{{','.join(map(str, s.sensors))}}} {s.method}"
+        adaptive = s.birth == "adaptive"
+        label = f"{{{','.join(map(str, s.sensors))}}} {s.method}" + (" adaptive" if adaptive
+                                                                     else "")
         ls = "-" if s.method == "long" else ("--" if s.method == "short" else ":")
+        lw = 2.5 if adaptive else 1.2
         k = np.arange(1, s.ospa2_curve.size + 1)
-        axes[0].plot(k, s.ospa2_curve, ls, label=label)
-        axes[1].plot(k, s.card_curve, ls, label=label)
+        axes[0].plot(k, s.ospa2_curve, ls, lw=lw, label=label)
+        axes[1].plot(k, s.card_curve, ls, lw=lw, label=label)
     axes[0].set(xlabel="scan", ylabel="OSPA(2) (m)", title="OSPA(2), mean over runs")
     axes[1].set(xlabel="scan", ylabel="|#estimates − #targets|", title="cardinality error")
     axes[1].legend(fontsize=7, ncol=2)
