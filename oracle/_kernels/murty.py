@@ -57,7 +57,7 @@ N_STATE = 5
 def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, scanned,
             cand, touched, done, rows, node_key, node_slot, node_parent, node_forb, node_fixed,
             sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id,
-            out, out_cost, entry_of, order, lb, fix_now, state, k):
+            out, out_cost, entry_of, order, lb, fix_now, vx, state, k):
     """Run the search until ``k`` assignments are reported, the queue is empty or an array is
     full; return True when finished (False: grow the arrays and call again).
 
@@ -302,43 +302,38 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
         if n_out == k:
             break
         # partition it: the bound of each free row's child, with the node's forbidden pairs
-        # switched off and its matching loaded (row4col, inactive columns of the fixed rows)
+        # switched off. vx[j] is the dual the bound subtracts for column j: the shared
+        # potential for a free column, v of its row for a matched one, -inf for the column of
+        # a fixed row (inactive: its reduced cost is +inf), so the scan has no branch.
         head = node_forb[node]
         g = head
         while g != NO_ENTRY:
             cost[forb_entry[g]] = np.inf
             g = forb_next[g]
-        vfree = sol_vfree[sl]
+        vx[:] = sol_vfree[sl]
         slack = 1.0 + abs(key)
         for i in range(P):
             c = sol[sl, i]
             e = pos[i, c]
             entry_of[i] = e
             slack += abs(cost0[e]) + abs(sol_u[sl, i])
-            row4col[c] = i
             fx = node_fixed[node, i]
             fix_now[i] = fx
-            if fx:
-                active[c] = False
+            vx[c] = -np.inf if fx else sol_v[sl, i]
         slack *= _BOUND_SLACK
         n_free = 0
         for i in range(P):
             if fix_now[i]:
                 continue
             # smallest reduced cost of an allowed, active alternative j != s[i]
+            ei = entry_of[i]
+            cost[ei] = np.inf  # the row's own entry is no alternative
             best = np.inf
             ui = sol_u[sl, i]
-            ei = entry_of[i]
             for e in range(ptr[i], ptr[i + 1]):
-                cij = cost[e]
-                j = col[e]
-                if e == ei or cij == np.inf or not active[j]:
-                    continue
-                q = row4col[j]
-                vj = vfree if q < 0 else sol_v[sl, q]
-                rc = cij - ui - vj
-                if rc < best:
-                    best = rc
+                rc = cost[e] - ui - vx[col[e]]
+                best = min(best, rc)
+            cost[ei] = cost0[ei]
             x = max(best, 0.0)
             lb[i] = x
             # insert row i, keeping decreasing bounds (ties keep row order)
@@ -348,10 +343,6 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 b -= 1
             order[b + 1] = i
             n_free += 1
-        for i in range(P):
-            c = sol[sl, i]
-            row4col[c] = UNASSIGNED
-            active[c] = True
         g = head
         while g != NO_ENTRY:
             e = forb_entry[g]
@@ -503,11 +494,12 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     order = np.empty(P, dtype=np.int64)
     lb = np.empty(P)
     fix_now = np.empty(P, dtype=np.bool_)
+    vx = np.empty(N)
     while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, ws.d,
                       ws.path, ws.scanned_c, ws.cand, ws.touched, ws.done, ws.rows, node_key,
                       node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
                       sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out,
-                      out_cost, entry_of, order, lb, fix_now, state, k):
+                      out_cost, entry_of, order, lb, fix_now, vx, state, k):
         # an array is full: double it (every array the next iteration may fill)
         if state[S_OUT] == out.shape[0]:
             out = _grow(out, min(k, 2 * out.shape[0]))
