@@ -111,14 +111,20 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             ps = node_parent[node]
             f = node_forb[node]
             root = forb_row[f]
+            v_free = sol_vfree[ps]
+            vx[:] = v_free  # as in the partition: the dual of each column, -inf if inactive
             for i in range(P):
                 c = sol[ps, i]
                 col4row[i] = c
                 row4col[c] = i
+                vc = sol_v[ps, i]
+                v[c] = vc  # free columns: the shared potential, never read
                 if node_fixed[node, i]:
                     active[c] = False  # a fixed row's column is out of the residual problem
+                    vx[c] = -np.inf
+                else:
+                    vx[c] = vc
                 u[i] = sol_u[ps, i]
-                v[c] = sol_v[ps, i]  # free columns: the shared potential, never read
             freed = sol[ps, root]
             col4row[root] = UNASSIGNED
             row4col[freed] = UNASSIGNED
@@ -126,19 +132,83 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             while g != NO_ENTRY:
                 cost[forb_entry[g]] = np.inf
                 g = forb_next[g]
-            v_free = sol_vfree[ps]
-            # one shortest augmenting path from root to freed (lsap.sap_augment, warm)
+            # One shortest augmenting path from root to freed (lsap.sap_augment, warm start).
+            # The root's row is scanned first, when nothing is reached yet: every allowed,
+            # active entry is reached (vx gives +inf for the others), and the closest column
+            # is picked in the same pass.
+            n_rows = 1
+            rows[0] = root
             n_cand = 0
-            n_touched = 0
-            n_rows = 0
             n_done = 0
             min_val = 0.0
-            i = root
+            ui = u[root]
+            index = -1
+            lowest = np.inf
+            best_ends = False
+            best_j = -1
+            for e in range(ptr[root], ptr[root + 1]):
+                j = col[e]
+                dist = min_val + (cost[e] - ui - vx[j])
+                if dist < np.inf:
+                    cand[n_cand] = j
+                    d[j] = dist
+                    path[j] = root
+                    ends = j == freed
+                    if dist < lowest or (dist == lowest and ((ends and not best_ends)
+                                                             or (ends == best_ends
+                                                                 and j < best_j))):
+                        lowest = dist
+                        index = n_cand
+                        best_ends = ends
+                        best_j = j
+                    n_cand += 1
+            for t in range(n_cand):
+                touched[t] = cand[t]
+            n_touched = n_cand
             sink = -1
             hub_open = False
             hub_src = -1
             hub_dist = 0.0
-            while sink < 0:
+            while index >= 0:
+                j = cand[index]
+                n_cand -= 1
+                cand[index] = cand[n_cand]
+                scanned[j] = True
+                done[n_done] = j
+                n_done += 1
+                min_val = d[j]
+                i = -1
+                if j == freed:
+                    sink = j
+                    break
+                elif row4col[j] < 0:
+                    # a dummy-held column: open the hub, every column reachable through it
+                    v[j] = v_free  # about to be matched: its potential made explicit
+                    hub_open = True
+                    hub_src = j
+                    hub_dist = min_val
+                    it = 0
+                    while it < n_cand:
+                        q = cand[it]
+                        if row4col[q] < 0 and q != freed:
+                            n_cand -= 1
+                            cand[it] = cand[n_cand]
+                        else:
+                            it += 1
+                    for q in range(-1, P):
+                        kk = freed if q < 0 else col4row[q]
+                        if kk >= 0 and active[kk] and not scanned[kk]:
+                            dist = min_val + (v_free - v[kk])
+                            if dist < d[kk]:
+                                if d[kk] == np.inf:
+                                    cand[n_cand] = kk
+                                    n_cand += 1
+                                    touched[n_touched] = kk
+                                    n_touched += 1
+                                d[kk] = dist
+                                path[kk] = HUB
+                else:
+                    i = row4col[j]
                 if i >= 0:  # scan row i
                     rows[n_rows] = i
                     n_rows += 1
@@ -179,46 +249,6 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                         index = it
                         best_ends = ends
                         best_j = j
-                if index < 0:  # no augmenting path: the node is infeasible
-                    break
-                j = cand[index]
-                n_cand -= 1
-                cand[index] = cand[n_cand]
-                scanned[j] = True
-                done[n_done] = j
-                n_done += 1
-                min_val = d[j]
-                if j == freed:
-                    sink = j
-                elif row4col[j] < 0:
-                    # a dummy-held column: open the hub, every column reachable through it
-                    v[j] = v_free  # about to be matched: its potential made explicit
-                    hub_open = True
-                    hub_src = j
-                    hub_dist = min_val
-                    it = 0
-                    while it < n_cand:
-                        q = cand[it]
-                        if row4col[q] < 0 and q != freed:
-                            n_cand -= 1
-                            cand[it] = cand[n_cand]
-                        else:
-                            it += 1
-                    for q in range(-1, P):
-                        kk = freed if q < 0 else col4row[q]
-                        if kk >= 0 and active[kk] and not scanned[kk]:
-                            dist = min_val + (v_free - v[kk])
-                            if dist < d[kk]:
-                                if d[kk] == np.inf:
-                                    cand[n_cand] = kk
-                                    n_cand += 1
-                                    touched[n_touched] = kk
-                                    n_touched += 1
-                                d[kk] = dist
-                                path[kk] = HUB
-                    i = -1
-                else:
-                    i = row4col[j]
             if sink >= 0:
                 # dual update (with the old matching), then flip the path
                 for t in range(n_rows):
