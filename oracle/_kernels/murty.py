@@ -360,8 +360,8 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             cost[ei] = np.inf  # the row's own entry is no alternative
             best = np.inf
             ui = sol_u[sl, i]
-            for e in range(ptr[i], ptr[i + 1]):
-                rc = cost[e] - ui - vx[col[e]]
+            for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
+                rc = cost[e] - ui - vx[np.uint64(col[e])]
                 best = min(best, rc)
             cost[ei] = cost0[ei]
             x = max(best, 0.0)
