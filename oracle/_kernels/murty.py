@@ -146,13 +146,14 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             lowest = np.inf
             best_ends = False
             best_j = -1
-            for e in range(ptr[root], ptr[root + 1]):
+            for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
                 j = col[e]
-                dist = min_val + (cost[e] - ui - vx[j])
+                ju = np.uint64(j)  # unsigned indices: no negative-index wraparound
+                dist = min_val + (cost[e] - ui - vx[ju])
                 if dist < np.inf:
-                    cand[n_cand] = j
-                    d[j] = dist
-                    path[j] = root
+                    cand[np.uint64(n_cand)] = j
+                    d[ju] = dist
+                    path[ju] = root
                     ends = j == freed
                     if dist < lowest or (dist == lowest and ((ends and not best_ends)
                                                              or (ends == best_ends
