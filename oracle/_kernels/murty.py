@@ -76,33 +76,11 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 or n_forb + P > forb_row.shape[0]):
             finished = False
             break
-        # pop the least (key, id)
+        # The least (key, id) is at the top. It stays there while it is processed and is then
+        # replaced in one sift-down: by itself with its exact cost once solved, by its first
+        # child once partitioned, or by the heap's last entry when it just leaves.
         node = heap_id[0]
-        n_heap -= 1
-        kx = heap_key[n_heap]
-        x = heap_id[n_heap]
-        h = 0
-        while True:
-            ch = 2 * h + 1
-            if ch >= n_heap:
-                break
-            ka = heap_key[ch]
-            a = heap_id[ch]
-            if ch + 1 < n_heap:
-                kb = heap_key[ch + 1]
-                b = heap_id[ch + 1]
-                if kb < ka or (kb == ka and b < a):
-                    ch += 1
-                    ka = kb
-                    a = b
-            if ka < kx or (ka == kx and a < x):
-                heap_key[h] = ka
-                heap_id[h] = a
-                h = ch
-            else:
-                break
-        heap_key[h] = kx
-        heap_id[h] = x
+        first = n_nodes  # children made in this iteration: first..n_nodes-1
 
         if node_slot[node] == NO_ENTRY:
             # A bounded node at the top: solve it and queue it again with its exact cost.
@@ -293,123 +271,145 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     c = col4row[i]
                     row4col[c] = UNASSIGNED
                     active[c] = True
-                continue
-            key = 0.0
+                n_heap -= 1  # the node leaves
+                kx = heap_key[n_heap]
+                x = heap_id[n_heap]
+            else:
+                key = 0.0
+                for i in range(P):
+                    c = col4row[i]
+                    sol[n_sols, i] = c
+                    sol_u[n_sols, i] = u[i]
+                    sol_v[n_sols, i] = v[c]
+                    key += cost0[pos[i, c]]
+                    row4col[c] = UNASSIGNED
+                    active[c] = True
+                sol_vfree[n_sols] = v_free
+                node_slot[node] = n_sols
+                n_sols += 1
+                node_key[node] = key
+                kx = key  # back into the queue with its exact cost
+                x = node
+        else:
+            # a solved node at the top: report it
+            sl = node_slot[node]
+            key = node_key[node]
             for i in range(P):
-                c = col4row[i]
-                sol[n_sols, i] = c
-                sol_u[n_sols, i] = u[i]
-                sol_v[n_sols, i] = v[c]
-                key += cost0[pos[i, c]]
-                row4col[c] = UNASSIGNED
-                active[c] = True
-            sol_vfree[n_sols] = v_free
-            node_slot[node] = n_sols
-            n_sols += 1
-            node_key[node] = key
-            # push (key, node)
+                out[n_out, i] = sol[sl, i]
+            out_cost[n_out] = key
+            n_out += 1
+            if n_out == k:
+                break
+            # partition it: the bound of each free row's child, with the node's forbidden pairs
+            # switched off. vx[j] is the dual the bound subtracts for column j: the shared
+            # potential for a free column, v of its row for a matched one, -inf for the column of
+            # a fixed row (inactive: its reduced cost is +inf), so the scan has no branch.
+            head = node_forb[node]
+            g = head
+            while g != NO_ENTRY:
+                cost[forb_entry[g]] = np.inf
+                g = forb_next[g]
+            vx[:] = sol_vfree[sl]
+            slack = 1.0 + abs(key)
+            for i in range(P):
+                c = sol[sl, i]
+                e = pos[i, c]
+                entry_of[i] = e
+                slack += abs(cost0[e]) + abs(sol_u[sl, i])
+                fx = node_fixed[node, i]
+                fix_now[i] = fx
+                vx[c] = -np.inf if fx else sol_v[sl, i]
+            slack *= _BOUND_SLACK
+            n_free = 0
+            for i in range(P):
+                if fix_now[i]:
+                    continue
+                # smallest reduced cost of an allowed, active alternative j != s[i]
+                ei = entry_of[i]
+                cost[ei] = np.inf  # the row's own entry is no alternative
+                best = np.inf
+                ui = sol_u[sl, i]
+                for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
+                    rc = cost[e] - ui - vx[np.uint64(col[e])]
+                    best = min(best, rc)
+                cost[ei] = cost0[ei]
+                x = max(best, 0.0)
+                lb[i] = x
+                # insert row i, keeping decreasing bounds (ties keep row order)
+                b = n_free - 1
+                while b >= 0 and lb[order[b]] < x:
+                    order[b + 1] = order[b]
+                    b -= 1
+                order[b + 1] = i
+                n_free += 1
+            g = head
+            while g != NO_ENTRY:
+                e = forb_entry[g]
+                cost[e] = cost0[e]
+                g = forb_next[g]
+            # children: child t forbids (order[t], s[order[t]]) and fixes order[:t]
+            for t in range(n_free):
+                r = order[t]
+                if lb[r] < np.inf:
+                    forb_row[n_forb] = r
+                    forb_entry[n_forb] = entry_of[r]
+                    forb_next[n_forb] = head
+                    ck = key + lb[r] - slack
+                    node_key[n_nodes] = ck
+                    node_slot[n_nodes] = NO_ENTRY
+                    node_parent[n_nodes] = sl
+                    node_forb[n_nodes] = n_forb
+                    for i in range(P):
+                        node_fixed[n_nodes, i] = fix_now[i]
+                    n_forb += 1
+                    n_nodes += 1
+                fix_now[r] = True  # later children keep row r on its parent column
+            if n_nodes == first:  # no child: the node leaves
+                n_heap -= 1
+                kx = heap_key[n_heap]
+                x = heap_id[n_heap]
+            else:
+                kx = node_key[first]
+                x = first
+        # sift (kx, x) down from the top
+        h = 0
+        while True:
+            ch = 2 * h + 1
+            if ch >= n_heap:
+                break
+            ka = heap_key[ch]
+            a = heap_id[ch]
+            if ch + 1 < n_heap:
+                kb = heap_key[ch + 1]
+                b = heap_id[ch + 1]
+                if kb < ka or (kb == ka and b < a):
+                    ch += 1
+                    ka = kb
+                    a = b
+            if ka < kx or (ka == kx and a < x):
+                heap_key[h] = ka
+                heap_id[h] = a
+                h = ch
+            else:
+                break
+        heap_key[h] = kx
+        heap_id[h] = x
+        # push the other children
+        for y in range(first + 1, n_nodes):
+            ky = node_key[y]
             h = n_heap
             while h > 0:
                 p = (h - 1) >> 1
                 kp = heap_key[p]
-                if key < kp or (key == kp and node < heap_id[p]):
+                if ky < kp or (ky == kp and y < heap_id[p]):
                     heap_key[h] = kp
                     heap_id[h] = heap_id[p]
                     h = p
                 else:
                     break
-            heap_key[h] = key
-            heap_id[h] = node
+            heap_key[h] = ky
+            heap_id[h] = y
             n_heap += 1
-            continue
-
-        # a solved node at the top: report it
-        sl = node_slot[node]
-        key = node_key[node]
-        for i in range(P):
-            out[n_out, i] = sol[sl, i]
-        out_cost[n_out] = key
-        n_out += 1
-        if n_out == k:
-            break
-        # partition it: the bound of each free row's child, with the node's forbidden pairs
-        # switched off. vx[j] is the dual the bound subtracts for column j: the shared
-        # potential for a free column, v of its row for a matched one, -inf for the column of
-        # a fixed row (inactive: its reduced cost is +inf), so the scan has no branch.
-        head = node_forb[node]
-        g = head
-        while g != NO_ENTRY:
-            cost[forb_entry[g]] = np.inf
-            g = forb_next[g]
-        vx[:] = sol_vfree[sl]
-        slack = 1.0 + abs(key)
-        for i in range(P):
-            c = sol[sl, i]
-            e = pos[i, c]
-            entry_of[i] = e
-            slack += abs(cost0[e]) + abs(sol_u[sl, i])
-            fx = node_fixed[node, i]
-            fix_now[i] = fx
-            vx[c] = -np.inf if fx else sol_v[sl, i]
-        slack *= _BOUND_SLACK
-        n_free = 0
-        for i in range(P):
-            if fix_now[i]:
-                continue
-            # smallest reduced cost of an allowed, active alternative j != s[i]
-            ei = entry_of[i]
-            cost[ei] = np.inf  # the row's own entry is no alternative
-            best = np.inf
-            ui = sol_u[sl, i]
-            for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
-                rc = cost[e] - ui - vx[np.uint64(col[e])]
-                best = min(best, rc)
-            cost[ei] = cost0[ei]
-            x = max(best, 0.0)
-            lb[i] = x
-            # insert row i, keeping decreasing bounds (ties keep row order)
-            b = n_free - 1
-            while b >= 0 and lb[order[b]] < x:
-                order[b + 1] = order[b]
-                b -= 1
-            order[b + 1] = i
-            n_free += 1
-        g = head
-        while g != NO_ENTRY:
-            e = forb_entry[g]
-            cost[e] = cost0[e]
-            g = forb_next[g]
-        # children: child t forbids (order[t], s[order[t]]) and fixes order[:t]
-        for t in range(n_free):
-            r = order[t]
-            if lb[r] < np.inf:
-                forb_row[n_forb] = r
-                forb_entry[n_forb] = entry_of[r]
-                forb_next[n_forb] = head
-                ck = key + lb[r] - slack
-                node_key[n_nodes] = ck
-                node_slot[n_nodes] = NO_ENTRY
-                node_parent[n_nodes] = sl
-                node_forb[n_nodes] = n_forb
-                for i in range(P):
-                    node_fixed[n_nodes, i] = fix_now[i]
-                n_forb += 1
-                # push (ck, n_nodes)
-                h = n_heap
-                while h > 0:
-                    p = (h - 1) >> 1
-                    kp = heap_key[p]
-                    if ck < kp or (ck == kp and n_nodes < heap_id[p]):
-                        heap_key[h] = kp
-                        heap_id[h] = heap_id[p]
-                        h = p
-                    else:
-                        break
-                heap_key[h] = ck
-                heap_id[h] = n_nodes
-                n_heap += 1
-                n_nodes += 1
-            fix_now[r] = True  # later children keep row r on its parent column
     state[S_HEAP] = n_heap
     state[S_NODES] = n_nodes
     state[S_SOLS] = n_sols
