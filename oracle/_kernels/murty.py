@@ -442,8 +442,9 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
         order of creation of their nodes.
     costs : ndarray, float64, shape (n,)
         Their costs summed row by row from ``0.0`` (bit for bit
-        ``AssignmentProblem.cost_of``); non-decreasing up to the rounding of sums of equal
-        value in different orders (a child's cost can be one ulp below its parent's).
+        ``AssignmentProblem.cost_of``), non-decreasing: a child's cost can come out one ulp
+        below its parent's (sums of equal value in different orders), and a final stable
+        sort moves such an assignment just ahead of the equal-valued ones.
 
     Notes
     -----
@@ -556,6 +557,24 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
             forb_entry = _grow(forb_entry, n)
             forb_next = _grow(forb_next, n)
     n_out = state[S_OUT]
+    # A stable insertion sort removes the rare last-bit inversion between a node and a child
+    # of equal cost summed in another order (the output is already sorted up to those).
+    row = np.empty(P, dtype=np.int64)
+    for t in range(1, n_out):
+        x = out_cost[t]
+        if not x < out_cost[t - 1]:
+            continue
+        for i in range(P):
+            row[i] = out[t, i]
+        b = t - 1
+        while b >= 0 and x < out_cost[b]:
+            out_cost[b + 1] = out_cost[b]
+            for i in range(P):
+                out[b + 1, i] = out[b, i]
+            b -= 1
+        out_cost[b + 1] = x
+        for i in range(P):
+            out[b + 1, i] = row[i]
     return out[:n_out], out_cost[:n_out]
 
 
