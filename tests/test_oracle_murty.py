@@ -220,6 +220,7 @@ PINNED = [
      "enumerate"),
     ("gated_18x40", lambda: gated_problem(3, 18, 40, 0.8), 200, "scipy"),
     ("gated_no_death_15x30", lambda: gated_problem(5, 15, 30, 0.7, dead=False), 200, "scipy"),
+    ("rows_70x10", lambda: synthetic.random(R=70, M=10, rng=1), 40, "scipy"),  # > 64 rows
 ]
 
 
@@ -249,6 +250,7 @@ TIE_ORDER_DIGESTS = [
     ("paper", lambda: synthetic.random(rng=0), 3000, "6d9509bcfdc95284"),
     ("gated_ties_6x9", lambda: gated_problem(12, 6, 9, 0.5, dead=False, integer=True), 400,
      "8620fbc389174bd3"),
+    ("rows_70x10", lambda: synthetic.random(R=70, M=10, rng=1), 300, "a43f6242649e37e3"),
 ]
 
 

@@ -97,7 +97,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 row4col[c] = i
                 vc = sol_v[ps, i]
                 v[c] = vc  # free columns: the shared potential, never read
-                if node_fixed[node, i]:
+                if (node_fixed[node, i >> 6] >> (i & 63)) & 1:
                     active[c] = False  # a fixed row's column is out of the residual problem
                     vx[c] = -np.inf
                 else:
@@ -311,18 +311,18 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 g = forb_next[g]
             vx[:] = sol_vfree[sl]
             slack = 1.0 + abs(key)
+            for w in range(fix_now.shape[0]):
+                fix_now[w] = node_fixed[node, w]
             for i in range(P):
                 c = sol[sl, i]
                 e = pos[i, c]
                 entry_of[i] = e
                 slack += abs(cost0[e]) + abs(sol_u[sl, i])
-                fx = node_fixed[node, i]
-                fix_now[i] = fx
-                vx[c] = -np.inf if fx else sol_v[sl, i]
+                vx[c] = -np.inf if (fix_now[i >> 6] >> (i & 63)) & 1 else sol_v[sl, i]
             slack *= _BOUND_SLACK
             n_free = 0
             for i in range(P):
-                if fix_now[i]:
+                if (fix_now[i >> 6] >> (i & 63)) & 1:
                     continue
                 # smallest reduced cost of an allowed, active alternative j != s[i]
                 ei = entry_of[i]
@@ -359,11 +359,11 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     node_slot[n_nodes] = NO_ENTRY
                     node_parent[n_nodes] = sl
                     node_forb[n_nodes] = n_forb
-                    for i in range(P):
-                        node_fixed[n_nodes, i] = fix_now[i]
+                    for w in range(fix_now.shape[0]):
+                        node_fixed[n_nodes, w] = fix_now[w]
                     n_forb += 1
                     n_nodes += 1
-                fix_now[r] = True  # later children keep row r on its parent column
+                fix_now[r >> 6] |= np.int64(1) << (r & 63)  # later children: row r stays
             if n_nodes == first:  # no child: the node leaves
                 n_heap -= 1
                 kx = heap_key[n_heap]
@@ -484,7 +484,8 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     node_slot = np.empty(cap, dtype=np.int64)
     node_parent = np.empty(cap, dtype=np.int64)
     node_forb = np.empty(cap, dtype=np.int64)
-    node_fixed = np.empty((cap, P), dtype=np.bool_)
+    n_words = (P + 63) >> 6  # fixed rows as bits, 64 to a word
+    node_fixed = np.zeros((cap, n_words), dtype=np.int64)
     heap_key = np.empty(cap)  # binary heap of (key, node id)
     heap_id = np.empty(cap, dtype=np.int64)
     # solved nodes: assignment, row duals, dual of each row's column, free-column potential
@@ -510,7 +511,6 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
         sol_v[0, i] = v[c]
         key0 += cost0[pos[i, c]]
         row4col[c] = UNASSIGNED
-        node_fixed[0, i] = False
     sol_vfree[0] = 0.0
     node_key[0] = key0
     node_slot[0] = 0
@@ -525,7 +525,7 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     entry_of = np.empty(P, dtype=np.int64)
     order = np.empty(P, dtype=np.int64)
     lb = np.empty(P)
-    fix_now = np.empty(P, dtype=np.bool_)
+    fix_now = np.empty(n_words, dtype=np.int64)
     vx = np.empty(N)
     while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, ws.d,
                       ws.path, ws.scanned_c, ws.cand, ws.touched, ws.done, ws.rows, node_key,
