@@ -57,7 +57,7 @@ N_STATE = 5
 def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, scanned,
             cand, touched, done, rows, node_key, node_slot, node_parent, node_forb, node_fixed,
             sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id,
-            out, out_cost, entry_of, order, lb, fix_now, vx, state, k):
+            out_slot, out_cost, entry_of, order, lb, fix_now, vx, state, k):
     """Run the search until ``k`` assignments are reported, the queue is empty or an array is
     full; return True when finished (False: grow the arrays and call again).
 
@@ -72,7 +72,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
     n_out = state[S_OUT]
     finished = True
     while n_heap > 0 and n_out < k:
-        if (n_out == out.shape[0] or n_sols == sol.shape[0] or n_nodes + P > node_key.shape[0]
+        if (n_out == out_slot.shape[0] or n_sols == sol.shape[0] or n_nodes + P > node_key.shape[0]
                 or n_forb + P > forb_row.shape[0]):
             finished = False
             break
@@ -254,11 +254,10 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     if r == root:
                         break
                     j = prev
-            for t in range(n_touched):  # clean workspace
+            for t in range(n_touched):  # clean workspace (path is only read where reached)
                 j = touched[t]
                 d[j] = np.inf
                 scanned[j] = False
-                path[j] = UNASSIGNED
             g = f
             while g != NO_ENTRY:
                 e = forb_entry[g]
@@ -294,8 +293,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             # a solved node at the top: report it
             sl = node_slot[node]
             key = node_key[node]
-            for i in range(P):
-                out[n_out, i] = sol[sl, i]
+            out_slot[n_out] = sl  # copied into the output at the end
             out_cost[n_out] = key
             n_out += 1
             if n_out == k:
@@ -500,7 +498,7 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     forb_entry = np.empty(forb_cap, dtype=np.int64)
     forb_next = np.empty(forb_cap, dtype=np.int64)
     out_cap = min(k, _INITIAL_CAPACITY)
-    out = np.empty((out_cap, P), dtype=np.int64)
+    out_slot = np.empty(out_cap, dtype=np.int64)  # solution slot of each reported node
     out_cost = np.empty(out_cap)
 
     key0 = 0.0
@@ -530,12 +528,12 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, ws.d,
                       ws.path, ws.scanned_c, ws.cand, ws.touched, ws.done, ws.rows, node_key,
                       node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
-                      sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out,
+                      sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
                       out_cost, entry_of, order, lb, fix_now, vx, state, k):
         # an array is full: double it (every array the next iteration may fill)
-        if state[S_OUT] == out.shape[0]:
-            out = _grow(out, min(k, 2 * out.shape[0]))
-            out_cost = _grow(out_cost, out.shape[0])
+        if state[S_OUT] == out_slot.shape[0]:
+            out_slot = _grow(out_slot, min(k, 2 * out_slot.shape[0]))
+            out_cost = _grow(out_cost, out_slot.shape[0])
         if state[S_SOLS] == sol.shape[0]:
             n = 2 * sol.shape[0]
             sol = _grow(sol, n)
@@ -557,6 +555,10 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
             forb_entry = _grow(forb_entry, n)
             forb_next = _grow(forb_next, n)
     n_out = state[S_OUT]
+    out = np.empty((n_out, P), dtype=np.int64)
+    for t in range(n_out):
+        for i in range(P):
+            out[t, i] = sol[out_slot[t], i]
     # A stable insertion sort removes the rare last-bit inversion between a node and a child
     # of equal cost summed in another order (the output is already sorted up to those).
     row = np.empty(P, dtype=np.int64)
@@ -575,7 +577,7 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
         out_cost[b + 1] = x
         for i in range(P):
             out[b + 1, i] = row[i]
-    return out[:n_out], out_cost[:n_out]
+    return out, out_cost[:n_out]
 
 
 @jit()
