@@ -54,9 +54,10 @@ N_STATE = 5
 
 
 @jit()
-def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, scanned,
-            cand, touched, done, rows, node_key, node_slot, node_parent, node_forb, node_fixed,
-            sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id,
+def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, rows_d,
+            cand, touched, done, done_d, rows, node_key, node_slot, node_parent, node_forb,
+            node_fixed, sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key,
+            heap_id,
             out_slot, out_cost, entry_of, order, lb, fix_now, vx, state, k):
     """Run the search until ``k`` assignments are reported, the queue is empty or an array is
     full; return True when finished (False: grow the arrays and call again).
@@ -116,6 +117,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             # is picked in the same pass.
             n_rows = 1
             rows[0] = root
+            rows_d[0] = 0.0
             n_cand = 0
             n_done = 0
             min_val = 0.0
@@ -152,10 +154,11 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 j = cand[index]
                 n_cand -= 1
                 cand[index] = cand[n_cand]
-                scanned[j] = True
-                done[n_done] = j
-                n_done += 1
                 min_val = d[j]
+                done[n_done] = j  # scanned: its distance kept in done_d, d[j] = -inf
+                done_d[n_done] = min_val
+                n_done += 1
+                d[j] = -np.inf
                 i = -1
                 if j == freed:
                     sink = j
@@ -176,7 +179,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                             it += 1
                     for q in range(-1, P):
                         kk = freed if q < 0 else col4row[q]
-                        if kk >= 0 and active[kk] and not scanned[kk]:
+                        if kk >= 0 and active[kk] and d[kk] != -np.inf:
                             dist = min_val + (v_free - v[kk])
                             if dist < d[kk]:
                                 if d[kk] == np.inf:
@@ -190,12 +193,13 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     i = row4col[j]
                 if i >= 0:  # scan row i
                     rows[n_rows] = i
+                    rows_d[n_rows] = min_val
                     n_rows += 1
                     ui = u[i]
                     for e in range(ptr[i], ptr[i + 1]):
                         cij = cost[e]
                         j = col[e]
-                        if cij == np.inf or not active[j] or scanned[j]:
+                        if cij == np.inf or not active[j]:  # scanned: d[j] = -inf
                             continue
                         if row4col[j] < 0 and j != freed:  # dummy-held: the shared potential
                             if hub_open:
@@ -230,15 +234,10 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                         best_j = j
             if sink >= 0:
                 # dual update (with the old matching), then flip the path
-                for t in range(n_rows):
-                    r = rows[t]
-                    if r == root:
-                        u[r] += min_val
-                    else:
-                        u[r] += min_val - d[col4row[r]]
+                for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
+                    u[rows[t]] += min_val - rows_d[t]
                 for t in range(n_done):
-                    j = done[t]
-                    v[j] -= min_val - d[j]
+                    v[done[t]] -= min_val - done_d[t]
                 if hub_open:
                     v_free = v_free - (min_val - hub_dist)
                 j = sink
@@ -257,7 +256,6 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             for t in range(n_touched):  # clean workspace (path is only read where reached)
                 j = touched[t]
                 d[j] = np.inf
-                scanned[j] = False
             g = f
             while g != NO_ENTRY:
                 e = forb_entry[g]
@@ -525,8 +523,10 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     lb = np.empty(P)
     fix_now = np.empty(n_words, dtype=np.int64)
     vx = np.empty(N)
+    rows_d = np.empty(P)
+    done_d = np.empty(N)
     while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, ws.d,
-                      ws.path, ws.scanned_c, ws.cand, ws.touched, ws.done, ws.rows, node_key,
+                      ws.path, rows_d, ws.cand, ws.touched, ws.done, done_d, ws.rows, node_key,
                       node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
                       sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
                       out_cost, entry_of, order, lb, fix_now, vx, state, k):
