@@ -114,7 +114,10 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             # One shortest augmenting path from root to freed (lsap.sap_augment, warm start).
             # The root's row is scanned first, when nothing is reached yet: every allowed,
             # active entry is reached (vx gives +inf for the others), and the closest column
-            # is picked in the same pass.
+            # is picked in the same pass. Of the dummy-held (free) columns only the closest is
+            # kept at first: when it is the closest of all, the hub opens through it and the
+            # other free columns would leave the frontier unscanned anyway; otherwise a second
+            # pass reaches them too.
             n_rows = 1
             rows[0] = root
             rows_d[0] = 0.0
@@ -122,15 +125,22 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             n_done = 0
             min_val = 0.0
             ui = u[root]
-            index = -1
+            index = -1  # the closest matched (or the freed) column
             lowest = np.inf
             best_ends = False
             best_j = -1
+            free_low = np.inf  # the closest free column
+            free_j = -1
             for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
                 j = col[e]
                 ju = np.uint64(j)  # unsigned indices: no negative-index wraparound
                 dist = min_val + (cost[e] - ui - vx[ju])
                 if dist < np.inf:
+                    if row4col[ju] < 0 and j != freed:
+                        if dist < free_low or (dist == free_low and j < free_j):
+                            free_low = dist
+                            free_j = j
+                        continue
                     cand[np.uint64(n_cand)] = j
                     d[ju] = dist
                     path[ju] = root
@@ -143,6 +153,25 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                         best_ends = ends
                         best_j = j
                     n_cand += 1
+            if free_j >= 0:
+                if index < 0 or free_low < lowest or (free_low == lowest and not best_ends
+                                                      and free_j < best_j):
+                    cand[n_cand] = free_j  # the closest of all: the only free one needed
+                    d[free_j] = free_low
+                    path[free_j] = root
+                    index = n_cand
+                    n_cand += 1
+                else:
+                    for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
+                        j = col[e]
+                        ju = np.uint64(j)
+                        if row4col[ju] < 0 and j != freed:
+                            dist = min_val + (cost[e] - ui - vx[ju])
+                            if dist < np.inf:
+                                cand[np.uint64(n_cand)] = j
+                                d[ju] = dist
+                                path[ju] = root
+                                n_cand += 1
             for t in range(n_cand):
                 touched[t] = cand[t]
             n_touched = n_cand
