@@ -1,11 +1,12 @@
 """Compiled Murty k-best ranked assignment (spec §5.1) with the Miller–Stone–Cox improvements.
 
-The driver :func:`murty_kernel` pops the best open subproblem of the partition tree. A node
-that is only *bounded* is solved (one warm-started shortest augmenting path) and pushed back
-with its exact cost; a *solved* node is reported and partitioned: its children are pushed with
-a lower bound only, so most of them are never solved. Forbidden pairs are switched on and off
-in the shared graph's ``cost`` array. Costs are accumulated row by row in the order
-``0..P-1`` from ``0.0``, exactly as :meth:`rankedassign.AssignmentProblem.cost_of` does.
+The driver :func:`murty_kernel` takes the best open subproblem of the partition tree. A node
+that is only *bounded* is solved (one warm-started shortest augmenting path) and goes back
+into the queue with its exact cost; a *solved* node is reported and partitioned: its children
+enter the queue with a lower bound only, so most of them are never solved. Forbidden pairs
+are switched on and off in the shared graph's ``cost`` array. Costs are accumulated row by
+row in the order ``0..P-1`` from ``0.0``, exactly as
+:meth:`rankedassign.AssignmentProblem.cost_of` does.
 
 Layout for speed. The search (:func:`_search`) is one compiled loop on flat arrays that it
 never reallocates: the warm-started augmenting path (the algorithm of
@@ -16,7 +17,12 @@ again. At these sizes (tens of rows, about one augmenting path of one or two row
 reported assignment) calls between small compiled helpers that each receive a dozen arrays,
 array views made per node and arrays rebound inside the loop (each costs atomic reference
 count updates) cost as much as the arithmetic; here nothing is allocated, called or
-reference-counted per node.
+reference-counted per node. Further savings that leave every result bit for bit unchanged:
+the partition's bounds read each column's dual from one array (``-inf`` for the columns of
+fixed rows) without branches; the top of the heap is replaced in one sift-down (by the node
+itself once solved, by its first child once partitioned); a scanned column is marked by
+``d = -inf``; and a warm start keeps only the closest free column of its first row when that
+column opens the dummy-row hub (the other free columns would leave the frontier unscanned).
 """
 
 from __future__ import annotations
@@ -57,8 +63,7 @@ N_STATE = 5
 def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, rows_d,
             cand, touched, done, done_d, rows, node_key, node_slot, node_parent, node_forb,
             node_fixed, sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key,
-            heap_id,
-            out_slot, out_cost, entry_of, order, lb, fix_now, vx, state, k):
+            heap_id, out_slot, out_cost, entry_of, order, lb, fix_now, vx, state, k):
     """Run the search until ``k`` assignments are reported, the queue is empty or an array is
     full; return True when finished (False: grow the arrays and call again).
 
@@ -469,7 +474,7 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
         Their costs summed row by row from ``0.0`` (bit for bit
         ``AssignmentProblem.cost_of``), non-decreasing: a child's cost can come out one ulp
         below its parent's (sums of equal value in different orders), and a final stable
-        sort moves such an assignment just ahead of the equal-valued ones.
+        sort by value puts it first (the order of the search otherwise).
 
     Notes
     -----
