@@ -31,7 +31,7 @@ import numpy as np
 
 from rankedassign.numba_options import jit
 
-from .lsap import COLD, HUB, UNASSIGNED, Graph, new_matching, new_workspace, sap_augment
+from .lsap import HUB, UNASSIGNED
 
 __all__ = ["murty_kernel", "murty_compact_kernel"]
 
@@ -449,6 +449,99 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
 
 
 @jit()
+def _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, touched, done,
+               done_d, rows):
+    """The root's LSAP: a cold shortest augmenting path from each row in turn.
+
+    :func:`.lsap.sap_augment` with ``freed = COLD`` and ``v_free = 0`` (same arithmetic and
+    tie-breaking), on flat arrays, a scanned column marked by ``d = -inf`` as in
+    :func:`_search`. ``d`` must be ``+inf`` everywhere on entry (and is on return). Returns
+    False when some row cannot be assigned (the problem is infeasible).
+    """
+    P = col4row.shape[0]
+    for root in range(P):
+        n_cand = 0
+        n_touched = 0
+        n_rows = 0
+        n_done = 0
+        min_val = 0.0
+        i = root
+        sink = -1
+        while sink < 0:
+            # scan row i
+            rows[n_rows] = i
+            rows_d[n_rows] = min_val
+            n_rows += 1
+            ui = u[i]
+            for e in range(ptr[i], ptr[i + 1]):
+                cij = cost[e]
+                j = col[e]
+                if cij == np.inf:
+                    continue
+                if row4col[j] < 0:  # a free column: the shared potential 0
+                    dist = min_val + (cij - ui - 0.0)
+                else:
+                    dist = min_val + (cij - ui - v[j])
+                if dist < d[j]:  # (never for a scanned column, d = -inf)
+                    if d[j] == np.inf:
+                        cand[n_cand] = j
+                        n_cand += 1
+                        touched[n_touched] = j
+                        n_touched += 1
+                    d[j] = dist
+                    path[j] = i
+            # the closest reached column; ties: a free one (it ends the path), the lowest index
+            index = -1
+            lowest = np.inf
+            best_ends = False
+            best_j = -1
+            for it in range(n_cand):
+                j = cand[it]
+                dj = d[j]
+                if dj > lowest:
+                    continue
+                ends = row4col[j] < 0
+                if dj < lowest or (ends and not best_ends) or (ends == best_ends and j < best_j):
+                    lowest = dj
+                    index = it
+                    best_ends = ends
+                    best_j = j
+            if index < 0:
+                for t in range(n_touched):
+                    d[touched[t]] = np.inf
+                return False
+            j = cand[index]
+            n_cand -= 1
+            cand[index] = cand[n_cand]
+            min_val = d[j]
+            done[n_done] = j
+            done_d[n_done] = min_val
+            n_done += 1
+            d[j] = -np.inf
+            if row4col[j] < 0:
+                v[j] = 0.0  # a free column about to be matched: its potential made explicit
+                sink = j
+            else:
+                i = row4col[j]
+        for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
+            u[rows[t]] += min_val - rows_d[t]
+        for t in range(n_done):
+            v[done[t]] -= min_val - done_d[t]
+        j = sink
+        while True:
+            r = path[j]
+            row4col[j] = r
+            prev = col4row[r]
+            col4row[r] = j
+            if r == root:
+                break
+            j = prev
+        for t in range(n_touched):
+            d[touched[t]] = np.inf
+    return True
+
+
+@jit()
 def murty_kernel(ptr, col, cost0, pos, P, N, k):
     """Murty's ranked assignment with the Miller–Stone–Cox improvements.
 
@@ -498,14 +591,23 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     (:func:`.lsap.sap_augment` from each row in turn).
     """
     cost = cost0.copy()  # forbidden entries of the current node are set to +inf for a while
-    g = Graph(ptr, col, cost, cost0, pos)
-    m = new_matching(P, N)
-    ws = new_workspace(P, N)
-    for root in range(P):  # the root: a cold LSAP
-        inc, _ = sap_augment(g, root, COLD, m, 0.0, ws)
-        if inc == np.inf:
-            return np.empty((0, P), dtype=np.int64), np.empty(0)
-    u, v, col4row, row4col, active = m.u, m.v, m.col4row, m.row4col, m.active
+    # the assignment state (duals, matching, active columns) and the search's workspace
+    u = np.zeros(P)
+    v = np.zeros(N)
+    col4row = np.full(P, UNASSIGNED, dtype=np.int64)
+    row4col = np.full(N, UNASSIGNED, dtype=np.int64)
+    active = np.ones(N, dtype=np.bool_)
+    d = np.full(N, np.inf)
+    path = np.empty(N, dtype=np.int64)
+    cand = np.empty(N, dtype=np.int64)
+    touched = np.empty(N, dtype=np.int64)
+    done = np.empty(N, dtype=np.int64)
+    done_d = np.empty(N)
+    rows = np.empty(P, dtype=np.int64)
+    rows_d = np.empty(P)
+    if not _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, touched,
+                      done, done_d, rows):
+        return np.empty((0, P), dtype=np.int64), np.empty(0)
     # the partition tree: heap key (exact cost once solved, a lower bound before), slot of
     # the solution (NO_ENTRY until solved), slot of the parent's solution, head of the
     # forbidden-pair list (own pair first, then the ancestors'), rows fixed to the parent
@@ -557,10 +659,8 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     lb = np.empty(P)
     fix_now = np.empty(n_words, dtype=np.int64)
     vx = np.empty(N)
-    rows_d = np.empty(P)
-    done_d = np.empty(N)
-    while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, ws.d,
-                      ws.path, rows_d, ws.cand, ws.touched, ws.done, done_d, ws.rows, node_key,
+    while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d,
+                      path, rows_d, cand, touched, done, done_d, rows, node_key,
                       node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
                       sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
                       out_cost, entry_of, order, lb, fix_now, vx, state, k):
