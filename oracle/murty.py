@@ -159,11 +159,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
         return ranked(problem, np.zeros((0, P), dtype=np.int64))
     if P == 0:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
-    k = _k_cap(problem, k)
     if method == "scipy":
-        return ranked(problem, _murty_scipy(problem, k))
-    a, costs = murty_compact_kernel(np.ascontiguousarray(problem.compact_cost), k)
-    # the kernel's costs are problem.cost_of's, bit for bit; a stable sort removes the rare
-    # last-bit inversion between a node and a child of equal cost summed in another order
-    order = np.argsort(costs, kind="stable")
-    return Ranked(np.ascontiguousarray(a[order]), costs[order])
+        return ranked(problem, _murty_scipy(problem, _k_cap(problem, k)))
+    # the kernel's costs are problem.cost_of's, bit for bit, sorted stably
+    return Ranked(*murty_compact_kernel(np.ascontiguousarray(problem.compact_cost), k))

@@ -1,110 +1,45 @@
 """Compiled Murty k-best ranked assignment (spec §5.1) with the Miller–Stone–Cox improvements.
 
-The driver :func:`murty_kernel` pops the best open subproblem of the partition tree. A node
-that is only *bounded* is solved (:func:`_solve_node`) and pushed back with its exact cost; a
-*solved* node is reported and partitioned: its children are pushed with a lower bound only
-(:func:`_partition_order` computes the bounds and the order), so most of them are never
-solved. Forbidden pairs are switched on and off in the shared :data:`~.lsap.Graph`
-(:func:`_forbid`, :func:`_allow`). Costs are accumulated row by row in the order ``0..P-1``
-from ``0.0``, exactly as :meth:`rankedassign.AssignmentProblem.cost_of` does.
+The driver :func:`murty_kernel` takes the best open subproblem of the partition tree. A node
+that is only *bounded* is solved (one warm-started shortest augmenting path) and goes back
+into the queue with its exact cost; a *solved* node is reported and partitioned: its children
+enter the queue with a lower bound only, so most of them are never solved. Forbidden pairs
+are switched on and off in the shared graph's ``cost`` array. Costs are accumulated row by
+row in the order ``0..P-1`` from ``0.0``, exactly as
+:meth:`rankedassign.AssignmentProblem.cost_of` does.
+
+Layout for speed. The search (:func:`_search`) is one compiled loop on flat arrays that it
+never reallocates: the warm-started augmenting path (the algorithm of
+:func:`.lsap.sap_augment`, same arithmetic and tie-breaking) is written inline, and the tree,
+the solutions, the forbidden-pair lists and the heap are plain arrays indexed by integers.
+When an array is full the loop returns, :func:`murty_kernel` grows the arrays and calls it
+again. At these sizes (tens of rows, about one augmenting path of one or two row scans per
+reported assignment) calls between small compiled helpers that each receive a dozen arrays,
+array views made per node and arrays rebound inside the loop (each costs atomic reference
+count updates) cost as much as the arithmetic; here nothing is allocated, called or
+reference-counted per node. Further savings that leave every result bit for bit unchanged:
+the partition's bounds read each column's dual from one array (``-inf`` for the columns of
+fixed rows) without branches; the top of the heap is replaced in one sift-down (by the node
+itself once solved, by its first child once partitioned); a scanned column is marked by
+``d = -inf``; and a warm start keeps only the closest free column of its first row when that
+column opens the dummy-row hub (the other free columns would leave the frontier unscanned).
 """
 
 from __future__ import annotations
-
-from collections import namedtuple
 
 import numpy as np
 
 from rankedassign.numba_options import jit
 
-from .lsap import (
-    COLD,
-    UNASSIGNED,
-    Graph,
-    new_matching,
-    new_workspace,
-    sap_augment,
-)
+from .lsap import HUB, UNASSIGNED
 
-__all__ = ["murty_kernel"]
+__all__ = ["murty_kernel", "murty_compact_kernel"]
 
 NO_ENTRY = -1  # end of a forbidden-pair list; slot of a node that is not solved yet
 _INITIAL_CAPACITY = 1024
 # Relative slack subtracted from a lower bound so that rounding can never lift it above the
 # exact cost it bounds (the order of the output then equals that of solving every child).
 _BOUND_SLACK = 1e-9
-
-#: The partition tree, one entry per node: its heap key (exact cost once solved, a lower bound
-#: before), its slot in :data:`Solutions` (``NO_ENTRY`` until solved), the slot of its parent's
-#: solution, the head of its forbidden-pair list (its own pair first, then its ancestors') and
-#: which rows it fixes to the parent's columns.
-Nodes = namedtuple("Nodes", ["key", "slot", "parent", "forb_head", "fixed"])
-
-#: Solved nodes: optimal assignment ``sol``, row duals ``u``, the dual ``v`` of each row's
-#: column (``v[n, i]`` belongs to column ``sol[n, i]``) and the shared potential ``v_free`` of
-#: the free columns: the duals of a solution in ``O(P)`` numbers, not ``O(N)``.
-Solutions = namedtuple("Solutions", ["sol", "u", "v", "v_free"])
-
-#: Forbidden pairs as linked lists: entry ``f`` forbids row ``row[f]``'s graph entry
-#: ``entry[f]`` and continues at ``next[f]`` (``NO_ENTRY`` ends the list).
-Forbidden = namedtuple("Forbidden", ["row", "entry", "next"])
-
-
-@jit()
-def _assignment_cost(g, P, col4row, entry_of):
-    """Cost of an assignment summed row by row from ``0.0`` (as ``AssignmentProblem.cost_of``).
-
-    ``entry_of`` is scratch (one int per row); it receives the graph entry of each row.
-    """
-    s = 0.0
-    for i in range(P):
-        e = g.pos[i, col4row[i]]
-        entry_of[i] = e
-        s += g.cost0[e]
-    return s
-
-
-@jit()
-def _heap_push(heap, n, keys, node):
-    # sift up: (key, node id) order, so equal keys leave in order of creation
-    kx = keys[node]
-    k = n
-    while k > 0:
-        p = (k - 1) >> 1
-        q = heap[p]
-        if kx < keys[q] or (kx == keys[q] and node < q):
-            heap[k] = q
-            k = p
-        else:
-            break
-    heap[k] = node
-    return n + 1
-
-
-@jit()
-def _heap_pop(heap, n, keys):
-    top = heap[0]
-    n -= 1
-    x = heap[n]
-    kx = keys[x]
-    k = 0
-    while True:  # sift down the last entry
-        c = 2 * k + 1
-        if c >= n:
-            break
-        a = heap[c]
-        if c + 1 < n:
-            b = heap[c + 1]
-            if keys[b] < keys[a] or (keys[b] == keys[a] and b < a):
-                c += 1
-                a = b
-        if keys[a] < kx or (keys[a] == kx and a < x):
-            heap[k] = a
-            k = c
-        else:
-            break
-    heap[k] = x
-    return top, n
 
 
 @jit()
@@ -115,174 +50,509 @@ def _grow(a, n):
     return out
 
 
-@jit()
-def _new_nodes(cap, P):
-    return Nodes(np.empty(cap), np.empty(cap, dtype=np.int64), np.empty(cap, dtype=np.int64),
-                 np.empty(cap, dtype=np.int64), np.empty((cap, P), dtype=np.bool_))
+# entries of the ``state`` array that carries the search's counters across calls of _search
+S_HEAP = 0  # nodes in the heap
+S_NODES = 1  # nodes created
+S_SOLS = 2  # solutions stored
+S_FORB = 3  # forbidden-pair entries used
+S_OUT = 4  # assignments reported
+N_STATE = 5
 
 
 @jit()
-def _grow_nodes(nodes, cap):
-    return Nodes(_grow(nodes.key, cap), _grow(nodes.slot, cap), _grow(nodes.parent, cap),
-                 _grow(nodes.forb_head, cap), _grow(nodes.fixed, cap))
+def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, rows_d,
+            cand, touched, done, done_d, rows, node_key, node_slot, node_parent, node_forb,
+            node_fixed, sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key,
+            heap_id, out_slot, out_cost, entry_of, order, lb, fix_now, vx, state, k):
+    """Run the search until ``k`` assignments are reported, the queue is empty or an array is
+    full; return True when finished (False: grow the arrays and call again).
 
-
-@jit()
-def _new_solutions(cap, P):
-    return Solutions(np.empty((cap, P), dtype=np.int64), np.empty((cap, P)), np.empty((cap, P)),
-                     np.empty(cap))
-
-
-@jit()
-def _grow_solutions(sols, cap):
-    return Solutions(_grow(sols.sol, cap), _grow(sols.u, cap), _grow(sols.v, cap),
-                     _grow(sols.v_free, cap))
-
-
-@jit()
-def _store_solution(sols, slot, m, v_free):
-    """Keep the optimum now in ``m`` in slot ``slot`` (column duals of the matched columns)."""
-    for i in range(m.col4row.shape[0]):
-        c = m.col4row[i]
-        sols.sol[slot, i] = c
-        sols.u[slot, i] = m.u[i]
-        sols.v[slot, i] = m.v[c]
-    sols.v_free[slot] = v_free
-
-
-@jit()
-def _grow_forbidden(forb, cap):
-    return Forbidden(_grow(forb.row, cap), _grow(forb.entry, cap), _grow(forb.next, cap))
-
-
-@jit()
-def _forbid(g, forb, head):
-    """Switch off the graph entries of the forbidden list starting at ``head``."""
-    f = head
-    while f != NO_ENTRY:
-        g.cost[forb.entry[f]] = np.inf
-        f = forb.next[f]
-
-
-@jit()
-def _allow(g, forb, head):
-    """Undo :func:`_forbid`."""
-    f = head
-    while f != NO_ENTRY:
-        e = forb.entry[f]
-        g.cost[e] = g.cost0[e]
-        f = forb.next[f]
-
-
-@jit()
-def _load(m, s, fixed):
-    """Matching ``s`` in ``m``: ``row4col`` and the inactive columns of the fixed rows."""
-    for i in range(s.shape[0]):
-        m.col4row[i] = s[i]
-        m.row4col[s[i]] = i
-        if fixed[i]:
-            m.active[s[i]] = False  # a fixed row's column is out of the residual problem
-
-
-@jit()
-def _unload(m):
-    """Undo :func:`_load` for the matching now in ``m`` (every column free and active again)."""
-    for i in range(m.col4row.shape[0]):
-        c = m.col4row[i]
-        if c >= 0:
-            m.row4col[c] = UNASSIGNED
-            m.active[c] = True
-
-
-@jit()
-def _partition_order(g, s, entry_of, u, v, v_free, m, fixed, lb, order):
-    """Free rows of a node in decreasing order of a lower bound on their child's increase.
-
-    ``m`` holds the node's matching ``s`` (:func:`_load`); ``v[q]`` is the dual of row ``q``'s
-    column and ``v_free`` that of every free column. ``lb[i]`` is the smallest reduced
-    cost ``cost - u[i] - v_j`` of an allowed, active alternative ``j != s[i]`` of row ``i``
-    (``+inf``: the child is infeasible); the child's optimum is at least the node's plus
-    ``lb[i]`` (Miller, Stone & Cox 1997). Children expected to be worst get the fewest
-    fixings, the most promising ones the smallest residual problems. Returns the number of
-    free rows, listed in ``order``; ties keep row order.
+    The counters live in ``state`` between calls; an iteration starts only when every array
+    has room for its worst case (``P`` children), so a return never leaves one half done.
     """
-    n_free = 0
-    for i in range(s.shape[0]):
-        if fixed[i]:
-            continue
-        best = np.inf
-        for e in range(g.ptr[i], g.ptr[i + 1]):
-            j = g.col[e]
-            if e == entry_of[i] or g.cost[e] == np.inf or not m.active[j]:
-                continue
-            q = m.row4col[j]
-            vj = v_free if q < 0 else v[q]  # v[q]: dual of row q's column; free: shared
-            r = g.cost[e] - u[i] - vj
-            if r < best:
-                best = r
-        lb[i] = max(best, 0.0)
-        order[n_free] = i
-        n_free += 1
-    # stable insertion sort by decreasing bound
-    for a in range(1, n_free):
-        x = order[a]
-        b = a - 1
-        while b >= 0 and lb[order[b]] < lb[x]:
-            order[b + 1] = order[b]
-            b -= 1
-        order[b + 1] = x
-    return n_free
+    P = col4row.shape[0]
+    n_heap = state[S_HEAP]
+    n_nodes = state[S_NODES]
+    n_sols = state[S_SOLS]
+    n_forb = state[S_FORB]
+    n_out = state[S_OUT]
+    finished = True
+    while n_heap > 0 and n_out < k:
+        if (n_out == out_slot.shape[0] or n_sols == sol.shape[0] or n_nodes + P > node_key.shape[0]
+                or n_forb + P > forb_row.shape[0]):
+            finished = False
+            break
+        # The least (key, id) is at the top. It stays there while it is processed and is then
+        # replaced in one sift-down: by itself with its exact cost once solved, by its first
+        # child once partitioned, or by the heap's last entry when it just leaves.
+        node = heap_id[0]
+        first = n_nodes  # children made in this iteration: first..n_nodes-1
+
+        if node_slot[node] == NO_ENTRY:
+            # A bounded node at the top: solve it and queue it again with its exact cost.
+            # Warm start: the parent's duals and assignment minus (root, freed), the node's
+            # forbidden pairs switched off and its fixed rows' columns inactive.
+            ps = node_parent[node]
+            f = node_forb[node]
+            root = forb_row[f]
+            v_free = sol_vfree[ps]
+            vx[:] = v_free  # as in the partition: the dual of each column, -inf if inactive
+            for i in range(P):
+                c = sol[ps, i]
+                col4row[i] = c
+                row4col[c] = i
+                vc = sol_v[ps, i]
+                v[c] = vc  # free columns: the shared potential, never read
+                if (node_fixed[node, i >> 6] >> (i & 63)) & 1:
+                    active[c] = False  # a fixed row's column is out of the residual problem
+                    vx[c] = -np.inf
+                else:
+                    vx[c] = vc
+                u[i] = sol_u[ps, i]
+            freed = sol[ps, root]
+            col4row[root] = UNASSIGNED
+            row4col[freed] = UNASSIGNED
+            g = f
+            while g != NO_ENTRY:
+                cost[forb_entry[g]] = np.inf
+                g = forb_next[g]
+            # One shortest augmenting path from root to freed (lsap.sap_augment, warm start).
+            # The root's row is scanned first, when nothing is reached yet: every allowed,
+            # active entry is reached (vx gives +inf for the others), and the closest column
+            # is picked in the same pass. Of the dummy-held (free) columns only the closest is
+            # kept at first: when it is the closest of all, the hub opens through it and the
+            # other free columns would leave the frontier unscanned anyway; otherwise a second
+            # pass reaches them too.
+            n_rows = 1
+            rows[0] = root
+            rows_d[0] = 0.0
+            n_cand = 0
+            n_done = 0
+            min_val = 0.0
+            ui = u[root]
+            index = -1  # the closest matched (or the freed) column
+            lowest = np.inf
+            best_ends = False
+            best_j = -1
+            free_low = np.inf  # the closest free column
+            free_j = -1
+            for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
+                j = col[e]
+                ju = np.uint64(j)  # unsigned indices: no negative-index wraparound
+                dist = min_val + (cost[e] - ui - vx[ju])
+                if dist < np.inf:
+                    if row4col[ju] < 0 and j != freed:
+                        if dist < free_low or (dist == free_low and j < free_j):
+                            free_low = dist
+                            free_j = j
+                        continue
+                    cand[np.uint64(n_cand)] = j
+                    d[ju] = dist
+                    path[ju] = root
+                    ends = j == freed
+                    if dist < lowest or (dist == lowest and ((ends and not best_ends)
+                                                             or (ends == best_ends
+                                                                 and j < best_j))):
+                        lowest = dist
+                        index = n_cand
+                        best_ends = ends
+                        best_j = j
+                    n_cand += 1
+            if free_j >= 0:
+                if index < 0 or free_low < lowest or (free_low == lowest and not best_ends
+                                                      and free_j < best_j):
+                    cand[n_cand] = free_j  # the closest of all: the only free one needed
+                    d[free_j] = free_low
+                    path[free_j] = root
+                    index = n_cand
+                    n_cand += 1
+                else:
+                    for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
+                        j = col[e]
+                        ju = np.uint64(j)
+                        if row4col[ju] < 0 and j != freed:
+                            dist = min_val + (cost[e] - ui - vx[ju])
+                            if dist < np.inf:
+                                cand[np.uint64(n_cand)] = j
+                                d[ju] = dist
+                                path[ju] = root
+                                n_cand += 1
+            for t in range(n_cand):
+                touched[t] = cand[t]
+            n_touched = n_cand
+            sink = -1
+            hub_open = False
+            hub_src = -1
+            hub_dist = 0.0
+            while index >= 0:
+                j = cand[index]
+                n_cand -= 1
+                cand[index] = cand[n_cand]
+                min_val = d[j]
+                done[n_done] = j  # scanned: its distance kept in done_d, d[j] = -inf
+                done_d[n_done] = min_val
+                n_done += 1
+                d[j] = -np.inf
+                i = -1
+                if j == freed:
+                    sink = j
+                    break
+                elif row4col[j] < 0:
+                    # a dummy-held column: open the hub, every column reachable through it
+                    v[j] = v_free  # about to be matched: its potential made explicit
+                    hub_open = True
+                    hub_src = j
+                    hub_dist = min_val
+                    it = 0
+                    while it < n_cand:
+                        q = cand[it]
+                        if row4col[q] < 0 and q != freed:
+                            n_cand -= 1
+                            cand[it] = cand[n_cand]
+                        else:
+                            it += 1
+                    for q in range(-1, P):
+                        kk = freed if q < 0 else col4row[q]
+                        if kk >= 0 and active[kk] and d[kk] != -np.inf:
+                            dist = min_val + (v_free - v[kk])
+                            if dist < d[kk]:
+                                if d[kk] == np.inf:
+                                    cand[n_cand] = kk
+                                    n_cand += 1
+                                    touched[n_touched] = kk
+                                    n_touched += 1
+                                d[kk] = dist
+                                path[kk] = HUB
+                else:
+                    i = row4col[j]
+                if i >= 0:  # scan row i
+                    rows[n_rows] = i
+                    rows_d[n_rows] = min_val
+                    n_rows += 1
+                    ui = u[i]
+                    for e in range(ptr[i], ptr[i + 1]):
+                        cij = cost[e]
+                        j = col[e]
+                        if cij == np.inf or not active[j]:  # scanned: d[j] = -inf
+                            continue
+                        if row4col[j] < 0 and j != freed:  # dummy-held: the shared potential
+                            if hub_open:
+                                continue
+                            dist = min_val + (cij - ui - v_free)
+                        else:
+                            dist = min_val + (cij - ui - v[j])
+                        if dist < d[j]:
+                            if d[j] == np.inf:
+                                cand[n_cand] = j
+                                n_cand += 1
+                                touched[n_touched] = j
+                                n_touched += 1
+                            d[j] = dist
+                            path[j] = i
+                # the closest reached column; ties: the freed column, then the lowest index
+                index = -1
+                lowest = np.inf
+                best_ends = False
+                best_j = -1
+                for it in range(n_cand):
+                    j = cand[it]
+                    dj = d[j]
+                    if dj > lowest:
+                        continue
+                    ends = j == freed
+                    if dj < lowest or (ends and not best_ends) or (ends == best_ends
+                                                                    and j < best_j):
+                        lowest = dj
+                        index = it
+                        best_ends = ends
+                        best_j = j
+            if sink >= 0:
+                # dual update (with the old matching), then flip the path
+                for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
+                    u[rows[t]] += min_val - rows_d[t]
+                for t in range(n_done):
+                    v[done[t]] -= min_val - done_d[t]
+                if hub_open:
+                    v_free = v_free - (min_val - hub_dist)
+                j = sink
+                while True:
+                    r = path[j]
+                    if r == HUB:
+                        row4col[j] = UNASSIGNED  # j is handed to a dummy row: free again
+                        j = hub_src
+                        continue
+                    row4col[j] = r
+                    prev = col4row[r]
+                    col4row[r] = j
+                    if r == root:
+                        break
+                    j = prev
+            for t in range(n_touched):  # clean workspace (path is only read where reached)
+                j = touched[t]
+                d[j] = np.inf
+            g = f
+            while g != NO_ENTRY:
+                e = forb_entry[g]
+                cost[e] = cost0[e]
+                g = forb_next[g]
+            if sink < 0:
+                col4row[root] = freed  # restore the loaded matching so that it can be cleared
+                row4col[freed] = root
+                for i in range(P):
+                    c = col4row[i]
+                    row4col[c] = UNASSIGNED
+                    active[c] = True
+                n_heap -= 1  # the node leaves
+                kx = heap_key[n_heap]
+                x = heap_id[n_heap]
+            else:
+                key = 0.0
+                for i in range(P):
+                    c = col4row[i]
+                    sol[n_sols, i] = c
+                    sol_u[n_sols, i] = u[i]
+                    sol_v[n_sols, i] = v[c]
+                    key += cost0[pos[i, c]]
+                    row4col[c] = UNASSIGNED
+                    active[c] = True
+                sol_vfree[n_sols] = v_free
+                node_slot[node] = n_sols
+                n_sols += 1
+                node_key[node] = key
+                kx = key  # back into the queue with its exact cost
+                x = node
+        else:
+            # a solved node at the top: report it
+            sl = node_slot[node]
+            key = node_key[node]
+            out_slot[n_out] = sl  # copied into the output at the end
+            out_cost[n_out] = key
+            n_out += 1
+            if n_out == k:
+                break
+            # partition it: the bound of each free row's child, with the node's forbidden pairs
+            # switched off. vx[j] is the dual the bound subtracts for column j: the shared
+            # potential for a free column, v of its row for a matched one, -inf for the column of
+            # a fixed row (inactive: its reduced cost is +inf), so the scan has no branch.
+            head = node_forb[node]
+            g = head
+            while g != NO_ENTRY:
+                cost[forb_entry[g]] = np.inf
+                g = forb_next[g]
+            vx[:] = sol_vfree[sl]
+            slack = 1.0 + abs(key)
+            for w in range(fix_now.shape[0]):
+                fix_now[w] = node_fixed[node, w]
+            for i in range(P):
+                c = sol[sl, i]
+                e = pos[i, c]
+                entry_of[i] = e
+                slack += abs(cost0[e]) + abs(sol_u[sl, i])
+                vx[c] = -np.inf if (fix_now[i >> 6] >> (i & 63)) & 1 else sol_v[sl, i]
+            slack *= _BOUND_SLACK
+            n_free = 0
+            for i in range(P):
+                if (fix_now[i >> 6] >> (i & 63)) & 1:
+                    continue
+                # smallest reduced cost of an allowed, active alternative j != s[i]
+                ei = entry_of[i]
+                cost[ei] = np.inf  # the row's own entry is no alternative
+                best = np.inf
+                ui = sol_u[sl, i]
+                for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
+                    rc = cost[e] - ui - vx[np.uint64(col[e])]
+                    best = min(best, rc)
+                cost[ei] = cost0[ei]
+                x = max(best, 0.0)
+                lb[i] = x
+                # insert row i, keeping decreasing bounds (ties keep row order)
+                b = n_free - 1
+                while b >= 0 and lb[order[b]] < x:
+                    order[b + 1] = order[b]
+                    b -= 1
+                order[b + 1] = i
+                n_free += 1
+            g = head
+            while g != NO_ENTRY:
+                e = forb_entry[g]
+                cost[e] = cost0[e]
+                g = forb_next[g]
+            # children: child t forbids (order[t], s[order[t]]) and fixes order[:t]
+            for t in range(n_free):
+                r = order[t]
+                if lb[r] < np.inf:
+                    forb_row[n_forb] = r
+                    forb_entry[n_forb] = entry_of[r]
+                    forb_next[n_forb] = head
+                    ck = key + lb[r] - slack
+                    node_key[n_nodes] = ck
+                    node_slot[n_nodes] = NO_ENTRY
+                    node_parent[n_nodes] = sl
+                    node_forb[n_nodes] = n_forb
+                    for w in range(fix_now.shape[0]):
+                        node_fixed[n_nodes, w] = fix_now[w]
+                    n_forb += 1
+                    n_nodes += 1
+                fix_now[r >> 6] |= np.int64(1) << (r & 63)  # later children: row r stays
+            if n_nodes == first:  # no child: the node leaves
+                n_heap -= 1
+                kx = heap_key[n_heap]
+                x = heap_id[n_heap]
+            else:
+                kx = node_key[first]
+                x = first
+        # sift (kx, x) down from the top
+        h = 0
+        while True:
+            ch = 2 * h + 1
+            if ch >= n_heap:
+                break
+            ka = heap_key[ch]
+            a = heap_id[ch]
+            if ch + 1 < n_heap:
+                kb = heap_key[ch + 1]
+                b = heap_id[ch + 1]
+                if kb < ka or (kb == ka and b < a):
+                    ch += 1
+                    ka = kb
+                    a = b
+            if ka < kx or (ka == kx and a < x):
+                heap_key[h] = ka
+                heap_id[h] = a
+                h = ch
+            else:
+                break
+        heap_key[h] = kx
+        heap_id[h] = x
+        # push the other children
+        for y in range(first + 1, n_nodes):
+            ky = node_key[y]
+            h = n_heap
+            while h > 0:
+                p = (h - 1) >> 1
+                kp = heap_key[p]
+                if ky < kp or (ky == kp and y < heap_id[p]):
+                    heap_key[h] = kp
+                    heap_id[h] = heap_id[p]
+                    h = p
+                else:
+                    break
+            heap_key[h] = ky
+            heap_id[h] = y
+            n_heap += 1
+    state[S_HEAP] = n_heap
+    state[S_NODES] = n_nodes
+    state[S_SOLS] = n_sols
+    state[S_FORB] = n_forb
+    state[S_OUT] = n_out
+    return finished
 
 
 @jit()
-def _bound_slack(key, s, entry_of, g, u):
-    """Absolute slack of a lower bound: ``_BOUND_SLACK`` times the magnitudes it was made of."""
-    scale = 1.0 + abs(key)
-    for i in range(s.shape[0]):
-        scale += abs(g.cost0[entry_of[i]]) + abs(u[i])
-    return _BOUND_SLACK * scale
+def _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, touched, done,
+               done_d, rows):
+    """The root's LSAP: a cold shortest augmenting path from each row in turn.
 
-
-@jit()
-def _solve_node(g, nodes, sols, forb, node, m, ws):
-    """Solve a bounded node by one warm-started augmenting path; return ``(ok, v_free)``.
-
-    Warm start (Miller, Stone & Cox 1997): the parent's duals and assignment minus the row
-    ``r`` whose pair ``(r, c)`` the node forbids, completed by one shortest augmenting path
-    from ``r`` with ``c`` the only free column of the square view. On success ``m`` holds the
-    node's optimum (to be unloaded by the caller).
+    :func:`.lsap.sap_augment` with ``freed = COLD`` and ``v_free = 0`` (same arithmetic and
+    tie-breaking), on flat arrays, a scanned column marked by ``d = -inf`` as in
+    :func:`_search`. ``d`` must be ``+inf`` everywhere on entry (and is on return). Returns
+    False when some row cannot be assigned (the problem is infeasible).
     """
-    ps = nodes.parent[node]
-    f = nodes.forb_head[node]
-    r = forb.row[f]
-    s = sols.sol[ps]
-    _load(m, s, nodes.fixed[node])
-    c = s[r]
-    m.col4row[r] = UNASSIGNED
-    m.row4col[c] = UNASSIGNED
-    for i in range(s.shape[0]):
-        m.u[i] = sols.u[ps, i]
-        m.v[s[i]] = sols.v[ps, i]  # free columns: the shared potential, never read
-    _forbid(g, forb, f)
-    inc, v_free = sap_augment(g, r, c, m, sols.v_free[ps], ws)
-    _allow(g, forb, f)
-    if inc == np.inf:
-        m.col4row[r] = c  # restore the loaded matching so that _unload clears it
-        m.row4col[c] = r
-        _unload(m)
-        return False, v_free
-    return True, v_free
+    P = col4row.shape[0]
+    for root in range(P):
+        n_cand = 0
+        n_touched = 0
+        n_rows = 0
+        n_done = 0
+        min_val = 0.0
+        i = root
+        sink = -1
+        while sink < 0:
+            # scan row i
+            rows[n_rows] = i
+            rows_d[n_rows] = min_val
+            n_rows += 1
+            ui = u[i]
+            for e in range(ptr[i], ptr[i + 1]):
+                cij = cost[e]
+                j = col[e]
+                if cij == np.inf:
+                    continue
+                if row4col[j] < 0:  # a free column: the shared potential 0
+                    dist = min_val + (cij - ui - 0.0)
+                else:
+                    dist = min_val + (cij - ui - v[j])
+                if dist < d[j]:  # (never for a scanned column, d = -inf)
+                    if d[j] == np.inf:
+                        cand[n_cand] = j
+                        n_cand += 1
+                        touched[n_touched] = j
+                        n_touched += 1
+                    d[j] = dist
+                    path[j] = i
+            # the closest reached column; ties: a free one (it ends the path), the lowest index
+            index = -1
+            lowest = np.inf
+            best_ends = False
+            best_j = -1
+            for it in range(n_cand):
+                j = cand[it]
+                dj = d[j]
+                if dj > lowest:
+                    continue
+                ends = row4col[j] < 0
+                if dj < lowest or (ends and not best_ends) or (ends == best_ends and j < best_j):
+                    lowest = dj
+                    index = it
+                    best_ends = ends
+                    best_j = j
+            if index < 0:
+                for t in range(n_touched):
+                    d[touched[t]] = np.inf
+                return False
+            j = cand[index]
+            n_cand -= 1
+            cand[index] = cand[n_cand]
+            min_val = d[j]
+            done[n_done] = j
+            done_d[n_done] = min_val
+            n_done += 1
+            d[j] = -np.inf
+            if row4col[j] < 0:
+                v[j] = 0.0  # a free column about to be matched: its potential made explicit
+                sink = j
+            else:
+                i = row4col[j]
+        for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
+            u[rows[t]] += min_val - rows_d[t]
+        for t in range(n_done):
+            v[done[t]] -= min_val - done_d[t]
+        j = sink
+        while True:
+            r = path[j]
+            row4col[j] = r
+            prev = col4row[r]
+            col4row[r] = j
+            if r == root:
+                break
+            j = prev
+        for t in range(n_touched):
+            d[touched[t]] = np.inf
+    return True
 
 
 @jit()
-def murty_kernel(g, P, N, k):
+def murty_kernel(ptr, col, cost0, pos, P, N, k):
     """Murty's ranked assignment with the Miller–Stone–Cox improvements.
 
     Parameters
     ----------
-    g : Graph
-        The finite entries of a ``(P, N)`` cost matrix, ``1 <= P <= N``, with at least one
-        feasible assignment (its ``cost`` is modified during the run and restored).
+    ptr, col, cost0 : ndarray
+        The finite entries of a ``(P, N)`` cost matrix, ``1 <= P <= N``, row by row (CSR:
+        row ``i`` owns entries ``ptr[i]:ptr[i + 1]``, entry ``e`` is column ``col[e]`` at
+        cost ``cost0[e]``), with at least one feasible assignment.
+    pos : ndarray, int64, shape (P, N)
+        ``pos[i, j]``: the entry of ``(i, j)`` (-1: none).
     P, N : int
         Shape of the cost matrix.
     k : int
@@ -295,121 +565,163 @@ def murty_kernel(g, P, N, k):
         order of creation of their nodes.
     costs : ndarray, float64, shape (n,)
         Their costs summed row by row from ``0.0`` (bit for bit
-        ``AssignmentProblem.cost_of``); non-decreasing up to the rounding of sums of equal
-        value in different orders (a child's cost can be one ulp below its parent's).
+        ``AssignmentProblem.cost_of``), non-decreasing: a child's cost can come out one ulp
+        below its parent's (sums of equal value in different orders), and a final stable
+        sort by value puts it first (the order of the search otherwise).
 
     Notes
     -----
     Each node of the partition tree is a subproblem: rows fixed to their parent's columns and
     a set of forbidden pairs (a linked list shared with the ancestors). Popping a solved node
     with solution ``s`` reports ``s`` and creates one child per free row ``r``: forbid
-    ``(r, s[r])`` and fix the rows processed before it (partition ordering). A child enters
-    the queue with the lower bound ``cost(s) + lb[r]`` (lazy evaluation, Miller, Stone & Cox
-    1997, spec §5.1 item 2) and is solved only if it reaches the top, by one warm-started
-    shortest augmenting path from its parent's duals (item 1), then re-enters with its exact
-    cost. A bound never exceeds the cost it bounds, so the output is that of solving every
-    child at once, in the same order.
-    """
-    out = np.empty((k, P), dtype=np.int64)
-    out_cost = np.empty(k)
-    m = new_matching(P, N)
-    ws = new_workspace(P, N)
-    for root in range(P):  # the root: a cold LSAP
-        inc, _ = sap_augment(g, root, COLD, m, 0.0, ws)
-        if inc == np.inf:
-            return out[:0], out_cost[:0]
-    nodes = _new_nodes(_INITIAL_CAPACITY, P)
-    sols = _new_solutions(_INITIAL_CAPACITY, P)
-    forb = Forbidden(np.empty(_INITIAL_CAPACITY, dtype=np.int64),
-                     np.empty(_INITIAL_CAPACITY, dtype=np.int64),
-                     np.empty(_INITIAL_CAPACITY, dtype=np.int64))
-    heap = np.empty(_INITIAL_CAPACITY, dtype=np.int64)
-    entry_of = np.empty(P, dtype=np.int64)
-    _store_solution(sols, 0, m, 0.0)
-    nodes.key[0] = _assignment_cost(g, P, m.col4row, entry_of)
-    nodes.slot[0] = 0
-    nodes.parent[0] = NO_ENTRY
-    nodes.forb_head[0] = NO_ENTRY
-    for i in range(P):
-        nodes.fixed[0, i] = False
-    _unload(m)
-    n_nodes = 1
-    n_sols = 1
-    n_forb = 0
-    n_heap = _heap_push(heap, 0, nodes.key, 0)
+    ``(r, s[r])`` and fix the rows processed before it. Rows are processed in decreasing
+    order of ``lb[r]``, the smallest reduced cost of an allowed alternative for row ``r``
+    (partition ordering). A child enters the queue with the lower bound ``cost(s) + lb[r]``
+    (lazy evaluation, Miller, Stone & Cox 1997, spec §5.1 item 2) and is solved only if it
+    reaches the top, by one shortest augmenting path from its parent's duals and assignment
+    minus ``(r, s[r])`` (item 1), then re-enters with its exact cost. A bound never exceeds
+    the cost it bounds, so the output is that of solving every child at once, in the same
+    order. The heap orders nodes by ``(key, node id)``: equal keys leave in order of
+    creation.
 
+    Rectangular LSAP is the square problem in which every free column is held by a zero-cost
+    dummy row; all free columns share one implicit potential ``v_free`` (see
+    :mod:`.lsap`). A solution is stored with its row duals ``u``, the dual ``v`` of each
+    row's column and ``v_free``: ``O(P)`` numbers, not ``O(N)``. The root is a cold LSAP
+    (:func:`.lsap.sap_augment` from each row in turn).
+    """
+    cost = cost0.copy()  # forbidden entries of the current node are set to +inf for a while
+    # the assignment state (duals, matching, active columns) and the search's workspace
+    u = np.zeros(P)
+    v = np.zeros(N)
+    col4row = np.full(P, UNASSIGNED, dtype=np.int64)
+    row4col = np.full(N, UNASSIGNED, dtype=np.int64)
+    active = np.ones(N, dtype=np.bool_)
+    d = np.full(N, np.inf)
+    path = np.empty(N, dtype=np.int64)
+    cand = np.empty(N, dtype=np.int64)
+    touched = np.empty(N, dtype=np.int64)
+    done = np.empty(N, dtype=np.int64)
+    done_d = np.empty(N)
+    rows = np.empty(P, dtype=np.int64)
+    rows_d = np.empty(P)
+    if not _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, touched,
+                      done, done_d, rows):
+        return np.empty((0, P), dtype=np.int64), np.empty(0)
+    # the partition tree: heap key (exact cost once solved, a lower bound before), slot of
+    # the solution (NO_ENTRY until solved), slot of the parent's solution, head of the
+    # forbidden-pair list (own pair first, then the ancestors'), rows fixed to the parent
+    cap = max(_INITIAL_CAPACITY, 2 * P)
+    node_key = np.empty(cap)
+    node_slot = np.empty(cap, dtype=np.int64)
+    node_parent = np.empty(cap, dtype=np.int64)
+    node_forb = np.empty(cap, dtype=np.int64)
+    n_words = (P + 63) >> 6  # fixed rows as bits, 64 to a word
+    node_fixed = np.zeros((cap, n_words), dtype=np.int64)
+    heap_key = np.empty(cap)  # binary heap of (key, node id)
+    heap_id = np.empty(cap, dtype=np.int64)
+    # solved nodes: assignment, row duals, dual of each row's column, free-column potential
+    sol_cap = _INITIAL_CAPACITY
+    sol = np.empty((sol_cap, P), dtype=np.int64)
+    sol_u = np.empty((sol_cap, P))
+    sol_v = np.empty((sol_cap, P))
+    sol_vfree = np.empty(sol_cap)
+    # forbidden pairs: row, graph entry, next entry of the list
+    forb_cap = max(_INITIAL_CAPACITY, 2 * P)
+    forb_row = np.empty(forb_cap, dtype=np.int64)
+    forb_entry = np.empty(forb_cap, dtype=np.int64)
+    forb_next = np.empty(forb_cap, dtype=np.int64)
+    out_cap = min(k, _INITIAL_CAPACITY)
+    out_slot = np.empty(out_cap, dtype=np.int64)  # solution slot of each reported node
+    out_cost = np.empty(out_cap)
+
+    key0 = 0.0
+    for i in range(P):
+        c = col4row[i]
+        sol[0, i] = c
+        sol_u[0, i] = u[i]
+        sol_v[0, i] = v[c]
+        key0 += cost0[pos[i, c]]
+        row4col[c] = UNASSIGNED
+    sol_vfree[0] = 0.0
+    node_key[0] = key0
+    node_slot[0] = 0
+    node_parent[0] = NO_ENTRY
+    node_forb[0] = NO_ENTRY
+    heap_key[0] = key0
+    heap_id[0] = 0
+    state = np.zeros(N_STATE, dtype=np.int64)
+    state[S_HEAP] = 1
+    state[S_NODES] = 1
+    state[S_SOLS] = 1
+    entry_of = np.empty(P, dtype=np.int64)
     order = np.empty(P, dtype=np.int64)
     lb = np.empty(P)
-    fix_now = np.empty(P, dtype=np.bool_)
-    n_out = 0
-    while n_heap > 0 and n_out < k:
-        node, n_heap = _heap_pop(heap, n_heap, nodes.key)
-        if nodes.slot[node] == NO_ENTRY:
-            # a bounded node at the top: solve it, and queue it again with its exact cost
-            ok, v_free = _solve_node(g, nodes, sols, forb, node, m, ws)
-            if not ok:
-                continue
-            if n_sols == sols.sol.shape[0]:
-                sols = _grow_solutions(sols, 2 * n_sols)
-            _store_solution(sols, n_sols, m, v_free)
-            nodes.slot[node] = n_sols
-            n_sols += 1
-            _unload(m)
-            nodes.key[node] = _assignment_cost(g, P, sols.sol[nodes.slot[node]], entry_of)
-            n_heap = _heap_push(heap, n_heap, nodes.key, node)
+    fix_now = np.empty(n_words, dtype=np.int64)
+    vx = np.empty(N)
+    while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d,
+                      path, rows_d, cand, touched, done, done_d, rows, node_key,
+                      node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
+                      sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
+                      out_cost, entry_of, order, lb, fix_now, vx, state, k):
+        # an array is full: double it (every array the next iteration may fill)
+        if state[S_OUT] == out_slot.shape[0]:
+            out_slot = _grow(out_slot, min(k, 2 * out_slot.shape[0]))
+            out_cost = _grow(out_cost, out_slot.shape[0])
+        if state[S_SOLS] == sol.shape[0]:
+            n = 2 * sol.shape[0]
+            sol = _grow(sol, n)
+            sol_u = _grow(sol_u, n)
+            sol_v = _grow(sol_v, n)
+            sol_vfree = _grow(sol_vfree, n)
+        if state[S_NODES] + P > node_key.shape[0]:
+            n = 2 * node_key.shape[0]
+            node_key = _grow(node_key, n)
+            node_slot = _grow(node_slot, n)
+            node_parent = _grow(node_parent, n)
+            node_forb = _grow(node_forb, n)
+            node_fixed = _grow(node_fixed, n)
+            heap_key = _grow(heap_key, n)
+            heap_id = _grow(heap_id, n)
+        if state[S_FORB] + P > forb_row.shape[0]:
+            n = 2 * forb_row.shape[0]
+            forb_row = _grow(forb_row, n)
+            forb_entry = _grow(forb_entry, n)
+            forb_next = _grow(forb_next, n)
+    n_out = state[S_OUT]
+    out = np.empty((n_out, P), dtype=np.int64)
+    for t in range(n_out):
+        for i in range(P):
+            out[t, i] = sol[out_slot[t], i]
+    # A stable insertion sort removes the rare last-bit inversion between a node and a child
+    # of equal cost summed in another order (the output is already sorted up to those).
+    row = np.empty(P, dtype=np.int64)
+    for t in range(1, n_out):
+        x = out_cost[t]
+        if not x < out_cost[t - 1]:
             continue
-        sl = nodes.slot[node]
-        s = sols.sol[sl]
         for i in range(P):
-            out[n_out, i] = s[i]
-        out_cost[n_out] = nodes.key[node]
-        n_out += 1
-        if n_out == k:
-            break
-        # partition the node: children with lower bounds only
-        key = _assignment_cost(g, P, s, entry_of)
-        head = nodes.forb_head[node]
+            row[i] = out[t, i]
+        b = t - 1
+        while b >= 0 and x < out_cost[b]:
+            out_cost[b + 1] = out_cost[b]
+            for i in range(P):
+                out[b + 1, i] = out[b, i]
+            b -= 1
+        out_cost[b + 1] = x
         for i in range(P):
-            fix_now[i] = nodes.fixed[node, i]
-        _forbid(g, forb, head)
-        _load(m, s, fix_now)
-        n_free = _partition_order(g, s, entry_of, sols.u[sl], sols.v[sl], sols.v_free[sl], m,
-                                  fix_now, lb, order)
-        _unload(m)
-        _allow(g, forb, head)
-        slack = _bound_slack(key, s, entry_of, g, sols.u[sl])
-        for t in range(n_free):
-            r = order[t]
-            if lb[r] < np.inf:
-                # child t: forbid (r, s[r]), rows order[:t] fixed
-                if n_nodes + 1 >= nodes.key.shape[0]:
-                    nodes = _grow_nodes(nodes, 2 * n_nodes)
-                    heap = _grow(heap, 2 * n_nodes)
-                if n_forb == forb.row.shape[0]:
-                    forb = _grow_forbidden(forb, 2 * n_forb)
-                forb.row[n_forb] = r
-                forb.entry[n_forb] = entry_of[r]
-                forb.next[n_forb] = head
-                nodes.key[n_nodes] = key + lb[r] - slack
-                nodes.slot[n_nodes] = NO_ENTRY
-                nodes.parent[n_nodes] = sl
-                nodes.forb_head[n_nodes] = n_forb
-                for i in range(P):
-                    nodes.fixed[n_nodes, i] = fix_now[i]
-                n_forb += 1
-                n_heap = _heap_push(heap, n_heap, nodes.key, n_nodes)
-                n_nodes += 1
-            fix_now[r] = True  # later children keep row r on its parent column
-    return out[:n_out], out_cost[:n_out]
+            out[b + 1, i] = row[i]
+    return out, out_cost[:n_out]
 
 
 @jit()
 def compact_graph(cc):
-    """The :data:`~.lsap.Graph` of a problem's compact costs, in the ``(P, M + 2P)`` layout.
+    """CSR arrays of a problem's compact costs in the ``(P, M + 2P)`` layout.
 
     Row ``i`` of ``cc = [meas 0..M-1 | missed | dead]`` has at most ``M + 2`` finite entries:
     measurement ``j`` is column ``j``, missed is column ``M + i``, dead is column
-    ``M + P + i`` (increasing column order).
+    ``M + P + i`` (increasing column order). Returns ``(ptr, col, cost, pos)`` as in
+    :func:`murty_kernel`.
     """
     P = cc.shape[0]
     M = cc.shape[1] - 2
@@ -431,7 +743,7 @@ def compact_graph(cc):
                 cost[e] = cc[i, o]
                 pos[i, col[e]] = e
                 e += 1
-    return Graph(ptr, col, cost, cost.copy(), pos)
+    return ptr, col, cost, pos
 
 
 @jit()
@@ -439,4 +751,5 @@ def murty_compact_kernel(cc, k):
     """:func:`murty_kernel` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``."""
     P = cc.shape[0]
     M = cc.shape[1] - 2
-    return murty_kernel(compact_graph(cc), P, M + 2 * P, k)
+    ptr, col, cost, pos = compact_graph(cc)
+    return murty_kernel(ptr, col, cost, pos, P, M + 2 * P, k)
