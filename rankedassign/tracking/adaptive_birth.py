@@ -51,7 +51,6 @@ __all__ = ["AB_SAMPLERS", "AdaptiveBirth", "empty_birth"]
 AB_SAMPLERS = ("short", "long")
 
 _STATE_DIM = 4
-_H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])  # position of [p_x, v_x, p_y, v_y]
 
 
 def _prior_mean(mu0) -> tuple:
@@ -247,9 +246,11 @@ class AdaptiveBirth:
         V = len(measurements)
         n_min = self.effective_n_min(V)
         problem = AdaptiveBirthProblem.from_measurements(
-            [np.asarray(z, dtype=np.float64).reshape(-1, 2) for z in measurements],
+            [np.asarray(z, dtype=np.float64).reshape(-1, np.asarray(s.H).shape[0])
+             for z, s in zip(measurements, sensors, strict=True)],
             [np.clip(np.asarray(r, dtype=np.float64), 0.0, 1.0) for r in r_U],
-            H=_H, R=[np.asarray(s.R) for s in sensors], P_D=[float(s.p_d) for s in sensors],
+            H=[np.asarray(s.H) for s in sensors], R=[np.asarray(s.R) for s in sensors],
+            P_D=[float(s.p_d) for s in sensors],
             clutter_intensity=[float(c.intensity) for c in clutters],
             mu0=np.asarray(self.mu0), P0=np.asarray(self.P0), tau_rU=self.tau_rU, n_min=n_min,
         )
