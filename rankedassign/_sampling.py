@@ -14,7 +14,10 @@ the same kind name, so the layers import downwards only::
 
 Single-sensor preparation. States are compact index vectors: ``k < M`` measurement ``k``,
 ``k = M`` missed, ``k = M + 1`` dead (the columns of :attr:`AssignmentProblem.compact_cost`);
-the result holds column indices of the full ``P x (M + 2P)`` matrix.
+the result holds column indices of the full ``P x (M + 2P)`` matrix. A single-sensor problem is of
+kind ``"single"`` (rows draw with the direct sum) or ``"single_prefix"`` (rows draw from prefix
+sums, :func:`uses_prefix_sums`): the reference runs one row update for both, the kernels a
+driver each, so that each compiled driver receives only the arrays its draw reads.
 """
 
 from __future__ import annotations
