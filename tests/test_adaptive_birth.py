@@ -12,10 +12,10 @@ from scipy.stats import multivariate_normal
 
 import oracle
 from oracle import adaptive_birth as ob
+from rankedassign.experiments.adaptive_birth_study import make_family
 from rankedassign.multisensor import AdaptiveBirthProblem, birth_from_samples
 from rankedassign.multisensor import ab_reference as ref
 from rankedassign.multisensor.adaptive_birth import chain_inputs
-from rankedassign.multisensor.adaptive_birth_study import make_family
 
 H4 = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
 P0 = np.diag([300.0**2, 20.0**2, 300.0**2, 20.0**2])

@@ -1,6 +1,6 @@
 """The adaptive-birth study: Table I layout on the adaptive-birth families, error vs observations.
 
-A registry wrapper around :mod:`rankedassign.multisensor.adaptive_birth_study`, which holds the
+A registry wrapper around :mod:`rankedassign.experiments.adaptive_birth_study`, which holds the
 computation (problems, one Monte Carlo task, the Table I summary, the curve, the table, the
 verdict and the plot); this module only splits the settings into tasks and gives the summary a
 typed shape. The paper has no adaptive-birth numbers (multi-sensor spec §5: "similar results
@@ -20,8 +20,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..multisensor import adaptive_birth_study as ab
 from . import _format as fmt
+from . import adaptive_birth_study as ab
 from .registry import Study, register_study
 
 __all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary", "summarise_adaptive_birth"]

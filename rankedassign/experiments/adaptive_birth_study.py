@@ -33,9 +33,9 @@ import numpy as np
 
 import oracle
 
+from ..multisensor.adaptive_birth import AdaptiveBirthProblem
 from ..samplers import sample_original, sample_short_chains
 from ..validation import check_choice, check_int
-from .adaptive_birth import AdaptiveBirthProblem
 
 __all__ = ["FAMILIES", "SIZES", "CRITERIA", "StudyConfig", "QUICK", "FULL", "make_family",
            "run_task", "summarise", "curve", "format_table", "plot"]
