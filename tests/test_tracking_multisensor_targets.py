@@ -1,10 +1,11 @@
 """Targets of the multi-sensor tracking study: fusion gain, short chains against the exact
 update, many-sweep Gibbs against the exact marginals, adaptive birth tracking every target.
 
-These run the multi-sensor filter over 100 scans on many seeds and sensor sets — about an hour
-on two cores, most of it in the three-sensor runs with the paper's wide births — so they sit
-behind their own marker, outside both CI tiers: ``python -m pytest -m study``. The adaptive-birth
-target (about a minute for its ten runs) is also marked ``slow``."""
+These run the multi-sensor filter over 100 scans on many seeds and sensor sets — about ten
+minutes on an idle two-core machine, most of it in the three-sensor runs with the paper's wide
+births — so they sit behind their own marker, outside the default run:
+``python -m pytest -m study``; CI runs them as a tier of their own. The adaptive-birth target
+(about a minute for its ten runs) is also marked ``slow``."""
 
 import numpy as np
 import pytest
