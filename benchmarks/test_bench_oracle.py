@@ -17,12 +17,17 @@ The Murty targets are ratios against :func:`textbook_murty`, the plain algorithm
 written here (one :func:`scipy.optimize.linear_sum_assignment` per subproblem, every subproblem
 a cost matrix of its own, nothing shared between subproblems), on a dense ``20 x 20`` problem
 (``synthetic.random(R=20, M=20, rng=0)``: every pair allowed) for ``k = 100`` and on the GLMB
-layout ``P = 20, M = 50`` (``20 x 90``) for ``k = 1000``.
+layout ``P = 20, M = 50`` (``20 x 90``) for ``k = 1000``. A third group, without a target,
+times the square case of ``fastmurty``'s own benchmark (:func:`square_problem`). The three
+groups take Motro's C ``fastmurty`` (sparse and dense input) when a build of it is named in the
+environment (:mod:`_fastmurty`; skipped otherwise), so the C state of the art sits in the same
+table.
 """
 
 import heapq
 import math
 
+import _fastmurty
 import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
@@ -35,10 +40,28 @@ PROBLEMS = {
     "20x90": lambda: synthetic.random(R=20, M=50, rng=0),
 }
 
-# (group, problem, k) of the Murty targets against the textbook SciPy Murty
+
+def square_problem(n=20, seed=0):
+    """The square case of ``fastmurty``'s own benchmark in this project's layout.
+
+    Its example draws an ``n x n`` matrix ``U(0, 1) - (n + 1)`` whose rows may stay unassigned
+    at cost 0 ("so that misses are never picked"); here that is an ``n x (n + 2n)`` problem:
+    the ``n x n`` block on the measurement columns, cost 0 on each row's missed column and no
+    dead column (``+inf``).
+    """
+    rng = np.random.default_rng(seed)
+    cost = np.full((n, 3 * n), np.inf)
+    cost[:, :n] = rng.random((n, n)) - (n + 1)
+    cost[np.arange(n), n + np.arange(n)] = 0.0
+    return AssignmentProblem.from_cost(cost)
+
+
+# (group, problem, k) of the Murty targets against the textbook SciPy Murty, and the square
+# case of fastmurty's own benchmark (no target: the C library's home ground, for comparison)
 TEXTBOOK_CASES = {
     "dense 20x20 k=100": (lambda: synthetic.random(R=20, M=20, rng=0), 100),
     "GLMB 20x50 k=1000": (lambda: synthetic.random(R=20, M=50, rng=0), 1000),
+    "square 20x20 k=100": (square_problem, 100),
 }
 
 
@@ -112,7 +135,8 @@ def test_bench_murty(benchmark, size, k, method):
     assert len(r.costs) == k
 
 
-@pytest.mark.parametrize("method", ["oracle", "textbook-scipy"])
+@pytest.mark.parametrize("method", ["oracle", "textbook-scipy", "fastmurty-sparse",
+                                    "fastmurty-dense"])
 @pytest.mark.parametrize("group", sorted(TEXTBOOK_CASES))
 def test_bench_murty_vs_textbook(benchmark, group, method):
     make, k = TEXTBOOK_CASES[group]
@@ -121,8 +145,19 @@ def test_bench_murty_vs_textbook(benchmark, group, method):
     benchmark.extra_info.update(P=problem.n_rows, M=problem.n_meas, k=k, method=method)
     if method == "oracle":
         costs = benchmark(murty, problem, k).costs
-    else:
+    elif method == "textbook-scipy":
         costs = benchmark(textbook_murty, problem, k)
+    else:  # the C library, when a build of it is given (see _fastmurty.py)
+        kind = method.split("-")[1]
+        path = _fastmurty.library_path(kind)
+        if path is None:
+            pytest.skip(f"set {_fastmurty.ENV[kind]} to a {kind} build of fastmurty to compare")
+        fm = _fastmurty.FastMurty(path, kind)
+        try:
+            benchmark(fm.prepare(problem, k))
+            costs = problem.cost_of(fm.check())  # complete, allowed; costs summed as ours
+        finally:
+            fm.close()
     # both rank the same k costs (the textbook sums in another order: compare to rounding)
     np.testing.assert_allclose(np.sort(costs), murty(problem, k).costs, rtol=1e-12, atol=1e-12)
 
