@@ -26,6 +26,17 @@ def check_output(problem, r):
         assert len(np.unique(a, axis=0)) == len(a)
 
 
+def square_problem(n, seed, *, integer=False):
+    """The square case of fastmurty's benchmark: an ``n x n`` block of nearly equal costs
+    (``U(0, 1) - (n + 1)``, or integers in ``-4..-2`` with many ties), missed at cost 0, no
+    dead column. Most children cost more than the ``k``-th best: the kernel's cut drops them."""
+    rng = np.random.default_rng(seed)
+    cost = np.full((n, 3 * n), np.inf)
+    cost[:, :n] = (rng.integers(0, 3, (n, n)) - 4.0) if integer else rng.random((n, n)) - (n + 1)
+    cost[np.arange(n), n + np.arange(n)] = 0.0
+    return AssignmentProblem.from_cost(cost)
+
+
 def last_columns_problem(P, M, seed):
     """Random costs where the cheapest entries sit on the last measurement columns."""
     rng = np.random.default_rng(seed)
@@ -251,6 +262,9 @@ TIE_ORDER_DIGESTS = [
     ("gated_ties_6x9", lambda: gated_problem(12, 6, 9, 0.5, dead=False, integer=True), 400,
      "8620fbc389174bd3"),
     ("rows_70x10", lambda: synthetic.random(R=70, M=10, rng=1), 300, "a43f6242649e37e3"),
+    # taken before the cut at the k-th best solved cost, which drops most solves here
+    ("square_20", lambda: square_problem(20, 0), 100, "da6c96b59ee5c720"),
+    ("square_ties_10", lambda: square_problem(10, 1, integer=True), 400, "9673f5c01d59772e"),
 ]
 
 
@@ -260,3 +274,30 @@ def test_kernel_order_among_ties_is_unchanged(name, make, k, digest):
     r = murty(make(), k)
     got = hashlib.sha256(np.ascontiguousarray(r.assignments, dtype="<i8").tobytes())
     assert got.hexdigest()[:16] == digest
+
+
+@pytest.mark.parametrize("integer", [False, True], ids=["near_equal", "integer_ties"])
+@pytest.mark.parametrize("seed", range(3))
+def test_square_problems_against_enumeration(seed, integer):
+    # the cut at the k-th best solved cost is active on almost every solve here
+    p = square_problem(6, seed, integer=integer)
+    full = enumerate_assignments(p)
+    for k in (1, 7, 60, 400):
+        r = murty(p, k)
+        check_output(p, r)
+        assert_same_ranking(r, (full.assignments[:k], full.costs[:k]), complete=False)
+
+
+@pytest.mark.parametrize("make", [lambda: square_problem(12, 4), lambda: square_problem(9, 5, integer=True),
+                                  lambda: synthetic.random(R=10, M=15, rng=6),
+                                  lambda: gated_problem(13, 8, 10, 0.5, dead=False, integer=True)],
+                         ids=["square", "square_ties", "random", "gated_ties"])
+def test_fewer_wanted_is_a_prefix(make):
+    # The cut depends on k (it drops what cannot be among the k best), the order does not:
+    # asking for fewer gives exactly the first ones, ties included.
+    p = make()
+    big = murty(p, 300)
+    for k in (1, 2, 17, 120, 299):
+        r = murty(p, k)
+        assert_array_equal(r.assignments, big.assignments[:k])
+        assert_array_equal(r.costs, big.costs[:k])

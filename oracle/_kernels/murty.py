@@ -3,7 +3,11 @@
 The driver :func:`murty_kernel` takes the best open subproblem of the partition tree. A node
 that is only *bounded* is solved (one warm-started shortest augmenting path) and goes back
 into the queue with its exact cost; a *solved* node is reported and partitioned: its children
-enter the queue with a lower bound only, so most of them are never solved. Forbidden pairs
+enter the queue with a lower bound only, so most of them are never solved. Once ``k - n``
+solved nodes wait in the queue (``n`` reported), the largest of their costs (a max-heap of
+the least solved costs keeps it) is a cut: a solve stops as soon as its node is proven to
+cost more, and a child bounded above it is not created. Neither can ever be reported, so the
+output is unchanged. Forbidden pairs
 are switched on and off in the shared graph's ``cost`` array. Costs are accumulated row by
 row in the order ``0..P-1`` from ``0.0``, exactly as
 :meth:`rankedassign.AssignmentProblem.cost_of` does.
@@ -56,14 +60,17 @@ S_NODES = 1  # nodes created
 S_SOLS = 2  # solutions stored
 S_FORB = 3  # forbidden-pair entries used
 S_OUT = 4  # assignments reported
-N_STATE = 5
+S_BEST = 5  # entries in the max-heap of solved costs (kbest), reported ones included
+S_STALE = 6  # entries of kbest that belong to reported nodes
+N_STATE = 7
 
 
 @jit()
 def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, rows_d,
             cand, touched, done, done_d, rows, node_key, node_slot, node_parent, node_forb,
             node_fixed, sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key,
-            heap_id, out_slot, out_cost, entry_of, order, lb, fix_now, vx, state, k):
+            heap_id, out_slot, out_cost, entry_of, order, lb, fix_now, vx, sol_cost, sol_scale,
+            kbest, state, k):
     """Run the search until ``k`` assignments are reported, the queue is empty or an array is
     full; return True when finished (False: grow the arrays and call again).
 
@@ -76,10 +83,13 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
     n_sols = state[S_SOLS]
     n_forb = state[S_FORB]
     n_out = state[S_OUT]
+    n_best = state[S_BEST]
+    n_stale = state[S_STALE]
     finished = True
     while n_heap > 0 and n_out < k:
         if (n_out == out_slot.shape[0] or n_sols == sol.shape[0] or n_nodes + P > node_key.shape[0]
-                or n_forb + P > forb_row.shape[0]):
+                or n_forb + P > forb_row.shape[0]
+                or n_best == kbest.shape[0] < k):  # (kbest never holds more than k)
             finished = False
             break
         # The least (key, id) is at the top. It stays there while it is processed and is then
@@ -87,6 +97,17 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
         # child once partitioned, or by the heap's last entry when it just leaves.
         node = heap_id[0]
         first = n_nodes  # children made in this iteration: first..n_nodes-1
+        # The cut. kbest is a max-heap of solved costs: costs of solved nodes still in the
+        # queue, and n_stale entries counted for the nodes reported since (a reported cost
+        # stays in it; it may also have been evicted, so n_best - n_stale never overcounts
+        # the queued ones). When it holds k - n_out queued costs, the largest entry is at
+        # least the (k - n_out)-th least queued cost: every cost still to be reported is at
+        # most that, so a node dearer than kbest[0] (beyond a margin for rounding), and every
+        # descendant of it, is never reported.
+        if n_best - n_stale == k - n_out:
+            cut = kbest[0]
+        else:
+            cut = np.inf
 
         if node_slot[node] == NO_ENTRY:
             # A bounded node at the top: solve it and queue it again with its exact cost.
@@ -95,6 +116,8 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             ps = node_parent[node]
             f = node_forb[node]
             root = forb_row[f]
+            base = sol_cost[ps]
+            cut = cut + _BOUND_SLACK * (sol_scale[ps] + abs(cut))  # (+inf stays +inf)
             v_free = sol_vfree[ps]
             vx[:] = v_free  # as in the partition: the dual of each column, -inf if inactive
             for i in range(P):
@@ -186,6 +209,8 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             hub_dist = 0.0
             while index >= 0:
                 j = cand[index]
+                if base + d[j] > cut:  # the node costs at least this much: drop it
+                    break
                 n_cand -= 1
                 cand[index] = cand[n_cand]
                 min_val = d[j]
@@ -307,15 +332,46 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 x = heap_id[n_heap]
             else:
                 key = 0.0
+                scale = 1.0
                 for i in range(P):
                     c = col4row[i]
                     sol[n_sols, i] = c
                     sol_u[n_sols, i] = u[i]
                     sol_v[n_sols, i] = v[c]
-                    key += cost0[pos[i, c]]
+                    ci = cost0[pos[i, c]]
+                    key += ci
+                    scale += abs(ci) + abs(u[i])
                     row4col[c] = UNASSIGNED
                     active[c] = True
                 sol_vfree[n_sols] = v_free
+                sol_cost[n_sols] = key
+                sol_scale[n_sols] = scale + abs(key)
+                # keep the k - n_out least solved costs in the max-heap kbest
+                if n_best - n_stale < k - n_out:
+                    h = n_best
+                    n_best += 1
+                    while h > 0:
+                        hp = (h - 1) >> 1
+                        if kbest[hp] < key:
+                            kbest[h] = kbest[hp]
+                            h = hp
+                        else:
+                            break
+                    kbest[h] = key
+                elif key < kbest[0]:
+                    h = 0
+                    while True:
+                        ch = 2 * h + 1
+                        if ch >= n_best:
+                            break
+                        if ch + 1 < n_best and kbest[ch + 1] > kbest[ch]:
+                            ch += 1
+                        if kbest[ch] > key:
+                            kbest[h] = kbest[ch]
+                            h = ch
+                        else:
+                            break
+                    kbest[h] = key
                 node_slot[node] = n_sols
                 n_sols += 1
                 node_key[node] = key
@@ -328,6 +384,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             out_slot[n_out] = sl  # copied into the output at the end
             out_cost[n_out] = key
             n_out += 1
+            n_stale += 1  # its cost, the least in kbest, stays there as a stale entry
             if n_out == k:
                 break
             # partition it: the bound of each free row's child, with the node's forbidden pairs
@@ -350,6 +407,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 slack += abs(cost0[e]) + abs(sol_u[sl, i])
                 vx[c] = -np.inf if (fix_now[i >> 6] >> (i & 63)) & 1 else sol_v[sl, i]
             slack *= _BOUND_SLACK
+            cut = cut + _BOUND_SLACK * (sol_scale[sl] + abs(cut))
             n_free = 0
             for i in range(P):
                 if (fix_now[i >> 6] >> (i & 63)) & 1:
@@ -380,7 +438,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             # children: child t forbids (order[t], s[order[t]]) and fixes order[:t]
             for t in range(n_free):
                 r = order[t]
-                if lb[r] < np.inf:
+                if lb[r] < np.inf and key + lb[r] - slack <= cut:
                     forb_row[n_forb] = r
                     forb_entry[n_forb] = entry_of[r]
                     forb_next[n_forb] = head
@@ -445,6 +503,8 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
     state[S_SOLS] = n_sols
     state[S_FORB] = n_forb
     state[S_OUT] = n_out
+    state[S_BEST] = n_best
+    state[S_STALE] = n_stale
     return finished
 
 
@@ -626,6 +686,9 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     sol_u = np.empty((sol_cap, P))
     sol_v = np.empty((sol_cap, P))
     sol_vfree = np.empty(sol_cap)
+    sol_cost = np.empty(sol_cap)  # exact cost and rounding scale of each solution
+    sol_scale = np.empty(sol_cap)
+    kbest = np.empty(min(k, _INITIAL_CAPACITY))  # max-heap: the least solved costs
     # forbidden pairs: row, graph entry, next entry of the list
     forb_cap = max(_INITIAL_CAPACITY, 2 * P)
     forb_row = np.empty(forb_cap, dtype=np.int64)
@@ -644,6 +707,12 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
         key0 += cost0[pos[i, c]]
         row4col[c] = UNASSIGNED
     sol_vfree[0] = 0.0
+    sol_cost[0] = key0
+    scale0 = 1.0 + abs(key0)
+    for i in range(P):
+        scale0 += abs(cost0[pos[i, col4row[i]]]) + abs(u[i])
+    sol_scale[0] = scale0
+    kbest[0] = key0
     node_key[0] = key0
     node_slot[0] = 0
     node_parent[0] = NO_ENTRY
@@ -654,6 +723,7 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     state[S_HEAP] = 1
     state[S_NODES] = 1
     state[S_SOLS] = 1
+    state[S_BEST] = 1
     entry_of = np.empty(P, dtype=np.int64)
     order = np.empty(P, dtype=np.int64)
     lb = np.empty(P)
@@ -663,7 +733,8 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
                       path, rows_d, cand, touched, done, done_d, rows, node_key,
                       node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
                       sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
-                      out_cost, entry_of, order, lb, fix_now, vx, state, k):
+                      out_cost, entry_of, order, lb, fix_now, vx, sol_cost, sol_scale, kbest, state,
+                      k):
         # an array is full: double it (every array the next iteration may fill)
         if state[S_OUT] == out_slot.shape[0]:
             out_slot = _grow(out_slot, min(k, 2 * out_slot.shape[0]))
@@ -674,6 +745,10 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
             sol_u = _grow(sol_u, n)
             sol_v = _grow(sol_v, n)
             sol_vfree = _grow(sol_vfree, n)
+            sol_cost = _grow(sol_cost, n)
+            sol_scale = _grow(sol_scale, n)
+        if state[S_BEST] == kbest.shape[0] < k:
+            kbest = _grow(kbest, min(k, 2 * kbest.shape[0]))
         if state[S_NODES] + P > node_key.shape[0]:
             n = 2 * node_key.shape[0]
             node_key = _grow(node_key, n)
