@@ -117,7 +117,8 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             f = node_forb[node]
             root = forb_row[f]
             base = sol_cost[ps]
-            cut = cut + _BOUND_SLACK * (sol_scale[ps] + abs(cut))  # (+inf stays +inf)
+            # the margin for rounding: the parent's, set when it was partitioned
+            cut += _BOUND_SLACK * (sol_scale[ps] + abs(cut))  # (+inf stays +inf)
             v_free = sol_vfree[ps]
             vx[:] = v_free  # as in the partition: the dual of each column, -inf if inactive
             for i in range(P):
@@ -332,32 +333,37 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 x = heap_id[n_heap]
             else:
                 key = 0.0
-                scale = 1.0
                 for i in range(P):
                     c = col4row[i]
                     sol[n_sols, i] = c
                     sol_u[n_sols, i] = u[i]
                     sol_v[n_sols, i] = v[c]
-                    ci = cost0[pos[i, c]]
-                    key += ci
-                    scale += abs(ci) + abs(u[i])
+                    key += cost0[pos[i, c]]
                     row4col[c] = UNASSIGNED
                     active[c] = True
                 sol_vfree[n_sols] = v_free
                 sol_cost[n_sols] = key
-                sol_scale[n_sols] = scale + abs(key)
-                # keep the k - n_out least solved costs in the max-heap kbest
+                # keep the k - n_out least solved costs in kbest: appended until there are
+                # that many, then a max-heap (made once) whose top is replaced
                 if n_best - n_stale < k - n_out:
-                    h = n_best
+                    kbest[n_best] = key
                     n_best += 1
-                    while h > 0:
-                        hp = (h - 1) >> 1
-                        if kbest[hp] < key:
-                            kbest[h] = kbest[hp]
-                            h = hp
-                        else:
-                            break
-                    kbest[h] = key
+                    if n_best - n_stale == k - n_out:  # full: heapify kbest[:n_best]
+                        for h0 in range((n_best >> 1) - 1, -1, -1):
+                            x0 = kbest[h0]
+                            h = h0
+                            while True:
+                                ch = 2 * h + 1
+                                if ch >= n_best:
+                                    break
+                                if ch + 1 < n_best and kbest[ch + 1] > kbest[ch]:
+                                    ch += 1
+                                if kbest[ch] > x0:
+                                    kbest[h] = kbest[ch]
+                                    h = ch
+                                else:
+                                    break
+                            kbest[h] = x0
                 elif key < kbest[0]:
                     h = 0
                     while True:
@@ -406,8 +412,9 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 entry_of[i] = e
                 slack += abs(cost0[e]) + abs(sol_u[sl, i])
                 vx[c] = -np.inf if (fix_now[i >> 6] >> (i & 63)) & 1 else sol_v[sl, i]
+            sol_scale[sl] = slack  # the rounding scale of its children's solves
             slack *= _BOUND_SLACK
-            cut = cut + _BOUND_SLACK * (sol_scale[sl] + abs(cut))
+            cut += slack + _BOUND_SLACK * abs(cut)  # the margin, as in a solve
             n_free = 0
             for i in range(P):
                 if (fix_now[i >> 6] >> (i & 63)) & 1:
@@ -686,7 +693,7 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     sol_u = np.empty((sol_cap, P))
     sol_v = np.empty((sol_cap, P))
     sol_vfree = np.empty(sol_cap)
-    sol_cost = np.empty(sol_cap)  # exact cost and rounding scale of each solution
+    sol_cost = np.empty(sol_cap)  # exact cost of each solution, and its rounding scale
     sol_scale = np.empty(sol_cap)
     kbest = np.empty(min(k, _INITIAL_CAPACITY))  # max-heap: the least solved costs
     # forbidden pairs: row, graph entry, next entry of the list
@@ -708,10 +715,6 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
         row4col[c] = UNASSIGNED
     sol_vfree[0] = 0.0
     sol_cost[0] = key0
-    scale0 = 1.0 + abs(key0)
-    for i in range(P):
-        scale0 += abs(cost0[pos[i, col4row[i]]]) + abs(u[i])
-    sol_scale[0] = scale0
     kbest[0] = key0
     node_key[0] = key0
     node_slot[0] = 0
