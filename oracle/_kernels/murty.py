@@ -210,8 +210,6 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             hub_dist = 0.0
             while index >= 0:
                 j = cand[index]
-                if base + d[j] > cut:  # the node costs at least this much: drop it
-                    break
                 n_cand -= 1
                 cand[index] = cand[n_cand]
                 min_val = d[j]
@@ -222,6 +220,8 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 i = -1
                 if j == freed:
                     sink = j
+                    break
+                elif base + min_val > cut:  # the node costs at least this much: drop it
                     break
                 elif row4col[j] < 0:
                     # a dummy-held column: open the hub, every column reachable through it
