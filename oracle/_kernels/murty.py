@@ -437,19 +437,28 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     b -= 1
                 order[b + 1] = i
                 n_free += 1
-            g = head
-            while g != NO_ENTRY:
-                e = forb_entry[g]
-                cost[e] = cost0[e]
-                g = forb_next[g]
             # children: child t forbids (order[t], s[order[t]]) and fixes order[:t]
             for t in range(n_free):
                 r = order[t]
-                if lb[r] < np.inf and key + lb[r] - slack <= cut:
+                bx = lb[r]
+                if t > 0 and bx < np.inf and cut < np.inf:
+                    # Under a cut, child t's bound is its own first step: lb[r] again, with
+                    # the columns of the rows fixed before it (order[:t]) inactive as well.
+                    # It is the distance its solve would pop first, so a child that the
+                    # solve would drop there is not created.
+                    ei = entry_of[r]
+                    cost[ei] = np.inf
+                    bx = np.inf
+                    ui = sol_u[sl, r]
+                    for e in range(np.uint64(ptr[r]), np.uint64(ptr[r + 1])):
+                        bx = min(bx, cost[e] - ui - vx[np.uint64(col[e])])
+                    cost[ei] = cost0[ei]
+                    bx = max(bx, 0.0)
+                if bx < np.inf and key + bx - slack <= cut:
                     forb_row[n_forb] = r
                     forb_entry[n_forb] = entry_of[r]
                     forb_next[n_forb] = head
-                    ck = key + lb[r] - slack
+                    ck = key + bx - slack
                     node_key[n_nodes] = ck
                     node_slot[n_nodes] = NO_ENTRY
                     node_parent[n_nodes] = sl
@@ -459,6 +468,12 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     n_forb += 1
                     n_nodes += 1
                 fix_now[r >> 6] |= np.int64(1) << (r & 63)  # later children: row r stays
+                vx[sol[sl, r]] = -np.inf  # (its column, for the bounds of the later ones)
+            g = head
+            while g != NO_ENTRY:
+                e = forb_entry[g]
+                cost[e] = cost0[e]
+                g = forb_next[g]
             if n_nodes == first:  # no child: the node leaves
                 n_heap -= 1
                 kx = heap_key[n_heap]
