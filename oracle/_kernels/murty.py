@@ -69,8 +69,8 @@ N_STATE = 7
 def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path, rows_d,
             cand, touched, done, done_d, rows, node_key, node_slot, node_parent, node_forb,
             node_fixed, sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key,
-            heap_id, out_slot, out_cost, entry_of, order, lb, fix_now, vx, sol_cost, sol_scale,
-            kbest, state, k):
+            heap_id, out_slot, out_cost, entry_of, order, lb, lb_col, fix_now, vx, sol_cost,
+            sol_scale, kbest, state, k):
     """Run the search until ``k`` assignments are reported, the queue is empty or an array is
     full; return True when finished (False: grow the arrays and call again).
 
@@ -424,9 +424,18 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 cost[ei] = np.inf  # the row's own entry is no alternative
                 best = np.inf
                 ui = sol_u[sl, i]
-                for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
-                    rc = cost[e] - ui - vx[np.uint64(col[e])]
-                    best = min(best, rc)
+                if cut == np.inf:
+                    for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
+                        rc = cost[e] - ui - vx[np.uint64(col[e])]
+                        best = min(best, rc)
+                else:  # the same, and which column gives it (for the children's bounds)
+                    best_col = -1
+                    for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
+                        rc = cost[e] - ui - vx[np.uint64(col[e])]
+                        if rc < best:
+                            best = rc
+                            best_col = col[e]
+                    lb_col[i] = best_col
                 cost[ei] = cost0[ei]
                 x = max(best, 0.0)
                 lb[i] = x
@@ -441,11 +450,12 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             for t in range(n_free):
                 r = order[t]
                 bx = lb[r]
-                if t > 0 and bx < np.inf and cut < np.inf:
+                if t > 0 and bx < np.inf and cut < np.inf and vx[lb_col[r]] == -np.inf:
                     # Under a cut, child t's bound is its own first step: lb[r] again, with
                     # the columns of the rows fixed before it (order[:t]) inactive as well.
                     # It is the distance its solve would pop first, so a child that the
-                    # solve would drop there is not created.
+                    # solve would drop there is not created. (Unless the column that gave
+                    # lb[r] is now inactive, that is lb[r] itself.)
                     ei = entry_of[r]
                     cost[ei] = np.inf
                     bx = np.inf
@@ -745,14 +755,15 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     entry_of = np.empty(P, dtype=np.int64)
     order = np.empty(P, dtype=np.int64)
     lb = np.empty(P)
+    lb_col = np.empty(P, dtype=np.int64)
     fix_now = np.empty(n_words, dtype=np.int64)
     vx = np.empty(N)
     while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d,
                       path, rows_d, cand, touched, done, done_d, rows, node_key,
                       node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
                       sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
-                      out_cost, entry_of, order, lb, fix_now, vx, sol_cost, sol_scale, kbest, state,
-                      k):
+                      out_cost, entry_of, order, lb, lb_col, fix_now, vx, sol_cost, sol_scale,
+                      kbest, state, k):
         # an array is full: double it (every array the next iteration may fill)
         if state[S_OUT] == out_slot.shape[0]:
             out_slot = _grow(out_slot, min(k, 2 * out_slot.shape[0]))
