@@ -122,11 +122,12 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     ordering). Once ``k - n`` solved subproblems wait in the queue (``n`` reported so far), the
     largest of their costs bounds everything still to be reported: a solve stops as soon as
     its subproblem is proven dearer, and a child bounded above it is not created (the early
-    stop of Motro's ``fastmurty``); asking for fewer assignments gives exactly the first ones
-    of a longer ranking. ``+inf`` entries are missing edges (no large stand-in constant), so
-    huge and negative costs stay exact. The missed column ``M + i`` and dead column
-    ``M + P + i`` belong to row ``i`` only: they are not interchangeable dummy columns, and no
-    shortcut that treats them as such is taken.
+    stop of Motro's ``fastmurty``; under the cut a child's bound is its own first step, with
+    the columns of the rows fixed before it inactive too); asking for fewer assignments gives
+    exactly the first ones of a longer ranking. ``+inf`` entries are missing edges (no large
+    stand-in constant), so huge and negative costs stay exact. The missed column ``M + i`` and
+    dead column ``M + P + i`` belong to row ``i`` only: they are not interchangeable dummy
+    columns, and no shortcut that treats them as such is taken.
 
     References
     ----------
@@ -138,6 +139,9 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
        Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8), 2017.
     .. [4] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
        Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+    .. [5] M. Motro, ``fastmurty``: k-best data association in C, github.com/motrom/fastmurty
+       (the early stop at the ``k``-th best; its optimizations were presented at IEEE FUSION
+       2019).
 
     Examples
     --------

@@ -6,8 +6,9 @@ into the queue with its exact cost; a *solved* node is reported and partitioned:
 enter the queue with a lower bound only, so most of them are never solved. Once ``k - n``
 solved nodes wait in the queue (``n`` reported), the largest of their costs (a max-heap of
 the least solved costs keeps it) is a cut: a solve stops as soon as its node is proven to
-cost more, and a child bounded above it is not created. Neither can ever be reported, so the
-output is unchanged. Forbidden pairs
+cost more, and a child bounded above it is not created (under the cut a child's bound is its
+own first step: its row's least reduced cost with the columns of the rows fixed before it
+inactive too). Neither can ever be reported, so the output is unchanged. Forbidden pairs
 are switched on and off in the shared graph's ``cost`` array. Costs are accumulated row by
 row in the order ``0..P-1`` from ``0.0``, exactly as
 :meth:`rankedassign.AssignmentProblem.cost_of` does.
