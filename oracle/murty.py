@@ -118,16 +118,16 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     whose pair it forbids (lazy evaluation), and is solved only when it reaches the top: it
     inherits its parent's optimal duals and partial assignment and is completed by one
     shortest augmenting path (Dijkstra on reduced costs) from that row, then re-enters with its
-    exact cost. Rows are partitioned in decreasing order of the same bound (partition
-    ordering). Once ``k - n`` solved subproblems wait in the queue (``n`` reported so far), the
-    largest of their costs bounds everything still to be reported: a solve stops as soon as
-    its subproblem is proven dearer, and a child bounded above it is not created (the early
-    stop of Motro's ``fastmurty``; under the cut a child's bound is its own first step, with
-    the columns of the rows fixed before it inactive too); asking for fewer assignments gives
-    exactly the first ones of a longer ranking. ``+inf`` entries are missing edges (no large
-    stand-in constant), so huge and negative costs stay exact. The missed column ``M + i`` and
-    dead column ``M + P + i`` belong to row ``i`` only: they are not interchangeable dummy
-    columns, and no shortcut that treats them as such is taken.
+    exact cost. Rows are partitioned in decreasing order of the same bound (partition ordering).
+    Once ``k - n`` solved subproblems wait in the queue (``n`` reported so far), the largest of
+    their costs bounds everything still to be reported: a solve stops as soon as its subproblem
+    is proven dearer, and a child bounded above it is not created (the early stop of Motro's
+    ``fastmurty``; under the cut a child's bound is its own first step, with the columns of the
+    rows fixed before it inactive too); asking for fewer assignments gives the first ones of a
+    longer ranking (up to the last-bit reordering by the final sort). ``+inf`` entries are
+    missing edges (no large stand-in constant), so huge and negative costs stay exact. The
+    missed column ``M + i`` and dead column ``M + P + i`` belong to row ``i`` only: they are not
+    interchangeable dummy columns, and no shortcut that treats them as such is taken.
 
     References
     ----------
