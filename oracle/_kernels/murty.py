@@ -55,6 +55,32 @@ def _grow(a, n):
     return out
 
 
+@jit(inline="always")
+def _sift_down_max(a, n, h, x):
+    """Put ``x`` at ``h`` in the max-heap ``a[:n]`` and move it down to its place."""
+    while True:
+        ch = 2 * h + 1
+        if ch >= n:
+            break
+        if ch + 1 < n and a[ch + 1] > a[ch]:
+            ch += 1
+        if a[ch] > x:
+            a[h] = a[ch]
+            h = ch
+        else:
+            break
+    a[h] = x
+
+
+@jit(inline="always")
+def _least_reduced_cost(ptr, col, cost, vx, i, ui):
+    """The least ``cost - u_i - vx[j]`` over row ``i``'s entries (the partition's bounds)."""
+    best = np.inf
+    for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
+        best = min(best, cost[e] - ui - vx[np.uint64(col[e])])
+    return best
+
+
 # entries of the ``state`` array that carries the search's counters across calls of _search
 S_HEAP = 0  # nodes in the heap
 S_NODES = 1  # nodes created
@@ -351,34 +377,9 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     n_best += 1
                     if n_best - n_stale == k - n_out:  # full: heapify kbest[:n_best]
                         for h0 in range((n_best >> 1) - 1, -1, -1):
-                            x0 = kbest[h0]
-                            h = h0
-                            while True:
-                                ch = 2 * h + 1
-                                if ch >= n_best:
-                                    break
-                                if ch + 1 < n_best and kbest[ch + 1] > kbest[ch]:
-                                    ch += 1
-                                if kbest[ch] > x0:
-                                    kbest[h] = kbest[ch]
-                                    h = ch
-                                else:
-                                    break
-                            kbest[h] = x0
+                            _sift_down_max(kbest, n_best, h0, kbest[h0])
                 elif key < kbest[0]:
-                    h = 0
-                    while True:
-                        ch = 2 * h + 1
-                        if ch >= n_best:
-                            break
-                        if ch + 1 < n_best and kbest[ch + 1] > kbest[ch]:
-                            ch += 1
-                        if kbest[ch] > key:
-                            kbest[h] = kbest[ch]
-                            h = ch
-                        else:
-                            break
-                    kbest[h] = key
+                    _sift_down_max(kbest, n_best, 0, key)
                 node_slot[node] = n_sols
                 n_sols += 1
                 node_key[node] = key
@@ -426,9 +427,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                 best = np.inf
                 ui = sol_u[sl, i]
                 if cut == np.inf:
-                    for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
-                        rc = cost[e] - ui - vx[np.uint64(col[e])]
-                        best = min(best, rc)
+                    best = _least_reduced_cost(ptr, col, cost, vx, i, ui)
                 else:  # the same, and which column gives it (for the children's bounds)
                     best_col = -1
                     for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
@@ -459,10 +458,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
                     # lb[r] is now inactive, that is lb[r] itself.)
                     ei = entry_of[r]
                     cost[ei] = np.inf
-                    bx = np.inf
-                    ui = sol_u[sl, r]
-                    for e in range(np.uint64(ptr[r]), np.uint64(ptr[r + 1])):
-                        bx = min(bx, cost[e] - ui - vx[np.uint64(col[e])])
+                    bx = _least_reduced_cost(ptr, col, cost, vx, r, sol_u[sl, r])
                     cost[ei] = cost0[ei]
                     bx = max(bx, 0.0)
                 if bx < np.inf and key + bx - slack <= cut:
