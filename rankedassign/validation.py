@@ -8,7 +8,7 @@ One rule for every argument check in the library:
   raises :class:`ValueError`.
 
 Every message names the argument and the value it got, so tests can pin it. This module sits
-at the bottom of the import graph: it imports nothing from the package.
+at the bottom of the import graph: it imports nothing from the package (only numpy).
 """
 
 from __future__ import annotations
@@ -16,10 +16,13 @@ from __future__ import annotations
 import math
 import numbers
 
+from numpy import bool_ as np_bool
+
 __all__ = [
     "MAX_COUNT",
     "STALL_READINGS",
     "STALE_READINGS",
+    "check_bool",
     "check_choice",
     "check_int",
     "check_optional_int",
@@ -127,6 +130,31 @@ def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX
         raise ValueError(f"{name} must be None ({none_means}) or an int >= {minimum}, "
                          f"got {value}")
     return check_int(value, name, minimum=minimum, maximum=maximum)
+
+
+def check_bool(value, name: str) -> bool:
+    """Return ``value`` as a bool if it is one: Python's ``True``/``False`` or a numpy bool.
+
+    Strings, numbers and ``None`` are refused: ``bool("false")`` is true, so a switch parsed by
+    truthiness would turn on when a user means off.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a bool, with its type and value in the message.
+
+    Examples
+    --------
+    >>> check_bool(False, "grouping")
+    False
+    >>> check_bool("false", "grouping")
+    Traceback (most recent call last):
+    ...
+    TypeError: grouping must be True or False, got str 'false'
+    """
+    if isinstance(value, (bool, np_bool)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, got {type(value).__name__} {value!r}")
 
 
 def check_choice(value, name: str, choices) -> str:
