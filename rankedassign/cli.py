@@ -111,6 +111,9 @@ def _cmd_reproduce(args) -> int:
             progress=not args.quiet,
             command=shlex.join(["rankedassign", *args.argv]),
         )
+    except experiments.StudyFailed as exc:
+        print(f"rankedassign reproduce: error: {exc}", file=sys.stderr)
+        return 1
     except (experiments.ReproduceError, experiments.SchedulerError) as exc:
         return _error(str(exc))
     except KeyboardInterrupt:

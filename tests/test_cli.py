@@ -127,22 +127,16 @@ def _earlier_report(tmp_path, tiny_config):
 
 def test_force_checks_that_out_can_be_replaced_first(tmp_path, tiny_config, capsys,
                                                      monkeypatch):
-    # a directory that cannot be moved away (e.g. a mount point): found before the studies run
+    # a directory that cannot be moved away (a mount point): found before the studies run
     out, before = _earlier_report(tmp_path, tiny_config)
-    real = os.replace
-
-    def no_move(src, dst):
-        if os.fspath(src) == os.fspath(out):
-            raise OSError(16, "Device or resource busy")
-        return real(src, dst)
-
-    monkeypatch.setattr(os, "replace", no_move)
+    real = os.path.ismount
+    monkeypatch.setattr(os.path, "ismount", lambda p: os.fspath(p) == os.fspath(out) or real(p))
     _never_run(monkeypatch)
     assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--quiet", "--force"]) == 2
     assert capsys.readouterr().err == (
-        f"rankedassign reproduce: error: cannot replace '{out}': it cannot be moved (Device or "
-        "resource busy)\n")
+        f"rankedassign reproduce: error: cannot replace '{out}': it is a mount point and cannot "
+        "be moved\n")
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert _no_leftovers(tmp_path)
 
@@ -150,14 +144,16 @@ def test_force_checks_that_out_can_be_replaced_first(tmp_path, tiny_config, caps
 def test_failed_final_move_keeps_the_finished_report(tmp_path, tiny_config, capsys,
                                                      monkeypatch):
     out, before = _earlier_report(tmp_path, tiny_config)
-    real = os.replace
+    from rankedassign.experiments import _outdir
 
-    def no_final_move(src, dst):
+    real = _outdir.renameat2
+
+    def no_final_move(src, dst, flags):
         if ".partial-" in os.fspath(src) and os.fspath(dst) == os.fspath(out):
             raise OSError(28, "No space left on device")
-        return real(src, dst)
+        return real(src, dst, flags)
 
-    monkeypatch.setattr(os, "replace", no_final_move)
+    monkeypatch.setattr(_outdir, "renameat2", no_final_move)
     assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--quiet", "--force"]) == 2
     err = capsys.readouterr().err
@@ -165,7 +161,7 @@ def test_failed_final_move_keeps_the_finished_report(tmp_path, tiny_config, caps
     assert len(kept) == 1 and (kept[0] / "manifest.json").exists()
     assert (kept[0] / "table1.json").exists()
     assert err == (f"rankedassign reproduce: error: could not move the finished report into "
-                   f"'{out}' (No space left on device); it is kept in '{kept[0]}'\n")
+                   f"'{out}' (No space left on device); the finished report is kept in '{kept[0]}'\n")
     # the earlier report is back in place; no hidden directory is left behind
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert _no_leftovers(tmp_path)

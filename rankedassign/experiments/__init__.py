@@ -72,7 +72,7 @@ from .registry import (
     run_study,
     study_names,
 )
-from .runner import check_output, reproduce
+from .runner import StudyFailed, check_output, reproduce
 from .sweep import ChainLengthCheck, SweepRow
 from .tracking import TrackingSummary
 
@@ -93,6 +93,7 @@ __all__ = [
     "PAPER_TOTALS",
     "ReadingRow",
     "ReproduceError",
+    "StudyFailed",
     "STALE_READINGS",
     "STALL_READINGS",
     "STUDIES",

@@ -105,6 +105,28 @@ def _worker_init() -> None:  # pragma: no cover - runs in child processes
     # Numba's own thread pool stays at one thread per worker process: the processes already
     # use every core, and nested parallelism would oversubscribe the machine.
     numba.set_num_threads(1)
+    # Ctrl-C reaches the whole process group: the parent alone handles it and ends the workers
+    # (a worker would otherwise print a traceback of its own).
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _end_workers(ex: ProcessPoolExecutor) -> None:
+    """End the pool's worker processes now (SIGTERM, then SIGKILL after a grace period).
+
+    A worker inside a long compiled kernel would otherwise finish its task before the pool's
+    shutdown returns.
+    """
+    # the pool's processes (CPython keeps them in _processes; 3.14 adds terminate_workers,
+    # which does the same without the grace period)
+    procs = list((getattr(ex, "_processes", None) or {}).values())
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(timeout=2.0)
+        if p.is_alive():  # pragma: no cover - a worker that ignores SIGTERM
+            p.kill()
+            p.join(timeout=2.0)
 
 
 @contextmanager
@@ -166,6 +188,10 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
     ex = ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_worker_init)
     try:
         yield ex
+    except BaseException:
+        # an interrupt or an error: the workers' running tasks are not wanted any more
+        _end_workers(ex)
+        raise
     finally:
         ex.shutdown(wait=True, cancel_futures=True)
 

@@ -5,28 +5,33 @@ from __future__ import annotations
 import datetime
 import os
 import platform
-import shutil
 import sys
 import tempfile
 import time
 from contextlib import ExitStack
 from pathlib import Path
+from typing import NamedTuple
 
 from .. import warmup
 from .._version import __version__
-from ._executor import dask_executor, local_executor
+from . import _outdir
+from ._executor import SchedulerError, dask_executor, local_executor
 from .config import Table1Config, TrackingConfig
 from .registry import Config, ReproduceError, get_study, run_study, study_names
 from .report import render_report, write_csv, write_json
 from .table1 import table1_task
 from .tracking import tracking_task
 
-__all__ = ["reproduce", "check_output"]
+__all__ = ["reproduce", "check_output", "StudyFailed"]
 
-_MANIFEST = "manifest.json"
+_MANIFEST = _outdir.MANIFEST
 
 
-def check_output(out, force: bool = False) -> None:
+class StudyFailed(ReproduceError):
+    """A study raised an error; the report of the studies that finished before it was kept."""
+
+
+def check_output(out, force: bool = False) -> OutputState:
     """Check, before any study runs, that a report can be written to ``out``.
 
     Parameters
@@ -36,13 +41,20 @@ def check_output(out, force: bool = False) -> None:
     force : bool, optional
         Whether an earlier report in ``out`` may be replaced.
 
+    Returns
+    -------
+    OutputState
+        What was found at ``out`` (``before``: its fingerprint, or None if it does not exist;
+        ``names``: its entries), checked again when the finished report replaces it.
+
     Raises
     ------
     ReproduceError
-        With a one-line message: ``out`` is a file; it exists without ``force``; it holds
-        something other than an earlier report; a parent is not a directory or cannot be
-        created; the parent directory is not writable; ``out`` cannot be moved away (needed to
-        replace it).
+        With a one-line message: ``out`` is a file or a symbolic link; it exists without
+        ``force``; it is not recognised as an earlier report by its content (a manifest of
+        this program's schema and nothing but the files that report wrote), ``force`` or
+        not; it is a mount point (it could not be replaced); a parent is not a directory or
+        cannot be created; the parent directory is not writable.
 
     Examples
     --------
@@ -58,7 +70,13 @@ def check_output(out, force: bool = False) -> None:
     """
     out = Path(out)
     where = f"cannot write the report to {str(out)!r}"
-    if out.exists() or out.is_symlink():
+    before = names = None
+    if out.is_symlink():
+        raise ReproduceError(
+            f"output path {str(out)!r} is a symbolic link; --force replaces only an earlier "
+            "report directory: choose another --out"
+        )
+    if out.exists():
         if not out.is_dir():
             raise ReproduceError(
                 f"output path {str(out)!r} is a file, not a directory; --force replaces only "
@@ -68,12 +86,16 @@ def check_output(out, force: bool = False) -> None:
             raise ReproduceError(
                 f"output directory {str(out)!r} exists; use --force to replace it"
             )
-        if any(out.iterdir()) and not (out / _MANIFEST).exists():
-            # --force replaces earlier reports only, never an unrelated non-empty directory.
+        why = _outdir.not_a_report(out)
+        if why is not None:
+            # --force replaces earlier reports only, never a directory with anything else in it
+            raise ReproduceError(f"refusing to replace {str(out)!r}: {why}")
+        if os.path.ismount(out):
             raise ReproduceError(
-                f"refusing to replace {str(out)!r}: it is not empty and holds no {_MANIFEST} "
-                "of an earlier report"
+                f"cannot replace {str(out)!r}: it is a mount point and cannot be moved"
             )
+        before = _outdir.fingerprint(out)
+        names = {name for name, *_ in before[2]}
     parent = out.parent
     for p in (parent, *parent.parents):
         if p.exists() or p.is_symlink():
@@ -82,21 +104,27 @@ def check_output(out, force: bool = False) -> None:
             break
     try:
         parent.mkdir(parents=True, exist_ok=True)
-        probe = Path(tempfile.mkdtemp(prefix=f".{out.name}.probe-", dir=parent))
+        probe = tempfile.mkdtemp(prefix=f".{out.name}.probe-", dir=parent)
     except OSError as exc:
         raise ReproduceError(f"{where}: {exc.strerror or exc}") from None
-    try:
-        if force and out.is_dir():
-            # Replacing needs out to move away: try it now, not after the studies.
-            try:
-                os.replace(out, probe / out.name)
-            except OSError as exc:
-                raise ReproduceError(
-                    f"cannot replace {str(out)!r}: it cannot be moved ({exc.strerror or exc})"
-                ) from None
-            os.replace(probe / out.name, out)
-    finally:
-        shutil.rmtree(probe, ignore_errors=True)
+    os.rmdir(probe)
+    return OutputState(before, names)
+
+
+class OutputState(NamedTuple):
+    """What :func:`check_output` found at the report directory.
+
+    Attributes
+    ----------
+    before : tuple or None
+        Its fingerprint (device, inode, entries with mode, size and mtime), or None if it did
+        not exist.
+    names : set of str or None
+        The names of its entries (the files of the earlier report).
+    """
+
+    before: tuple | None
+    names: set | None
 
 
 def compile_kernels() -> None:
@@ -149,8 +177,9 @@ def reproduce(
         settings with fewer runs and sweep points (a few minutes on two cores).
     out : str or path, optional
         Report directory. It is written in a hidden temporary directory beside it and renamed
-        into place at the end, so a failed or interrupted run never leaves a complete-looking
-        report. Checked before any study runs (:func:`check_output`).
+        into place atomically at the end, so a failed or interrupted run never leaves a
+        complete-looking report. Checked before any study runs (:func:`check_output`), and
+        locked for the run (``.<out>.lock`` beside it).
     config : Config, optional
         Settings to use instead of ``mode``'s.
     seed : int, optional
@@ -162,7 +191,8 @@ def reproduce(
     dask_scheduler : str, optional
         Address of a Dask scheduler; runs go to its cluster instead of local processes.
     force : bool, optional
-        Replace ``out`` if it holds an earlier report.
+        Replace ``out`` if it is an earlier report (recognised by its content, see
+        :func:`check_output`).
     progress : bool, optional
         Progress bars on stderr (with the study's place in the run, e.g. ``[2/6] sweep``).
     command : str, optional
@@ -177,8 +207,15 @@ def reproduce(
     ------
     ReproduceError
         Unknown study or mode, non-positive count, an output location that cannot be written
-        or replaced (checked before any study runs); if the finished report cannot be moved
-        into place at the end, the message names the directory it was kept in.
+        or replaced (checked before any study runs), another run writing to the same ``out``
+        (it holds ``out``'s lock); if ``out`` appeared or changed while the run worked, or the
+        finished report cannot be moved into place, the message names the directory the
+        finished report was kept in.
+    StudyFailed
+        A study raised an error: the later ones are not run, and the report of the studies that
+        finished before it is written (its manifest says which study failed and how) to
+        ``out``, or, if ``out`` holds an earlier report, to a visible directory beside it that
+        the message names.
     SchedulerError
         The Dask scheduler cannot be reached.
 
@@ -186,7 +223,10 @@ def reproduce(
     -----
     Files: ``report.md``; per study ``<study>.json`` (summary), ``<study>.csv`` and
     ``<study>_runs.json`` (per-run records); PNG plots; ``config.json``; ``manifest.json``
-    (written last; ``force`` only ever replaces a directory holding one).
+    (written last, with the schema ``rankedassign-report/1`` and the list of the report's
+    files; ``force`` only ever replaces a directory that holds such a manifest and nothing but
+    the files it lists). Partial reports of runs that were killed are removed by the next run
+    into the same ``out`` (it holds the lock, so they are provably dead).
 
     References
     ----------
@@ -216,20 +256,47 @@ def reproduce(
     if mc is not None:
         cfg = cfg.with_mc(mc)
     out = Path(out)
-    check_output(out, force)
+    command = command or "rankedassign.experiments.reproduce(...)"
 
     def say(text):
         if progress:
             print(text, file=sys.stderr, flush=True)
 
+    check_output(out, force)  # the plain errors first; it also makes the parent directory
+    # The lock is held from the authoritative check until the finished report is in place, so
+    # a run that starts later into the same out is refused and told which run holds it.
+    with _outdir.run_lock(out, command):
+        state = check_output(out, force)
+        for note in _outdir.remove_stale_partials(out):
+            print(f"rankedassign reproduce: note: {note}", file=sys.stderr, flush=True)
+        results, failure = _run_studies(studies, cfg, out, seed=seed, workers=workers,
+                                        dask_scheduler=dask_scheduler, progress=progress,
+                                        command=command, say=say, state=state)
+    if failure is not None:
+        study, error, where = failure
+        raise StudyFailed(
+            f"study {study!r} failed ({error}); the report of the studies that finished "
+            f"before it ({', '.join(results)}) was written to {str(where)!r}"
+        )
+    say(f"report written to {out / 'report.md'}")
+    return results
+
+
+def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, command, say,
+                 state):
+    """Run the studies into a partial report beside ``out`` and move it into place.
+
+    Returns ``(results, failure)``: ``failure`` is ``(study, message, where)`` of a study that
+    raised an error, with the directory that holds the report of the studies before it
+    (``out``, or a visible directory beside an earlier report, which it never replaces), else
+    None; :class:`StudyFailed` if no study finished. An interrupt or any error
+    outside a study removes the partial report and propagates.
+    """
     started = datetime.datetime.now(datetime.timezone.utc)
     results: dict = {}
     seconds: dict = {}
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
-    # mkdtemp makes the directory private (0700); give the report the usual permissions.
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o777 & ~umask)
+    failure = None
+    tmp = _outdir.new_partial(out, command)
     try:
         with ExitStack() as stack:
             t0 = time.perf_counter()
@@ -246,19 +313,26 @@ def reproduce(
                 where = "serial (in-process)" if executor is None else f"{n} local processes"
             for i, study in enumerate(studies, 1):
                 t0 = time.perf_counter()
-                res, runs = run_study(
-                    study, cfg, seed=seed, executor=executor, progress=progress,
-                    return_runs=True, desc=f"[{i}/{len(studies)}] {study}",
-                )
+                try:
+                    res, runs = run_study(
+                        study, cfg, seed=seed, executor=executor, progress=progress,
+                        return_runs=True, desc=f"[{i}/{len(studies)}] {study}",
+                    )
+                except (ReproduceError, SchedulerError):
+                    raise
+                except Exception as exc:  # a study's own failure: keep what finished
+                    failure = (study, f"{type(exc).__name__}: {exc}")
+                    break
                 seconds[study] = time.perf_counter() - t0
                 results[study] = res
                 _write_study(tmp, study, res, runs)
         meta = {
-            "command": command or "rankedassign.experiments.reproduce(...)",
+            "schema": _outdir.SCHEMA,
+            "command": command,
             "version": __version__,
             "mode": cfg.mode,
             "seed": seed,
-            "studies": studies,
+            "studies": list(results),
             "executor": where,
             "started": started.strftime("%Y-%m-%d %H:%M:%S"),
             "seconds": seconds,
@@ -266,15 +340,28 @@ def reproduce(
             "platform": platform.platform(),
             "cpu_count": os.cpu_count(),
         }
+        if failure is not None:
+            meta["failed"] = {"study": failure[0], "error": failure[1],
+                              "not_run": studies[studies.index(failure[0]) + 1:]}
         write_json(tmp / "config.json", cfg.to_dict())
         (tmp / "report.md").write_text(render_report(results, cfg, meta))
-        write_json(tmp / _MANIFEST, meta)  # last file: marks a complete report
+        # last file: marks a complete report, and lists every file it holds
+        meta["files"] = sorted(p.name for p in tmp.iterdir() if p.name != _outdir.OWNER)
+        write_json(tmp / _MANIFEST, meta)
+        if failure is not None and not results:
+            raise StudyFailed(f"study {failure[0]!r} failed ({failure[1]}); no study finished, "
+                              "nothing was written")
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _outdir.remove_files(tmp)
         raise
-    _replace(tmp, out)
-    say(f"report written to {out / 'report.md'}")
-    return results
+    if failure is not None and state.before is not None:
+        # an incomplete report never replaces an earlier complete one: it goes beside it
+        (tmp / _outdir.OWNER).unlink(missing_ok=True)
+        kept = _outdir.keep_beside(tmp, out, "incomplete")
+        return results, (*failure, kept)
+    for note in _outdir.place(tmp, out, state.before, state.names):
+        print(f"rankedassign reproduce: note: {note}", file=sys.stderr, flush=True)
+    return results, None if failure is None else (*failure, out)
 
 
 def _write_study(tmp: Path, name: str, res, runs) -> None:
@@ -284,42 +371,3 @@ def _write_study(tmp: Path, name: str, res, runs) -> None:
     write_csv(tmp / f"{name}.csv", st.csv_rows(res))
     if st.plot is not None:
         st.plot(res, tmp)
-
-
-def _replace(tmp: Path, out: Path) -> None:
-    """Move the finished report into place (replacing an earlier one); never lose it.
-
-    If the move fails, the earlier report is put back and the finished one is kept under a
-    visible name beside ``out``, which the raised :class:`ReproduceError` names.
-    """
-    old = None
-    moved = False
-    try:
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
-            os.replace(out, old / out.name)
-            moved = True
-        os.replace(tmp, out)
-    except OSError as exc:
-        if moved and not out.exists():
-            try:
-                os.replace(old / out.name, out)
-                moved = False
-            except OSError:
-                pass
-        stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
-        kept = out.parent / f"{out.name}.new-{stamp}"
-        try:
-            os.replace(tmp, kept)
-        except OSError:
-            kept = tmp
-        earlier = ("" if not moved else
-                   f"; the earlier report is in {str(old / out.name)!r}")
-        if old is not None and not moved:
-            shutil.rmtree(old, ignore_errors=True)
-        raise ReproduceError(
-            f"could not move the finished report into {str(out)!r} ({exc.strerror or exc}); "
-            f"it is kept in {str(kept)!r}{earlier}"
-        ) from None
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
