@@ -424,3 +424,187 @@ def test_report_directory_has_usual_permissions(tmp_path, tiny_config):
     umask = os.umask(0)
     os.umask(umask)
     assert stat.S_IMODE(out.stat().st_mode) == 0o777 & ~umask
+
+
+# --------------------------------------------------------------------------- data loss
+def _tree(root):
+    """``{relative path: bytes}`` of every file below ``root``."""
+    return {str(p.relative_to(root)): p.read_bytes() for p in sorted(root.rglob("*"))
+            if p.is_file()}
+
+
+def test_force_refuses_a_foreign_manifest(tmp_path, capsys, monkeypatch):
+    # issue: --force deleted any folder holding a file *named* manifest.json
+    w = tmp_path / "w"
+    (w / "src").mkdir(parents=True)
+    (w / "manifest.json").write_text('{"name": "my-pwa"}')
+    (w / "src" / "app.js").write_text("x")
+    before = _tree(w)
+    _never_run(monkeypatch)
+    assert main(["reproduce", "table1", "--out", str(w), "--force", "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: refusing to replace '{w}': its manifest.json is not "
+        "the manifest of a rankedassign report\n")
+    assert _tree(w) == before and _no_leftovers(tmp_path)
+
+
+@pytest.mark.parametrize(("extra", "message"), [
+    ("notes.txt", "it holds 'notes.txt', which is not part of the report its manifest.json "
+                  "lists"),
+    ("sub/", "it holds 'sub', which is not part of the report its manifest.json lists"),
+    ("table1.json/", "'table1.json' in it is not a regular file"),
+])
+def test_force_refuses_a_report_with_anything_else_in_it(tmp_path, tiny_config, capsys,
+                                                          monkeypatch, extra, message):
+    out = tmp_path / "report"
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 0
+    name = extra.rstrip("/")
+    if name == "table1.json":
+        (out / name).unlink()
+    if extra.endswith("/"):
+        (out / name).mkdir()
+        (out / name / "keep.txt").write_text("mine")
+    else:
+        (out / name).write_text("mine")
+    before = _tree(out)
+    _never_run(monkeypatch)
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet", "--force"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: refusing to replace '{out}': {message}\n")
+    assert _tree(out) == before
+
+
+def test_force_replaces_an_earlier_report_and_a_legacy_one(tmp_path, tiny_config):
+    out = tmp_path / "report"
+    assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 0
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["schema"] == "rankedassign-report/1"
+    assert manifest["files"] == sorted(p.name for p in out.iterdir())
+    # a report written before the manifest had a schema: the old key set, its files only
+    legacy = {k: v for k, v in manifest.items() if k not in ("schema", "files")}
+    (out / "manifest.json").write_text(json.dumps(legacy))
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet", "--force"]) == 0
+    assert json.loads((out / "manifest.json").read_text())["studies"] == ["table1"]
+    assert not (out / "optimum.json").exists() and _no_leftovers(tmp_path)
+
+
+def _study_that(monkeypatch, name, action):
+    """Replace ``name``'s task by one that runs ``action()`` once, then the real task."""
+    from rankedassign.experiments import get_study
+
+    real = get_study(name).task
+    done = []
+
+    def task(*args):
+        if not done:
+            done.append(action())
+        return real(*args)
+
+    _replace_study(monkeypatch, name, task=task)
+
+
+def test_a_folder_that_appears_during_the_run_is_left_alone(tmp_path, tiny_config, capsys,
+                                                            monkeypatch):
+    # issue: a folder made at --out while the run worked was deleted at the end (no --force)
+    out = tmp_path / "r3"
+
+    def appear():
+        out.mkdir()
+        (out / "t.tex").write_text("x")
+
+    _study_that(monkeypatch, "table1", appear)
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 2
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("r3.new-")]
+    assert len(kept) == 1 and (kept[0] / "table1.json").exists()
+    assert not (kept[0] / ".run").exists()
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: '{out}' appeared while the run worked and was left as "
+        f"it is; the finished report is kept in '{kept[0]}'\n")
+    assert _tree(out) == {"t.tex": b"x"} and _no_leftovers(tmp_path)
+
+
+def test_an_earlier_report_changed_during_the_run_is_left_alone(tmp_path, tiny_config, capsys,
+                                                                monkeypatch):
+    out, _ = _earlier_report(tmp_path, tiny_config)
+    _study_that(monkeypatch, "table1", lambda: (out / "t.tex").write_text("x"))
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet", "--force"]) == 2
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("report.new-")]
+    assert len(kept) == 1
+    assert capsys.readouterr().err.endswith(
+        f"'{out}' changed while the run worked and was left as it is; the finished report is "
+        f"kept in '{kept[0]}'\n")
+    assert (out / "t.tex").read_text() == "x" and (out / "optimum.json").exists()
+
+
+def test_a_second_run_into_the_same_out_is_refused(tmp_path, tiny_config, capsys, monkeypatch):
+    from rankedassign.experiments import _outdir
+
+    out = tmp_path / "report"
+    _never_run(monkeypatch)
+    with _outdir.run_lock(out, "rankedassign reproduce --out report"):
+        assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                     "--workers", "1", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"rankedassign reproduce: error: another run is writing the report to "
+                          f"'{out}' (pid {os.getpid()} on ")
+    assert err.endswith(": rankedassign reproduce --out report); wait for it to finish or choose "
+                        "another --out\n")
+    assert not out.exists() and _no_leftovers(tmp_path)  # the lock file goes with its run
+
+
+def test_stale_partial_reports_are_removed_under_the_lock(tmp_path, tiny_config, capsys):
+    # a run killed by SIGKILL leaves its partial report; the next run into the same out removes
+    # it (its lock proves that no run writes there) and says so. Foreign look-alikes stay.
+    dead = tmp_path / ".report.partial-abc123"
+    dead.mkdir()
+    (dead / ".run").write_text(json.dumps({"pid": 4242, "host": "h", "command": "c"}))
+    (dead / "table1.json").write_text("{}")
+    foreign = tmp_path / ".report.partial-mine"
+    foreign.mkdir()
+    (foreign / "keep.txt").write_text("mine")
+    other = tmp_path / ".other.partial-xyz"
+    other.mkdir()
+    (other / ".run").write_text("{}")
+    out = tmp_path / "report"
+    assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 0
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: note: removed '{dead}', the partial report of an earlier run "
+        "into the same --out that was killed (pid 4242)\n")
+    assert not dead.exists() and (foreign / "keep.txt").exists() and (other / ".run").exists()
+
+
+def test_a_failed_study_keeps_the_finished_studies(tmp_path, tiny_config, capsys, monkeypatch):
+    def broken(*args, **kwargs):
+        raise RuntimeError("out of luck")
+
+    _replace_study(monkeypatch, "optimum", task=broken)
+    out = tmp_path / "report"
+    assert main(["reproduce", "table1", "optimum", "--config", str(tiny_config), "--out",
+                 str(out), "--workers", "1", "--quiet"]) == 1
+    assert capsys.readouterr().err == (
+        "rankedassign reproduce: error: study 'optimum' failed (RuntimeError: out of luck); the "
+        f"report of the studies that finished before it (table1) was written to '{out}'\n")
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["studies"] == ["table1"]
+    assert manifest["failed"] == {"study": "optimum", "error": "RuntimeError: out of luck",
+                                  "not_run": []}
+    # beside an earlier report, never over it
+    before = _tree(out)
+    assert main(["reproduce", "table1", "optimum", "--config", str(tiny_config), "--out",
+                 str(out), "--workers", "1", "--quiet", "--force"]) == 1
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("report.incomplete-")]
+    assert len(kept) == 1 and (kept[0] / "table1.json").exists()
+    assert capsys.readouterr().err.endswith(f"was written to '{kept[0]}'\n")
+    assert _tree(out) == before and _no_leftovers(tmp_path)
+    # the first study failing: nothing to keep, nothing written
+    assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out",
+                 str(tmp_path / "r2"), "--workers", "1", "--quiet"]) == 1
+    assert "no study finished, nothing was written" in capsys.readouterr().err
+    assert not (tmp_path / "r2").exists() and _no_leftovers(tmp_path)

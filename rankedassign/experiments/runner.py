@@ -346,7 +346,7 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
         write_json(tmp / "config.json", cfg.to_dict())
         (tmp / "report.md").write_text(render_report(results, cfg, meta))
         # last file: marks a complete report, and lists every file it holds
-        meta["files"] = sorted(p.name for p in tmp.iterdir() if p.name != _outdir.OWNER)
+        meta["files"] = sorted({_MANIFEST, *(p.name for p in tmp.iterdir())} - {_outdir.OWNER})
         write_json(tmp / _MANIFEST, meta)
         if failure is not None and not results:
             raise StudyFailed(f"study {failure[0]!r} failed ({failure[1]}); no study finished, "
