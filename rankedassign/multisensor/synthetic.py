@@ -533,7 +533,10 @@ def log_psi_linear_gaussian(weights, means, covs, Z, H, R, p_d, kappa, *,
     _, logdetP = np.linalg.slogdet(P0)
     Rinv = [np.linalg.inv(r) for r in R]
     consts = [-0.5 * (r.shape[0] * np.log(2 * np.pi) + np.linalg.slogdet(r)[1]) for r in R]
-    for pattern in itertools.product((False, True), repeat=V):
+    # a sensor without measurements cannot detect: patterns that use it have an empty block
+    # (they were skipped), so they are not generated (2**V of them with many such sensors)
+    choices = [(False, True) if dims[v] > 1 else (False,) for v in range(V)]
+    for pattern in itertools.product(*choices):
         D = [v for v in range(V) if pattern[v]]
         idx = tuple(slice(1, None) if pattern[v] else 0 for v in range(V))
         block_shape = tuple(dims[v] - 1 for v in D)
