@@ -7,6 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rankedassign import AssignmentProblem
+from rankedassign.validation import MAX_WORK_BYTES, format_bytes
 
 __all__ = ["Ranked"]
 
@@ -58,3 +59,39 @@ def ranked(problem: AssignmentProblem, assignments: np.ndarray) -> Ranked:
     costs = np.asarray(problem.cost_of(a), dtype=np.float64)
     order = np.argsort(costs, kind="stable")
     return Ranked(np.ascontiguousarray(a[order]), costs[order])
+
+
+def check_enumeration_size(n: int, exact: bool, limit: int, per: int, what: str) -> None:
+    """Refuse an enumeration of ``n`` items above ``limit`` or above :data:`MAX_WORK_BYTES`.
+
+    Parameters
+    ----------
+    n : int
+        The count, or, when ``exact`` is False, one more than the cap a counting search
+        stopped past (the count is known to exceed ``n - 1``).
+    exact : bool
+    limit : int
+        The caller's ``limit``.
+    per : int
+        Bytes the enumeration allocates per item (output, costs, sort).
+    what : str
+        Names the items and the problem's size, e.g. ``"feasible assignments (P = 3, M = 4)"``.
+
+    Raises
+    ------
+    ValueError
+        ``"problem too large to enumerate: ..."`` with the count and the bytes: above ``limit``
+        (as before), or within it but above the memory limit.
+    """
+    count = f"{n}" if exact else f"more than {n - 1}"
+    size = format_bytes(n * per) if exact else f"more than {format_bytes((n - 1) * per)}"
+    if n > limit:
+        raise ValueError(f"problem too large to enumerate: {count} {what} exceed limit = "
+                         f"{limit} (they would take {size})")
+    if n * per > MAX_WORK_BYTES:
+        size = f"{format_bytes(n * per)}, more than" if exact else "more than"
+        raise ValueError(
+            f"problem too large to enumerate: {count} {what} would take {size} the limit of "
+            f"{format_bytes(MAX_WORK_BYTES)} (rankedassign.validation.MAX_WORK_BYTES; "
+            f"{per} bytes each)"
+        )

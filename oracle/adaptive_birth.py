@@ -19,7 +19,7 @@ from scipy.special import logsumexp
 from rankedassign.multisensor import AdaptiveBirthProblem
 from rankedassign.validation import check_choice, check_int, check_type
 
-from ._result import Ranked
+from ._result import Ranked, check_enumeration_size
 
 __all__ = ["enumerate_assignments", "log_normalizer", "marginals", "truncation_error",
            "kept_mask", "transition_matrix"]
@@ -41,7 +41,9 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     ----------
     problem : AdaptiveBirthProblem
     limit : int, optional
-        Refuse when the tuple space holds more than this many tuples.
+        Refuse when the tuple space holds more than this many tuples. The enumeration takes
+        ``8 (3 V + 3)`` bytes per tuple: more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (4 GiB) is refused as well.
 
     Returns
     -------
@@ -54,7 +56,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     TypeError
         If ``problem`` is not an AdaptiveBirthProblem or ``limit`` not an int.
     ValueError
-        If ``limit < 1`` or the tuple space is larger than ``limit``.
+        If ``limit < 1``, the tuple space is larger than ``limit`` or would take more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (the messages give the count and the
+        bytes), or a tensor would have to be built beyond
+        :meth:`~rankedassign.multisensor.AdaptiveBirthProblem.log_weights`' limit.
 
     Examples
     --------
@@ -67,12 +72,13 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     """
     _check(problem)
     limit = check_int(limit, "limit", minimum=1)
-    N = problem.n_feasible()
-    if N > limit:
-        raise ValueError(f"problem too large to enumerate: {N} tuples (M = {problem.n_meas}) "
-                         f"exceed limit = {limit}")
-    J = _all_tuples(problem.shape)
+    # per tuple: the index grid and the tuples (16 V), the costs and the sort order (16), the
+    # sorted tuples and costs (8 V + 8)
+    V = problem.n_sensors
+    check_enumeration_size(problem.n_feasible(), True, limit, 8 * (3 * V + 3),
+                           f"tuples (M = {problem.n_meas})")
     costs = -problem.log_weights().reshape(-1)
+    J = _all_tuples(problem.shape)
     order = np.argsort(costs, kind="stable")
     return Ranked(np.ascontiguousarray(J[order]), costs[order])
 

@@ -5,13 +5,20 @@ from __future__ import annotations
 import numpy as np
 
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
-from rankedassign.validation import check_int
+from rankedassign.validation import MAX_WORK_BYTES, check_int
 
 from . import adaptive_birth, multisensor_enumerate
 from ._kernels.enumeration import count_kernel, enumerate_sorted_kernel
-from ._result import Ranked, check_problem, ranked
+from ._result import Ranked, check_enumeration_size, check_problem, ranked
 
 __all__ = ["enumerate_assignments"]
+
+
+def _bytes_per_assignment(P: int) -> int:
+    """Bytes :func:`enumerate_sorted_kernel` allocates per assignment: its row of column
+    indices and its cost (``8 P + 8``), the sort's keys and their copy (16), the ``arange``
+    its indices come from (8) and the two int32 index arrays (8)."""
+    return 8 * P + 40
 
 
 def _count(problem, limit: int) -> tuple[int, bool]:
@@ -34,8 +41,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
         :func:`oracle.multisensor_enumerate.enumerate_assignments` (assignments of shape
         ``(|Gamma|, P, V)``).
     limit : int, optional
-        Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments; the output
-        takes ``8 P |Gamma|`` bytes.
+        Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments. The output
+        takes ``8 P |Gamma|`` bytes, the enumeration ``(8 P + 40) |Gamma|`` with its sort: a
+        ``|Gamma|`` within ``limit`` that needs more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (4 GiB) is refused as well.
 
     Returns
     -------
@@ -50,7 +59,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
         If ``problem`` is not an :class:`~rankedassign.AssignmentProblem` or ``limit`` is not
         an int.
     ValueError
-        If ``limit < 1`` or ``|Gamma| > limit`` (the message states both numbers).
+        If ``limit < 1``, ``|Gamma| > limit`` (the message states both numbers and the
+        bytes), or the enumeration would take more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (the message gives the count and the
+        bytes).
 
     Notes
     -----
@@ -87,19 +99,18 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
         return adaptive_birth.enumerate_assignments(problem, limit=limit)
     check_problem(problem)
     limit = check_int(limit, "limit", minimum=1)
-    n, exact = _count(problem, limit)
-    if n > limit:
-        count = f"{n}" if exact else f"more than {limit}"
-        raise ValueError(
-            f"problem too large to enumerate: {count} feasible assignments (P = "
-            f"{problem.n_rows}, M = {problem.n_meas}) exceed limit = {limit}"
-        )
     P = problem.n_rows
+    per = _bytes_per_assignment(P)
+    # a counting search stops as soon as the count passes what could be enumerated at all
+    n, exact = _count(problem, min(limit, MAX_WORK_BYTES // per))
+    check_enumeration_size(n, exact, limit, per,
+                           f"feasible assignments (P = {P}, M = {problem.n_meas})")
     if P == 0:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
     # The search emits assignments in lexicographic order of their column indices (row 0
     # slowest; a row's options in increasing column order: measurements j < M, then its
     # missed column M + i, then its dead column M + P + i) and scores each one as it goes; one
     # stable sort by cost then leaves equal costs in lexicographic order.
+    # (n <= MAX_WORK_BYTES // 48 < 2**31: the sort's int32 indices cannot overflow)
     a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
     return Ranked(a, costs)

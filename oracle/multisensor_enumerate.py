@@ -13,9 +13,9 @@ import numpy as np
 
 from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import jit
-from rankedassign.validation import check_int, check_type
+from rankedassign.validation import MAX_WORK_BYTES, check_int, check_type
 
-from ._result import Ranked
+from ._result import Ranked, check_enumeration_size
 
 __all__ = ["enumerate_assignments", "count_assignments", "gamma_from_codes"]
 
@@ -191,6 +191,13 @@ def _kernel_args(problem: MultiSensorProblem):
             np.asarray(problem.n_meas, dtype=np.int64))
 
 
+def _bytes_per_assignment(P: int, V: int) -> int:
+    """Bytes :func:`enumerate_assignments` holds per assignment at its peak: the option codes
+    and their masked copy (``16 P``), ``gamma`` and its sorted copy (``16 P V``), the costs,
+    the sort order and the sorted costs (24); ``cost_of``'s temporaries come on top."""
+    return 16 * P * V + 16 * P + 24
+
+
 # ----------------------------------------------------------------------------- public
 def count_assignments(problem, *, limit: int | None = None) -> int:
     """``|Gamma|``, exactly: by the problem's count when it can, else by search.
@@ -236,8 +243,10 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     ----------
     problem : MultiSensorProblem
     limit : int, optional
-        Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments; the output
-        takes ``8 P V |Gamma|`` bytes.
+        Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments. The output
+        takes ``8 P V |Gamma|`` bytes, the enumeration at least ``(16 P V + 16 P + 24)
+        |Gamma|``: a ``|Gamma|`` within ``limit`` that needs more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (4 GiB) is refused as well.
 
     Returns
     -------
@@ -253,13 +262,17 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
         If ``problem`` is not a :class:`~rankedassign.multisensor.MultiSensorProblem` or
         ``limit`` is not an int.
     ValueError
-        If ``limit < 1`` or ``|Gamma| > limit`` (the message states both numbers).
+        If ``limit < 1``, ``|Gamma| > limit`` (the message states both numbers and the
+        bytes), or the enumeration would take more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (the message gives the count and the
+        bytes).
 
     Notes
     -----
     The count is known before anything is enumerated (spec eq. 1.7, or the exact counting DP
     of :meth:`~rankedassign.multisensor.MultiSensorProblem.n_feasible`, or a compiled counting
-    search that stops past ``limit``), so a refusal is immediate. Sizes of spec §1.5: A
+    search that stops past ``limit``, or past what the memory limit can hold), so a refusal
+    is immediate. Sizes of spec §1.5: A
     ``P = 4, M = (4, 4)``: 67 744; B ``P = 2, M = (16, 16)``: 75 108; C
     ``P = 3, M = (4, 4, 4)``: 417 176. ``P = 0`` has exactly one, empty, assignment.
 
@@ -284,17 +297,18 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     """
     problem = check_ms_problem(problem)
     limit = check_int(limit, "limit", minimum=1)
-    n = count_assignments(problem, limit=limit)
-    if n > limit:
-        try:
-            count = f"{problem.n_feasible()}"
-        except ValueError:
-            count = f"more than {limit}"
-        raise ValueError(
-            f"problem too large to enumerate: {count} feasible assignments (P = "
-            f"{problem.n_rows}, M = {problem.n_meas}) exceed limit = {limit}"
-        )
     P, V = problem.n_rows, problem.n_sensors
+    per = _bytes_per_assignment(P, V)
+    # a counting search stops as soon as the count passes what could be enumerated at all
+    cap = min(limit, MAX_WORK_BYTES // per)
+    try:
+        n, exact = problem.n_feasible(), True
+    except ValueError:  # the counting DP refuses the size: count by search, up to cap + 1
+        _, n = _enumerate_kernel(*_kernel_args(problem), cap, True)
+        n = int(n)
+        exact = n <= cap
+    check_enumeration_size(n, exact, limit, per,
+                           f"feasible assignments (P = {P}, M = {problem.n_meas})")
     if P == 0:
         return Ranked(np.zeros((1, 0, V), dtype=np.int64), np.zeros(1))
     codes, found = _enumerate_kernel(*_kernel_args(problem), n, False)

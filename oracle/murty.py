@@ -7,7 +7,7 @@ import heapq
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from rankedassign.validation import check_int
+from rankedassign.validation import MAX_WORK_BYTES, check_int, format_bytes
 
 from ._kernels.murty import murty_compact_kernel
 from ._result import Ranked, check_problem, ranked
@@ -23,6 +23,45 @@ def _k_cap(problem, k: int) -> int:
         return min(k, problem.n_feasible())
     except ValueError:
         return k
+
+
+def _bytes_per_assignment(P: int) -> int:
+    """Bytes the compiled search keeps for each assignment it reports (a lower bound).
+
+    Per reported assignment :func:`._kernels.murty.murty_kernel` holds at least its solved
+    node's solution, row duals and column duals (``3 P`` numbers, and 3 more: the free-column
+    potential, the cost and its rounding scale), the node itself (key, solution slot, parent,
+    forbidden-pair list, heap key and id: 6, and the ``ceil(P / 64)`` words of its fixed rows),
+    its forbidden pair (3), its output slot, cost and entry in the max-heap of solved costs (3)
+    and its row of the output (``P``): ``8 (4 P + ceil(P / 64) + 15)`` bytes. Children that are
+    never reported and the doubling of the arrays come on top.
+    """
+    return 8 * (4 * P + (P + 63) // 64 + 15)
+
+
+def _check_k_memory(problem, k: int) -> None:
+    """Refuse a ``k`` whose assignments the search could not hold in :data:`MAX_WORK_BYTES`.
+
+    Only when ``k`` is that large is ``|Gamma|`` asked for (when it is cheap to count): ``k``
+    above it is fine (every assignment is returned), as long as all of them fit.
+    """
+    P = problem.n_rows
+    per = _bytes_per_assignment(P)
+    if k * per <= MAX_WORK_BYTES:
+        return
+    try:
+        count = problem.n_feasible()
+    except ValueError:  # too costly to count exactly: k it is
+        count = None
+    if count is not None and count * per <= MAX_WORK_BYTES:
+        return
+    n = k if count is None else min(k, count)
+    known = "" if count is None else f"; the problem has {count} feasible assignments"
+    raise ValueError(
+        f"k = {k} is too large: {n} assignments need at least {format_bytes(n * per)} of "
+        f"Murty work arrays ({per} bytes each for P = {P} rows), more than the limit of "
+        f"{format_bytes(MAX_WORK_BYTES)} (rankedassign.validation.MAX_WORK_BYTES){known}"
+    )
 
 
 def _lsap(C: np.ndarray):
@@ -82,7 +121,11 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     problem : AssignmentProblem
         The ``P x (M + 2P)`` problem; costs may be negative, ``+inf`` marks a forbidden pair.
     k : int
-        Number of assignments wanted, ``k >= 0``.
+        Number of assignments wanted, ``k >= 0``. More than ``|Gamma|`` gives all of them.
+        A ``k`` whose assignments would need more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (4 GiB) of work arrays, about
+        ``32 P + 128`` bytes per assignment, is refused (``min(k, |Gamma|)`` counts when
+        ``|Gamma|`` is cheap to count): about 4 million assignments for ``P = 30``.
     method : {"numba", "scipy"}, optional
         ``"numba"`` (default): compiled Murty with the Miller–Stone–Cox improvements (lazy
         lower bounds, warm starts, partition ordering) on sparse rows.
@@ -102,7 +145,9 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
         If ``problem`` is not an :class:`~rankedassign.AssignmentProblem` or ``k`` is not an
         int.
     ValueError
-        If ``k < 0`` or ``method`` is unknown.
+        If ``k < 0``, ``method`` is unknown, or the ``k`` assignments would not fit in
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (the message gives ``k``, the bytes
+        and the limit).
 
     Notes
     -----
@@ -167,6 +212,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
         return ranked(problem, np.zeros((0, P), dtype=np.int64))
     if P == 0:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
+    _check_k_memory(problem, k)
     if method == "scipy":
         return ranked(problem, _murty_scipy(problem, _k_cap(problem, k)))
     # the kernel's costs are problem.cost_of's, bit for bit, sorted stably

@@ -58,6 +58,7 @@ def _check_cp(c, p) -> tuple[float, float]:
 
 
 def _as_points(X, name: str) -> np.ndarray:
+    """A ``(n, d)`` float array; an empty list (shape ``(0,)``) becomes ``(0, 0)``."""
     a = _as_float_array(X, name)
     if a.ndim == 1 and a.size == 0:
         a = a.reshape(0, 0)
@@ -66,6 +67,29 @@ def _as_points(X, name: str) -> np.ndarray:
     if not np.isfinite(a).all():
         raise ValueError(f"{name} contains NaN or inf; every point must be finite")
     return a
+
+
+def _as_point_pair(X, Y) -> tuple[np.ndarray, np.ndarray]:
+    """Both point sets with one dimension ``d``; an empty set without one takes the other's.
+
+    An empty set given as ``[]`` (or with shape ``(0,)`` or ``(0, 0)``, as :func:`tracks_to_array`
+    makes for nothing) has no dimension of its own; ``(0, d)`` is an empty set of dimension
+    ``d`` and must match the other set as a non-empty one must.
+    """
+    A = _as_points(X, "X")
+    B = _as_points(Y, "Y")
+    dims = [None if a.shape == (0, 0) else a.shape[1] for a in (A, B)]
+    if dims[0] is not None and dims[1] is not None and dims[0] != dims[1]:
+        empty = [name for name, a in (("X", A), ("Y", B)) if a.shape[0] == 0]
+        note = (f" ({' and '.join(empty)} empty: an empty set without a dimension is [] or "
+                "shape (0, 0))") if empty else ""
+        raise ValueError(
+            f"X and Y must have the same point dimension, got {dims[0]} and {dims[1]}{note}"
+        )
+    d = dims[0] if dims[0] is not None else dims[1]
+    if d is not None:
+        A, B = A.reshape(A.shape[0], d), B.reshape(B.shape[0], d)
+    return A, B
 
 
 def _norm(diff: np.ndarray) -> np.ndarray:
@@ -169,9 +193,11 @@ def ospa(X, Y, c: float, p: float) -> OSPAResult:
     Parameters
     ----------
     X : array_like, shape (m, d)
-        First set, one point per row (``m`` may be 0; an empty list is accepted).
+        First set, one point per row. ``m`` may be 0: an empty list ``[]`` (shape ``(0,)``, or
+        ``(0, 0)``) is the empty set of the other set's dimension; ``(0, d)`` is the empty set
+        of dimension ``d``.
     Y : array_like, shape (n, d)
-        Second set.
+        Second set, the same conventions.
     c : float
         Cut-off, ``> 0``.
     p : float
@@ -186,7 +212,8 @@ def ospa(X, Y, c: float, p: float) -> OSPAResult:
     Raises
     ------
     ValueError
-        On non-finite points, mismatched dimensions, ``c <= 0`` or ``p < 1``.
+        On non-finite points, mismatched dimensions (an empty ``(0, d)`` included; the
+        message gives both), ``c <= 0`` or ``p < 1``.
 
     Notes
     -----
@@ -194,8 +221,9 @@ def ospa(X, Y, c: float, p: float) -> OSPAResult:
 
     ``d_p^(c)(X, Y) = ( (1/n) [ min_pi sum_i d^(c)(x_i, y_pi(i))^p + c^p (n - m) ] )^(1/p)``,
 
-    ``0`` when both sets are empty. The assignment is solved with
-    :func:`scipy.optimize.linear_sum_assignment`. OSPA is a metric on finite sets bounded by ``c``.
+    ``0`` when both sets are empty and ``c`` when exactly one is (for any ``p``). The
+    assignment is solved with :func:`scipy.optimize.linear_sum_assignment`. OSPA is a metric
+    on finite sets bounded by ``c``.
 
     References
     ----------
@@ -208,14 +236,11 @@ def ospa(X, Y, c: float, p: float) -> OSPAResult:
     >>> r = ospa([[0.0, 0.0], [10.0, 0.0]], [[0.0, 3.0]], c=100.0, p=1)
     >>> round(r.value, 6), round(r.localisation, 6), round(r.cardinality, 6)
     (51.5, 1.5, 50.0)
+    >>> ospa([[0.0, 0.0, 0.0]], [], c=100.0, p=2).value      # nothing against a point: c
+    100.0
     """
     c, p = _check_cp(c, p)
-    A = _as_points(X, "X")
-    B = _as_points(Y, "Y")
-    if A.shape[0] and B.shape[0] and A.shape[1] != B.shape[1]:
-        raise ValueError(
-            f"X and Y must have the same point dimension, got {A.shape[1]} and {B.shape[1]}"
-        )
+    A, B = _as_point_pair(X, Y)
     if A.shape[0] > B.shape[0]:
         A, B = B, A
     m, n = A.shape[0], B.shape[0]

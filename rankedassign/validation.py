@@ -20,6 +20,7 @@ from numpy import bool_ as np_bool
 
 __all__ = [
     "MAX_COUNT",
+    "MAX_WORK_BYTES",
     "STALL_READINGS",
     "STALE_READINGS",
     "check_bool",
@@ -28,12 +29,19 @@ __all__ = [
     "check_optional_int",
     "check_real",
     "check_type",
+    "format_bytes",
 ]
 
 # Largest count any kernel accepts: counters are int64 and some are summed or doubled, so stay
 # well below 2**63. Larger values are refused in Python with a message instead of surfacing as
 # a numba typing or overflow error.
 MAX_COUNT = 2**62
+
+# Largest amount of memory an exact computation of the oracle sets out to use for the arrays
+# that grow with its answer (an enumeration's output and the sort's keys, the records Murty's
+# search keeps per reported assignment): 4 GiB. Beyond it a request is refused with the bytes it
+# would take, instead of growing until MemoryError or reaching numpy's "array is too big".
+MAX_WORK_BYTES = 2**32
 
 # Readings of the stall and stale rules (spec §3.2) and the integer codes the kernels use for
 # them; 0 switches a rule off.
@@ -234,3 +242,27 @@ def check_type(value, name: str, types, hint: str = ""):
         raise TypeError(f"{name} must be a {names}, got {type(value).__name__}"
                         + (f"; {hint}" if hint else ""))
     return value
+
+
+def format_bytes(n: int) -> str:
+    """``n`` bytes in binary units with the exact count, for messages.
+
+    Examples
+    --------
+    >>> format_bytes(512)
+    '512 bytes'
+    >>> format_bytes(2**32)
+    '4.0 GiB (4294967296 bytes)'
+    >>> format_bytes(10**21)
+    '867.4 EiB (1000000000000000000000 bytes)'
+    >>> format_bytes(10**40)
+    '1.0e+40 bytes'
+    """
+    n = int(n)
+    if n < 1024:
+        return f"{n} bytes"
+    units = ("KiB", "MiB", "GiB", "TiB", "PiB", "EiB", "ZiB", "YiB")
+    e = (n.bit_length() - 1) // 10
+    if e > len(units):
+        return f"{float(n):.1e} bytes"
+    return f"{n / 1024**e:.1f} {units[e - 1]} ({n} bytes)"

@@ -179,6 +179,50 @@ def test_from_measurements_errors(args, kw, exc, match):
         AdaptiveBirthProblem.from_measurements(*args, **kw)
 
 
+@pytest.mark.parametrize("z, kw, match", [
+    # 1e160 used to be accepted, and ln rho, log_normalizer and marginals came out NaN
+    ([[[0.0], [1e160]], [[0.0]]], {}, r"^measurements\[0\]\[1\] = \[1e\+160\] is too large "
+     r"for the closed form of ln rho: z' R\[0\]\^-1 z = inf exceeds 2\*\*1000 / \(V \+ 1\) = "
+     r"3\.57e\+300 \(V = 2\); beyond it the information sums overflow and ln rho would be "
+     r"NaN$"),
+    ([[[0.0], [-1e155]], [[0.0]]], {}, r"^measurements\[0\]\[1\] = \[-1e\+155\] is too large"),
+    ([[[0.0]], [[np.inf]]], {}, r"^measurements\[1\]\[0\] = \[inf\] is not finite$"),
+    ([[[0.0]]], _kw(mu0=[1e160]), r"^mu0 = \[1e\+160\] is too large for the closed form of ln "
+     r"rho: mu0' P0\^-1 mu0 = inf exceeds 2\*\*1000 / \(V \+ 1\) = 5\.36e\+300 \(V = 1\)"),
+    ([[[0.0]]], _kw(mu0=[np.inf]), r"^mu0 must be finite, got \[inf\]$"),
+    ([[[0.0]]], _kw(P0=[[np.inf]]), r"^P0 must be finite, got \[\[inf\]\]$"),
+    ([[[0.0]]], _kw(P0=[[1e-320]]), r"^P0 is too close to singular for the closed form of ln "
+     r"rho: P0\^-1 has an entry of inf, above 2\*\*1000"),
+    ([[[0.0]]], _kw(H=[[np.inf]]), r"^H\[0\] must be finite, got \[\[inf\]\]$"),
+    ([[[0.0]]], _kw(R=[[np.inf]]), r"^R\[0\] must be finite, got \[\[inf\]\]$"),
+    ([[[0.0]]], _kw(H=[[1e160]]), r"^H\[0\]' R\[0\]\^-1 H\[0\] has an entry of inf, above "
+     r"2\*\*1000 / \(V \+ 1\) = 5\.36e\+300 \(V = 1\): R\[0\] is too close to singular or "
+     r"H\[0\] too large"),
+])
+def test_from_measurements_refuses_what_would_make_ln_rho_nan(z, kw, match):
+    kw = kw or _kw()
+    with pytest.raises(ValueError, match=match):
+        AdaptiveBirthProblem.from_measurements(z, [[1.0] * len(zv) for zv in z], **kw)
+
+
+def test_far_measurements_within_the_bound_give_finite_answers():
+    # z = 1e150: z' R^-1 z = 1e300 <= 2**1000 / 3, accepted; its tuples have ln rho ~ -1e299
+    # (weight 0), and the oracle's answers are finite: the measurement's marginal is 0
+    p = AdaptiveBirthProblem.from_measurements([[[0.0], [1e150]], [[0.0]]],
+                                               [[1.0, 1.0], [1.0]], **_kw())
+    lw = p.log_weights()
+    assert np.isfinite(lw).all() and (lw[2] < -1e298).all()
+    assert np.isfinite(oracle.log_normalizer(p))
+    m = oracle.marginals(p)
+    assert all(np.isfinite(mv).all() for mv in m) and m[0][2] == 0.0
+    near = AdaptiveBirthProblem.from_measurements([[[0.0]], [[0.0]]], [[1.0], [1.0]], **_kw())
+    assert_allclose(oracle.log_normalizer(p), oracle.log_normalizer(near), rtol=1e-12)
+    # a huge measurement that the tau_rU rule drops plays no part
+    q = AdaptiveBirthProblem.from_measurements([[[0.0], [1e300]], [[0.0]]],
+                                               [[1.0, 0.5], [1.0]], **_kw())
+    assert q.n_meas == (1, 1) and np.isfinite(oracle.log_normalizer(q))
+
+
 def test_from_measurements_tau_and_n_min_errors():
     with pytest.raises(ValueError, match="tau_rU must be <= 1.0"):
         AdaptiveBirthProblem.from_measurements([[[0.0]]], [[1.0]], tau_rU=2.0, **_kw())
@@ -303,6 +347,24 @@ def test_enumeration_order_and_limit():
         oracle.enumerate_assignments(p, limit=3)
     with pytest.raises(TypeError, match="limit must be an int"):
         oracle.enumerate_assignments(p, limit=3.0)
+
+
+def test_enumeration_refuses_a_huge_limit_with_the_count_and_the_bytes():
+    # 2**40 tuples (40 sensors, one measurement each) with limit = 10**18 used to reach
+    # numpy's "array is too big" in the index grid; 8 (3 V + 3) = 984 bytes per tuple
+    p = AdaptiveBirthProblem.from_measurements([[[0.0]]] * 40, [[1.0]] * 40, **_kw())
+    with pytest.raises(ValueError, match=(
+            r"^problem too large to enumerate: 1099511627776 tuples \(M = \(1, 1, .*, 1\)\) "
+            r"would take 984\.0 TiB \(1081919441731584 bytes\), more than the limit of 4\.0 "
+            r"GiB \(4294967296 bytes\) \(rankedassign\.validation\.MAX_WORK_BYTES; 984 bytes "
+            r"each\)$")):
+        oracle.enumerate_assignments(p, limit=10**18)
+    small = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]))
+    r = oracle.enumerate_assignments(small, limit=10**18)
+    assert_array_equal(r.assignments, [[1, 1], [1, 0], [0, 1], [0, 0]])
+    with pytest.raises(ValueError, match=r"4 tuples \(M = \(1, 1\)\) exceed limit = 3 \(they "
+                                         r"would take 288 bytes\)$"):
+        oracle.enumerate_assignments(small, limit=3)
 
 
 def test_truncation_error_ignores_non_births_and_pins_messages():

@@ -74,6 +74,43 @@ def test_ospa_hand_values():
     assert_allclose(ospa([[0.0, 0.0]], [[1e6, 0.0]], 7.0, 1).value, 7.0, rtol=1e-12)
 
 
+@pytest.mark.parametrize("p", [1.0, 2.0, 3.5, 1e5])
+@pytest.mark.parametrize("empty", [[], np.zeros(0), np.zeros((0, 0)), np.zeros((0, 3))],
+                         ids=["list", "shape (0,)", "shape (0, 0)", "shape (0, 3)"])
+def test_ospa_of_an_empty_set_against_points_is_c(empty, p):
+    # [] and shape (0,) used to give a numpy broadcast error against 3-D points
+    X = np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 3.0]])
+    assert ospa(X, empty, 7.0, p) == (7.0, 0.0, 7.0)
+    assert ospa(empty, X, 7.0, p) == (7.0, 0.0, 7.0)
+    assert ospa(empty, [], 7.0, p) == (0.0, 0.0, 0.0)
+    assert ospa(empty, np.zeros((0, 3)), 7.0, p) == (0.0, 0.0, 0.0)
+
+
+def test_ospa_refuses_an_empty_set_of_another_dimension():
+    X = np.array([[0.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"^X and Y must have the same point dimension, got 3 and "
+                                         r"2 \(Y empty: an empty set without a dimension is \[\] "
+                                         r"or shape \(0, 0\)\)$"):
+        ospa(X, np.zeros((0, 2)), 7.0, 1)
+    with pytest.raises(ValueError, match=r"^X and Y must have the same point dimension, got 2 and "
+                                         r"3 \(X empty"):
+        ospa(np.zeros((0, 2)), X, 7.0, 1)
+    with pytest.raises(ValueError, match=r"got 2 and 3 \(X and Y empty"):
+        ospa(np.zeros((0, 2)), np.zeros((0, 3)), 7.0, 1)
+    with pytest.raises(ValueError, match=r"^X and Y must have the same point dimension, got 3 and "
+                                         r"2$"):
+        ospa(X, [[0.0, 0.0]], 7.0, 1)
+
+
+@pytest.mark.parametrize("p", [1.0, 2.0, 1e5])
+def test_ospa2_of_no_tracks_against_tracks_is_c_whatever_the_empty_side_dimension(p):
+    X = np.array([[[0.0, 0.0]], [[1.0, 1.0]]])
+    for none in (np.zeros((2, 0, 0)), np.zeros((2, 0, 2)), np.zeros((2, 0, 5))):
+        assert_array_equal(ospa2(X, none, 7.0, p, 2).value, [7.0, 7.0])
+        assert_array_equal(ospa2(none, X, 7.0, p, 2).value, [7.0, 7.0])
+        assert_array_equal(ospa2(none, none, 7.0, p, 2).value, [0.0, 0.0])
+
+
 @pytest.mark.parametrize(
     ("args", "exc", "match"),
     [

@@ -11,6 +11,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 
 from rankedassign import AssignmentProblem
 from rankedassign.multisensor import MultiSensorProblem, count_feasible_all_positive, synthetic
+from rankedassign.multisensor import problem as msp
 
 inf = np.inf
 
@@ -293,6 +294,39 @@ def test_bad_factor_messages(kwargs, err, match):
     args.update(kwargs)
     with pytest.raises(err, match=match):
         MultiSensorProblem.from_factors(**args)
+
+
+def test_from_factors_refuses_a_table_too_large_before_building_it():
+    # V = 40 sensors of one measurement each: 2 * 2**40 entries (16 TiB) used to be attempted
+    d, s, th = [0.5, 0.5], [0.5, 0.5], [np.ones((2, 2))] * 40
+    with pytest.raises(ValueError, match=(
+            r"^V = 40 sensors with M = \(1, 1, 1, 1, \.\.\., 1\) \(40 sensors\) give a weight "
+            r"table of shape \(2, 2, 2, 2, \.\.\., 2\) \(41 axes\): 2199023255552 entries, "
+            r"16\.0 TiB \(17592186044416 bytes\) of float64, more than MAX_TABLE_ENTRIES = "
+            r"134217728 entries, 1\.0 GiB \(1073741824 bytes\)$")):
+        MultiSensorProblem.from_factors(d, s, th)
+    # V = 64 used to reach numpy's "maximum supported dimension"
+    with pytest.raises(ValueError, match=r"^V = 64 sensors .* 36893488147419103232 entries, "
+                                         r"256\.0 EiB .* more than MAX_TABLE_ENTRIES"):
+        MultiSensorProblem.from_factors(d, s, [np.ones((2, 2))] * 64)
+    # a tiny table with too many axes: 64 sensors without measurements
+    with pytest.raises(ValueError, match=r"^V = 64 sensors with M = \(0, 0, 0, 0, \.\.\., 0\) "
+                                         r"\(64 sensors\) give a weight table of shape \(2, 1, 1, "
+                                         r"1, \.\.\., 1\) \(65 axes\): 2 entries, 16 bytes of "
+                                         r"float64, but with 65 axes, more than the 64 of a numpy "
+                                         r"array \(at most 63 sensors\)$"):
+        MultiSensorProblem.from_factors(d, s, [np.ones((2, 1))] * 64)
+    assert MultiSensorProblem.from_factors(d, s, [np.ones((2, 1))] * 63).n_sensors == 63
+    assert msp.MAX_TABLE_ENTRIES == 2**27
+
+
+def test_table_size_limit_is_inclusive(monkeypatch):
+    monkeypatch.setattr(msp, "MAX_TABLE_ENTRIES", 2**10)
+    th = [np.ones((1, 2))] * 10
+    assert MultiSensorProblem.from_factors([0.5], [0.5], th).shape == (1,) + (1,) * 10
+    with pytest.raises(ValueError, match=r"2048 entries, 16\.0 KiB \(16384 bytes\) of float64, "
+                                         r"more than MAX_TABLE_ENTRIES = 1024 entries"):
+        MultiSensorProblem.from_factors([0.5] * 2, [0.5] * 2, [np.ones((2, 2))] * 10)
 
 
 def test_bad_raw_constructor_factors():

@@ -207,6 +207,31 @@ def test_bad_family_arguments(call, err, match):
         call()
 
 
+@pytest.mark.parametrize("family", [synthetic.diagonal, synthetic.uniform, synthetic.random,
+                                    synthetic.random_coupled, synthetic.geometric])
+def test_families_refuse_a_table_too_large_before_drawing(family):
+    # V = 40 (16 TiB) used to raise MemoryError, V = 64 numpy's "maximum supported dimension"
+    with pytest.raises(ValueError, match=r"^V = 40 sensors .* 2199023255552 entries, 16\.0 TiB "
+                                         r"\(17592186044416 bytes\) of float64, more than "
+                                         r"MAX_TABLE_ENTRIES = 134217728 entries, 1\.0 GiB "
+                                         r"\(1073741824 bytes\)$"):
+        family(2, (1,) * 40)
+    with pytest.raises(ValueError, match=r"^V = 64 sensors .* 256\.0 EiB"):
+        family(2, (1,) * 64)
+    with pytest.raises(ValueError, match=r"at most 63 sensors"):
+        family(1, (0,) * 64)
+
+
+def test_sensors_without_measurements_cost_no_detection_patterns():
+    # 40 sensors that cannot detect: a table of (2, 4, 1, ..., 1), accepted; the closed form
+    # used to visit all 2**41 detection patterns. Each such sensor only adds ln(1 - p_d).
+    many = synthetic.geometric(2, (3,) + (0,) * 40, rng=0)
+    one = synthetic.geometric(2, (3,), rng=0)
+    assert many.shape == (2, 3) + (0,) * 40
+    assert_allclose(many.log_eta_alive.reshape(2, 4),
+                    one.log_eta_alive + 40 * np.log1p(-0.9), rtol=1e-13)
+
+
 def test_bad_closed_form_arguments():
     base = ([1.0], [[0.0, 0.0]], [np.eye(2)], [np.zeros((1, 2))], [np.eye(2)], [np.eye(2)],
             [0.9], [1.0])

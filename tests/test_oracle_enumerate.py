@@ -111,6 +111,39 @@ def test_too_large_message_states_count_and_limit():
     assert len(enumerate_assignments(synthetic.uniform(), limit=76_848).costs) == 76_848
 
 
+def test_too_large_message_also_states_the_bytes():
+    # 8 P + 40 = 72 bytes per assignment for P = 4
+    with pytest.raises(ValueError, match=r"exceed limit = 76847 \(they would take 5\.3 MiB "
+                                         r"\(5533056 bytes\)\)$"):
+        enumerate_assignments(synthetic.uniform(), limit=76_847)
+
+
+def test_huge_limit_is_refused_with_the_count_and_the_bytes_before_allocating():
+    # limit = 10**18 used to let a count of 1.8e9 through to an impossible allocation
+    p = synthetic.random(R=10, M=10, rng=0)
+    with pytest.raises(ValueError, match=(
+            r"^problem too large to enumerate: 1815177984 feasible assignments \(P = 10, "
+            r"M = 10\) would take 202\.9 GiB \(217821358080 bytes\), more than the limit of "
+            r"4\.0 GiB \(4294967296 bytes\) \(rankedassign\.validation\.MAX_WORK_BYTES; 120 "
+            r"bytes each\)$")):
+        enumerate_assignments(p, limit=10**18)
+    # too costly to count exactly (a forbidden pair, 200 rows): the counting search stops as
+    # soon as it passes what the memory limit holds, 2**32 // 1640 assignments
+    C = synthetic.random(R=200, M=30, rng=0).cost.copy()
+    C[0, 0] = np.inf
+    q = AssignmentProblem.from_cost(C)
+    with pytest.raises(ValueError, match=(
+            r"^problem too large to enumerate: more than 2618882 feasible assignments "
+            r"\(P = 200, M = 30\) would take more than the limit of 4\.0 GiB \(4294967296 "
+            r"bytes\) \(rankedassign\.validation\.MAX_WORK_BYTES; 1640 bytes each\)$")):
+        enumerate_assignments(q, limit=10**18)
+    # a huge limit on a small problem changes nothing
+    small = synthetic.random(R=3, M=4, rng=1)
+    got, want = enumerate_assignments(small, limit=10**18), enumerate_assignments(small)
+    assert_array_equal(got.assignments, want.assignments)
+    assert_array_equal(got.costs, want.costs)
+
+
 @pytest.mark.parametrize(
     "kwargs, exc, match",
     [

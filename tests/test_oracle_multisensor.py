@@ -113,6 +113,35 @@ def test_enumeration_refuses_above_the_limit_at_once():
     assert msen.count_assignments(q, limit=1000) == 1001
 
 
+def test_enumeration_refuses_a_huge_limit_with_the_count_and_the_bytes():
+    # 76 511 176 assignments at 16 P V + 16 P + 24 = 216 bytes: within limit = 10**18, which
+    # used to reach the allocation, but beyond the memory limit
+    with pytest.raises(ValueError, match=(
+            r"^problem too large to enumerate: 76511176 feasible assignments \(P = 4, "
+            r"M = \(10, 10\)\) would take 15\.4 GiB \(16526414016 bytes\), more than the limit "
+            r"of 4\.0 GiB \(4294967296 bytes\) \(rankedassign\.validation\.MAX_WORK_BYTES; "
+            r"216 bytes each\)$")):
+        oracle.enumerate_assignments(synthetic.uniform(4, (10, 10)), limit=10**18)
+    # beyond the counting DP: the search stops past what the memory limit holds
+    a = np.ones((6, 21, 21))
+    a[0, 1, 1] = 0.0
+    q = MultiSensorProblem.from_eta(np.ones(6), a)
+    with pytest.raises(ValueError, match=(
+            r"^problem too large to enumerate: more than 13765920 feasible assignments "
+            r"\(P = 6, M = \(20, 20\)\) would take more than the limit of 4\.0 GiB "
+            r"\(4294967296 bytes\) \(rankedassign\.validation\.MAX_WORK_BYTES; 312 bytes "
+            r"each\)$")):
+        oracle.enumerate_assignments(q, limit=10**18)
+    # the limit message states the bytes too; a huge limit on a small problem changes nothing
+    p = synthetic.diagonal()
+    with pytest.raises(ValueError, match=r"67744 feasible assignments .* exceed limit = 67743 "
+                                         r"\(they would take 14\.0 MiB \(14632704 bytes\)\)$"):
+        oracle.enumerate_assignments(p, limit=67_743)
+    got, want = oracle.enumerate_assignments(p, limit=10**18), oracle.enumerate_assignments(p)
+    assert_array_equal(got.assignments, want.assignments)
+    assert_array_equal(got.costs, want.costs)
+
+
 @pytest.mark.parametrize("limit, err, match", [
     (0, ValueError, "limit must be an int >= 1, got 0"),
     (1.5, TypeError, "limit must be an int, got float 1.5"),

@@ -12,6 +12,7 @@ from scipy.optimize import linear_sum_assignment
 
 from oracle import enumerate_assignments, murty
 from rankedassign import AssignmentProblem, synthetic
+from rankedassign.validation import MAX_WORK_BYTES
 
 METHODS = ["numba", "scipy"]
 
@@ -171,6 +172,46 @@ def test_bad_method_and_problem():
     with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
         murty(synthetic.diagonal().cost, 3)
     assert murty(synthetic.diagonal(), np.int64(2)).costs.shape == (2,)
+
+
+def test_huge_k_is_refused_with_the_bytes_it_would_need():
+    # 30 x 30: |Gamma| ~ 6.3e37, so nothing caps k = 10**18; the search used to grow to
+    # gigabytes before a MemoryError. 8 (4 P + ceil(P / 64) + 15) = 1088 bytes per assignment.
+    p = synthetic.random(R=30, M=30, rng=0)
+    msg = (r"^k = 1000000000000000000 is too large: 1000000000000000000 assignments need at "
+           r"least 943\.7 EiB \(1088000000000000000000 bytes\) of Murty work arrays \(1088 "
+           r"bytes each for P = 30 rows\), more than the limit of 4\.0 GiB \(4294967296 bytes\) "
+           r"\(rankedassign\.validation\.MAX_WORK_BYTES\); the problem has "
+           r"62773844750873636145663070102318219264 feasible assignments$")
+    for method in METHODS:
+        with pytest.raises(ValueError, match=msg):
+            murty(p, 10**18, method=method)
+    # the first k beyond the limit (the bound is exact in k)
+    k = MAX_WORK_BYTES // 1088 + 1
+    with pytest.raises(ValueError, match=rf"^k = {k} is too large: {k} assignments need at "
+                                         rf"least 4\.0 GiB \({k * 1088} bytes\)"):
+        murty(p, k)
+    # forbidden pairs and 30 rows: too costly to count, so k itself is judged
+    C = p.cost.copy()
+    C[0, 0] = np.inf
+    q = AssignmentProblem.from_cost(C)
+    with pytest.raises(ValueError, match=r"^k = 1000000000000000000 is too large: .*"
+                                         r"\(rankedassign\.validation\.MAX_WORK_BYTES\)$"):
+        murty(q, 10**18)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_huge_k_on_a_small_problem_still_gives_every_assignment(method):
+    # k beyond |Gamma| is documented to return all of them; a huge k is no exception, and
+    # the output is that of any other k >= |Gamma| bit for bit (costs and tie order)
+    for p in (AssignmentProblem.from_eta([[2.0, 0.5], [0.1, 3.0]], [0.2, 0.4], [0.1, 0.1]),
+              last_columns_problem(3, 5, 0), synthetic.uniform(R=2, M=3)):
+        n = p.n_feasible()
+        want = murty(p, n + 5, method=method)
+        got = murty(p, 2**62, method=method)
+        assert len(got.costs) == n
+        assert_array_equal(got.assignments, want.assignments)
+        assert_array_equal(got.costs, want.costs)
 
 
 def test_comparison_helper_detects_a_wrong_ranking():

@@ -52,6 +52,11 @@ SENSOR_ORDERS = ("random", "fixed")
 _LOG_2PI = math.log(2.0 * math.pi)
 # Tensors larger than this are refused by AdaptiveBirthProblem.log_weights (dense oracle input).
 _MAX_TENSOR = 1 << 26
+# Bound on the information sums of the closed form (spec eq. 1.6): a tuple's c_J = mu0' P0^-1
+# mu0 + sum_v z' R_v^-1 z and the entries of M_J = P0^-1 + sum_v H_v' R_v^-1 H_v add at most
+# V + 1 terms, each kept <= _INFO_LIMIT / (V + 1), so they stay finite (with room for the
+# Cholesky factor and |L^-1 b|^2 <= c_J) and c_J - |L^-1 b_J|^2 is never inf - inf = NaN.
+_INFO_LIMIT = 2.0**1000
 
 
 def _float_array(x, name: str, ndim: int) -> np.ndarray:
@@ -79,6 +84,11 @@ def _per_sensor(x, name: str, V: int, shared_ndim: int) -> list:
             raise ValueError(f"{name} must have one entry per sensor (V = {V}), got {len(x)}")
         return list(x)
     return [x] * V
+
+
+def _check_finite(a: np.ndarray, name: str) -> None:
+    if not np.isfinite(a).all():
+        raise ValueError(f"{name} must be finite, got {a.tolist()}")
 
 
 def _spd_half_logdet(M: np.ndarray, name: str) -> float:
@@ -250,7 +260,11 @@ class AdaptiveBirthProblem:
             If an array is not numeric or a scalar has the wrong type.
         ValueError
             On inconsistent shapes, NaN, probabilities out of range, a non-SPD covariance or a
-            non-positive clutter intensity.
+            non-positive clutter intensity; on an infinite entry of ``mu0``, ``P0``, ``H``,
+            ``R`` or a kept measurement; and on inputs too large for the closed form in
+            float64: a kept measurement with ``z' R_v^-1 z`` (or ``mu0' P0^-1 mu0``, or an
+            entry of ``P0^-1`` or ``H_v' R_v^-1 H_v``) above ``2**1000 / (V + 1)``, beyond which
+            the sums below overflow and ``ln rho`` would be NaN (the message names the input).
 
         Notes
         -----
@@ -283,10 +297,15 @@ class AdaptiveBirthProblem:
         n = mu0.shape[0]
         if n == 0:
             raise ValueError("mu0 must have at least one state component")
+        _check_finite(mu0, "mu0")
         P0 = _float_array(P0, "P0", 2)
         if P0.shape != (n, n):
             raise ValueError(f"P0 must have shape (n, n) = ({n}, {n}), got {P0.shape}")
+        _check_finite(P0, "P0")
         half_logdet_P0 = _spd_half_logdet(P0, "P0")
+        bound = _INFO_LIMIT / (V + 1)
+        limit = f"2**1000 / (V + 1) = {bound:.3g} (V = {V})"
+        why = "beyond it the information sums overflow and ln rho would be NaN"
         tau_rU = check_real(tau_rU, "tau_rU", minimum=0.0, maximum=1.0)
         n_min = min(2, V) if n_min is None else check_int(n_min, "n_min", minimum=0, maximum=V)
         Hs, Rs, pds, kappas = (_per_sensor(H, "H", V, 2), _per_sensor(R, "R", V, 2),
@@ -296,8 +315,16 @@ class AdaptiveBirthProblem:
             raise ValueError(f"r_U must be a list with one array per sensor (V = {V})")
         M0 = np.linalg.inv(P0)
         M0 = 0.5 * (M0 + M0.T)
+        with np.errstate(over="ignore", invalid="ignore"):
+            c0 = float(mu0 @ M0 @ mu0)
+        if not np.abs(M0).max() <= bound:
+            raise ValueError(f"P0 is too close to singular for the closed form of ln rho: P0^-1 "
+                             f"has an entry of {np.abs(M0).max():.3g}, above {limit}; {why}")
+        if not c0 <= bound:
+            raise ValueError(f"mu0 = {mu0.tolist()} is too large for the closed form of ln rho: "
+                             f"mu0' P0^-1 mu0 = {c0:.3g} exceeds {limit}; {why}")
         model = {"n": n, "mu0": mu0, "P0": P0, "M0": M0, "b0": M0 @ mu0,
-                 "c0": float(mu0 @ M0 @ mu0), "half_logdet_P0": half_logdet_P0,
+                 "c0": c0, "half_logdet_P0": half_logdet_P0,
                  "H": [], "R": [], "z": [], "log_miss": np.empty(V), "A": np.empty((V, n, n)),
                  "a": [], "cz": [], "const": []}
         kept = []
@@ -305,10 +332,12 @@ class AdaptiveBirthProblem:
             Hv = _float_array(Hs[v], f"H[{v}]", 2)
             if Hv.shape[1] != n:
                 raise ValueError(f"H[{v}] must have n = {n} columns, got shape {Hv.shape}")
+            _check_finite(Hv, f"H[{v}]")
             d = Hv.shape[0]
             Rv = _float_array(Rs[v], f"R[{v}]", 2)
             if Rv.shape != (d, d):
                 raise ValueError(f"R[{v}] must have shape ({d}, {d}), got {Rv.shape}")
+            _check_finite(Rv, f"R[{v}]")
             half_logdet_R = _spd_half_logdet(Rv, f"R[{v}]")
             pd = check_real(pds[v], f"P_D[{v}]", minimum=0.0, strict_minimum=True,
                             maximum=1.0)
@@ -342,9 +371,26 @@ class AdaptiveBirthProblem:
             model["H"].append(Hv)
             model["R"].append(Rv)
             model["z"].append(z)
-            model["A"][v] = Hv.T @ Ri @ Hv                             # H' R^-1 H
-            model["a"].append(z @ (Ri @ Hv))                           # rows H' R^-1 z
-            model["cz"].append(np.einsum("md,de,me->m", z, Ri, z))     # z' R^-1 z
+            with np.errstate(over="ignore", invalid="ignore"):   # checked just below
+                A = Hv.T @ Ri @ Hv                                     # H' R^-1 H
+                a = z @ (Ri @ Hv)                                      # rows H' R^-1 z
+                cz = np.einsum("md,de,me->m", z, Ri, z)                # z' R^-1 z
+            if not np.abs(A).max(initial=0.0) <= bound:
+                raise ValueError(
+                    f"H[{v}]' R[{v}]^-1 H[{v}] has an entry of {np.abs(A).max():.3g}, above "
+                    f"{limit}: R[{v}] is too close to singular or H[{v}] too large for the "
+                    f"closed form of ln rho; {why}")
+            finite = np.isfinite(z).all(axis=1)
+            bad = np.flatnonzero(~(finite & (cz <= bound)))           # (NaN cz is bad too)
+            if bad.size:
+                m = int(bad[0])
+                text = ("is not finite" if not finite[m] else
+                        f"is too large for the closed form of ln rho: z' R[{v}]^-1 z = "
+                        f"{cz[m]:.3g} exceeds {limit}; {why}")
+                raise ValueError(f"measurements[{v}][{int(keep[m])}] = {z[m].tolist()} {text}")
+            model["A"][v] = A
+            model["a"].append(a)
+            model["cz"].append(cz)
             model["const"].append(np.log(ru) + math.log(pd) - np.log(kap)
                                   - 0.5 * d * _LOG_2PI - half_logdet_R)
             model["log_miss"][v] = math.log1p(-pd)

@@ -21,8 +21,18 @@ from functools import cached_property
 import numpy as np
 
 from ..problem import AssignmentProblem
+from ..validation import format_bytes
 
-__all__ = ["MultiSensorProblem", "count_feasible_all_positive"]
+__all__ = ["MAX_TABLE_ENTRIES", "MultiSensorProblem", "check_table_size",
+           "count_feasible_all_positive"]
+
+#: Largest weight table ``log_eta_alive`` (entries) that :meth:`MultiSensorProblem.from_factors`
+#: and the synthetic families build from per-sensor factors: ``2**27`` float64 entries, 1 GiB,
+#: as for the single-sensor synthetic matrices. The table has ``P prod_v (M_v + 1)`` entries, so
+#: this is what bounds the number of sensors: 27 sensors of one measurement each for one row.
+MAX_TABLE_ENTRIES = 2**27
+# numpy arrays have at most 64 axes; the table has one for the rows and one per sensor
+_MAX_AXES = 64
 
 # Exact counting with forbidden tuples (a DP over the reachable sets of used measurements)
 # refuses beyond this many states or this much work.
@@ -43,6 +53,59 @@ def _as_float_array(x, name: str) -> np.ndarray:
     if np.issubdtype(arr.dtype, np.complexfloating):
         raise TypeError(f"{name} must be real, got dtype {arr.dtype}")
     return np.array(arr, dtype=np.float64, order="C", copy=True)
+
+
+def _dims_text(dims, noun: str) -> str:
+    """A tuple of ints for a message; a long one abbreviated, with its length in ``noun``."""
+    dims = tuple(int(m) for m in dims)
+    if len(dims) <= 8:
+        return str(dims)
+    head = ", ".join(str(m) for m in dims[:4])
+    return f"({head}, ..., {dims[-1]}) ({len(dims)} {noun})"
+
+
+def check_table_size(P: int, n_meas) -> None:
+    """Refuse, before anything is allocated, a weight table too large to build.
+
+    The table ``log_eta_alive`` of ``P`` rows and ``V`` sensors with ``M_v`` measurements has
+    shape ``(P, M_1 + 1, ..., M_V + 1)``.
+
+    Parameters
+    ----------
+    P : int
+    n_meas : sequence of int
+        ``(M_1, ..., M_V)``.
+
+    Raises
+    ------
+    ValueError
+        If the table would have more than :data:`MAX_TABLE_ENTRIES` entries or more than the
+        64 axes of a numpy array (``V > 63``); the message gives the shape, the entries and
+        the bytes.
+
+    Examples
+    --------
+    >>> check_table_size(4, (4, 4))
+    >>> check_table_size(2, (1,) * 40)
+    Traceback (most recent call last):
+    ...
+    ValueError: V = 40 sensors with M = (1, 1, 1, 1, ..., 1) (40 sensors) give a weight table of
+    shape (2, 2, 2, 2, ..., 2) (41 axes): 2199023255552 entries, 16.0 TiB (17592186044416
+    bytes) of float64, more than MAX_TABLE_ENTRIES = 134217728 entries, 1.0 GiB (1073741824
+    bytes)
+    """
+    M = tuple(int(m) for m in n_meas)
+    shape = (int(P), *(m + 1 for m in M))
+    entries = math.prod(shape)
+    size = (f"V = {len(M)} sensors with M = {_dims_text(M, 'sensors')} give a weight table "
+            f"of shape {_dims_text(shape, 'axes')}: {entries} entries, "
+            f"{format_bytes(8 * entries)} of float64")
+    if entries > MAX_TABLE_ENTRIES:
+        raise ValueError(f"{size}, more than MAX_TABLE_ENTRIES = {MAX_TABLE_ENTRIES} entries, "
+                         f"{format_bytes(8 * MAX_TABLE_ENTRIES)}")
+    if len(shape) > _MAX_AXES:
+        raise ValueError(f"{size}, but with {len(shape)} axes, more than the {_MAX_AXES} of a "
+                         f"numpy array (at most {_MAX_AXES - 1} sensors)")
 
 
 def _first(mask: np.ndarray) -> tuple:
@@ -346,8 +409,10 @@ class MultiSensorProblem:
         Raises
         ------
         ValueError
-            On mismatched shapes, NaN, negative or infinite weights, or a row whose weights
-            are all zero.
+            On mismatched shapes, NaN, negative or infinite weights, a row whose weights
+            are all zero, or a table ``(P, M_1+1, ..., M_V+1)`` of more than
+            :data:`MAX_TABLE_ENTRIES` ``= 2**27`` entries (1 GiB) or more than 63 sensors
+            (:func:`check_table_size`, before anything is allocated).
         TypeError
             On non-numeric input or a ``theta`` that is not a sequence.
 
@@ -385,6 +450,7 @@ class MultiSensorProblem:
                     f"{th.shape}"
                 )
             thetas.append(th)
+        check_table_size(P, [th.shape[1] - 1 for th in thetas])
         _check_weights(d, "eta_dead")
         _check_weights(s, "pbar_s")
         for v, th in enumerate(thetas):

@@ -14,6 +14,10 @@ with ``Pbar_D = P_d`` (``pbar_d="pd"``, spec §6.5, the default) or ``r P_d`` (`
 single-sensor synthetic default, spec A2) and ``c = 1`` except in ``random_coupled``. With
 ``V = 1`` and the same ``pbar_d`` the families are the single-sensor ones of
 :mod:`rankedassign.synthetic`.
+
+Every family refuses, before drawing or building anything, a table ``(P, M_1+1, ..., M_V+1)``
+of more than :data:`~rankedassign.multisensor.problem.MAX_TABLE_ENTRIES` ``= 2**27`` entries
+(1 GiB) or more than 63 sensors (:func:`~rankedassign.multisensor.problem.check_table_size`).
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from scipy.linalg import solve_triangular
 from scipy.special import logsumexp
 
 from ..validation import check_choice, check_int, check_real
-from .problem import MultiSensorProblem
+from .problem import MultiSensorProblem, check_table_size
 
 __all__ = [
     "SIZES",
@@ -52,7 +56,9 @@ def _check_sizes(P, M) -> tuple[int, tuple[int, ...]]:
                         f"{type(M).__name__} {M!r}")
     if len(M) == 0:
         raise ValueError("M must name at least one sensor, got an empty sequence")
-    return P, tuple(check_int(m, f"M[{v}]") for v, m in enumerate(M))
+    M = tuple(check_int(m, f"M[{v}]") for v, m in enumerate(M))
+    check_table_size(P, M)  # before any factor, draw or table is made
+    return P, M
 
 
 def factors_from_parameters(r, p_s, p_d, q, *, pbar_d: str = "pd"):
@@ -527,7 +533,10 @@ def log_psi_linear_gaussian(weights, means, covs, Z, H, R, p_d, kappa, *,
     _, logdetP = np.linalg.slogdet(P0)
     Rinv = [np.linalg.inv(r) for r in R]
     consts = [-0.5 * (r.shape[0] * np.log(2 * np.pi) + np.linalg.slogdet(r)[1]) for r in R]
-    for pattern in itertools.product((False, True), repeat=V):
+    # a sensor without measurements cannot detect: patterns that use it have an empty block
+    # (they were skipped), so they are not generated (2**V of them with many such sensors)
+    choices = [(False, True) if dims[v] > 1 else (False,) for v in range(V)]
+    for pattern in itertools.product(*choices):
         D = [v for v in range(V) if pattern[v]]
         idx = tuple(slice(1, None) if pattern[v] else 0 for v in range(V))
         block_shape = tuple(dims[v] - 1 for v in D)
