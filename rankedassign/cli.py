@@ -19,6 +19,7 @@ import numpy as np
 
 from . import experiments, synthetic
 from ._version import __version__
+from .validation import MAX_MC
 
 
 def _cmd_demo(args) -> int:
@@ -43,6 +44,15 @@ def _positive_int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
     if v < 1:
         raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
+    return v
+
+
+def _mc(text: str) -> int:
+    v = _positive_int(text)
+    if v > MAX_MC:
+        raise argparse.ArgumentTypeError(
+            f"must be at most {MAX_MC} (a study keeps every run's record in memory), got {text!r}"
+        )
     return v
 
 
@@ -161,7 +171,7 @@ def build_parser() -> argparse.ArgumentParser:
     size = rep.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true", help="fewer Monte Carlo runs (default)")
     size.add_argument("--full", action="store_true", help="the paper's settings (100 runs)")
-    rep.add_argument("--mc", type=_positive_int, metavar="N",
+    rep.add_argument("--mc", type=_mc, metavar="N",
                      help="Monte Carlo runs of every study (overrides the mode)")
     rep.add_argument("--seed", type=_seed, default=0, metavar="S", help="study seed (default 0)")
     rep.add_argument("--out", default="rankedassign-report", metavar="DIR",

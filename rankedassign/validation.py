@@ -24,6 +24,7 @@ __all__ = [
     "STALL_READINGS",
     "STALE_READINGS",
     "check_bool",
+    "check_fields",
     "check_choice",
     "check_int",
     "check_optional_int",
@@ -42,6 +43,10 @@ MAX_COUNT = 2**62
 # search keeps per reported assignment): 4 GiB. Beyond it a request is refused with the bytes it
 # would take, instead of growing until MemoryError or reaching numpy's "array is too big".
 MAX_WORK_BYTES = 2**32
+
+#: Most Monte Carlo runs one study accepts: every run's record is kept in memory (and in the
+#: report's ``<study>_runs.json``), and the paper uses 100.
+MAX_MC = 100_000
 
 # Readings of the stall and stale rules (spec §3.2) and the integer codes the kernels use for
 # them; 0 switches a rule off.
@@ -266,3 +271,63 @@ def format_bytes(n: int) -> str:
     if e > len(units):
         return f"{float(n):.1e} bytes"
     return f"{n / 1024**e:.1f} {units[e - 1]} ({n} bytes)"
+
+
+def check_fields(obj, *, where: str = "") -> None:
+    """Check every field of the dataclass ``obj`` against its annotation, by kind only.
+
+    ``int`` fields take ints (no bools, no floats), ``float`` fields real numbers (no bools),
+    ``bool`` fields real booleans (not the strings ``"false"``/``"true"``), ``str`` fields
+    strings (``str | None`` also None), ``tuple`` fields tuples; a field called ``n_mc`` is at
+    most :data:`MAX_MC`. Ranges and allowed values stay the dataclass's own checks. Used by the
+    study settings, so that a bad ``--config`` value is refused before any study runs.
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        With ``from __future__ import annotations`` style (string) annotations or types.
+    where : str, optional
+        Prefix of the messages (e.g. the study's name).
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the field and the value it got.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @dataclass
+    ... class S:
+    ...     grouping: bool = False
+    ...     ospa_c: float = 200.0
+    >>> check_fields(S(grouping="false"))
+    Traceback (most recent call last):
+    ...
+    TypeError: grouping must be True or False, got str 'false'
+    """
+    import dataclasses
+
+    for f in dataclasses.fields(obj):
+        kind = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+        kind = kind.replace(" ", "")
+        name = f"{where}{f.name}"
+        value = getattr(obj, f.name)
+        optional = kind.endswith("|None") or kind.startswith("None|")
+        if optional:
+            if value is None:
+                continue
+            kind = kind.replace("|None", "").replace("None|", "")
+        if kind == "int":
+            check_int(value, name, minimum=-MAX_COUNT,
+                      maximum=MAX_MC if f.name == "n_mc" else MAX_COUNT)
+        elif kind == "float":
+            check_real(value, name, finite=False)
+        elif kind == "bool":
+            check_bool(value, name)
+        elif kind == "str":
+            if not isinstance(value, str):
+                raise TypeError(f"{name} must be a string, got {type(value).__name__} {value!r}")
+        elif kind.startswith("tuple"):
+            if not isinstance(value, tuple):
+                raise TypeError(f"{name} must be a list, got {type(value).__name__} {value!r}")

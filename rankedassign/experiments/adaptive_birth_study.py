@@ -35,7 +35,7 @@ import oracle
 
 from ..multisensor.adaptive_birth import AdaptiveBirthProblem
 from ..samplers import sample_original, sample_short_chains
-from ..validation import check_choice, check_int
+from ..validation import check_choice, check_fields, check_int
 
 __all__ = ["FAMILIES", "SIZES", "CRITERIA", "StudyConfig", "QUICK", "FULL", "make_family",
            "run_task", "summarise", "curve", "format_table", "plot"]
@@ -147,6 +147,23 @@ class StudyConfig:
     tau_stall: int = 5
     tau_stale: int = 25
     curve_obs: tuple = (25, 50, 100, 200, 400, 1000, 2000)
+
+    def __post_init__(self):
+        check_fields(self)
+        for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall",
+                     "tau_stale"):
+            check_int(getattr(self, name), name, minimum=1)
+        for name, values in (("sensors", self.sensors), ("families", self.families),
+                             ("curve_obs", self.curve_obs)):
+            if not values:
+                raise ValueError(f"{name} must not be empty")
+        for V in self.sensors:
+            # the study's exact posterior enumerates (M + 1)**V tuples: 5**10 ~ 1e7 at most
+            check_int(V, "sensors: V", minimum=1, maximum=10)
+        for f in self.families:
+            check_choice(f, "families: family", FAMILIES)
+        for n in self.curve_obs:
+            check_int(n, "curve_obs entry", minimum=1)
 
 
 #: The quick reproduction (a few seconds).

@@ -11,7 +11,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..tracking.association import MARGINALS
+from ..tracking.lmb import EXTRACTIONS
 from ..tracking.models import PRESETS
+from ..validation import check_choice, check_fields, check_real
 
 __all__ = [
     "FAMILIES",
@@ -86,6 +88,7 @@ class _Synthetic:
     diagonal_pbar_d: str = DEFAULT_DIAGONAL_PBAR_D
 
     def __post_init__(self):
+        check_fields(self)
         for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
             _positive(name, getattr(self, name))
         _families("families", self.families)
@@ -175,6 +178,7 @@ class SweepConfig:
     granularity: str = DEFAULT_GRANULARITY
 
     def __post_init__(self):
+        check_fields(self)
         _positive("n_mc", self.n_mc)
         _families("families", self.families)
         if not self.obs_grid or not self.chain_lengths:
@@ -238,11 +242,16 @@ class TrackingConfig:
                       **changes})
 
     def __post_init__(self):
+        check_fields(self)
         for name in (
             "n_mc", "n_scans", "original_obs", "n_chains", "chain_length", "tau_stall",
             "tau_stale", "ospa_window",
         ):
             _positive(name, getattr(self, name))
+        if self.extraction is not None:
+            check_choice(self.extraction, "extraction", EXTRACTIONS)
+        check_real(self.ospa_c, "ospa_c", minimum=0.0, strict_minimum=True)
+        check_real(self.ospa_p, "ospa_p", minimum=1.0)
         if self.preset not in PRESETS:
             raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {self.preset!r}")
         if self.marginals not in MARGINALS:
@@ -282,6 +291,7 @@ class ReadingsConfig:
     tau_stale: int = 25
 
     def __post_init__(self):
+        check_fields(self)
         for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
             _positive(name, getattr(self, name))
         readings = tuple(tuple(r) for r in self.readings)

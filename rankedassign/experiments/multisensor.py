@@ -44,7 +44,7 @@ import oracle
 
 from .. import sample_original, sample_short_chains
 from ..multisensor import synthetic as ms_synthetic
-from ..validation import check_choice, check_int
+from ..validation import check_choice, check_fields, check_int
 from . import _format as fmt
 from ._executor import child_seed, run_seed
 from ._plots import figure
@@ -115,6 +115,7 @@ class MultiSensorConfig:
     tau_stale: int = 25
 
     def __post_init__(self):
+        check_fields(self)
         for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall",
                      "tau_stale"):
             check_int(getattr(self, name), name, minimum=1)

@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 from .. import warmup
 from .._version import __version__
+from ..validation import MAX_MC
 from . import _outdir
 from ._executor import SchedulerError, dask_executor, local_executor
 from .config import Table1Config, TrackingConfig
@@ -250,6 +251,9 @@ def reproduce(
     for name, v in (("mc", mc), ("workers", workers)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
             raise ReproduceError(f"{name} must be a positive integer, got {v!r}")
+    if mc is not None and mc > MAX_MC:
+        raise ReproduceError(f"mc must be at most {MAX_MC} (a study keeps every run's record "
+                             f"in memory), got {mc}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ReproduceError(f"seed must be a non-negative integer, got {seed!r}")
     cfg = config if config is not None else Config(mode)

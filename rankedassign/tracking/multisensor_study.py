@@ -23,13 +23,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..metrics import ospa2, track_coverage
-from ..validation import check_choice, check_int
+from ..validation import check_choice, check_fields, check_int
+from .association import MARGINALS
 from .multisensor_association import (
     MultiSensorExact,
     MultiSensorGibbs,
     MultiSensorShortChains,
 )
-from .multisensor_scenario import BIRTHS, run_multisensor_scenario
+from .multisensor_scenario import BIRTHS, MULTI_SENSORS, run_multisensor_scenario
 
 __all__ = [
     "LONG_CHAIN_SWEEPS",
@@ -113,6 +114,31 @@ class MultiSensorStudyConfig:
         return cls(n_mc=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1, 2)),
                    methods=("long", "short", "short-mm"), long_obs=300,
                    adaptive_sensor_sets=((0, 1, 2),), adaptive_methods=("short",))
+
+    def __post_init__(self):
+        check_fields(self)
+        for name in ("n_mc", "n_scans", "long_obs", "n_chains", "chain_length", "tau_stall",
+                     "tau_stale"):
+            check_int(getattr(self, name), name, minimum=1)
+        check_int(self.seed, "seed")
+        for name, sets, methods in (
+            ("", self.sensor_sets, self.methods),
+            ("adaptive_", self.adaptive_sensor_sets, self.adaptive_methods),
+        ):
+            if not name and not (sets and methods):
+                raise ValueError("sensor_sets and methods must not be empty")
+            for ss in sets:
+                if not isinstance(ss, (tuple, list)) or not ss:
+                    raise TypeError(f"{name}sensor_sets entries must be non-empty lists of "
+                                    f"sensor indices, got {ss!r}")
+                for v in ss:
+                    check_int(v, f"{name}sensor_sets: sensor", maximum=len(MULTI_SENSORS) - 1)
+                if len(set(ss)) != len(ss):
+                    raise ValueError(f"{name}sensor_sets entry {ss!r} repeats a sensor")
+            for m in methods:
+                check_choice(m, f"{name}methods: method", STUDY_METHODS)
+        check_choice(self.marginals, "marginals", MARGINALS)
+        check_choice(self.birth, "birth", ("paper", "narrow"))
 
 
 def make_association(cfg: MultiSensorStudyConfig, method: str):
