@@ -1,5 +1,7 @@
 """Tests of the tracking models, the spec §8 truth and the measurement generator."""
 
+import re
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
@@ -121,6 +123,97 @@ def test_model_errors(build, match):
 def test_birth_type_error():
     with pytest.raises(TypeError, match="components must be BirthComponent"):
         LMBBirth(("x",))
+
+
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        # "0.5" < 1 raised "'<' not supported"; True passed as p_d = 1
+        (lambda: PositionSensor("0.5"), "p_d must be a real number, got str '0.5'"),
+        (lambda: PositionSensor(True), "p_d must be a real number, got bool True"),
+        (lambda: PositionSensor(0.9, "10"), "sigma_v must be a real number, got str '10'"),
+        (lambda: PositionSensor(noise_cov=[True, True]),
+         re.escape("noise_cov must hold real numbers, got [True, True] (dtype bool)")),
+        (lambda: PositionSensor(noise_cov=["25", "400"]), "noise_cov must hold real numbers"),
+        (lambda: ConstantVelocity(dt=True), "dt must be a real number, got bool True"),
+        (lambda: ConstantVelocity(sigma_w="5"), "sigma_w must be a real number, got str '5'"),
+        (lambda: PoissonClutter(True), "rate must be a real number, got bool True"),
+        (lambda: PoissonClutter(5.0, (("0", "1"), (0, 1))), "region must hold real numbers"),
+        (lambda: ConstantSurvival("0.99"), "p_s must be a real number, got str '0.99'"),
+        (lambda: BirthComponent(True, np.zeros(4), np.eye(4)),
+         "r must be a real number, got bool True"),
+        (lambda: BirthComponent(0.1, ["0", "0", "0", "0"], np.eye(4)),
+         "birth mean must hold real numbers"),
+        (lambda: Model(motion="cv"), "motion must be a ConstantVelocity, got str"),
+        (lambda: Model(sensor=PoissonClutter()), "sensor must be a PositionSensor, got "
+                                                  "PoissonClutter"),
+        (lambda: Model(birth=(BirthComponent(0.1, np.zeros(4), np.eye(4)),)),
+         "birth must be a LMBBirth, got tuple"),
+    ],
+)
+def test_model_type_errors(build, match):
+    with pytest.raises(TypeError, match=match):
+        build()
+
+
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        # Python's float ** raised OverflowError here
+        (lambda: ConstantVelocity(sigma_w=1e200),
+         re.escape("sigma_w = 1e+200 is too large: sigma_w**2 overflows")),
+        (lambda: ConstantVelocity(dt=1e200),
+         re.escape("dt = 1e+200 is too large: the noise gain G = I_2 ⊗ [dt**2 / 2, dt]' "
+                   "overflows")),
+        # numpy put inf into Q with a RuntimeWarning
+        (lambda: ConstantVelocity(dt=1e100),
+         re.escape("dt = 1e+100 with sigma_w = 5.0 makes the process noise covariance "
+                   "Q = sigma_w**2 G G' overflow")),
+        (lambda: PositionSensor(0.9, 1e200),
+         re.escape("sigma_v = 1e+200 is too large: the noise covariance R = sigma_v**2 I or "
+                   "its determinant sigma_v**4 overflows")),
+        (lambda: PositionSensor(0.9, 1e100), "sigma_v = 1e[+]100 is too large"),
+        (lambda: PositionSensor(0.9, 1e-200),
+         re.escape("sigma_v = 1e-200 is too small: the noise covariance R = sigma_v**2 I "
+                   "underflows to 0")),
+        (lambda: PositionSensor(noise_cov=[1e200, 1e200]),
+         re.escape("noise_cov is too large: its determinant overflows")),
+        (lambda: PositionSensor(noise_cov=[[1e308, -1e308], [1e308, 1e308]]),
+         "noise_cov must be a symmetric positive definite 2x2 matrix"),
+        (lambda: BirthComponent(0.1, np.zeros(4), np.full(4, 1e100)),
+         "birth covariance is too large: its determinant overflows"),
+        # ±1e200 gave "math domain error" (ln κ with κ = 0) in the filter
+        (lambda: PoissonClutter(5.0, ((-1e200, 1e200), (-1e200, 1e200))),
+         re.escape("region ((-1e+200, 1e+200), (-1e+200, 1e+200)) has area (x_max - x_min) * "
+                   "(y_max - y_min) = inf, which is not a positive finite number")),
+        (lambda: PoissonClutter(5.0, ((0.0, 1e-200), (0.0, 1e-200))), "has area .* = 0.0"),
+        (lambda: PoissonClutter(5.0, ((-np.inf, 0.0), (0.0, 1.0))),
+         "region must have finite bounds"),
+        (lambda: PoissonClutter(1e-320),
+         re.escape("clutter intensity rate / area = 1e-320 / 4000000.0 = 0.0 is not a positive "
+                   "finite number")),
+        (lambda: PoissonClutter(5.0, ((0, 1), (0, 1, 2))),
+         "region must be a rectangular array of real numbers, got the ragged sequence"),
+    ],
+)
+def test_model_values_that_would_overflow(build, match):
+    with pytest.raises(ValueError, match=match):
+        build()
+
+
+def test_model_parameters_are_stored_as_floats_with_the_same_matrices():
+    # ints (and numpy floats) are real numbers: the same matrices as the Python floats
+    cv = ConstantVelocity(dt=2, sigma_w=np.float64(5.0))
+    assert (cv.dt, cv.sigma_w) == (2.0, 5.0) and type(cv.dt) is float
+    assert_array_equal(cv.Q, ConstantVelocity(2.0, 5.0).Q)
+    s = PositionSensor(1, 10)
+    assert s == PositionSensor(1.0, 10.0) and type(s.p_d) is float
+    assert_array_equal(s.R, PositionSensor(1.0, 10.0).R)
+    cl = PoissonClutter(50)
+    assert cl.intensity == PoissonClutter(50.0).intensity == 1.25e-5
+    # large but representable values are kept
+    assert np.isfinite(ConstantVelocity(dt=1e10, sigma_w=1e10).Q).all()
+    assert PositionSensor(0.9, 1e70).R[0, 0] == 1e140
 
 
 # --------------------------------------------------------------------------- truth (spec §8)

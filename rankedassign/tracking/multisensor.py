@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from time import perf_counter
 
@@ -73,6 +74,8 @@ class MultiSensorModel:
 
     Raises
     ------
+    TypeError
+        If a part is not of its type (``sensors[v]`` a :class:`PositionSensor`, ...).
     ValueError
         If there is no sensor or ``clutters`` does not have one entry per sensor.
 
@@ -92,6 +95,11 @@ class MultiSensorModel:
     survival: ConstantSurvival
 
     def __post_init__(self):
+        check_type(self.motion, "motion", ConstantVelocity)
+        check_type(self.birth, "birth", LMBBirth)
+        check_type(self.survival, "survival", ConstantSurvival)
+        for name in ("sensors", "clutters"):
+            check_type(getattr(self, name), name, Sequence, "one entry per sensor")
         object.__setattr__(self, "sensors", tuple(self.sensors))
         object.__setattr__(self, "clutters", tuple(self.clutters))
         if len(self.sensors) == 0:
