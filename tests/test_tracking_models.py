@@ -256,6 +256,17 @@ def test_truth_region_and_positions():
         paper_truth(True)
 
 
+def test_n_scans_bound_names_the_memory():
+    # numpy's MemoryError "Unable to allocate 349. TiB" before
+    with pytest.raises(ValueError, match=re.escape(
+            "n_scans must be an int <= 1000000 (MAX_SCANS), got 1000000000000: the truth of that "
+            "many scans alone would need 349.2 TiB (384 bytes a scan)")):
+        paper_truth(10**12)
+    with pytest.raises(ValueError, match=r"got 1000001: .* 366.2 MiB"):
+        make_scenario("vo", n_scans=10**6 + 1)
+    assert paper_truth(np.int64(3)).n_scans == 3
+
+
 # --------------------------------------------------------------------------- measurements
 def test_measurements_reproducible_and_shaped():
     model = make_model("paper")
@@ -270,6 +281,28 @@ def test_measurements_reproducible_and_shaped():
         # detections come first, in target order, then clutter
         det = sa.origin >= 0
         assert not np.any(det[1:] & ~det[:-1])
+
+
+def test_measurements_rng_and_argument_errors():
+    model, truth = make_model("vo"), paper_truth(3)
+    with pytest.raises(TypeError, match=r"rng must be None, a non-negative int .*; got 'seed'"):
+        generate_measurements(truth, model, rng="seed")
+    with pytest.raises(TypeError, match=r"rng must be .*; got 1.5"):
+        generate_measurements(truth, model, rng=1.5)
+    with pytest.raises(ValueError, match=r"rng must be .*; got -1 \(expected non-negative"):
+        generate_measurements(truth, model, rng=-1)
+    with pytest.raises(TypeError, match="truth must be a Truth, got int"):
+        generate_measurements(3, model, rng=0)
+    with pytest.raises(TypeError, match="model must be a Model, got str"):
+        generate_measurements(truth, "vo", rng=0)
+    # a RandomState is drawn from directly, as numpy's default_rng wraps it (no change)
+    a = generate_measurements(truth, model, rng=np.random.RandomState(4))
+    b = generate_measurements(truth, model, rng=np.random.default_rng(np.random.RandomState(4)))
+    for sa, sb in zip(a, b, strict=True):
+        assert_array_equal(sa.z, sb.z)
+    sc = make_scenario("vo", rng=np.random.RandomState(4), n_scans=3)
+    for sa, sb in zip(sc.scans, a, strict=True):
+        assert_array_equal(sa.z, sb.z)
 
 
 def test_measurement_statistics():
