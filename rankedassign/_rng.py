@@ -19,6 +19,13 @@ dtype=uint64)``; a passed :class:`numpy.random.Generator` is advanced by that on
 ``mix64(base ^ mix64(c + 1))``. A chain's stream therefore depends only on ``rng`` and its
 index, never on the backend or on how chains are spread over threads.
 
+The tracking filters and scenario runners spawn child streams from ``rng``
+(:meth:`numpy.random.Generator.spawn`); :func:`spawning_generator` turns ``rng`` into a
+Generator that can spawn. A :class:`numpy.random.RandomState` (accepted by
+:func:`numpy.random.default_rng`, and by the samplers, which take one draw from it) has no
+seed sequence to spawn from; it is replaced by the Generator seeded with that same one draw.
+Both go through :func:`check_rng`, so every public ``rng`` is refused with one message.
+
 The Zobrist keys that hash sampler states in the kernels come from the same generator started
 at the fixed state :data:`ZOBRIST_SEED`.
 
@@ -31,8 +38,10 @@ References
 from __future__ import annotations
 
 import numpy as np
+from numpy.random.bit_generator import ISpawnableSeedSequence
 
-__all__ = ["SplitMix64", "mix64", "chain_state", "base_key", "GOLDEN", "ZOBRIST_SEED"]
+__all__ = ["SplitMix64", "mix64", "chain_state", "base_key", "check_rng", "spawning_generator",
+           "GOLDEN", "ZOBRIST_SEED"]
 
 MASK64 = 0xFFFFFFFFFFFFFFFF
 GOLDEN = 0x9E3779B97F4A7C15
@@ -81,14 +90,54 @@ def chain_state(base: int, chain: int) -> int:
     return mix64((base & MASK64) ^ mix64(chain + 1))
 
 
+def check_rng(rng) -> np.random.Generator:
+    """``np.random.default_rng(rng)``, with numpy's errors turned into messages naming ``rng``.
+
+    Parameters
+    ----------
+    rng : None, int, array_like of int, SeedSequence, BitGenerator, Generator or RandomState
+        Anything :func:`numpy.random.default_rng` accepts. A Generator is returned as it is;
+        a RandomState or a BitGenerator is wrapped, so draws from the result advance it.
+
+    Returns
+    -------
+    numpy.random.Generator
+
+    Raises
+    ------
+    TypeError
+        If ``rng`` is of a kind numpy cannot seed from (a float, a string, ...).
+    ValueError
+        If it is of the right kind but not a valid seed (a negative int).
+
+    Examples
+    --------
+    >>> int(check_rng(3).integers(10)) == int(check_rng(3).integers(10))
+    True
+    >>> check_rng(1.5)
+    Traceback (most recent call last):
+    ...
+    TypeError: rng must be None, a non-negative int or sequence of them, a SeedSequence, a
+    BitGenerator or a Generator; got 1.5 (SeedSequence expects int or sequence of ints for
+    entropy not 1.5)
+    """
+    try:
+        return np.random.default_rng(rng)
+    except (TypeError, ValueError) as exc:  # numpy's message does not name the argument
+        raise type(exc)(
+            "rng must be None, a non-negative int or sequence of them, a SeedSequence, a "
+            f"BitGenerator or a Generator; got {rng!r} ({exc})"
+        ) from None
+
+
 def base_key(rng) -> int:
     """Draw the 64-bit base key of a sampler run from ``rng``.
 
     Parameters
     ----------
     rng : None, int, array_like of int, SeedSequence, BitGenerator or Generator
-        Anything :func:`numpy.random.default_rng` accepts. A Generator is advanced by one
-        draw; ``None`` gives a fresh, unpredictable key.
+        Anything :func:`numpy.random.default_rng` accepts (:func:`check_rng`). A Generator (or
+        a RandomState) is advanced by one draw; ``None`` gives a fresh, unpredictable key.
 
     Returns
     -------
@@ -105,14 +154,42 @@ def base_key(rng) -> int:
     ValueError: rng must be None, a non-negative int or sequence of them, a SeedSequence, a
     BitGenerator or a Generator; got -1 (expected non-negative integer)
     """
-    try:
-        gen = np.random.default_rng(rng)
-    except (TypeError, ValueError) as exc:  # numpy's message does not name the argument
-        raise type(exc)(
-            "rng must be None, a non-negative int or sequence of them, a SeedSequence, a "
-            f"BitGenerator or a Generator; got {rng!r} ({exc})"
-        ) from None
-    return int(gen.integers(0, 2**63, dtype=np.uint64))
+    return int(check_rng(rng).integers(0, 2**63, dtype=np.uint64))
+
+
+def spawning_generator(rng) -> np.random.Generator:
+    """``rng`` as a Generator that can spawn child streams (:meth:`~numpy.random.Generator.spawn`).
+
+    Parameters
+    ----------
+    rng : None, int, array_like of int, SeedSequence, BitGenerator, Generator or RandomState
+        As :func:`check_rng`. A Generator whose bit generator has a seed sequence is returned
+        as it is (spawning advances it). A RandomState, or a BitGenerator or Generator without
+        a seed sequence, cannot spawn: it is advanced by the one draw :func:`base_key` takes
+        from it (the draw the samplers take) and the Generator seeded with that draw is
+        returned, so the result is a deterministic function of its state.
+
+    Returns
+    -------
+    numpy.random.Generator
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`check_rng`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = spawning_generator(np.random.RandomState(5))
+    >>> h = np.random.default_rng(base_key(np.random.RandomState(5)))
+    >>> bool(g.spawn(1)[0].random() == h.spawn(1)[0].random())
+    True
+    """
+    gen = check_rng(rng)
+    if isinstance(gen.bit_generator.seed_seq, ISpawnableSeedSequence):
+        return gen
+    return np.random.default_rng(int(gen.integers(0, 2**63, dtype=np.uint64)))
 
 
 class SplitMix64:

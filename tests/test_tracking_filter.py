@@ -13,6 +13,7 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 from rankedassign import AssignmentProblem
+from rankedassign._rng import base_key
 from rankedassign.metrics import ospa
 from rankedassign.tracking import (
     PRESET_EXTRACTION,
@@ -23,8 +24,11 @@ from rankedassign.tracking import (
     LMBBirth,
     LMBFilter,
     Model,
+    MultiSensorExact,
+    MultiSensorShortChains,
     PoissonClutter,
     PositionSensor,
+    ShortChainGibbs,
     gate_threshold,
     group_tracks,
     make_model,
@@ -402,6 +406,18 @@ class BadShape(Association):
         ({"gate_prob": "0.9"}, TypeError, "gate_prob must be a real number, got str"),
         ({"model": "paper"}, TypeError, "model must be a Model, got str; build one with"),
         ({"association": 3}, TypeError, "association must be callable"),
+        # booleans were parsed by truthiness: "no" switched grouping on
+        ({"grouping": "no"}, TypeError, "grouping must be True or False, got str 'no'"),
+        ({"grouping": 1}, TypeError, "grouping must be True or False, got int 1"),
+        ({"sample_empty_groups": "False"}, TypeError,
+         "sample_empty_groups must be True or False, got str 'False'"),
+        # a multi-sensor association failed at the first scan (AttributeError on 'dead')
+        ({"association": MultiSensorExact()}, TypeError,
+         re.escape("LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
+                   "MultiSensorExact (a multi-sensor association, for MultiSensorLMBFilter)")),
+        ({"association": MultiSensorShortChains(10, 5)}, TypeError,
+         "LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
+         "MultiSensorShortChains"),
     ],
 )
 def test_filter_errors(kwargs, exc, match):
@@ -441,6 +457,144 @@ def test_step_errors():
     assert g.step([]).n_meas == 0  # an empty list is a scan without measurements
 
 
+def test_a_plain_function_is_an_association():
+    enum = Enumerate()
+
+    def enumerate_marginals(problem, rng):
+        return enum(problem, rng)
+
+    z = [[25.0, -30.0], [40.0, -20.0]]
+    a = LMBFilter(one_birth_model(), enumerate_marginals, grouping=np.True_)
+    b = LMBFilter(one_birth_model(), Enumerate(), grouping=True)
+    assert a.grouping is True
+    for _ in range(2):
+        ra, rb = a.step(z, rng=0), b.step(z, rng=0)
+        assert_array_equal(ra.track_existence, rb.track_existence)
+
+
+@pytest.mark.parametrize(
+    ("z", "exc", "match"),
+    [
+        # strings were parsed as numbers
+        ([["1.5", "2"]], TypeError,
+         re.escape("measurements must be real numbers, got strings (dtype <U3) in a scan of "
+                   "shape (1, 2)")),
+        # (5, 0) and (0, 3) were taken as an empty scan
+        (np.zeros((5, 0)), ValueError,
+         re.escape("measurements must have shape (M, 2), got shape (5, 0) (a scan without "
+                   "measurements is [] or shape (0, 2))")),
+        (np.zeros((0, 3)), ValueError, re.escape("must have shape (M, 2), got shape (0, 3)")),
+        ([[]], ValueError, re.escape("must have shape (M, 2), got shape (1, 0)")),
+        # numpy's "inhomogeneous shape" and "float() argument" errors before
+        ([[1.0, 2.0], [3.0]], ValueError,
+         re.escape("measurements must be an (M, 2) array of real numbers, got a ragged "
+                   "sequence (rows of different lengths)")),
+        ([[1 + 2j, 0.0]], TypeError,
+         re.escape("measurements must be real numbers, got complex numbers (dtype complex128) "
+                   "in a scan of shape (1, 2)")),
+        ([[True, False]], TypeError, "measurements must be real numbers, got booleans"),
+        (None, TypeError, re.escape("measurements must be real numbers, got objects (dtype "
+                                    "object) in a scan of shape ()")),
+        ([[0.0, 0.0], [np.inf, 1.0]], ValueError,
+         re.escape("measurements must be finite, got inf at [1, 0] in a scan of shape (2, 2)")),
+        (5.0, ValueError, re.escape("measurements must have shape (M, 2), got shape ()")),
+    ],
+)
+def test_measurement_errors(z, exc, match):
+    f = LMBFilter(one_birth_model(), Enumerate())
+    with pytest.raises(exc, match=match):
+        f.step(z)
+    assert f.k == 0  # refused before the prediction
+
+
+def test_empty_scans_and_integer_measurements():
+    for empty in ([], np.zeros(0), np.zeros((0, 2)), ()):
+        assert LMBFilter(one_birth_model(), Enumerate()).step(empty).n_meas == 0
+    # ints (and Python ints beyond int64) are real numbers: the same as the floats
+    a = LMBFilter(one_birth_model(), Enumerate()).step([[25, -30], [10**20, 0]])
+    b = LMBFilter(one_birth_model(), Enumerate()).step([[25.0, -30.0], [1e20, 0.0]])
+    assert_array_equal(a.track_existence, b.track_existence)
+
+
+def _beta(values):
+    """An association returning the fixed marginals ``values`` (of a 1-row, 1-measurement
+    problem)."""
+
+    def fixed(problem, rng):
+        return AssociationResult(np.array([values], dtype=float), 1, 0, 0, 0)
+
+    return fixed
+
+
+class NaNBeta(Association):
+    def __call__(self, problem, rng):
+        return AssociationResult(np.full((problem.n_rows, problem.n_meas + 2), np.nan), 1, 0, 0,
+                                 0)
+
+
+@pytest.mark.parametrize(
+    ("association", "match"),
+    [
+        # NaN or negative marginals dropped every track silently before
+        (NaNBeta(), re.escape("association NaNBeta returned a non-finite marginal: "
+                              "beta[0, 0] = nan")),
+        (_beta([0.5, -0.5, 1.0]),
+         re.escape("association _beta.<locals>.fixed returned a negative marginal: "
+                   "beta[0, 1] = -0.5")),
+        (_beta([0.5, 0.25, 0.0]),
+         re.escape("association _beta.<locals>.fixed returned marginals that are not a "
+                   "distribution: beta[0, :].sum() = 0.75, not 1 (tolerance 1e-09)")),
+        (_beta([np.inf, 0.0, 0.0]), r"returned a non-finite marginal: beta\[0, 0\] = inf"),
+    ],
+)
+def test_association_output_is_checked(association, match):
+    f = LMBFilter(one_birth_model(), association)
+    with pytest.raises(ValueError, match=match):
+        f.step([[25.0, -30.0]])
+
+
+def test_association_output_within_the_tolerance_is_accepted():
+    rec = LMBFilter(one_birth_model(), _beta([0.5, 0.25, 0.25 + 1e-12])).step([[25.0, -30.0]])
+    assert_allclose(rec.track_existence, [0.75], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("rng", "exc", "match"),
+    [
+        (1.5, TypeError, r"rng must be None, a non-negative int or sequence of them, a "
+                         r"SeedSequence, a BitGenerator or a Generator; got 1.5 \(SeedSequence"),
+        ("seed", TypeError, r"rng must be None, .*; got 'seed'"),
+        (-1, ValueError, r"rng must be None, .*; got -1 \(expected non-negative integer\)"),
+    ],
+)
+def test_step_rng_errors(rng, exc, match):
+    f = LMBFilter(one_birth_model(), Enumerate())
+    with pytest.raises(exc, match=match):
+        f.step([[25.0, -30.0]], rng=rng)
+
+
+def test_step_with_a_random_state_is_reproducible():
+    # "does not implement spawning" before; the samplers take one draw from a RandomState, and
+    # the filter seeds its Generator with that same draw
+    z = [[0.0, 0.0], [5.0, 3.0], [400.0, -600.0], [410.0, -590.0]]
+
+    def run(rng):
+        f = LMBFilter(make_model("vo"), ShortChainGibbs(20, 5, 5, 10))
+        return [f.step(z, rng=rng) for _ in range(3)]
+
+    rs = np.random.RandomState(7)
+    a, b = run(rs), run(np.random.RandomState(7))
+    ref = np.random.RandomState(7)
+    keys = [base_key(ref) for _ in range(3)]
+    g = LMBFilter(make_model("vo"), ShortChainGibbs(20, 5, 5, 10))
+    c = [g.step(z, rng=k) for k in keys]
+    for ra, rb, rc in zip(a, b, c, strict=True):
+        assert_array_equal(ra.track_existence, rb.track_existence)
+        assert_array_equal(ra.track_existence, rc.track_existence)
+        assert ra.sweeps == rc.sweeps
+    assert rs.randint(2**31) == ref.randint(2**31)  # advanced by one draw a scan
+
+
 def test_run_scenario_requires_association():
     with pytest.raises(TypeError, match="run_scenario needs an association"):
         run_scenario("paper")
@@ -452,6 +606,32 @@ def test_run_scenario_requires_association():
         run_scenario("vo", Enumerate(), n_scans=2.0)
     with pytest.raises(ValueError, match="unknown extraction 'top'"):
         run_scenario("vo", Enumerate(), n_scans=2, extraction="top")
+
+
+def test_run_scenario_argument_errors():
+    # numpy's MemoryError (349 TiB) before
+    with pytest.raises(ValueError, match=re.escape(
+            "n_scans must be an int <= 1000000 (MAX_SCANS), got 1000000000000: the truth of that "
+            "many scans alone would need 349.2 TiB")):
+        run_scenario("vo", Enumerate(), n_scans=10**12)
+    with pytest.raises(TypeError, match="grouping must be True or False, got str 'no'"):
+        run_scenario("vo", Enumerate(), n_scans=2, grouping="no")
+    with pytest.raises(TypeError, match=r"rng must be None, .*; got 'seed'"):
+        run_scenario("vo", Enumerate(), n_scans=2, rng="seed")
+    with pytest.raises(ValueError, match=r"rng must be None, .*; got -1"):
+        run_scenario("vo", Enumerate(), n_scans=2, rng=-1)
+    with pytest.raises(TypeError, match="LMBFilter needs a single-sensor association"):
+        run_scenario("vo", MultiSensorExact(), n_scans=2)
+
+
+def test_run_scenario_with_a_random_state():
+    # the Generator seeded with one draw from the RandomState, as the samplers take
+    a = run_scenario("vo", Exact(), rng=np.random.RandomState(3), n_scans=3, grouping=True)
+    b = run_scenario("vo", Exact(), rng=base_key(np.random.RandomState(3)), n_scans=3,
+                     grouping=True)
+    for sa, sb in zip(a.scenario.scans, b.scenario.scans, strict=True):
+        assert_array_equal(sa.z, sb.z)
+    assert_array_equal(np.nan_to_num(a.estimates, nan=-1.0), np.nan_to_num(b.estimates, nan=-1.0))
 
 
 def test_run_scenario_with_exact_enumeration_on_vo_preset():

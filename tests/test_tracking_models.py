@@ -1,5 +1,7 @@
 """Tests of the tracking models, the spec §8 truth and the measurement generator."""
 
+import re
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
@@ -123,6 +125,97 @@ def test_birth_type_error():
         LMBBirth(("x",))
 
 
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        # "0.5" < 1 raised "'<' not supported"; True passed as p_d = 1
+        (lambda: PositionSensor("0.5"), "p_d must be a real number, got str '0.5'"),
+        (lambda: PositionSensor(True), "p_d must be a real number, got bool True"),
+        (lambda: PositionSensor(0.9, "10"), "sigma_v must be a real number, got str '10'"),
+        (lambda: PositionSensor(noise_cov=[True, True]),
+         re.escape("noise_cov must hold real numbers, got [True, True] (dtype bool)")),
+        (lambda: PositionSensor(noise_cov=["25", "400"]), "noise_cov must hold real numbers"),
+        (lambda: ConstantVelocity(dt=True), "dt must be a real number, got bool True"),
+        (lambda: ConstantVelocity(sigma_w="5"), "sigma_w must be a real number, got str '5'"),
+        (lambda: PoissonClutter(True), "rate must be a real number, got bool True"),
+        (lambda: PoissonClutter(5.0, (("0", "1"), (0, 1))), "region must hold real numbers"),
+        (lambda: ConstantSurvival("0.99"), "p_s must be a real number, got str '0.99'"),
+        (lambda: BirthComponent(True, np.zeros(4), np.eye(4)),
+         "r must be a real number, got bool True"),
+        (lambda: BirthComponent(0.1, ["0", "0", "0", "0"], np.eye(4)),
+         "birth mean must hold real numbers"),
+        (lambda: Model(motion="cv"), "motion must be a ConstantVelocity, got str"),
+        (lambda: Model(sensor=PoissonClutter()), "sensor must be a PositionSensor, got "
+                                                  "PoissonClutter"),
+        (lambda: Model(birth=(BirthComponent(0.1, np.zeros(4), np.eye(4)),)),
+         "birth must be a LMBBirth, got tuple"),
+    ],
+)
+def test_model_type_errors(build, match):
+    with pytest.raises(TypeError, match=match):
+        build()
+
+
+@pytest.mark.parametrize(
+    ("build", "match"),
+    [
+        # Python's float ** raised OverflowError here
+        (lambda: ConstantVelocity(sigma_w=1e200),
+         re.escape("sigma_w = 1e+200 is too large: sigma_w**2 overflows")),
+        (lambda: ConstantVelocity(dt=1e200),
+         re.escape("dt = 1e+200 is too large: the noise gain G = I_2 ⊗ [dt**2 / 2, dt]' "
+                   "overflows")),
+        # numpy put inf into Q with a RuntimeWarning
+        (lambda: ConstantVelocity(dt=1e100),
+         re.escape("dt = 1e+100 with sigma_w = 5.0 makes the process noise covariance "
+                   "Q = sigma_w**2 G G' overflow")),
+        (lambda: PositionSensor(0.9, 1e200),
+         re.escape("sigma_v = 1e+200 is too large: the noise covariance R = sigma_v**2 I or "
+                   "its determinant sigma_v**4 overflows")),
+        (lambda: PositionSensor(0.9, 1e100), "sigma_v = 1e[+]100 is too large"),
+        (lambda: PositionSensor(0.9, 1e-200),
+         re.escape("sigma_v = 1e-200 is too small: the noise covariance R = sigma_v**2 I "
+                   "underflows to 0")),
+        (lambda: PositionSensor(noise_cov=[1e200, 1e200]),
+         re.escape("noise_cov is too large: its determinant overflows")),
+        (lambda: PositionSensor(noise_cov=[[1e308, -1e308], [1e308, 1e308]]),
+         "noise_cov must be a symmetric positive definite 2x2 matrix"),
+        (lambda: BirthComponent(0.1, np.zeros(4), np.full(4, 1e100)),
+         "birth covariance is too large: its determinant overflows"),
+        # ±1e200 gave "math domain error" (ln κ with κ = 0) in the filter
+        (lambda: PoissonClutter(5.0, ((-1e200, 1e200), (-1e200, 1e200))),
+         re.escape("region ((-1e+200, 1e+200), (-1e+200, 1e+200)) has area (x_max - x_min) * "
+                   "(y_max - y_min) = inf, which is not a positive finite number")),
+        (lambda: PoissonClutter(5.0, ((0.0, 1e-200), (0.0, 1e-200))), "has area .* = 0.0"),
+        (lambda: PoissonClutter(5.0, ((-np.inf, 0.0), (0.0, 1.0))),
+         "region must have finite bounds"),
+        (lambda: PoissonClutter(1e-320),
+         re.escape("clutter intensity rate / area = 1e-320 / 4000000.0 = 0.0 is not a positive "
+                   "finite number")),
+        (lambda: PoissonClutter(5.0, ((0, 1), (0, 1, 2))),
+         "region must be a rectangular array of real numbers, got the ragged sequence"),
+    ],
+)
+def test_model_values_that_would_overflow(build, match):
+    with pytest.raises(ValueError, match=match):
+        build()
+
+
+def test_model_parameters_are_stored_as_floats_with_the_same_matrices():
+    # ints (and numpy floats) are real numbers: the same matrices as the Python floats
+    cv = ConstantVelocity(dt=2, sigma_w=np.float64(5.0))
+    assert (cv.dt, cv.sigma_w) == (2.0, 5.0) and type(cv.dt) is float
+    assert_array_equal(cv.Q, ConstantVelocity(2.0, 5.0).Q)
+    s = PositionSensor(1, 10)
+    assert s == PositionSensor(1.0, 10.0) and type(s.p_d) is float
+    assert_array_equal(s.R, PositionSensor(1.0, 10.0).R)
+    cl = PoissonClutter(50)
+    assert cl.intensity == PoissonClutter(50.0).intensity == 1.25e-5
+    # large but representable values are kept
+    assert np.isfinite(ConstantVelocity(dt=1e10, sigma_w=1e10).Q).all()
+    assert PositionSensor(0.9, 1e70).R[0, 0] == 1e140
+
+
 # --------------------------------------------------------------------------- truth (spec §8)
 def test_truth_counts_per_scan():
     t = paper_truth()
@@ -163,6 +256,17 @@ def test_truth_region_and_positions():
         paper_truth(True)
 
 
+def test_n_scans_bound_names_the_memory():
+    # numpy's MemoryError "Unable to allocate 349. TiB" before
+    with pytest.raises(ValueError, match=re.escape(
+            "n_scans must be an int <= 1000000 (MAX_SCANS), got 1000000000000: the truth of that "
+            "many scans alone would need 349.2 TiB (384 bytes a scan)")):
+        paper_truth(10**12)
+    with pytest.raises(ValueError, match=r"got 1000001: .* 366.2 MiB"):
+        make_scenario("vo", n_scans=10**6 + 1)
+    assert paper_truth(np.int64(3)).n_scans == 3
+
+
 # --------------------------------------------------------------------------- measurements
 def test_measurements_reproducible_and_shaped():
     model = make_model("paper")
@@ -177,6 +281,28 @@ def test_measurements_reproducible_and_shaped():
         # detections come first, in target order, then clutter
         det = sa.origin >= 0
         assert not np.any(det[1:] & ~det[:-1])
+
+
+def test_measurements_rng_and_argument_errors():
+    model, truth = make_model("vo"), paper_truth(3)
+    with pytest.raises(TypeError, match=r"rng must be None, a non-negative int .*; got 'seed'"):
+        generate_measurements(truth, model, rng="seed")
+    with pytest.raises(TypeError, match=r"rng must be .*; got 1.5"):
+        generate_measurements(truth, model, rng=1.5)
+    with pytest.raises(ValueError, match=r"rng must be .*; got -1 \(expected non-negative"):
+        generate_measurements(truth, model, rng=-1)
+    with pytest.raises(TypeError, match="truth must be a Truth, got int"):
+        generate_measurements(3, model, rng=0)
+    with pytest.raises(TypeError, match="model must be a Model, got str"):
+        generate_measurements(truth, "vo", rng=0)
+    # a RandomState is drawn from directly, as numpy's default_rng wraps it (no change)
+    a = generate_measurements(truth, model, rng=np.random.RandomState(4))
+    b = generate_measurements(truth, model, rng=np.random.default_rng(np.random.RandomState(4)))
+    for sa, sb in zip(a, b, strict=True):
+        assert_array_equal(sa.z, sb.z)
+    sc = make_scenario("vo", rng=np.random.RandomState(4), n_scans=3)
+    for sa, sb in zip(sc.scans, a, strict=True):
+        assert_array_equal(sa.z, sb.z)
 
 
 def test_measurement_statistics():

@@ -1,10 +1,13 @@
 """Tests of the multi-sensor LMB filter, its associations and the ``"multi"`` scenario."""
 
+import re
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 import oracle
+from rankedassign._rng import base_key
 from rankedassign.metrics import ospa2
 from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.tracking import (
@@ -15,7 +18,9 @@ from rankedassign.tracking import (
     MultiSensorLMBFilter,
     MultiSensorModel,
     MultiSensorShortChains,
+    ShortChainGibbs,
     make_model,
+    make_multisensor_model,
     make_multisensor_scenario,
     make_scenario,
     run_multisensor_scenario,
@@ -146,6 +151,201 @@ def test_model_validation():
         two_sensor_model().select([1, 1])
     with pytest.raises(TypeError, match="model"):
         MultiSensorLMBFilter("paper", MultiSensorExact())
+    with pytest.raises(TypeError, match="motion must be a ConstantVelocity, got str"):
+        MultiSensorModel("cv", (m.sensor,), (m.clutter,), m.birth, m.survival)
+    with pytest.raises(TypeError, match="survival must be a ConstantSurvival, got float"):
+        MultiSensorModel(m.motion, (m.sensor,), (m.clutter,), m.birth, 0.99)
+    with pytest.raises(TypeError, match="sensors must be a Sequence, got PositionSensor; one "
+                                        "entry per sensor"):
+        MultiSensorModel(m.motion, m.sensor, (m.clutter,), m.birth, m.survival)
+
+
+# ------------------------------------------------------------------ argument checks
+@pytest.mark.parametrize(
+    ("association", "match"),
+    [
+        # a numba TypingError after half a minute before
+        (ShortChainGibbs(10, 5), re.escape(
+            "MultiSensorLMBFilter needs a multi-sensor association such as "
+            "MultiSensorShortChains; got ShortChainGibbs (a single-sensor association, for "
+            "LMBFilter)")),
+        # numpy's "inhomogeneous shape" before
+        (Exact(), "MultiSensorLMBFilter needs a multi-sensor association .*; got Exact"),
+        (3, "association must be callable as association\\(problem, rng\\), got int"),
+    ],
+)
+def test_filter_refuses_a_single_sensor_association(association, match):
+    with pytest.raises(TypeError, match=match):
+        MultiSensorLMBFilter(two_sensor_model(), association)
+    with pytest.raises(TypeError, match=match):
+        run_multisensor_scenario(association, n_scans=1)
+
+
+def test_exact_refuses_a_single_sensor_fallback():
+    with pytest.raises(TypeError, match=re.escape(
+            "fallback must be a multi-sensor association such as MultiSensorShortChains; got "
+            "Exact (a single-sensor association)")):
+        MultiSensorExact(fallback=Exact())
+
+
+@pytest.mark.parametrize(
+    ("sensors", "exc", "match"),
+    [
+        # 0.5 ran as sensor 0, True as sensor 1, strings were converted by int()
+        ((0.5,), TypeError, re.escape("sensors[0] must be an int (a sensor index), got float 0.5")),
+        ((0, True), TypeError, re.escape("sensors[1] must be an int (a sensor index), got bool "
+                                         "True")),
+        (("1",), TypeError, re.escape("sensors[0] must be an int (a sensor index), got str '1'")),
+        (np.array([0.0, 1.0]), TypeError, re.escape("sensors[0] must be an int (a sensor index)")),
+        # "'int' object is not iterable" before
+        (5, TypeError, "sensors must be a sequence of sensor indices \\(ints\\), got int 5"),
+        ("01", TypeError, "sensors must be a sequence of sensor indices \\(ints\\), got str '01'"),
+        ({0, 1}, TypeError, "sensors must be a sequence of sensor indices \\(ints\\), got set"),
+        ((0, 0), ValueError, re.escape("sensors must be distinct indices in 0..3, got [0, 0]")),
+        ((4,), ValueError, re.escape("sensors must be distinct indices in 0..3, got [4]")),
+        ((-1,), ValueError, re.escape("sensors must be distinct indices in 0..3, got [-1]")),
+        ((), ValueError, re.escape("sensors must be distinct indices in 0..3, got []")),
+    ],
+)
+def test_sensor_selection_errors(sensors, exc, match):
+    with pytest.raises(exc, match=match):
+        make_multisensor_model(sensors)
+    with pytest.raises(exc, match=match):
+        make_multisensor_scenario(n_scans=1, sensors=sensors)
+    with pytest.raises(exc, match=match):
+        run_scenario("multi", MultiSensorExact(), n_scans=1, sensors=sensors)
+
+
+def test_sensor_selections_that_are_accepted():
+    ref = make_multisensor_model((2, 0))
+    for sensors in ([2, 0], np.array([2, 0]), (np.int64(2), 0)):
+        m = make_multisensor_model(sensors)
+        assert (m.sensors, m.clutters) == (ref.sensors, ref.clutters)
+    assert make_multisensor_model(range(2)).sensors == make_multisensor_model((0, 1)).sensors
+    sc = make_multisensor_scenario(rng=1, n_scans=2, sensors=np.array([2, 0]))
+    assert sc.sensors == (2, 0) and all(type(v) is int for v in sc.sensors)
+
+
+def test_single_refuses_what_is_not_a_sensor_index():
+    m = two_sensor_model()
+    assert m.single(np.int64(1)).sensor == m.sensors[1]
+    # -1 returned the last sensor before
+    with pytest.raises(ValueError, match="v must be an int >= 0, got -1"):
+        m.single(-1)
+    with pytest.raises(ValueError, match="v must be an int <= 1, got 2"):
+        m.single(2)
+    with pytest.raises(TypeError, match="v must be an int, got bool True"):
+        m.single(True)
+    with pytest.raises(TypeError, match="v must be an int, got float 1.0"):
+        m.single(1.0)
+
+
+def test_filter_boolean_options():
+    with pytest.raises(TypeError, match="grouping must be True or False, got str 'no'"):
+        MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact(), grouping="no")
+    with pytest.raises(TypeError, match="sample_empty_groups must be True or False, got str"):
+        MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact(), sample_empty_groups="x")
+    with pytest.raises(TypeError, match="grouping must be True or False, got int 0"):
+        run_multisensor_scenario(MultiSensorExact(), n_scans=1, grouping=0)
+    with pytest.raises(TypeError, match="grouping must be True or False, got str 'no'"):
+        run_scenario("multi", MultiSensorExact(), n_scans=1, grouping="no")
+    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact(), grouping=np.False_,
+                             sample_empty_groups=True)
+    assert f.grouping is False
+
+
+def test_n_scans_bound():
+    match = re.escape("n_scans must be an int <= 1000000 (MAX_SCANS), got 1000000000000: the "
+                      "truth of that many scans alone would need 349.2 TiB (384 bytes a scan)")
+    with pytest.raises(ValueError, match=match):
+        make_multisensor_scenario(n_scans=10**12)
+    with pytest.raises(ValueError, match=match):
+        run_multisensor_scenario(MultiSensorExact(), n_scans=10**12)
+    with pytest.raises(ValueError, match=match):
+        run_scenario("multi", MultiSensorExact(), n_scans=10**12)
+
+
+@pytest.mark.parametrize(
+    ("zs", "exc", "match"),
+    [
+        ([[[0.0, 0.0]], [["1.5", "2"]]], TypeError,
+         re.escape("measurements of sensor 1 must be real numbers, got strings (dtype <U3) in a "
+                   "scan of shape (1, 2)")),
+        ([np.zeros((0, 3)), []], ValueError,
+         re.escape("measurements of sensor 0 must have shape (M, 2), got shape (0, 3)")),
+        ([[[0.0, 0.0], [1.0]], []], ValueError,
+         "measurements of sensor 0 must be an \\(M, 2\\) array of real numbers, got a ragged"),
+        ([[], [[np.nan, 0.0]]], ValueError,
+         re.escape("measurements of sensor 1 must be finite, got nan at [0, 0] in a scan of "
+                   "shape (1, 2)")),
+        (5, TypeError, re.escape("step needs one measurement array per sensor (V = 2), got int")),
+    ],
+)
+def test_step_measurement_errors(zs, exc, match):
+    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    with pytest.raises(exc, match=match):
+        f.step(zs)
+
+
+def test_step_rng_errors_and_random_state():
+    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    with pytest.raises(TypeError, match=r"rng must be None, .*; got 1.5"):
+        f.step([[], []], rng=1.5)
+    with pytest.raises(TypeError, match=r"rng must be None, .*; got 'seed'"):
+        f.step([[], []], rng="seed")
+    with pytest.raises(ValueError, match=r"rng must be None, .*; got -1"):
+        f.step([[], []], rng=-1)
+    # "does not implement spawning" before: the Generator seeded with one draw, as the
+    # samplers take it
+    z = [[[400.0, -600.0], [0.0, 0.0]], [[401.0, -602.0]]]
+    rs, keys = np.random.RandomState(2), np.random.RandomState(2)
+    g, h = (MultiSensorLMBFilter(two_sensor_model(), MultiSensorShortChains(20, 5, 5, 10))
+            for _ in range(2))
+    for _ in range(2):
+        a, b = g.step(z, rng=rs), h.step(z, rng=base_key(keys))
+        assert_array_equal(a.track_existence, b.track_existence)
+        assert a.sweeps == b.sweeps > 0
+    a = make_multisensor_scenario(rng=np.random.RandomState(5), n_scans=2, sensors=(0,))
+    b = make_multisensor_scenario(rng=base_key(np.random.RandomState(5)), n_scans=2,
+                                  sensors=(0,))
+    assert_array_equal(a.scans[1][0].z, b.scans[1][0].z)
+    with pytest.raises(TypeError, match=r"rng must be None, .*; got 1.5"):
+        make_multisensor_scenario(rng=1.5, n_scans=1)
+
+
+def _ms_result(dead_value, tuple_value=0.0, at=None):
+    """An association giving every row ``dead_value`` and ``tuple_value`` on tuple ``at``."""
+
+    def fixed(problem, rng):
+        tup = np.zeros(problem.log_eta_alive.shape)
+        if at is not None:
+            tup[(slice(None), *at)] = tuple_value
+        return MultiSensorAssociationResult(np.full(problem.n_rows, dead_value), tup, 1, 0, 0, 0)
+
+    return fixed
+
+
+@pytest.mark.parametrize(
+    ("association", "match"),
+    [
+        (_ms_result(np.nan), re.escape("association _ms_result.<locals>.fixed returned a "
+                                       "non-finite marginal: dead[0] = nan")),
+        (_ms_result(1.0, -0.5, (1, 0)),
+         re.escape("returned a negative marginal: tuples[0, 1, 0] = -0.5")),
+        (_ms_result(0.5),
+         re.escape("association _ms_result.<locals>.fixed returned marginals that are not a "
+                   "distribution: dead[0] + tuples[0].sum() = 0.5, not 1 (tolerance 1e-09)")),
+        (_ms_result(0.5, 0.5, (0, 0)), None),  # a distribution: accepted
+    ],
+)
+def test_association_output_is_checked(association, match):
+    f = MultiSensorLMBFilter(two_sensor_model(), association)
+    z = [[[400.0, -600.0]], [[400.0, -600.0]]]
+    if match is None:
+        assert f.step(z, rng=0).n_groups >= 1
+        return
+    with pytest.raises(ValueError, match=match):
+        f.step(z, rng=0)
 
 
 # ------------------------------------------------------------------ associations

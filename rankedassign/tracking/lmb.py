@@ -32,20 +32,25 @@ order, so the filter's numbers do not depend on which of the two computes them.
 from __future__ import annotations
 
 import math
+import numbers
+import types
 from time import perf_counter
 from typing import NamedTuple
 
 import numpy as np
 from scipy.stats import chi2
 
+from .._rng import spawning_generator
 from ..problem import AssignmentProblem
-from ..validation import check_choice, check_int, check_real, check_type
+from ..validation import check_bool, check_choice, check_int, check_real, check_type
 from . import _kernels
 from ._kernels import MERGE_RULES
 from .association import Association, AssociationResult
 from .models import Model
+from .multisensor_association import MultiSensorAssociation
 
 __all__ = [
+    "BETA_TOL",
     "EXTRACTIONS",
     "ESTIMATES",
     "MERGE_RULES",
@@ -60,6 +65,9 @@ __all__ = [
 EXTRACTIONS = ("hysteresis", "map")
 #: State estimates of a reported track (``estimate``).
 ESTIMATES = ("max-weight", "mean")
+#: Largest ``|Σ_j β_ij − 1|`` the filters accept in the marginals an association returns
+#: (the rounding of a normalised sum is some 1e-15; anything larger is a wrong distribution).
+BETA_TOL = 1e-9
 
 def gate_threshold(gate_prob: float, dim: int = 2) -> float:
     """χ² gate on the squared Mahalanobis distance for a ``dim``-dimensional measurement.
@@ -199,14 +207,19 @@ class LMBFilter:
     ----------
     model : Model
         Motion, sensor, clutter, birth and survival models.
-    association : Association
-        Called as ``association(problem, rng)`` on every ranked-assignment problem.
+    association : Association or callable
+        Called as ``association(problem, rng)`` on every ranked-assignment problem. The
+        multi-sensor associations
+        (:class:`~rankedassign.tracking.multisensor_association.MultiSensorAssociation`) are
+        refused: they belong to :class:`~rankedassign.tracking.MultiSensorLMBFilter`. The
+        marginals it returns must be finite and non-negative with rows summing to 1 (within
+        :data:`BETA_TOL`).
     gate_prob : float or None, optional
         χ² gate probability (default ``0.9999999``, spec §6.3); None disables gating (every
         measurement enters every row).
     grouping : bool, optional
         Solve independent groups of tracks separately (spec §6.5a). Default False (one problem
-        per scan, as in Vo's code).
+        per scan, as in Vo's code). ``True`` or ``False`` only (a string is refused).
     sample_empty_groups : bool, optional
         Hand problems without gated measurements (with grouping: the groups of tracks that gate
         nothing) to the association too, instead of solving them in closed form. The posterior
@@ -288,11 +301,7 @@ class LMBFilter:
         estimate: str = "max-weight",
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
-        if not callable(association):
-            raise TypeError(
-                f"association must be callable as association(problem, rng), got "
-                f"{type(association).__name__}"
-            )
+        self._check_association(association)
         self.extraction = check_choice(extraction, "extraction", EXTRACTIONS)
         self.estimate = check_choice(estimate, "estimate", ESTIMATES)
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
@@ -312,8 +321,8 @@ class LMBFilter:
         self.model = model
         self.association = association
         self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
-        self.grouping = bool(grouping)
-        self.sample_empty_groups = bool(sample_empty_groups)
+        self.grouping = check_bool(grouping, "grouping")
+        self.sample_empty_groups = check_bool(sample_empty_groups, "sample_empty_groups")
         # model matrices and constants, cached
         self._F = np.array(model.motion.F)
         self._FT = self._F.T
@@ -330,6 +339,21 @@ class LMBFilter:
         self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
         self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
+
+    @staticmethod
+    def _check_association(association) -> None:
+        """Refuse what is not an association of this filter (a multi-sensor one included)."""
+        if not callable(association):
+            raise TypeError(
+                f"association must be callable as association(problem, rng), got "
+                f"{type(association).__name__}"
+            )
+        if isinstance(association, MultiSensorAssociation):
+            raise TypeError(
+                "LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
+                f"{type(association).__name__} (a multi-sensor association, for "
+                "MultiSensorLMBFilter)"
+            )
 
     # ----------------------------------------------------------------------- state
     def reset(self) -> None:
@@ -460,6 +484,8 @@ class LMBFilter:
                     f"association returned beta of shape {b.shape}, expected "
                     f"{(rows.size, cols.size + 2)}"
                 )
+            _check_distribution(self.association, {"beta": b}, b.sum(axis=1),
+                                "beta[{i}, :].sum()")
             whole = rows.size == T and cols.size == U  # one problem: every track and measurement
             gated = terms.gated if whole else terms.gated[np.ix_(rows, cols)]
             if (b[:, :-2][~gated] != 0).any():
@@ -487,7 +513,9 @@ class LMBFilter:
             Measurements of the scan (positions).
         rng : optional
             Randomness of the association (anything :func:`numpy.random.default_rng` accepts);
-            one child stream per problem is spawned from it.
+            one child stream per problem is spawned from it. A
+            :class:`numpy.random.RandomState` is replaced by the Generator seeded with one draw
+            from it (:func:`rankedassign._rng.spawning_generator`).
 
         Returns
         -------
@@ -495,10 +523,15 @@ class LMBFilter:
 
         Raises
         ------
+        TypeError
+            On measurements that are not real numbers (strings, booleans, complex), or an
+            ``rng`` numpy cannot seed from.
         ValueError
-            On measurements not of shape ``(M, 2)`` (an empty list is a scan without
-            measurements), on non-finite measurements, or if the association returns ``beta``
-            of the wrong shape or with weight on a forbidden pair.
+            On measurements not of shape ``(M, 2)`` (``[]``, shape ``(0,)``, and shape
+            ``(0, 2)`` are a scan without measurements), ragged or non-finite measurements, an
+            invalid seed, or if the association returns ``beta`` of the wrong shape, with a
+            non-finite or negative entry, with a row not summing to 1 (:data:`BETA_TOL`) or
+            with weight on a forbidden pair.
 
         Examples
         --------
@@ -511,7 +544,7 @@ class LMBFilter:
         ([[1, 2]], [1.0])
         """
         z = _check_measurements(z)
-        gen = np.random.default_rng(rng)
+        gen = spawning_generator(rng)
         t0 = perf_counter()
         self.predict()
         t1 = perf_counter()
@@ -643,13 +676,70 @@ class _Terms(NamedTuple):
         )
 
 
-def _check_measurements(z) -> np.ndarray:
-    """One scan's measurements as a float64 (M, 2) array; an empty input is (0, 2)."""
-    z = np.array(z, dtype=np.float64)  # a writable copy: one compiled variant of each kernel
-    if z.size == 0:  # no measurements, e.g. [] or an empty (0, 2) array
+def _check_measurements(z, name: str = "measurements") -> np.ndarray:
+    """One scan's measurements as a float64 (M, 2) array; ``[]`` and (0, 2) give (0, 2).
+
+    ``name`` says in the messages whose measurements they are (the multi-sensor filter names
+    the sensor).
+    """
+    try:
+        a = np.asarray(z)
+    except ValueError:  # numpy: "inhomogeneous shape"
+        raise ValueError(
+            f"{name} must be an (M, 2) array of real numbers, got a ragged sequence (rows of "
+            "different lengths)"
+        ) from None
+    if a.dtype.kind == "O" and all(isinstance(v, numbers.Real) and not isinstance(v, bool)
+                                   for v in a.reshape(-1)):
+        a = a.astype(np.float64)  # e.g. Python ints beyond int64
+    if a.dtype.kind not in "iuf":
+        kind = {"b": "booleans", "U": "strings", "S": "bytes", "c": "complex numbers"}.get(
+            a.dtype.kind, "objects")
+        raise TypeError(f"{name} must be real numbers, got {kind} (dtype {a.dtype}) in a scan "
+                        f"of shape {a.shape}")
+    if a.shape == (0,):  # [] : a scan without measurements
         return np.empty((0, 2))
-    if z.ndim != 2 or z.shape[1] != 2:
-        raise ValueError(f"measurements must have shape (M, 2), got shape {z.shape}")
+    if a.ndim != 2 or a.shape[1] != 2:
+        empty = " (a scan without measurements is [] or shape (0, 2))" if a.size == 0 else ""
+        raise ValueError(f"{name} must have shape (M, 2), got shape {a.shape}{empty}")
+    if a.shape[0] == 0:
+        return np.empty((0, 2))
+    z = np.array(a, dtype=np.float64)  # a writable copy: one compiled variant of each kernel
     if not np.isfinite(z).all():
-        raise ValueError("measurements must be finite")
+        i, j = np.argwhere(~np.isfinite(z))[0]
+        raise ValueError(f"{name} must be finite, got {z[i, j]} at [{i}, {j}] in a scan of "
+                         f"shape {z.shape}")
     return np.ascontiguousarray(z)
+
+
+def _association_name(association) -> str:
+    """How messages name an association: a function by its name, an object by its class."""
+    if isinstance(association, (types.FunctionType, types.MethodType,
+                                types.BuiltinFunctionType)):
+        return association.__qualname__
+    return type(association).__name__
+
+
+def _check_distribution(association, arrays: dict, totals: np.ndarray, row: str) -> None:
+    """Refuse association marginals that are not a distribution over each row's options.
+
+    ``arrays`` maps a name to each returned array, ``totals`` is the total mass of every row
+    and ``row`` the expression of a row's mass in the messages (``"beta[{i}, :].sum()"``).
+    """
+    who = _association_name(association)
+    for what, a in arrays.items():
+        if not np.isfinite(a).all():
+            at = tuple(int(k) for k in np.argwhere(~np.isfinite(a))[0])
+            raise ValueError(f"association {who} returned a non-finite marginal: "
+                             f"{what}{list(at)} = {a[at]}")
+        if (a < 0).any():
+            at = tuple(int(k) for k in np.argwhere(a < 0)[0])
+            raise ValueError(f"association {who} returned a negative marginal: "
+                             f"{what}{list(at)} = {a[at]}")
+    off = np.abs(totals - 1.0)
+    if (off > BETA_TOL).any():
+        i = int(np.argmax(off > BETA_TOL))
+        raise ValueError(
+            f"association {who} returned marginals that are not a distribution: "
+            f"{row.format(i=i)} = {float(totals[i])!r}, not 1 (tolerance {BETA_TOL})"
+        )

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..validation import check_choice
+from ..validation import check_choice, check_real, check_type
 
 __all__ = [
     "ConstantVelocity",
@@ -34,16 +34,54 @@ def _readonly(a) -> np.ndarray:
     return a
 
 
+def _real_array(a, what: str) -> np.ndarray:
+    """``a`` as a float64 array if it holds real numbers (not strings, booleans or complex).
+
+    ``np.asarray(a, dtype=float)`` would parse ``"1.5"`` and turn ``True`` into 1.
+    """
+    try:
+        given = np.asarray(a)
+    except ValueError:  # numpy: "inhomogeneous shape"
+        raise ValueError(f"{what} must be a rectangular array of real numbers, got the ragged "
+                         f"sequence {a!r}") from None
+    if given.dtype.kind not in "iuf":
+        raise TypeError(f"{what} must hold real numbers, got {a!r} (dtype {given.dtype})")
+    return given.astype(np.float64)
+
+
+def _finite(compute):
+    """``compute()`` if it runs without overflow and gives finite values, else None."""
+    try:
+        with np.errstate(all="ignore"):
+            out = compute()
+    except OverflowError:  # Python's float ** raises instead of returning inf
+        return None
+    return out if np.isfinite(out).all() else None
+
+
+def _eigenvalues(P) -> np.ndarray:
+    """Eigenvalues of the symmetric ``P``; non-finite ones (refused) if not representable."""
+    with np.errstate(all="ignore"):
+        return np.linalg.eigvalsh(P)
+
+
 def _spd(P, n: int, what: str) -> np.ndarray:
-    """``P`` (or the diagonal matrix of a vector ``P``) as a read-only n x n SPD matrix."""
-    given = np.asarray(P, dtype=np.float64)
+    """``P`` (or the diagonal matrix of a vector ``P``) as a read-only n x n SPD matrix.
+
+    Its determinant must be finite too: the filter divides by ``|H P Hᵀ + R|``.
+    """
+    given = _real_array(P, what)
     P = np.diag(given) if given.ndim == 1 else given
-    if (P.shape != (n, n) or not np.isfinite(P).all() or not np.allclose(P, P.T)
-            or np.linalg.eigvalsh(P).min() <= 0):
+    with np.errstate(all="ignore"):  # entries near the float64 range: the tests say no
+        bad = (P.shape != (n, n) or not np.isfinite(P).all() or not np.allclose(P, P.T)
+               or not _eigenvalues(P).min() > 0)
+    if bad:
         raise ValueError(
             f"{what} must be a symmetric positive definite {n}x{n} matrix, got shape "
             f"{given.shape}" + ("" if P.shape != (n, n) else f" with values {P.tolist()}")
         )
+    if _finite(lambda: np.prod(_eigenvalues(P))) is None:
+        raise ValueError(f"{what} is too large: its determinant overflows (values {P.tolist()})")
     return _readonly(P)
 
 
@@ -57,6 +95,14 @@ class ConstantVelocity:
         Sampling period ``Δ`` in seconds (default 1).
     sigma_w : float
         Standard deviation of the white acceleration noise per axis in m/s² (default 5).
+
+    Raises
+    ------
+    TypeError
+        If ``dt`` or ``sigma_w`` is not a real number (booleans included).
+    ValueError
+        If ``dt`` is not positive and finite, ``sigma_w`` not finite and ``>= 0``, or if they
+        are so large that ``G`` or ``Q`` overflows.
 
     Notes
     -----
@@ -75,10 +121,26 @@ class ConstantVelocity:
     sigma_w: float = 5.0
 
     def __post_init__(self):
-        if not (np.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"dt must be a positive finite number, got {self.dt}")
-        if not (np.isfinite(self.sigma_w) and self.sigma_w >= 0):
-            raise ValueError(f"sigma_w must be a finite number >= 0, got {self.sigma_w}")
+        dt = check_real(self.dt, "dt", finite=False)
+        sigma_w = check_real(self.sigma_w, "sigma_w", finite=False)
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be a positive finite number, got {dt}")
+        if not (np.isfinite(sigma_w) and sigma_w >= 0):
+            raise ValueError(f"sigma_w must be a finite number >= 0, got {sigma_w}")
+        object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "sigma_w", sigma_w)
+        # the derived matrices must be finite: an inf in Q would reach the filter's covariances
+        if _finite(lambda: self.G) is None:
+            raise ValueError(f"dt = {dt!r} is too large: the noise gain G = I_2 ⊗ [dt**2 / 2, "
+                             "dt]' overflows")
+        if _finite(lambda: sigma_w**2) is None:
+            raise ValueError(f"sigma_w = {sigma_w!r} is too large: sigma_w**2 overflows")
+        if _finite(lambda: self.Q) is None:
+            raise ValueError(
+                f"dt = {dt!r} with sigma_w = {sigma_w!r} makes the process noise covariance "
+                "Q = sigma_w**2 G G' overflow (its largest entry is sigma_w**2 dt**4 / 4); use "
+                "a smaller dt or sigma_w"
+            )
 
     @property
     def F(self) -> np.ndarray:
@@ -115,10 +177,14 @@ class PositionSensor:
 
     Raises
     ------
+    TypeError
+        If ``p_d`` or ``sigma_v`` is not a real number (booleans included) or ``noise_cov``
+        does not hold real numbers.
     ValueError
-        If ``p_d`` is outside ``(0, 1]``, ``sigma_v`` is not positive and finite, ``noise_cov``
-        is not a symmetric positive definite 2 x 2 matrix, or both ``sigma_v`` and ``noise_cov``
-        are given.
+        If ``p_d`` is outside ``(0, 1]``, ``sigma_v`` is not positive and finite or so large
+        (small) that ``σ_v⁴ = |R|`` overflows (``σ_v²`` underflows to 0), ``noise_cov`` is
+        not a symmetric positive definite 2 x 2 matrix with a finite determinant, or both
+        ``sigma_v`` and ``noise_cov`` are given.
 
     Notes
     -----
@@ -139,8 +205,10 @@ class PositionSensor:
     noise_cov: tuple | None = None
 
     def __post_init__(self):
-        if not (0 < self.p_d <= 1):
-            raise ValueError(f"p_d must be in (0, 1], got {self.p_d}")
+        p_d = check_real(self.p_d, "p_d", finite=False)
+        if not (0 < p_d <= 1):
+            raise ValueError(f"p_d must be in (0, 1], got {p_d}")
+        object.__setattr__(self, "p_d", p_d)
         if self.noise_cov is not None:
             if self.sigma_v is not None:
                 raise ValueError("give either sigma_v or noise_cov, not both")
@@ -148,10 +216,19 @@ class PositionSensor:
             R = _spd(self.noise_cov, 2, "noise_cov")
             object.__setattr__(self, "noise_cov", tuple(map(tuple, R.tolist())))
             return
-        if self.sigma_v is None:
-            object.__setattr__(self, "sigma_v", 10.0)
-        if not (np.isfinite(self.sigma_v) and self.sigma_v > 0):
-            raise ValueError(f"sigma_v must be a positive finite number, got {self.sigma_v}")
+        sigma_v = 10.0 if self.sigma_v is None else check_real(self.sigma_v, "sigma_v",
+                                                                finite=False)
+        if not (np.isfinite(sigma_v) and sigma_v > 0):
+            raise ValueError(f"sigma_v must be a positive finite number, got {sigma_v}")
+        object.__setattr__(self, "sigma_v", sigma_v)
+        variance = _finite(lambda: sigma_v**2)
+        # the filter divides by |S| >= |R| = sigma_v**4
+        if variance is None or _finite(lambda: variance * variance) is None:
+            raise ValueError(f"sigma_v = {sigma_v!r} is too large: the noise covariance "
+                             "R = sigma_v**2 I or its determinant sigma_v**4 overflows")
+        if variance == 0:
+            raise ValueError(f"sigma_v = {sigma_v!r} is too small: the noise covariance "
+                             "R = sigma_v**2 I underflows to 0 (not positive definite)")
 
     @property
     def H(self) -> np.ndarray:
@@ -177,6 +254,16 @@ class PoissonClutter:
     region : tuple of tuple of float
         ``((x_min, x_max), (y_min, y_max))`` in m (default ``[−1000, 1000]²``).
 
+    Raises
+    ------
+    TypeError
+        If ``rate`` is not a real number (booleans included) or ``region`` does not hold real
+        numbers.
+    ValueError
+        If ``rate`` is not positive and finite, ``region`` is not two finite intervals with
+        ``max > min``, or its area or the intensity ``κ = λ_c / area`` is not a positive
+        finite number (a region too large or too small for float64).
+
     Examples
     --------
     >>> from rankedassign.tracking.models import PoissonClutter
@@ -189,14 +276,30 @@ class PoissonClutter:
     region: tuple = ((-1000.0, 1000.0), (-1000.0, 1000.0))
 
     def __post_init__(self):
-        if not (np.isfinite(self.rate) and self.rate > 0):
-            raise ValueError(f"clutter rate must be a positive finite number, got {self.rate}")
-        reg = np.asarray(self.region, dtype=np.float64)
+        rate = check_real(self.rate, "rate", finite=False)
+        if not (np.isfinite(rate) and rate > 0):
+            raise ValueError(f"clutter rate must be a positive finite number, got {rate}")
+        object.__setattr__(self, "rate", rate)
+        reg = _real_array(self.region, "region")
         if reg.shape != (2, 2) or not np.all(reg[:, 1] > reg[:, 0]):
             raise ValueError(
                 f"region must be ((x_min, x_max), (y_min, y_max)) with max > min, got {self.region}"
             )
+        if not np.isfinite(reg).all():
+            raise ValueError(f"region must have finite bounds, got {self.region}")
         object.__setattr__(self, "region", tuple(tuple(float(v) for v in r) for r in reg))
+        # the filter takes ln κ: the area and κ = λ_c / area must be positive and finite
+        area = self.area
+        if not (0 < area < math.inf):
+            raise ValueError(
+                f"region {self.region} has area (x_max - x_min) * (y_max - y_min) = {area}, "
+                "which is not a positive finite number"
+            )
+        if not (0 < self.intensity < math.inf):
+            raise ValueError(
+                f"clutter intensity rate / area = {rate!r} / {area!r} = {self.intensity} is not "
+                "a positive finite number; choose rate and region on a common scale"
+            )
 
     @property
     def area(self) -> float:
@@ -243,9 +346,11 @@ class BirthComponent:
     cov: np.ndarray
 
     def __post_init__(self):
-        if not (0 < self.r < 1):
-            raise ValueError(f"birth existence probability r must be in (0, 1), got {self.r}")
-        m = np.asarray(self.mean, dtype=np.float64).reshape(-1)
+        r = check_real(self.r, "r", finite=False)
+        if not (0 < r < 1):
+            raise ValueError(f"birth existence probability r must be in (0, 1), got {r}")
+        object.__setattr__(self, "r", r)
+        m = _real_array(self.mean, "birth mean").reshape(-1)
         if m.shape != (4,) or not np.isfinite(m).all():
             raise ValueError(f"birth mean must be 4 finite numbers, got {self.mean}")
         object.__setattr__(self, "mean", _readonly(m))
@@ -314,13 +419,20 @@ class ConstantSurvival:
     p_s: float = 0.99
 
     def __post_init__(self):
-        if not (0 < self.p_s <= 1):
-            raise ValueError(f"p_s must be in (0, 1], got {self.p_s}")
+        p_s = check_real(self.p_s, "p_s", finite=False)
+        if not (0 < p_s <= 1):
+            raise ValueError(f"p_s must be in (0, 1], got {p_s}")
+        object.__setattr__(self, "p_s", p_s)
 
 
 @dataclass(frozen=True)
 class Model:
     """Everything the filter and the measurement generator need.
+
+    Raises
+    ------
+    TypeError
+        If a part is not of its type (``motion`` a :class:`ConstantVelocity`, ...).
 
     Examples
     --------
@@ -335,6 +447,13 @@ class Model:
     clutter: PoissonClutter = field(default_factory=PoissonClutter)
     birth: LMBBirth = field(default_factory=LMBBirth.paper)
     survival: ConstantSurvival = field(default_factory=ConstantSurvival)
+
+    def __post_init__(self):
+        check_type(self.motion, "motion", ConstantVelocity)
+        check_type(self.sensor, "sensor", PositionSensor)
+        check_type(self.clutter, "clutter", PoissonClutter)
+        check_type(self.birth, "birth", LMBBirth)
+        check_type(self.survival, "survival", ConstantSurvival)
 
 
 def _paper() -> Model:

@@ -30,17 +30,27 @@ from __future__ import annotations
 
 import itertools
 import math
+import numbers
+from collections.abc import Sequence
 from dataclasses import dataclass
 from time import perf_counter
 
 import numpy as np
 from scipy.special import logsumexp
 
+from .._rng import spawning_generator
 from ..multisensor import MultiSensorProblem
-from ..validation import check_type
+from ..validation import check_bool, check_int, check_type
 from . import _kernels
 from .adaptive_birth import AdaptiveBirth, empty_birth
-from .lmb import LMBFilter, ScanRecord, _check_measurements, group_tracks
+from .association import Association
+from .lmb import (
+    LMBFilter,
+    ScanRecord,
+    _check_distribution,
+    _check_measurements,
+    group_tracks,
+)
 from .models import (
     ConstantSurvival,
     ConstantVelocity,
@@ -51,10 +61,57 @@ from .models import (
 )
 from .multisensor_association import MultiSensorAssociationResult
 
-__all__ = ["MultiSensorModel", "MultiSensorLMBFilter"]
+__all__ = ["MultiSensorModel", "MultiSensorLMBFilter", "check_sensors"]
 
 _POS = [0, 2]  # H picks p_x, p_y
 _LOG_2PI = math.log(2.0 * math.pi)
+
+
+def check_sensors(sensors, n_sensors: int, name: str = "sensors") -> tuple[int, ...]:
+    """``sensors`` as a tuple of distinct sensor indices in ``0..n_sensors - 1``.
+
+    Parameters
+    ----------
+    sensors : sequence of int
+        A list, tuple, range or 1-D integer array; Python and numpy ints, not ``bool``.
+    n_sensors : int
+        Number of sensors to choose from.
+    name : str
+        The argument's name in the messages.
+
+    Raises
+    ------
+    TypeError
+        If ``sensors`` is not a sequence (a bare int, a string, a set) or holds something other
+        than ints (``0.5``, ``True``, ``"1"``).
+    ValueError
+        On an empty selection, a repeated or an out-of-range index.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.multisensor import check_sensors
+    >>> check_sensors([2, 0], 4)
+    (2, 0)
+    >>> check_sensors((True,), 4)
+    Traceback (most recent call last):
+    ...
+    TypeError: sensors[0] must be an int (a sensor index), got bool True
+    >>> check_sensors([0, 4], 4)
+    Traceback (most recent call last):
+    ...
+    ValueError: sensors must be distinct indices in 0..3, got [0, 4]
+    """
+    if isinstance(sensors, (str, bytes)) or not isinstance(sensors, (Sequence, np.ndarray)):
+        raise TypeError(f"{name} must be a sequence of sensor indices (ints), got "
+                        f"{type(sensors).__name__} {sensors!r}")
+    for i, v in enumerate(sensors):
+        if isinstance(v, bool) or not isinstance(v, numbers.Integral):
+            raise TypeError(f"{name}[{i}] must be an int (a sensor index), got "
+                            f"{type(v).__name__} {v!r}")
+    idx = [int(v) for v in sensors]
+    if not idx or len(set(idx)) != len(idx) or min(idx) < 0 or max(idx) >= n_sensors:
+        raise ValueError(f"{name} must be distinct indices in 0..{n_sensors - 1}, got {idx}")
+    return tuple(idx)
 
 
 @dataclass(frozen=True)
@@ -73,6 +130,8 @@ class MultiSensorModel:
 
     Raises
     ------
+    TypeError
+        If a part is not of its type (``sensors[v]`` a :class:`PositionSensor`, ...).
     ValueError
         If there is no sensor or ``clutters`` does not have one entry per sensor.
 
@@ -92,6 +151,11 @@ class MultiSensorModel:
     survival: ConstantSurvival
 
     def __post_init__(self):
+        check_type(self.motion, "motion", ConstantVelocity)
+        check_type(self.birth, "birth", LMBBirth)
+        check_type(self.survival, "survival", ConstantSurvival)
+        for name in ("sensors", "clutters"):
+            check_type(getattr(self, name), name, Sequence, "one entry per sensor")
         object.__setattr__(self, "sensors", tuple(self.sensors))
         object.__setattr__(self, "clutters", tuple(self.clutters))
         if len(self.sensors) == 0:
@@ -122,19 +186,26 @@ class MultiSensorModel:
 
         Raises
         ------
+        TypeError
+            If ``sensors`` is not a sequence of ints (:func:`check_sensors`).
         ValueError
             On an empty selection, a repeated or an out-of-range index.
         """
-        idx = [int(v) for v in sensors]
-        if not idx or len(set(idx)) != len(idx) or min(idx) < 0 or max(idx) >= self.n_sensors:
-            raise ValueError(
-                f"sensors must be distinct indices in 0..{self.n_sensors - 1}, got {list(idx)}"
-            )
+        idx = check_sensors(sensors, self.n_sensors)
         return MultiSensorModel(self.motion, tuple(self.sensors[v] for v in idx),
                                 tuple(self.clutters[v] for v in idx), self.birth, self.survival)
 
     def single(self, v: int = 0) -> Model:
-        """Sensor ``v`` as a single-sensor :class:`~rankedassign.tracking.Model`."""
+        """Sensor ``v`` as a single-sensor :class:`~rankedassign.tracking.Model`.
+
+        Raises
+        ------
+        TypeError
+            If ``v`` is not an int (``bool`` included).
+        ValueError
+            If ``v`` is outside ``0..n_sensors - 1`` (no negative indexing).
+        """
+        v = check_int(v, "v", minimum=0, maximum=self.n_sensors - 1)
         return Model(self.motion, self.sensors[v], self.clutters[v], self.birth, self.survival)
 
 
@@ -148,12 +219,15 @@ class MultiSensorLMBFilter(LMBFilter):
     association : callable
         ``association(problem, rng) -> MultiSensorAssociationResult`` on every
         :class:`~rankedassign.multisensor.MultiSensorProblem`
-        (:mod:`~rankedassign.tracking.multisensor_association`).
+        (:mod:`~rankedassign.tracking.multisensor_association`). The single-sensor
+        associations (:class:`~rankedassign.tracking.association.Association`) are refused.
+        The marginals must be finite and non-negative, ``dead[n] + tuples[n].sum() = 1``
+        within :data:`~rankedassign.tracking.lmb.BETA_TOL`.
     gate_prob : float or None, optional
         χ² gate probability per sensor (default ``0.9999999``); None disables gating.
     grouping : bool, optional
         One problem per group of tracks that share gated measurements of some sensor (default
-        True: the dense tuple tables grow as ``∏_v (M_v + 1)``).
+        True: the dense tuple tables grow as ``∏_v (M_v + 1)``). ``True`` or ``False`` only.
     birth : AdaptiveBirth or None, optional
         None (default): the static LMB birth of the model at every scan. An
         :class:`~rankedassign.tracking.adaptive_birth.AdaptiveBirth`: adaptive birth instead
@@ -163,7 +237,9 @@ class MultiSensorLMBFilter(LMBFilter):
         The housekeeping and extraction options of
         :class:`~rankedassign.tracking.lmb.LMBFilter` (``extraction``, ``theta_upper``,
         ``prune_track``, ``max_tracks``, ``prune_component``, ``merge_threshold``,
-        ``merge_rule``, ``max_components``, ``estimate``).
+        ``merge_rule``, ``max_components``, ``estimate``). ``sample_empty_groups`` is
+        accepted (a bool) and has no effect: groups without measurements are always solved in
+        closed form.
 
     Notes
     -----
@@ -219,7 +295,8 @@ class MultiSensorLMBFilter(LMBFilter):
             check_type(birth, "birth", AdaptiveBirth,
                        "None for the model's static birth or AdaptiveBirth(...)")
         self.adaptive_birth = birth
-        options.pop("sample_empty_groups", None)
+        if "sample_empty_groups" in options:
+            check_bool(options.pop("sample_empty_groups"), "sample_empty_groups")
         super().__init__(model.single(0), association, gate_prob=gate_prob, grouping=grouping,
                          **options)
         self.ms_model = model
@@ -230,6 +307,21 @@ class MultiSensorLMBFilter(LMBFilter):
             self._log_pds = np.log(pds)
             self._log_misses = np.log1p(-pds)
         self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
+
+    @staticmethod
+    def _check_association(association) -> None:
+        """Refuse what is not a multi-sensor association (a single-sensor one included)."""
+        if not callable(association):
+            raise TypeError(
+                f"association must be callable as association(problem, rng), got "
+                f"{type(association).__name__}"
+            )
+        if isinstance(association, Association):
+            raise TypeError(
+                "MultiSensorLMBFilter needs a multi-sensor association such as "
+                f"MultiSensorShortChains; got {type(association).__name__} (a single-sensor "
+                "association, for LMBFilter)"
+            )
 
     def reset(self) -> None:
         """Forget every track (and, with adaptive birth, the pending births); restart at scan 1.
@@ -262,7 +354,8 @@ class MultiSensorLMBFilter(LMBFilter):
         zs : sequence of V array_like, shape (M_v, 2)
             One measurement array per sensor, in the model's sensor order.
         rng : optional
-            Randomness of the association; one child stream per problem.
+            Randomness of the association; one child stream per problem (as
+            :meth:`LMBFilter.step <rankedassign.tracking.lmb.LMBFilter.step>`).
 
         Returns
         -------
@@ -273,16 +366,25 @@ class MultiSensorLMBFilter(LMBFilter):
 
         Raises
         ------
+        TypeError
+            If ``zs`` is not a sequence, on measurements that are not real numbers, or on an
+            ``rng`` numpy cannot seed from.
         ValueError
-            If ``zs`` does not hold one array per sensor, on a malformed array, or if the
-            association returns marginals of the wrong shape.
+            If ``zs`` does not hold one array per sensor, on a malformed array (as
+            :meth:`LMBFilter.step <rankedassign.tracking.lmb.LMBFilter.step>`, the message
+            names the sensor), an invalid seed, or if the association returns marginals of
+            the wrong shape, with a non-finite or negative entry, or with a row whose
+            ``dead[n] + tuples[n].sum()`` is not 1.
         """
+        if isinstance(zs, (str, bytes)) or not isinstance(zs, (Sequence, np.ndarray)):
+            raise TypeError(f"step needs one measurement array per sensor (V = {self.V}), "
+                            f"got {type(zs).__name__}")
         if isinstance(zs, np.ndarray) or len(zs) != self.V:
             got = "an array" if isinstance(zs, np.ndarray) else f"{len(zs)} arrays"
             raise ValueError(f"step needs one measurement array per sensor (V = {self.V}), "
                              f"got {got}")
-        zs = [_check_measurements(z) for z in zs]
-        gen = np.random.default_rng(rng)
+        zs = [_check_measurements(z, f"measurements of sensor {v}") for v, z in enumerate(zs)]
+        gen = spawning_generator(rng)
         t0 = perf_counter()
         self.predict()
         t1 = perf_counter()
@@ -331,6 +433,9 @@ class MultiSensorLMBFilter(LMBFilter):
                     f"association returned marginals of shapes {dead.shape} and {tup.shape}, "
                     f"expected {(rows.size,)} and {shape}"
                 )
+            _check_distribution(self.association, {"dead": dead, "tuples": tup},
+                                dead + tup.reshape(rows.size, -1).sum(axis=1),
+                                "dead[{i}] + tuples[{i}].sum()")
             n_problems += 1
             counts += (int(res.invocations), int(res.sweeps), int(res.row_updates),
                        int(res.n_unique))

@@ -24,7 +24,7 @@ from ..multisensor import MultiSensorProblem
 from ..numba_options import jit
 from ..samplers import sample_original, sample_short_chains
 from ..validation import check_choice, check_int, check_optional_int
-from .association import MARGINALS
+from .association import MARGINALS, Association
 
 __all__ = [
     "MULTISENSOR_METHODS",
@@ -383,6 +383,9 @@ class MultiSensorExact(MultiSensorAssociation):
 
     Raises
     ------
+    TypeError
+        If ``fallback`` is not callable, or is a single-sensor
+        :class:`~rankedassign.tracking.association.Association`.
     ValueError
         When called on a problem beyond the DP and there is no fallback.
 
@@ -399,6 +402,11 @@ class MultiSensorExact(MultiSensorAssociation):
         if fallback is not None and not callable(fallback):
             raise TypeError(
                 f"fallback must be an association or None, got {type(fallback).__name__}"
+            )
+        if isinstance(fallback, Association):
+            raise TypeError(
+                "fallback must be a multi-sensor association such as MultiSensorShortChains; "
+                f"got {type(fallback).__name__} (a single-sensor association)"
             )
         self.fallback = fallback
         self.n_fallback = 0

@@ -24,12 +24,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._rng import spawning_generator
 from ..metrics import tracks_to_array
-from ..validation import check_choice, check_int
+from ..validation import check_bool, check_choice
 from .adaptive_birth import AdaptiveBirth
 from .models import LMBBirth, PoissonClutter, PositionSensor, make_model
-from .multisensor import MultiSensorLMBFilter, MultiSensorModel
-from .scenario import COUNTER_KEYS, ScenarioRun, Truth, generate_measurements, paper_truth
+from .multisensor import MultiSensorLMBFilter, MultiSensorModel, check_sensors
+from .scenario import (
+    COUNTER_KEYS,
+    ScenarioRun,
+    Truth,
+    check_n_scans,
+    generate_measurements,
+    paper_truth,
+)
 
 __all__ = [
     "BIRTHS",
@@ -74,6 +82,9 @@ def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiS
 
     Raises
     ------
+    TypeError
+        If ``sensors`` is not a sequence of ints (``0.5``, ``True`` and a bare ``5`` are
+        refused, :func:`~rankedassign.tracking.multisensor.check_sensors`).
     ValueError
         On an empty selection, a repeated or an out-of-range index.
 
@@ -129,10 +140,13 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2)
     rng : optional
         Anything :func:`numpy.random.default_rng` accepts. One child stream per sensor of
         :data:`MULTI_SENSORS` is spawned from it; sensor ``v`` always draws from child ``v``.
+        A RandomState is replaced by the Generator seeded with one draw from it
+        (:func:`rankedassign._rng.spawning_generator`).
     n_scans : int
-        Number of scans (default 100).
+        Number of scans (default 100, at most
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
     sensors : sequence of int
-        Which sensors to simulate.
+        Which sensors to simulate (distinct indices into :data:`MULTI_SENSORS`).
     birth : {"paper", "narrow", "adaptive"}
         Birth model of the filter (the measurements do not depend on it).
 
@@ -148,12 +162,12 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2)
     >>> bool((a.scans[2][1].z == b.scans[2][0].z).all())      # sensor 2 sees the same
     True
     """
-    n_scans = check_int(n_scans, "n_scans", minimum=1)
+    n_scans = check_n_scans(n_scans)
+    sensors = check_sensors(sensors, len(MULTI_SENSORS))
     model = make_multisensor_model(sensors, birth=birth)
-    sensors = tuple(int(v) for v in sensors)
     full = make_multisensor_model(range(len(MULTI_SENSORS)))
     truth = paper_truth(n_scans, model.motion.F)
-    children = np.random.default_rng(rng).spawn(len(MULTI_SENSORS))
+    children = spawning_generator(rng).spawn(len(MULTI_SENSORS))
     per_sensor = [generate_measurements(truth, full.single(v), rng=children[v])
                   for v in sensors]
     scans = [tuple(s[k] for s in per_sensor) for k in range(n_scans)]
@@ -200,12 +214,15 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         Two child streams are spawned: the first draws the measurements
         (:func:`make_multisensor_scenario`), the second drives the filter (one child per scan).
         The same ``rng`` gives the same measurements whatever the association and sensors.
+        A RandomState is replaced by the Generator seeded with one draw from it.
     n_scans : int
-        Number of scans (default 100).
+        Number of scans (default 100, at most
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
     sensors : sequence of int
-        The sensors the filter fuses (indices into :data:`MULTI_SENSORS`).
+        The sensors the filter fuses (distinct indices into :data:`MULTI_SENSORS`).
     grouping : bool
-        One problem per group of tracks sharing gated measurements (default True).
+        One problem per group of tracks sharing gated measurements (default True); ``True``
+        or ``False`` only.
     extraction : {"hysteresis", "map"}
         State extraction (spec 6.5).
     birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
@@ -221,7 +238,11 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     Raises
     ------
     TypeError
-        If ``association`` is missing.
+        If ``association`` is missing or single-sensor, or on an option of the wrong type
+        (``sensors=5``, ``grouping="no"``, ``rng=1.5``).
+    ValueError
+        On a bad option (an out-of-range sensor, ``n_scans`` above
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`, ...).
 
     Examples
     --------
@@ -235,11 +256,14 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     if association is None:
         raise TypeError("run_multisensor_scenario needs an association, e.g. "
                         "MultiSensorShortChains(400, 25, 5, 10)")
+    grouping = check_bool(grouping, "grouping")
+    n_scans = check_n_scans(n_scans)
+    sensors = check_sensors(sensors, len(MULTI_SENSORS))
     adaptive = birth if isinstance(birth, AdaptiveBirth) else (
         AdaptiveBirth() if birth == "adaptive" else None)
     if adaptive is not None:
         birth = "adaptive"
-    meas_rng, filter_rng = np.random.default_rng(rng).spawn(2)
+    meas_rng, filter_rng = spawning_generator(rng).spawn(2)
     scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
                                          birth=birth)
     filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._rng import spawning_generator
 from ..metrics import tracks_to_array
+from ..validation import check_bool
 from .association import Association
 from .lmb import LMBFilter
 from .models import PRESET_EXTRACTION
 from .multisensor_scenario import run_multisensor_scenario
-from .scenario import COUNTER_KEYS, ScenarioRun, make_scenario
+from .scenario import COUNTER_KEYS, ScenarioRun, check_n_scans, make_scenario
 
 __all__ = ["ScenarioRun", "run_scenario"]
 
@@ -42,12 +44,15 @@ def run_scenario(
         Anything :func:`numpy.random.default_rng` accepts. Two child streams are spawned from
         it: the first draws the measurements, the second drives the filter (one further child per
         scan, and per problem within a scan). The same ``rng`` therefore gives the same
-        measurements whatever the association.
+        measurements whatever the association. A :class:`numpy.random.RandomState` is
+        replaced by the Generator seeded with one draw from it
+        (:func:`rankedassign._rng.spawning_generator`).
     n_scans : int
-        Number of scans (the paper: 100).
+        Number of scans (the paper: 100; at most
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
     grouping : bool or None
         Solve independent groups of tracks separately (spec §6.5a). None (default): False,
-        except for ``"multi"`` (True).
+        except for ``"multi"`` (True). Otherwise ``True`` or ``False`` (a string is refused).
     extraction : {"hysteresis", "map"} or None
         State extraction (spec 6.5): the paper's hysteresis or the MAP cardinality of Vo's
         code. None (default) takes the preset's own setting
@@ -67,9 +72,12 @@ def run_scenario(
     Raises
     ------
     TypeError
-        If ``association`` is missing or not callable.
+        If ``association`` is missing, not callable or of the other kind (a multi-sensor
+        association for a single-sensor preset, or the reverse), or on an option of the wrong
+        type (``grouping="no"``, ``n_scans=2.0``, ``rng="seed"``).
     ValueError
-        On an unknown preset or a bad option.
+        On an unknown preset or a bad option (``n_scans`` above
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`, with the memory it would need).
 
     Examples
     --------
@@ -80,6 +88,8 @@ def run_scenario(
     """
     if association is None:
         raise TypeError("run_scenario needs an association, e.g. ShortChainGibbs(400, 25, 5, 10)")
+    if grouping is not None:
+        grouping = check_bool(grouping, "grouping")
     if preset == "multi":
         return run_multisensor_scenario(
             association, rng=rng, n_scans=n_scans,
@@ -90,9 +100,10 @@ def run_scenario(
     if sensors is not None:
         raise ValueError(f"sensors applies to the 'multi' preset only, got preset {preset!r}")
     grouping = False if grouping is None else grouping
+    check_n_scans(n_scans)
     if extraction is None:
         extraction = PRESET_EXTRACTION.get(preset, "hysteresis")  # unknown presets fail below
-    parent = np.random.default_rng(rng)
+    parent = spawning_generator(rng)
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
     filt = LMBFilter(

@@ -2,15 +2,17 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..validation import check_int
+from .._rng import check_rng
+from ..validation import check_int, check_type
 from .models import Model, make_model
 
-__all__ = ["TARGETS", "Truth", "Scan", "paper_truth", "generate_measurements", "Scenario",
-           "make_scenario"]
+__all__ = ["MAX_SCANS", "TARGETS", "Truth", "Scan", "paper_truth", "generate_measurements",
+           "Scenario", "make_scenario", "check_n_scans"]
 
 # Spec §8 (Vo's public gen_truth.m): x_start [p_x, v_x, p_y, v_y], t_birth, t_death (1-based,
 # inclusive; t_death = 101 means the target survives to the end of the run).
@@ -28,6 +30,53 @@ TARGETS = (
     ((0.0, -20.0, 0.0, -15.0), 80, 101),
     ((-200.0, 15.0, 800.0, -5.0), 80, 101),
 )
+
+
+#: Largest number of scans of a simulated run: the truth alone takes 384 bytes a scan (12
+#: targets x 4 states x float64) and the measurements and per-scan records several kilobytes
+#: more; a million scans is hours of filtering, far beyond the studies' 100.
+MAX_SCANS = 10**6
+
+
+def _size(n_bytes: float) -> str:
+    """``n_bytes`` in binary units, e.g. ``'349.2 TiB'``."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if n_bytes < 1024 or unit == "PiB":
+            return f"{n_bytes:.1f} {unit}" if unit != "B" else f"{int(n_bytes)} B"
+        n_bytes /= 1024
+    raise AssertionError  # pragma: no cover
+
+
+def check_n_scans(n_scans) -> int:
+    """``n_scans`` as an int in ``[1, MAX_SCANS]``; above the bound the message says the memory.
+
+    Raises
+    ------
+    TypeError
+        If ``n_scans`` is not an int (``bool`` included).
+    ValueError
+        If it is below 1 or above :data:`MAX_SCANS`.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.scenario import check_n_scans
+    >>> check_n_scans(100)
+    100
+    >>> check_n_scans(10**12)
+    Traceback (most recent call last):
+    ...
+    ValueError: n_scans must be an int <= 1000000 (MAX_SCANS), got 1000000000000: the truth of
+    that many scans alone would need 349.2 TiB (384 bytes a scan)
+    """
+    if (isinstance(n_scans, numbers.Integral) and not isinstance(n_scans, bool)
+            and n_scans > MAX_SCANS):
+        per_scan = len(TARGETS) * 4 * 8
+        raise ValueError(
+            f"n_scans must be an int <= {MAX_SCANS} (MAX_SCANS), got {int(n_scans)}: the truth "
+            f"of that many scans alone would need {_size(int(n_scans) * per_scan)} "
+            f"({per_scan} bytes a scan)"
+        )
+    return check_int(n_scans, "n_scans", minimum=1, maximum=MAX_SCANS)
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,8 +127,8 @@ def paper_truth(n_scans: int = 100, F=None) -> Truth:
     Parameters
     ----------
     n_scans : int
-        Number of scans ``K`` (the paper: 100). Targets with ``t_death = 101`` survive to the
-        end whatever ``K`` is.
+        Number of scans ``K`` (the paper: 100; at most :data:`MAX_SCANS`). Targets with
+        ``t_death = 101`` survive to the end whatever ``K`` is.
     F : array_like, shape (4, 4), optional
         Transition matrix (default: constant velocity with ``Δ = 1``).
 
@@ -101,7 +150,7 @@ def paper_truth(n_scans: int = 100, F=None) -> Truth:
     >>> t.n_targets[[0, 19, 39, 59, 70, 79]].tolist()
     [3, 6, 8, 10, 8, 10]
     """
-    K = check_int(n_scans, "n_scans", minimum=1)
+    K = check_n_scans(n_scans)
     if F is None:
         F = np.kron(np.eye(2), [[1.0, 1.0], [0.0, 1.0]])
     F = np.asarray(F, dtype=np.float64)
@@ -142,8 +191,9 @@ def generate_measurements(truth: Truth, model: Model, *, rng=None) -> list[Scan]
     ----------
     truth : Truth
     model : Model
-    rng : None, int, SeedSequence or Generator, optional
-        Randomness (anything :func:`numpy.random.default_rng` accepts).
+    rng : None, int, SeedSequence, Generator or RandomState, optional
+        Randomness (anything :func:`numpy.random.default_rng` accepts; a Generator or a
+        RandomState is drawn from directly).
 
     Returns
     -------
@@ -164,7 +214,9 @@ def generate_measurements(truth: Truth, model: Model, *, rng=None) -> list[Scan]
     >>> len(scans), scans[0].z.shape[1]
     (5, 2)
     """
-    gen = np.random.default_rng(rng)
+    check_type(truth, "truth", Truth, "build one with paper_truth(n_scans)")
+    check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+    gen = check_rng(rng)
     H, R, p_d = model.sensor.H, model.sensor.R, model.sensor.p_d
     Lr = np.linalg.cholesky(R)
     out = []
@@ -201,7 +253,7 @@ def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Sce
     rng : optional
         Randomness of the measurements.
     n_scans : int
-        Number of scans (default 100).
+        Number of scans (default 100, at most :data:`MAX_SCANS`).
 
     Returns
     -------
