@@ -65,3 +65,80 @@ def test_dask_unreachable_scheduler():
     with pytest.raises(SchedulerError, match="could not connect to the Dask scheduler"):
         with dask_executor("tcp://127.0.0.1:9", timeout=1.0):
             pass
+
+
+def _junk_server():
+    """A loopback TCP server that answers every connection with bytes no Dask peer sends."""
+    import socket
+    import threading
+    import time
+
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(8)
+
+    def serve():
+        while True:
+            try:
+                conn, _ = srv.accept()
+            except OSError:
+                return
+            conn.sendall(b"\xff" * 64)
+            threading.Timer(30, conn.close).start()
+            time.sleep(0)
+
+    threading.Thread(target=serve, daemon=True).start()
+    return srv
+
+
+def test_dask_scheduler_that_sends_junk_fails_within_the_timeout():
+    # issue: junk bytes read as a frame length gave "Unable to allocate 2.82 EiB"
+    import time
+
+    srv = _junk_server()
+    address = f"tcp://127.0.0.1:{srv.getsockname()[1]}"
+    t0 = time.monotonic()
+    try:
+        with pytest.raises(SchedulerError, match=f"could not connect to the Dask scheduler at "
+                                                  f"'{address}' within 2 s: ") as info:
+            with dask_executor(address, timeout=2.0):
+                pass
+    finally:
+        srv.close()
+    assert "\n" not in str(info.value)
+    assert time.monotonic() - t0 < 2.0 + 30  # the timeout plus importing distributed
+
+
+def test_dask_scheduler_that_is_a_web_server_fails_within_the_timeout(tmp_path):
+    # issue: `python -m http.server` as the scheduler hung for more than 90 s
+    import socket
+    import subprocess
+    import sys
+    import time
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    web = subprocess.Popen([sys.executable, "-m", "http.server", str(port), "--bind",
+                            "127.0.0.1"], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 30
+        while True:  # wait until it listens
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                assert time.monotonic() < deadline and web.poll() is None
+                time.sleep(0.1)
+        address = f"tcp://127.0.0.1:{port}"
+        t0 = time.monotonic()
+        with pytest.raises(SchedulerError, match=(
+                f"could not connect to the Dask scheduler at '{address}' within 2 s: no answer "
+                "as a Dask scheduler after [0-9]+ s$")):
+            with dask_executor(address, timeout=2.0):
+                pass
+        assert time.monotonic() - t0 < 2.0 + 30
+    finally:
+        web.kill()
+        web.wait()

@@ -241,16 +241,73 @@ def dask_executor(address: str, *, timeout: float | None = None) -> Iterator[Exe
         ) from exc
     if timeout is None:
         timeout = DASK_CONNECT_TIMEOUT
+    _probe_scheduler(address, timeout)
     try:
         client = Client(address, timeout=timeout)
-    except (OSError, TimeoutError, ValueError) as exc:
+    except Exception as exc:  # noqa: BLE001 - any failure to connect is the user's address
         raise SchedulerError(
-            f"could not connect to the Dask scheduler at {address!r} within {timeout:g} s: {exc}"
+            f"could not connect to the Dask scheduler at {address!r} within {timeout:g} s: "
+            f"{_one_line(exc)}"
         ) from None
     try:
         yield client.get_executor()
     finally:
         client.close()
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= 300 else text[:297] + "..."
+
+
+_PROBE = """\
+import sys
+from distributed import Client
+print("ready", flush=True)
+Client(sys.argv[1], timeout=float(sys.argv[2])).close()
+"""
+
+
+def _probe_scheduler(address: str, timeout: float) -> None:
+    """Connect to ``address`` once in a child process that is killed after ``timeout``.
+
+    A server that is not a Dask scheduler can hang the client's handshake past its own
+    timeout (an HTTP server) or make it allocate what its junk bytes announce as a frame
+    length; in a child process either one ends with the process, within the time given.
+    """
+    import selectors
+    import subprocess
+    import time
+
+    proc = subprocess.Popen([sys.executable, "-c", _PROBE, address, repr(float(timeout))],
+                            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        with selectors.DefaultSelector() as sel:  # importing distributed: allowed 60 s
+            sel.register(proc.stdout, selectors.EVENT_READ)
+            sel.select(timeout=60.0)
+        proc.stdout.readline()
+        t0 = time.monotonic()
+        try:
+            _, err = proc.communicate(timeout=timeout + 2.0)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.communicate()
+            raise SchedulerError(
+                f"could not connect to the Dask scheduler at {address!r} within {timeout:g} s: "
+                f"no answer as a Dask scheduler after {time.monotonic() - t0:.0f} s"
+            ) from None
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    if proc.returncode != 0:
+        lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+        why = lines[-1].strip() if lines else f"exit status {proc.returncode}"
+        raise SchedulerError(
+            f"could not connect to the Dask scheduler at {address!r} within {timeout:g} s: "
+            f"{_one_line(Exception(why))}"
+        )
 
 
 def run_tasks(
