@@ -627,3 +627,177 @@ def test_fuzz_sampler_rng_argument(rng):
             assert "rng" in str(r), f"the message does not name rng: {r}"
         else:
             _check_sampler_result(r, SAMPLER_PROBLEM)
+
+
+# ============================================================================ the CLI, for real
+# Real processes and real signals: the report directory is never lost, concurrent runs are
+# refused, and a signal ends a run at every stage within seconds, cleanly.
+import json  # noqa: E402
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+
+#: A table1 run whose first study lasts far longer than any test: one original chain of 10**10
+#: sweeps per Monte Carlo run.
+_LONG = {"table1": {"n_mc": 4, "families": ["random"], "original_obs": 10**10}}
+
+
+class _Run:
+    """``rankedassign reproduce ...`` in a child process, its stderr in a file."""
+
+    def __init__(self, tmp_path, *args, name="run"):
+        self.err_path = tmp_path / f"{name}.stderr"
+        self._err = self.err_path.open("w")
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "rankedassign", "reproduce", *map(str, args)],
+            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self._err,
+        )
+
+    @property
+    def err(self) -> str:
+        return self.err_path.read_text()
+
+    def wait_for(self, text: str, timeout: float = 600) -> None:
+        deadline = time.monotonic() + timeout
+        while text not in self.err:
+            assert self.proc.poll() is None, self.err
+            assert time.monotonic() < deadline, f"never saw {text!r}: {self.err}"
+            time.sleep(0.2)
+
+    def children(self) -> list[int]:
+        """Pids of the run's child processes (Linux /proc)."""
+        pids = []
+        for stat_file in os.listdir("/proc"):
+            if stat_file.isdigit():
+                try:
+                    with open(f"/proc/{stat_file}/stat") as fh:
+                        fields = fh.read().rsplit(")", 1)[1].split()
+                except OSError:
+                    continue
+                if int(fields[1]) == self.proc.pid:
+                    pids.append(int(stat_file))
+        return pids
+
+    def wait(self, timeout: float = 300) -> int:
+        try:
+            return self.proc.wait(timeout=timeout)
+        finally:
+            if self.proc.poll() is None:
+                self.proc.kill()
+                self.proc.wait()
+            self._err.close()
+
+
+def _long_config(tmp_path):
+    path = tmp_path / "long.json"
+    path.write_text(json.dumps(_LONG))
+    return path
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+needs_proc = pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs Linux /proc")
+
+
+def test_cli_force_never_deletes_a_folder_with_a_foreign_manifest(tmp_path):
+    w = tmp_path / "w"
+    (w / "src").mkdir(parents=True)
+    (w / "manifest.json").write_text('{"name": "my-pwa"}')
+    (w / "src" / "app.js").write_text("x")
+    run = _Run(tmp_path, "table1", "--out", w, "--force")
+    assert run.wait() == 2, run.err
+    assert "refusing to replace" in run.err and "Traceback" not in run.err
+    assert (w / "src" / "app.js").read_text() == "x"
+
+
+@needs_proc
+def test_cli_a_folder_made_at_out_during_the_run_survives(tmp_path):
+    out = tmp_path / "r3"
+    cfg = tmp_path / "c.json"
+    cfg.write_text(json.dumps({"table1": {"n_mc": 40, "families": ["random"],
+                                          "original_obs": 20_000, "n_chains": 800}}))
+    run = _Run(tmp_path, "table1", "--config", cfg, "--out", out, "--workers", 1)
+    run.wait_for("[1/1] table1")
+    out.mkdir()
+    (out / "t.tex").write_text("x")
+    assert run.wait() == 2, run.err
+    assert (out / "t.tex").read_text() == "x" and sorted(os.listdir(out)) == ["t.tex"]
+    kept = [p for p in tmp_path.iterdir() if p.name.startswith("r3.new-")]
+    assert len(kept) == 1 and (kept[0] / "manifest.json").exists()
+    assert f"the finished report is kept in '{kept[0]}'" in run.err
+
+
+@needs_proc
+def test_cli_a_second_run_into_the_same_out_is_refused_and_names_the_first(tmp_path):
+    out = tmp_path / "r"
+    first = _Run(tmp_path, "table1", "--config", _long_config(tmp_path), "--out", out,
+                 "--workers", 2, name="first")
+    try:
+        first.wait_for("[1/1] table1")
+        second = _Run(tmp_path, "table1", "--out", out, "--quiet", name="second")
+        assert second.wait(timeout=120) == 2, second.err
+        assert f"another run is writing the report to '{out}' (pid {first.proc.pid} on " \
+            in second.err
+    finally:
+        first.proc.send_signal(signal.SIGTERM)
+        assert first.wait(timeout=60) == 128 + signal.SIGTERM, first.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "first.stderr", "long.json", "second.stderr"]
+
+
+@needs_proc
+@pytest.mark.parametrize(("sig", "code", "word"), [
+    (signal.SIGTERM, 143, "terminated (SIGTERM)"), (signal.SIGINT, 130, "interrupted")])
+def test_cli_a_signal_inside_a_long_kernel_ends_the_run_within_seconds(tmp_path, sig, code,
+                                                                      word):
+    # issue: with --workers 2 the parent needed a second SIGTERM after 200 s
+    out = tmp_path / "r"
+    run = _Run(tmp_path, "table1", "--config", _long_config(tmp_path), "--out", out,
+               "--workers", 2)
+    run.wait_for("[1/1] table1")
+    time.sleep(2.0)  # the workers are inside the 10**10-sweep kernel
+    workers = run.children()
+    assert workers, "no worker processes"
+    t0 = time.monotonic()
+    run.proc.send_signal(sig)
+    assert run.wait(timeout=60) == code, run.err
+    latency = time.monotonic() - t0
+    print(f"exit {code} {latency:.2f} s after the signal")
+    assert latency < 15, f"{latency:.1f} s"
+    assert f"{word}; no report written" in run.err and "Traceback" not in run.err
+    time.sleep(0.5)
+    assert not [p for p in workers if _alive(p)], "orphaned worker processes"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "run.stderr"]
+
+
+@needs_proc
+def test_cli_sigkill_leaves_a_partial_report_that_the_next_run_removes(tmp_path):
+    out = tmp_path / "r"
+    run = _Run(tmp_path, "table1", "--config", _long_config(tmp_path), "--out", out,
+               "--workers", 2, name="killed")
+    run.wait_for("[1/1] table1")
+    workers = run.children()
+    run.proc.kill()
+    run.wait()
+    for p in workers:  # the pool's workers notice their parent is gone
+        deadline = time.monotonic() + 30
+        while _alive(p) and time.monotonic() < deadline:
+            time.sleep(0.2)
+    partial = [p for p in tmp_path.iterdir() if p.name.startswith(".r.partial-")]
+    assert len(partial) == 1
+    cfg = tmp_path / "tiny.json"
+    cfg.write_text(json.dumps({"optimum": {"n_mc": 1, "original_obs": 500, "n_chains": 20}}))
+    again = _Run(tmp_path, "optimum", "--config", cfg, "--out", out, "--workers", 1, "--quiet",
+                 name="again")
+    assert again.wait() == 0, again.err
+    assert (f"note: removed '{partial[0]}', the partial report of an earlier run into the same "
+            f"--out that was killed (pid {run.proc.pid})") in again.err
+    assert not partial[0].exists() and (out / "manifest.json").exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]

@@ -119,6 +119,15 @@ def _end_workers(ex: ProcessPoolExecutor) -> None:
     # the pool's processes (CPython keeps them in _processes; 3.14 adds terminate_workers,
     # which does the same without the grace period)
     procs = list((getattr(ex, "_processes", None) or {}).values())
+    # CPython 3.11's pool sets BrokenProcessPool on every pending item when a worker dies,
+    # cancelled ones included, which raises InvalidStateError in its management thread (a
+    # traceback on stderr): drop the cancelled items first (nobody waits for them).
+    pending = getattr(ex, "_pending_work_items", None)
+    if isinstance(pending, dict):
+        for key in list(pending):
+            item = pending.get(key)
+            if item is not None and item.future.cancelled():
+                pending.pop(key, None)
     for p in procs:
         if p.is_alive():
             p.terminate()
