@@ -13,6 +13,7 @@ at the bottom of the import graph: it imports nothing from the package (only num
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 
@@ -278,8 +279,8 @@ def check_fields(obj, *, where: str = "") -> None:
 
     ``int`` fields take ints (no bools, no floats), ``float`` fields real numbers (no bools),
     ``bool`` fields real booleans (not the strings ``"false"``/``"true"``), ``str`` fields
-    strings (``str | None`` also None), ``tuple`` fields tuples; a field called ``n_mc`` is at
-    most :data:`MAX_MC`. Ranges and allowed values stay the dataclass's own checks. Used by the
+    strings (``str | None`` also None); a field called ``n_mc`` is at most :data:`MAX_MC`.
+    Sequences, ranges and allowed values stay the dataclass's own checks. Used by the
     study settings, so that a bad ``--config`` value is refused before any study runs.
 
     Parameters
@@ -306,8 +307,6 @@ def check_fields(obj, *, where: str = "") -> None:
     ...
     TypeError: grouping must be True or False, got str 'false'
     """
-    import dataclasses
-
     for f in dataclasses.fields(obj):
         kind = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
         kind = kind.replace(" ", "")
@@ -328,6 +327,3 @@ def check_fields(obj, *, where: str = "") -> None:
         elif kind == "str":
             if not isinstance(value, str):
                 raise TypeError(f"{name} must be a string, got {type(value).__name__} {value!r}")
-        elif kind.startswith("tuple"):
-            if not isinstance(value, tuple):
-                raise TypeError(f"{name} must be a list, got {type(value).__name__} {value!r}")

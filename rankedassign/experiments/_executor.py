@@ -9,11 +9,16 @@ runs serially, on ``N`` local processes or on a Dask cluster.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import multiprocessing
 import os
+import selectors
 import signal
+import subprocess
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
@@ -108,6 +113,24 @@ def _worker_init() -> None:  # pragma: no cover - runs in child processes
     # Ctrl-C reaches the whole process group: the parent alone handles it and ends the workers
     # (a worker would otherwise print a traceback of its own).
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # A parent that is killed (SIGKILL) cannot end its workers, and a worker inside a long
+    # compiled kernel would run on as an orphan: on Linux the kernel ends it with its parent.
+    _die_with_parent()
+
+
+def _die_with_parent() -> None:  # pragma: no cover - runs in child processes
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):
+        return
+    if os.getppid() == 1:  # the parent died before prctl took effect
+        os._exit(1)
+
+
+_PR_SET_PDEATHSIG = 1
 
 
 def _end_workers(ex: ProcessPoolExecutor) -> None:
@@ -284,10 +307,6 @@ def _probe_scheduler(address: str, timeout: float) -> None:
     timeout (an HTTP server) or make it allocate what its junk bytes announce as a frame
     length; in a child process either one ends with the process, within the time given.
     """
-    import selectors
-    import subprocess
-    import time
-
     proc = subprocess.Popen([sys.executable, "-c", _PROBE, address, repr(float(timeout))],
                             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)

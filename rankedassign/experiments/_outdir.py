@@ -27,6 +27,7 @@ import ctypes
 import ctypes.util
 import datetime
 import errno
+import fcntl
 import json
 import os
 import socket
@@ -168,8 +169,6 @@ def run_lock(out: Path, command: str):
     ReproduceError
         If another run holds it, naming that run (pid, host, start, command).
     """
-    import fcntl
-
     path = lock_path(out)
     while True:
         try:
