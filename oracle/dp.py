@@ -21,6 +21,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.numba_options import interruptible
 
 from . import adaptive_birth, multisensor_dp
 from ._kernels.dp import (
@@ -104,7 +105,8 @@ def _scaled(cm: np.ndarray, c_un: np.ndarray):
     L = np.full((P, M + P), np.inf)
     L[:, :M] = cm
     L[rows, M + rows] = c_un
-    ok, _, u, v = lsap_kernel(L)
+    with interruptible:
+        ok, _, u, v = lsap_kernel(L)
     if not ok:  # pragma: no cover - AssignmentProblem guarantees feasibility
         raise AssertionError("merged LSAP infeasible although the problem is feasible")
     shift = float(u.sum() + v.sum())
@@ -131,13 +133,15 @@ def _dense_inputs(w_meas, e_meas, w_un, e_un):
 
 def _dense_total(scaled):
     W, s, tin, tout, _ = _dense_inputs(*scaled)
-    return dp_total_kernel(W, s, tin, tout)
+    with interruptible:
+        return dp_total_kernel(W, s, tin, tout)
 
 
 def _dense_marginals(scaled):
     """Scaled total, pair weights ``(P, M)`` and unmatched weights ``(P,)`` of a component."""
     W, s, tin, tout, over_rows = _dense_inputs(*scaled)
-    total, pair, stay, term_out = dp_marginal_kernel(W, s, tin, tout)
+    with interruptible:
+        total, pair, stay, term_out = dp_marginal_kernel(W, s, tin, tout)
     if over_rows:
         return total, pair, stay
     return total, pair.T, term_out
@@ -298,13 +302,15 @@ def _frontier_inputs(finite, order, width, scaled):
 
 def _frontier_total(finite, order, width, scaled):
     ops, W, s, w_un, _ = _frontier_inputs(finite, order, width, scaled)
-    return frontier_total_kernel(ops, W, s, w_un)
+    with interruptible:
+        return frontier_total_kernel(ops, W, s, w_un)
 
 
 def _frontier_marginals(finite, order, width, scaled):
     """Scaled total, pair weights ``(P, M)`` and unmatched weights ``(P,)`` of a component."""
     ops, W, s, w_un, row_in_slot = _frontier_inputs(finite, order, width, scaled)
-    total, pair, unmatched = frontier_marginal_kernel(ops, W, s, w_un)
+    with interruptible:
+        total, pair, unmatched = frontier_marginal_kernel(ops, W, s, w_un)
     pm = np.zeros(finite.shape)
     t, e = np.nonzero(row_in_slot >= 0)
     pm[row_in_slot[t, e], order[t]] = pair[t, e]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.numba_options import interruptible
 from rankedassign.validation import check_int
 
 from . import adaptive_birth, multisensor_enumerate
@@ -20,7 +21,8 @@ def _count(problem, limit: int) -> tuple[int, bool]:
         return problem.n_feasible(), True
     except ValueError:
         # the exact counting DP refuses the size: count by search, stopping past the limit
-        n = int(count_kernel(np.ascontiguousarray(problem.compact_cost), limit))
+        with interruptible:
+            n = int(count_kernel(np.ascontiguousarray(problem.compact_cost), limit))
         return n, n <= limit
 
 
@@ -101,5 +103,6 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     # slowest; a row's options in increasing column order: measurements j < M, then its
     # missed column M + i, then its dead column M + P + i) and scores each one as it goes; one
     # stable sort by cost then leaves equal costs in lexicographic order.
-    a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
+    with interruptible:
+        a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
     return Ranked(a, costs)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from rankedassign.multisensor import MultiSensorProblem
-from rankedassign.numba_options import jit
+from rankedassign.numba_options import interruptible, jit
 from rankedassign.validation import check_int, check_type
 
 from ._result import Ranked
@@ -225,7 +225,8 @@ def count_assignments(problem, *, limit: int | None = None) -> int:
         return problem.n_feasible()
     except ValueError:
         cap = limit if limit is not None else 2**62
-        _, n = _enumerate_kernel(*_kernel_args(problem), cap, True)
+        with interruptible:
+            _, n = _enumerate_kernel(*_kernel_args(problem), cap, True)
         return int(n)
 
 
@@ -297,7 +298,8 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     P, V = problem.n_rows, problem.n_sensors
     if P == 0:
         return Ranked(np.zeros((1, 0, V), dtype=np.int64), np.zeros(1))
-    codes, found = _enumerate_kernel(*_kernel_args(problem), n, False)
+    with interruptible:
+        codes, found = _enumerate_kernel(*_kernel_args(problem), n, False)
     if found != n:  # pragma: no cover - the count and the search are exact
         raise AssertionError(f"enumeration found {found} assignments, counted {n}")
     gamma = gamma_from_codes(problem, codes)

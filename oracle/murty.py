@@ -7,6 +7,7 @@ import heapq
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from rankedassign.numba_options import interruptible
 from rankedassign.validation import check_int
 
 from ._kernels.murty import murty_compact_kernel
@@ -170,4 +171,5 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     if method == "scipy":
         return ranked(problem, _murty_scipy(problem, _k_cap(problem, k)))
     # the kernel's costs are problem.cost_of's, bit for bit, sorted stably
-    return Ranked(*murty_compact_kernel(np.ascontiguousarray(problem.compact_cost), k))
+    with interruptible:
+        return Ranked(*murty_compact_kernel(np.ascontiguousarray(problem.compact_cost), k))
