@@ -37,8 +37,9 @@ independent of the number of threads.
 Slices. A compiled call cannot be interrupted: Python runs a signal handler (Ctrl-C's
 ``KeyboardInterrupt``, a SIGTERM handler) only when control is back in the interpreter. The
 driver therefore runs in slices of a bounded number of sweeps (``budget``, which the samplers
-size so that a slice takes a few tens of milliseconds): :func:`_new_run` builds the run's state,
-a :class:`Run` of arrays, and each call of :func:`_run_slice` continues it where the last one
+size so that a slice takes at most about a tenth of a second): :func:`_new_run` builds the
+run's state, a :class:`Run` of arrays (packed into plain tuples, :func:`_pack`, whenever it
+crosses into Python), and each call of :func:`_run_slice` continues it where the last one
 stopped. A slice stops only between two observations or between two speculation steps, and
 keeps every position in ``Run.pos``, so the slices together perform exactly the operations of
 one unbounded call: the result is the same bit for bit for every budget. The first slice runs
@@ -46,7 +47,8 @@ inside :func:`_start`, which hands the state back only if the run is not over (a
 fits one slice costs one call, as before); the later slices return two integers and no array,
 so a signal that arrives during one is raised as itself in the Python loop between slices
 (boxing an array runs Python code inside numba's return path, where a signal handler's
-exception becomes a ``SystemError``; see :data:`rankedassign.numba_options.interruptible`).
+exception becomes a ``SystemError``; see :data:`rankedassign.numba_options.interruptible`;
+boxing a named tuple there crashes, hence the plain tuples).
 One sweep is never split: the longest pause between two checks is one slice plus one sweep.
 
 References
@@ -246,10 +248,30 @@ def _grow(U, n_unique):
 
 
 @jit()
+def _pack(run):
+    """A :class:`Run` as nested plain tuples, the form it crosses into Python in.
+
+    numba boxes a named tuple by calling its class, Python code, where a signal handler's
+    exception crashes numba's return path (a segmentation fault, not an error); plain tuples
+    are built in C and only ever raise.
+    """
+    U, S = run.U, run.slab
+    return ((U.states, U.hashes, U.counts, U.last_chain, U.table),
+            (S.traj, S.hashes, S.states, S.h, S.rs), run.work, run.used_hist, run.ctr, run.cctr,
+            run.pos)
+
+
+@jit()
+def _unpack(run):
+    """The :class:`Run` of a packed run (:func:`_pack`)."""
+    return Run(UniqueSet(*run[0]), Slab(*run[1]), run[2], run[3], run[4], run[5], run[6])
+
+
+@jit()
 def grow_run(run):
-    """``run`` with its unique set grown (:func:`_grow`); every other field is shared."""
-    return Run(_grow(run.U, run.ctr[NU]), run.slab, run.work, run.used_hist, run.ctr,
-               run.cctr, run.pos)
+    """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
+    r = _unpack(run)
+    return _pack(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr, r.pos))
 
 
 @jit()
@@ -477,7 +499,7 @@ def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
     # Batches start small (the first one learns the chain lengths for the prefix) and double
     # up to ``batch``: a run that stops early by stale then discards little.
     pos[_RAMP] = max(64, 16 * workers)
-    return Run(U, slab, work, used_hist, ctr, cctr, pos)
+    return _pack(Run(U, slab, work, used_hist, ctr, cctr, pos))
 
 
 def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget,
@@ -531,7 +553,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
     every position (batch, chain, observation, sweeps simulated, batch ramp) lives in
     ``run.pos``. So a run in slices gives the same bits as a run in one call.
     """
-    U, slab, work, used_hist, ctr, cctr, pos = run
+    U, slab, work, used_hist, ctr, cctr, pos = _unpack(run)
     speculative = batch > 0
     nb = slab.states.shape[0]
     h0 = hash_of(zkeys, x0)
@@ -615,11 +637,12 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
         run = grow_run(run)
         status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
                                        batch, workers, max(left, 1), run)
-    U = run.U
+    r = _unpack(run)
+    U = r.U
     if status == DONE:
-        n = run.ctr[NU]
-        return U.states[:n].copy(), U.counts[:n].copy(), run.ctr, None
-    return U.states[:0].copy(), U.counts[:0].copy(), run.ctr, run
+        n = r.ctr[NU]
+        return U.states[:n].copy(), U.counts[:n].copy(), r.ctr, None
+    return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
 
 
 def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
@@ -710,8 +733,9 @@ def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
                     break
                 if status == NEED_ROOM:
                     run = grow_run(run)
-        n = run.ctr[NU]
-        return run.U.states[:n].copy(), run.U.counts[:n].copy(), run.ctr
+        (states, _, counts, _, _), _, _, _, ctr, _, _ = run  # the packed Run
+        n = ctr[NU]
+        return states[:n].copy(), counts[:n].copy(), ctr
 
     run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."

@@ -36,9 +36,11 @@ Python code after the kernel. When the kernel returns an array, that first Pytho
 inside numba's return path (boxing an array calls ``numba.core.serialize._numba_unpickle``),
 and the handler's exception comes out as ``SystemError: CPUDispatcher(<kernel>) returned a
 result with an exception set``. Every call of such a kernel from Python runs inside
-``with interruptible:``, which raises the handler's exception itself instead. Kernels that can
-run for long are also cut into slices (:mod:`rankedassign._chains`, "Slices"), so that the
-handler runs soon.
+``with interruptible:``, which raises the handler's exception itself instead. A kernel called
+from Python never returns a named tuple: numba boxes one by calling its class, and a handler's
+exception raised there crashes the process (a segmentation fault); records cross into Python
+as plain tuples. Kernels that can run for long are also cut into slices
+(:mod:`rankedassign._chains`, "Slices"), so that the handler runs soon.
 """
 
 from __future__ import annotations

@@ -4,7 +4,8 @@ Two halves:
 
 * **Latency.** A child process runs one huge call after another (the original sampler for
   ``2^40`` sweeps, ``10^6 x 10^6`` short chains on one and two workers, the multi-sensor and
-  adaptive-birth samplers, the exact multi-sensor marginals); for each, it prints ``start``,
+  adaptive-birth samplers, the exact single- and multi-sensor marginals, a million best
+  assignments by Murty); for each, it prints ``start``,
   the parent waits 2 s so that the compiled kernel is surely running, sends SIGINT (SIGTERM for
   one case, whose handler raises its own exception as the CLI's does) and the child reports
   the exception it caught and when. The bound asserted is 10 s, generous for a loaded 2-core
@@ -29,8 +30,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 from ms_standin import random_problem
+from numba.core import types
+from numba.core.registry import CPUDispatcher
 from numpy.testing import assert_array_equal
 
+import oracle
 import rankedassign
 from rankedassign import sample_original, sample_short_chains, samplers, synthetic
 from rankedassign.multisensor import MultiSensorProblem
@@ -44,7 +48,8 @@ BOUND = 10.0
 WAIT = 2.0
 
 _CHILD = textwrap.dedent("""
-    import signal, sys, time
+    import faulthandler, signal, sys, time
+    faulthandler.enable()
     import numpy as np
     sys.path.insert(0, {tests!r})
     from ms_standin import random_problem
@@ -68,6 +73,8 @@ _CHILD = textwrap.dedent("""
     ab = AdaptiveBirthProblem.from_log_weights(
         np.random.default_rng(0).normal(size=(6, 6, 6)), n_min=1)
     big = real(random_problem(11, (10, 10), 1, "coupled"))  # 2^20 measurement sets
+    dense = synthetic.random(R=20, M=40, rng=0)  # subset DP over 2^20 row sets
+    ranked = synthetic.random(R=20, M=50, rng=0)  # 10^6 best: about 4 s
     CASES = {{
         "original": lambda: sample_original(p, 2**40, rng=1),
         "short": lambda: sample_short_chains(p, 10**6, 10**6, rng=1),
@@ -80,6 +87,8 @@ _CHILD = textwrap.dedent("""
         "adaptive-birth": lambda: sample_short_chains(ab, 10**6, 10**6, rng=1),
         "sigterm": lambda: sample_original(p, 2**40, rng=1),
         "multisensor-marginals": lambda: oracle.marginals(big),
+        "dp-marginals": lambda: oracle.marginals(dense),
+        "murty": lambda: oracle.murty(ranked, 10**6),
     }}
     # compile or load every kernel before timing anything
     sample_original(p, 2, rng=1)
@@ -88,6 +97,8 @@ _CHILD = textwrap.dedent("""
     sample_short_chains(ms, 3, 2, rng=1, workers=2, method="exact")
     sample_short_chains(ab, 3, 2, rng=1)
     oracle.marginals(real(random_problem(3, (2, 2), 0, "coupled")))
+    oracle.marginals(synthetic.random(R=3, M=4, rng=0))
+    oracle.murty(ranked, 10)
     for name in sys.argv[1:]:
         print("start", name, flush=True)
         try:
@@ -107,6 +118,8 @@ CASES = {
     "adaptive-birth": signal.SIGINT,
     "sigterm": signal.SIGTERM,
     "multisensor-marginals": signal.SIGINT,
+    "dp-marginals": signal.SIGINT,
+    "murty": signal.SIGINT,
 }
 EXPECTED = {signal.SIGINT: "KeyboardInterrupt", signal.SIGTERM: "Terminated"}
 
@@ -171,10 +184,9 @@ _TEMPLATES = {("rankedassign._chains", n) for n in
 
 
 def _python_calls_of_kernels():
-    """``(module, function, line, guarded)`` of every call of a compiled function from Python
-    code in ``rankedassign`` and ``oracle`` (``guarded``: inside ``with interruptible:``)."""
-    from numba.core.registry import CPUDispatcher
-
+    """``(module, function, line, guarded, kernel)`` of every call of a compiled function
+    from Python code in ``rankedassign`` and ``oracle`` (``guarded``: inside
+    ``with interruptible:``)."""
     root = Path(rankedassign.__file__).resolve().parent.parent
     found = []
     for path in sorted([*(root / "rankedassign").rglob("*.py"), *(root / "oracle").rglob("*.py")]):
@@ -193,7 +205,8 @@ def _python_calls_of_kernels():
         tree = ast.parse(path.read_text())
         parent = {c: n for n in ast.walk(tree) for c in ast.iter_child_nodes(n)}
         for node in ast.walk(tree):
-            if not (isinstance(node, ast.Call) and isinstance(resolve(node.func), CPUDispatcher)):
+            kernel = resolve(node.func) if isinstance(node, ast.Call) else None
+            if not isinstance(kernel, CPUDispatcher):
                 continue
             guarded, func, p = False, None, parent.get(node)
             while p is not None:
@@ -206,7 +219,7 @@ def _python_calls_of_kernels():
             if func is not None and (any("jit" in ast.unparse(d) for d in func.decorator_list)
                                      or (name, func.name) in _TEMPLATES):
                 continue  # compiled code calling compiled code
-            found.append((name, func.name if func else "<module>", node.lineno, guarded))
+            found.append((name, func.name if func else "<module>", node.lineno, guarded, kernel))
     return found
 
 
@@ -215,7 +228,39 @@ def test_every_kernel_call_from_python_is_interruptible():
     (or a signal during it ends in a SystemError); the rule is kept for every kernel."""
     calls = _python_calls_of_kernels()
     assert len(calls) > 20  # the scan sees the call sites
-    assert [c for c in calls if not c[3]] == []
+    assert [c[:3] for c in calls if not c[3]] == []
+
+
+def _named(t):
+    if isinstance(t, types.BaseNamedTuple):
+        return True
+    if isinstance(t, types.Optional):
+        return _named(t.type)
+    if isinstance(t, types.BaseTuple):
+        return any(_named(x) for x in t.types)
+    return False
+
+
+def test_no_kernel_called_from_python_returns_a_named_tuple(monkeypatch):
+    """numba boxes a named tuple by calling its class; a signal handler's exception raised
+    there is a segmentation fault. Checked on every kernel called from Python, as compiled in
+    this process, after running the sliced driver of every kind and the sliced Murty (whose
+    states cross into Python)."""
+    monkeypatch.setattr(samplers, "_SLICE_WORK", 1)
+    for p in PROBLEMS.values():
+        sample_short_chains(p, 5, 3, workers=2)
+    monkeypatch.setattr(importlib.import_module("oracle.murty"), "_SLICE_WORK", 1)
+    oracle.murty(synthetic.random(R=3, M=4, rng=0), 50)
+    kernels = {c[4] for c in _python_calls_of_kernels()}
+    for driver in samplers.DRIVERS.values():  # the driver's loop calls its kernels by closure
+        kernels |= {c.cell_contents for c in driver.__closure__
+                    if isinstance(c.cell_contents, CPUDispatcher)}
+    checked = 0
+    for kernel in kernels:
+        for cres in kernel.overloads.values():
+            checked += 1
+            assert not _named(cres.signature.return_type), (kernel, cres.signature)
+    assert checked > 10
 
 
 # ------------------------------------------------------------------------------ bit for bit
@@ -298,7 +343,6 @@ def test_short_chains_in_slices_are_bit_identical(monkeypatch, kind, workers):
 
 @pytest.mark.parametrize("family", ["coupled", "extreme"])  # linear and log-space DPs
 def test_multisensor_row_dps_in_slices_are_bit_identical(monkeypatch, family):
-    import oracle
     from oracle import multisensor_dp as msdp
 
     p = _real(random_problem(5, (3, 2), 8, family))
@@ -311,3 +355,35 @@ def test_multisensor_row_dps_in_slices_are_bit_identical(monkeypatch, family):
         assert_array_equal(got[0].dead, want[0].dead)
         assert_array_equal(got[0].tuples, want[0].tuples)
         assert got[1:] == want[1:]
+
+
+@pytest.mark.parametrize("method", ["dense", "frontier"])
+def test_single_sensor_dps_in_slices_are_bit_identical(monkeypatch, method):
+    from oracle import dp
+
+    rng = np.random.default_rng(4)
+    C = rng.normal(size=(7, 9)) * 2
+    C[rng.random(C.shape) < 0.5] = np.inf  # sparse: a frontier order exists
+    D = np.full((7, 9 + 14), np.inf)
+    D[:, :9] = C
+    D[np.arange(7), 9 + np.arange(7)] = 0.5
+    D[np.arange(7), 16 + np.arange(7)] = 1.0
+    p = rankedassign.AssignmentProblem.from_cost(D)
+    want = dp._log_normalizer(p, method), dp._marginals(p, method)
+    with monkeypatch.context() as m:
+        m.setattr(dp, "_SLICE_WORK", 1)  # one step per slice
+        got = dp._log_normalizer(p, method), dp._marginals(p, method)
+    assert got[0] == want[0]
+    assert_array_equal(got[1], want[1])
+
+
+def test_murty_in_slices_is_bit_identical(monkeypatch):
+    murty_module = importlib.import_module("oracle.murty")
+    problems = [synthetic.random(R=6, M=9, rng=1), synthetic.uniform()]  # ties in the second
+    want = [murty_module.murty(p, 3000) for p in problems]
+    with monkeypatch.context() as m:
+        m.setattr(murty_module, "_SLICE_WORK", 1)  # one iteration per slice
+        got = [murty_module.murty(p, 3000) for p in problems]
+    for a, b in zip(got, want, strict=True):
+        assert_array_equal(a.assignments, b.assignments)
+        assert_array_equal(a.costs, b.costs)
