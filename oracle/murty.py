@@ -13,10 +13,9 @@ from rankedassign.validation import check_int
 from ._kernels.murty import (
     DONE,
     FULL,
-    compact_graph,
     grow_search,
+    murty_compact_start,
     murty_slice,
-    murty_start,
     search_output,
 )
 from ._result import Ranked, check_problem, ranked
@@ -194,10 +193,10 @@ def _murty_sliced(cc, k):
     N = M + 2 * P
     budget = max(1, _SLICE_WORK // (P * N))
     with interruptible:
-        ptr, col, cost, pos = compact_graph(cc)
-        out, costs, search = murty_start(ptr, col, cost, pos, P, N, k, budget)
-        if search is None:
+        out, costs, rest = murty_compact_start(cc, k, budget)
+        if rest is None:
             return out, costs
+        (ptr, col, cost, pos), search = rest
         while True:  # later slices return an integer: a signal is raised here, between two
             status = murty_slice(ptr, col, cost, pos, search, k, budget)
             if status == DONE:

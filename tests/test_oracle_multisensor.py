@@ -67,12 +67,12 @@ def test_cases_enumeration(name, problem):
 
 @given(ms_problems())
 def test_enumeration_kernel_matches_reference(problem):
-    codes, n = msen._enumerate_kernel(*msen._kernel_args(problem), problem.n_feasible(), False)
+    codes, n = msen._enumerate(*msen._kernel_args(problem), problem.n_feasible(), False)
     ref = list(msen._enumerate_reference(problem))
     assert n == len(ref)
     if problem.n_rows:
         assert_array_equal(codes, np.array(ref, dtype=np.int64).reshape(len(ref), -1))
-    _, m = msen._enumerate_kernel(*msen._kernel_args(problem), 2**40, True)
+    _, m = msen._enumerate(*msen._kernel_args(problem), 2**40, True)
     assert m == len(ref)
 
 
@@ -92,7 +92,7 @@ def test_counting_search_agrees_with_the_counting_dp():
     a[0, 1, :] = 0.0
     a[2, :, 3] = 0.0
     p = MultiSensorProblem.from_eta(np.ones(4), a)
-    _, n = msen._enumerate_kernel(*msen._kernel_args(p), 2**40, True)
+    _, n = msen._enumerate(*msen._kernel_args(p), 2**40, True)
     assert n == p.n_feasible() == len(brute_force(p))
 
 

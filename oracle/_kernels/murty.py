@@ -30,9 +30,9 @@ itself once solved, by its first child once partitioned); a scanned column is ma
 column opens the dummy-row hub (the other free columns would leave the frontier unscanned).
 
 Slices. The loop also returns after a budget of iterations, so that :func:`oracle.murty.murty`
-can run the search in slices (:func:`murty_start`, then :func:`murty_slice` until done, the
-state a :class:`Search`) and a signal ends a long ranking promptly; the slices make the same
-iterations as one call, so the output does not depend on the budget.
+can run the search in slices (:func:`murty_compact_start`, then :func:`murty_slice` until
+done, the state a :class:`Search`) and a signal ends a long ranking promptly; the slices make
+the same iterations as one call, so the output does not depend on the budget.
 """
 
 from __future__ import annotations
@@ -46,8 +46,8 @@ from rankedassign.numba_options import jit
 from .lsap import HUB, UNASSIGNED
 
 __all__ = ["murty_kernel", "murty_compact_kernel", "murty_start", "murty_slice", "grow_search",
-           "search_output", "pack_search", "compact_graph", "Search", "DONE", "PAUSED",
-           "FULL"]
+           "search_output", "pack_search", "compact_graph", "murty_compact_start", "Search",
+           "DONE", "PAUSED", "FULL"]
 
 NO_ENTRY = -1  # end of a forbidden-pair list; slot of a node that is not solved yet
 _INITIAL_CAPACITY = 1024
@@ -979,6 +979,23 @@ def compact_graph(cc):
                 pos[i, col[e]] = e
                 e += 1
     return ptr, col, cost, pos
+
+
+@jit()
+def murty_compact_start(cc, k, budget):
+    """:func:`murty_start` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``.
+
+    Returns ``(assignments, costs, None)`` when done within the budget, else ``(empty,
+    empty, (graph, search))`` with the graph ``(ptr, col, cost, pos)`` of
+    :func:`compact_graph` and the packed search to continue with :func:`murty_slice`.
+    """
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    ptr, col, cost, pos = compact_graph(cc)
+    out, costs, search = murty_start(ptr, col, cost, pos, P, M + 2 * P, k, budget)
+    if search is None:
+        return out, costs, None
+    return out, costs, ((ptr, col, cost, pos), search)
 
 
 @jit()
