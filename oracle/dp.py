@@ -21,16 +21,20 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.numba_options import interruptible
 
 from . import adaptive_birth, multisensor_dp
 from ._kernels.dp import (
     ENTER,
     RETIRE,
     TRANS,
-    dp_marginal_kernel,
-    dp_total_kernel,
-    frontier_marginal_kernel,
-    frontier_total_kernel,
+    dp_marginal_slice,
+    dp_terminal,
+    dp_total_finish,
+    dp_total_slice,
+    frontier_layout,
+    frontier_marginal_slice,
+    frontier_total_slice,
 )
 from ._kernels.lsap import lsap_kernel
 from ._result import check_problem
@@ -104,7 +108,8 @@ def _scaled(cm: np.ndarray, c_un: np.ndarray):
     L = np.full((P, M + P), np.inf)
     L[:, :M] = cm
     L[rows, M + rows] = c_un
-    ok, _, u, v = lsap_kernel(L)
+    with interruptible:
+        ok, _, u, v = lsap_kernel(L)
     if not ok:  # pragma: no cover - AssignmentProblem guarantees feasibility
         raise AssertionError("merged LSAP infeasible although the problem is feasible")
     shift = float(u.sum() + v.sum())
@@ -129,15 +134,53 @@ def _dense_inputs(w_meas, e_meas, w_un, e_un):
             np.ones(M), np.ascontiguousarray(e_meas), True)
 
 
+#: Vector entries times bits per slice of a DP kernel (tens of milliseconds): the kernels
+#: run in slices so that Ctrl-C ends a long DP promptly (:mod:`oracle._kernels.dp`).
+_SLICE_WORK = 1 << 24
+
+
+def _steps_per_slice(bits: int) -> int:
+    """Steps (operations) per slice of a DP over ``2^bits`` states (one is ``O(bits 2^bits)``)."""
+    return max(1, _SLICE_WORK // ((bits + 1) << bits))
+
+
 def _dense_total(scaled):
     W, s, tin, tout, _ = _dense_inputs(*scaled)
-    return dp_total_kernel(W, s, tin, tout)
+    K, k = W.shape
+    F = np.zeros(1 << k)
+    F[0] = 1.0
+    G = np.empty(1 << k)
+    pos = np.zeros(1, dtype=np.int64)
+    budget = _steps_per_slice(k)
+    with interruptible:
+        while not dp_total_slice(W, s, F, G, pos, budget):
+            pass
+        return dp_total_finish(F, G, K, tin, tout)
 
 
 def _dense_marginals(scaled):
     """Scaled total, pair weights ``(P, M)`` and unmatched weights ``(P,)`` of a component."""
     W, s, tin, tout, over_rows = _dense_inputs(*scaled)
-    total, pair, stay, term_out = dp_marginal_kernel(W, s, tin, tout)
+    K, k = W.shape
+    n = 1 << k
+    L = 1
+    while L * L < K:
+        L += 1
+    n_blocks = (K + L - 1) // L if K > 0 else 0
+    with interruptible:
+        T = dp_terminal(tin, tout, k)
+    Bst = np.empty((n_blocks + 1, n))
+    Bst[n_blocks] = T
+    F = np.zeros(n)
+    F[0] = 1.0
+    pair, stay, term_out = np.zeros((K, k)), np.zeros(K), np.zeros(k)
+    pos = np.array([0, 0, K - 1], dtype=np.int64)
+    args = (W, s, T, Bst, T.copy(), np.empty(n), F, np.empty(n), np.empty((L + 1, n)), pair,
+            stay, term_out, pos, _steps_per_slice(k))
+    with interruptible:
+        while not dp_marginal_slice(*args):
+            pass
+    total = Bst[0][0] if K > 0 else T[0]
     if over_rows:
         return total, pair, stay
     return total, pair.T, term_out
@@ -298,13 +341,40 @@ def _frontier_inputs(finite, order, width, scaled):
 
 def _frontier_total(finite, order, width, scaled):
     ops, W, s, w_un, _ = _frontier_inputs(finite, order, width, scaled)
-    return frontier_total_kernel(ops, W, s, w_un)
+    full = 1 << W.shape[1]
+    F, G = np.zeros(full), np.zeros(full)
+    F[0] = 1.0
+    pos = np.zeros(2, dtype=np.int64)
+    budget = _steps_per_slice(W.shape[1])
+    with interruptible:
+        while not frontier_total_slice(ops, W, s, w_un, F, G, pos, budget):
+            pass
+    return F[0] if ops.shape[0] % 2 == 0 else G[0]
 
 
 def _frontier_marginals(finite, order, width, scaled):
     """Scaled total, pair weights ``(P, M)`` and unmatched weights ``(P,)`` of a component."""
     ops, W, s, w_un, row_in_slot = _frontier_inputs(finite, order, width, scaled)
-    total, pair, unmatched = frontier_marginal_kernel(ops, W, s, w_un)
+    K, n_slots = W.shape
+    n_ops = ops.shape[0]
+    L = 1
+    while L * L < n_ops:
+        L += 1
+    n_blocks = (n_ops + L - 1) // L
+    with interruptible:
+        nb, ck_off, blk_max = frontier_layout(ops)
+    full = 1 << n_slots
+    F, G, B, Bn = np.zeros(full), np.zeros(full), np.zeros(full), np.zeros(full)
+    F[0] = B[0] = 1.0
+    pair, unmatched, acc = np.zeros((K, n_slots)), np.zeros(w_un.shape[0]), np.zeros(1)
+    pos = np.array([0, n_blocks - 1, 0, 0], dtype=np.int64)
+    args = (ops, W, s, w_un, nb, ck_off, np.empty(ck_off[-1]), F, G, np.empty(blk_max),
+            np.zeros(L + 1, dtype=np.int64), B, Bn, pair, unmatched, acc, pos,
+            _steps_per_slice(n_slots))
+    with interruptible:
+        while not frontier_marginal_slice(*args):
+            pass
+    total = acc[0]
     pm = np.zeros(finite.shape)
     t, e = np.nonzero(row_in_slot >= 0)
     pm[row_in_slot[t, e], order[t]] = pair[t, e]

@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.numba_options import interruptible
 from rankedassign.validation import MAX_WORK_BYTES, check_int
 
 from . import adaptive_birth, multisensor_enumerate
-from ._kernels.enumeration import count_kernel, enumerate_sorted_kernel
+from ._kernels.enumeration import NO_OPTION, count_slice, enumerate_sorted_kernel
 from ._result import Ranked, check_enumeration_size, check_problem, ranked
 
 __all__ = ["enumerate_assignments"]
@@ -27,8 +28,27 @@ def _count(problem, limit: int) -> tuple[int, bool]:
         return problem.n_feasible(), True
     except ValueError:
         # the exact counting DP refuses the size: count by search, stopping past the limit
-        n = int(count_kernel(np.ascontiguousarray(problem.compact_cost), limit))
+        n = _count_by_search(np.ascontiguousarray(problem.compact_cost), limit)
         return n, n <= limit
+
+
+#: Options tried (times ``M + 2``) per slice of the counting search (tens of milliseconds).
+_SLICE_WORK = 1 << 24
+
+
+def _count_by_search(cc, cap: int) -> int:
+    """``min(|Gamma|, cap + 1)`` by the depth-first search of :func:`count_slice`, in slices."""
+    P, M = cc.shape[0], cc.shape[1] - 2
+    if P == 0:
+        return 1
+    used = np.zeros(M, dtype=np.bool_)
+    opt = np.full(P, NO_OPTION, dtype=np.int64)
+    at = np.zeros(2, dtype=np.int64)
+    budget = max(1, _SLICE_WORK // (M + 2))
+    with interruptible:
+        while not count_slice(cc, cap, used, opt, at, budget):
+            pass
+    return int(at[1])
 
 
 def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
@@ -112,5 +132,6 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     # missed column M + i, then its dead column M + P + i) and scores each one as it goes; one
     # stable sort by cost then leaves equal costs in lexicographic order.
     # (n <= MAX_WORK_BYTES // 48 < 2**31: the sort's int32 indices cannot overflow)
-    a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
+    with interruptible:
+        a, costs = enumerate_sorted_kernel(np.ascontiguousarray(problem.compact_cost), n)
     return Ranked(a, costs)

@@ -29,7 +29,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign.multisensor import MultiSensorProblem
-from rankedassign.numba_options import jit
+from rankedassign.numba_options import interruptible, jit
 from rankedassign.validation import check_choice
 
 from .multisensor_enumerate import check_ms_problem, count_assignments, enumerate_assignments
@@ -179,9 +179,25 @@ def _scaled_weights(problem: MultiSensorProblem):
 
 
 # ----------------------------------------------------------------------------- kernels
+# The row DPs take ``O(P 2^B T)`` time, minutes at ``B = MAX_MASK_BITS``. Each is a compiled
+# *slice* that does at most ``budget`` states ``S`` of its current pass and keeps its place
+# in ``pos`` (pass, row, next state) and its vectors in arrays the caller keeps, and a Python
+# loop that calls it until it is done (``_row_dp`` ...): between two slices the interpreter
+# runs pending signal handlers (Ctrl-C). The slices perform the operations of one unbounded
+# loop in the same order, so the results do not depend on the budget (tested).
+
+#: States ``S`` times the tuples per state, per slice of a row DP (tens of milliseconds).
+_SLICE_WORK = 1 << 24
+
+
+def _slice_budget(T: int) -> int:
+    """States per slice of a row DP over ``T`` tuples (:data:`_SLICE_WORK`)."""
+    return max(1, _SLICE_WORK // (int(T) + 1))
+
+
 @jit()
-def _row_dp_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - compiled
-    """Forward row DP (spec §6.2): ``ln`` of the scaled ``Z``.
+def _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):  # pragma: no cover
+    """Up to ``budget`` states of the forward row DP (spec §6.2); True when it is done.
 
     Parameters
     ----------
@@ -189,22 +205,27 @@ def _row_dp_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - compil
         Scaled weights (0 = forbidden).
     masks : (T,) int64
         ``det(t)`` bitsets (``-1``: the tuple is never allowed).
-    n_bits : int
+    f, g : (2^B,) float64
+        ``f_{n-1}`` (starts as ``[1, 0, ...]``) and the row being pushed (starts at zero).
+    acc : (2,) float64
+        ``[ln Z, ln scale]``: ``acc[0]`` is the result once done; start at zero.
+    pos : (2,) int64
+        Row ``n`` and next state ``S``; start at zero.
+    budget : int
+        States to push in this call (``>= 1``).
 
-    Returns
-    -------
-    float
-        ``ln sum_S f_P(S)``; every step's vector is divided by its maximum and the logs of
-        the divisors are added back.
+    Notes
+    -----
+    Every step's vector is divided by its maximum and the logs of the divisors are added
+    back: ``ln Z = ln sum_S f_P(S) + sum_n ln max g_n``.
     """
     P, T = w_alive.shape
-    N = 1 << n_bits
-    f = np.zeros(N)
-    f[0] = 1.0
-    log_scale = 0.0
-    for n in range(P):
-        g = np.zeros(N)
-        for S in range(N):
+    N = f.shape[0]
+    n, S0 = pos[0], pos[1]
+    left = budget
+    while n < P:
+        S1 = min(N, S0 + max(left, 0))
+        for S in range(S0, S1):
             fs = f[S]
             if fs == 0.0:
                 continue
@@ -215,19 +236,28 @@ def _row_dp_kernel(w_dead, w_alive, masks, n_bits):  # pragma: no cover - compil
                 w = w_alive[n, k]
                 if w != 0.0 and m >= 0 and (S & m) == 0:
                     g[S | m] += w * fs
+        left -= S1 - S0
+        if S1 < N:
+            pos[0], pos[1] = n, S1
+            return False
         mx = g.max()
         if mx == 0.0:
-            return -np.inf
+            acc[0] = -np.inf
+            return True
         for S in range(N):
-            g[S] /= mx
-        log_scale += np.log(mx)
-        f = g
-    return np.log(f.sum()) + log_scale
+            f[S] = g[S] / mx
+            g[S] = 0.0
+        acc[1] += np.log(mx)
+        n += 1
+        S0 = 0
+    acc[0] = np.log(f.sum()) + acc[1]
+    return True
 
 
 @jit()
-def _row_marginal_kernel(w_dead, w_alive, masks, n_bits, cap):  # pragma: no cover - compiled
-    """Backward then forward row DP: unnormalised row marginals and ``ln`` of the scaled Z.
+def _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive, alpha, nxt, acc,
+                        pos, budget):  # pragma: no cover - compiled
+    """Up to ``budget`` states of the backward then forward row DP; True when it is done.
 
     ``beta_n(S)`` is the weight of completing rows ``n..P-1`` when the measurements in ``S``
     are taken; ``alpha_n(S)`` the weight of rows ``0..n-1`` using exactly ``S``. Then
@@ -237,67 +267,98 @@ def _row_marginal_kernel(w_dead, w_alive, masks, n_bits, cap):  # pragma: no cov
     ``0..n-1`` use at most ``n`` of each sensor, so ``beta_n`` is only needed (and only
     computed) where ``cap[S] <= n``.
 
-    Returns
-    -------
-    dead : (P,) float64
-    alive : (P, T) float64
-        Row ``n``'s weights, each row on its own scale (normalise per row).
-    log_z : float
+    Parameters
+    ----------
+    w_dead, w_alive, masks, budget
+        As in :func:`_row_dp_slice`.
+    cap : (2^B,) int8
+    beta : (P + 1, 2^B) float64
+        Zero, with row ``P`` one. ``log_b`` : (P + 1,) float64, zero.
+    dead : (P,) float64, alive : (P, T) float64
+        Zero; row ``n``'s weights, each row on its own scale (normalise per row), once done.
+    alpha, nxt : (2^B,) float64
+        ``[1, 0, ...]`` and zero.
+    acc : (1,) float64
+        ``ln`` of the scaled Z once done.
+    pos : (3,) int64
+        Pass (0 backward, 1 and 2 the forward pass's marginals and push), row, next state;
+        start at ``[0, P - 1, 0]``.
     """
     P, T = w_alive.shape
-    N = 1 << n_bits
-    beta = np.zeros((P + 1, N))
-    log_b = np.zeros(P + 1)
-    beta[P, :] = 1.0
-    for n in range(P - 1, -1, -1):
-        for S in range(N):
+    N = alpha.shape[0]
+    left = budget
+    while pos[0] == 0 and pos[1] >= 0:  # backward
+        n = pos[1]
+        S0 = pos[2]
+        S1 = min(N, S0 + max(left, 0))
+        for S in range(S0, S1):
             if cap[S] > n:
                 continue
-            acc = w_dead[n] * beta[n + 1, S]
+            a = w_dead[n] * beta[n + 1, S]
             for k in range(T):
                 m = masks[k]
                 w = w_alive[n, k]
                 if w != 0.0 and m >= 0 and (S & m) == 0:
-                    acc += w * beta[n + 1, S | m]
-            beta[n, S] = acc
+                    a += w * beta[n + 1, S | m]
+            beta[n, S] = a
+        left -= S1 - S0
+        pos[2] = S1
+        if S1 < N:
+            return False
         mx = beta[n].max()
         if mx > 0.0:
-            beta[n] /= mx
+            for S in range(N):
+                beta[n, S] = beta[n, S] / mx
             log_b[n] = log_b[n + 1] + np.log(mx)
         else:
             log_b[n] = log_b[n + 1]
-    dead = np.zeros(P)
-    alive = np.zeros((P, T))
-    alpha = np.zeros(N)
-    alpha[0] = 1.0
-    for n in range(P):
-        for S in range(N):
-            a = alpha[S]
-            if a == 0.0:
-                continue
-            dead[n] += a * w_dead[n] * beta[n + 1, S]
-            for k in range(T):
-                m = masks[k]
-                w = w_alive[n, k]
-                if w != 0.0 and m >= 0 and (S & m) == 0:
-                    alive[n, k] += a * w * beta[n + 1, S | m]
-        nxt = np.zeros(N)
-        for S in range(N):
-            a = alpha[S]
-            if a == 0.0:
-                continue
-            nxt[S] += w_dead[n] * a
-            for k in range(T):
-                m = masks[k]
-                w = w_alive[n, k]
-                if w != 0.0 and m >= 0 and (S & m) == 0:
-                    nxt[S | m] += w * a
+        pos[1] = n - 1
+        pos[2] = 0
+    if pos[0] == 0:  # the backward pass is complete: the forward pass starts at row 0
+        pos[0] = 1
+        pos[1] = 0
+    while pos[1] < P:  # forward
+        n = pos[1]
+        S0 = pos[2]
+        S1 = min(N, S0 + max(left, 0))
+        if pos[0] == 1:  # row n's marginals
+            for S in range(S0, S1):
+                a = alpha[S]
+                if a == 0.0:
+                    continue
+                dead[n] += a * w_dead[n] * beta[n + 1, S]
+                for k in range(T):
+                    m = masks[k]
+                    w = w_alive[n, k]
+                    if w != 0.0 and m >= 0 and (S & m) == 0:
+                        alive[n, k] += a * w * beta[n + 1, S | m]
+        else:  # alpha_{n+1}
+            for S in range(S0, S1):
+                a = alpha[S]
+                if a == 0.0:
+                    continue
+                nxt[S] += w_dead[n] * a
+                for k in range(T):
+                    m = masks[k]
+                    w = w_alive[n, k]
+                    if w != 0.0 and m >= 0 and (S & m) == 0:
+                        nxt[S | m] += w * a
+        left -= S1 - S0
+        pos[2] = S1
+        if S1 < N:
+            return False
+        pos[2] = 0
+        if pos[0] == 1:
+            pos[0] = 2
+            continue
         mx = nxt.max()
-        if mx > 0.0:
-            nxt /= mx
-        alpha = nxt
-    log_z = np.log(beta[0, 0]) + log_b[0] if beta[0, 0] > 0.0 else -np.inf
-    return dead, alive, log_z
+        for S in range(N):
+            alpha[S] = nxt[S] / mx if mx > 0.0 else nxt[S]
+            nxt[S] = 0.0
+        pos[0] = 1
+        pos[1] = n + 1
+    acc[0] = np.log(beta[0, 0]) + log_b[0] if beta[0, 0] > 0.0 else -np.inf
+    return True
 
 
 @jit()
@@ -313,19 +374,19 @@ def _lae(a, b):  # pragma: no cover - compiled
 
 
 @jit()
-def _row_dp_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cover - compiled
-    """:func:`_row_dp_kernel` in log space, for weights whose range could underflow.
+def _row_dp_log_slice(l_dead, l_alive, masks, f, g, acc, pos, budget):  # pragma: no cover
+    """:func:`_row_dp_slice` in log space, for weights whose range could underflow.
 
-    Same recursion on ``ln f``; ``l_dead``, ``l_alive`` are log-weights (``-inf`` forbidden).
-    Returns ``ln Z``.
+    Same recursion on ``ln f``; ``l_dead``, ``l_alive`` are log-weights (``-inf`` forbidden);
+    ``f`` starts as ``[0, -inf, ...]``, ``g`` at ``-inf``; ``acc[0]`` is ``ln Z`` once done.
     """
     P, T = l_alive.shape
-    N = 1 << n_bits
-    f = np.full(N, -np.inf)
-    f[0] = 0.0
-    for n in range(P):
-        g = np.full(N, -np.inf)
-        for S in range(N):
+    N = f.shape[0]
+    n, S0 = pos[0], pos[1]
+    left = budget
+    while n < P:
+        S1 = min(N, S0 + max(left, 0))
+        for S in range(S0, S1):
             fs = f[S]
             if fs == -np.inf:
                 continue
@@ -335,39 +396,63 @@ def _row_dp_log_kernel(l_dead, l_alive, masks, n_bits):  # pragma: no cover - co
                 w = l_alive[n, k]
                 if w != -np.inf and m >= 0 and (S & m) == 0:
                     g[S | m] = _lae(g[S | m], w + fs)
-        f = g
+        left -= S1 - S0
+        if S1 < N:
+            pos[0], pos[1] = n, S1
+            return False
+        for S in range(N):
+            f[S] = g[S]
+            g[S] = -np.inf
+        n += 1
+        S0 = 0
     out = -np.inf
     for S in range(N):
         out = _lae(out, f[S])
-    return out
+    acc[0] = out
+    return True
 
 
 @jit()
-def _row_marginal_log_kernel(l_dead, l_alive, masks, n_bits, cap):  # pragma: no cover
-    """:func:`_row_marginal_kernel` in log space: ``(ln dead (P,), ln alive (P, T), ln Z)``
-    with each row on its own scale."""
+def _row_marginal_log_slice(l_dead, l_alive, masks, cap, beta, dead, alive, alpha, nxt, pos,
+                            budget):  # pragma: no cover - compiled
+    """:func:`_row_marginal_slice` in log space: ``ln dead``, ``ln alive`` (each row on its
+    own scale) and ``ln Z = beta[0, 0]`` once done.
+
+    ``beta`` starts at ``-inf`` with row ``P`` zero; ``dead``, ``alive``, ``nxt`` at ``-inf``;
+    ``alpha`` as ``[0, -inf, ...]``; ``pos`` (pass 0 backward or 1 forward, row, next state)
+    at ``[0, P - 1, 0]``.
+    """
     P, T = l_alive.shape
-    N = 1 << n_bits
-    beta = np.full((P + 1, N), -np.inf)
-    beta[P, :] = 0.0
-    for n in range(P - 1, -1, -1):
-        for S in range(N):
+    N = alpha.shape[0]
+    left = budget
+    while pos[0] == 0 and pos[1] >= 0:  # backward
+        n = pos[1]
+        S0 = pos[2]
+        S1 = min(N, S0 + max(left, 0))
+        for S in range(S0, S1):
             if cap[S] > n:
                 continue
-            acc = l_dead[n] + beta[n + 1, S]
+            a = l_dead[n] + beta[n + 1, S]
             for k in range(T):
                 m = masks[k]
                 w = l_alive[n, k]
                 if w != -np.inf and m >= 0 and (S & m) == 0:
-                    acc = _lae(acc, w + beta[n + 1, S | m])
-            beta[n, S] = acc
-    dead = np.full(P, -np.inf)
-    alive = np.full((P, T), -np.inf)
-    alpha = np.full(N, -np.inf)
-    alpha[0] = 0.0
-    for n in range(P):
-        nxt = np.full(N, -np.inf)
-        for S in range(N):
+                    a = _lae(a, w + beta[n + 1, S | m])
+            beta[n, S] = a
+        left -= S1 - S0
+        pos[2] = S1
+        if S1 < N:
+            return False
+        pos[1] = n - 1
+        pos[2] = 0
+    if pos[0] == 0:  # the backward pass is complete: the forward pass starts at row 0
+        pos[0] = 1
+        pos[1] = 0
+    while pos[1] < P:  # forward
+        n = pos[1]
+        S0 = pos[2]
+        S1 = min(N, S0 + max(left, 0))
+        for S in range(S0, S1):
             a = alpha[S]
             if a == -np.inf:
                 continue
@@ -379,12 +464,94 @@ def _row_marginal_log_kernel(l_dead, l_alive, masks, n_bits, cap):  # pragma: no
                 if w != -np.inf and m >= 0 and (S & m) == 0:
                     alive[n, k] = _lae(alive[n, k], a + w + beta[n + 1, S | m])
                     nxt[S | m] = _lae(nxt[S | m], w + a)
-        alpha = nxt
-    return dead, alive, beta[0, 0]
+        left -= S1 - S0
+        pos[2] = S1
+        if S1 < N:
+            return False
+        for S in range(N):
+            alpha[S] = nxt[S]
+            nxt[S] = -np.inf
+        pos[1] = n + 1
+        pos[2] = 0
+    return True
+
+
+def _row_dp(w_dead, w_alive, masks, n_bits) -> float:
+    """``ln`` of the scaled ``Z`` by the forward row DP (:func:`_row_dp_slice`, in slices)."""
+    N = 1 << n_bits
+    f = np.zeros(N)
+    f[0] = 1.0
+    g = np.zeros(N)
+    acc = np.zeros(2)
+    pos = np.zeros(2, dtype=np.int64)
+    budget = _slice_budget(w_alive.shape[1])
+    with interruptible:
+        while not _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):
+            pass
+    return float(acc[0])
+
+
+def _row_dp_log(l_dead, l_alive, masks, n_bits) -> float:
+    """:func:`_row_dp` in log space (:func:`_row_dp_log_slice`): ``ln Z``."""
+    N = 1 << n_bits
+    f = np.full(N, -np.inf)
+    f[0] = 0.0
+    g = np.full(N, -np.inf)
+    acc = np.zeros(1)
+    pos = np.zeros(2, dtype=np.int64)
+    budget = _slice_budget(l_alive.shape[1])
+    with interruptible:
+        while not _row_dp_log_slice(l_dead, l_alive, masks, f, g, acc, pos, budget):
+            pass
+    return float(acc[0])
+
+
+def _row_marginal(w_dead, w_alive, masks, n_bits, cap):
+    """Unnormalised row marginals ``(dead (P,), alive (P, T))`` and ``ln`` of the scaled Z
+    (:func:`_row_marginal_slice`, in slices)."""
+    P, T = w_alive.shape
+    N = 1 << n_bits
+    beta = np.zeros((P + 1, N))
+    beta[P, :] = 1.0
+    log_b = np.zeros(P + 1)
+    dead = np.zeros(P)
+    alive = np.zeros((P, T))
+    alpha = np.zeros(N)
+    alpha[0] = 1.0
+    nxt = np.zeros(N)
+    acc = np.zeros(1)
+    pos = np.array([0, P - 1, 0], dtype=np.int64)
+    budget = _slice_budget(T)
+    with interruptible:
+        while not _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive,
+                                      alpha, nxt, acc, pos, budget):
+            pass
+    return dead, alive, float(acc[0])
+
+
+def _row_marginal_log(l_dead, l_alive, masks, n_bits, cap):
+    """:func:`_row_marginal` in log space: ``(ln dead (P,), ln alive (P, T), ln Z)`` with
+    each row on its own scale (:func:`_row_marginal_log_slice`, in slices)."""
+    P, T = l_alive.shape
+    N = 1 << n_bits
+    beta = np.full((P + 1, N), -np.inf)
+    beta[P, :] = 0.0
+    dead = np.full(P, -np.inf)
+    alive = np.full((P, T), -np.inf)
+    alpha = np.full(N, -np.inf)
+    alpha[0] = 0.0
+    nxt = np.full(N, -np.inf)
+    pos = np.array([0, P - 1, 0], dtype=np.int64)
+    budget = _slice_budget(T)
+    with interruptible:
+        while not _row_marginal_log_slice(l_dead, l_alive, masks, cap, beta, dead, alive,
+                                          alpha, nxt, pos, budget):
+            pass
+    return dead, alive, float(beta[0, 0])
 
 
 def _row_dp_reference(w_dead, w_alive, masks, n_bits):
-    """Pure-numpy specification of :func:`_row_dp_kernel` (pull form, no rescaling)."""
+    """Pure-numpy specification of :func:`_row_dp` (pull form, no rescaling)."""
     P, T = w_alive.shape
     S = np.arange(1 << n_bits, dtype=np.int64)
     f = (S == 0).astype(float)
@@ -439,63 +606,93 @@ def _row_marginal_reference(w_dead, w_alive, masks, n_bits):
 
 
 @jit()
-def _permanent_kernel(theta):  # pragma: no cover - compiled
-    """Single-sensor matched-subset DP with a per-row missed step (spec §6.3).
+def _permanent_slice(theta, f, pos, budget):  # pragma: no cover - compiled
+    """Up to ``budget`` steps of the single-sensor matched-subset DP (spec §6.3); True when
+    it is done.
 
     Parameters
     ----------
     theta : (P, M + 1) float64
         Scaled factors ``theta_n(0..M)`` (``<= 1``).
-
-    Returns
-    -------
-    (2^P,) float64
-        ``Perm(A) = sum_{S in A} f(S) prod_{n in A \\ S} theta_n(0)``: every row of the alive
-        set ``A`` takes a distinct measurement or is missed.
+    f : (2^P,) float64
+        Starts as ``[1, 0, ...]``; once done ``Perm(A) = sum_{S in A} f(S) prod_{n in A \\ S}
+        theta_n(0)``: every row of the alive set ``A`` takes a distinct measurement or is
+        missed.
+    pos : (1,) int64
+        Steps done: measurements ``1..M``, then one missed step per row; start at zero.
+    budget : int
+        Steps in this call (``>= 1``; one step is ``O(P 2^P)``).
     """
     P, M1 = theta.shape
-    N = 1 << P
-    f = np.zeros(N)
-    f[0] = 1.0
-    for j in range(1, M1):
-        # f_j(S) = f_{j-1}(S) + sum_{i in S} theta_i(j) f_{j-1}(S \ {i}); descending S keeps
-        # f_{j-1} on the right-hand side
-        for S in range(N - 1, 0, -1):
-            acc = f[S]
-            for i in range(P):
+    N = f.shape[0]
+    s = pos[0]
+    stop = min(M1 - 1 + P, s + budget)
+    while s < stop:
+        if s < M1 - 1:
+            j = s + 1
+            # f_j(S) = f_{j-1}(S) + sum_{i in S} theta_i(j) f_{j-1}(S \ {i}); descending S
+            # keeps f_{j-1} on the right-hand side
+            for S in range(N - 1, 0, -1):
+                acc = f[S]
+                for i in range(P):
+                    if (S >> i) & 1:
+                        acc += theta[i, j] * f[S ^ (1 << i)]
+                f[S] = acc
+        else:
+            i = s - (M1 - 1)  # row i missed: f(S) += theta_i(0) f(S \ {i})
+            for S in range(N - 1, 0, -1):
                 if (S >> i) & 1:
-                    acc += theta[i, j] * f[S ^ (1 << i)]
-            f[S] = acc
-    for i in range(P):  # row i missed: f(S) += theta_i(0) f(S \ {i})
-        for S in range(N - 1, 0, -1):
-            if (S >> i) & 1:
-                f[S] += theta[i, 0] * f[S ^ (1 << i)]
-    return f
+                    f[S] += theta[i, 0] * f[S ^ (1 << i)]
+        s += 1
+    pos[0] = s
+    return s >= M1 - 1 + P
 
 
 @jit()
-def _permanent_log_kernel(log_theta):  # pragma: no cover - compiled
-    """:func:`_permanent_kernel` in log space (``ln Perm(A)``), for huge weight ranges."""
+def _permanent_log_slice(log_theta, f, pos, budget):  # pragma: no cover - compiled
+    """:func:`_permanent_slice` in log space (``f`` starts as ``[0, -inf, ...]``; once done
+    ``ln Perm(A)``), for huge weight ranges."""
     P, M1 = log_theta.shape
-    N = 1 << P
-    f = np.full(N, -np.inf)
-    f[0] = 0.0
-    for j in range(1, M1):
-        for S in range(N - 1, 0, -1):
-            acc = f[S]
-            for i in range(P):
+    N = f.shape[0]
+    s = pos[0]
+    stop = min(M1 - 1 + P, s + budget)
+    while s < stop:
+        if s < M1 - 1:
+            j = s + 1
+            for S in range(N - 1, 0, -1):
+                acc = f[S]
+                for i in range(P):
+                    if (S >> i) & 1:
+                        acc = _lae(acc, log_theta[i, j] + f[S ^ (1 << i)])
+                f[S] = acc
+        else:
+            i = s - (M1 - 1)
+            for S in range(N - 1, 0, -1):
                 if (S >> i) & 1:
-                    acc = _lae(acc, log_theta[i, j] + f[S ^ (1 << i)])
-            f[S] = acc
-    for i in range(P):
-        for S in range(N - 1, 0, -1):
-            if (S >> i) & 1:
-                f[S] = _lae(f[S], log_theta[i, 0] + f[S ^ (1 << i)])
+                    f[S] = _lae(f[S], log_theta[i, 0] + f[S ^ (1 << i)])
+        s += 1
+    pos[0] = s
+    return s >= M1 - 1 + P
+
+
+def _permanent(theta, log_space: bool = False) -> np.ndarray:
+    """``Perm(A)`` (or ``ln Perm(A)``) for every alive set ``A`` (:func:`_permanent_slice`, in
+    slices of :data:`_SLICE_WORK`)."""
+    P = theta.shape[0]
+    N = 1 << P
+    f = np.full(N, -np.inf) if log_space else np.zeros(N)
+    f[0] = 0.0 if log_space else 1.0
+    pos = np.zeros(1, dtype=np.int64)
+    budget = max(1, _SLICE_WORK // (max(P, 1) * N))
+    step = _permanent_log_slice if log_space else _permanent_slice
+    with interruptible:
+        while not step(theta, f, pos, budget):
+            pass
     return f
 
 
 def _permanent_reference(theta):
-    """Pure-numpy specification of :func:`_permanent_kernel` (pull form over subsets)."""
+    """Pure-numpy specification of :func:`_permanent` (pull form over subsets)."""
     P, M1 = theta.shape
     S = np.arange(1 << P, dtype=np.int64)
     f = (S == 0).astype(float)
@@ -547,9 +744,9 @@ def _log_normalizer(problem: MultiSensorProblem, method: str = "auto") -> float:
     masks, B = arg
     if _use_log_space(problem):
         la = np.ascontiguousarray(problem.log_eta_alive.reshape(P, problem.n_tuples))
-        return float(_row_dp_log_kernel(problem.log_eta_dead, la, masks, B))
+        return _row_dp_log(problem.log_eta_dead, la, masks, B)
     w_dead, w_alive, shift = _scaled_weights(problem)
-    return float(_row_dp_kernel(w_dead, w_alive, masks, B) + shift.sum())
+    return float(_row_dp(w_dead, w_alive, masks, B) + shift.sum())
 
 
 def _marginals(problem: MultiSensorProblem, method: str = "auto") -> MultiSensorMarginals:
@@ -578,15 +775,14 @@ def _marginals(problem: MultiSensorProblem, method: str = "auto") -> MultiSensor
         masks, B = arg
         if _use_log_space(problem):
             la = np.ascontiguousarray(problem.log_eta_alive.reshape(P, problem.n_tuples))
-            ld, lal, _ = _row_marginal_log_kernel(problem.log_eta_dead, la, masks, B,
-                                                  sensor_caps(problem, B))
+            ld, lal, _ = _row_marginal_log(problem.log_eta_dead, la, masks, B,
+                                           sensor_caps(problem, B))
             tot = np.logaddexp(ld, logsumexp(lal, axis=1))
             dead = np.exp(ld - tot)
             alive = np.exp(lal - tot[:, None])
         else:
             w_dead, w_alive, _ = _scaled_weights(problem)
-            dead, alive, _ = _row_marginal_kernel(w_dead, w_alive, masks, B,
-                                                  sensor_caps(problem, B))
+            dead, alive, _ = _row_marginal(w_dead, w_alive, masks, B, sensor_caps(problem, B))
             tot = dead + alive.sum(axis=1)
             dead = dead / tot
             alive = alive / tot[:, None]
@@ -807,12 +1003,12 @@ def surrogate_log_normalizer(problem) -> float:
         low = np.where(np.isfinite(lt), lt, np.inf).min(axis=1)
         if np.where(np.isfinite(low), shift - low, 0.0).sum() > _LINEAR_RANGE:
             # a product of scaled factors could underflow: the same DP in log space
-            log_perm = log_perm + _permanent_log_kernel(np.ascontiguousarray(lt))
+            log_perm = log_perm + _permanent(np.ascontiguousarray(lt), log_space=True)
             continue
         theta = np.ascontiguousarray(np.exp(lt - shift[:, None]))
         log_s = log_s + shift  # Perm_v(A) = prod_{n in A} e^shift_n * Perm~_v(A)
         with np.errstate(divide="ignore"):
-            log_perm = log_perm + np.log(_permanent_kernel(theta))
+            log_perm = log_perm + np.log(_permanent(theta))
     # ln of prod_{n in A} s_n prod_{n not in A} eta_n(-1) prod_v Perm_v(A), per alive set A
     terms = np.where(member, log_s[None, :], problem.log_eta_dead[None, :]).sum(axis=1)
     terms = terms + log_perm

@@ -2,9 +2,9 @@
 
 Depth-first over rows; the state is the set of used measurements of every sensor; row ``n``
 may take ``-1`` (dead) or any allowed tuple whose detected measurements are all unused. Cost
-``O(|Gamma| P V)``. The compiled kernels (:func:`_enumerate_kernel`, :func:`_count_kernel`) are
-tested against the pure-Python generator :func:`_enumerate_reference`, which is their
-specification.
+``O(|Gamma| P V)``. The compiled search (:func:`_enumerate_slice`, run in slices so that
+Ctrl-C ends a long count promptly, by :func:`_enumerate`) is tested against the pure-Python
+generator :func:`_enumerate_reference`, which is its specification.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from rankedassign.multisensor import MultiSensorProblem
-from rankedassign.numba_options import jit
+from rankedassign.numba_options import interruptible, jit
 from rankedassign.validation import MAX_WORK_BYTES, check_int, check_type
 
 from ._result import Ranked, check_enumeration_size
@@ -85,40 +85,41 @@ def gamma_from_codes(problem: MultiSensorProblem, codes) -> np.ndarray:
 
 # ----------------------------------------------------------------------------- kernels
 @jit()
-def _enumerate_kernel(options, counts, tuples, n_meas, n_out, count_only):  # pragma: no cover
-    """Depth-first enumeration (or count) of every feasible assignment.
+def _enumerate_slice(options, counts, tuples, out, used, pos, at, n_out, count_only,
+                     budget):  # pragma: no cover - compiled
+    """Up to ``budget`` steps of the depth-first enumeration (or count) of every feasible
+    assignment; True when it is done.
 
     Parameters
     ----------
     options, counts : from :func:`row_options`
     tuples : ndarray, int64, shape (T, V)
         The tuple table of the problem (flat index -> tuple).
+    out : ndarray, int64, shape (n_out, P) (``(0, P)`` with ``count_only``)
+        Receives the option codes in depth-first order (row 0 slowest, each row's options in
+        the order of ``options``: dead, then tuples lexicographically).
+    used : ndarray, bool, shape (V, max M_v + 1)
+        Measurements in use (start all False). ``pos`` : (P,) int64, each row's option (start
+        at -1).
+    at : ndarray, int64, shape (2,)
+        The search's row and the assignments found so far; start at zero. Once done
+        ``at[1]`` is the number found (``n_out + 1`` once a count passes the limit).
     n_out : int
-        Capacity of the output (the exact count), or, with ``count_only``, the limit past
+        Capacity of ``out`` (the exact count), or, with ``count_only``, the limit past
         which counting stops.
     count_only : bool
-
-    Returns
-    -------
-    out : ndarray, int64, shape (n_out, P) (``(0, P)`` with ``count_only``)
-        Option codes in depth-first order (row 0 slowest, each row's options in the order of
-        ``options``: dead, then tuples lexicographically).
-    n : int
-        Number of feasible assignments found (``n_out + 1`` once a count passes the limit).
+    budget : int
+        Steps (one option tried per step) in this call, ``>= 1``.
     """
     P = options.shape[0]
     V = tuples.shape[1]
-    out = np.empty((0 if count_only else n_out, P), dtype=np.int64)
-    if P == 0:
-        return out, 1
-    mmax = 0
-    for v in range(V):
-        mmax = max(mmax, n_meas[v])
-    used = np.zeros((V, mmax + 1), dtype=np.bool_)
-    pos = np.full(P, -1, dtype=np.int64)
-    row = 0
-    n = 0
+    row, n = at[0], at[1]
+    steps = 0
     while row >= 0:
+        if steps >= budget:
+            at[0], at[1] = row, n
+            return False
+        steps += 1
         k = pos[row]
         if k >= 0:  # release the option this row held
             c = options[row, k]
@@ -157,10 +158,44 @@ def _enumerate_kernel(options, counts, tuples, n_meas, n_out, count_only):  # pr
                     out[n, i] = options[i, pos[i]]
             n += 1
             if count_only and n > n_out:
-                return out, n
+                at[0], at[1] = row, n
+                return True
         else:
             row += 1
-    return out, n
+    at[0], at[1] = row, n
+    return True
+
+
+#: Option tests (times ``V``) per slice of the search (tens of milliseconds): the search runs
+#: in slices so that Ctrl-C ends a long count promptly.
+_SLICE_WORK = 1 << 24
+
+
+def _enumerate(options, counts, tuples, n_meas, n_out, count_only):
+    """Depth-first enumeration (or count) of every feasible assignment, in slices
+    (:func:`_enumerate_slice`).
+
+    Returns
+    -------
+    out : ndarray, int64, shape (n_out, P) (``(0, P)`` with ``count_only``)
+        Option codes in depth-first order.
+    n : int
+        Number of feasible assignments found (``n_out + 1`` once a count passes the limit).
+    """
+    P, T = options.shape
+    V = tuples.shape[1]
+    out = np.empty((0 if count_only else n_out, P), dtype=np.int64)
+    if P == 0:
+        return out, 1
+    used = np.zeros((V, max((int(m) for m in n_meas), default=0) + 1), dtype=np.bool_)
+    pos = np.full(P, -1, dtype=np.int64)
+    at = np.zeros(2, dtype=np.int64)
+    budget = max(1, _SLICE_WORK // ((T + 1) * max(V, 1)))
+    with interruptible:
+        while not _enumerate_slice(options, counts, tuples, out, used, pos, at, n_out,
+                                   count_only, budget):
+            pass
+    return out, int(at[1])
 
 
 def _enumerate_reference(problem: MultiSensorProblem):
@@ -232,7 +267,7 @@ def count_assignments(problem, *, limit: int | None = None) -> int:
         return problem.n_feasible()
     except ValueError:
         cap = limit if limit is not None else 2**62
-        _, n = _enumerate_kernel(*_kernel_args(problem), cap, True)
+        _, n = _enumerate(*_kernel_args(problem), cap, True)
         return int(n)
 
 
@@ -304,14 +339,14 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     try:
         n, exact = problem.n_feasible(), True
     except ValueError:  # the counting DP refuses the size: count by search, up to cap + 1
-        _, n = _enumerate_kernel(*_kernel_args(problem), cap, True)
+        _, n = _enumerate(*_kernel_args(problem), cap, True)
         n = int(n)
         exact = n <= cap
     check_enumeration_size(n, exact, limit, per,
                            f"feasible assignments (P = {P}, M = {problem.n_meas})")
     if P == 0:
         return Ranked(np.zeros((1, 0, V), dtype=np.int64), np.zeros(1))
-    codes, found = _enumerate_kernel(*_kernel_args(problem), n, False)
+    codes, found = _enumerate(*_kernel_args(problem), n, False)
     if found != n:  # pragma: no cover - the count and the search are exact
         raise AssertionError(f"enumeration found {found} assignments, counted {n}")
     gamma = gamma_from_codes(problem, codes)

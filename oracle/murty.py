@@ -7,9 +7,17 @@ import heapq
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from rankedassign.numba_options import interruptible
 from rankedassign.validation import MAX_WORK_BYTES, check_int, format_bytes
 
-from ._kernels.murty import murty_compact_kernel
+from ._kernels.murty import (
+    DONE,
+    FULL,
+    grow_search,
+    murty_compact_start,
+    murty_slice,
+    search_output,
+)
 from ._result import Ranked, check_problem, ranked
 
 __all__ = ["murty"]
@@ -216,4 +224,28 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     if method == "scipy":
         return ranked(problem, _murty_scipy(problem, _k_cap(problem, k)))
     # the kernel's costs are problem.cost_of's, bit for bit, sorted stably
-    return Ranked(*murty_compact_kernel(np.ascontiguousarray(problem.compact_cost), k))
+    return Ranked(*_murty_sliced(np.ascontiguousarray(problem.compact_cost), k))
+
+
+#: Graph entries (``P (M + 2P)``, an iteration's bound) times iterations per slice of the
+#: search (tens of milliseconds): Ctrl-C ends a long ranking promptly.
+_SLICE_WORK = 1 << 24
+
+
+def _murty_sliced(cc, k):
+    """The compiled search on compact costs ``cc`` (``P >= 1``), run in slices: the output of
+    :func:`oracle._kernels.murty.murty_compact_kernel`, bit for bit, for every budget."""
+    P, M = cc.shape[0], cc.shape[1] - 2
+    N = M + 2 * P
+    budget = max(1, _SLICE_WORK // (P * N))
+    with interruptible:
+        out, costs, rest = murty_compact_start(cc, k, budget)
+        if rest is None:
+            return out, costs
+        (ptr, col, cost, pos), search = rest
+        while True:  # later slices return an integer: a signal is raised here, between two
+            status = murty_slice(ptr, col, cost, pos, search, k, budget)
+            if status == DONE:
+                return search_output(search)
+            if status == FULL:
+                search = grow_search(search, k)

@@ -14,25 +14,42 @@ chains replayed in chain order — does not depend on what a *row update* is. A 
   ``l`` whose value changes from ``a`` to ``c``: ``h ^= zkeys[l, a] ^ zkeys[l, c]``), drawing
   uniforms from the chain's stream ``rs`` with :func:`rankedassign._rng_kernels.next_uniform`;
 
-and :func:`make_driver` compiles :func:`run_chains` for it. ``data`` is the problem's tuple of
+and :func:`make_driver` compiles the driver for it. ``data`` is the problem's tuple of
 read-only arrays and scalars. A state is a flat ``int32`` vector of length ``L`` whose values
 index the columns of the Zobrist table ``zkeys`` of shape ``(L, K)``.
 
-How it is generic. :func:`_speculate`, :func:`_advance` and :func:`_run_chains` below are plain
-Python templates that call the three functions above by their global names;
-:func:`rankedassign.numba_options.instantiate` compiles a copy of each template whose globals
-bind those names to the problem's compiled functions. numba freezes global functions at
-compile time, so an instantiation calls the row update directly (as inlined as a hand-written
-kernel) and has its own cache file.
+How it is generic. :func:`_speculate`, :func:`_advance`, :func:`_new_run`, :func:`_run_slice`
+and :func:`_start` below are plain Python templates that call the three functions above (and
+each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
+copy of each template whose globals bind those names to the problem's compiled functions.
+numba freezes global functions at compile time, so an instantiation calls the row update
+directly (as inlined as a hand-written kernel) and has its own cache file.
 
 Unique set. States are de-duplicated with an open-addressing hash set keyed by the Zobrist hash
 (XOR of one random 64-bit key per (position, value)), updated incrementally by the sweep; a
 hash hit is confirmed on the full state. It is the :class:`UniqueSet` record.
 
 Parallelism. :func:`_speculate` (``parallel=True``) simulates a batch of chains, one ``prange``
-iteration per chain with its own stream and slab rows; :func:`_run_chains` replays the batch in
+iteration per chain with its own stream and slab rows; :func:`_run_slice` replays the batch in
 chain order with the sequential stall/stale logic (spec §3.3, "Parallelism"), so its result is
 independent of the number of threads.
+
+Slices. A compiled call cannot be interrupted: Python runs a signal handler (Ctrl-C's
+``KeyboardInterrupt``, a SIGTERM handler) only when control is back in the interpreter. The
+driver therefore runs in slices of a bounded number of sweeps (``budget``, which the samplers
+size so that a slice takes at most about a tenth of a second): :func:`_new_run` builds the
+run's state, a :class:`Run` of arrays (packed into plain tuples, :func:`_pack`, whenever it
+crosses into Python), and each call of :func:`_run_slice` continues it where the last one
+stopped. A slice stops only between two observations or between two speculation steps, and
+keeps every position in ``Run.pos``, so the slices together perform exactly the operations of
+one unbounded call: the result is the same bit for bit for every budget. The first slice runs
+inside :func:`_start`, which hands the state back only if the run is not over (a run that
+fits one slice costs one call, as before); the later slices return two integers and no array,
+so a signal that arrives during one is raised as itself in the Python loop between slices
+(boxing an array runs Python code inside numba's return path, where a signal handler's
+exception becomes a ``SystemError``; see :data:`rankedassign.numba_options.interruptible`;
+boxing a named tuple there crashes, hence the plain tuples).
+One sweep is never split: the longest pause between two checks is one slice plus one sweep.
 
 References
 ----------
@@ -50,7 +67,7 @@ import numpy as np
 from numba import prange
 
 from ._rng_kernels import chain_state
-from .numba_options import instantiate, jit
+from .numba_options import instantiate, interruptible, jit
 from .validation import (
     STALE_CONSECUTIVE,
     STALE_CUMULATIVE,
@@ -61,7 +78,8 @@ from .validation import (
     STALL_GLOBAL_CUMULATIVE,
 )
 
-__all__ = ["Rules", "UniqueSet", "Slab", "make_driver", "N_COUNTERS"]
+__all__ = ["Rules", "UniqueSet", "Slab", "Run", "make_driver", "N_COUNTERS",
+           "DEFAULT_BUDGET"]
 
 # Slots of the run counter array ``ctr`` (returned by run_chains).
 NU, NOBS, NCHAINS, STALE_RUN, STALE_CUM, STALE_FIRED, DISCARDED = 0, 1, 2, 3, 4, 5, 6
@@ -79,6 +97,24 @@ UniqueSet = namedtuple("UniqueSet", ["states", "hashes", "counts", "last_chain",
 #: Per-chain simulation slabs: speculated trajectories and their hashes, the live state, its
 #: hash and the stream state (one cache line per chain) of each of ``nb`` chains.
 Slab = namedtuple("Slab", ["traj", "hashes", "states", "h", "rs"])
+
+#: A run of the driver between two slices: the unique set, the slab, the problem's
+#: workspace, the chain lengths seen (speculation), the run and chain counters and the
+#: positions ``pos`` (slots ``_C0`` ...: batch, chain, observation, sweeps simulated, ramp).
+Run = namedtuple("Run", ["U", "slab", "work", "used_hist", "ctr", "cctr", "pos"])
+
+# Slots of ``Run.pos``: first chain of the open batch, its size (0: no batch open), its prefix
+# length and the sweeps of the prefix speculated so far, the chain being replayed (index in
+# the batch), whether that chain has begun, its last observation and its sweeps simulated,
+# and the size of the next batch (the ramp).
+_C0, _NB, _S, _SPEC, _B, _IN_CHAIN, _J, _DONE, _RAMP = range(9)
+N_POS = 9
+
+#: Status of a slice (:func:`_run_slice`): the run is over, the budget is spent, ``U`` is full.
+DONE, PAUSED, NEED_ROOM = 0, 1, 2
+
+#: Sweeps per slice when the caller gives no budget (the samplers size it by the sweep's cost).
+DEFAULT_BUDGET = 1 << 16
 
 # Initial capacity of the unique set (doubles when full).
 _CAP = 1024
@@ -106,6 +142,14 @@ def _speculate_impl(*args):  # pragma: no cover - replaced in every instantiatio
 
 
 def _advance_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _new_run_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _run_slice_impl(*args):  # pragma: no cover - replaced in every instantiation
     raise NotImplementedError
 
 
@@ -204,6 +248,33 @@ def _grow(U, n_unique):
 
 
 @jit()
+def _pack(run):
+    """A :class:`Run` as nested plain tuples, the form it crosses into Python in.
+
+    numba boxes a named tuple by calling its class, Python code, where a signal handler's
+    exception crashes numba's return path (a segmentation fault, not an error); plain tuples
+    are built in C and only ever raise.
+    """
+    U, S = run.U, run.slab
+    return ((U.states, U.hashes, U.counts, U.last_chain, U.table),
+            (S.traj, S.hashes, S.states, S.h, S.rs), run.work, run.used_hist, run.ctr, run.cctr,
+            run.pos)
+
+
+@jit()
+def _unpack(run):
+    """The :class:`Run` of a packed run (:func:`_pack`)."""
+    return Run(UniqueSet(*run[0]), Slab(*run[1]), run[2], run[3], run[4], run[5], run[6])
+
+
+@jit()
+def grow_run(run):
+    """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
+    r = _unpack(run)
+    return _pack(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr, r.pos))
+
+
+@jit()
 def _room(U, n_unique):
     """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5)."""
     return min(U.states.shape[0], U.table.shape[0] // 2) - n_unique
@@ -290,26 +361,31 @@ def _prefix_length(used_hist, chain_length, workers):
 
 # ------------------------------------------------------------------------ templates
 def _speculate(data, work, zkeys, traj, hashes, states, hs, rss, x0, h0, base, c_first, n_batch,
-               n_sweeps):
-    """Simulate the first ``n_sweeps`` sweeps of chains ``c_first .. c_first + n_batch - 1``.
+               j_from, j_to):
+    """Sweeps ``j_from + 1 .. j_to`` of chains ``c_first .. c_first + n_batch - 1``.
 
     The arrays are the fields of the :class:`Slab` (passed one by one: inside a parallel loop
     numba loses writes to arrays reached through a tuple argument). Chain ``c_first + b``
-    writes its trajectory to ``traj[b, :n_sweeps]`` and the hash of each state to
-    ``hashes[b, :n_sweeps]``, and leaves its simulation state (``states[b]``, ``hs[b]``,
-    ``rss[b, 0]``, workspace slab ``b``) ready for the replay to continue it. Chains
-    are independent (each has its own stream), so the loop over chains runs in parallel
-    (``prange``); each iteration writes only its own slab rows (``rs`` rows are padded to a
-    cache line so that neighbouring streams do not share one).
+    writes its trajectory to ``traj[b, j_from:j_to]`` and the hash of each state to
+    ``hashes[b, j_from:j_to]``, and leaves its simulation state (``states[b]``, ``hs[b]``,
+    ``rss[b, 0]``, workspace slab ``b``) ready for the next call (``j_from = 0`` starts the
+    chains from ``x0``) or for the replay to continue it; a prefix simulated in several calls
+    is therefore the same trajectory as one simulated in one call. Chains are independent
+    (each has its own stream), so the loop over chains runs in parallel (``prange``); each
+    iteration writes only its own slab rows (``rs`` rows are padded to a cache line so that
+    neighbouring streams do not share one).
     """
     for b in prange(n_batch):
         state = states[b]
         rs = rss[b, 0:1]
-        state[:] = x0
-        reset_work(data, work, b, x0)
-        rs[0] = chain_state(base, c_first + b)
-        h = h0
-        for j in range(n_sweeps):
+        if j_from == 0:
+            state[:] = x0
+            reset_work(data, work, b, x0)
+            rs[0] = chain_state(base, c_first + b)
+            h = h0
+        else:
+            h = hs[b]
+        for j in range(j_from, j_to):
             h = sweep(data, work, b, zkeys, state, h, rs)
             traj[b, j, :] = state
             hashes[b, j] = h
@@ -393,8 +469,42 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
     return j1, False, done
 
 
-def _run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers):
-    """Short-chain sampler (spec §3.3); the original sampler is one chain without rules.
+def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
+    """A :class:`Run` before its first observation: ``U = {x0}``, every position at zero.
+
+    ``batch`` and ``workers`` as in :func:`_run_slice`; they size the slab (``nb`` chains and,
+    when speculating, ``chain_length`` sweeps of each) and the first speculation batch.
+    """
+    L = x0.shape[0]
+    h0 = hash_of(zkeys, x0)
+    U = _new_unique_set(L, _CAP)
+    ctr = np.zeros(N_COUNTERS, dtype=np.int64)
+    cctr = np.zeros(4, dtype=np.int64)
+    # U <- {x0}: x0 is stored (unique 0) but is not an observation (count 0 so far)
+    _insert(U, -1 - _find(U, x0, h0), x0, h0, 0, 0, -1)
+    ctr[NU] = 1
+    speculative = batch > 0
+    nb = min(batch, n_chains) if speculative else 1
+    n_spec = chain_length if speculative else 0  # bounded by the caller's slab limit
+    slab = Slab(
+        np.empty((nb, n_spec, L), dtype=np.int32),
+        np.empty((nb, n_spec), dtype=np.uint64),
+        np.empty((nb, L), dtype=np.int32),
+        np.empty(nb, dtype=np.uint64),
+        np.empty((nb, 8), dtype=np.uint64),  # one stream per cache line
+    )
+    work = alloc_work(data, nb)
+    used_hist = np.zeros(n_spec + 1, dtype=np.int64)  # chain lengths seen (speculation only)
+    pos = np.zeros(N_POS, dtype=np.int64)
+    # Batches start small (the first one learns the chain lengths for the prefix) and double
+    # up to ``batch``: a run that stops early by stale then discards little.
+    pos[_RAMP] = max(64, 16 * workers)
+    return _pack(Run(U, slab, work, used_hist, ctr, cctr, pos))
+
+
+def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget,
+               run):
+    """Continue the short-chain sampler (spec §3.3) in ``run`` for about ``budget`` sweeps.
 
     Parameters
     ----------
@@ -421,82 +531,118 @@ def _run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, wor
         lengths; only the discarded sweeps do.
     workers : int
         Threads of the speculation (sets the prefix quantile).
+    budget : int
+        Sweeps this call may simulate or replay (``>= 1``; a speculation step of ``n`` chains
+        counts ``n`` per sweep). The call stops at the first observation, or speculation step,
+        that would exceed it, with every position saved in ``run``.
+    run : Run
+        The run's state (:func:`_new_run`), updated in place.
 
     Returns
     -------
-    states : ndarray, shape (n_unique, L), int32
-        Unique states in discovery order, ``x0`` first.
-    counts : ndarray, shape (n_unique,), int64
-        Observations of each.
-    ctr : ndarray, shape (7,), int64
-        ``[n_unique, n_observations, n_chains_run, stale_run, stale_cumulative, stale_fired,
-        n_speculative_discarded]``.
-    """
-    L = x0.shape[0]
-    h0 = hash_of(zkeys, x0)
-    U = _new_unique_set(L, _CAP)
-    ctr = np.zeros(N_COUNTERS, dtype=np.int64)
-    cctr = np.zeros(4, dtype=np.int64)
-    # U <- {x0}: x0 is stored (unique 0) but is not an observation (count 0 so far)
-    _insert(U, -1 - _find(U, x0, h0), x0, h0, 0, 0, -1)
-    ctr[NU] = 1
+    (status, left) : (int, int)
+        :data:`DONE` (the run is over: budget exhausted or stale), :data:`PAUSED` (budget
+        spent; call again) or :data:`NEED_ROOM` (``U`` is full: grow it with
+        :func:`grow_run`, then call again); ``left`` is the budget not spent.
 
+    Notes
+    -----
+    The run advances through the same operations, in the same order, whatever the budgets
+    of its slices: a slice ends only between two observations of a chain, or between two
+    speculation steps whose sweep ranges then continue each other (:func:`_speculate`), and
+    every position (batch, chain, observation, sweeps simulated, batch ramp) lives in
+    ``run.pos``. So a run in slices gives the same bits as a run in one call.
+    """
+    U, slab, work, used_hist, ctr, cctr, pos = _unpack(run)
     speculative = batch > 0
-    nb = min(batch, n_chains) if speculative else 1
-    n_spec = chain_length if speculative else 0  # bounded by the caller's slab limit
-    slab = Slab(
-        np.empty((nb, n_spec, L), dtype=np.int32),
-        np.empty((nb, n_spec), dtype=np.uint64),
-        np.empty((nb, L), dtype=np.int32),
-        np.empty(nb, dtype=np.uint64),
-        np.empty((nb, 8), dtype=np.uint64),  # one stream per cache line
-    )
-    work = alloc_work(data, nb)
-    used_hist = np.zeros(n_spec + 1, dtype=np.int64)  # chain lengths seen (speculation only)
-    # Batches start small (the first one learns the chain lengths for the prefix) and double
-    # up to ``batch``: a run that stops early by stale then discards little.
-    ramp = max(64, 16 * workers)
-    c0 = 0
-    while c0 < n_chains:
-        n_b = min(nb, n_chains - c0)
-        if speculative:
-            n_b = min(n_b, ramp)
-            ramp = min(2 * ramp, nb)
-            s = _prefix_length(used_hist, chain_length, workers)
-            _speculate_impl(data, work, zkeys, slab.traj, slab.hashes, slab.states, slab.h,
-                            slab.rs, x0, h0, base, c0, n_b, s)
-        else:
+    nb = slab.states.shape[0]
+    h0 = hash_of(zkeys, x0)
+    left = budget
+    while pos[_C0] < n_chains:
+        c0 = pos[_C0]
+        if pos[_NB] == 0:  # open the next batch
+            n_b = min(nb, n_chains - c0)
             s = 0
-        stale = False
-        for b in range(n_b):
+            if speculative:
+                n_b = min(n_b, pos[_RAMP])
+                pos[_RAMP] = min(2 * pos[_RAMP], nb)
+                s = _prefix_length(used_hist, chain_length, workers)
+            pos[_NB] = n_b
+            pos[_S] = s
+            pos[_SPEC] = 0
+            pos[_B] = 0
+            pos[_IN_CHAIN] = 0
+        n_b = pos[_NB]
+        s = pos[_S]
+        while pos[_SPEC] < s:  # the batch's prefixes, a few sweeps of every chain per step
+            if left <= 0:
+                return PAUSED, left
+            k = min(s - pos[_SPEC], max(1, left // n_b))
+            _speculate_impl(data, work, zkeys, slab.traj, slab.hashes, slab.states, slab.h,
+                            slab.rs, x0, h0, base, c0, n_b, pos[_SPEC], pos[_SPEC] + k)
+            pos[_SPEC] += k
+            left -= k * n_b
+        while pos[_B] < n_b:  # replay in chain order
+            b = pos[_B]
             c = c0 + b
-            if not speculative:
-                slab.states[b, :] = x0
-                reset_work(data, work, b, x0)
-                slab.h[b] = h0
-                slab.rs[b, 0] = chain_state(base, c)
-            _begin_chain(c, U.last_chain, cctr)
-            done = s
-            j = 0
+            if pos[_IN_CHAIN] == 0:
+                if not speculative:
+                    slab.states[b, :] = x0
+                    reset_work(data, work, b, x0)
+                    slab.h[b] = h0
+                    slab.rs[b, 0] = chain_state(base, c)
+                _begin_chain(c, U.last_chain, cctr)
+                pos[_IN_CHAIN] = 1
+                pos[_J] = 0
+                pos[_DONE] = s
+            j = pos[_J]
+            done = pos[_DONE]
             stalled = False
             while j < chain_length and not stalled:
-                if _room(U, ctr[NU]) <= 0:
-                    U = _grow(U, ctr[NU])
-                j1 = min(chain_length, j + _room(U, ctr[NU]))
+                room = _room(U, ctr[NU])
+                if room <= 0 or left <= 0:
+                    pos[_J] = j
+                    pos[_DONE] = done
+                    return (NEED_ROOM if room <= 0 else PAUSED), left
+                j1 = min(chain_length, j + min(room, left))
+                j_before = j
                 j, stalled, done = _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
                                                  b, c, j, j1, done)
+                left -= j - j_before
             if speculative:
                 used_hist[j] += 1
             ctr[DISCARDED] += done - j
+            pos[_IN_CHAIN] = 0
+            pos[_B] = b + 1
             if _end_chain(ctr, cctr, rules.stale_mode, rules.tau_stale):
                 ctr[DISCARDED] += (n_b - b - 1) * s
-                stale = True
-                break
-        if stale:
-            break
-        c0 += n_b
-    n = ctr[NU]
-    return U.states[:n].copy(), U.counts[:n].copy(), ctr
+                pos[_C0] = n_chains
+                return DONE, left
+        pos[_C0] = c0 + n_b
+        pos[_NB] = 0
+    return DONE, left
+
+
+def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget):
+    """A new run and its first slice of ``budget`` sweeps (:func:`_run_slice`).
+
+    Returns ``(states, counts, ctr, None)`` as documented in :func:`make_driver` when the run
+    ends within the budget (one call, no state handed back: the common case costs what a run
+    in one call costs), else ``(empty, empty, ctr, run)`` with the :class:`Run` to continue.
+    """
+    run = _new_run_impl(data, zkeys, x0, n_chains, chain_length, batch, workers)
+    status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                   batch, workers, budget, run)
+    while status == NEED_ROOM:
+        run = grow_run(run)
+        status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                       batch, workers, max(left, 1), run)
+    r = _unpack(run)
+    U = r.U
+    if status == DONE:
+        n = r.ctr[NU]
+        return U.states[:n].copy(), U.counts[:n].copy(), r.ctr, None
+    return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
 
 
 def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
@@ -513,9 +659,21 @@ def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
 
     Returns
     -------
-    run_chains : compiled function
-        ``run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers)
-        -> (states, counts, ctr)`` as documented in :func:`_run_chains`.
+    run_chains : function
+        ``run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
+        budget=DEFAULT_BUDGET) -> (states, counts, ctr)``, the short-chain sampler (spec
+        §3.3; the original sampler is one chain without rules), arguments as in
+        :func:`_run_slice`, run in compiled slices of at most about ``budget`` sweeps each
+        (see the module docstring, "Slices"). It returns
+
+        * ``states`` : ndarray, shape (n_unique, L), int32 — unique states in discovery
+          order, ``x0`` first;
+        * ``counts`` : ndarray, shape (n_unique,), int64 — observations of each;
+        * ``ctr`` : ndarray, shape (7,), int64 — ``[n_unique, n_observations,
+          n_chains_run, stale_run, stale_cumulative, stale_fired,
+          n_speculative_discarded]``;
+
+        the same bits for every ``budget``.
 
     Examples
     --------
@@ -538,14 +696,47 @@ def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
     ...     return h
     >>> run = make_driver("coin", alloc, reset, flip, cache=False)
     >>> zkeys = np.array([[1, 2]], dtype=np.uint64)
-    >>> states, counts, ctr = run((0.5,), zkeys, np.zeros(1, np.int32), np.uint64(7), 1, 100,
-    ...                           Rules(0, 0, 0, 0), 0, 1)
+    >>> args = ((0.5,), zkeys, np.zeros(1, np.int32), np.uint64(7), 1, 100, Rules(0, 0, 0, 0),
+    ...         0, 1)
+    >>> states, counts, ctr = run(*args)
     >>> sorted(states[:, 0].tolist()), int(counts.sum())
     ([0, 1], 100)
+    >>> sliced = run(*args, budget=3)          # 34 slices of at most 3 sweeps: same bits
+    >>> all(bool((a == b).all()) for a, b in zip(sliced, (states, counts, ctr)))
+    True
     """
     spec = instantiate(_speculate, f"speculate_{name}",
                        {"sweep": sweep, "reset_work": reset_work}, parallel=True, cache=cache)
     adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache)
-    return instantiate(_run_chains, f"run_chains_{name}",
-                       {"_speculate_impl": spec, "_advance_impl": adv,
-                        "alloc_work": alloc_work, "reset_work": reset_work}, cache=cache)
+    new_run = instantiate(_new_run, f"new_run_{name}", {"alloc_work": alloc_work},
+                          cache=cache)
+    run_slice = instantiate(_run_slice, f"run_slice_{name}",
+                            {"_speculate_impl": spec, "_advance_impl": adv,
+                             "reset_work": reset_work}, cache=cache)
+    start = instantiate(_start, f"start_{name}",
+                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice}, cache=cache)
+
+    def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
+                   budget=DEFAULT_BUDGET):
+        budget = max(1, int(budget))
+        with interruptible:  # the first slice, and growing U, return arrays
+            states, counts, ctr, run = start(data, zkeys, x0, base, n_chains, chain_length,
+                                             rules, batch, workers, budget)
+            if run is None:
+                return states, counts, ctr
+            # Later slices return two integers and no array (see the module docstring); a
+            # signal handler's exception is raised here, between two slices.
+            while True:
+                status, _ = run_slice(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                      batch, workers, budget, run)
+                if status == DONE:
+                    break
+                if status == NEED_ROOM:
+                    run = grow_run(run)
+        (states, _, counts, _, _), _, _, _, ctr, _, _ = run  # the packed Run
+        n = ctr[NU]
+        return states[:n].copy(), counts[:n].copy(), ctr
+
+    run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
+    run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
+    return run_chains

@@ -33,7 +33,7 @@ from ._rng import base_key
 from .multisensor.adaptive_birth import AdaptiveBirthProblem, sampler_fields
 from .multisensor.problem import MultiSensorProblem
 from .multisensor.sampling import prepare_fields as _multisensor_fields
-from .numba_options import jit
+from .numba_options import interruptible, jit
 from .problem import AssignmentProblem
 from .validation import (
     STALE_READINGS,
@@ -368,7 +368,8 @@ def _prepare_single(problem: AssignmentProblem, start, scan, rng, options) -> Pr
     P, M = problem.n_rows, problem.n_meas
     prefix = uses_prefix_sums(P, M)
     if prefix:
-        S, next_pos = prefix_sums(W)
+        with interruptible:
+            S, next_pos = prefix_sums(W)
         kind, data = "single_prefix", (W, cc, S, next_pos, random_scan)
     else:  # the direct draw's driver takes only what it reads
         S, next_pos = np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64)

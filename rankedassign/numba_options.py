@@ -29,6 +29,18 @@ file. :func:`jit` therefore keys every cached kernel by a digest of all the Pyth
 the package that defines it (``__qualname__`` gets the digest as a suffix, which names the
 cache file): editing any kernel file recompiles everything, and kernels can live in as many
 files as their algorithms need.
+
+Signals. A compiled kernel runs without looking at signals; Python runs the handler of a
+signal that arrived meanwhile (Ctrl-C's ``KeyboardInterrupt``, a SIGTERM handler) at the first
+Python code after the kernel. When the kernel returns an array, that first Python code is
+inside numba's return path (boxing an array calls ``numba.core.serialize._numba_unpickle``),
+and the handler's exception comes out as ``SystemError: CPUDispatcher(<kernel>) returned a
+result with an exception set``. Every call of such a kernel from Python runs inside
+``with interruptible:``, which raises the handler's exception itself instead. A kernel called
+from Python never returns a named tuple: numba boxes one by calling its class, and a handler's
+exception raised there crashes the process (a segmentation fault); records cross into Python
+as plain tuples. Kernels that can run for long are also cut into slices
+(:mod:`rankedassign._chains`, "Slices"), so that the handler runs soon.
 """
 
 from __future__ import annotations
@@ -43,7 +55,8 @@ from pathlib import Path
 
 import numba
 
-__all__ = ["CACHE", "jit", "threads", "instantiate", "source_digest"]
+__all__ = ["CACHE", "jit", "threads", "instantiate", "source_digest", "interruptible",
+           "signal_exception"]
 
 CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
 # Read by the OpenMP runtime when numba's thread pool starts (on the first parallel call).
@@ -185,3 +198,82 @@ def threads(n: int):
         yield
     finally:
         numba.set_num_threads(old)
+
+
+# What CPython says when a C function returns a value with an exception set (Objects/call.c).
+_RESULT_WITH_EXCEPTION = "returned a result with an exception set"
+
+
+def signal_exception(exc: BaseException) -> BaseException | None:
+    """The exception a signal handler raised inside numba's return path, or None.
+
+    Parameters
+    ----------
+    exc : BaseException
+        An exception raised by a call of a compiled kernel.
+
+    Returns
+    -------
+    BaseException or None
+        When ``exc`` is a ``SystemError`` "returned a result with an exception set" whose
+        chain of causes runs through such ``SystemError`` s down to another exception, that
+        exception (the ``KeyboardInterrupt``, or whatever a signal handler raised while numba
+        boxed the kernel's result); else None.
+
+    Examples
+    --------
+    >>> inner = KeyboardInterrupt()
+    >>> outer = SystemError("CPUDispatcher(<f>) returned a result with an exception set")
+    >>> outer.__cause__ = inner
+    >>> signal_exception(outer) is inner, signal_exception(SystemError("other"))
+    (True, None)
+    """
+    seen = set()
+    e = exc
+    while isinstance(e, SystemError) and _RESULT_WITH_EXCEPTION in str(e) and id(e) not in seen:
+        seen.add(id(e))
+        e = e.__cause__ if e.__cause__ is not None else e.__context__
+    if e is None or e is exc or isinstance(e, SystemError):
+        return None
+    return e
+
+
+class _Interruptible:
+    """``with interruptible:`` raises a signal handler's exception as itself (module docstring).
+
+    Stateless and re-entrant: one shared instance, entered around each call of a kernel
+    that returns arrays. Costs about a tenth of a microsecond.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.numba_options import interruptible, jit
+    >>> @jit(cache=False)
+    ... def ones(n):
+    ...     return np.ones(n)
+    >>> with interruptible:
+    ...     a = ones(3)
+    >>> a.tolist()
+    [1.0, 1.0, 1.0]
+    """
+
+    __slots__ = ()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, typ, exc, tb):
+        if typ is not None and issubclass(typ, SystemError):
+            root = signal_exception(exc)
+            if root is not None:
+                raise root.with_traceback(root.__traceback__) from None
+        return False
+
+    def __repr__(self):
+        return "interruptible"
+
+
+#: Context manager around calls of compiled kernels from Python: a signal handler's exception
+#: raised while numba boxes the result (``KeyboardInterrupt``, a SIGTERM handler's exception)
+#: comes out as itself instead of a ``SystemError`` (see the module docstring, "Signals").
+interruptible = _Interruptible()

@@ -54,7 +54,7 @@ from .multisensor import _ab_kernels
 from .multisensor import _kernels as _ms_kernels
 from .multisensor.adaptive_birth import AdaptiveBirthProblem
 from .multisensor.problem import MultiSensorProblem
-from .numba_options import threads
+from .numba_options import interruptible, threads
 from .problem import AssignmentProblem
 from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 
@@ -71,6 +71,12 @@ _MAX_SLAB = 1 << 24
 _BATCH_WORK = 1 << 21
 # Chains per work item of the parallel speculation loop.
 _CHUNK = 4
+# Candidate evaluations per slice of the compiled driver (``sweep_cost`` per sweep): a few ms
+# to a tenth of a second of sweeps, depending on how well ``sweep_cost`` tracks the sweep time.
+# Between slices the interpreter runs pending signal handlers, so Ctrl-C ends a run within
+# about one slice; a slice costs microseconds of call overhead (rankedassign._chains, "Slices").
+# The tests shrink it to a few sweeps: same bits.
+_SLICE_WORK = 1 << 23
 
 
 def _batch_size(workers: int, n_chains: int, chain_length: int, L: int, sweep_cost: int) -> int:
@@ -97,7 +103,8 @@ def _batch_size(workers: int, n_chains: int, chain_length: int, L: int, sweep_co
 def _zobrist(L: int, K: int) -> np.ndarray:
     """Zobrist keys of an ``L``-position state with values ``0..K-1`` (fixed; cached, read-only:
     a filter calls the samplers on problems of few shapes, thousands of times)."""
-    keys = zobrist_keys(L, K, np.uint64(ZOBRIST_SEED))
+    with interruptible:
+        keys = zobrist_keys(L, K, np.uint64(ZOBRIST_SEED))
     keys.setflags(write=False)
     return keys
 
@@ -107,8 +114,9 @@ def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers
     L = prep.x0.shape[0]
     zkeys = _zobrist(L, prep.n_values)
     batch = _batch_size(workers, n_chains, chain_length, L, prep.sweep_cost)
+    budget = max(1, _SLICE_WORK // max(prep.sweep_cost, 1))  # sweeps per slice
     args = (prep.data, zkeys, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules,
-            batch, workers)
+            batch, workers, budget)
     run_chains = DRIVERS[prep.kind]
     if batch:
         # Chains are handed to threads a few at a time (not one static share per thread), so

@@ -67,12 +67,12 @@ def test_cases_enumeration(name, problem):
 
 @given(ms_problems())
 def test_enumeration_kernel_matches_reference(problem):
-    codes, n = msen._enumerate_kernel(*msen._kernel_args(problem), problem.n_feasible(), False)
+    codes, n = msen._enumerate(*msen._kernel_args(problem), problem.n_feasible(), False)
     ref = list(msen._enumerate_reference(problem))
     assert n == len(ref)
     if problem.n_rows:
         assert_array_equal(codes, np.array(ref, dtype=np.int64).reshape(len(ref), -1))
-    _, m = msen._enumerate_kernel(*msen._kernel_args(problem), 2**40, True)
+    _, m = msen._enumerate(*msen._kernel_args(problem), 2**40, True)
     assert m == len(ref)
 
 
@@ -92,7 +92,7 @@ def test_counting_search_agrees_with_the_counting_dp():
     a[0, 1, :] = 0.0
     a[2, :, 3] = 0.0
     p = MultiSensorProblem.from_eta(np.ones(4), a)
-    _, n = msen._enumerate_kernel(*msen._kernel_args(p), 2**40, True)
+    _, n = msen._enumerate(*msen._kernel_args(p), 2**40, True)
     assert n == p.n_feasible() == len(brute_force(p))
 
 
@@ -215,9 +215,9 @@ def test_dp_kernels_match_references(problem):
     if problem.n_rows == 0:
         return
     args = _scaled_inputs(problem)
-    assert_allclose(msdp._row_dp_kernel(*args), msdp._row_dp_reference(*args), rtol=0,
+    assert_allclose(msdp._row_dp(*args), msdp._row_dp_reference(*args), rtol=0,
                     atol=1e-12)
-    dead, alive, log_z = msdp._row_marginal_kernel(*args, msdp.sensor_caps(problem, args[3]))
+    dead, alive, log_z = msdp._row_marginal(*args, msdp.sensor_caps(problem, args[3]))
     tot = dead + alive.sum(axis=1)
     rd, ra = msdp._row_marginal_reference(*args)
     assert_allclose(dead / tot, rd, rtol=0, atol=1e-12)
@@ -228,9 +228,8 @@ def test_dp_kernels_match_references(problem):
     la = np.ascontiguousarray(problem.log_eta_alive.reshape(problem.n_rows, problem.n_tuples))
     ld = problem.log_eta_dead
     shift = msdp._scaled_weights(problem)[2].sum()
-    assert_allclose(msdp._row_dp_log_kernel(ld, la, masks, B), log_z + shift, rtol=0, atol=1e-12)
-    lgd, lga, lz2 = msdp._row_marginal_log_kernel(ld, la, masks, B,
-                                                   msdp.sensor_caps(problem, B))
+    assert_allclose(msdp._row_dp_log(ld, la, masks, B), log_z + shift, rtol=0, atol=1e-12)
+    lgd, lga, lz2 = msdp._row_marginal_log(ld, la, masks, B, msdp.sensor_caps(problem, B))
     tot = np.logaddexp(lgd, logsumexp(lga, axis=1))
     assert_allclose(np.exp(lgd - tot), rd, rtol=0, atol=1e-12)
     assert_allclose(np.exp(lga - tot[:, None]), ra, rtol=0, atol=1e-12)
@@ -324,8 +323,8 @@ def test_permanent_kernel_matches_reference(problem):
     rng = np.random.default_rng(P)
     theta = rng.uniform(0, 1, (P, problem.n_meas[0] + 1))
     want = msdp._permanent_reference(theta)
-    assert_allclose(msdp._permanent_kernel(theta), want, rtol=1e-13)
-    assert_allclose(np.exp(msdp._permanent_log_kernel(np.log(theta))), want, rtol=1e-12)
+    assert_allclose(msdp._permanent(theta), want, rtol=1e-13)
+    assert_allclose(np.exp(msdp._permanent(np.log(theta), log_space=True)), want, rtol=1e-12)
 
 
 def test_surrogate_messages():

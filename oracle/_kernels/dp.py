@@ -3,6 +3,13 @@
 Spec §5.2, eqs. (5.1)–(5.2). The public wrappers live in :mod:`oracle.dp`, which prepares the
 scaled weights of one connected component; these kernels assume clean, C-contiguous float64 /
 int64 arrays and never raise.
+
+A DP over ``2^20`` states can take minutes, so each DP is a *slice* kernel that runs at most
+``budget`` steps (operations) and keeps its place in ``pos`` and its vectors in arrays the
+caller allocates; :mod:`oracle.dp` calls it until it reports completion, and between two
+slices the interpreter runs pending signal handlers (Ctrl-C). Two vectors that the unsliced
+loop swapped after every step alternate by the step's parity instead, so every budget
+performs the same operations in the same order: the same bits.
 """
 
 from __future__ import annotations
@@ -15,10 +22,13 @@ __all__ = [
     "ENTER",
     "RETIRE",
     "TRANS",
-    "dp_marginal_kernel",
-    "dp_total_kernel",
-    "frontier_marginal_kernel",
-    "frontier_total_kernel",
+    "dp_marginal_slice",
+    "dp_terminal",
+    "dp_total_finish",
+    "dp_total_slice",
+    "frontier_layout",
+    "frontier_marginal_slice",
+    "frontier_total_slice",
 ]
 
 
@@ -60,7 +70,7 @@ def _dp_backward_step(B, G, W, s, t, k):
 
 
 @jit()
-def _dp_terminal(tin, tout, k):
+def dp_terminal(tin, tout, k):
     """``T(S) = prod_{e in S} tin[e] * prod_{e not in S} tout[e]``."""
     n = 1 << k
     T = np.ones(n)
@@ -75,8 +85,9 @@ def _dp_terminal(tin, tout, k):
 
 
 @jit()
-def dp_total_kernel(W, s, tin, tout):
-    """Total weight ``sum_S F_K(S) T(S)`` of the generic subset DP.
+def dp_total_slice(W, s, F, G, pos, budget):
+    """Up to ``budget`` steps of the generic subset DP ``F_{t+1} = step_t(F_t)``; True when
+    all ``K`` are done (the total is then ``sum_S F_K(S) T(S)``, :func:`dp_total_finish`).
 
     Parameters
     ----------
@@ -84,87 +95,138 @@ def dp_total_kernel(W, s, tin, tout):
         ``W[t, e]``: weight of adding element ``e`` to the state at step ``t``.
     s : ndarray, float64, shape (K,)
         Weight of leaving the state unchanged at step ``t``.
-    tin, tout : ndarray, float64, shape (k,)
-        Terminal weight of an element inside / outside the final state.
+    F, G : ndarray, float64, shape (2^k,)
+        ``F_0 = [1, 0, ...]`` and work space: step ``t`` reads ``F`` and writes ``G`` when
+        ``t`` is even, the other way round when odd.
+    pos : ndarray, int64, shape (1,)
+        Steps done (start at zero).
+    budget : int
+        Steps in this call (``>= 1``; one step is ``O(k 2^k)``).
     """
     K, k = W.shape
-    n = 1 << k
-    F = np.zeros(n)
-    G = np.empty(n)
-    F[0] = 1.0
-    for t in range(K):
-        _dp_forward_step(F, G, W, s, t, k)
-        F, G = G, F
-    T = _dp_terminal(tin, tout, k)
+    t = pos[0]
+    stop = min(K, t + budget)
+    while t < stop:
+        if t % 2 == 0:
+            _dp_forward_step(F, G, W, s, t, k)
+        else:
+            _dp_forward_step(G, F, W, s, t, k)
+        t += 1
+    pos[0] = t
+    return t >= K
+
+
+@jit()
+def dp_total_finish(F, G, K, tin, tout):
+    """``sum_S F_K(S) T(S)`` after :func:`dp_total_slice` (``F_K`` is ``F`` for even ``K``).
+
+    ``tin, tout`` : ndarray, float64, shape (k,): terminal weight of an element inside /
+    outside the final state.
+    """
+    k = tin.shape[0]
+    cur = F if K % 2 == 0 else G
+    T = dp_terminal(tin, tout, k)
     tot = 0.0
-    for S in range(n):
-        tot += F[S] * T[S]
+    for S in range(1 << k):
+        tot += cur[S] * T[S]
     return tot
 
 
 @jit()
-def dp_marginal_kernel(W, s, tin, tout):
-    """Forward/backward subset DP: total weight and the weight through every transition.
+def dp_marginal_slice(W, s, T, Bst, X, Y, F, Fn, Bblk, pair, stay, term_out, pos, budget):
+    """Up to ``budget`` steps of the forward/backward subset DP; True when it is done.
 
-    Returns
-    -------
-    total : float
-    pair : ndarray, shape (K, k)
-        ``sum_{S not containing e} F_t(S) W[t, e] B_{t+1}(S | {e})``.
-    stay : ndarray, shape (K,)
-        ``sum_S F_t(S) s[t] B_{t+1}(S)``.
-    term_out : ndarray, shape (k,)
-        ``sum_{S not containing e} F_K(S) T(S)``.
+    Once done, ``Bst[0, 0]`` (``T[0]`` when ``K = 0``) is the total weight and
+
+    * ``pair`` (K, k): ``sum_{S not containing e} F_t(S) W[t, e] B_{t+1}(S | {e})``;
+    * ``stay`` (K,): ``sum_S F_t(S) s[t] B_{t+1}(S)``;
+    * ``term_out`` (k,): ``sum_{S not containing e} F_K(S) T(S)``.
+
+    Parameters
+    ----------
+    W, s
+        As in :func:`dp_total_slice`.
+    T : (2^k,) float64
+        Terminal weights (:func:`dp_terminal`).
+    Bst : (n_blocks + 1, 2^k) float64
+        Backward vectors at block starts ``t = b L`` (``L = ceil(sqrt(K))``), row
+        ``n_blocks`` ``T``.
+    X, Y : (2^k,) float64
+        ``T`` and work space of the first backward sweep.
+    F, Fn : (2^k,) float64
+        ``F_0 = [1, 0, ...]`` and work space (forward step ``t`` reads ``F`` when ``t`` is
+        even).
+    Bblk : (L + 1, 2^k) float64
+        The backward vectors of one block, recomputed from its stored end.
+    pair, stay, term_out
+        Zero.
+    pos : (3,) int64
+        ``[pass, block, step]``: pass 0 is the backward sweep (step from ``K - 1`` down), 1
+        the recomputation of a block's backward vectors (step -1: not begun), 2 the block's
+        forward steps, 3 done; start at ``[0, 0, K - 1]``.
+    budget : int
+        Steps in this call (``>= 1``).
 
     Notes
     -----
-    Backward vectors are stored only at block boundaries (``L = ceil(sqrt(K))`` steps apart)
-    and recomputed inside each block, so memory is ``O(sqrt(K) 2^k)`` instead of
-    ``O(K 2^k)`` for about one extra backward pass.
+    Backward vectors are stored only at block boundaries and recomputed inside each block, so
+    memory is ``O(sqrt(K) 2^k)`` instead of ``O(K 2^k)`` for about one extra backward pass.
     """
     K, k = W.shape
     n = 1 << k
-    L = 1
-    while L * L < K:
-        L += 1
-    n_blocks = (K + L - 1) // L if K > 0 else 0
-    T = _dp_terminal(tin, tout, k)
-    # backward vectors at block starts t = b*L, plus the terminal one
-    Bst = np.empty((n_blocks + 1, n))
-    Bst[n_blocks] = T
-    cur = T.copy()
-    G = np.empty(n)
-    for t in range(K - 1, -1, -1):
-        _dp_backward_step(cur, G, W, s, t, k)
-        cur, G = G, cur
-        if t % L == 0:
-            Bst[t // L] = cur
-    total = 0.0
-    if K > 0:
-        total = Bst[0][0]
-    else:
-        total = T[0]
-    pair = np.zeros((K, k))
-    stay = np.zeros(K)
-    F = np.zeros(n)
-    F[0] = 1.0
-    Fn = np.empty(n)
-    Bblk = np.empty((L + 1, n))
-    for b in range(n_blocks):
+    L = Bblk.shape[0] - 1
+    n_blocks = Bst.shape[0] - 1
+    left = budget
+    if pos[0] == 0:  # backward sweep: X, Y alternate (X = T first)
+        t = pos[2]
+        while t >= 0:
+            if left <= 0:
+                pos[2] = t
+                return False
+            if (K - 1 - t) % 2 == 0:
+                _dp_backward_step(X, Y, W, s, t, k)
+                if t % L == 0:
+                    Bst[t // L] = Y
+            else:
+                _dp_backward_step(Y, X, W, s, t, k)
+                if t % L == 0:
+                    Bst[t // L] = X
+            t -= 1
+            left -= 1
+        pos[0] = 1
+        pos[1] = 0
+        pos[2] = -1
+    while pos[1] < n_blocks:
+        b = pos[1]
         t0 = b * L
         t1 = min(K, t0 + L)
-        # recompute B_{t} for t in (t0, t1] from the stored B_{t1}
-        if t1 == K:
-            Bblk[t1 - t0] = T
-        else:
-            Bblk[t1 - t0] = Bst[t1 // L]
-        for t in range(t1 - 1, t0, -1):
-            _dp_backward_step(Bblk[t + 1 - t0], Bblk[t - t0], W, s, t, k)
-        for t in range(t0, t1):
+        if pos[0] == 1:  # recompute B_t for t in (t0, t1] from the stored B_{t1}
+            if pos[2] < 0:
+                if t1 == K:
+                    Bblk[t1 - t0] = T
+                else:
+                    Bblk[t1 - t0] = Bst[t1 // L]
+                pos[2] = t1 - 1
+            t = pos[2]
+            while t > t0:
+                if left <= 0:
+                    pos[2] = t
+                    return False
+                _dp_backward_step(Bblk[t + 1 - t0], Bblk[t - t0], W, s, t, k)
+                t -= 1
+                left -= 1
+            pos[0] = 2
+            pos[2] = t0
+        t = pos[2]
+        while t < t1:  # the block's forward steps and the weights through them
+            if left <= 0:
+                pos[2] = t
+                return False
+            Ft = F if t % 2 == 0 else Fn
             Bn = Bblk[t + 1 - t0]
             acc = 0.0
             for S in range(n):
-                acc += F[S] * Bn[S]
+                acc += Ft[S] * Bn[S]
             stay[t] = s[t] * acc
             for e in range(k):
                 w = W[t, e]
@@ -175,19 +237,27 @@ def dp_marginal_kernel(W, s, tin, tout):
                 for hi in range(0, n, 2 * bit):
                     base = hi + bit
                     for lo in range(bit):
-                        acc += F[hi + lo] * Bn[base + lo]
+                        acc += Ft[hi + lo] * Bn[base + lo]
                 pair[t, e] = w * acc
-            _dp_forward_step(F, Fn, W, s, t, k)
-            F, Fn = Fn, F
-    term_out = np.zeros(k)
+            if t % 2 == 0:
+                _dp_forward_step(F, Fn, W, s, t, k)
+            else:
+                _dp_forward_step(Fn, F, W, s, t, k)
+            t += 1
+            left -= 1
+        pos[0] = 1
+        pos[1] = b + 1
+        pos[2] = -1
+    FK = F if K % 2 == 0 else Fn
     for e in range(k):
         bit = 1 << e
         acc = 0.0
         for S in range(n):
             if not S & bit:
-                acc += F[S] * T[S]
+                acc += FK[S] * T[S]
         term_out[e] = acc
-    return total, pair, stay, term_out
+    pos[0] = 3
+    return True
 
 
 # ----------------------------------------------------------------------------- frontier DP
@@ -260,8 +330,10 @@ def _frontier_adjoint(kind, arg, slot, n, B, G, W, s, w_un):
 
 
 @jit()
-def frontier_total_kernel(ops, W, s, w_un):
-    """Total weight of a frontier DP (the scaled ``Z`` of one component).
+def frontier_total_slice(ops, W, s, w_un, F, G, pos, budget):
+    """Up to ``budget`` operations of a frontier DP; True when all are done (the total, the
+    scaled ``Z`` of one component, is then ``F[0]`` for an even number of operations, else
+    ``G[0]``).
 
     Parameters
     ----------
@@ -274,39 +346,40 @@ def frontier_total_kernel(ops, W, s, w_un):
         Weight of leaving the measurement of step ``t`` unused.
     w_un : ndarray, float64, shape (P,)
         Weight of row ``i`` retiring unmatched.
+    F, G : ndarray, float64, shape (2^F,)
+        ``[1, 0, ...]`` and zero: operation ``k`` reads ``F`` and writes ``G`` when ``k`` is
+        even, the other way round when odd.
+    pos : ndarray, int64, shape (2,)
+        Operations done and the slots in use; start at zero.
+    budget : int
+        Operations in this call (``>= 1``; one is at most ``O(F 2^F)``).
     """
-    n_slots = W.shape[1]
-    F = np.zeros(1 << n_slots)
-    G = np.zeros(1 << n_slots)
-    F[0] = 1.0
-    n = 0
-    for k in range(ops.shape[0]):
-        n = _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], n, F, G, W, s, w_un)
-        F, G = G, F
-    return F[0]
+    k, n = pos[0], pos[1]
+    stop = min(ops.shape[0], k + budget)
+    while k < stop:
+        if k % 2 == 0:
+            n = _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], n, F, G, W, s, w_un)
+        else:
+            n = _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], n, G, F, W, s, w_un)
+        k += 1
+    pos[0], pos[1] = k, n
+    return k >= ops.shape[0]
 
 
 @jit()
-def frontier_marginal_kernel(ops, W, s, w_un):
-    """Forward/backward frontier DP: total weight and the weight through every choice.
+def frontier_layout(ops):
+    """Slots before each operation and the checkpoint layout of :func:`frontier_marginal_slice`.
 
     Returns
     -------
-    total : float
-    pair : ndarray, shape (K, F)
-        ``sum_{S not containing e} F_k(S) W[t, e] B_{k+1}(S | {e})`` at the transition ``k``
-        of step ``t``: the weight of the row in slot ``e`` taking that step's measurement.
-    unmatched : ndarray, shape (P,)
-        Weight of row ``i`` retiring unmatched.
-
-    Notes
-    -----
-    Forward vectors are checkpointed every ``L = ceil(sqrt(n_ops))`` operations and recomputed
-    block by block during the backward sweep, so memory is ``O(sqrt(n_ops) 2^F)``.
+    nb : (n_ops + 1,) int64
+        Slots in use before operation ``k``.
+    ck_off : (n_blocks + 1,) int64
+        Offsets of the checkpoints ``f_{bL}`` stored back to back (``L = ceil(sqrt(n_ops))``).
+    blk_max : int
+        Entries of the largest block of forward vectors.
     """
     n_ops = ops.shape[0]
-    K, n_slots = W.shape
-    # slots before each operation
     nb = np.zeros(n_ops + 1, dtype=np.int64)
     for k in range(n_ops):
         if ops[k, 0] == ENTER:
@@ -319,49 +392,109 @@ def frontier_marginal_kernel(ops, W, s, w_un):
     while L * L < n_ops:
         L += 1
     n_blocks = (n_ops + L - 1) // L
-    # checkpoints f_{bL}, stored back to back
     ck_off = np.zeros(n_blocks + 1, dtype=np.int64)
     for b in range(n_blocks):
         ck_off[b + 1] = ck_off[b] + (1 << nb[b * L])
-    ck = np.empty(ck_off[n_blocks])
-    full = 1 << n_slots
-    F = np.zeros(full)
-    G = np.zeros(full)
-    F[0] = 1.0
-    for k in range(n_ops):
-        if k % L == 0:
-            b = k // L
-            ck[ck_off[b]:ck_off[b + 1]] = F[:ck_off[b + 1] - ck_off[b]]
-        _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], nb[k], F, G, W, s, w_un)
-        F, G = G, F
-    total = F[0]
-    pair = np.zeros((K, n_slots))
-    unmatched = np.zeros(w_un.shape[0])
-    # the largest block of forward vectors
     blk_max = 0
     for b in range(n_blocks):
         tot = 0
         for k in range(b * L, min(n_ops, (b + 1) * L)):
             tot += 1 << nb[k]
         blk_max = max(blk_max, tot)
-    blk = np.empty(blk_max)
-    blk_off = np.zeros(L + 1, dtype=np.int64)
-    B = np.zeros(full)  # backward vector after the current operation
-    Bn = np.zeros(full)
-    B[0] = 1.0
-    for b in range(n_blocks - 1, -1, -1):
+    return nb, ck_off, blk_max
+
+
+@jit()
+def frontier_marginal_slice(ops, W, s, w_un, nb, ck_off, ck, F, G, blk, blk_off, B, Bn, pair,
+                            unmatched, acc, pos, budget):
+    """Up to ``budget`` operations of the forward/backward frontier DP; True when it is done.
+
+    Once done ``acc[0]`` is the total weight, ``pair`` (K, F) holds
+    ``sum_{S not containing e} F_k(S) W[t, e] B_{k+1}(S | {e})`` at the transition ``k`` of
+    step ``t`` (the weight of the row in slot ``e`` taking that step's measurement) and
+    ``unmatched`` (P,) the weight of row ``i`` retiring unmatched.
+
+    Parameters
+    ----------
+    ops, W, s, w_un
+        As in :func:`frontier_total_slice`.
+    nb, ck_off
+        From :func:`frontier_layout`; ``ck`` (``ck_off[-1]``,) float64 holds the checkpoints.
+    F, G : (2^F,) float64
+        ``[1, 0, ...]`` and zero (the forward sweep, alternating as in
+        :func:`frontier_total_slice`; ``G`` is also the scratch vector of a block).
+    blk : (blk_max,) float64, blk_off : (L + 1,) int64
+        One block of forward vectors, back to back, and their offsets.
+    B, Bn : (2^F,) float64
+        ``[1, 0, ...]`` and zero: the backward vector after the current operation (they
+        alternate with every adjoint operation).
+    pair, unmatched : zero.
+    acc : (1,) float64
+    pos : (4,) int64
+        ``[pass, block, operation, adjoint operations done]``: pass 0 is the forward sweep, 1
+        a block's recomputation (operation -1: not begun), 2 its backward operations, 3
+        done; start at ``[0, n_blocks - 1, 0, 0]``.
+    budget : int
+        Operations in this call (``>= 1``).
+
+    Notes
+    -----
+    Forward vectors are checkpointed every ``L = ceil(sqrt(n_ops))`` operations and recomputed
+    block by block during the backward sweep, so memory is ``O(sqrt(n_ops) 2^F)``.
+    """
+    n_ops = ops.shape[0]
+    L = blk_off.shape[0] - 1
+    left = budget
+    if pos[0] == 0:  # forward sweep with checkpoints
+        k = pos[2]
+        while k < n_ops:
+            if left <= 0:
+                pos[2] = k
+                return False
+            cur = F if k % 2 == 0 else G
+            if k % L == 0:
+                b = k // L
+                ck[ck_off[b]:ck_off[b + 1]] = cur[:ck_off[b + 1] - ck_off[b]]
+            if k % 2 == 0:
+                _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], nb[k], F, G, W, s, w_un)
+            else:
+                _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], nb[k], G, F, W, s, w_un)
+            k += 1
+            left -= 1
+        acc[0] = F[0] if n_ops % 2 == 0 else G[0]
+        pos[0] = 1
+        pos[2] = -1
+    while pos[1] >= 0:
+        b = pos[1]
         k0 = b * L
         k1 = min(n_ops, k0 + L)
-        # recompute f_k, k0 <= k < k1, from the checkpoint
-        for k in range(k0, k1):
-            blk_off[k - k0 + 1] = blk_off[k - k0] + (1 << nb[k])
-        blk[0:blk_off[1]] = ck[ck_off[b]:ck_off[b + 1]]
-        for k in range(k0, k1 - 1):
-            i0, i1 = blk_off[k - k0], blk_off[k - k0 + 1]
-            _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], nb[k], blk[i0:i1], G, W, s,
-                              w_un)
-            blk[i1:blk_off[k - k0 + 2]] = G[:blk_off[k - k0 + 2] - i1]
-        for k in range(k1 - 1, k0 - 1, -1):
+        if pos[0] == 1:  # recompute f_k, k0 <= k < k1, from the checkpoint
+            if pos[2] < 0:
+                blk_off[0] = 0
+                for k in range(k0, k1):
+                    blk_off[k - k0 + 1] = blk_off[k - k0] + (1 << nb[k])
+                blk[0:blk_off[1]] = ck[ck_off[b]:ck_off[b + 1]]
+                pos[2] = k0
+            k = pos[2]
+            while k < k1 - 1:
+                if left <= 0:
+                    pos[2] = k
+                    return False
+                i0, i1 = blk_off[k - k0], blk_off[k - k0 + 1]
+                _frontier_forward(ops[k, 0], ops[k, 1], ops[k, 2], nb[k], blk[i0:i1], G, W, s,
+                                  w_un)
+                blk[i1:blk_off[k - k0 + 2]] = G[:blk_off[k - k0 + 2] - i1]
+                k += 1
+                left -= 1
+            pos[0] = 2
+            pos[2] = k1 - 1
+        k = pos[2]
+        while k >= k0:
+            if left <= 0:
+                pos[2] = k
+                return False
+            odd = pos[3] % 2 == 1
+            Bk = Bn if odd else B  # the backward vector after operation k
             Fk = blk[blk_off[k - k0]:blk_off[k - k0 + 1]]
             kind, arg, slot, n = ops[k, 0], ops[k, 1], ops[k, 2], nb[k]
             if kind == TRANS:
@@ -371,18 +504,28 @@ def frontier_marginal_kernel(ops, W, s, w_un):
                     if w == 0.0:
                         continue
                     bit = 1 << e
-                    acc = 0.0
+                    a = 0.0
                     for hi in range(0, 1 << n, 2 * bit):
                         base = hi + bit
                         for lo in range(bit):
-                            acc += Fk[hi + lo] * B[base + lo]
-                    pair[arg, e] = w * acc
+                            a += Fk[hi + lo] * Bk[base + lo]
+                    pair[arg, e] = w * a
             elif kind == RETIRE:
                 # weight through "row arg leaves unmatched"
-                acc = 0.0
+                a = 0.0
                 for Sp in range((1 << n) >> 1):
-                    acc += Fk[_retire_source(Sp, slot, n - 1)] * B[Sp]
-                unmatched[arg] = w_un[arg] * acc
-            _frontier_adjoint(kind, arg, slot, n, B, Bn, W, s, w_un)
-            B, Bn = Bn, B
-    return total, pair, unmatched
+                    a += Fk[_retire_source(Sp, slot, n - 1)] * Bk[Sp]
+                unmatched[arg] = w_un[arg] * a
+            if odd:
+                _frontier_adjoint(kind, arg, slot, n, Bn, B, W, s, w_un)
+            else:
+                _frontier_adjoint(kind, arg, slot, n, B, Bn, W, s, w_un)
+            pos[3] += 1
+            k -= 1
+            left -= 1
+        pos[0] = 1
+        pos[1] = b - 1
+        pos[2] = -1
+    pos[0] = 3
+    return True
+

@@ -14,7 +14,7 @@ import numpy as np
 
 from rankedassign.numba_options import jit
 
-__all__ = ["count_kernel", "enumerate_kernel", "enumerate_sorted_kernel"]
+__all__ = ["count_slice", "enumerate_kernel", "enumerate_sorted_kernel", "NO_OPTION"]
 
 NO_OPTION = -1  # a row on the search stack before its first option
 
@@ -190,21 +190,25 @@ def enumerate_sorted_kernel(cc, n_out):
 
 
 @jit()
-def count_kernel(cc, cap):
-    """Count feasible assignments by depth-first search, stopping once the count exceeds ``cap``.
+def count_slice(cc, cap, used, opt, at, budget):
+    """Up to ``budget`` steps of counting feasible assignments by depth-first search; True when
+    it is done.
 
-    Returns ``min(count, cap + 1)``. Used only when the exact counting DP of
-    :meth:`~rankedassign.AssignmentProblem.n_feasible` refuses the size.
+    Once done ``at[1]`` is ``min(count, cap + 1)``: the search stops once the count exceeds
+    ``cap``. ``used`` (M,) bool starts all False, ``opt`` (P,) int64 at :data:`NO_OPTION`,
+    ``at`` (the search's row, the count) at zero; ``P >= 1``. Used only when the exact
+    counting DP of :meth:`~rankedassign.AssignmentProblem.n_feasible` refuses the size; the
+    caller loops over slices so that Ctrl-C ends a long count promptly.
     """
     P = cc.shape[0]
     M = cc.shape[1] - 2
-    if P == 0:
-        return 1
-    used = np.zeros(M, dtype=np.bool_)
-    opt = np.full(P, NO_OPTION, dtype=np.int64)
-    row = 0
-    n = 0
+    row, n = at[0], at[1]
+    steps = 0
     while row >= 0:
+        if steps >= budget:
+            at[0], at[1] = row, n
+            return False
+        steps += 1
         o = opt[row]
         if 0 <= o < M:
             used[o] = False
@@ -219,7 +223,8 @@ def count_kernel(cc, cap):
         if row == P - 1:
             n += 1
             if n > cap:
-                return n
+                break
         else:
             row += 1
-    return n
+    at[0], at[1] = row, n
+    return True

@@ -17,9 +17,9 @@ Layout for speed. The search (:func:`_search`) is one compiled loop on flat arra
 never reallocates: the warm-started augmenting path (the algorithm of
 :func:`.lsap.sap_augment`, same arithmetic and tie-breaking) is written inline, and the tree,
 the solutions, the forbidden-pair lists and the heap are plain arrays indexed by integers.
-When an array is full the loop returns, :func:`murty_kernel` grows the arrays and calls it
-again. At these sizes (tens of rows, about one augmenting path of one or two row scans per
-reported assignment) calls between small compiled helpers that each receive a dozen arrays,
+When an array is full the loop returns, the arrays are grown (:func:`grow_search`) and it is
+called again. At these sizes (tens of rows, about one augmenting path of one or two row scans
+per reported assignment) calls between small compiled helpers that each receive a dozen arrays,
 array views made per node and arrays rebound inside the loop (each costs atomic reference
 count updates) cost as much as the arithmetic; here nothing is allocated, called or
 reference-counted per node. Further savings that leave every result bit for bit unchanged:
@@ -28,9 +28,16 @@ fixed rows) without branches; the top of the heap is replaced in one sift-down (
 itself once solved, by its first child once partitioned); a scanned column is marked by
 ``d = -inf``; and a warm start keeps only the closest free column of its first row when that
 column opens the dummy-row hub (the other free columns would leave the frontier unscanned).
+
+Slices. The loop also returns after a budget of iterations, so that :func:`oracle.murty.murty`
+can run the search in slices (:func:`murty_compact_start`, then :func:`murty_slice` until
+done, the state a :class:`Search`) and a signal ends a long ranking promptly; the slices make
+the same iterations as one call, so the output does not depend on the budget.
 """
 
 from __future__ import annotations
+
+from collections import namedtuple
 
 import numpy as np
 
@@ -38,7 +45,9 @@ from rankedassign.numba_options import jit
 
 from .lsap import HUB, UNASSIGNED
 
-__all__ = ["murty_kernel", "murty_compact_kernel"]
+__all__ = ["murty_kernel", "murty_compact_kernel", "murty_start", "murty_slice", "grow_search",
+           "search_output", "pack_search", "compact_graph", "murty_compact_start", "Search",
+           "DONE", "PAUSED", "FULL"]
 
 NO_ENTRY = -1  # end of a forbidden-pair list; slot of a node that is not solved yet
 _INITIAL_CAPACITY = 1024
@@ -89,7 +98,8 @@ S_FORB = 3  # forbidden-pair entries used
 S_OUT = 4  # assignments reported
 S_BEST = 5  # entries in the max-heap of solved costs (kbest), reported ones included
 S_STALE = 6  # entries of kbest that belong to reported nodes
-N_STATE = 7
+S_ITER = 7  # iterations run (nodes taken from the top of the queue)
+N_STATE = 8
 
 
 @jit()
@@ -97,12 +107,14 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
             cand, touched, done, done_d, rows, node_key, node_slot, node_parent, node_forb,
             node_fixed, sol, sol_u, sol_v, sol_vfree, forb_row, forb_entry, forb_next, heap_key,
             heap_id, out_slot, out_cost, entry_of, order, lb, lb_col, fix_now, vx, sol_cost,
-            sol_scale, kbest, state, k):
-    """Run the search until ``k`` assignments are reported, the queue is empty or an array is
-    full; return True when finished (False: grow the arrays and call again).
+            sol_scale, kbest, state, k, budget):
+    """Run the search until ``k`` assignments are reported, the queue is empty, an array is
+    full or ``budget`` iterations are done; return True when finished (False: grow the arrays
+    if one is full, and call again).
 
     The counters live in ``state`` between calls; an iteration starts only when every array
-    has room for its worst case (``P`` children), so a return never leaves one half done.
+    has room for its worst case (``P`` children), so a return never leaves one half done, and
+    the calls together make the same iterations as one call.
     """
     P = col4row.shape[0]
     n_heap = state[S_HEAP]
@@ -112,13 +124,17 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
     n_out = state[S_OUT]
     n_best = state[S_BEST]
     n_stale = state[S_STALE]
+    n_iter = state[S_ITER]
+    stop_iter = n_iter + budget
     finished = True
     while n_heap > 0 and n_out < k:
         if (n_out == out_slot.shape[0] or n_sols == sol.shape[0] or n_nodes + P > node_key.shape[0]
                 or n_forb + P > forb_row.shape[0]
-                or n_best == kbest.shape[0] < k):  # (kbest never holds more than k)
+                or n_best == kbest.shape[0] < k  # (kbest never holds more than k)
+                or n_iter >= stop_iter):
             finished = False
             break
+        n_iter += 1
         # The least (key, id) is at the top. It stays there while it is processed and is then
         # replaced in one sift-down: by itself with its exact cost once solved, by its first
         # child once partitioned, or by the heap's last entry when it just leaves.
@@ -534,6 +550,7 @@ def _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d, path,
     state[S_OUT] = n_out
     state[S_BEST] = n_best
     state[S_STALE] = n_stale
+    state[S_ITER] = n_iter
     return finished
 
 
@@ -630,6 +647,255 @@ def _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, to
     return True
 
 
+#: The search's state between two calls of :func:`murty_slice`: the graph's current costs, the
+#: assignment state and workspace, the partition tree and heap, the solutions, the max-heap of
+#: the least solved costs, the forbidden-pair lists, the reported nodes, the counters
+#: (``S_*``) and the partition's scratch arrays.
+Search = namedtuple("Search", [
+    "cost", "u", "v", "col4row", "row4col", "active", "d", "path", "cand", "touched", "done",
+    "done_d", "rows", "rows_d", "node_key", "node_slot", "node_parent", "node_forb",
+    "node_fixed", "heap_key", "heap_id", "sol", "sol_u", "sol_v", "sol_vfree", "sol_cost",
+    "sol_scale", "kbest", "forb_row", "forb_entry", "forb_next", "out_slot", "out_cost",
+    "state", "entry_of", "order", "lb", "lb_col", "fix_now", "vx"])
+
+@jit()
+def pack_search(sr):
+    """A :class:`Search` as a plain tuple, the form it crosses into Python in.
+
+    numba boxes a named tuple by calling its class, Python code, where a signal handler's
+    exception crashes numba's return path (a segmentation fault, not an error); a plain tuple
+    is built in C and only ever raises. ``Search(*t)`` unpacks it in compiled code.
+    """
+    return (sr.cost, sr.u, sr.v, sr.col4row, sr.row4col, sr.active, sr.d, sr.path, sr.cand,
+            sr.touched, sr.done, sr.done_d, sr.rows, sr.rows_d, sr.node_key, sr.node_slot,
+            sr.node_parent, sr.node_forb, sr.node_fixed, sr.heap_key, sr.heap_id, sr.sol, sr.sol_u,
+            sr.sol_v, sr.sol_vfree, sr.sol_cost, sr.sol_scale, sr.kbest, sr.forb_row,
+            sr.forb_entry, sr.forb_next, sr.out_slot, sr.out_cost, sr.state, sr.entry_of, sr.order,
+            sr.lb, sr.lb_col, sr.fix_now, sr.vx)
+
+
+#: :func:`murty_slice`: the search is over, a slice's budget is spent, an array is full.
+DONE, PAUSED, FULL = 0, 1, 2
+
+
+@jit()
+def new_search(ptr, col, cost0, pos, P, N, k):
+    """The root's LSAP and a :class:`Search` with the root in the queue.
+
+    Arguments as in :func:`murty_kernel`. Returns ``(ok, search)``, the search packed
+    (:func:`pack_search`); ``ok`` is False when the problem has no feasible assignment (the
+    search is then empty).
+    """
+    cost = cost0.copy()  # forbidden entries of the current node are set to +inf for a while
+    # the assignment state (duals, matching, active columns) and the search's workspace
+    u = np.zeros(P)
+    v = np.zeros(N)
+    col4row = np.full(P, UNASSIGNED, dtype=np.int64)
+    row4col = np.full(N, UNASSIGNED, dtype=np.int64)
+    active = np.ones(N, dtype=np.bool_)
+    d = np.full(N, np.inf)
+    path = np.empty(N, dtype=np.int64)
+    cand = np.empty(N, dtype=np.int64)
+    touched = np.empty(N, dtype=np.int64)
+    done = np.empty(N, dtype=np.int64)
+    done_d = np.empty(N)
+    rows = np.empty(P, dtype=np.int64)
+    rows_d = np.empty(P)
+    ok = _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, touched,
+                    done, done_d, rows)
+    # the partition tree: heap key (exact cost once solved, a lower bound before), slot of
+    # the solution (NO_ENTRY until solved), slot of the parent's solution, head of the
+    # forbidden-pair list (own pair first, then the ancestors'), rows fixed to the parent
+    cap = max(_INITIAL_CAPACITY, 2 * P)
+    node_key = np.empty(cap)
+    node_slot = np.empty(cap, dtype=np.int64)
+    node_parent = np.empty(cap, dtype=np.int64)
+    node_forb = np.empty(cap, dtype=np.int64)
+    n_words = (P + 63) >> 6  # fixed rows as bits, 64 to a word
+    node_fixed = np.zeros((cap, n_words), dtype=np.int64)
+    heap_key = np.empty(cap)  # binary heap of (key, node id)
+    heap_id = np.empty(cap, dtype=np.int64)
+    # solved nodes: assignment, row duals, dual of each row's column, free-column potential
+    sol_cap = _INITIAL_CAPACITY
+    sol = np.empty((sol_cap, P), dtype=np.int64)
+    sol_u = np.empty((sol_cap, P))
+    sol_v = np.empty((sol_cap, P))
+    sol_vfree = np.empty(sol_cap)
+    sol_cost = np.empty(sol_cap)  # exact cost of each solution, and its rounding scale
+    sol_scale = np.empty(sol_cap)
+    kbest = np.empty(min(k, _INITIAL_CAPACITY))  # max-heap: the least solved costs
+    # forbidden pairs: row, graph entry, next entry of the list
+    forb_cap = max(_INITIAL_CAPACITY, 2 * P)
+    forb_row = np.empty(forb_cap, dtype=np.int64)
+    forb_entry = np.empty(forb_cap, dtype=np.int64)
+    forb_next = np.empty(forb_cap, dtype=np.int64)
+    out_cap = min(k, _INITIAL_CAPACITY)
+    out_slot = np.empty(out_cap, dtype=np.int64)  # solution slot of each reported node
+    out_cost = np.empty(out_cap)
+    state = np.zeros(N_STATE, dtype=np.int64)
+    search = Search(cost, u, v, col4row, row4col, active, d, path, cand, touched, done, done_d,
+                    rows, rows_d, node_key, node_slot, node_parent, node_forb, node_fixed,
+                    heap_key, heap_id, sol, sol_u, sol_v, sol_vfree, sol_cost, sol_scale, kbest,
+                    forb_row, forb_entry, forb_next, out_slot, out_cost, state,
+                    np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64), np.empty(P),
+                    np.empty(P, dtype=np.int64), np.empty(n_words, dtype=np.int64),
+                    np.empty(N))
+    if not ok:
+        return False, pack_search(search)
+    key0 = 0.0
+    for i in range(P):
+        c = col4row[i]
+        sol[0, i] = c
+        sol_u[0, i] = u[i]
+        sol_v[0, i] = v[c]
+        key0 += cost0[pos[i, c]]
+        row4col[c] = UNASSIGNED
+    sol_vfree[0] = 0.0
+    sol_cost[0] = key0
+    kbest[0] = key0
+    node_key[0] = key0
+    node_slot[0] = 0
+    node_parent[0] = NO_ENTRY
+    node_forb[0] = NO_ENTRY
+    heap_key[0] = key0
+    heap_id[0] = 0
+    state[S_HEAP] = 1
+    state[S_NODES] = 1
+    state[S_SOLS] = 1
+    state[S_BEST] = 1
+    return True, pack_search(search)
+
+
+@jit()
+def murty_slice(ptr, col, cost0, pos, search, k, budget):
+    """At most ``budget`` iterations of ``search`` (a packed :class:`Search`), in place.
+
+    Returns :data:`DONE`, :data:`PAUSED` (call again) or :data:`FULL` (an array is full:
+    :func:`grow_search`, then call again). Only an integer comes back, so a signal that
+    arrived during the call is raised by the caller as itself.
+    """
+    sr = Search(*search)
+    if _search(ptr, col, sr.cost, cost0, pos, sr.u, sr.v, sr.col4row, sr.row4col, sr.active,
+               sr.d, sr.path, sr.rows_d, sr.cand, sr.touched, sr.done, sr.done_d, sr.rows,
+               sr.node_key, sr.node_slot, sr.node_parent, sr.node_forb, sr.node_fixed, sr.sol,
+               sr.sol_u, sr.sol_v, sr.sol_vfree, sr.forb_row, sr.forb_entry, sr.forb_next,
+               sr.heap_key, sr.heap_id, sr.out_slot, sr.out_cost, sr.entry_of, sr.order, sr.lb,
+               sr.lb_col, sr.fix_now, sr.vx, sr.sol_cost, sr.sol_scale, sr.kbest, sr.state, k,
+               budget):
+        return DONE
+    state = sr.state
+    P = sr.col4row.shape[0]
+    if (state[S_OUT] == sr.out_slot.shape[0] or state[S_SOLS] == sr.sol.shape[0]
+            or state[S_BEST] == sr.kbest.shape[0] < k or state[S_NODES] + P > sr.node_key.shape[0]
+            or state[S_FORB] + P > sr.forb_row.shape[0]):
+        return FULL
+    return PAUSED
+
+
+@jit()
+def grow_search(search, k):
+    """Packed ``search`` with every full array doubled (every array the next iteration may
+    fill)."""
+    sr = Search(*search)
+    P = sr.col4row.shape[0]
+    state = sr.state
+    out_slot, out_cost = sr.out_slot, sr.out_cost
+    if state[S_OUT] == out_slot.shape[0]:
+        out_slot = _grow(out_slot, min(k, 2 * out_slot.shape[0]))
+        out_cost = _grow(out_cost, out_slot.shape[0])
+    sol, sol_u, sol_v = sr.sol, sr.sol_u, sr.sol_v
+    sol_vfree, sol_cost, sol_scale = sr.sol_vfree, sr.sol_cost, sr.sol_scale
+    if state[S_SOLS] == sol.shape[0]:
+        n = 2 * sol.shape[0]
+        sol = _grow(sol, n)
+        sol_u = _grow(sol_u, n)
+        sol_v = _grow(sol_v, n)
+        sol_vfree = _grow(sol_vfree, n)
+        sol_cost = _grow(sol_cost, n)
+        sol_scale = _grow(sol_scale, n)
+    kbest = sr.kbest
+    if state[S_BEST] == kbest.shape[0] < k:
+        kbest = _grow(kbest, min(k, 2 * kbest.shape[0]))
+    node_key, node_slot, node_parent = sr.node_key, sr.node_slot, sr.node_parent
+    node_forb, node_fixed, heap_key, heap_id = sr.node_forb, sr.node_fixed, sr.heap_key, sr.heap_id
+    if state[S_NODES] + P > node_key.shape[0]:
+        n = 2 * node_key.shape[0]
+        node_key = _grow(node_key, n)
+        node_slot = _grow(node_slot, n)
+        node_parent = _grow(node_parent, n)
+        node_forb = _grow(node_forb, n)
+        node_fixed = _grow(node_fixed, n)
+        heap_key = _grow(heap_key, n)
+        heap_id = _grow(heap_id, n)
+    forb_row, forb_entry, forb_next = sr.forb_row, sr.forb_entry, sr.forb_next
+    if state[S_FORB] + P > forb_row.shape[0]:
+        n = 2 * forb_row.shape[0]
+        forb_row = _grow(forb_row, n)
+        forb_entry = _grow(forb_entry, n)
+        forb_next = _grow(forb_next, n)
+    return pack_search(Search(
+        sr.cost, sr.u, sr.v, sr.col4row, sr.row4col, sr.active, sr.d, sr.path, sr.cand,
+        sr.touched, sr.done, sr.done_d, sr.rows, sr.rows_d, node_key, node_slot, node_parent,
+        node_forb, node_fixed, heap_key, heap_id, sol, sol_u, sol_v, sol_vfree, sol_cost,
+        sol_scale, kbest, forb_row, forb_entry, forb_next, out_slot, out_cost, state,
+        sr.entry_of, sr.order, sr.lb, sr.lb_col, sr.fix_now, sr.vx))
+
+
+@jit()
+def search_output(search):
+    """The reported assignments ``(n, P)`` and their costs ``(n,)`` of a finished (packed)
+    search."""
+    sr = Search(*search)
+    P = sr.col4row.shape[0]
+    sol, out_slot, out_cost = sr.sol, sr.out_slot, sr.out_cost
+    n_out = sr.state[S_OUT]
+    out = np.empty((n_out, P), dtype=np.int64)
+    for t in range(n_out):
+        for i in range(P):
+            out[t, i] = sol[out_slot[t], i]
+    # A stable insertion sort removes the rare last-bit inversion between a node and a child
+    # of equal cost summed in another order (the output is already sorted up to those).
+    row = np.empty(P, dtype=np.int64)
+    for t in range(1, n_out):
+        x = out_cost[t]
+        if not x < out_cost[t - 1]:
+            continue
+        for i in range(P):
+            row[i] = out[t, i]
+        b = t - 1
+        while b >= 0 and x < out_cost[b]:
+            out_cost[b + 1] = out_cost[b]
+            for i in range(P):
+                out[b + 1, i] = out[b, i]
+            b -= 1
+        out_cost[b + 1] = x
+        for i in range(P):
+            out[b + 1, i] = row[i]
+    return out, out_cost[:n_out]
+
+
+@jit()
+def murty_start(ptr, col, cost0, pos, P, N, k, budget):
+    """:func:`new_search` and its first ``budget`` iterations (:func:`murty_slice`).
+
+    Returns ``(assignments, costs, None)`` as documented in :func:`murty_kernel` when the
+    search ends within the budget (one call: small searches cost what they cost before),
+    else ``(empty, empty, search)`` with the packed :class:`Search` to continue.
+    """
+    ok, search = new_search(ptr, col, cost0, pos, P, N, k)
+    if not ok:
+        return np.empty((0, P), dtype=np.int64), np.empty(0), None
+    status = murty_slice(ptr, col, cost0, pos, search, k, budget)
+    while status == FULL:
+        search = grow_search(search, k)
+        done = Search(*search).state[S_ITER]
+        status = murty_slice(ptr, col, cost0, pos, search, k, max(1, budget - done))
+    if status == DONE:
+        out, costs = search_output(search)
+        return out, costs, None
+    return np.empty((0, P), dtype=np.int64), np.empty(0), search
+
+
 @jit()
 def murty_kernel(ptr, col, cost0, pos, P, N, k):
     """Murty's ranked assignment with the Miller–Stone–Cox improvements.
@@ -679,140 +945,8 @@ def murty_kernel(ptr, col, cost0, pos, P, N, k):
     row's column and ``v_free``: ``O(P)`` numbers, not ``O(N)``. The root is a cold LSAP
     (:func:`.lsap.sap_augment` from each row in turn).
     """
-    cost = cost0.copy()  # forbidden entries of the current node are set to +inf for a while
-    # the assignment state (duals, matching, active columns) and the search's workspace
-    u = np.zeros(P)
-    v = np.zeros(N)
-    col4row = np.full(P, UNASSIGNED, dtype=np.int64)
-    row4col = np.full(N, UNASSIGNED, dtype=np.int64)
-    active = np.ones(N, dtype=np.bool_)
-    d = np.full(N, np.inf)
-    path = np.empty(N, dtype=np.int64)
-    cand = np.empty(N, dtype=np.int64)
-    touched = np.empty(N, dtype=np.int64)
-    done = np.empty(N, dtype=np.int64)
-    done_d = np.empty(N)
-    rows = np.empty(P, dtype=np.int64)
-    rows_d = np.empty(P)
-    if not _root_lsap(ptr, col, cost, u, v, col4row, row4col, d, path, rows_d, cand, touched,
-                      done, done_d, rows):
-        return np.empty((0, P), dtype=np.int64), np.empty(0)
-    # the partition tree: heap key (exact cost once solved, a lower bound before), slot of
-    # the solution (NO_ENTRY until solved), slot of the parent's solution, head of the
-    # forbidden-pair list (own pair first, then the ancestors'), rows fixed to the parent
-    cap = max(_INITIAL_CAPACITY, 2 * P)
-    node_key = np.empty(cap)
-    node_slot = np.empty(cap, dtype=np.int64)
-    node_parent = np.empty(cap, dtype=np.int64)
-    node_forb = np.empty(cap, dtype=np.int64)
-    n_words = (P + 63) >> 6  # fixed rows as bits, 64 to a word
-    node_fixed = np.zeros((cap, n_words), dtype=np.int64)
-    heap_key = np.empty(cap)  # binary heap of (key, node id)
-    heap_id = np.empty(cap, dtype=np.int64)
-    # solved nodes: assignment, row duals, dual of each row's column, free-column potential
-    sol_cap = _INITIAL_CAPACITY
-    sol = np.empty((sol_cap, P), dtype=np.int64)
-    sol_u = np.empty((sol_cap, P))
-    sol_v = np.empty((sol_cap, P))
-    sol_vfree = np.empty(sol_cap)
-    sol_cost = np.empty(sol_cap)  # exact cost of each solution, and its rounding scale
-    sol_scale = np.empty(sol_cap)
-    kbest = np.empty(min(k, _INITIAL_CAPACITY))  # max-heap: the least solved costs
-    # forbidden pairs: row, graph entry, next entry of the list
-    forb_cap = max(_INITIAL_CAPACITY, 2 * P)
-    forb_row = np.empty(forb_cap, dtype=np.int64)
-    forb_entry = np.empty(forb_cap, dtype=np.int64)
-    forb_next = np.empty(forb_cap, dtype=np.int64)
-    out_cap = min(k, _INITIAL_CAPACITY)
-    out_slot = np.empty(out_cap, dtype=np.int64)  # solution slot of each reported node
-    out_cost = np.empty(out_cap)
-
-    key0 = 0.0
-    for i in range(P):
-        c = col4row[i]
-        sol[0, i] = c
-        sol_u[0, i] = u[i]
-        sol_v[0, i] = v[c]
-        key0 += cost0[pos[i, c]]
-        row4col[c] = UNASSIGNED
-    sol_vfree[0] = 0.0
-    sol_cost[0] = key0
-    kbest[0] = key0
-    node_key[0] = key0
-    node_slot[0] = 0
-    node_parent[0] = NO_ENTRY
-    node_forb[0] = NO_ENTRY
-    heap_key[0] = key0
-    heap_id[0] = 0
-    state = np.zeros(N_STATE, dtype=np.int64)
-    state[S_HEAP] = 1
-    state[S_NODES] = 1
-    state[S_SOLS] = 1
-    state[S_BEST] = 1
-    entry_of = np.empty(P, dtype=np.int64)
-    order = np.empty(P, dtype=np.int64)
-    lb = np.empty(P)
-    lb_col = np.empty(P, dtype=np.int64)
-    fix_now = np.empty(n_words, dtype=np.int64)
-    vx = np.empty(N)
-    while not _search(ptr, col, cost, cost0, pos, u, v, col4row, row4col, active, d,
-                      path, rows_d, cand, touched, done, done_d, rows, node_key,
-                      node_slot, node_parent, node_forb, node_fixed, sol, sol_u, sol_v,
-                      sol_vfree, forb_row, forb_entry, forb_next, heap_key, heap_id, out_slot,
-                      out_cost, entry_of, order, lb, lb_col, fix_now, vx, sol_cost, sol_scale,
-                      kbest, state, k):
-        # an array is full: double it (every array the next iteration may fill)
-        if state[S_OUT] == out_slot.shape[0]:
-            out_slot = _grow(out_slot, min(k, 2 * out_slot.shape[0]))
-            out_cost = _grow(out_cost, out_slot.shape[0])
-        if state[S_SOLS] == sol.shape[0]:
-            n = 2 * sol.shape[0]
-            sol = _grow(sol, n)
-            sol_u = _grow(sol_u, n)
-            sol_v = _grow(sol_v, n)
-            sol_vfree = _grow(sol_vfree, n)
-            sol_cost = _grow(sol_cost, n)
-            sol_scale = _grow(sol_scale, n)
-        if state[S_BEST] == kbest.shape[0] < k:
-            kbest = _grow(kbest, min(k, 2 * kbest.shape[0]))
-        if state[S_NODES] + P > node_key.shape[0]:
-            n = 2 * node_key.shape[0]
-            node_key = _grow(node_key, n)
-            node_slot = _grow(node_slot, n)
-            node_parent = _grow(node_parent, n)
-            node_forb = _grow(node_forb, n)
-            node_fixed = _grow(node_fixed, n)
-            heap_key = _grow(heap_key, n)
-            heap_id = _grow(heap_id, n)
-        if state[S_FORB] + P > forb_row.shape[0]:
-            n = 2 * forb_row.shape[0]
-            forb_row = _grow(forb_row, n)
-            forb_entry = _grow(forb_entry, n)
-            forb_next = _grow(forb_next, n)
-    n_out = state[S_OUT]
-    out = np.empty((n_out, P), dtype=np.int64)
-    for t in range(n_out):
-        for i in range(P):
-            out[t, i] = sol[out_slot[t], i]
-    # A stable insertion sort removes the rare last-bit inversion between a node and a child
-    # of equal cost summed in another order (the output is already sorted up to those).
-    row = np.empty(P, dtype=np.int64)
-    for t in range(1, n_out):
-        x = out_cost[t]
-        if not x < out_cost[t - 1]:
-            continue
-        for i in range(P):
-            row[i] = out[t, i]
-        b = t - 1
-        while b >= 0 and x < out_cost[b]:
-            out_cost[b + 1] = out_cost[b]
-            for i in range(P):
-                out[b + 1, i] = out[b, i]
-            b -= 1
-        out_cost[b + 1] = x
-        for i in range(P):
-            out[b + 1, i] = row[i]
-    return out, out_cost[:n_out]
+    out, costs, _ = murty_start(ptr, col, cost0, pos, P, N, k, 1 << 62)
+    return out, costs
 
 
 @jit()
@@ -845,6 +979,23 @@ def compact_graph(cc):
                 pos[i, col[e]] = e
                 e += 1
     return ptr, col, cost, pos
+
+
+@jit()
+def murty_compact_start(cc, k, budget):
+    """:func:`murty_start` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``.
+
+    Returns ``(assignments, costs, None)`` when done within the budget, else ``(empty,
+    empty, (graph, search))`` with the graph ``(ptr, col, cost, pos)`` of
+    :func:`compact_graph` and the packed search to continue with :func:`murty_slice`.
+    """
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    ptr, col, cost, pos = compact_graph(cc)
+    out, costs, search = murty_start(ptr, col, cost, pos, P, M + 2 * P, k, budget)
+    if search is None:
+        return out, costs, None
+    return out, costs, ((ptr, col, cost, pos), search)
 
 
 @jit()

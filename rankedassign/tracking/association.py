@@ -22,7 +22,7 @@ import numpy as np
 
 import oracle
 
-from ..numba_options import jit
+from ..numba_options import interruptible, jit
 from ..problem import AssignmentProblem
 from ..samplers import sample_original, sample_short_chains
 from ..validation import check_choice, check_int, check_optional_int
@@ -209,8 +209,10 @@ def _marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, method:
         finite = np.isfinite(C[:, :M])
         ptr = np.concatenate([[0], np.cumsum(finite.sum(axis=1))]).astype(np.int64)
         cols = np.nonzero(finite)[1].astype(np.int64)
-        return _rao_blackwell(C, a, w, M, ptr, cols)
-    return _kernels.truncated_marginals(a, w, M)
+        with interruptible:
+            return _rao_blackwell(C, a, w, M, ptr, cols)
+    with interruptible:
+        return _kernels.truncated_marginals(a, w, M)
 
 
 class Association:

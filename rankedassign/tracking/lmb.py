@@ -41,6 +41,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from .._rng import spawning_generator
+from ..numba_options import interruptible
 from ..problem import AssignmentProblem
 from ..validation import check_bool, check_choice, check_int, check_real, check_type
 from . import _kernels
@@ -137,7 +138,8 @@ def group_tracks(gated: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     gated = np.ascontiguousarray(gated, dtype=np.bool_)
     if gated.ndim != 2:
         raise ValueError(f"gated must be a 2-D (T, M) array, got shape {gated.shape}")
-    track_group, meas_group, n = _kernels.connected_groups(gated)
+    with interruptible:
+        track_group, meas_group, n = _kernels.connected_groups(gated)
     return [(np.flatnonzero(track_group == g), np.flatnonzero(meas_group == g))
             for g in range(n)]
 
@@ -155,7 +157,8 @@ def map_cardinality(r: np.ndarray) -> int:
     (2, 0)
     """
     r = np.ascontiguousarray(r, dtype=np.float64).reshape(-1)
-    return int(np.argmax(_kernels.cardinality_distribution(r)))
+    with interruptible:
+        return int(np.argmax(_kernels.cardinality_distribution(r)))
 
 
 class ScanRecord(NamedTuple):
@@ -425,19 +428,21 @@ class LMBFilter:
         if M == 0:
             return _Terms.empty(self, T)
         gate = 0.0 if self.gate is None else self.gate
-        det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
-            self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None
-        )
+        with interruptible:
+            det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
+                self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None
+            )
         used = np.flatnonzero(gated.any(axis=0))
         gated = gated[:, used]
         with np.errstate(divide="ignore"):
             log_r = np.log(self.r)
             log_dead = np.log1p(-self.r)
         # ln w_c + ln N(z_j; H m_c, S_c), ln Σ_c w_c N(...) per track, ln η_t(j) (6.2)
-        lw, log_g, log_det = _kernels.detection_log_weights(
-            maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_r, self._log_pd,
-            self._log_kappa,
-        )
+        with interruptible:
+            lw, log_g, log_det = _kernels.detection_log_weights(
+                maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_r, self._log_pd,
+                self._log_kappa,
+            )
         return _Terms(
             used=used, gated=gated, Sinv=Sinv, nu=nu[:, used], lw=lw, log_g=log_g,
             log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead,
@@ -453,9 +458,10 @@ class LMBFilter:
     @staticmethod
     def _group_problem(terms: _Terms, rows: np.ndarray, cols: np.ndarray) -> AssignmentProblem:
         """The ranked-assignment problem (cost ``−ln η``, paper layout) of tracks ``rows``."""
-        return AssignmentProblem(
-            _kernels.group_cost_matrix(terms.log_det, terms.log_miss, terms.log_dead, rows, cols)
-        )
+        with interruptible:
+            cost = _kernels.group_cost_matrix(terms.log_det, terms.log_miss, terms.log_dead,
+                                              rows, cols)
+        return AssignmentProblem(cost)
 
     def _associate(self, terms: _Terms, groups, gen: np.random.Generator):
         """Marginals ``β`` (T, U + 2) of every group and the accounting summed over them."""
@@ -589,9 +595,10 @@ class LMBFilter:
         rel = beta[:, : M + 1] / safe_r[:, None]  # β_ij / r_i, (T, M + 1)
         # which predicted component, track and measurement (-1: missed) each posterior
         # component comes from, grouped by track
-        comp, track, meas, log_ratio, counts = _kernels.posterior_sources(
-            self.offsets, rel, self.prune_component, lw, log_g
-        )
+        with interruptible:
+            comp, track, meas, log_ratio, counts = _kernels.posterior_sources(
+                self.offsets, rel, self.prune_component, lw, log_g
+            )
         # w̃_cj = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
         ratio = np.exp(log_ratio)
         if (meas >= 0).any():
@@ -602,9 +609,10 @@ class LMBFilter:
             P_upd = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
         else:
             K, P_upd = np.empty((0, 4, 2)), np.empty((0, 4, 4))
-        w_all, m_all, P_all = _kernels.posterior_components(
-            comp, track, meas, ratio, rel, self.w, self.m, self.P, K, nu, P_upd
-        )
+        with interruptible:
+            w_all, m_all, P_all = _kernels.posterior_components(
+                comp, track, meas, ratio, rel, self.w, self.m, self.P, K, nu, P_upd
+            )
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         return r_new, (offsets, w_all, m_all, P_all)
 
@@ -620,10 +628,11 @@ class LMBFilter:
             keep = np.zeros(T, dtype=bool)
             keep[best] = True
         # weights within each track sum to Σ_j β_ij / r_i · Σ w̃ = 1 before pruning
-        self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
-            offsets, np.ascontiguousarray(w), np.ascontiguousarray(m), np.ascontiguousarray(P),
-            keep, self.prune_component, self.merge_threshold, self.max_components, self._rule,
-        )
+        with interruptible:
+            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+                offsets, np.ascontiguousarray(w), np.ascontiguousarray(m), np.ascontiguousarray(P),
+                keep, self.prune_component, self.merge_threshold, self.max_components, self._rule,
+            )
         self.r = r_new[keep]
         self.labels = self.labels[keep]
         self.confirmed = self.confirmed[keep]

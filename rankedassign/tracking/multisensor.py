@@ -40,6 +40,7 @@ from scipy.special import logsumexp
 
 from .._rng import spawning_generator
 from ..multisensor import MultiSensorProblem
+from ..numba_options import interruptible
 from ..validation import check_bool, check_int, check_type
 from . import _kernels
 from .adaptive_birth import AdaptiveBirth, empty_birth
@@ -496,9 +497,10 @@ class MultiSensorLMBFilter(LMBFilter):
                 used.append(np.empty(0, dtype=np.int64))
                 gated.append(np.zeros((T, 0), dtype=bool))
                 continue
-            _, _, _, _, g = _kernels.gate_and_distances(
-                self.m, self.P, R, z, self.offsets, gate, self.gate is not None
-            )
+            with interruptible:
+                _, _, _, _, g = _kernels.gate_and_distances(
+                    self.m, self.P, R, z, self.offsets, gate, self.gate is not None
+                )
             u = np.flatnonzero(g.any(axis=0))
             used.append(u)
             gated.append(np.ascontiguousarray(g[:, u]))

@@ -21,7 +21,7 @@ import numpy as np
 import oracle
 
 from ..multisensor import MultiSensorProblem
-from ..numba_options import jit
+from ..numba_options import interruptible, jit
 from ..samplers import sample_original, sample_short_chains
 from ..validation import check_choice, check_int, check_optional_int
 from .association import MARGINALS, Association
@@ -218,17 +218,19 @@ def _marginals(problem: MultiSensorProblem, g: np.ndarray, c: np.ndarray, method
         ptr = np.concatenate([[0], np.cumsum(finite.sum(axis=1))]).astype(np.int64)
         rows, flat = np.nonzero(finite)
         opt_tuple = np.ascontiguousarray(problem.tuples[flat], dtype=np.int64)
-        dead, tup = _rao_blackwell(
-            g, w, np.ascontiguousarray(problem.log_eta_dead), ptr, opt_tuple,
-            flat.astype(np.int64), np.ascontiguousarray(la[rows, flat]), n_t,
-            np.array(problem.n_meas, dtype=np.int64),
-        )
+        with interruptible:
+            dead, tup = _rao_blackwell(
+                g, w, np.ascontiguousarray(problem.log_eta_dead), ptr, opt_tuple,
+                flat.astype(np.int64), np.ascontiguousarray(la[rows, flat]), n_t,
+                np.array(problem.n_meas, dtype=np.int64),
+            )
     else:
         strides = np.array([int(np.prod(dims[v + 2:])) for v in range(len(dims) - 1)],
                            dtype=np.int64)
         flat = (np.maximum(g, 0) * strides).sum(axis=2)
-        dead, tup = _truncated(np.ascontiguousarray(flat), np.ascontiguousarray(g[:, :, 0] < 0),
-                               w, n_t)
+        with interruptible:
+            dead, tup = _truncated(np.ascontiguousarray(flat), np.ascontiguousarray(g[:, :, 0] < 0),
+                                   w, n_t)
     return dead, tup.reshape(dims)
 
 
