@@ -628,7 +628,8 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
 
     Returns ``(states, counts, ctr, None)`` as documented in :func:`make_driver` when the run
     ends within the budget (one call, no state handed back: the common case costs what a run
-    in one call costs), else ``(empty, empty, ctr, run)`` with the :class:`Run` to continue.
+    in one call costs), else ``(empty, empty, ctr, run)`` with the packed :class:`Run` to
+    continue (:func:`_pack`).
     """
     run = _new_run_impl(data, zkeys, x0, n_chains, chain_length, batch, workers)
     status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,

@@ -39,8 +39,14 @@ result with an exception set``. Every call of such a kernel from Python runs ins
 ``with interruptible:``, which raises the handler's exception itself instead. A kernel called
 from Python never returns a named tuple: numba boxes one by calling its class, and a handler's
 exception raised there crashes the process (a segmentation fault); records cross into Python
-as plain tuples. Kernels that can run for long are also cut into slices
-(:mod:`rankedassign._chains`, "Slices"), so that the handler runs soon.
+as plain tuples. Kernels that can run for long are also cut into slices, so that the
+handler runs soon: the chain driver of every sampler (:mod:`rankedassign._chains`,
+"Slices"), the oracle's subset, frontier and multi-sensor row DPs, the surrogate's
+matched-subset DP, Murty's search and the counting searches. A slice never splits one sweep,
+one DP step or one Murty iteration, which the problem's size bounds. Not sliced, because the
+input bounds them: the tracking kernels (one scan's tracks, components and measurements), the
+LSAP, and the enumeration of the assignments themselves (run only once their count is known to
+be within ``limit``).
 """
 
 from __future__ import annotations
