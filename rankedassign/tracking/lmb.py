@@ -203,6 +203,27 @@ class ScanRecord(NamedTuple):
 
 
 # ------------------------------------------------------------------------------- filter
+def _check_association_kind(association, filter_name: str, wrong_base: type, kind: str,
+                           example: str, other_filter: str) -> None:
+    """Refuse a non-callable, or one of the library's associations of the other kind.
+
+    ``kind`` is this filter's kind ("single-sensor" or "multi-sensor"), ``example`` one of its
+    association classes, ``wrong_base`` the base class of the other kind's associations, which
+    ``other_filter`` takes. Plain functions pass.
+    """
+    if not callable(association):
+        raise TypeError(
+            f"association must be callable as association(problem, rng), got "
+            f"{type(association).__name__}"
+        )
+    if isinstance(association, wrong_base):
+        other = "multi-sensor" if kind == "single-sensor" else "single-sensor"
+        raise TypeError(
+            f"{filter_name} needs a {kind} association such as {example}; got "
+            f"{type(association).__name__} (a {other} association, for {other_filter})"
+        )
+
+
 class LMBFilter:
     """Compact LMB filter with Gaussian-mixture tracks and pluggable association.
 
@@ -346,17 +367,8 @@ class LMBFilter:
     @staticmethod
     def _check_association(association) -> None:
         """Refuse what is not an association of this filter (a multi-sensor one included)."""
-        if not callable(association):
-            raise TypeError(
-                f"association must be callable as association(problem, rng), got "
-                f"{type(association).__name__}"
-            )
-        if isinstance(association, MultiSensorAssociation):
-            raise TypeError(
-                "LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
-                f"{type(association).__name__} (a multi-sensor association, for "
-                "MultiSensorLMBFilter)"
-            )
+        _check_association_kind(association, "LMBFilter", MultiSensorAssociation,
+                               "single-sensor", "ShortChainGibbs", "MultiSensorLMBFilter")
 
     # ----------------------------------------------------------------------- state
     def reset(self) -> None:

@@ -48,6 +48,7 @@ from .association import Association
 from .lmb import (
     LMBFilter,
     ScanRecord,
+    _check_association_kind,
     _check_distribution,
     _check_measurements,
     group_tracks,
@@ -312,17 +313,8 @@ class MultiSensorLMBFilter(LMBFilter):
     @staticmethod
     def _check_association(association) -> None:
         """Refuse what is not a multi-sensor association (a single-sensor one included)."""
-        if not callable(association):
-            raise TypeError(
-                f"association must be callable as association(problem, rng), got "
-                f"{type(association).__name__}"
-            )
-        if isinstance(association, Association):
-            raise TypeError(
-                "MultiSensorLMBFilter needs a multi-sensor association such as "
-                f"MultiSensorShortChains; got {type(association).__name__} (a single-sensor "
-                "association, for LMBFilter)"
-            )
+        _check_association_kind(association, "MultiSensorLMBFilter", Association, "multi-sensor",
+                               "MultiSensorShortChains", "LMBFilter")
 
     def reset(self) -> None:
         """Forget every track (and, with adaptive birth, the pending births); restart at scan 1.
