@@ -1096,10 +1096,16 @@ COMPILED_ONLY = {"filter/paper/short-chains-rao-blackwell",
                  "filter/multi/short-chains-exact-rao-blackwell/paper"}
 
 
-@pytest.mark.parametrize("name", list(CASES))
+_AS_PYTHON = pytest.mark.xfail(
+    condition=bool(numba.config.DISABLE_JIT), strict=True,
+    reason="as plain Python the kernel's exp is numpy's, which differs from the C library's in "
+           "the last bit on 4.7 % of 200 000 random inputs; measured: existence off by up to "
+           "1.6e-15, states by 3.6e-15")
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=_AS_PYTHON) if n in COMPILED_ONLY
+                                  else n for n in CASES])
 def test_digest(name):
-    if name in COMPILED_ONLY and numba.config.DISABLE_JIT:
-        pytest.skip("recorded with compiled kernels (exp of the C library, not numpy's)")
     assert name in DIGESTS, f"no digest recorded for {name}"
     assert compute(name) == DIGESTS[name], f"output of {name} changed"
 
