@@ -8,13 +8,13 @@ Run the timings with::
 sweeps per call, so ``mean / sweeps`` is the time per sweep (one sweep = ``V`` sensor updates
 in the ratio form, each a Cholesky factor of the 4 x 4 information matrix and ``M_v`` quadratic
 forms). Problems: the diagonal family of the adaptive-birth study
-(:func:`rankedassign.experiments.adaptive_birth_study.make_family`, ``rng=0``).
+(:func:`rankedassign.adaptive_birth.synthetic.make_family`, ``rng=0``).
 """
 
 import pytest
 
 from rankedassign import reference, sample_original
-from rankedassign.experiments.adaptive_birth_study import make_family
+from rankedassign.adaptive_birth.synthetic import make_family
 
 SIZES = [(2, 10), (4, 10), (8, 4), (8, 10), (4, 30)]
 SWEEPS = {"numba": 20_000, "python": 100}

@@ -22,12 +22,12 @@ import numpy as np
 import pytest
 
 from rankedassign import sample_original
-from rankedassign._rng import SplitMix64
-from rankedassign._rng_kernels import zobrist_keys
+from rankedassign.engine._kernels import zobrist_keys
+from rankedassign.engine.rng import SplitMix64
 from rankedassign.multisensor import _kernels as K
 from rankedassign.multisensor import reference as R
 from rankedassign.multisensor import synthetic
-from rankedassign.multisensor.sampling import METHODS, prepare_data, start_state
+from rankedassign.multisensor.prepare import METHODS, prepare_data, start_state
 
 SIZES = {
     "A": (4, (4, 4)),

@@ -33,7 +33,8 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 from oracle import enumerate_assignments, log_normalizer, marginals, murty
-from rankedassign import AssignmentProblem, synthetic
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
 
 PROBLEMS = {
     "4x24": lambda: synthetic.random(rng=0),

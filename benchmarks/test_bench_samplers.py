@@ -14,7 +14,8 @@ Problems: the paper's ``4 x 24`` random matrix (``synthetic.random(rng=0)``) and
 
 import pytest
 
-from rankedassign import reference, sample_original, sample_short_chains, synthetic, warmup
+from rankedassign import reference, sample_original, sample_short_chains, warmup
+from rankedassign.single import synthetic
 
 PROBLEMS = {
     "4x24": lambda: synthetic.random(rng=0),

@@ -7,7 +7,7 @@ Run the timings and draw the figure of the docs with::
     python benchmarks/plot_sweep_scaling.py scaling.json docs/figures/sweep_scaling.png
 
 A row update draws either by the direct sum over the row's ``M + 2`` candidates (``O(M)``) or,
-when :func:`rankedassign._sampling.uses_prefix_sums` says so (``M > 32`` and ``M > 2 P``), from
+when :func:`rankedassign.single.prepare.uses_prefix_sums` says so (``M > 32`` and ``M > 2 P``), from
 per-row prefix sums corrected for the measurements the other rows hold (``O(P + log M)``).
 Each size runs twice: ``rule="direct"`` forces the direct sum on every row (the sampler before
 the prefix sums: *before*), ``rule="auto"`` is the sampler as shipped (*after*). Both rules
@@ -19,7 +19,9 @@ the problems are the paper's random family (``synthetic.random(R=P, M=M)``).
 
 import pytest
 
-from rankedassign import _sampling, sample_original, synthetic, warmup
+from rankedassign import kinds, sample_original, warmup
+from rankedassign.engine import result as _sampling
+from rankedassign.single import synthetic
 
 #: Grids of the figure: M at P = 50, and P at M = 1000.
 MS = (50, 100, 200, 500, 1_000, 2_000, 5_000, 10_000)
@@ -71,6 +73,6 @@ def test_bench_sweep_against_P(benchmark, P, rule):
 def test_direct_rule_is_forced(monkeypatch):
     """The ``direct`` fixture really switches the large problems to the direct draw."""
     p = synthetic.random(R=5, M=100, rng=0)
-    assert _sampling.prepare(p, "all_missed", "systematic", 0).kind == "single_prefix"
+    assert kinds.prepare(p, "all_missed", "systematic", 0).driver == "prefix"
     monkeypatch.setattr(_sampling, "uses_prefix_sums", lambda P, M: False)
-    assert _sampling.prepare(p, "all_missed", "systematic", 0).kind == "single"
+    assert kinds.prepare(p, "all_missed", "systematic", 0).driver == "direct"

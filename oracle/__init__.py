@@ -8,7 +8,7 @@ set of sampled assignments.
 The same functions accept a multi-sensor problem
 (:class:`rankedassign.multisensor.MultiSensorProblem`: enumeration, a row DP over
 used-measurement masks, :class:`MultiSensorMarginals`) or an adaptive-birth problem
-(:class:`rankedassign.multisensor.AdaptiveBirthProblem`: the dense tuple tensor).
+(:class:`rankedassign.adaptive_birth.AdaptiveBirthProblem`: the dense tuple tensor).
 :func:`surrogate_log_normalizer` is the exact normaliser of the MM-Gibbs surrogate target, and
 the submodules :mod:`oracle.transition` and :mod:`oracle.adaptive_birth` build the exact
 one-sweep transition matrices of the multi-sensor and adaptive-birth Gibbs samplers on tiny

@@ -16,7 +16,7 @@ import math
 import numpy as np
 from scipy.special import logsumexp
 
-from rankedassign.multisensor import AdaptiveBirthProblem
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.validation import check_choice, check_int, check_type
 
 from ._result import Ranked, check_enumeration_size
@@ -59,12 +59,12 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
         If ``limit < 1``, the tuple space is larger than ``limit`` or would take more than
         :data:`~rankedassign.validation.MAX_WORK_BYTES` (the messages give the count and the
         bytes), or a tensor would have to be built beyond
-        :meth:`~rankedassign.multisensor.AdaptiveBirthProblem.log_weights`' limit.
+        :meth:`~rankedassign.adaptive_birth.AdaptiveBirthProblem.log_weights`' limit.
 
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor import AdaptiveBirthProblem
+    >>> from rankedassign.adaptive_birth import AdaptiveBirthProblem
     >>> from oracle import adaptive_birth
     >>> p = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]))
     >>> adaptive_birth.enumerate_assignments(p).assignments.tolist()
@@ -89,7 +89,7 @@ def log_normalizer(problem) -> float:
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor import AdaptiveBirthProblem
+    >>> from rankedassign.adaptive_birth import AdaptiveBirthProblem
     >>> from oracle import adaptive_birth
     >>> p = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]))
     >>> round(float(np.exp(adaptive_birth.log_normalizer(p))), 12)
@@ -105,7 +105,7 @@ def marginals(problem) -> list:
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor import AdaptiveBirthProblem
+    >>> from rankedassign.adaptive_birth import AdaptiveBirthProblem
     >>> from oracle import adaptive_birth
     >>> p = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]))
     >>> [m.round(12).tolist() for m in adaptive_birth.marginals(p)]
@@ -124,7 +124,7 @@ def kept_mask(problem) -> np.ndarray:
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor import AdaptiveBirthProblem
+    >>> from rankedassign.adaptive_birth import AdaptiveBirthProblem
     >>> from oracle import adaptive_birth
     >>> p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 2)), n_min=1)
     >>> adaptive_birth.kept_mask(p).tolist()
@@ -161,7 +161,7 @@ def truncation_error(problem, assignments) -> float:
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor import AdaptiveBirthProblem
+    >>> from rankedassign.adaptive_birth import AdaptiveBirthProblem
     >>> from oracle import adaptive_birth
     >>> p = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]), n_min=1)
     >>> round(adaptive_birth.truncation_error(p, [[0, 0], [1, 1], [1, 1]]), 12)   # 1 - 4/9
@@ -218,7 +218,7 @@ def transition_matrix(problem, sensor_order: str = "random", *, limit: int = 200
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor import AdaptiveBirthProblem
+    >>> from rankedassign.adaptive_birth import AdaptiveBirthProblem
     >>> from oracle import adaptive_birth
     >>> p = AdaptiveBirthProblem.from_log_weights(np.log([[1.0, 2.0], [3.0, 4.0]]))
     >>> K, pi = adaptive_birth.transition_matrix(p, "fixed")

@@ -20,7 +20,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
-from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
+from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import interruptible
 
 from . import adaptive_birth, multisensor_dp

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
+from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import interruptible
 from rankedassign.validation import MAX_WORK_BYTES, check_int
 

@@ -6,7 +6,8 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign import AssignmentProblem
-from rankedassign.multisensor import AdaptiveBirthProblem, MultiSensorProblem
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
+from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.validation import check_int
 
 from . import adaptive_birth, multisensor_truncation
@@ -118,7 +119,7 @@ def truncation_error(problem, assignments) -> float:
     ``eps = 1 - exp(logsumexp(-cost(unique)) - ln Z)``. Everything stays in log space, so
     problems whose weights overflow ``exp`` are fine, and each row is first shifted by its
     entry in the best assignment (which moves every assignment's cost by the same constant),
-    so that large costs, up to :data:`~rankedassign.problem.COST_LIMIT`, keep their
+    so that large costs, up to :data:`~rankedassign.single.problem.COST_LIMIT`, keep their
     differences. ``ln Z`` comes from the subset DP
     (:func:`~oracle.log_normalizer`); when the DP refuses the size but the feasible set is
     small enough to enumerate (many forbidden pairs), from the enumeration.

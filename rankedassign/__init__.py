@@ -7,10 +7,11 @@ package :mod:`oracle`. The LMB filter with pluggable association, :mod:`rankedas
 builds on both and is imported on its own (``from rankedassign.tracking import ...``).
 """
 
-from . import metrics, synthetic
+from . import metrics
 from ._version import __version__
-from .problem import AssignmentProblem
 from .samplers import SamplerResult, sample_original, sample_short_chains, warmup
+from .single import synthetic
+from .single.problem import AssignmentProblem
 
 __all__ = [
     "AssignmentProblem",

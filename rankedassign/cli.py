@@ -17,8 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import experiments, synthetic
+from . import experiments
 from ._version import __version__
+from .single import synthetic
 from .validation import MAX_MC
 
 

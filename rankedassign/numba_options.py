@@ -40,7 +40,7 @@ result with an exception set``. Every call of such a kernel from Python runs ins
 from Python never returns a named tuple: numba boxes one by calling its class, and a handler's
 exception raised there crashes the process (a segmentation fault); records cross into Python
 as plain tuples. Kernels that can run for long are also cut into slices, so that the
-handler runs soon: the chain driver of every sampler (:mod:`rankedassign._chains`,
+handler runs soon: the chain driver of every sampler (:mod:`rankedassign.engine._kernels`,
 "Slices"), the oracle's subset, frontier and multi-sensor row DPs, the surrogate's
 matched-subset DP, Murty's search and the counting searches. A slice never splits one sweep,
 one DP step or one Murty iteration, which the problem's size bounds. Not sliced, because the
@@ -141,7 +141,7 @@ def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
                 cache: bool | None = None):
     """Compile a copy of the plain function ``template`` whose globals include ``bindings``.
 
-    This is how one generic kernel (the chain driver of :mod:`rankedassign._chains`) is
+    This is how one generic kernel (the chain driver of :mod:`rankedassign.engine._kernels`) is
     compiled once per problem type: the template refers to the problem's row update by a
     global name, and each instantiation binds that name to another compiled function. numba
     freezes global functions at compile time, so the instantiation calls the bound function

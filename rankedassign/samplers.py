@@ -9,14 +9,14 @@ Two samplers of the target ``pi(gamma) = w(gamma) / Z`` (spec eq. 1.6):
   every reading of those rules selectable (spec §3.2).
 
 Each public function validates its input once, prepares the arrays shared by both
-implementations (:mod:`rankedassign._sampling`) and runs either the numba chain driver
-(:mod:`rankedassign._chains`) compiled for the problem type's row update
+implementations (:mod:`rankedassign.engine.result`) and runs either the numba chain driver
+(:mod:`rankedassign.engine._kernels`) compiled for the problem type's row update
 (``backend="numba"``) or the pure-Python specification (:mod:`rankedassign.reference`,
 ``backend="python"``). Both give identical results, bit for bit, for the same ``rng`` — as
 does the parallel kernel for any ``workers`` — because
 
 * every chain draws from its own SplitMix64 stream derived from ``rng`` and the chain index
-  (:mod:`rankedassign._rng`);
+  (:mod:`rankedassign.engine.rng`);
 * a row update consumes exactly one uniform and turns it into a candidate with the same
   explicit inverse-CDF loop over the same precomputed weights ``W`` (no ``exp`` in the hot loop,
   no ``rng.choice``);
@@ -35,11 +35,10 @@ import functools
 import numpy as np
 from numba import parallel_chunksize
 
-from . import _kernels, reference, synthetic
-from ._chains import DISCARDED, NCHAINS, NOBS, STALE_FIRED, Rules
-from ._rng import ZOBRIST_SEED
-from ._rng_kernels import zobrist_keys
-from ._sampling import (
+from . import reference
+from .adaptive_birth.problem import AdaptiveBirthProblem
+from .engine._kernels import DISCARDED, NCHAINS, NOBS, STALE_FIRED, Rules, zobrist_keys
+from .engine.result import (
     BACKENDS,
     SCANS,
     Prepared,
@@ -47,23 +46,18 @@ from ._sampling import (
     check_chain_budget,
     check_rules,
     package,
-    prepare,
     zero_length_run,
 )
-from .multisensor import _ab_kernels
-from .multisensor import _kernels as _ms_kernels
-from .multisensor.adaptive_birth import AdaptiveBirthProblem
+from .engine.rng import ZOBRIST_SEED
+from .kinds import kind_named, prepare
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import interruptible, threads
-from .problem import AssignmentProblem
+from .single import synthetic
+from .single.problem import AssignmentProblem
 from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 
 __all__ = ["SamplerResult", "sample_original", "sample_short_chains", "warmup"]
 
-#: Compiled chain drivers of each problem type (kind name of :mod:`rankedassign._sampling`).
-DRIVERS = {"single": _kernels.run_chains, "single_prefix": _kernels.run_chains_prefix,
-           "multisensor": _ms_kernels.run_chains,
-           "adaptive_birth": _ab_kernels.run_chains}
 
 # Upper bound on the speculation slab (batch x chain_length x L int32 entries, 64 MiB).
 _MAX_SLAB = 1 << 24
@@ -74,7 +68,8 @@ _CHUNK = 4
 # Candidate evaluations per slice of the compiled driver (``sweep_cost`` per sweep): a few ms
 # to a tenth of a second of sweeps, depending on how well ``sweep_cost`` tracks the sweep time.
 # Between slices the interpreter runs pending signal handlers, so Ctrl-C ends a run within
-# about one slice; a slice costs microseconds of call overhead (rankedassign._chains, "Slices").
+# about one slice; a slice costs microseconds of call overhead (rankedassign.engine._kernels,
+# "Slices").
 # The tests shrink it to a few sweeps: same bits.
 _SLICE_WORK = 1 << 23
 
@@ -117,7 +112,7 @@ def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers
     budget = max(1, _SLICE_WORK // max(prep.sweep_cost, 1))  # sweeps per slice
     args = (prep.data, zkeys, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules,
             batch, workers, budget)
-    run_chains = DRIVERS[prep.kind]
+    run_chains = kind_named(prep.kind).drivers[prep.driver]
     if batch:
         # Chains are handed to threads a few at a time (not one static share per thread), so
         # a thread slowed down by another process does not hold up the whole batch.
@@ -149,7 +144,7 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
         Row order of each sweep: ``0..P-1``, or a fresh uniformly random permutation per sweep.
     rng : None, int, SeedSequence, BitGenerator or Generator
         Anything :func:`numpy.random.default_rng` accepts; a Generator is advanced by one draw
-        (the run's base key, see :mod:`rankedassign._rng`). The chain uses stream 0.
+        (the run's base key, see :mod:`rankedassign.engine.rng`). The chain uses stream 0.
     backend : {"numba", "python"}
         Compiled kernels or the pure-Python reference
         (:func:`rankedassign.reference.sample_original`); the results are identical.
@@ -175,7 +170,7 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
         x_n ~ p(k) ∝ eta_n(k) * 1[k not held by another row]     (spec eq. 2.1)
 
     and the state after the sweep is one observation. The conditional of row ``n`` is drawn by
-    the inverse-CDF loop of :func:`rankedassign._kernels.sweep` with one uniform. The chain
+    the inverse-CDF loop of :func:`rankedassign.single._kernels.sweep` with one uniform. The chain
     is irreducible and aperiodic on the feasible set, so visit frequencies converge to
     ``pi = w / Z`` (spec §2.3). The result equals
     ``sample_short_chains(problem, 1, n_obs)`` with no termination rules.

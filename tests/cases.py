@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from rankedassign import AssignmentProblem, synthetic
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
 
 __all__ = ["CASES", "CASE_IDS", "case"]
 

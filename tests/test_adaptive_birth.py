@@ -12,10 +12,10 @@ from scipy.stats import multivariate_normal
 
 import oracle
 from oracle import adaptive_birth as ob
-from rankedassign.experiments.adaptive_birth_study import make_family
-from rankedassign.multisensor import AdaptiveBirthProblem, birth_from_samples
-from rankedassign.multisensor import ab_reference as ref
-from rankedassign.multisensor.adaptive_birth import chain_inputs
+from rankedassign.adaptive_birth import AdaptiveBirthProblem, birth_from_samples
+from rankedassign.adaptive_birth import reference as ref
+from rankedassign.adaptive_birth.prepare import chain_inputs
+from rankedassign.adaptive_birth.synthetic import make_family
 
 H4 = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
 P0 = np.diag([300.0**2, 20.0**2, 300.0**2, 20.0**2])
@@ -381,7 +381,7 @@ def test_truncation_error_ignores_non_births_and_pins_messages():
 
 
 def test_dense_tensor_limit(monkeypatch):
-    from rankedassign.multisensor import adaptive_birth as ab
+    from rankedassign.adaptive_birth import problem as ab
 
     monkeypatch.setattr(ab, "_MAX_TENSOR", 10)
     p, *_ = gaussian_problem()

@@ -10,8 +10,8 @@ from scipy.stats import chi2
 import oracle
 from oracle import adaptive_birth as ob
 from rankedassign import sample_original, sample_short_chains
-from rankedassign.experiments.adaptive_birth_study import make_family
-from rankedassign.multisensor import AdaptiveBirthProblem
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
+from rankedassign.adaptive_birth.synthetic import make_family
 
 STALLS = ["global-consecutive", "global-cumulative", "chain-local"]
 STALES = ["consecutive", "cumulative", "literal-set", "literal-multiset"]

@@ -8,11 +8,11 @@ from numpy.testing import assert_array_equal
 from scipy.stats import chi2
 
 from oracle import adaptive_birth as ob
-from rankedassign._rng import SplitMix64, chain_state
-from rankedassign.multisensor import AdaptiveBirthProblem
-from rankedassign.multisensor import _ab_kernels as kern
-from rankedassign.multisensor import ab_reference as ref
-from rankedassign.multisensor.adaptive_birth import chain_inputs
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
+from rankedassign.adaptive_birth import _kernels as kern
+from rankedassign.adaptive_birth import reference as ref
+from rankedassign.adaptive_birth.prepare import chain_inputs
+from rankedassign.engine.rng import SplitMix64, chain_state
 
 
 def _gaussian(seed, M, n_state):

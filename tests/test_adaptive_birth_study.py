@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from rankedassign.experiments import adaptive_birth_study as S
+from rankedassign.experiments.studies import adaptive_birth as S
 
 TINY = S.StudyConfig(n_mc=2, sensors=(2,), original_obs=60, n_chains=6, chain_length=10,
                      tau_stall=3, tau_stale=2, curve_obs=(20, 60))

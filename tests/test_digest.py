@@ -45,10 +45,10 @@ import rankedassign
 from oracle import adaptive_birth as oracle_ab
 from oracle import transition as oracle_transition
 from rankedassign import AssignmentProblem, SamplerResult, sample_original, sample_short_chains
-from rankedassign import synthetic as single_synthetic
-from rankedassign.multisensor import AdaptiveBirthProblem
+from rankedassign.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.multisensor import synthetic as ms_synthetic
-from rankedassign.multisensor.sampling import METHODS as MS_METHODS
+from rankedassign.multisensor.prepare import METHODS as MS_METHODS
+from rankedassign.single import synthetic as single_synthetic
 from rankedassign.tracking import (
     AdaptiveBirth,
     Exact,

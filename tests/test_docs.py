@@ -123,7 +123,7 @@ def _resolve(target: str):
 
 def test_api_directives_import():
     directives = _directives()
-    assert "rankedassign.problem" in directives
+    assert "rankedassign.single.problem" in directives
     for target in directives:
         _resolve(target)
 

@@ -17,8 +17,8 @@ from rankedassign.experiments import (
     run_study,
     study_names,
 )
-from rankedassign.experiments import adaptive_birth_study as S
-from rankedassign.experiments import multisensor as MS
+from rankedassign.experiments.studies import adaptive_birth as S
+from rankedassign.experiments.studies import multisensor as MS
 from rankedassign.multisensor import synthetic
 
 TINY_MS = MS.MultiSensorConfig(n_mc=2, cases=("A/diagonal", "B/random"),

@@ -8,7 +8,6 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 import oracle
-from rankedassign import synthetic
 from rankedassign.experiments import (
     CRITERIA,
     PAPER_TABLE1,
@@ -27,7 +26,8 @@ from rankedassign.experiments import (
     local_executor,
     run_study,
 )
-from rankedassign.experiments.tracking import summarise_tracking
+from rankedassign.experiments.studies.tracking import summarise_tracking
+from rankedassign.single import synthetic
 
 # Paper thresholds, a small budget: 200 chains x 25 sweeps.
 TINY = {"n_mc": 2, "original_obs": 5_000, "n_chains": 200, "chain_length": 25}
@@ -416,7 +416,7 @@ def test_table1_verdict_separates_the_default_reading_from_the_other():
 
 def test_ablation_verdict_uses_the_three_se_rule():
     from rankedassign.experiments._synthetic import with_paper
-    from rankedassign.experiments.ablation import consistency
+    from rankedassign.experiments.studies.ablation import consistency
 
     good = [with_paper(f, c, _stats(p.delta_obs_pct, 0.5, p.delta_error_pp, 0.1))
             for (f, c), p in PAPER_TABLE1.items()]
@@ -445,7 +445,7 @@ def test_table1_report_shows_the_paper_beside_ours(table1):
 
 
 def test_sweep_checks_the_papers_chain_length_statement():
-    from rankedassign.experiments.sweep import chain_length_checks, render_sweep
+    from rankedassign.experiments.studies.sweep import chain_length_checks, render_sweep
 
     def row(L, e, se=0.01, budget=1000):
         return SweepRow("random", f"short-{L}", L, budget, budget, 900, e, se, e, e, 0, 0, 10)
@@ -459,7 +459,7 @@ def test_sweep_checks_the_papers_chain_length_statement():
 
 def test_random_readings_study(tmp_path):
     from rankedassign.experiments.config import ReadingsConfig
-    from rankedassign.experiments.readings import reading_verdicts
+    from rankedassign.experiments.studies.readings import reading_verdicts
 
     cfg = ReadingsConfig(n_mc=2, original_obs=1_000, n_chains=40)
     rows, runs = run_study("random_readings", cfg, seed=4, progress=False, return_runs=True)

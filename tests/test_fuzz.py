@@ -24,14 +24,9 @@ from hypothesis.extra.numpy import array_shapes, arrays
 from numpy.testing import assert_allclose, assert_array_equal
 
 import oracle
-from rankedassign import (
-    AssignmentProblem,
-    metrics,
-    sample_original,
-    sample_short_chains,
-    synthetic,
-)
-from rankedassign.problem import COST_LIMIT
+from rankedassign import AssignmentProblem, metrics, sample_original, sample_short_chains
+from rankedassign.single import synthetic
+from rankedassign.single.problem import COST_LIMIT
 
 inf = np.inf
 nan = np.nan

@@ -10,7 +10,7 @@ Two halves:
   one case, whose handler raises its own exception as the CLI's does) and the child reports
   the exception it caught and when. The bound asserted is 10 s, generous for a loaded 2-core
   machine; the measured latencies are printed (``-s``) and are typically well under 0.1 s.
-* **Bits.** The chain driver runs in slices (:mod:`rankedassign._chains`, "Slices"); with a
+* **Bits.** The chain driver runs in slices (:mod:`rankedassign.engine._kernels`, "Slices"); with a
   budget of a few sweeps per slice every field of every result equals the unsliced run, on
   all three problem kinds, both samplers, stall and stale readings, one and two workers.
 """
@@ -36,10 +36,11 @@ from numpy.testing import assert_array_equal
 
 import oracle
 import rankedassign
-from rankedassign import sample_original, sample_short_chains, samplers, synthetic
+from rankedassign import sample_original, sample_short_chains, samplers
+from rankedassign.adaptive_birth.problem import AdaptiveBirthProblem
 from rankedassign.multisensor import MultiSensorProblem
-from rankedassign.multisensor.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.numba_options import interruptible, signal_exception
+from rankedassign.single import synthetic
 from rankedassign.validation import STALE_READINGS, STALL_READINGS
 
 # Seconds from the signal to the exception in the child, asserted (the measured ones print).
@@ -56,7 +57,7 @@ _CHILD = textwrap.dedent("""
     import oracle
     from rankedassign import sample_original, sample_short_chains, synthetic
     from rankedassign.multisensor import MultiSensorProblem
-    from rankedassign.multisensor.adaptive_birth import AdaptiveBirthProblem
+    from rankedassign.adaptive_birth.problem import AdaptiveBirthProblem
 
     class Terminated(BaseException):
         pass
@@ -207,8 +208,8 @@ def test_signal_exception_unwraps_numba_return_path_errors():
             raise SystemError("something else")
 
 
-# Plain functions that are compiled as templates (rankedassign._chains), not called by Python.
-_TEMPLATES = {("rankedassign._chains", n) for n in
+# Plain functions that are compiled as templates (rankedassign.engine._kernels), not called by Python.
+_TEMPLATES = {("rankedassign.engine._kernels", n) for n in
               ("_speculate", "_advance", "_new_run", "_run_slice", "_start")}
 
 

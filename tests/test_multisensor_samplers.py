@@ -7,6 +7,8 @@ of its state, on every method, scan and family (hypothesis; ``P = 0``, sensors w
 measurements and ``V = 1..4`` included).
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -14,12 +16,12 @@ from hypothesis import strategies as st
 from ms_standin import KINDS, StandIn, random_problem
 from numpy.testing import assert_allclose, assert_array_equal
 
-from rankedassign import _sampling, sample_original, sample_short_chains
-from rankedassign._rng import SplitMix64
-from rankedassign._rng_kernels import zobrist_keys
+from rankedassign import kinds, sample_original, sample_short_chains
+from rankedassign.engine._kernels import zobrist_keys
+from rankedassign.engine.rng import SplitMix64
 from rankedassign.multisensor import _kernels as K
 from rankedassign.multisensor import reference as R
-from rankedassign.multisensor.sampling import (
+from rankedassign.multisensor.prepare import (
     METHODS,
     assignment_costs,
     prepare_data,
@@ -243,7 +245,7 @@ def test_start_error_messages():
 def registered():
     """The stand-in problem dispatches like the real MultiSensorProblem."""
     with pytest.MonkeyPatch.context() as mp:
-        mp.setitem(_sampling._PREPARE, StandIn, _sampling._prepare_multisensor)
+        mp.setattr(kinds, "KINDS", kinds.KINDS + (dataclasses.replace(kinds.kind_named("multisensor"), problem_type=StandIn),))
         yield
 
 

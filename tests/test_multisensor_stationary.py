@@ -15,6 +15,8 @@ Two kinds of check:
   sampler fails it for a random seed — is the stated p-value threshold.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 from ms_standin import random_problem
@@ -28,9 +30,10 @@ from oracle.transition import (
     target_distribution,
     transition_matrix,
 )
-from rankedassign._rng_kernels import chain_state, zobrist_keys
+from rankedassign import kinds
+from rankedassign.engine._kernels import chain_state, zobrist_keys
 from rankedassign.multisensor import _kernels as K
-from rankedassign.multisensor.sampling import METHODS, prepare_data, start_state
+from rankedassign.multisensor.prepare import METHODS, prepare_data, start_state
 
 # p-value threshold of every chi-square test below = its false-failure probability
 ALPHA = 1e-4
@@ -207,10 +210,9 @@ def registered():
     """The stand-in problem dispatches like the real MultiSensorProblem."""
     from ms_standin import StandIn
 
-    from rankedassign import _sampling
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setitem(_sampling._PREPARE, StandIn, _sampling._prepare_multisensor)
+        mp.setattr(kinds, "KINDS", kinds.KINDS + (dataclasses.replace(kinds.kind_named("multisensor"), problem_type=StandIn),))
         yield
 
 

@@ -8,9 +8,9 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 from scipy.stats import multivariate_normal
 
-from rankedassign import synthetic as single
 from rankedassign.multisensor import MultiSensorProblem, synthetic
 from rankedassign.multisensor.synthetic import SIZES, log_psi_linear_gaussian
+from rankedassign.single import synthetic as single
 
 
 @pytest.mark.parametrize("name, n", [("A", 67744), ("B", 75108), ("C", 417176)])

@@ -12,7 +12,8 @@ from numpy.testing import assert_allclose
 from scipy.special import logsumexp
 
 from oracle import enumerate_assignments, log_normalizer, marginals
-from rankedassign import AssignmentProblem, synthetic
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
 
 
 def enumerated_marginals(problem):

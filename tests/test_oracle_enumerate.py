@@ -9,7 +9,8 @@ from naive import feasible_assignments as naive_enumeration
 from numpy.testing import assert_array_equal
 
 from oracle import Ranked, enumerate_assignments
-from rankedassign import AssignmentProblem, synthetic
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
 
 
 def check_ranked(problem, r):

@@ -11,7 +11,8 @@ from numpy.testing import assert_array_equal
 from scipy.optimize import linear_sum_assignment
 
 from oracle import enumerate_assignments, murty
-from rankedassign import AssignmentProblem, synthetic
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
 from rankedassign.validation import MAX_WORK_BYTES
 
 METHODS = ["numba", "scipy"]

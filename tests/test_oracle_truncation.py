@@ -10,7 +10,8 @@ from scipy.special import logsumexp
 
 from oracle import best_mass, enumerate_assignments, murty, truncation_error
 from oracle import log_normalizer as oracle_log_normalizer
-from rankedassign import AssignmentProblem, synthetic
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
 
 
 def exact_weights(problem, assignments):

@@ -1,4 +1,4 @@
-"""Tests of rankedassign.problem: layout, conversions, costs, counting and bad input."""
+"""Tests of rankedassign.single.problem: layout, conversions, costs, counting and bad input."""
 
 import math
 
@@ -10,8 +10,9 @@ from hypothesis import strategies as st
 from naive import feasible_assignments as brute_force
 from numpy.testing import assert_allclose, assert_array_equal
 
-from rankedassign import AssignmentProblem, synthetic
-from rankedassign.problem import COST_LIMIT
+from rankedassign import AssignmentProblem
+from rankedassign.single import synthetic
+from rankedassign.single.problem import COST_LIMIT
 
 inf = np.inf
 
@@ -237,7 +238,7 @@ def test_n_feasible_gated_large_uses_object_ints():
     p = AssignmentProblem.from_cost(C)
     n = p.n_feasible()
     # transposed counting route (measurement subsets) must agree
-    from rankedassign.problem import _count_meas_small, _count_rows_small
+    from rankedassign.single.problem import _count_meas_small, _count_rows_small
 
     B = np.isfinite(p.compact_cost[:, :14])
     a = np.full(12, 2)

@@ -13,17 +13,13 @@ from hypothesis import strategies as st
 from numpy.testing import assert_array_equal
 
 import oracle
-from rankedassign import (
-    AssignmentProblem,
-    _kernels,
-    _rng,
-    _rng_kernels,
-    _sampling,
-    reference,
-    sample_original,
-    sample_short_chains,
-)
-from rankedassign._chains import Rules
+from rankedassign import AssignmentProblem, kinds, reference, sample_original, sample_short_chains
+from rankedassign.engine import _kernels as _rng_kernels
+from rankedassign.engine import rng as _rng
+from rankedassign.engine._kernels import Rules
+from rankedassign.single import _kernels
+from rankedassign.single import prepare as single_prepare
+from rankedassign.single import reference as single_reference
 from rankedassign.validation import STALE_READINGS, STALL_READINGS
 
 INF = np.inf
@@ -31,7 +27,7 @@ INF = np.inf
 
 def _driver_args(problem, start, scan, seed, n_chains, chain_length, rules):
     """Positional arguments of the compiled single-sensor driver, up to ``batch, workers``."""
-    prep = _sampling.prepare(problem, start, scan, seed)
+    prep = kinds.prepare(problem, start, scan, seed)
     zk = _rng_kernels.zobrist_keys(problem.n_rows, prep.n_values, np.uint64(_rng.ZOBRIST_SEED))
     return (prep.data, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules)
 
@@ -85,7 +81,7 @@ def wide_problems(draw, max_rows=5):
     """Problems with more than ``max(M_DIRECT, 2 P)`` measurements, so rows draw from prefix sums: runs of
     gated-out (+inf) measurements, ties, and rows whose cheapest measurement dominates."""
     P = draw(st.integers(1, max_rows))
-    M = draw(st.integers(max(_sampling.M_DIRECT, 2 * P) + 1, max(_sampling.M_DIRECT, 2 * P) + 24))
+    M = draw(st.integers(max(single_prepare.M_DIRECT, 2 * P) + 1, max(single_prepare.M_DIRECT, 2 * P) + 24))
     cost = st.one_of(st.floats(-4.0, 30.0, allow_nan=False), st.just(INF), st.just(INF),
                      st.sampled_from([0.0, 2.5]))
     D = np.array(draw(st.lists(cost, min_size=P * M, max_size=P * M)), float).reshape(P, M)
@@ -230,7 +226,7 @@ def test_prefix_draw_equals_direct_draw(data):
     except where rounding puts ``target`` within a few ulps of a cumulative boundary (the two
     sums are associated differently once a held measurement lies before it)."""
     problem = data.draw(wide_problems(max_rows=1))
-    prep = _sampling.prepare(problem, "all_dead", "systematic", 0) \
+    prep = kinds.prepare(problem, "all_dead", "systematic", 0) \
         if np.isfinite(problem.compact_cost[0, -1]) else None
     if prep is None:
         return
@@ -242,8 +238,8 @@ def test_prefix_draw_equals_direct_draw(data):
         owner[k] = 1  # held by "another row"
     for u in data.draw(st.lists(st.floats(0.0, 1.0, exclude_max=True), min_size=1,
                                 max_size=20)) + [0.0, 0.5]:
-        a = reference.draw_direct(d.W[0], d.cc[0], 0, owner, u)
-        b = reference.draw_prefix(d.W[0], d.S[0], d.next_pos[0], d.cc[0], 0, owner, held, u)
+        a = single_reference.draw_direct(d.W[0], d.cc[0], 0, owner, u)
+        b = single_reference.draw_prefix(d.W[0], d.S[0], d.next_pos[0], d.cc[0], 0, owner, held, u)
         if a != b:  # only a rounding edge may separate them
             avail = [k for k in range(M + 2) if k >= M or owner[k] < 0]
             w = np.array([d.W[0][k] for k in avail])
@@ -258,7 +254,7 @@ def test_cancellation_guard_draws_directly():
     measurement weight is ~5e-10 of its total, so ``S[M] - held`` would cancel: the guard
     takes the direct sum. Both implementations agree and row 0 then draws every free
     measurement in proportion to its (tiny) weight."""
-    M = _sampling.M_DIRECT + 2
+    M = single_prepare.M_DIRECT + 2
     D = np.full((2, M), 25.0)
     D[0, 0] = 0.0
     D[1, 0] = -30.0
@@ -276,7 +272,7 @@ def test_cancellation_guard_draws_directly():
 
 
 def test_parallel_discards_are_reported():
-    from rankedassign import synthetic
+    from rankedassign.single import synthetic
 
     p = synthetic.diagonal()
     seq = sample_short_chains(p, 2000, 25, tau_stall=5, tau_stale=25, rng=11)
@@ -303,7 +299,7 @@ def _underflow_problem():
 
 def test_underflow_fallback_reference_equals_numba():
     p = _underflow_problem()
-    W = _sampling.shifted_weights(p)
+    W = single_prepare.shifted_weights(p)
     assert W[0, 1] == 0.0 and W[0, 2] == 0.0 and W[0, 3] == 0.0  # underflowed
     start = np.array([2, 0])  # row 0 missed, row 1 on measurement 0
     for scan in ("systematic", "random"):
@@ -321,7 +317,7 @@ def test_underflow_fallback_reference_equals_numba():
 def test_many_speculation_batches():
     # Hundreds of batches (batch = 1 and 3 chains): the batch-size ramp must saturate, not
     # overflow (regression: an unbounded doubling wrapped around after 63 batches).
-    from rankedassign import synthetic
+    from rankedassign.single import synthetic
 
     p = synthetic.random(R=3, M=5, rng=2)
     args = _driver_args(p, "all_missed", "systematic", 6, 300, 4,

@@ -9,14 +9,18 @@ from numpy.testing import assert_array_equal
 from rankedassign import (
     AssignmentProblem,
     SamplerResult,
-    _rng,
-    _sampling,
+    kinds,
     reference,
     sample_original,
     sample_short_chains,
     samplers,
-    synthetic,
 )
+from rankedassign.engine import reference as engine_reference
+from rankedassign.engine import result as _sampling
+from rankedassign.engine import rng as _rng
+from rankedassign.single import prepare as single_prepare
+from rankedassign.single import reference as single_reference
+from rankedassign.single import synthetic
 from rankedassign.validation import STALE_READINGS, STALL_READINGS
 
 INF = np.inf
@@ -145,12 +149,12 @@ def test_zero_budgets_return_only_the_start_state():
 def test_zero_length_closed_form_equals_the_loop():
     """The closed form for empty chains equals the generic driver run over them."""
     p = small_problem()
-    prep = _sampling.prepare(p, "all_missed", "systematic", 1)
-    new_work, sweep = reference.ROW_UPDATES["single"]
+    prep = kinds.prepare(p, "all_missed", "systematic", 1)
+    kind = kinds.kind_named("single")
     for stale in sorted(STALE_READINGS):
         for tau in (None, 1, 2, 5, 12):
-            _, _, n_obs, chains, fired = reference.run_chains(
-                sweep, new_work, prep.ref_data, prep.x0.tolist(), prep.base, 10, 0,
+            _, _, n_obs, chains, fired = engine_reference.run_chains(
+                kind.sweep, kind.new_work, prep.ref_data, prep.x0.tolist(), prep.base, 10, 0,
                 tau_stale=tau, stale=stale)
             assert (chains, fired) == _sampling.zero_length_run(10, tau, stale)
             assert n_obs == 0
@@ -258,7 +262,7 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     """Independent re-implementation of the stopping logic of spec §3.2 on trajectories
     generated chain by chain with the reference sweep (the same streams as the samplers).
     Each counter is recomputed from the whole history, not updated incrementally."""
-    prep = _sampling.prepare(problem, "all_missed", "systematic", seed)
+    prep = kinds.prepare(problem, "all_missed", "systematic", seed)
     x0 = tuple(prep.x0.tolist())
     found = [x0]          # U in discovery order
     visits = {x0: 0}
@@ -267,11 +271,11 @@ def _expected_run(problem, n_chains, chain_length, tau_stall, tau_stale, stall, 
     for c in range(n_chains):
         g = _rng.SplitMix64(_rng.chain_state(prep.base, c))
         x = list(x0)
-        work = reference.new_work(prep.ref_data, x)
+        work = single_reference.new_work(prep.ref_data, x)
         traj = [x0]
         known = []        # known[t-1]: was observation t of this chain already in U?
         for j in range(1, chain_length + 1):
-            reference.sweep(prep.ref_data, work, x, g)
+            single_reference.sweep(prep.ref_data, work, x, g)
             s = tuple(x)
             traj.append(s)
             observations.append(s)
@@ -321,7 +325,7 @@ def test_stall_and_stale_match_their_definitions(stall, stale):
             for workers in (1, 2):
                 res = sample_short_chains(p, 40, 6, tau_stall=tau_stall, tau_stale=tau_stale,
                                           stall=stall, stale=stale, rng=seed, workers=workers)
-                compact = _sampling.to_compact(p, res.assignments)
+                compact = single_prepare.to_compact(p, res.assignments)
                 assert [tuple(r) for r in compact.tolist()] == found
                 assert_array_equal(res.counts, [visits[s] for s in found])
                 assert (res.n_observations, res.n_chains_run, res.stop_reason) == (

@@ -26,7 +26,8 @@ from naive import compact_states as enumerate_gamma
 from numpy.testing import assert_allclose
 from scipy import stats
 
-from rankedassign import AssignmentProblem, _sampling, sample_original, sample_short_chains
+from rankedassign import AssignmentProblem, sample_original, sample_short_chains
+from rankedassign.single import prepare as single_prepare
 
 FALSE_FAILURE = 1e-6
 INF = np.inf
@@ -80,7 +81,7 @@ def transition(problem, states, scan):
 def visit_counts(problem, res, states):
     index = {x: n for n, x in enumerate(states)}
     counts = np.zeros(len(states))
-    compact = _sampling.to_compact(problem, res.assignments)
+    compact = single_prepare.to_compact(problem, res.assignments)
     for x, c in zip(map(tuple, compact.tolist()), res.counts, strict=True):
         counts[index[x]] += c
     return counts
@@ -166,7 +167,7 @@ def test_short_chain_visits_match_exact_finite_time_law(name, scan):
     #   E V = sum_j p_j,   p_j = delta_x0 K^j
     #   E V V' = sum_j diag(p_j) + sum_{j<j'} (diag(p_j) K^(j'-j) + its transpose)
     s = len(states)
-    p_j = [np.eye(s)[index[tuple(_sampling.to_compact(p, p.all_missed()).tolist())]]]
+    p_j = [np.eye(s)[index[tuple(single_prepare.to_compact(p, p.all_missed()).tolist())]]]
     for _ in range(L):
         p_j.append(p_j[-1] @ K)
     mean = sum(p_j[1:])

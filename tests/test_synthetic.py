@@ -1,4 +1,4 @@
-"""Tests of rankedassign.synthetic: the paper's diagonal, uniform and random matrices."""
+"""Tests of rankedassign.single.synthetic: the paper's diagonal, uniform and random matrices."""
 
 import numpy as np
 import pytest
@@ -6,8 +6,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 
-from rankedassign import synthetic
-from rankedassign.synthetic import eta_from_parameters
+from rankedassign.single import synthetic
+from rankedassign.single.synthetic import eta_from_parameters
 
 
 def test_diagonal_documented_values():

@@ -13,7 +13,7 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 from rankedassign import AssignmentProblem
-from rankedassign._rng import base_key
+from rankedassign.engine.rng import base_key
 from rankedassign.metrics import ospa
 from rankedassign.tracking import (
     PRESET_EXTRACTION,

@@ -24,7 +24,7 @@ from rankedassign.tracking import (
     marginals_from_hypotheses,
     run_scenario,
 )
-from rankedassign.tracking.association import MARGINALS
+from rankedassign.tracking.single.association import MARGINALS
 
 
 @pytest.mark.parametrize(("name", "problem"), CASES, ids=CASE_IDS)

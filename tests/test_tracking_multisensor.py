@@ -7,7 +7,7 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 import oracle
-from rankedassign._rng import base_key
+from rankedassign.engine.rng import base_key
 from rankedassign.metrics import ospa2
 from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.tracking import (
@@ -26,7 +26,7 @@ from rankedassign.tracking import (
     run_multisensor_scenario,
     run_scenario,
 )
-from rankedassign.tracking.multisensor_association import (
+from rankedassign.tracking.multisensor.association import (
     MultiSensorAssociationResult,
     multisensor_marginals_from_hypotheses,
 )

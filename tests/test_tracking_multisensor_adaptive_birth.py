@@ -16,7 +16,7 @@ from rankedassign.tracking import (
     make_multisensor_scenario,
     run_multisensor_scenario,
 )
-from rankedassign.tracking.adaptive_birth import empty_birth
+from rankedassign.tracking.multisensor.adaptive_birth import empty_birth
 
 SMALL = dict(n_chains=10, chain_length=10)
 

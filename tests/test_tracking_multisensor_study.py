@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from rankedassign.tracking.multisensor_study import (
+from rankedassign.experiments.studies.multisensor_tracking import (
     MultiSensorStudyConfig,
     MultiSensorTrackingRecord,
     make_association,

@@ -12,6 +12,11 @@ import pytest
 from numpy.testing import assert_allclose
 
 import oracle
+from rankedassign.experiments.studies.multisensor_tracking import (
+    COVERAGE_RADIUS,
+    COVERAGE_SETTLE,
+    LOST_BELOW,
+)
 from rankedassign.metrics import ospa2, track_coverage
 from rankedassign.tracking import (
     MultiSensorExact,
@@ -19,7 +24,6 @@ from rankedassign.tracking import (
     MultiSensorShortChains,
     run_multisensor_scenario,
 )
-from rankedassign.tracking.multisensor_study import COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW
 
 pytestmark = pytest.mark.study
 

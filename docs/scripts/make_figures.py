@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))  # run from a source checkout without installing
 
-from rankedassign import synthetic  # noqa: E402
+from rankedassign.single import synthetic  # noqa: E402
 
 SEED = 20230627
 DPI = 110
@@ -178,7 +178,7 @@ def tracking(out: Path) -> None:
 def tracking_multisensor(out: Path) -> None:
     """OSPA(2) and cardinality error on the multi-sensor scenario: sensors 0, 1, 2 alone and
     fused, short chains with the MM kernel, one 30-scan replication."""
-    from rankedassign.tracking.multisensor_study import (
+    from rankedassign.experiments.studies.multisensor_tracking import (
         MultiSensorStudyConfig,
         multisensor_tracking_task,
         plot_multisensor_tracking,
@@ -211,7 +211,7 @@ def tracking_multisensor_adaptive(out: Path) -> None:
     """Static against adaptive birth on the multi-sensor scenario: the paper's static birth on
     sensors 0, 1 and adaptive birth on sensors 0, 1 and 0, 1, 2, short chains 400 x 25, one
     100-scan replication (seed 0, the runs of the table on the multi-sensor page)."""
-    from rankedassign.tracking.multisensor_study import (
+    from rankedassign.experiments.studies.multisensor_tracking import (
         MultiSensorStudyConfig,
         multisensor_tracking_task,
         plot_multisensor_tracking,

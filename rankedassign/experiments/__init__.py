@@ -26,17 +26,6 @@ not depend on where or in which order runs execute.
 """
 
 # Importing a study module registers its studies (run order: each Study's ``order``).
-from . import (  # noqa: F401
-    ablation,
-    adaptive_birth,
-    multisensor,
-    multisensor_tracking,
-    optimum,
-    readings,
-    sweep,
-    table1,
-    tracking,
-)
 from ._executor import (
     SchedulerError,
     child_seed,
@@ -46,7 +35,6 @@ from ._executor import (
     run_tasks,
 )
 from ._synthetic import Table1Row
-from .ablation import AblationRow
 from .config import (
     ALL_FAMILIES,
     CRITERIA,
@@ -59,9 +47,7 @@ from .config import (
     Table1Config,
     TrackingConfig,
 )
-from .optimum import OptimumRow, best_error
 from .paper import PAPER_TABLE1, PAPER_TOTALS
-from .readings import ReadingRow
 from .registry import (
     Config,
     ReproduceError,
@@ -73,8 +59,22 @@ from .registry import (
     study_names,
 )
 from .runner import StudyFailed, check_output, reproduce
-from .sweep import ChainLengthCheck, SweepRow
-from .tracking import TrackingSummary
+from .studies import (  # noqa: F401  (each module registers its study)
+    ablation,
+    adaptive_birth,
+    multisensor,
+    multisensor_tracking,
+    optimum,
+    readings,
+    sweep,
+    table1,
+    tracking,
+)
+from .studies.ablation import AblationRow
+from .studies.optimum import OptimumRow, best_error
+from .studies.readings import ReadingRow
+from .studies.sweep import ChainLengthCheck, SweepRow
+from .studies.tracking import TrackingSummary
 
 #: The built-in studies, in run order (:func:`study_names` also lists studies registered later).
 STUDIES = study_names()

@@ -22,7 +22,8 @@ import numpy as np
 
 import oracle
 
-from .. import sample_original, sample_short_chains, synthetic
+from .. import sample_original, sample_short_chains
+from ..single import synthetic
 from ._executor import child_seed
 from .config import ALL_FAMILIES, STALE_READINGS, STALL_READINGS
 from .paper import PAPER_TABLE1, agrees, distance_in_se

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..tracking.association import MARGINALS
-from ..tracking.lmb import EXTRACTIONS
 from ..tracking.models import PRESETS
+from ..tracking.single.association import MARGINALS
+from ..tracking.single.lmb import EXTRACTIONS
 from ..validation import check_choice, check_fields, check_real
 
 __all__ = [

@@ -20,8 +20,8 @@ from ._executor import SchedulerError, dask_executor, local_executor
 from .config import Table1Config, TrackingConfig
 from .registry import Config, ReproduceError, get_study, run_study, study_names
 from .report import render_report, write_csv, write_json
-from .table1 import table1_task
-from .tracking import tracking_task
+from .studies.table1 import table1_task
+from .studies.tracking import tracking_task
 
 __all__ = ["reproduce", "check_output", "StudyFailed"]
 

@@ -8,11 +8,14 @@ normaliser) is the companion package :mod:`oracle`, whose public functions accep
 problem type. The samplers :func:`rankedassign.sample_original` and
 :func:`rankedassign.sample_short_chains` accept a :class:`MultiSensorProblem` with the option
 ``method`` (``"exact"``, ``"mm"``, ``"mm-fixed"``, ``"componentwise"``; see
-:mod:`rankedassign.multisensor.sampling`).
+:mod:`rankedassign.multisensor.prepare`).
 
-The adaptive-birth sampler's state is one measurement tuple (no constraint between tuples):
-:class:`AdaptiveBirthProblem` (:mod:`rankedassign.multisensor.adaptive_birth`) and
-:func:`birth_from_samples`, which turns sampled tuples into LMB birth components.
+Files in their roles, as in every kind's folder: :mod:`~rankedassign.multisensor.problem`,
+:mod:`~rankedassign.multisensor.synthetic`, :mod:`~rankedassign.multisensor.prepare`,
+:mod:`~rankedassign.multisensor.reference` (pure Python) and
+:mod:`~rankedassign.multisensor._kernels` (numba). :data:`KIND` is the record the samplers and
+the oracle dispatch on (:mod:`rankedassign.kinds`). The adaptive-birth problem, whose state is
+one measurement tuple, is a kind of its own: :mod:`rankedassign.adaptive_birth`.
 
 Examples
 --------
@@ -22,9 +25,24 @@ Examples
 (True, 2, 67744)
 """
 
-from . import synthetic
-from .adaptive_birth import AdaptiveBirthProblem, BirthLMB, birth_from_samples
+from ..engine.kind import Kind
+from . import _kernels, reference, synthetic
+from .prepare import METHODS, prepare
 from .problem import MultiSensorProblem, count_feasible_all_positive
 
-__all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic",
-           "AdaptiveBirthProblem", "BirthLMB", "birth_from_samples"]
+__all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic", "METHODS", "KIND"]
+
+#: The multi-sensor kind: one compiled sweep serves every ``method``.
+KIND = Kind(
+    name="multisensor",
+    problem_type=MultiSensorProblem,
+    prepare=prepare,
+    new_work=reference.new_work,
+    sweep=reference.sweep,
+    drivers={"chains": _kernels.run_chains},
+    options={
+        "method": "conditional of a row: 'exact', 'mm' (default), 'mm-fixed' or "
+                  "'componentwise' (rankedassign.multisensor.prepare.METHODS)",
+        "survival_power": "1 (default) or 'V': the survival factor's exponent",
+    },
+)

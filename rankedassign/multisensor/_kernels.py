@@ -6,7 +6,7 @@ and the edge cases). The three functions the generic chain driver needs are
 :func:`alloc_work`, :func:`reset_work` and :func:`sweep`; one sweep function serves every
 method (the method is a code in ``data``), so one driver is compiled for all of them.
 
-``data`` (built by :func:`rankedassign.multisensor.sampling.prepare_data`)::
+``data`` (built by :func:`rankedassign.multisensor.prepare.prepare_data`)::
 
     params  int64[4]          method code, random scan (0/1), P, V
     n_meas  int64[V]          M_v
@@ -40,8 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._chains import make_driver
-from .._rng_kernels import next_uniform
+from ..engine._kernels import make_driver, next_uniform
 from ..numba_options import jit
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
@@ -186,8 +185,8 @@ def sweep(data, work, b, zkeys, state, h, rs):
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign._rng_kernels import zobrist_keys
-    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> from rankedassign.engine._kernels import zobrist_keys
+    >>> from rankedassign.multisensor.prepare import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
     ...     log_eta_dead = np.array([-50.0]); log_eta_alive = np.full((1, 2, 2), -50.0)
@@ -416,8 +415,8 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign._rng_kernels import zobrist_keys
-    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> from rankedassign.engine._kernels import zobrist_keys
+    >>> from rankedassign.multisensor.prepare import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
     ...     log_eta_dead = np.array([-50.0]); log_eta_alive = np.full((1, 2, 2), -50.0)

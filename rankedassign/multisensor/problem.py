@@ -20,7 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..problem import AssignmentProblem
+from ..single.problem import AssignmentProblem
 from ..validation import format_bytes
 
 __all__ = ["MAX_TABLE_ENTRIES", "MultiSensorProblem", "check_table_size",

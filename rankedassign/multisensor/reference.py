@@ -3,7 +3,7 @@
 The numba kernels of :mod:`rankedassign.multisensor._kernels` must agree with these functions
 bit for bit (tested with hypothesis). Both consume the same uniforms in the same order and turn
 each into a candidate with the same sequential inverse-CDF loop (:func:`pick`) over the same
-weights, computed once per call with numpy by :func:`rankedassign.multisensor.sampling.prepare`.
+weights, computed once per call with numpy by :func:`rankedassign.multisensor.prepare.prepare`.
 
 State. One flat list ``x`` of ``P * V`` ints: ``x[n * V + v] = gamma_n^(v) + 1`` (0 dead, 1
 missed by sensor ``v``, ``j + 1`` measurement ``j`` of sensor ``v``). A dead row is dead on
@@ -52,18 +52,18 @@ NEG_INF = float("-inf")
 
 
 class RefData:
-    """The prepared arrays of :func:`rankedassign.multisensor.sampling.prepare` as lists.
+    """The prepared arrays of :func:`rankedassign.multisensor.prepare.prepare` as lists.
 
     Parameters
     ----------
     arrays : tuple
         The numba ``data`` tuple ``(params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea,
-        Ed, qdead)`` (see :func:`rankedassign.multisensor.sampling.prepare`).
+        Ed, qdead)`` (see :func:`rankedassign.multisensor.prepare.prepare`).
 
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> from rankedassign.multisensor.prepare import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 1, (0,)
     ...     log_eta_dead = np.zeros(1); log_eta_alive = np.zeros((1, 1))
@@ -142,7 +142,7 @@ def new_work(data, x):
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> from rankedassign.multisensor.prepare import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 0)
     ...     log_eta_dead = np.zeros(1); log_eta_alive = np.zeros((1, 2, 1))
@@ -272,14 +272,14 @@ def sweep(data, work, x, g) -> None:
         Occupancy table of ``x`` (:func:`new_work`), kept up to date.
     x : list of int, length P * V
         State (``gamma + 1`` per row and sensor), updated in place.
-    g : rankedassign._rng.SplitMix64
+    g : rankedassign.engine.rng.SplitMix64
         The chain's stream.
 
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign._rng import SplitMix64
-    >>> from rankedassign.multisensor.sampling import prepare_data
+    >>> from rankedassign.engine.rng import SplitMix64
+    >>> from rankedassign.multisensor.prepare import prepare_data
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
     ...     log_eta_dead = np.array([-50.0]); log_eta_alive = np.full((1, 2, 2), -50.0)

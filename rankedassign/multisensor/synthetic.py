@@ -13,7 +13,7 @@ per-sensor detection ``P_d,n^(v)`` and likelihood ratios ``q^(v)_nj``::
 with ``Pbar_D = P_d`` (``pbar_d="pd"``, spec §6.5, the default) or ``r P_d`` (``"r_pd"``, the
 single-sensor synthetic default, spec A2) and ``c = 1`` except in ``random_coupled``. With
 ``V = 1`` and the same ``pbar_d`` the families are the single-sensor ones of
-:mod:`rankedassign.synthetic`.
+:mod:`rankedassign.single.synthetic`.
 
 Every family refuses, before drawing or building anything, a table ``(P, M_1+1, ..., M_V+1)``
 of more than :data:`~rankedassign.multisensor.problem.MAX_TABLE_ENTRIES` ``= 2**27`` entries
@@ -227,7 +227,7 @@ def random(P: int = 4, M=(4, 4), *, pbar_d: str = "pd", rng=None) -> MultiSensor
     -----
     Draw order (fixed, so a seed always gives the same problem): ``r`` (P), ``P_s`` (P),
     ``P_d`` (P x V, row-major), then ``q^(v)`` (P x M_v, row-major) sensor by sensor. With
-    ``V = 1`` these are the draws of :func:`rankedassign.synthetic.random` with
+    ``V = 1`` these are the draws of :func:`rankedassign.single.synthetic.random` with
     ``granularity="row"``.
 
     References

@@ -11,17 +11,6 @@ Quick start::
 See spec §6 (filter), §7 (OSPA(2)) and §8 (truth).
 """
 
-from .adaptive_birth import AdaptiveBirth
-from .association import (
-    Association,
-    AssociationResult,
-    Exact,
-    Murty,
-    OriginalGibbs,
-    ShortChainGibbs,
-    marginals_from_hypotheses,
-)
-from .lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 from .models import (
     PRESET_EXTRACTION,
     BirthComponent,
@@ -33,14 +22,15 @@ from .models import (
     PositionSensor,
     make_model,
 )
-from .multisensor import MultiSensorLMBFilter, MultiSensorModel
-from .multisensor_association import (
+from .multisensor.adaptive_birth import AdaptiveBirth
+from .multisensor.association import (
     MultiSensorAssociationResult,
     MultiSensorExact,
     MultiSensorGibbs,
     MultiSensorShortChains,
 )
-from .multisensor_scenario import (
+from .multisensor.lmb import MultiSensorLMBFilter, MultiSensorModel
+from .multisensor.scenario import (
     MultiSensorRun,
     make_multisensor_model,
     make_multisensor_scenario,
@@ -48,6 +38,16 @@ from .multisensor_scenario import (
 )
 from .run import ScenarioRun, run_scenario
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
+from .single.association import (
+    Association,
+    AssociationResult,
+    Exact,
+    Murty,
+    OriginalGibbs,
+    ShortChainGibbs,
+    marginals_from_hypotheses,
+)
+from .single.lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 
 __all__ = [
     "AdaptiveBirth",

@@ -26,7 +26,7 @@ __all__ = [
     "truncated_marginals",
 ]
 
-#: Mixture merging criteria of :class:`~rankedassign.tracking.lmb.LMBFilter` (``merge_rule``),
+#: Mixture merging criteria of :class:`~rankedassign.tracking.LMBFilter` (``merge_rule``),
 #: with their kernel codes.
 MERGE_RULES = {"bhattacharyya": 0, "vo-ma": 1, "heaviest": 2}
 

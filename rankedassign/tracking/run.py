@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._rng import spawning_generator
+from ..engine.rng import spawning_generator
 from ..metrics import tracks_to_array
 from ..validation import check_bool
-from .association import Association
-from .lmb import LMBFilter
 from .models import PRESET_EXTRACTION
-from .multisensor_scenario import run_multisensor_scenario
+from .multisensor.scenario import run_multisensor_scenario
 from .scenario import COUNTER_KEYS, ScenarioRun, check_n_scans, make_scenario
+from .single.association import Association
+from .single.lmb import LMBFilter
 
 __all__ = ["ScenarioRun", "run_scenario"]
 
@@ -35,8 +35,8 @@ def run_scenario(
     preset : {"paper", "paper-var", "vo", "multi"}
         Model preset (:func:`~rankedassign.tracking.models.make_model`); ``"multi"`` is the
         multi-sensor scenario, run by
-        :func:`~rankedassign.tracking.multisensor_scenario.run_multisensor_scenario` (which
-        returns a :class:`~rankedassign.tracking.multisensor_scenario.MultiSensorRun`).
+        :func:`~rankedassign.tracking.multisensor.scenario.run_multisensor_scenario` (which
+        returns a :class:`~rankedassign.tracking.multisensor.scenario.MultiSensorRun`).
     association : Association
         E.g. ``ShortChainGibbs(400, 25, 5, 10)``, ``OriginalGibbs(10_000)``, ``Murty(k)``,
         ``Exact()``. Required.
@@ -46,7 +46,7 @@ def run_scenario(
         scan, and per problem within a scan). The same ``rng`` therefore gives the same
         measurements whatever the association. A :class:`numpy.random.RandomState` is
         replaced by the Generator seeded with one draw from it
-        (:func:`rankedassign._rng.spawning_generator`).
+        (:func:`rankedassign.engine.rng.spawning_generator`).
     n_scans : int
         Number of scans (the paper: 100; at most
         :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
@@ -62,7 +62,7 @@ def run_scenario(
         ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
         measurements do not depend on which others are selected.
     **filter_options
-        Further keyword arguments of :class:`~rankedassign.tracking.lmb.LMBFilter` (``gate_prob``,
+        Further keyword arguments of :class:`~rankedassign.tracking.LMBFilter` (``gate_prob``,
         ``theta_upper``, ``prune_track``, ``max_components``, ...).
 
     Returns

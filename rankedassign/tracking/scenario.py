@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._rng import check_rng
+from ..engine.rng import check_rng
 from ..validation import check_int, check_type
 from .models import Model, make_model
 

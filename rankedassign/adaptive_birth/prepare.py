@@ -1,0 +1,142 @@
+"""Adaptive-birth preparation: the chain inputs of a sampler call on an adaptive-birth problem.
+
+The state is one measurement tuple (``V`` entries, ``0`` missed); see
+:class:`~rankedassign.adaptive_birth.problem.AdaptiveBirthProblem`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..engine.result import Prepared
+from ..engine.rng import base_key
+from ..validation import check_choice, check_type
+from .problem import SENSOR_ORDERS, AdaptiveBirthProblem
+from .reference import reference_data
+
+
+# ---------------------------------------------------------------------------- sampler inputs
+def chain_inputs(problem: AdaptiveBirthProblem, sensor_order: str = "random"):
+    """The arrays shared by the reference row update and the numba kernel.
+
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+    sensor_order : {"random", "fixed"}
+        Sensor order of every sweep (spec §4.3, Q8).
+
+    Returns
+    -------
+    data : tuple
+        ``(mode, V, n, random_order, shape, off, strides, logw, M0, b0, c0, A, a, cz, const,
+        log_miss)``: ``mode`` 0 = tensor (``logw`` flat, C order, ``strides`` in entries),
+        1 = Gaussian (``M0, b0, c0`` prior information, ``A`` (V, n, n), ``a`` (T, n),
+        ``cz`` and ``const`` (T,) stacked over sensors at offsets ``off``, ``log_miss``
+        (V,)). Integers are int64 scalars or arrays, reals float64, arrays C-contiguous
+        (one numba type for both modes; unused arrays have length 1).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> data = chain_inputs(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3))))
+    >>> int(data[0]), data[4].tolist(), data[6].tolist()
+    (0, [2, 3], [3, 1])
+    """
+    check_type(problem, "problem", AdaptiveBirthProblem)
+    random_order = check_choice(sensor_order, "sensor_order", SENSOR_ORDERS) == "random"
+    V = problem.n_sensors
+    shape = np.asarray(problem.shape, dtype=np.int64)
+    strides = np.ones(V, dtype=np.int64)
+    for v in range(V - 2, -1, -1):
+        strides[v] = strides[v + 1] * shape[v + 1]
+    z1 = np.zeros(1)
+    if problem._tensor is not None:
+        return (np.int64(0), np.int64(V), np.int64(1), np.int64(random_order), shape,
+                np.zeros(V + 1, dtype=np.int64), strides,
+                np.ascontiguousarray(problem._tensor.reshape(-1), dtype=np.float64),
+                np.zeros((1, 1)), z1, 0.0, np.zeros((V, 1, 1)), np.zeros((1, 1)), z1, z1,
+                np.zeros(V))
+    m = problem._model
+    T = int(m["off"][-1])
+    a = m["a"] if T else np.zeros((1, m["n"]))
+    cz = m["cz"] if T else z1
+    const = m["const"] if T else z1
+    return (np.int64(1), np.int64(V), np.int64(m["n"]), np.int64(random_order), shape,
+            m["off"].copy(), strides, z1, np.ascontiguousarray(m["M0"]),
+            np.ascontiguousarray(m["b0"]), float(m["c0"]), np.ascontiguousarray(m["A"]),
+            np.ascontiguousarray(a), np.ascontiguousarray(cz), np.ascontiguousarray(const),
+            np.ascontiguousarray(m["log_miss"]))
+
+
+def prepare(problem, start, scan, rng, options) -> Prepared:
+    """Validate a sampler call on an :class:`AdaptiveBirthProblem`; the fields of its
+    ``Prepared`` record (:mod:`rankedassign.engine.result`).
+
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+    start : "all_missed" or array_like of int, shape (V,)
+        Start tuple of every chain (spec §5: the all-missed tuple); an explicit tuple must be
+        in range and of positive weight.
+    scan : str
+        Must be ``"systematic"`` (the default): the sweep order of this sampler is the
+        ``sensor_order`` option.
+    rng
+        As for the samplers.
+    options : dict
+        ``sensor_order`` (``"random"``, default, or ``"fixed"``; spec §4.3, Q8); nothing else.
+
+    Returns
+    -------
+    Prepared
+        Kind ``"adaptive_birth"``, driver ``"chains"`` (the reference's lists are built only
+        when the Python backend asks).
+
+    Raises
+    ------
+    TypeError
+        On an unknown option or a non-integer start tuple.
+    ValueError
+        On ``scan != "systematic"``, an unknown ``sensor_order`` or start, or a start tuple out
+        of range or of zero weight.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3)))
+    >>> f = prepare(p, "all_missed", "systematic", 0, {"sensor_order": "fixed"})
+    >>> f.kind, f.x0.tolist(), f.n_values, f.rows
+    ('adaptive_birth', [0, 0], 3, 2)
+    """
+    options = dict(options)
+    sensor_order = options.pop("sensor_order", "random")
+    if options:
+        raise TypeError(f"unexpected option(s) {sorted(options)} for an AdaptiveBirthProblem "
+                        "(its only option is sensor_order)")
+    sensor_order = check_choice(sensor_order, "sensor_order", SENSOR_ORDERS)
+    if scan != "systematic":
+        raise ValueError(f"scan={scan!r} does not apply to an AdaptiveBirthProblem: its sweep "
+                         "order is the option sensor_order='random' (default) or 'fixed'")
+    V = problem.n_sensors
+    if isinstance(start, str):
+        check_choice(start, "start", ("all_missed",))
+        x0 = np.zeros(V, dtype=np.int32)
+    else:
+        J, single = problem._as_tuples(start, "start")
+        if not single:
+            raise ValueError(f"start must be a single tuple of shape ({V},), got "
+                             f"{np.shape(start)}")
+        if not np.isfinite(problem.log_weight_of(J[0])):
+            raise ValueError(f"start tuple {J[0].tolist()} has zero weight")
+        x0 = J[0].astype(np.int32)
+    data = chain_inputs(problem, sensor_order)
+    n = int(data[2])
+
+    def to_result(states):
+        states = np.asarray(states, dtype=np.int64).reshape(-1, V)
+        return states, np.asarray(problem.cost_of(states), dtype=np.float64).reshape(-1)
+
+    return Prepared(kind="adaptive_birth", driver="chains", problem=problem, data=data,
+                make_ref_data=lambda: reference_data(data),
+                x0=x0, n_values=max(problem.shape), base=base_key(rng), rows=V,
+                sweep_cost=sum(problem.shape) * (n * n + 1), to_result=to_result)

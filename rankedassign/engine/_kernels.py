@@ -1,0 +1,855 @@
+"""The chain driver, written once for every problem type (numba; clean inputs only).
+
+The architecture of the samplers — chains started from one state, one observation per sweep,
+the global unique set ``U``, the stall and stale rules in every reading, speculative parallel
+chains replayed in chain order — does not depend on what a *row update* is. A problem type
+(single-sensor ranked assignment, multi-sensor, adaptive birth) supplies only
+
+* ``alloc_work(data, nb) -> work``: a tuple of arrays, each with leading dimension ``nb``, the
+  per-chain workspace of ``nb`` chains simulated at once (free-measurement masks, occupancy
+  counters, scratch rows);
+* ``reset_work(data, work, b, x0)``: put slab ``b`` of the workspace in the start state ``x0``;
+* ``sweep(data, work, b, zkeys, state, h, rs) -> h``: one sweep (one observation) in place on
+  the ``int32`` state vector ``state``, returning its new Zobrist hash (for every position
+  ``l`` whose value changes from ``a`` to ``c``: ``h ^= zkeys[l, a] ^ zkeys[l, c]``), drawing
+  uniforms from the chain's stream ``rs`` with :func:`rankedassign._rng_kernels.next_uniform`;
+
+and :func:`make_driver` compiles the driver for it. ``data`` is the problem's tuple of
+read-only arrays and scalars. A state is a flat ``int32`` vector of length ``L`` whose values
+index the columns of the Zobrist table ``zkeys`` of shape ``(L, K)``.
+
+How it is generic. :func:`_speculate`, :func:`_advance`, :func:`_new_run`, :func:`_run_slice`
+and :func:`_start` below are plain Python templates that call the three functions above (and
+each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
+copy of each template whose globals bind those names to the problem's compiled functions.
+numba freezes global functions at compile time, so an instantiation calls the row update
+directly (as inlined as a hand-written kernel) and has its own cache file.
+
+Unique set. States are de-duplicated with an open-addressing hash set keyed by the Zobrist hash
+(XOR of one random 64-bit key per (position, value)), updated incrementally by the sweep; a
+hash hit is confirmed on the full state. It is the :class:`UniqueSet` record.
+
+Parallelism. :func:`_speculate` (``parallel=True``) simulates a batch of chains, one ``prange``
+iteration per chain with its own stream and slab rows; :func:`_run_slice` replays the batch in
+chain order with the sequential stall/stale logic (spec §3.3, "Parallelism"), so its result is
+independent of the number of threads.
+
+Slices. A compiled call cannot be interrupted: Python runs a signal handler (Ctrl-C's
+``KeyboardInterrupt``, a SIGTERM handler) only when control is back in the interpreter. The
+driver therefore runs in slices of a bounded number of sweeps (``budget``, which the samplers
+size so that a slice takes at most about a tenth of a second): :func:`_new_run` builds the
+run's state, a :class:`Run` of arrays (packed into plain tuples, :func:`_pack`, whenever it
+crosses into Python), and each call of :func:`_run_slice` continues it where the last one
+stopped. A slice stops only between two observations or between two speculation steps, and
+keeps every position in ``Run.pos``, so the slices together perform exactly the operations of
+one unbounded call: the result is the same bit for bit for every budget. The first slice runs
+inside :func:`_start`, which hands the state back only if the run is not over (a run that
+fits one slice costs one call, as before); the later slices return two integers and no array,
+so a signal that arrives during one is raised as itself in the Python loop between slices
+(boxing an array runs Python code inside numba's return path, where a signal handler's
+exception becomes a ``SystemError``; see :data:`rankedassign.numba_options.interruptible`;
+boxing a named tuple there crashes, hence the plain tuples).
+One sweep is never split: the longest pause between two checks is one slice plus one sweep.
+
+Random streams. Every row update draws its uniforms with :func:`next_uniform` from a
+one-element ``uint64`` state array, one SplitMix64 stream per chain started at
+:func:`chain_state`; the pure-Python reference draws the same numbers from
+:class:`rankedassign.engine.rng.SplitMix64` (tested bit for bit). :func:`zobrist_keys` draws
+the Zobrist table from the same generator.
+
+References
+----------
+.. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+   Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+.. [2] A. L. Zobrist, "A New Hashing Method with Application for Game Playing", Tech. Rep.
+   88, Univ. of Wisconsin, 1970.
+.. [3] G. L. Steele Jr., D. Lea, C. H. Flood, "Fast Splittable Pseudorandom Number
+   Generators", OOPSLA 2014.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+import numpy as np
+from numba import prange
+
+from ..numba_options import instantiate, interruptible, jit
+from ..validation import (
+    STALE_CONSECUTIVE,
+    STALE_CUMULATIVE,
+    STALE_LITERAL_MULTISET,
+    STALE_LITERAL_SET,
+    STALL_CHAIN_LOCAL,
+    STALL_GLOBAL_CONSECUTIVE,
+    STALL_GLOBAL_CUMULATIVE,
+)
+
+__all__ = ["mix64", "chain_state", "next_uniform", "uniform_stream", "zobrist_keys"]
+
+# SplitMix64 constants (see rankedassign.engine.rng); np.uint64 so numba stays in unsigned
+# arithmetic.
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MUL1 = np.uint64(0xBF58476D1CE4E5B9)
+_MUL2 = np.uint64(0x94D049BB133111EB)
+_S30 = np.uint64(30)
+_S27 = np.uint64(27)
+_S31 = np.uint64(31)
+_S11 = np.uint64(11)
+_TWO_M53 = 1.0 / 9007199254740992.0
+_ONE = np.uint64(1)
+
+
+@jit()
+def mix64(z):
+    """SplitMix64 output function on ``np.uint64`` (twin of :func:`rankedassign.engine.rng.mix64`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.engine import rng as _rng
+    >>> int(mix64(np.uint64(1))) == _rng.mix64(1)
+    True
+    """
+    # np.multiply / np.add wrap modulo 2**64 silently, also when NUMBA_DISABLE_JIT=1 runs
+    # this as Python (the * and + operators warn on numpy scalar overflow there)
+    z = np.multiply(z ^ (z >> _S30), _MUL1)
+    z = np.multiply(z ^ (z >> _S27), _MUL2)
+    return z ^ (z >> _S31)
+
+
+@jit()
+def chain_state(base, chain):
+    """Initial stream state of chain ``chain``: ``mix64(base ^ mix64(chain + 1))``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.engine import rng as _rng
+    >>> int(chain_state(np.uint64(99), 3)) == _rng.chain_state(99, 3)
+    True
+    """
+    return mix64(base ^ mix64(np.add(np.uint64(chain), _ONE)))
+
+
+@jit()
+def next_uniform(rs):
+    """Advance the one-element ``uint64`` state array ``rs``; return a double in ``[0, 1)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.engine import rng as _rng
+    >>> rs = np.array([5], dtype=np.uint64)
+    >>> next_uniform(rs) == _rng.SplitMix64(5).uniform()
+    True
+    """
+    s = np.add(rs[0], _GOLDEN)
+    rs[0] = s
+    return np.float64(mix64(s) >> _S11) * _TWO_M53
+
+
+@jit()
+def uniform_stream(state, n):
+    """``n`` consecutive uniforms of the stream started at ``state`` (used by the tests).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> uniform_stream(np.uint64(0), 3).shape
+    (3,)
+    """
+    rs = np.empty(1, dtype=np.uint64)
+    rs[0] = state
+    out = np.empty(n)
+    for t in range(n):
+        out[t] = next_uniform(rs)
+    return out
+
+
+@jit()
+def zobrist_keys(L, K, seed):
+    """``(L, K)`` table of 64-bit Zobrist keys, drawn row-major from SplitMix64 at ``seed``.
+
+    Position ``l`` of a sampler state holding value ``k`` contributes ``keys[l, k]`` to the
+    state's hash (XOR over positions), so a change of one position updates the hash with two
+    XORs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> zobrist_keys(2, 3, np.uint64(1)).shape
+    (2, 3)
+    """
+    keys = np.empty((L, K), dtype=np.uint64)
+    s = seed
+    for i in range(L):
+        for k in range(K):
+            s = np.add(s, _GOLDEN)
+            keys[i, k] = mix64(s)
+    return keys
+
+
+__all__ = ["Rules", "UniqueSet", "Slab", "Run", "make_driver", "N_COUNTERS",
+           "DEFAULT_BUDGET"]
+
+# Slots of the run counter array ``ctr`` (returned by run_chains).
+NU, NOBS, NCHAINS, STALE_RUN, STALE_CUM, STALE_FIRED, DISCARDED = 0, 1, 2, 3, 4, 5, 6
+N_COUNTERS = 7
+# Slots of the per-chain counter array ``cctr``.
+_STALL_RUN, _STALL_CUM, _NEW_IN_CHAIN, _LOCAL_UNIQUE = 0, 1, 2, 3
+
+#: Termination rules: reading codes (:data:`rankedassign.validation.STALL_READINGS`,
+#: ``STALE_READINGS``; 0 = off) and thresholds.
+Rules = namedtuple("Rules", ["stall_mode", "tau_stall", "stale_mode", "tau_stale"])
+#: The unique set ``U``: states in discovery order, their hashes, visit counts, the last chain
+#: that visited each (for the chain-local stall reading), and the hash table of
+#: ``[hash, index + 1]`` rows (0 = empty slot, linear probing).
+UniqueSet = namedtuple("UniqueSet", ["states", "hashes", "counts", "last_chain", "table"])
+#: Per-chain simulation slabs: speculated trajectories and their hashes, the live state, its
+#: hash and the stream state (one cache line per chain) of each of ``nb`` chains.
+Slab = namedtuple("Slab", ["traj", "hashes", "states", "h", "rs"])
+
+#: A run of the driver between two slices: the unique set, the slab, the problem's
+#: workspace, the chain lengths seen (speculation), the run and chain counters and the
+#: positions ``pos`` (slots ``_C0`` ...: batch, chain, observation, sweeps simulated, ramp).
+Run = namedtuple("Run", ["U", "slab", "work", "used_hist", "ctr", "cctr", "pos"])
+
+# Slots of ``Run.pos``: first chain of the open batch, its size (0: no batch open), its prefix
+# length and the sweeps of the prefix speculated so far, the chain being replayed (index in
+# the batch), whether that chain has begun, its last observation and its sweeps simulated,
+# and the size of the next batch (the ramp).
+_C0, _NB, _S, _SPEC, _B, _IN_CHAIN, _J, _DONE, _RAMP = range(9)
+N_POS = 9
+
+#: Status of a slice (:func:`_run_slice`): the run is over, the budget is spent, ``U`` is full.
+DONE, PAUSED, NEED_ROOM = 0, 1, 2
+
+#: Sweeps per slice when the caller gives no budget (the samplers size it by the sweep's cost).
+DEFAULT_BUDGET = 1 << 16
+
+# Initial capacity of the unique set (doubles when full).
+_CAP = 1024
+
+
+# ------------------------------------------------------------------------ problem interface
+# Placeholders: make_driver binds these names to a problem type's compiled functions.
+def alloc_work(data, nb):  # pragma: no cover - replaced in every instantiation
+    """Per-chain workspace of ``nb`` chains (a tuple of arrays with leading dimension ``nb``)."""
+    raise NotImplementedError
+
+
+def reset_work(data, work, b, x0):  # pragma: no cover - replaced in every instantiation
+    """Put slab ``b`` of the workspace in the start state ``x0``."""
+    raise NotImplementedError
+
+
+def sweep(data, work, b, zkeys, state, h, rs):  # pragma: no cover - replaced
+    """One sweep in place on ``state``; return its new Zobrist hash."""
+    raise NotImplementedError
+
+
+def _speculate_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _advance_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _new_run_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _run_slice_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+# ------------------------------------------------------------------------ unique set
+@jit()
+def hash_of(zkeys, x):
+    """Zobrist hash of the state ``x``: XOR of ``zkeys[l, x[l]]`` over positions ``l``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> z = np.array([[1, 2], [4, 8]], dtype=np.uint64)
+    >>> int(hash_of(z, np.array([1, 0], dtype=np.int32)))
+    6
+    """
+    h = np.uint64(0)
+    for i in range(x.shape[0]):
+        h = h ^ zkeys[i, x[i]]
+    return h
+
+
+@jit()
+def _new_unique_set(L, cap):
+    return UniqueSet(
+        np.empty((cap, L), dtype=np.int32),
+        np.empty(cap, dtype=np.uint64),
+        np.zeros(cap, dtype=np.int64),
+        np.full(cap, -1, dtype=np.int64),
+        np.zeros((2 * cap, 2), dtype=np.uint64),
+    )
+
+
+@jit()
+def _find(U, state, h):
+    """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill."""
+    table = U.table
+    mask = table.shape[0] - 1
+    s = np.int64(h & np.uint64(mask))
+    L = state.shape[0]
+    while True:
+        v = table[s, 1]
+        if v == 0:
+            return -1 - s
+        if table[s, 0] == h:
+            u = np.int64(v) - 1
+            same = True
+            for i in range(L):
+                if U.states[u, i] != state[i]:
+                    same = False
+                    break
+            if same:
+                return u
+        s = (s + 1) & mask
+
+
+@jit()
+def _insert(U, slot, state, h, n_unique, count, chain):
+    """Store ``state`` as unique number ``n_unique`` at the empty hash-table ``slot``."""
+    U.table[slot, 0] = h
+    U.table[slot, 1] = np.uint64(n_unique + 1)
+    U.states[n_unique, :] = state
+    U.hashes[n_unique] = h
+    U.counts[n_unique] = count
+    U.last_chain[n_unique] = chain
+
+
+@jit()
+def _grow(U, n_unique):
+    """Double the arrays of ``U`` when full; rehash at load factor 0.5. Returns the new ``U``."""
+    states, hashes, counts, last_chain, table = U
+    cap = states.shape[0]
+    if n_unique >= cap:
+        new_cap = 2 * cap
+        s2 = np.empty((new_cap, states.shape[1]), dtype=states.dtype)
+        s2[:cap] = states
+        h2 = np.empty(new_cap, dtype=hashes.dtype)
+        h2[:cap] = hashes
+        c2 = np.zeros(new_cap, dtype=counts.dtype)
+        c2[:cap] = counts
+        l2 = np.full(new_cap, -1, dtype=last_chain.dtype)
+        l2[:cap] = last_chain
+        states, hashes, counts, last_chain = s2, h2, c2, l2
+    if 2 * (n_unique + 1) > table.shape[0]:
+        size = table.shape[0]
+        while 2 * (n_unique + 1) > size:
+            size *= 2
+        table = np.zeros((size, 2), dtype=np.uint64)
+        mask = size - 1
+        for u in range(n_unique):
+            s = np.int64(hashes[u] & np.uint64(mask))
+            while table[s, 1] != 0:
+                s = (s + 1) & mask
+            table[s, 0] = hashes[u]
+            table[s, 1] = np.uint64(u + 1)
+    return UniqueSet(states, hashes, counts, last_chain, table)
+
+
+@jit()
+def _pack(run):
+    """A :class:`Run` as nested plain tuples, the form it crosses into Python in.
+
+    numba boxes a named tuple by calling its class, Python code, where a signal handler's
+    exception crashes numba's return path (a segmentation fault, not an error); plain tuples
+    are built in C and only ever raise.
+    """
+    U, S = run.U, run.slab
+    return ((U.states, U.hashes, U.counts, U.last_chain, U.table),
+            (S.traj, S.hashes, S.states, S.h, S.rs), run.work, run.used_hist, run.ctr, run.cctr,
+            run.pos)
+
+
+@jit()
+def _unpack(run):
+    """The :class:`Run` of a packed run (:func:`_pack`)."""
+    return Run(UniqueSet(*run[0]), Slab(*run[1]), run[2], run[3], run[4], run[5], run[6])
+
+
+@jit()
+def grow_run(run):
+    """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
+    r = _unpack(run)
+    return _pack(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr, r.pos))
+
+
+@jit()
+def _room(U, n_unique):
+    """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5)."""
+    return min(U.states.shape[0], U.table.shape[0] // 2) - n_unique
+
+
+# ------------------------------------------------------------------------ stall and stale
+@jit()
+def _begin_chain(c, last_chain, cctr):
+    """Reset the per-chain counters; the start state (unique 0) is the chain's ``x[0]``."""
+    cctr[:] = 0
+    cctr[_LOCAL_UNIQUE] = 1
+    last_chain[0] = c
+
+
+@jit()
+def _stalled(cctr, j, stall_mode, tau_stall):
+    """The stall rule after observation ``j`` of a chain (spec §3.2).
+
+    * global-consecutive (S3): observations since the chain's last find new to ``U``;
+    * global-cumulative (S2): the chain's observations that were already in ``U``;
+    * chain-local (S1): ``(j + 1) - NumUnique(x[0..j])``, repeats among the chain's own
+      states including its start state.
+    """
+    if stall_mode == STALL_GLOBAL_CONSECUTIVE:
+        return cctr[_STALL_RUN] >= tau_stall
+    if stall_mode == STALL_GLOBAL_CUMULATIVE:
+        return cctr[_STALL_CUM] >= tau_stall
+    if stall_mode == STALL_CHAIN_LOCAL:
+        return (j + 1) - cctr[_LOCAL_UNIQUE] >= tau_stall
+    return False
+
+
+@jit()
+def _end_chain(ctr, cctr, stale_mode, tau_stale):
+    """Close a chain; return True if the stale rule stops the run (spec §3.2).
+
+    * consecutive (T3): most recent completed chains in a row that added nothing to ``U``;
+    * cumulative (T2): completed chains, ever, that added nothing;
+    * literal-set (T1): ``|x| - n_u`` with ``x`` the set of samples, i.e. ``|U| - |U|``;
+    * literal-multiset (T1): ``|x| - n_u`` with ``x`` the multiset of every chain's start state
+      and every observation, i.e. ``(chains + observations) - |U|``.
+    """
+    ctr[NCHAINS] += 1
+    if cctr[_NEW_IN_CHAIN] > 0:
+        ctr[STALE_RUN] = 0
+    else:
+        ctr[STALE_RUN] += 1
+        ctr[STALE_CUM] += 1
+    fired = False
+    if stale_mode == STALE_CONSECUTIVE:
+        fired = ctr[STALE_RUN] >= tau_stale
+    elif stale_mode == STALE_CUMULATIVE:
+        fired = ctr[STALE_CUM] >= tau_stale
+    elif stale_mode == STALE_LITERAL_SET:
+        size_of_set = ctr[NU]
+        fired = size_of_set - ctr[NU] >= tau_stale
+    elif stale_mode == STALE_LITERAL_MULTISET:
+        size_of_multiset = ctr[NCHAINS] + ctr[NOBS]
+        fired = size_of_multiset - ctr[NU] >= tau_stale
+    if fired:
+        ctr[STALE_FIRED] = 1
+    return fired
+
+
+@jit()
+def _prefix_length(used_hist, chain_length, workers):
+    """Sweeps to speculate per chain: the ``1 - 1/workers`` quantile of the used lengths.
+
+    Speculating ``s`` sweeps costs ``s / workers`` per chain in parallel; each sweep a chain
+    needs beyond ``s`` costs 1 in the (sequential) replay. The expected time is minimal where
+    ``P(length > s) = 1 / workers``. Before any chain has finished, speculate everything.
+    """
+    n = used_hist.sum()
+    if n == 0:
+        return chain_length
+    need = n - n // workers  # at least this many chains end within s sweeps
+    acc = 0
+    for s in range(chain_length + 1):
+        acc += used_hist[s]
+        if acc >= need:
+            return min(max(s, 1), chain_length)
+    return chain_length
+
+
+# ------------------------------------------------------------------------ templates
+def _speculate(data, work, zkeys, traj, hashes, states, hs, rss, x0, h0, base, c_first, n_batch,
+               j_from, j_to):
+    """Sweeps ``j_from + 1 .. j_to`` of chains ``c_first .. c_first + n_batch - 1``.
+
+    The arrays are the fields of the :class:`Slab` (passed one by one: inside a parallel loop
+    numba loses writes to arrays reached through a tuple argument). Chain ``c_first + b``
+    writes its trajectory to ``traj[b, j_from:j_to]`` and the hash of each state to
+    ``hashes[b, j_from:j_to]``, and leaves its simulation state (``states[b]``, ``hs[b]``,
+    ``rss[b, 0]``, workspace slab ``b``) ready for the next call (``j_from = 0`` starts the
+    chains from ``x0``) or for the replay to continue it; a prefix simulated in several calls
+    is therefore the same trajectory as one simulated in one call. Chains are independent
+    (each has its own stream), so the loop over chains runs in parallel (``prange``); each
+    iteration writes only its own slab rows (``rs`` rows are padded to a cache line so that
+    neighbouring streams do not share one).
+    """
+    for b in prange(n_batch):
+        state = states[b]
+        rs = rss[b, 0:1]
+        if j_from == 0:
+            state[:] = x0
+            reset_work(data, work, b, x0)
+            rs[0] = chain_state(base, c_first + b)
+            h = h0
+        else:
+            h = hs[b]
+        for j in range(j_from, j_to):
+            h = sweep(data, work, b, zkeys, state, h, rs)
+            traj[b, j, :] = state
+            hashes[b, j] = h
+        hs[b] = h
+
+
+def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
+    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``.
+
+    Sweeps ``<= done`` were simulated ahead by the speculation and are read from the slab; later
+    ones are simulated here from the saved state (``done = 0``: all of them, the sequential
+    run). Each observation is looked up in ``U`` (inserted if new, spec §3.3) and counted, then
+    the stall rule is applied (:func:`_stalled`).
+
+    The caller guarantees room for ``j1 - j0`` new unique states (:func:`_room`), so this hot
+    loop never reallocates; the look-up is written out here rather than called because a call
+    passing the arrays of the unique set costs as much as the look-up itself.
+
+    Returns
+    -------
+    (j, stalled, done) : (int, bool, int)
+        The last observation made, whether the stall rule fired there, sweeps simulated.
+    """
+    L = U.states.shape[1]
+    table = U.table
+    mask = table.shape[0] - 1
+    state = slab.states[b]
+    rs = slab.rs[b, 0:1]
+    h = slab.h[b]
+    for j in range(j0 + 1, j1 + 1):
+        if j <= done:
+            x = slab.traj[b, j - 1]
+            hx = slab.hashes[b, j - 1]
+        else:
+            h = sweep(data, work, b, zkeys, state, h, rs)
+            x = state
+            hx = h
+            done = j
+        # look x up in U: linear probing from its hash, confirmed on the full state
+        slot = np.int64(hx & np.uint64(mask))
+        u = -1
+        while True:
+            v = table[slot, 1]
+            if v == 0:
+                break
+            if table[slot, 0] == hx:
+                cand = np.int64(v) - 1
+                same = True
+                for i in range(L):
+                    if U.states[cand, i] != x[i]:
+                        same = False
+                        break
+                if same:
+                    u = cand
+                    break
+            slot = (slot + 1) & mask
+        if u < 0:  # new to U: U.add(x); the stall run restarts
+            u = ctr[NU]
+            table[slot, 0] = hx
+            table[slot, 1] = np.uint64(u + 1)
+            U.states[u, :] = x
+            U.hashes[u] = hx
+            U.counts[u] = 1
+            U.last_chain[u] = c
+            ctr[NU] += 1
+            cctr[_NEW_IN_CHAIN] += 1
+            cctr[_STALL_RUN] = 0
+            cctr[_LOCAL_UNIQUE] += 1
+        else:
+            U.counts[u] += 1
+            cctr[_STALL_RUN] += 1
+            cctr[_STALL_CUM] += 1
+            if U.last_chain[u] != c:  # first visit of this chain to a state found before
+                U.last_chain[u] = c
+                cctr[_LOCAL_UNIQUE] += 1
+        ctr[NOBS] += 1
+        if _stalled(cctr, j, rules.stall_mode, rules.tau_stall):
+            slab.h[b] = h
+            return j, True, done
+    slab.h[b] = h
+    return j1, False, done
+
+
+def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
+    """A :class:`Run` before its first observation: ``U = {x0}``, every position at zero.
+
+    ``batch`` and ``workers`` as in :func:`_run_slice`; they size the slab (``nb`` chains and,
+    when speculating, ``chain_length`` sweeps of each) and the first speculation batch.
+    """
+    L = x0.shape[0]
+    h0 = hash_of(zkeys, x0)
+    U = _new_unique_set(L, _CAP)
+    ctr = np.zeros(N_COUNTERS, dtype=np.int64)
+    cctr = np.zeros(4, dtype=np.int64)
+    # U <- {x0}: x0 is stored (unique 0) but is not an observation (count 0 so far)
+    _insert(U, -1 - _find(U, x0, h0), x0, h0, 0, 0, -1)
+    ctr[NU] = 1
+    speculative = batch > 0
+    nb = min(batch, n_chains) if speculative else 1
+    n_spec = chain_length if speculative else 0  # bounded by the caller's slab limit
+    slab = Slab(
+        np.empty((nb, n_spec, L), dtype=np.int32),
+        np.empty((nb, n_spec), dtype=np.uint64),
+        np.empty((nb, L), dtype=np.int32),
+        np.empty(nb, dtype=np.uint64),
+        np.empty((nb, 8), dtype=np.uint64),  # one stream per cache line
+    )
+    work = alloc_work(data, nb)
+    used_hist = np.zeros(n_spec + 1, dtype=np.int64)  # chain lengths seen (speculation only)
+    pos = np.zeros(N_POS, dtype=np.int64)
+    # Batches start small (the first one learns the chain lengths for the prefix) and double
+    # up to ``batch``: a run that stops early by stale then discards little.
+    pos[_RAMP] = max(64, 16 * workers)
+    return _pack(Run(U, slab, work, used_hist, ctr, cctr, pos))
+
+
+def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget,
+               run):
+    """Continue the short-chain sampler (spec §3.3) in ``run`` for about ``budget`` sweeps.
+
+    Parameters
+    ----------
+    data : tuple
+        The problem type's arrays (passed to its ``alloc_work``, ``reset_work``, ``sweep``).
+    zkeys : ndarray, shape (L, K), uint64
+        Zobrist keys.
+    x0 : ndarray, shape (L,), int32
+        Feasible start state.
+    base : uint64
+        Base key of the run (chain ``c`` uses ``chain_state(base, c)``).
+    n_chains, chain_length : int
+        ``N_S`` and ``N_C``.
+    rules : Rules
+        Stall and stale readings and thresholds.
+    batch : int
+        0: simulate chain after chain, stopping each as soon as the stall rule fires.
+        ``> 0``: take up to ``batch`` chains at a time (``max(64, 16 workers)`` in the first
+        batch, doubling), simulate a prefix of each in parallel (:func:`_speculate`, prefix
+        length from :func:`_prefix_length`), then replay them in chain order applying stall
+        and stale exactly as the sequential run does, continuing a chain in the replay if it
+        outlives its prefix (spec §3.3, "Parallelism"). A chain's trajectory depends only on
+        its stream, so the result does not depend on ``batch``, ``workers`` or the prefix
+        lengths; only the discarded sweeps do.
+    workers : int
+        Threads of the speculation (sets the prefix quantile).
+    budget : int
+        Sweeps this call may simulate or replay (``>= 1``; a speculation step of ``n`` chains
+        counts ``n`` per sweep). The call stops at the first observation, or speculation step,
+        that would exceed it, with every position saved in ``run``.
+    run : Run
+        The run's state (:func:`_new_run`), updated in place.
+
+    Returns
+    -------
+    (status, left) : (int, int)
+        :data:`DONE` (the run is over: budget exhausted or stale), :data:`PAUSED` (budget
+        spent; call again) or :data:`NEED_ROOM` (``U`` is full: grow it with
+        :func:`grow_run`, then call again); ``left`` is the budget not spent.
+
+    Notes
+    -----
+    The run advances through the same operations, in the same order, whatever the budgets
+    of its slices: a slice ends only between two observations of a chain, or between two
+    speculation steps whose sweep ranges then continue each other (:func:`_speculate`), and
+    every position (batch, chain, observation, sweeps simulated, batch ramp) lives in
+    ``run.pos``. So a run in slices gives the same bits as a run in one call.
+    """
+    U, slab, work, used_hist, ctr, cctr, pos = _unpack(run)
+    speculative = batch > 0
+    nb = slab.states.shape[0]
+    h0 = hash_of(zkeys, x0)
+    left = budget
+    while pos[_C0] < n_chains:
+        c0 = pos[_C0]
+        if pos[_NB] == 0:  # open the next batch
+            n_b = min(nb, n_chains - c0)
+            s = 0
+            if speculative:
+                n_b = min(n_b, pos[_RAMP])
+                pos[_RAMP] = min(2 * pos[_RAMP], nb)
+                s = _prefix_length(used_hist, chain_length, workers)
+            pos[_NB] = n_b
+            pos[_S] = s
+            pos[_SPEC] = 0
+            pos[_B] = 0
+            pos[_IN_CHAIN] = 0
+        n_b = pos[_NB]
+        s = pos[_S]
+        while pos[_SPEC] < s:  # the batch's prefixes, a few sweeps of every chain per step
+            if left <= 0:
+                return PAUSED, left
+            k = min(s - pos[_SPEC], max(1, left // n_b))
+            _speculate_impl(data, work, zkeys, slab.traj, slab.hashes, slab.states, slab.h,
+                            slab.rs, x0, h0, base, c0, n_b, pos[_SPEC], pos[_SPEC] + k)
+            pos[_SPEC] += k
+            left -= k * n_b
+        while pos[_B] < n_b:  # replay in chain order
+            b = pos[_B]
+            c = c0 + b
+            if pos[_IN_CHAIN] == 0:
+                if not speculative:
+                    slab.states[b, :] = x0
+                    reset_work(data, work, b, x0)
+                    slab.h[b] = h0
+                    slab.rs[b, 0] = chain_state(base, c)
+                _begin_chain(c, U.last_chain, cctr)
+                pos[_IN_CHAIN] = 1
+                pos[_J] = 0
+                pos[_DONE] = s
+            j = pos[_J]
+            done = pos[_DONE]
+            stalled = False
+            while j < chain_length and not stalled:
+                room = _room(U, ctr[NU])
+                if room <= 0 or left <= 0:
+                    pos[_J] = j
+                    pos[_DONE] = done
+                    return (NEED_ROOM if room <= 0 else PAUSED), left
+                j1 = min(chain_length, j + min(room, left))
+                j_before = j
+                j, stalled, done = _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
+                                                 b, c, j, j1, done)
+                left -= j - j_before
+            if speculative:
+                used_hist[j] += 1
+            ctr[DISCARDED] += done - j
+            pos[_IN_CHAIN] = 0
+            pos[_B] = b + 1
+            if _end_chain(ctr, cctr, rules.stale_mode, rules.tau_stale):
+                ctr[DISCARDED] += (n_b - b - 1) * s
+                pos[_C0] = n_chains
+                return DONE, left
+        pos[_C0] = c0 + n_b
+        pos[_NB] = 0
+    return DONE, left
+
+
+def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget):
+    """A new run and its first slice of ``budget`` sweeps (:func:`_run_slice`).
+
+    Returns ``(states, counts, ctr, None)`` as documented in :func:`make_driver` when the run
+    ends within the budget (one call, no state handed back: the common case costs what a run
+    in one call costs), else ``(empty, empty, ctr, run)`` with the packed :class:`Run` to
+    continue (:func:`_pack`).
+    """
+    run = _new_run_impl(data, zkeys, x0, n_chains, chain_length, batch, workers)
+    status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                   batch, workers, budget, run)
+    while status == NEED_ROOM:
+        run = grow_run(run)
+        status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                       batch, workers, max(left, 1), run)
+    r = _unpack(run)
+    U = r.U
+    if status == DONE:
+        n = r.ctr[NU]
+        return U.states[:n].copy(), U.counts[:n].copy(), r.ctr, None
+    return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
+
+
+def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
+    """Compile the chain driver for one problem type.
+
+    Parameters
+    ----------
+    name : str
+        Unique name of the problem type (names the compiled functions and their cache files).
+    alloc_work, reset_work, sweep : compiled functions
+        The problem type's workspace allocation, reset and sweep (see the module docstring).
+    cache : bool, optional
+        As in :func:`rankedassign.numba_options.jit`; off for functions defined interactively.
+
+    Returns
+    -------
+    run_chains : function
+        ``run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
+        budget=DEFAULT_BUDGET) -> (states, counts, ctr)``, the short-chain sampler (spec
+        §3.3; the original sampler is one chain without rules), arguments as in
+        :func:`_run_slice`, run in compiled slices of at most about ``budget`` sweeps each
+        (see the module docstring, "Slices"). It returns
+
+        * ``states`` : ndarray, shape (n_unique, L), int32 — unique states in discovery
+          order, ``x0`` first;
+        * ``counts`` : ndarray, shape (n_unique,), int64 — observations of each;
+        * ``ctr`` : ndarray, shape (7,), int64 — ``[n_unique, n_observations,
+          n_chains_run, stale_run, stale_cumulative, stale_fired,
+          n_speculative_discarded]``;
+
+        the same bits for every ``budget``.
+
+    Examples
+    --------
+    A toy "problem" whose state is one bit flipped with probability one half per sweep:
+
+    >>> import numpy as np
+    >>> from rankedassign.numba_options import jit
+    >>> from rankedassign.engine._kernels import next_uniform
+    >>> @jit(cache=False)
+    ... def alloc(data, nb):
+    ...     return (np.zeros((nb, 1)),)
+    >>> @jit(cache=False)
+    ... def reset(data, work, b, x0):
+    ...     pass
+    >>> @jit(cache=False)
+    ... def flip(data, work, b, zkeys, state, h, rs):
+    ...     if next_uniform(rs) < data[0]:
+    ...         h ^= zkeys[0, state[0]] ^ zkeys[0, 1 - state[0]]
+    ...         state[0] = 1 - state[0]
+    ...     return h
+    >>> run = make_driver("coin", alloc, reset, flip, cache=False)
+    >>> zkeys = np.array([[1, 2]], dtype=np.uint64)
+    >>> args = ((0.5,), zkeys, np.zeros(1, np.int32), np.uint64(7), 1, 100, Rules(0, 0, 0, 0),
+    ...         0, 1)
+    >>> states, counts, ctr = run(*args)
+    >>> sorted(states[:, 0].tolist()), int(counts.sum())
+    ([0, 1], 100)
+    >>> sliced = run(*args, budget=3)          # 34 slices of at most 3 sweeps: same bits
+    >>> all(bool((a == b).all()) for a, b in zip(sliced, (states, counts, ctr)))
+    True
+    """
+    spec = instantiate(_speculate, f"speculate_{name}",
+                       {"sweep": sweep, "reset_work": reset_work}, parallel=True, cache=cache)
+    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache)
+    new_run = instantiate(_new_run, f"new_run_{name}", {"alloc_work": alloc_work},
+                          cache=cache)
+    run_slice = instantiate(_run_slice, f"run_slice_{name}",
+                            {"_speculate_impl": spec, "_advance_impl": adv,
+                             "reset_work": reset_work}, cache=cache)
+    start = instantiate(_start, f"start_{name}",
+                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice}, cache=cache)
+
+    def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
+                   budget=DEFAULT_BUDGET):
+        budget = max(1, int(budget))
+        with interruptible:  # the first slice, and growing U, return arrays
+            states, counts, ctr, run = start(data, zkeys, x0, base, n_chains, chain_length,
+                                             rules, batch, workers, budget)
+            if run is None:
+                return states, counts, ctr
+            # Later slices return two integers and no array (see the module docstring); a
+            # signal handler's exception is raised here, between two slices.
+            while True:
+                status, _ = run_slice(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                      batch, workers, budget, run)
+                if status == DONE:
+                    break
+                if status == NEED_ROOM:
+                    run = grow_run(run)
+        (states, _, counts, _, _), _, _, _, ctr, _, _ = run  # the packed Run
+        n = ctr[NU]
+        return states[:n].copy(), counts[:n].copy(), ctr
+
+    run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
+    run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
+    return run_chains

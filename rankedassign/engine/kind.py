@@ -1,0 +1,71 @@
+"""The record a problem kind hands to the engine: how to prepare it, sweep it and run it.
+
+A *problem kind* (single-sensor ranked assignment, multi-sensor, adaptive birth) is one folder
+of the package with the same files in the same roles (``problem``, ``synthetic``, ``prepare``,
+``reference``, ``_kernels``) and one :class:`Kind` record in its ``__init__``. The samplers
+(:mod:`rankedassign.samplers`, :mod:`rankedassign.reference`) and the exact oracle
+(:mod:`oracle`) dispatch on that record through :func:`rankedassign.kinds.kind_of`; no other
+table names a kind. The engine itself imports no kind.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+__all__ = ["Kind"]
+
+
+@dataclass(frozen=True)
+class Kind:
+    """One problem kind, as the samplers and the oracle see it.
+
+    Attributes
+    ----------
+    name : str
+        Identifier (``"single"``, ``"multisensor"``, ``"adaptive_birth"``); also the name of
+        the kind's folder in :mod:`rankedassign` and in :mod:`oracle`.
+    problem_type : type
+        The problem class of the kind; :func:`rankedassign.kinds.kind_of` matches on it.
+    prepare : callable
+        ``prepare(problem, start, scan, rng, options) -> Prepared``: validates a sampler call's
+        arguments and builds the inputs shared by both backends
+        (:class:`rankedassign.engine.result.Prepared`); ``options`` is the dict of the kind's
+        options (see ``options``).
+    new_work : callable
+        Reference row update, part 1: ``new_work(data, x) -> work``, the bookkeeping of a
+        chain started at the list ``x`` (:func:`rankedassign.engine.reference.run_chains`).
+    sweep : callable
+        Reference row update, part 2: ``sweep(data, work, x, g)``, one sweep in place drawing
+        from the stream ``g``.
+    drivers : mapping of str to callable
+        The compiled chain drivers (:func:`rankedassign.engine._kernels.make_driver`), keyed
+        by :attr:`Prepared.driver <rankedassign.engine.result.Prepared.driver>`; a kind with
+        one row update has one (``"chains"``), the single-sensor kind two (``"direct"`` and
+        ``"prefix"`` draws).
+    options : mapping of str to str
+        The kind's sampler options (keyword arguments of :func:`rankedassign.sample_original`
+        and :func:`rankedassign.sample_short_chains` beyond the common ones), each with a one
+        line description; empty for the single-sensor kind.
+
+    Examples
+    --------
+    >>> from rankedassign.kinds import KINDS
+    >>> [k.name for k in KINDS]
+    ['single', 'multisensor', 'adaptive_birth']
+    >>> sorted(KINDS[1].options)
+    ['method', 'survival_power']
+    """
+
+    name: str
+    problem_type: type
+    prepare: Callable = field(repr=False)
+    new_work: Callable = field(repr=False)
+    sweep: Callable = field(repr=False)
+    drivers: Mapping[str, Callable] = field(repr=False)
+    options: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self):
+        object.__setattr__(self, "drivers", MappingProxyType(dict(self.drivers)))
+        object.__setattr__(self, "options", MappingProxyType(dict(self.options)))

@@ -1,0 +1,402 @@
+"""Table I on the multi-sensor ranked-assignment problem, for each multi-sensor sampler.
+
+The single-sensor Table I study (:mod:`rankedassign.experiments.studies.table1`) carried over to
+:class:`~rankedassign.multisensor.MultiSensorProblem` (multi-sensor spec §5): the original
+sampler is one chain of ``original_obs`` sweeps, the short-chain sampler ``n_chains`` chains of
+``chain_length`` sweeps from the all-missed state (the same budget, ``N_S N_C``), under the
+stall rule (S3), the stale rule (T3) or both; ΔObs and ΔError are the single-sensor study's
+(:func:`~rankedassign.experiments._synthetic.paired_summary`, spec eq. 1.10). Every row update
+of the samplers (``method``) is run: ``"exact"`` (Vo-Vo-Beard Alg. 1), ``"mm"`` and
+``"mm-fixed"`` (MM-Gibbs) and ``"componentwise"`` (the collapsed target).
+
+Cases: a canonical size of spec §6.5 with one family each (``"A/random_coupled"``: the size
+closest to the single-sensor 4 x 24 with a non-separable target, where MM-Gibbs samples a
+surrogate; ``"B/random"``: two rows, clutter-rich, separable, where MM-Gibbs is exact in law;
+``"C/uniform"``: the flat target, the hardest to truncate, as the single-sensor uniform family).
+The random families are re-drawn every Monte Carlo run.
+
+Errors. For ``"exact"``, ``"mm"`` and ``"mm-fixed"`` the exact truncation error against ``pi``
+(:func:`oracle.truncation_error`). The component-wise sampler's states are collapsed (a row at
+the all-missed tuple stands for "dead or missed by every sensor", multi-sensor spec §1.6) and
+its costs are the collapsed weights, so its error is the ``pi``-mass its unique states do not
+cover, ``1 - sum exp(-cost) / Z`` (equal to the truncation error for the other methods).
+
+The paper has no multi-sensor numbers ("similar results are expected", multi-sensor spec §5).
+
+References
+----------
+.. [1] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+   Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023, Table I.
+.. [2] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the Generalized
+   Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 67(23):5952-5967, 2019.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+import oracle
+
+from ... import sample_original, sample_short_chains
+from ...multisensor import synthetic as ms_synthetic
+from ...validation import check_choice, check_fields, check_int
+from .. import _format as fmt
+from .._executor import child_seed, run_seed
+from .._plots import figure
+from .._synthetic import PairedStats, paired_summary
+from ..config import CRITERIA
+from ..registry import Study, as_rows, register_study
+
+__all__ = ["MULTISENSOR", "MultiSensorConfig", "MultiSensorRow", "MethodAccuracyRow",
+           "MultiSensorSummary", "CASES", "METHODS", "summarise_multisensor"]
+
+#: The cases of the study: ``"<size>/<family>"`` (sizes of spec §6.5, families of
+#: :mod:`rankedassign.multisensor.synthetic`).
+CASES = ("A/random_coupled", "B/random", "C/uniform")
+#: Families a case may name.
+MS_FAMILIES = ("diagonal", "uniform", "random", "random_coupled", "geometric")
+#: Row updates of the multi-sensor samplers, in report order.
+METHODS = ("exact", "mm", "mm-fixed", "componentwise")
+#: Termination rules of each Table I column (``True`` = rule on), readings S3 / T3.
+RULES = {"stall": (True, False), "stale": (False, True), "full": (True, True)}
+#: Quick mode: Monte Carlo runs (the per-run settings are the full study's).
+QUICK_MC = 3
+
+
+def _case(case) -> tuple[str, str]:
+    if not isinstance(case, str):
+        raise TypeError(f"cases: a case must be a str such as 'A/random', got {case!r}")
+    size, _, family = case.partition("/")
+    check_choice(size, "cases: size", tuple(ms_synthetic.SIZES))
+    check_choice(family, "cases: family", MS_FAMILIES)
+    return size, family
+
+
+@dataclass(frozen=True)
+class MultiSensorConfig:
+    """Settings of the multi-sensor Table I study.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per case (the random families are re-drawn every run).
+    cases : tuple of str
+        ``"<size>/<family>"``, size in ``A, B, C`` (spec §6.5), family a function of
+        :mod:`rankedassign.multisensor.synthetic`.
+    methods : tuple of str
+        Samplers' row updates (:data:`METHODS`).
+    original_obs : int
+        Sweeps of the original chain (default ``n_chains * chain_length``, the Table I rule).
+    n_chains, chain_length, tau_stall, tau_stale : int
+        Short-chain settings (multi-sensor spec §5 synthetic defaults).
+
+    Examples
+    --------
+    >>> MultiSensorConfig().original_obs
+    250000
+    >>> MultiSensorConfig(methods=("gibbs",))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown methods: method 'gibbs'; expected one of (...)
+    """
+
+    n_mc: int = 100
+    cases: tuple = CASES
+    methods: tuple = METHODS
+    original_obs: int = 250_000
+    n_chains: int = 10_000
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 25
+
+    def __post_init__(self):
+        check_fields(self)
+        for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall",
+                     "tau_stale"):
+            check_int(getattr(self, name), name, minimum=1)
+        for name, values in (("cases", self.cases), ("methods", self.methods)):
+            if not isinstance(values, tuple) or not values:
+                raise ValueError(f"{name} must be a non-empty tuple, got {values!r}")
+        for c in self.cases:
+            _case(c)
+        for m in self.methods:
+            check_choice(m, "methods: method", METHODS)
+
+
+def make_problem(case: str, run_ss: np.random.SeedSequence):
+    """The problem of ``case`` for one Monte Carlo run (random families re-drawn)."""
+    size, family = _case(case)
+    P, M = ms_synthetic.SIZES[size]
+    build = getattr(ms_synthetic, family)
+    if family in ("diagonal", "uniform"):
+        return build(P, M)
+    return build(P, M, rng=child_seed(run_ss, 0))
+
+
+def _record(problem, res, seconds: float, log_z: float, method: str) -> dict:
+    if method == "componentwise":
+        covered = float(np.exp(-np.asarray(res.costs, dtype=float) - log_z).sum())
+        error = min(1.0, max(0.0, 1.0 - covered))
+    else:
+        error = float(oracle.truncation_error(problem, res.assignments))
+    return {"n_obs": int(res.n_observations), "n_unique": int(len(res.costs)),
+            "n_chains": int(res.n_chains_run), "stop_reason": str(res.stop_reason),
+            "error": error, "seconds": float(seconds)}
+
+
+def multisensor_tasks(cfg: MultiSensorConfig, seed: int) -> list[tuple]:
+    """``(cfg, seed, run, case)`` for every case and Monte Carlo run (case-major)."""
+    return [(cfg, seed, r, c) for c in cfg.cases for r in range(cfg.n_mc)]
+
+
+def multisensor_task(cfg: MultiSensorConfig, seed: int, run: int, case: str) -> dict:
+    """One Monte Carlo run of one case: for every method, the original chain and the criteria.
+
+    Returns
+    -------
+    dict
+        ``run, case, methods: {method: {"original", "stall", "stale", "full"}}``, each a record
+        with ``n_obs, n_unique, n_chains, stop_reason, error, seconds``.
+
+    Examples
+    --------
+    >>> cfg = MultiSensorConfig(n_mc=1, cases=("A/diagonal",), methods=("mm",),
+    ...                         original_obs=100, n_chains=4)
+    >>> out = multisensor_task(cfg, 0, 0, "A/diagonal")
+    >>> out["methods"]["mm"]["original"]["n_obs"], out["methods"]["mm"]["full"]["n_obs"] <= 100
+    (100, True)
+    """
+    s = run_seed(seed, run)
+    problem = make_problem(case, s)
+    log_z = float(oracle.log_normalizer(problem))
+    ci = cfg.cases.index(case)
+    out = {"run": run, "case": case, "methods": {}}
+    for method in cfg.methods:
+        mi = METHODS.index(method)
+        t = time.perf_counter()
+        res = sample_original(problem, cfg.original_obs, rng=child_seed(s, 1, ci, mi),
+                              method=method)
+        recs = {"original": _record(problem, res, time.perf_counter() - t, log_z, method)}
+        for k, crit in enumerate(CRITERIA):
+            stall, stale = RULES[crit]
+            t = time.perf_counter()
+            res = sample_short_chains(
+                problem, cfg.n_chains, cfg.chain_length,
+                tau_stall=cfg.tau_stall if stall else None,
+                tau_stale=cfg.tau_stale if stale else None,
+                rng=child_seed(s, 2, ci, mi, k), method=method)
+            recs[crit] = _record(problem, res, time.perf_counter() - t, log_z, method)
+        out["methods"][method] = recs
+    return out
+
+
+@dataclass(frozen=True, kw_only=True)
+class MultiSensorRow(PairedStats):
+    """One Table I row: a case, a method and a criterion (statistics as the single-sensor's)."""
+
+    case: str
+    method: str
+    criterion: str
+
+
+@dataclass(frozen=True, kw_only=True)
+class MethodAccuracyRow:
+    """A method's original chain at the common budget: its error, against the exact method's.
+
+    Errors in %, ``vs_exact_pp`` the mean paired difference to the ``"exact"`` method's error
+    in pp (``None`` without the exact method), ``seconds`` the mean wall time of one chain.
+    """
+
+    case: str
+    method: str
+    n_mc: int
+    n_obs: int
+    error_mean: float
+    error_se: float | None
+    vs_exact_pp: float | None
+    vs_exact_pp_se: float | None
+    unique_mean: float
+    seconds_mean: float
+
+
+@dataclass(frozen=True)
+class MultiSensorSummary:
+    """Table I rows, the equal-sweeps accuracy rows and the verdict."""
+
+    rows: tuple
+    accuracy: tuple
+    verdict: str
+
+
+def _se(x) -> float | None:
+    x = np.asarray(x, dtype=float)
+    return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else None
+
+
+def summarise_multisensor(runs: list[dict], cfg: MultiSensorConfig) -> MultiSensorSummary:
+    """Table I rows (case x method x criterion), accuracy rows (case x method), verdict.
+
+    Parameters
+    ----------
+    runs : list of dict
+        Records of :func:`multisensor_task`.
+    cfg : MultiSensorConfig
+
+    Returns
+    -------
+    MultiSensorSummary
+    """
+    rows, acc = [], []
+    for case in cfg.cases:
+        rs = sorted((r for r in runs if r["case"] == case), key=lambda r: r["run"])
+        if not rs:
+            continue
+        exact = ([100 * r["methods"]["exact"]["original"]["error"] for r in rs]
+                 if "exact" in cfg.methods else None)
+        for method in cfg.methods:
+            orig = [r["methods"][method]["original"] for r in rs]
+            for crit in CRITERIA:
+                stats = paired_summary(orig, [r["methods"][method][crit] for r in rs])
+                rows.append(MultiSensorRow(case=case, method=method, criterion=crit,
+                                           **stats.__dict__))
+            e = np.array([100 * o["error"] for o in orig])
+            d = None if exact is None else e - np.array(exact)
+            acc.append(MethodAccuracyRow(
+                case=case, method=method, n_mc=len(rs), n_obs=cfg.original_obs,
+                error_mean=float(e.mean()), error_se=_se(e),
+                vs_exact_pp=None if d is None else float(d.mean()),
+                vs_exact_pp_se=None if d is None else _se(d),
+                unique_mean=float(np.mean([o["n_unique"] for o in orig])),
+                seconds_mean=float(np.mean([o["seconds"] for o in orig]))))
+    return MultiSensorSummary(rows=tuple(rows), accuracy=tuple(acc),
+                              verdict=verdict(rows))
+
+
+def verdict(rows) -> str:
+    """One paragraph: does "similar results are expected" hold, judged on the "full" column?
+
+    A case and method carry the single-sensor result over when the short chains save
+    observations (ΔObs > 0) or, as on the single-sensor uniform family, neither save nor lose,
+    with a signed error change (short minus original) no larger than 3 standard errors or
+    1 pp.
+
+    Examples
+    --------
+    >>> verdict([])
+    'No case was run.'
+    """
+    full = [r for r in rows if r.criterion == "full"]
+    if not full:
+        return "No case was run."
+    good, bad = [], []
+    for r in full:
+        se = r.delta_error_pp_se or 0.0
+        ok = r.delta_error_signed_pp <= max(1.0, 3 * se)
+        (good if ok else bad).append(r)
+    saved = [r.delta_obs_pct for r in full]
+    text = (f"With both rules (the proposed sampler) the short chains use "
+            f"{min(saved):.1f} % to {max(saved):.1f} % fewer observations than the long chain "
+            f"over the {len(full)} (case, method) pairs. ")
+    if not bad:
+        text += ("In every pair the short chains' error is no worse than the long chain's by "
+                 "more than 1 pp or 3 standard errors, so the paper's \"similar results are "
+                 "expected\" holds for every multi-sensor sampler at these settings.")
+    else:
+        text += ("The paper's \"similar results are expected\" holds in "
+                 f"{len(good)} of the {len(full)} pairs; the short chains lose accuracy in: "
+                 + "; ".join(f"{r.case} {r.method} (signed ΔError "
+                             f"{fmt.pm(r.delta_error_signed_pp, r.delta_error_pp_se)} pp)"
+                             for r in bad) + ".")
+    return text
+
+
+def render_multisensor(summary: MultiSensorSummary, cfg: MultiSensorConfig) -> str:
+    """The report section: the Table I layout per method, the accuracy table, the verdict."""
+    n = summary.rows[0].n_mc if summary.rows else 0
+    main = [[r.case, r.method, r.criterion, fmt.pm(r.delta_obs_pct, r.delta_obs_pct_se),
+             fmt.pm(r.delta_error_pp, r.delta_error_pp_se),
+             fmt.pm(r.error_original_mean, r.error_original_se),
+             fmt.pm(r.error_proposed_mean, r.error_proposed_se),
+             fmt.integer(r.obs_proposed_mean), fmt.num(100 * r.stale_stop_fraction, 1)]
+            for r in summary.rows]
+    acc = [[a.case, a.method, fmt.pm(a.error_mean, a.error_se),
+            fmt.pm(a.vs_exact_pp, a.vs_exact_pp_se), fmt.integer(a.unique_mean),
+            fmt.num(a.seconds_mean, 3)] for a in summary.accuracy]
+    return f"""## Multi-sensor Table I — original vs short-chain sampler, per multi-sensor sampler
+
+The paper has no multi-sensor numbers (it expects "similar results", multi-sensor spec §5), so
+there is no paper column. Cases {", ".join(cfg.cases)} (size/family, spec §6.5; random families
+re-drawn every run); methods {", ".join(cfg.methods)}. Original sampler: one chain of
+{cfg.original_obs:,} sweeps; short chains: {cfg.n_chains:,} × {cfg.chain_length}, τ_stall =
+{cfg.tau_stall}, τ_stale = {cfg.tau_stale}, readings S3/T3, every chain from the all-missed
+state; {fmt.plural(n, "Monte Carlo run")}. ΔObs and ΔError as in the single-sensor Table I
+(spec eq. 1.10, `±` one Monte Carlo standard error). Errors are exact truncation errors against
+π; the component-wise sampler's is the π-mass its collapsed states do not cover (its states
+merge "dead" with "missed by every sensor").
+
+{fmt.table(["case", "method", "criterion", "ΔObs (%)", "ΔError (pp)", "ε̄ original (%)",
+            "ε̄ short (%)", "N̄ short", "stale stops (%)"], main)}
+
+**Verdict.** {summary.verdict}
+
+Accuracy and time at equal sweeps: each method's original chain of {cfg.original_obs:,} sweeps
+(its error, its paired difference to the exact sampler's, unique solutions, and the mean wall
+time in seconds of the sampler call alone, on this machine):
+
+{fmt.table(["case", "method", "ε̄ (%)", "ε̄ − ε̄ exact (pp)", "unique", "seconds"], acc)}
+
+![Multi-sensor Table I: ΔObs and ΔError per case, method and criterion](multisensor.png)
+"""
+
+
+def plot_multisensor(summary: MultiSensorSummary, directory: Path) -> list[str]:
+    """ΔObs, ΔError (±1 SE, per criterion) and the equal-sweeps error per (case, method)."""
+    keys = list(dict.fromkeys((r.case, r.method) for r in summary.rows))
+    by = {(r.case, r.method, r.criterion): r for r in summary.rows}
+    fig, axes = figure(3, width=5.0)
+    x = np.arange(len(keys))
+    w = 0.8 / len(CRITERIA)
+    labels = [f"{c}\n{m}" for c, m in keys]
+    for ax, key, label in ((axes[0], "delta_obs_pct", "ΔObs (%)"),
+                           (axes[1], "delta_error_pp", "ΔError (pp)")):
+        for j, crit in enumerate(CRITERIA):
+            v = [getattr(by[c, m, crit], key) for c, m in keys]
+            e = [getattr(by[c, m, crit], f"{key}_se") or 0.0 for c, m in keys]
+            ax.bar(x + (j - 1) * w, v, w, yerr=e, capsize=2, label=crit)
+        ax.set_ylabel(label)
+        ax.legend(fontsize=7)
+    acc = {(a.case, a.method): a for a in summary.accuracy}
+    axes[2].bar(x, [acc[k].error_mean for k in keys],
+                yerr=[acc[k].error_se or 0.0 for k in keys], capsize=2)
+    axes[2].set_ylabel("ε̄ of the original chain (%)")
+    for ax in axes:
+        ax.set_xticks(x, labels, fontsize=6)
+        ax.grid(True, axis="y", alpha=0.3)
+    fig.suptitle("Multi-sensor Table I (±1 SE) and the error of each method at equal sweeps")
+    fig.savefig(Path(directory) / "multisensor.png", dpi=110)
+    return ["multisensor.png"]
+
+
+def _csv(summary: MultiSensorSummary) -> list[dict]:
+    return as_rows(list(summary.rows))
+
+
+MULTISENSOR = register_study(Study(
+    name="multisensor",
+    title="multi-sensor Table I: original vs short chains for every multi-sensor sampler",
+    config_type=MultiSensorConfig,
+    full=MultiSensorConfig,
+    quick=lambda: MultiSensorConfig(n_mc=QUICK_MC),
+    tasks=multisensor_tasks,
+    task=multisensor_task,
+    summarise=summarise_multisensor,
+    render=render_multisensor,
+    plot=plot_multisensor,
+    csv_rows=_csv,
+    order=80,
+))

@@ -1,0 +1,223 @@
+"""How far the samplers are from the best possible truncation error for their sample size.
+
+With ``k`` distinct solutions no method can do better than keeping the ``k`` heaviest
+assignments: ``eps*(k) = 1 - best_mass(k)``. This study puts the short-chain sampler's (and the
+original sampler's) error next to ``eps*`` at the same ``k``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+import oracle
+
+from .. import _format as fmt
+from .._executor import run_seed
+from .._plots import figure
+from .._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
+from ..config import STALE_READINGS, STALL_READINGS, OptimumConfig
+from ..registry import Study, as_rows, per_family_tasks, register_study
+
+__all__ = ["OPTIMUM", "OptimumRow", "best_error", "summarise_optimum"]
+
+#: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
+QUICK_MC = 20
+
+#: Enumerate (and sort) every feasible assignment up to this many; beyond, ask the oracle.
+_ENUMERATION_LIMIT = 2_000_000
+
+
+def _tail_weights(problem) -> np.ndarray | None:
+    """Suffix sums of the sorted normalised weights: ``tail[k] = sum_{i >= k} w_(i) / Z``."""
+    if problem.n_feasible() > _ENUMERATION_LIMIT:
+        return None
+    costs = oracle.enumerate_assignments(problem, limit=_ENUMERATION_LIMIT).costs
+    logw = -np.asarray(costs, dtype=float)
+    w = np.exp(logw - logw.max())  # sorted by cost = by decreasing weight
+    # Sum from the light end so small tails keep their relative precision.
+    tail = np.concatenate([np.cumsum(w[::-1])[::-1], [0.0]])
+    return tail / tail[0]
+
+
+_cached_tail = lru_cache(maxsize=4)(_tail_weights)
+
+
+def best_error(problem, k: int, *, _tail=None) -> float:
+    """Smallest truncation error (spec 1.9) of any set of ``k`` distinct assignments.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    k : int
+        Number of distinct assignments (``k >= |Gamma|`` gives 0).
+
+    Returns
+    -------
+    float
+        ``1 - (sum of the k largest weights) / Z``.
+
+    Notes
+    -----
+    Exact: every feasible assignment is enumerated and sorted
+    (:func:`oracle.enumerate_assignments`) when there are at most two million of them,
+    otherwise :func:`oracle.best_mass` (Murty's k-best) is used. On the uniform family the
+    answer is ``1 - k / |Gamma|``.
+
+    References
+    ----------
+    .. [1] K. G. Murty, "An Algorithm for Ranking all the Assignments in Order of Increasing
+       Cost", Operations Research 16(3), 1968.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> from rankedassign.experiments import best_error
+    >>> round(best_error(synthetic.uniform(), 76848 // 2), 6)
+    0.5
+    """
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 0:
+        raise ValueError(f"k must be a non-negative integer, got {k!r}")
+    tail = _tail if _tail is not None else _tail_weights(problem)
+    if tail is None:
+        return max(0.0, 1.0 - float(oracle.best_mass(problem, int(k))))
+    return float(tail[min(int(k), len(tail) - 1)])
+
+
+def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
+    s = run_seed(seed, run)
+    problem = make_problem(family, s, cfg)
+    tail = _cached_tail(problem) if family in ("diagonal", "uniform") else _tail_weights(problem)
+    stall, stale = STALL_READINGS[0], STALE_READINGS[0]
+    out = {"run": run, "family": family}
+    for name, rec in (
+        ("original", run_original(problem, cfg.original_obs, original_seed(s, family))),
+        (
+            "proposed",
+            run_proposed(
+                problem, cfg, proposed_seed(s, family, stall, stale), stall=stall, stale=stale
+            ),
+        ),
+    ):
+        rec["best_error"] = best_error(problem, rec["n_unique"], _tail=tail)
+        out[name] = rec
+    return out
+
+
+@dataclass(frozen=True)
+class OptimumRow:
+    """One family and sampler: mean distinct solutions, error and best error (percent)."""
+
+    family: str
+    sampler: str
+    n_mc: int
+    obs_mean: float
+    n_unique_mean: float
+    error_pct_mean: float
+    error_pct_se: float | None
+    best_error_pct_mean: float
+    best_error_pct_se: float | None
+    excess_error_pp_mean: float
+    excess_error_pp_se: float | None
+
+
+def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
+    """Rows ``(family, sampler)``: mean distinct solutions, error and best error (in %)."""
+    rows = []
+    for fam in families:
+        rs = [r for r in runs if r["family"] == fam]
+        n = len(rs)
+        for sampler in ("original", "proposed"):
+            e = 100.0 * np.array([r[sampler]["error"] for r in rs])
+            b = 100.0 * np.array([r[sampler]["best_error"] for r in rs])
+            k = np.array([r[sampler]["n_unique"] for r in rs], dtype=float)
+            obs = np.array([r[sampler]["n_obs"] for r in rs], dtype=float)
+
+            def se(x, n=n):
+                return float(x.std(ddof=1) / math.sqrt(n)) if n > 1 else None
+
+            rows.append(OptimumRow(
+                family=fam,
+                sampler=sampler,
+                n_mc=n,
+                obs_mean=float(obs.mean()),
+                n_unique_mean=float(k.mean()),
+                error_pct_mean=float(e.mean()),
+                error_pct_se=se(e),
+                best_error_pct_mean=float(b.mean()),
+                best_error_pct_se=se(b),
+                excess_error_pp_mean=float((e - b).mean()),
+                excess_error_pp_se=se(e - b),
+            ))
+    return rows
+
+
+_HEADER = ["family", "sampler", "observations", "unique k", "ε (%)", "ε*(k) (%)",
+           "ε − ε* (pp)"]
+
+
+def render_optimum(rows: list[OptimumRow], cfg: OptimumConfig) -> str:
+    """The optimum section (the paper has no such study)."""
+    body = [
+        [r.family, r.sampler, fmt.integer(r.obs_mean), fmt.integer(r.n_unique_mean),
+         fmt.pm(r.error_pct_mean, r.error_pct_se),
+         fmt.pm(r.best_error_pct_mean, r.best_error_pct_se),
+         fmt.pm(r.excess_error_pp_mean, r.excess_error_pp_se)]
+        for r in rows
+    ]
+    n = rows[0].n_mc if rows else 0
+    return f"""## Optimum — sampled error against the best error for the same number of solutions
+
+For k distinct solutions the smallest possible truncation error is that of the k heaviest
+assignments, ε*(k) = 1 − best_mass(k) (exact: all 76,848 feasible assignments enumerated and
+sorted). Proposed = the Table I "full" runs (same streams), {fmt.plural(n, "Monte Carlo run")}.
+The paper has no such study.
+
+{fmt.table(_HEADER, body)}
+
+![optimum](optimum.png)
+"""
+
+
+def plot_optimum(rows: list[OptimumRow], directory: Path) -> list[str]:
+    """Sampled error vs the best error at the same number of distinct solutions."""
+    fams = list(dict.fromkeys(r.family for r in rows))
+    fig, (ax,) = figure()
+    x = np.arange(len(fams))
+    by = {(r.family, r.sampler): r for r in rows}
+    series = [("original", "error_pct_mean", "original ε"),
+              ("original", "best_error_pct_mean", "ε*(k original)"),
+              ("proposed", "error_pct_mean", "short-chain ε"),
+              ("proposed", "best_error_pct_mean", "ε*(k short-chain)")]
+    w = 0.8 / len(series)
+    for j, (s, key, label) in enumerate(series):
+        v = [max(getattr(by[f, s], key), 1e-12) for f in fams]
+        ax.bar(x + (j - 1.5) * w, v, w, label=label)
+    ax.set_yscale("log")
+    ax.set_xticks(x, fams)
+    ax.set_ylabel("truncation error (%)")
+    ax.set_title("Sampled error against the best error for as many solutions")
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.savefig(directory / "optimum.png", dpi=110)
+    return ["optimum.png"]
+
+
+OPTIMUM = register_study(Study(
+    name="optimum",
+    title="sampled error against the best error for as many distinct solutions",
+    config_type=OptimumConfig,
+    full=OptimumConfig,
+    quick=lambda: OptimumConfig(n_mc=QUICK_MC),
+    tasks=per_family_tasks,
+    task=optimum_task,
+    summarise=lambda runs, cfg: summarise_optimum(runs, cfg.families),
+    render=render_optimum,
+    plot=plot_optimum,
+    csv_rows=as_rows,
+    order=60,
+))

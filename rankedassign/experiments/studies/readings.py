@@ -1,0 +1,196 @@
+"""Table I under every reading of the random family that the paper's text admits.
+
+The paper defines ``Pbar_D = r P_D`` but Vo's code uses ``P_D`` (spec A2), and it does not say
+whether ``P_s, P_d`` are drawn per row or once per matrix (A5). ``Pbar_D`` also enters the
+diagonal family, so every random reading is combined with each diagonal reading into a whole
+Table I (nine cells), judged against the paper's nine cells at once with the
+three-standard-error rule; the combinations with the same ``Pbar_D`` in both families are the
+readings of one consistent text, the others read the two families differently. The uniform
+family depends on neither choice and is run once; each family's runs are those of the
+``table1`` study for the same seed and reading (same streams).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .. import _format as fmt
+from .._synthetic import Table1Row, paired_summary, paper_settings, with_paper
+from ..config import (
+    CRITERIA,
+    DEFAULT_DIAGONAL_PBAR_D,
+    DEFAULT_GRANULARITY,
+    DEFAULT_PBAR_D,
+    FAMILIES,
+    ReadingsConfig,
+    Table1Config,
+)
+from ..paper import Z_LIMIT
+from ..registry import Study, as_rows, register_study
+from .table1 import table1_task
+
+__all__ = ["READINGS", "ReadingRow", "summarise_readings", "reading_verdicts"]
+
+#: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
+QUICK_MC = 20
+
+
+@dataclass(frozen=True, kw_only=True)
+class ReadingRow(Table1Row):
+    """A Table I row under one reading: ``diagonal_pbar_d`` for the diagonal family and
+    (``pbar_d``, ``granularity``) for the random family."""
+
+    diagonal_pbar_d: str
+    pbar_d: str
+    granularity: str
+
+
+def _key(family: str, diagonal_pbar_d: str, pbar_d: str, granularity: str) -> tuple:
+    """What the family's matrices depend on: nothing, one ``Pbar_D``, or it and the granularity."""
+    if family == "uniform":
+        return (family, None, None)
+    if family == "diagonal":
+        return (family, diagonal_pbar_d, None)
+    return (family, pbar_d, granularity)
+
+
+def _combinations(cfg: ReadingsConfig) -> list[tuple[str, str, str]]:
+    """``(diagonal_pbar_d, pbar_d, granularity)``: the same ``Pbar_D`` in both families first."""
+    combos = [(d, a, b) for a, b in cfg.readings for d in cfg.diagonal_readings]
+    return sorted(combos, key=lambda c: c[0] != c[1])
+
+
+def _table1_config(cfg: ReadingsConfig, family: str, pbar, granularity) -> Table1Config:
+    return Table1Config(
+        n_mc=cfg.n_mc, families=(family,), original_obs=cfg.original_obs,
+        n_chains=cfg.n_chains, chain_length=cfg.chain_length, tau_stall=cfg.tau_stall,
+        tau_stale=cfg.tau_stale, pbar_d=pbar or "r_pd", diagonal_pbar_d=pbar or "r_pd",
+        granularity=granularity or "row",
+    )
+
+
+def readings_tasks(cfg: ReadingsConfig, seed: int) -> list[tuple]:
+    """One Table I task per distinct (family, reading it depends on) and run."""
+    keys = dict.fromkeys(_key(f, *c) for c in _combinations(cfg) for f in FAMILIES)
+    return [(_table1_config(cfg, *k), seed, r, k[0]) for k in keys for r in range(cfg.n_mc)]
+
+
+def readings_task(t1cfg: Table1Config, seed: int, run: int, family: str) -> dict:
+    """A Table I run of one family under the reading in ``t1cfg``, labelled with it."""
+    out = table1_task(t1cfg, seed, run, family)
+    out["key"] = list(_key(family, t1cfg.diagonal_pbar_d, t1cfg.pbar_d, t1cfg.granularity))
+    return out
+
+
+def summarise_readings(runs: list[dict], cfg: ReadingsConfig) -> list[ReadingRow]:
+    """Nine Table I rows (with the paper's cells) per combination of readings."""
+    rows = []
+    judge = paper_settings(cfg)
+    for d, a, b in _combinations(cfg):
+        for fam in FAMILIES:
+            key = list(_key(fam, d, a, b))
+            rs = sorted((r for r in runs if r["key"] == key), key=lambda r: r["run"])
+            for crit in CRITERIA:
+                stats = paired_summary([r["original"] for r in rs], [r[crit] for r in rs])
+                rows.append(with_paper(fam, crit, stats, ReadingRow, judge=judge,
+                                           diagonal_pbar_d=d, pbar_d=a, granularity=b))
+    return rows
+
+
+def reading_verdicts(rows: list[ReadingRow]) -> dict[tuple[str, str, str], list[str]]:
+    """``{(diagonal_pbar_d, pbar_d, granularity): cells that differ from the paper's}``.
+
+    An empty list means consistent (or not judged: other settings than the paper's).
+
+    A cell differs when its ΔObs or its ΔError lies more than three standard errors from the
+    paper's (:func:`~rankedassign.experiments.paper.agrees`).
+    """
+    out: dict[tuple[str, str, str], list[str]] = {}
+    for r in rows:
+        off = out.setdefault((r.diagonal_pbar_d, r.pbar_d, r.granularity), [])
+        if r.agrees_with_paper is False:
+            off.append(f"{r.family} {r.criterion}")
+    return out
+
+
+def _pbar(a: str) -> str:
+    return "r·P_d" if a == "r_pd" else "P_d"
+
+
+def render_readings(rows: list[ReadingRow], cfg: ReadingsConfig) -> str:
+    """The section: one line per combination of readings with its nine cells and the verdict."""
+    default = (DEFAULT_DIAGONAL_PBAR_D, DEFAULT_PBAR_D, DEFAULT_GRANULARITY)
+    cols = [(f, c) for f in FAMILIES for c in CRITERIA]
+    by = {(r.diagonal_pbar_d, r.pbar_d, r.granularity, r.family, r.criterion): r for r in rows}
+    verdicts = reading_verdicts(rows)
+    combos = _combinations(cfg)
+    n = rows[0].n_mc if rows else 0
+    body = []
+    for combo in combos:
+        d, a, b = combo
+        cells = [f"{fmt.num(by[combo + (f, c)].delta_obs_pct, 1)} / "
+                 f"{fmt.num(by[combo + (f, c)].delta_error_pp, 2)}" for f, c in cols]
+        off = verdicts[combo]
+        compared = any(by[combo + (f, c)].agrees_with_paper is not None for f, c in cols)
+        verdict = "–" if not compared else ("yes" if not off else "no: " + ", ".join(off))
+        notes = [n for n, on in (("default", combo == default), ("mixed", d != a)) if on]
+        name = (f"diagonal {_pbar(d)}; random {_pbar(a)}, {b} P_s, P_d"
+                + (f" ({', '.join(notes)})" if notes else ""))
+        body.append([name, *cells, verdict])
+    if combos:
+        first = combos[0]
+        body.append(["**paper**"] + [
+            f"**{by[first + (f, c)].paper_delta_obs_pct:.2f} / "
+            f"{by[first + (f, c)].paper_delta_error_pp:.2f}**" for f, c in cols] + [""])
+    detail = []
+    for a, b in cfg.readings:
+        combo = (cfg.diagonal_readings[0], a, b)
+        r1, r2 = by[combo + ("random", "stale")], by[combo + ("random", "full")]
+        detail.append(
+            f"- random, P̄_D = {_pbar(a)}, {b} P_s, P_d: stale ΔObs "
+            f"{fmt.pm(r1.delta_obs_pct, r1.delta_obs_pct_se)} % "
+            f"({fmt.versus(r1.delta_obs_pct, r1.delta_obs_pct_se, 0.0)}; stale stops in "
+            f"{100 * r1.stale_stop_fraction:.0f} % of runs); full ΔObs "
+            f"{fmt.pm(r2.delta_obs_pct, r2.delta_obs_pct_se)} % "
+            f"({fmt.versus(r2.delta_obs_pct, r2.delta_obs_pct_se, r2.paper_delta_obs_pct)}), "
+            f"ΔError {fmt.pm(r2.delta_error_pp, r2.delta_error_pp_se)} pp "
+            f"({fmt.versus(r2.delta_error_pp, r2.delta_error_pp_se, r2.paper_delta_error_pp)})")
+    if not paper_settings(cfg):
+        detail.insert(0, "- These settings are not the paper's (spec §3.4), so no reading is "
+                         "judged against the paper's numbers.")
+    return f"""## Readings of the random family — which agree with all nine cells of Table I?
+
+The paper's text admits P̄_D = r·P_d (its definition) or P̄_D = P_d (Vo's code), and P_s, P_d
+drawn per row or once per matrix (spec A2, A5); q is drawn per entry in every reading. P̄_D
+also enters the diagonal family: each line combines a reading of the diagonal family's P̄_D
+with a reading of the random family into a complete Table I (the uniform family depends on
+neither choice and is shared). Lines marked "mixed" read P̄_D differently in the two families.
+{fmt.plural(n, "Monte Carlo run")} per family and reading, the settings of Table I; each cell is
+**ΔObs (%) / ΔError (pp)**, the paper's are in bold. A line is consistent when all nine cells
+lie within {Z_LIMIT:g} standard errors of the paper's (ΔObs and ΔError each). The line marked
+"default" is what the Table I study runs; the reasons are in the documentation's ambiguity
+list (A2, A5).
+
+{fmt.table(["reading", *[f"{f} {c}" for f, c in cols], "consistent with all nine?"], body)}
+
+The random family under each reading:
+
+{chr(10).join(detail)}
+"""
+
+
+READINGS = register_study(Study(
+    name="random_readings",
+    title="Table I under every reading of the random family (P̄_D, granularity of P_s, P_d)",
+    config_type=ReadingsConfig,
+    full=ReadingsConfig,
+    quick=lambda: ReadingsConfig(n_mc=QUICK_MC),
+    tasks=readings_tasks,
+    task=readings_task,
+    summarise=summarise_readings,
+    render=render_readings,
+    plot=None,
+    csv_rows=as_rows,
+    order=70,
+    paper="Table I",
+))

@@ -1,0 +1,264 @@
+"""Truncation error against the number of observations, without early stopping."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ... import sample_original, sample_short_chains
+from .. import _format as fmt
+from .._executor import child_seed, run_seed
+from .._synthetic import KEY_SWEEP, family_index, make_problem, record
+from ..config import SweepConfig
+from ..paper import PAPER_SWEEP_TOLERANCE_PCT
+from ..registry import Study, as_rows, per_family_tasks, register_study
+
+__all__ = ["SWEEP", "SweepRow", "ChainLengthCheck", "summarise_sweep", "chain_length_checks"]
+
+#: Quick mode: Monte Carlo runs and observation budgets (the per-run settings are the paper's).
+QUICK_MC, QUICK_GRID = 10, (100, 1_000, 10_000, 100_000, 250_000)
+
+
+@dataclass(frozen=True)
+class SweepRow:
+    """Error statistics (percent) of one family, sampler and observation budget over runs."""
+
+    family: str
+    sampler: str
+    chain_length: int | None
+    budget: int
+    n_obs_mean: float
+    n_unique_mean: float
+    error_pct_mean: float
+    error_pct_se: float | None
+    error_pct_q10: float
+    error_pct_q90: float
+    diff_vs_original_pp_mean: float
+    diff_vs_original_pp_se: float | None
+    n_mc: int
+
+
+@dataclass(frozen=True)
+class ChainLengthCheck:
+    """The paper's statement at one budget: the error does not depend on the chain length.
+
+    ``spread_pp`` is the largest minus the smallest mean error over the chain lengths run at
+    this budget; the statement holds when every chain length lies within
+    ``PAPER_SWEEP_TOLERANCE_PCT`` (0.1 pp) of their midpoint, i.e. ``spread_pp <= 0.2``.
+    ``max_se_pp`` is the largest standard error among them: above the tolerance, the runs
+    cannot tell.
+    """
+
+    family: str
+    budget: int
+    chain_lengths: tuple[int, ...]
+    spread_pp: float
+    max_se_pp: float | None
+    holds: bool
+
+
+def sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> dict:
+    """Every grid point of one run and family.
+
+    Each sampler keeps one stream across the grid, so a run's curve follows one sampler
+    trajectory observed after more and more sweeps (sampler outputs are prefix-consistent).
+    """
+    s = run_seed(seed, run)
+    problem = make_problem(family, s, cfg)
+    fi = family_index(family)
+    out = {"run": run, "family": family, "points": []}
+    for n in cfg.obs_grid:
+        res = sample_original(problem, n, rng=child_seed(s, KEY_SWEEP, fi, 0))
+        out["points"].append({"sampler": "original", "chain_length": None, "budget": n,
+                              **record(problem, res)})
+        for L in cfg.chain_lengths:
+            if n < L:
+                continue
+            res = sample_short_chains(problem, n // L, L, rng=child_seed(s, KEY_SWEEP, fi, L))
+            out["points"].append({"sampler": f"short-{L}", "chain_length": L, "budget": n,
+                                  **record(problem, res)})
+    return out
+
+
+def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
+    """Rows ``(family, sampler, budget)``: error statistics over runs (percent)."""
+    groups: dict[tuple, list[dict]] = {}
+    diffs: dict[tuple, list[float]] = {}
+    for r in runs:
+        ref = {p["budget"]: p["error"] for p in r["points"] if p["sampler"] == "original"}
+        for p in r["points"]:
+            key = (r["family"], p["sampler"], p["budget"])
+            groups.setdefault(key, []).append(p)
+            # Paired with the original sampler of the same run (same matrix) and budget.
+            diffs.setdefault(key, []).append(100.0 * (p["error"] - ref[p["budget"]]))
+    rows = []
+    for (fam, sampler, budget), ps in groups.items():
+        e = 100.0 * np.array([p["error"] for p in ps])
+        d = np.array(diffs[fam, sampler, budget])
+        n = len(ps)
+        rows.append(SweepRow(
+            family=fam,
+            sampler=sampler,
+            chain_length=ps[0]["chain_length"],
+            budget=budget,
+            n_obs_mean=float(np.mean([p["n_obs"] for p in ps])),
+            n_unique_mean=float(np.mean([p["n_unique"] for p in ps])),
+            error_pct_mean=float(e.mean()),
+            error_pct_se=float(e.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
+            error_pct_q10=float(np.quantile(e, 0.1)),
+            error_pct_q90=float(np.quantile(e, 0.9)),
+            diff_vs_original_pp_mean=float(d.mean()),
+            diff_vs_original_pp_se=float(d.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
+            n_mc=n,
+        ))
+    return rows
+
+
+def chain_length_checks(rows: list[SweepRow]) -> list[ChainLengthCheck]:
+    """The paper's ±0.1 % statement checked at every family and budget with two chain lengths.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments.studies.sweep import SweepRow, chain_length_checks
+    >>> def row(L, e):
+    ...     return SweepRow("uniform", f"short-{L}", L, 1000, 1000, 900, e, 0.01, e, e, 0, 0, 5)
+    >>> chain_length_checks([row(5, 40.0), row(25, 40.15)])[0].holds
+    True
+    """
+    out = []
+    keys = dict.fromkeys((r.family, r.budget) for r in rows)
+    for fam, budget in keys:
+        short = [r for r in rows if (r.family, r.budget) == (fam, budget)
+                 and r.chain_length is not None]
+        if len(short) < 2:
+            continue
+        means = [r.error_pct_mean for r in short]
+        ses = [r.error_pct_se for r in short if r.error_pct_se is not None]
+        spread = max(means) - min(means)
+        out.append(ChainLengthCheck(
+            family=fam, budget=budget, chain_lengths=tuple(r.chain_length for r in short),
+            spread_pp=float(spread), max_se_pp=max(ses) if ses else None,
+            holds=bool(spread <= 2 * PAPER_SWEEP_TOLERANCE_PCT + 1e-12),
+        ))
+    return out
+
+
+_HEADER = ["family", "sampler", "observations", "unique", "ε (%) ± SE", "ε 10–90 % (%)",
+           "ε − ε original (pp)"]
+
+
+def _verdict(checks: list[ChainLengthCheck]) -> str:
+    if not checks:
+        return "No budget was run with two chain lengths, so the statement is not checked."
+    lines = []
+    for fam in dict.fromkeys(c.family for c in checks):
+        cs = [c for c in checks if c.family == fam]
+        bad = [c for c in cs if not c.holds]
+        worst = max(cs, key=lambda c: c.spread_pp)
+        noisy = [c for c in bad if c.max_se_pp is not None
+                 and c.max_se_pp > PAPER_SWEEP_TOLERANCE_PCT]
+        if not bad:
+            lines.append(f"- {fam}: **holds** at every budget (largest spread "
+                         f"{fmt.num(worst.spread_pp)} pp at {worst.budget:,}).")
+        else:
+            at = ", ".join(f"{c.budget:,} ({fmt.num(c.spread_pp)} pp)" for c in bad)
+            tail = (f"; at {len(noisy)} of them the standard errors exceed 0.1 pp, so these "
+                    "runs cannot settle it there" if noisy else "")
+            lines.append(f"- {fam}: **does not hold** at {len(bad)} of {len(cs)} budgets: "
+                         f"{at}{tail}.")
+    return "\n".join(lines)
+
+
+def render_sweep(rows: list[SweepRow], cfg: SweepConfig) -> str:
+    """The sweep section: the error at the largest budget and the chain-length check."""
+    top = max(cfg.obs_grid)
+    body = [
+        [r.family, r.sampler, fmt.integer(r.n_obs_mean), fmt.integer(r.n_unique_mean),
+         fmt.pm(r.error_pct_mean, r.error_pct_se),
+         f"{fmt.num(r.error_pct_q10, 3)} – {fmt.num(r.error_pct_q90, 3)}",
+         fmt.pm(r.diff_vs_original_pp_mean, r.diff_vs_original_pp_se)]
+        for r in rows
+        if r.budget == top
+    ]
+    n = rows[0].n_mc if rows else 0
+    checks = chain_length_checks(rows)
+    return f"""## Sweep — truncation error against observations (no early stopping)
+
+![sweep](sweep.png)
+
+Top: mean over {fmt.plural(n, "run")} with a band of ±1 standard error (shaded); bottom: the
+paired difference to the original sampler (same matrix, same budget, same run); budgets
+{", ".join(f"{b:,}" for b in cfg.obs_grid)} observations; the short-chain sampler runs
+⌊budget / L⌋ chains of length L.
+
+The paper states that at a fixed observation budget the truncation error is unaffected
+(±{PAPER_SWEEP_TOLERANCE_PCT:g} %) by the chain length. Checked here at every budget run with at
+least two chain lengths (all of the short-chain means within ±{PAPER_SWEEP_TOLERANCE_PCT:g} pp
+of their midpoint):
+
+{_verdict(checks)}
+
+At the largest budget ({top:,}):
+
+{fmt.table(_HEADER, body)}
+"""
+
+
+def plot_sweep(rows: list[SweepRow], directory: Path) -> list[str]:
+    """Error against observations (top) and its paired difference to the original (bottom).
+
+    One column per family; bands are ±1 standard error over runs; the title says whether the
+    paper's ±0.1 % chain-length statement holds.
+    """
+    from matplotlib.figure import Figure
+
+    fams = list(dict.fromkeys(r.family for r in rows))
+    checks = chain_length_checks(rows)
+    fig = Figure(figsize=(6.0 * len(fams), 7.0), layout="constrained")
+    axes = fig.subplots(2, len(fams), squeeze=False, sharex="col")
+    for col, fam in enumerate(fams):
+        top, bottom = axes[0, col], axes[1, col]
+        samplers = list(dict.fromkeys(r.sampler for r in rows if r.family == fam))
+        for s in samplers:
+            rs = sorted((r for r in rows if r.family == fam and r.sampler == s),
+                        key=lambda r: r.n_obs_mean)
+            x = np.array([r.n_obs_mean for r in rs])
+            style = {"color": "k", "lw": 2} if s == "original" else {}
+            for ax, key in ((top, "error_pct"), (bottom, "diff_vs_original_pp")):
+                y = np.array([getattr(r, f"{key}_mean") for r in rs])
+                se = np.array([getattr(r, f"{key}_se") or 0.0 for r in rs])
+                (line,) = ax.plot(x, y, marker="o", ms=3, label=s, **style)
+                ax.fill_between(x, y - se, y + se, color=line.get_color(), alpha=0.2, lw=0)
+        cs = [c for c in checks if c.family == fam]
+        verdict = ("" if not cs else "paper's ±0.1 % chain-length claim "
+                   + ("holds" if all(c.holds for c in cs) else
+                      f"fails at {sum(not c.holds for c in cs)} of {len(cs)} budgets"))
+        top.set_title(f"{fam} family\n{verdict}", fontsize=10)
+        top.set_ylabel("truncation error (%)")
+        bottom.set_ylabel("error − original error (pp)")
+        bottom.set_xlabel("observations (sweeps)")
+        for ax in (top, bottom):
+            ax.set_xscale("log")
+            ax.grid(True, which="both", alpha=0.3)
+        top.legend(fontsize=8)
+    fig.savefig(directory / "sweep.png", dpi=110)
+    return ["sweep.png"]
+
+
+SWEEP = register_study(Study(
+    name="sweep",
+    title="truncation error against observations for several chain lengths",
+    config_type=SweepConfig,
+    full=SweepConfig,
+    quick=lambda: SweepConfig(n_mc=QUICK_MC, obs_grid=QUICK_GRID),
+    tasks=per_family_tasks,
+    task=sweep_task,
+    summarise=summarise_sweep,
+    render=render_sweep,
+    plot=plot_sweep,
+    csv_rows=as_rows,
+    order=20,
+))

@@ -1,0 +1,111 @@
+"""The problem kinds, registered once: what the samplers and the oracle dispatch on.
+
+Each kind is a folder of the package (:mod:`rankedassign.single`,
+:mod:`rankedassign.multisensor`, :mod:`rankedassign.adaptive_birth`) that defines its
+:class:`~rankedassign.engine.kind.Kind` record as ``KIND``; :data:`KINDS` lists them. A new
+kind is a new folder and one entry here.
+
+Examples
+--------
+>>> from rankedassign import synthetic
+>>> kind_of(synthetic.diagonal()).name
+'single'
+>>> prep = prepare(synthetic.diagonal(), "all_missed", "systematic", 0)
+>>> prep.kind, prep.driver, prep.x0.tolist(), prep.n_values
+('single', 'direct', [16, 16, 16, 16], 18)
+"""
+
+from __future__ import annotations
+
+from . import adaptive_birth, multisensor, single
+from .engine.kind import Kind
+from .engine.result import Prepared
+
+__all__ = ["KINDS", "Kind", "kind_of", "kind_named", "prepare"]
+
+#: Every problem kind, in the order error messages list them.
+KINDS: tuple[Kind, ...] = (single.KIND, multisensor.KIND, adaptive_birth.KIND)
+
+_BY_NAME = {kind.name: kind for kind in KINDS}
+
+
+def kind_of(problem) -> Kind:
+    """The kind of a problem (matched on its type, subclasses included).
+
+    Parameters
+    ----------
+    problem : object
+        A problem of one of the :data:`KINDS`.
+
+    Returns
+    -------
+    Kind
+
+    Raises
+    ------
+    TypeError
+        If ``problem`` is of no known kind; the message lists the problem types.
+
+    Examples
+    --------
+    >>> kind_of([[1.0]])
+    Traceback (most recent call last):
+    ...
+    TypeError: problem must be one of (AssignmentProblem, MultiSensorProblem,
+    AdaptiveBirthProblem), got list; build one with AssignmentProblem.from_cost / from_eta
+    """
+    for kind in KINDS:
+        if isinstance(problem, kind.problem_type):
+            return kind
+    names = ", ".join(kind.problem_type.__name__ for kind in KINDS)
+    raise TypeError(
+        f"problem must be one of ({names}), got {type(problem).__name__}; build one with "
+        "AssignmentProblem.from_cost / from_eta"
+    )
+
+
+def kind_named(name: str) -> Kind:
+    """The kind called ``name`` (:attr:`Prepared.kind <rankedassign.engine.result.Prepared>`).
+
+    Parameters
+    ----------
+    name : str
+        One of the kinds' names.
+
+    Returns
+    -------
+    Kind
+
+    Examples
+    --------
+    >>> kind_named("multisensor").problem_type.__name__
+    'MultiSensorProblem'
+    """
+    return _BY_NAME[name]
+
+
+def prepare(problem, start, scan, rng, **options) -> Prepared:
+    """Validate a sampler call's problem and options; build its :class:`Prepared` inputs.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+        The problem; its kind (:func:`kind_of`) does the preparation.
+    start, scan, rng
+        As in :func:`rankedassign.sample_original`.
+    **options
+        The kind's options (:attr:`Kind.options <rankedassign.engine.kind.Kind>`): none for an
+        :class:`~rankedassign.AssignmentProblem`; ``method`` and ``survival_power`` for a
+        :class:`~rankedassign.multisensor.MultiSensorProblem`; ``sensor_order`` for an
+        :class:`~rankedassign.adaptive_birth.AdaptiveBirthProblem`.
+
+    Returns
+    -------
+    Prepared
+
+    Raises
+    ------
+    TypeError
+        If ``problem`` is of no known kind, or an option does not apply to it.
+    """
+    return kind_of(problem).prepare(problem, start, scan, rng, options)

@@ -1,0 +1,422 @@
+"""numba row update of the single-sensor Gibbs samplers (clean inputs only; validate in
+:mod:`.samplers`).
+
+The single-sensor problem type of the generic chain driver (:mod:`rankedassign.engine._kernels`):
+:func:`alloc_work`, :func:`reset_work` and :func:`row_sweep`, compiled into :data:`run_chains`.
+The kernels mirror :mod:`rankedassign.reference` operation for operation so that both give
+bit-identical results for the same inputs:
+
+* the random stream is SplitMix64 (:mod:`rankedassign.engine.rng`), one stream per chain;
+* a row update draws exactly one uniform and turns it into a candidate with the cumulative loop
+  of :func:`sweep` (candidates in the order measurements ``0..M-1``, missed, dead);
+* a random-scan sweep first draws its row permutation with the Fisher-Yates loop of
+  :func:`sweep`.
+
+State representation. A state is the vector of *compact* indices ``k_i`` in ``0..M+1`` (the
+columns of :attr:`AssignmentProblem.compact_cost`): ``k < M`` is measurement ``k``, ``M`` is
+missed, ``M + 1`` is dead. ``free[j]`` is 1.0 while measurement ``j`` is free, 0.0 while held.
+
+Two drivers share the arithmetic: ``"direct"`` (rows draw with the direct sum,
+:func:`sweep`) and ``"prefix"`` (rows draw from prefix sums, :func:`sweep_prefix`;
+:func:`rankedassign.single.prepare.uses_prefix_sums` picks one per problem). Each has its own
+compiled driver with only the arrays it reads: every array passed to a call costs several
+machine words, and a direct-draw problem of the paper's size is fast enough for that to show.
+
+* ``"direct"``: ``data = (W, cc, random_scan)`` (shifted weights, compact costs, scan order);
+  the workspace of ``nb`` chains is ``(free, perm)``, the free-measurement masks ``(nb, M)``
+  and the row permutations ``(nb, P)``.
+* ``"prefix"``: ``data = (W, cc, S, next_pos, random_scan)`` (plus the prefix sums and
+  the next positive weight); the workspace is ``(free, perm, cum, held, n_held)``: also the
+  scratch rows ``(nb, M + 2)`` and the sorted held measurements ``(nb, P)`` with their count
+  ``(nb, 1)``.
+
+Both sweeps are compiled with ``inline="always"``: numba writes them into the driver's loop,
+which saves the call (its arguments are some 60 machine words) once per observation.
+
+References
+----------
+.. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+   Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+.. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+   Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+.. [3] A. L. Zobrist, "A New Hashing Method with Application for Game Playing", Tech. Rep.
+   88, Univ. of Wisconsin, 1970.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..engine._kernels import make_driver, next_uniform
+from ..numba_options import jit
+from .prepare import CANCEL_GUARD
+
+
+# ---------------------------------------------------------------------------------- Gibbs
+@jit()
+def draw_exact(cc, i, free, u):
+    """Row ``i``'s draw from exact weights, for when every shifted weight underflowed.
+
+    Used by :func:`sweep` with the row's uniform ``u`` when all of row ``i``'s available
+    weights ``W`` are 0 (its cheapest entry is held by another row and the rest are more than
+    ~745 above it). The weights are ``exp(-(cc[i, k] - m))``, ``m`` the cheapest *available*
+    cost; the current entry of row ``i`` is always available and finite, so ``m`` is finite.
+    The loop is the same inverse CDF as in :func:`sweep`. This path calls ``exp``, so it
+    matches the reference as far as both use the same libm (they do on one machine).
+    """
+    M = cc.shape[1] - 2
+    K = M + 2
+    m = np.inf
+    for k in range(K):
+        if (k >= M or free[k] > 0.0) and cc[i, k] < m:
+            m = cc[i, k]
+    total = 0.0
+    for k in range(K):
+        if k >= M or free[k] > 0.0:
+            total += np.exp(-(cc[i, k] - m))
+    target = u * total
+    acc = 0.0
+    last = -1
+    for k in range(K):
+        if k >= M or free[k] > 0.0:
+            w = np.exp(-(cc[i, k] - m))
+            if w > 0.0:
+                acc += w
+                last = k
+                if acc > target:
+                    return k
+    return last
+
+
+@jit()
+def draw_prefix(W, S, next_pos, cc, i, free, held, n_held, cum, u):
+    """Row ``i``'s draw from its prefix sums, ``O(P + log M)`` (twin of the reference's).
+
+    ``held[:n_held]`` are the measurements held by the other rows, sorted. The rule, its
+    bisection over the runs of free measurements, the cancellation guard and the fall-backs
+    are those of :func:`rankedassign.single.reference.draw_prefix`, operation for operation.
+    """
+    M = W.shape[1] - 2
+    cs = cum  # cs[t]: held weight left of run t, summed left to right (scratch row)
+    cs[0] = 0.0
+    for t in range(n_held):
+        cs[t + 1] = cs[t] + W[i, held[t]]
+    meas = S[i, M] - cs[n_held]
+    if meas < CANCEL_GUARD * S[i, M]:  # held weight cancels the prefix sum: direct draw
+        return draw_direct(W, cc, i, free, cum, u)
+    total = (meas + W[i, M]) + W[i, M + 1]
+    if not total > 0.0:  # every available weight underflowed
+        return draw_direct(W, cc, i, free, cum, u)
+    target = u * total
+    a = 0
+    b = n_held + 1
+    while a < b:  # the first run whose last cum exceeds target
+        mid = (a + b) // 2
+        h = held[mid] if mid < n_held else M
+        if S[i, h] - cs[mid] > target:
+            b = mid
+        else:
+            a = mid + 1
+    for t in range(a, n_held + 1):  # normally one run
+        lo = held[t - 1] + 1 if t > 0 else 0
+        h = held[t] if t < n_held else M
+        if h > lo and S[i, h] - cs[t] > target:
+            p = lo
+            q = h - 1
+            while p < q:  # the first k in the run with S[i, k + 1] - cs[t] > target
+                mid = (p + q) // 2
+                if S[i, mid + 1] - cs[t] > target:
+                    q = mid
+                else:
+                    p = mid + 1
+            k = next_pos[i, p]
+            if k < h:
+                return k
+    if W[i, M] > 0.0 and meas + W[i, M] > target:
+        return M
+    if W[i, M + 1] > 0.0:
+        return M + 1
+    if W[i, M] > 0.0:
+        return M
+    for k in range(M - 1, -1, -1):  # rounding: the last positive free measurement
+        if W[i, k] > 0.0 and free[k] > 0.0:
+            return k
+    return -1  # unreachable: total > 0 means some available weight is positive
+
+
+@jit()
+def draw_direct(W, cc, i, free, cum, u):
+    """Row ``i``'s draw by the direct sum (twin of the reference's ``draw_direct``), ``O(M)``.
+
+    ``p(k) ∝ W[i, k]`` over the available candidates, in the order measurements ``0..M-1``
+    (free ones: row ``i``'s own is released first), missed, dead. ``total`` is their sum
+    accumulated sequentially in that order, ``target = u * total``, and the pick is the first
+    candidate whose running sum exceeds ``target`` (inverse CDF), or the last positive-weight
+    candidate if rounding leaves none; :func:`draw_exact` if ``total = 0``. Held measurements
+    enter the running sum as ``W * 0.0 = +0.0``, which leaves every partial sum bit-identical
+    to the reference's loop that skips them; the running sums are stored so that the search is
+    a branch-free count of ``cum[k] <= target`` (the sums never decrease, so the count is the
+    index of the first one above ``target``).
+    """
+    M = W.shape[1] - 2
+    K = M + 2
+    total = 0.0
+    for k in range(M):
+        total += W[i, k] * free[k]
+        cum[k] = total
+    total += W[i, M]
+    cum[M] = total
+    total += W[i, M + 1]
+    cum[M + 1] = total
+    if total > 0.0:
+        target = u * total
+        pick = 0
+        for k in range(K):
+            pick += cum[k] <= target
+        if pick < K:
+            return pick
+        # rounding left u * total at or above the last running sum
+        for k in range(K - 1, -1, -1):
+            if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
+                return k
+    return draw_exact(cc, i, free, u)
+
+
+@jit()
+def _release(held, n_held, k):
+    """Remove ``k`` from the sorted ``held[:n_held]``; return the new count."""
+    t = 0
+    while held[t] != k:
+        t += 1
+    for s in range(t, n_held - 1):
+        held[s] = held[s + 1]
+    return n_held - 1
+
+
+@jit()
+def _hold(held, n_held, k):
+    """Insert ``k`` into the sorted ``held[:n_held]``; return the new count."""
+    t = n_held
+    while t > 0 and held[t - 1] > k:
+        held[t] = held[t - 1]
+        t -= 1
+    held[t] = k
+    return n_held + 1
+
+
+@jit()
+def _shuffle(perm, rs):
+    """The random scan's row order: Fisher-Yates from the identity (see :func:`sweep`)."""
+    P = perm.shape[0]
+    for t in range(P):
+        perm[t] = t
+    for t in range(P - 1, 0, -1):
+        j = np.int64(next_uniform(rs) * (t + 1))
+        if j > t:
+            j = t
+        tmp = perm[t]
+        perm[t] = perm[j]
+        perm[j] = tmp
+
+
+@jit(inline="always")
+def sweep(W, cc, zkeys, state, free, h, rs, perm, random_scan):
+    """One Gibbs sweep over all rows with the direct draw, in place (Gauss-Seidel, spec §2.2).
+
+    Parameters
+    ----------
+    W : ndarray, shape (P, M + 2), float64
+        ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``).
+    cc : ndarray, shape (P, M + 2), float64
+        Compact costs (used only by :func:`draw_exact`).
+    zkeys : ndarray, shape (P, M + 2), uint64
+        Zobrist keys.
+    state : ndarray, shape (P,), int32
+        Compact state, updated in place.
+    free : ndarray, shape (M,), float64
+        1.0 for a free measurement, 0.0 for a held one; updated in place.
+    h : uint64
+        Zobrist hash of ``state``.
+    rs : ndarray, shape (1,), uint64
+        Stream state.
+    perm : ndarray, shape (P,), int64
+        Work space.
+    random_scan : bool
+        Systematic order ``0..P-1`` if False; otherwise a fresh uniformly random order drawn
+        first, by Fisher-Yates from the identity: for ``t = P-1..1``,
+        ``j = min(floor(u (t + 1)), t)``, swap ``perm[t], perm[j]``.
+
+    Returns
+    -------
+    uint64
+        Zobrist hash of the updated state.
+
+    Notes
+    -----
+    Row ``i`` releases its measurement and draws from its conditional (spec eq. 2.1) with one
+    uniform by the rule of :func:`draw_direct`, written out here in two passes that give the
+    same bits: the first sums the available weights left to right without storing the running
+    sums, the second (only when the pick is a measurement) adds the same terms in the same
+    order again and stops at the first running sum above ``target``. Storing every running
+    sum, as :func:`draw_direct` does, costs more than adding half of them again at ``M = 24``.
+    """
+    P = state.shape[0]
+    M = W.shape[1] - 2
+    if random_scan:
+        _shuffle(perm, rs)
+    for t in range(P):
+        i = perm[t] if random_scan else t
+        k_old = state[i]
+        if k_old < M:  # release row i's own measurement
+            free[k_old] = 1.0
+        meas = 0.0  # the available measurements' weight, left to right (held: W * 0.0 = +0.0)
+        for k in range(M):
+            meas += W[i, k] * free[k]
+        missed = meas + W[i, M]
+        total = missed + W[i, M + 1]
+        u = next_uniform(rs)
+        k_new = -1
+        if total > 0.0:
+            target = u * total
+            if meas > target:  # the same running sums again, up to the first above target
+                acc = 0.0
+                for k in range(M):
+                    acc += W[i, k] * free[k]
+                    if acc > target:
+                        k_new = k
+                        break
+            elif missed > target:
+                k_new = M
+            elif total > target:
+                k_new = M + 1
+            if k_new < 0:  # rounding left u * total at or above the last running sum
+                for k in range(M + 1, -1, -1):
+                    if W[i, k] > 0.0 and (k >= M or free[k] > 0.0):
+                        k_new = k
+                        break
+        if k_new < 0:
+            k_new = draw_exact(cc, i, free, u)
+        if k_new < M:
+            free[k_new] = 0.0
+        if k_new != k_old:
+            state[i] = k_new
+            h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
+    return h
+
+
+@jit(inline="always")
+def sweep_prefix(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum,
+                 random_scan):
+    """One Gibbs sweep whose rows draw from prefix sums (:func:`draw_prefix`), in place.
+
+    Parameters
+    ----------
+    W, cc, zkeys, state, free, h, rs, perm, random_scan
+        As in :func:`sweep`.
+    S, next_pos : ndarray, shapes (P, M + 1) float64 and (P, M) int64
+        Prefix sums of the measurement weights and the next positive weight
+        (:func:`rankedassign.single.prepare.prefix_sums`).
+    held : ndarray, shape (P,), int64
+        The held measurements in increasing order in ``held[:n_held[0]]``; updated in place.
+    n_held : ndarray, shape (1,), int64
+        Their number.
+    cum : ndarray, shape (M + 2,), float64
+        Work space.
+
+    Returns
+    -------
+    uint64
+        Zobrist hash of the updated state.
+
+    Notes
+    -----
+    The scan order and the bookkeeping are those of :func:`sweep`; each row's draw costs
+    ``O(P + log M)`` instead of ``O(M)``.
+    """
+    P = state.shape[0]
+    M = W.shape[1] - 2
+    if random_scan:
+        _shuffle(perm, rs)
+    for t in range(P):
+        i = perm[t] if random_scan else t
+        k_old = state[i]
+        if k_old < M:  # release row i's own measurement
+            free[k_old] = 1.0
+            n_held[0] = _release(held, n_held[0], k_old)
+        u = next_uniform(rs)
+        k_new = draw_prefix(W, S, next_pos, cc, i, free, held, n_held[0], cum, u)
+        if k_new < M:
+            free[k_new] = 0.0
+            n_held[0] = _hold(held, n_held[0], k_new)
+        if k_new != k_old:
+            state[i] = k_new
+            h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
+    return h
+
+
+# ------------------------------------------------------------------------ the problem types
+@jit()
+def _reset_free(free, x0):
+    """The free-measurement mask of the start state ``x0``."""
+    M = free.shape[0]
+    free[:] = 1.0
+    for i in range(x0.shape[0]):
+        if x0[i] < M:
+            free[x0[i]] = 0.0
+
+
+@jit()
+def alloc_work(data, nb):
+    """Workspace of ``nb`` chains of the direct draw: free masks and row permutations."""
+    W = data[0]
+    return np.empty((nb, W.shape[1] - 2)), np.empty((nb, W.shape[0]), dtype=np.int64)
+
+
+@jit()
+def reset_work(data, work, b, x0):
+    """Slab ``b``'s free-measurement mask for the start state ``x0``."""
+    _reset_free(work[0][b], x0)
+
+
+@jit(inline="always")
+def row_sweep(data, work, b, zkeys, state, h, rs):
+    """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
+    return sweep(data[0], data[1], zkeys, state, work[0][b], h, rs, work[1][b], data[2])
+
+
+@jit()
+def alloc_work_prefix(data, nb):
+    """Workspace of ``nb`` chains of the prefix draw: also running sums and held lists."""
+    W = data[0]
+    P = W.shape[0]
+    M = W.shape[1] - 2
+    return (np.empty((nb, M)), np.empty((nb, P), dtype=np.int64), np.empty((nb, M + 2)),
+            np.empty((nb, max(P, 1)), dtype=np.int64), np.empty((nb, 1), dtype=np.int64))
+
+
+@jit()
+def reset_work_prefix(data, work, b, x0):
+    """Slab ``b``'s free-measurement mask and sorted held list for the start state ``x0``."""
+    _reset_free(work[0][b], x0)
+    held = work[3][b]
+    M = work[0].shape[1]
+    n = 0
+    for i in range(x0.shape[0]):
+        if x0[i] < M:
+            n = _hold(held, n, x0[i])
+    work[4][b, 0] = n
+
+
+@jit(inline="always")
+def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
+    """One sweep of chain slab ``b`` (:func:`sweep_prefix` on the slab's workspace)."""
+    return sweep_prefix(data[0], data[1], data[2], data[3], zkeys, state, work[0][b],
+                        work[3][b], work[4][b], h, rs, work[1][b], work[2][b], data[4])
+
+
+#: The chain driver compiled for the single-sensor problem with the direct draw
+#: (:func:`._chains.make_driver`).
+run_chains = make_driver("single", alloc_work, reset_work, row_sweep)
+#: The chain driver compiled for the single-sensor problem with the prefix-sum draw.
+run_chains_prefix = make_driver("single_prefix", alloc_work_prefix, reset_work_prefix,
+                                row_sweep_prefix)

@@ -1,0 +1,245 @@
+"""Single-sensor preparation: the weights, prefix sums and start state of a sampler call.
+
+States are compact index vectors: ``k < M`` measurement ``k``, ``k = M`` missed, ``k = M + 1``
+dead (the columns of :attr:`AssignmentProblem.compact_cost`); the result holds column indices
+of the full ``P x (M + 2P)`` matrix. Rows draw with the direct sum (driver ``"direct"``) or
+from prefix sums (driver ``"prefix"``, :func:`uses_prefix_sums`): the reference runs one row
+update for both, the kernels a driver each, so that each compiled driver receives only the
+arrays its draw reads.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ..engine.result import SCANS, Prepared
+from ..engine.rng import base_key
+from ..numba_options import interruptible, jit
+from ..validation import check_choice
+from .problem import AssignmentProblem
+
+__all__ = ["prepare", "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData", "uses_prefix_sums",
+           "shifted_weights", "prefix_sums", "to_compact", "to_columns", "start_columns"]
+
+STARTS = ("all_missed", "all_dead", "lsap")
+
+
+#: Problems with at most this many measurements draw with the direct sum.
+M_DIRECT = 32
+
+
+def uses_prefix_sums(P: int, M: int) -> bool:
+    """Whether rows draw from prefix sums (:func:`rankedassign.single.reference.draw_prefix`).
+
+    A direct draw costs ``O(M)`` per row, a prefix-sum draw ``O(P + log M)`` (the held
+    measurements are summed and kept sorted); the prefix sums are used where they are the
+    cheaper of the two: more than :data:`M_DIRECT` measurements and more than ``2 P``. The
+    rule depends only on the problem's shape, so both implementations follow it.
+
+    Examples
+    --------
+    >>> uses_prefix_sums(4, 16), uses_prefix_sums(50, 50), uses_prefix_sums(50, 5000)
+    (False, False, True)
+    """
+    return M > M_DIRECT and M > 2 * P
+
+
+#: The prefix-sum draw falls back to the direct sum when the measurements held by other rows
+#: carry all but this fraction of the row's measurement weight: ``S[M] - held`` then cancels.
+CANCEL_GUARD = 2.0**-20
+
+
+class SingleData(NamedTuple):
+    """The single-sensor sampler's inputs as plain lists (the reference's ``data``)."""
+
+    W: list        # (P, M + 2) shifted weights
+    cc: list       # (P, M + 2) compact costs
+    S: list        # (P, M + 1) prefix sums of the measurement weights
+    next_pos: list  # (P, M) first positive weight at or after each measurement
+    random_scan: bool
+    M: int
+    prefix: bool   # rows draw from prefix sums (uses_prefix_sums)
+
+
+# ------------------------------------------------------------------------------ single sensor
+def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
+    """Per-row weights ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))``, shape (P, M + 2).
+
+    ``cc`` is :attr:`AssignmentProblem.compact_cost`; ``W = 0`` where ``cc = +inf``. Shifting
+    each row by its minimum keeps ``0 <= W <= 1`` (no overflow for very negative costs) and
+    does not change any conditional, which is a ratio of weights of one row. Computed once per
+    call with numpy and shared by both implementations, so the samplers never call ``exp``
+    in the hot loop.
+
+    Examples
+    --------
+    >>> from rankedassign import AssignmentProblem
+    >>> p = AssignmentProblem.from_eta([[2.0]], [1.0], [0.0])
+    >>> shifted_weights(p).tolist()
+    [[1.0, 0.5, 0.0]]
+    """
+    cc = problem.compact_cost
+    if cc.shape[0] == 0:
+        return np.zeros(cc.shape)
+    mn = np.min(cc, axis=1, keepdims=True)  # finite: every row has a finite entry
+    W = np.exp(-(cc - mn))  # exp(-inf) = 0 for a forbidden entry
+    return np.ascontiguousarray(W)
+
+
+@jit()
+def prefix_sums(W):
+    """Per-row prefix sums of the measurement weights and the next positive weight.
+
+    Returns
+    -------
+    S : ndarray, shape (P, M + 1), float64
+        ``S[i, k] = W[i, 0] + ... + W[i, k - 1]``, accumulated left to right (``S[i, 0] = 0``).
+    next_pos : ndarray, shape (P, M), int64
+        ``next_pos[i, k]``: the first ``k' >= k`` with ``W[i, k'] > 0``, or ``M``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> S, nxt = prefix_sums(np.array([[0.5, 0.0, 0.25, 1.0, 0.0]]))
+    >>> S.tolist(), nxt.tolist()
+    ([[0.0, 0.5, 0.5, 0.75]], [[0, 2, 2]])
+    """
+    P, M = W.shape[0], W.shape[1] - 2
+    S = np.empty((P, M + 1))
+    next_pos = np.empty((P, M), dtype=np.int64)
+    for i in range(P):
+        acc = 0.0
+        S[i, 0] = 0.0
+        for k in range(M):
+            acc += W[i, k]  # left to right, as the direct draw sums
+            S[i, k + 1] = acc
+        nxt = M
+        for k in range(M - 1, -1, -1):
+            if W[i, k] > 0.0:
+                nxt = k
+            next_pos[i, k] = nxt
+    return S, next_pos
+
+
+def to_compact(problem: AssignmentProblem, cols: np.ndarray) -> np.ndarray:
+    """Column indices -> compact indices (measurement k, missed M, dead M + 1), int32."""
+    M = problem.n_meas
+    return np.where(cols < M, cols, np.where(cols < M + problem.n_rows, M, M + 1)).astype(np.int32)
+
+
+def to_columns(problem: AssignmentProblem, compact: np.ndarray) -> np.ndarray:
+    """Compact indices (n, P) -> column indices (n, P), int64 (spec §1.5 mapping)."""
+    P, M = problem.n_rows, problem.n_meas
+    k = compact.astype(np.int64)
+    rows = np.arange(P, dtype=np.int64)[None, :]
+    return np.where(k < M, k, np.where(k == M, M + rows, M + P + rows)).astype(np.int64)
+
+
+def start_columns(problem: AssignmentProblem, start) -> np.ndarray:
+    """Validate ``start`` and return it as column indices, shape (P,), int64."""
+    P, M = problem.n_rows, problem.n_meas
+    cc = problem.compact_cost
+    if isinstance(start, str):
+        check_choice(start, "start", STARTS)
+        if start == "all_missed":
+            bad = np.flatnonzero(~np.isfinite(cc[:, M])).tolist()
+            if bad:
+                raise ValueError(
+                    f"start='all_missed' is infeasible: rows {bad} have a +inf missed cost "
+                    "(eta_i(0) = 0); use start='all_dead' or start='lsap'"
+                )
+            return problem.all_missed()
+        if start == "all_dead":
+            bad = np.flatnonzero(~np.isfinite(cc[:, M + 1])).tolist()
+            if bad:
+                raise ValueError(
+                    f"start='all_dead' is infeasible: rows {bad} have a +inf dead cost "
+                    "(eta_i(-1) = 0); use start='all_missed' or start='lsap'"
+                )
+            return problem.all_dead()
+        x = np.empty(P, dtype=np.int64)
+        if P:
+            rows, cols = linear_sum_assignment(problem.cost)
+            x[rows] = cols
+        return x
+    x = np.asarray(start)
+    if x.dtype == bool or not np.issubdtype(x.dtype, np.integer):
+        raise TypeError(
+            f"start must be 'all_missed', 'all_dead', 'lsap' or an integer array of column "
+            f"indices, got dtype {x.dtype}"
+        )
+    if x.shape != (P,):
+        raise ValueError(f"start array must have shape (P,) = ({P},), got {x.shape}")
+    x = x.astype(np.int64)
+    if not problem.is_feasible(x):
+        raise ValueError(
+            f"start assignment {x.tolist()} is infeasible (out-of-range or forbidden column, or a "
+            "measurement used twice)"
+        )
+    return x
+
+
+def prepare(problem: AssignmentProblem, start, scan, rng, options) -> Prepared:
+    """The :class:`~rankedassign.engine.result.Prepared` inputs of a single-sensor call.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    start : {"all_missed", "all_dead", "lsap"} or array_like of int, shape (P,)
+        Start state (:func:`start_columns`).
+    scan : {"systematic", "random"}
+    rng : None, int, SeedSequence, BitGenerator or Generator
+        Draws the run's base key.
+    options : dict
+        Must be empty: the single-sensor kind has no options.
+
+    Returns
+    -------
+    Prepared
+
+    Raises
+    ------
+    TypeError
+        On any option.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> prep = prepare(synthetic.diagonal(), "all_missed", "systematic", 0, {})
+    >>> prep.kind, prep.driver, prep.rows, prep.sweep_cost
+    ('single', 'direct', 4, 72)
+    """
+    if options:
+        raise TypeError(
+            f"unexpected option(s) {sorted(options)} for an AssignmentProblem (options such as "
+            "'method' apply to other problem types)"
+        )
+    check_choice(scan, "scan", SCANS)
+    x0 = to_compact(problem, start_columns(problem, start))
+    W = shifted_weights(problem)
+    cc = np.array(problem.compact_cost, dtype=np.float64, order="C")  # writable: one numba type
+    random_scan = scan == "random"
+    P, M = problem.n_rows, problem.n_meas
+    prefix = uses_prefix_sums(P, M)
+    if prefix:
+        with interruptible:
+            S, next_pos = prefix_sums(W)
+        driver, data = "prefix", (W, cc, S, next_pos, random_scan)
+    else:  # the direct draw's driver takes only what it reads
+        S, next_pos = np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64)
+        driver, data = "direct", (W, cc, random_scan)
+
+    def to_result(states):
+        assignments = to_columns(problem, states)
+        return assignments, problem._sum_costs(assignments)  # feasible by construction
+
+    return Prepared(
+        kind="single", driver=driver, problem=problem, data=data,
+        make_ref_data=lambda: SingleData(W.tolist(), cc.tolist(), S.tolist(),
+                                         next_pos.tolist(), random_scan, M, prefix),
+        x0=x0, n_values=M + 2,
+        base=base_key(rng), rows=P, sweep_cost=P * (M + 2), to_result=to_result,
+    )

@@ -1,0 +1,34 @@
+"""The multi-sensor LMB filter (Vo, Vo & Beard 2019 update), its associations and scenario.
+
+* :mod:`~rankedassign.tracking.multisensor.lmb` — :class:`MultiSensorLMBFilter` and
+  :class:`MultiSensorModel`;
+* :mod:`~rankedassign.tracking.multisensor.association` — :class:`MultiSensorGibbs`,
+  :class:`MultiSensorShortChains`, :class:`MultiSensorExact`;
+* :mod:`~rankedassign.tracking.multisensor.adaptive_birth` — :class:`AdaptiveBirth`, births
+  from the adaptive-birth sampler;
+* :mod:`~rankedassign.tracking.multisensor.scenario` — the ``"multi"`` scenario and its runner.
+
+It builds on the single-sensor filter (:mod:`rankedassign.tracking.single`), never the other
+way round. Everything is re-exported by :mod:`rankedassign.tracking`.
+"""
+
+from .adaptive_birth import AdaptiveBirth
+from .association import (
+    MultiSensorAssociation,
+    MultiSensorAssociationResult,
+    MultiSensorExact,
+    MultiSensorGibbs,
+    MultiSensorShortChains,
+)
+from .lmb import MultiSensorLMBFilter, MultiSensorModel
+from .scenario import (
+    MultiSensorRun,
+    make_multisensor_model,
+    make_multisensor_scenario,
+    run_multisensor_scenario,
+)
+
+__all__ = ["AdaptiveBirth", "MultiSensorAssociation", "MultiSensorAssociationResult",
+           "MultiSensorExact", "MultiSensorGibbs", "MultiSensorShortChains",
+           "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun", "make_multisensor_model",
+           "make_multisensor_scenario", "run_multisensor_scenario"]

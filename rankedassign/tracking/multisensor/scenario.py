@@ -1,0 +1,295 @@
+"""The ``"multi"`` scenario (multi-sensor spec §7.2) and a runner for the multi-sensor filter.
+
+The paper's 12-target truth (spec-of-record §8) seen by four linear position sensors:
+
+=======  =====  =====  ======================
+sensor   σ (m)  P_D    clutter
+=======  =====  =====  ======================
+0        10     0.6    Poisson(20), uniform
+1        15     0.7    Poisson(20), uniform
+2        20     0.8    Poisson(20), uniform
+3        10     0.7    Poisson(20), uniform
+=======  =====  =====  ======================
+
+on ``[−1000, 1000]²`` (``κ_v = 5·10⁻⁶ m⁻²``), with the paper's motion, survival and static LMB
+birth (spec §6.1), or adaptive birth from the measurements (``birth="adaptive"``, spec §7.2).
+Each sensor's measurements are drawn from its own random stream, so the measurements of a
+sensor do not depend on which other sensors a run uses and runs on subsets of the sensors
+compare on the same data.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...engine.rng import spawning_generator
+from ...metrics import tracks_to_array
+from ...validation import check_bool, check_choice
+from ..models import LMBBirth, PoissonClutter, PositionSensor, make_model
+from ..scenario import (
+    COUNTER_KEYS,
+    ScenarioRun,
+    Truth,
+    check_n_scans,
+    generate_measurements,
+    paper_truth,
+)
+from .adaptive_birth import AdaptiveBirth
+from .lmb import MultiSensorLMBFilter, MultiSensorModel, check_sensors
+
+__all__ = [
+    "BIRTHS",
+    "MULTI_SENSORS",
+    "MultiSensorRun",
+    "MultiSensorScenario",
+    "make_multisensor_model",
+    "make_multisensor_scenario",
+    "run_multisensor_scenario",
+]
+
+#: ``(σ_v, P_D^v)`` of the four sensors of the ``"multi"`` preset (multi-sensor spec §7.2).
+MULTI_SENSORS = ((10.0, 0.6), (15.0, 0.7), (20.0, 0.8), (10.0, 0.7))
+#: Mean clutter points per scan and sensor.
+MULTI_CLUTTER = 20.0
+
+_TIMING_KEYS = ("prediction", "cost", "association", "update", "birth")
+
+
+#: Birth models: the paper's static birth (``P_B = diag(300², 10², 300², 10²)``, spec §6.1),
+#: the narrow static birth of Vo's example (``P_B = 100 I``), whose birth tracks gate few
+#: measurements, so that the exact DP reaches the groups of the filter, and adaptive birth
+#: (:class:`~rankedassign.tracking.AdaptiveBirth` with the defaults of spec §7.2;
+#: the model then has no static birth).
+BIRTHS = ("paper", "narrow", "adaptive")
+
+
+def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiSensorModel:
+    """The model of the ``"multi"`` preset on the sensors of index ``sensors``.
+
+    Parameters
+    ----------
+    sensors : sequence of int
+        Indices into :data:`MULTI_SENSORS` (default the three sensors of spec §7.2).
+    birth : {"paper", "narrow", "adaptive"}
+        Birth model (:data:`BIRTHS`); ``"adaptive"`` gives a model without static birth (the
+        filter needs ``birth=AdaptiveBirth()`` then).
+
+    Returns
+    -------
+    MultiSensorModel
+
+    Raises
+    ------
+    TypeError
+        If ``sensors`` is not a sequence of ints (``0.5``, ``True`` and a bare ``5`` are
+        refused, :func:`~rankedassign.tracking.multisensor.lmb.check_sensors`).
+    ValueError
+        On an empty selection, a repeated or an out-of-range index.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.multisensor.scenario import make_multisensor_model
+    >>> m = make_multisensor_model((0, 2))
+    >>> [(s.sigma_v, s.p_d) for s in m.sensors], m.clutters[0].intensity
+    ([(10.0, 0.6), (20.0, 0.8)], 5e-06)
+    """
+    check_choice(birth, "birth", BIRTHS)
+    base = make_model("paper")
+    static = {"paper": base.birth, "narrow": make_model("vo").birth, "adaptive": LMBBirth(())}
+    full = MultiSensorModel(
+        base.motion,
+        tuple(PositionSensor(p_d, sigma) for sigma, p_d in MULTI_SENSORS),
+        tuple(PoissonClutter(MULTI_CLUTTER) for _ in MULTI_SENSORS),
+        static[birth],
+        base.survival,
+    )
+    return full.select(sensors)
+
+
+@dataclass(frozen=True, eq=False)
+class MultiSensorScenario:
+    """Model, truth and the measurements of the selected sensors.
+
+    Attributes
+    ----------
+    preset : str
+        ``"multi"``.
+    sensors : tuple of int
+        Indices of the selected sensors (into :data:`MULTI_SENSORS`).
+    model : MultiSensorModel
+    truth : Truth
+    scans : list of tuple of Scan
+        Per scan, one :class:`~rankedassign.tracking.scenario.Scan` per selected sensor.
+    """
+
+    preset: str
+    sensors: tuple
+    model: MultiSensorModel
+    truth: Truth
+    scans: list
+
+
+def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2),
+                              birth: str = "paper") -> MultiSensorScenario:
+    """The ``"multi"`` truth and measurements of the sensors ``sensors``.
+
+    Parameters
+    ----------
+    rng : optional
+        Anything :func:`numpy.random.default_rng` accepts. One child stream per sensor of
+        :data:`MULTI_SENSORS` is spawned from it; sensor ``v`` always draws from child ``v``.
+        A RandomState is replaced by the Generator seeded with one draw from it
+        (:func:`rankedassign.engine.rng.spawning_generator`).
+    n_scans : int
+        Number of scans (default 100, at most
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
+    sensors : sequence of int
+        Which sensors to simulate (distinct indices into :data:`MULTI_SENSORS`).
+    birth : {"paper", "narrow", "adaptive"}
+        Birth model of the filter (the measurements do not depend on it).
+
+    Returns
+    -------
+    MultiSensorScenario
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.multisensor.scenario import make_multisensor_scenario
+    >>> a = make_multisensor_scenario(rng=1, n_scans=3, sensors=(0, 2))
+    >>> b = make_multisensor_scenario(rng=1, n_scans=3, sensors=(2,))
+    >>> bool((a.scans[2][1].z == b.scans[2][0].z).all())      # sensor 2 sees the same
+    True
+    """
+    n_scans = check_n_scans(n_scans)
+    sensors = check_sensors(sensors, len(MULTI_SENSORS))
+    model = make_multisensor_model(sensors, birth=birth)
+    full = make_multisensor_model(range(len(MULTI_SENSORS)))
+    truth = paper_truth(n_scans, model.motion.F)
+    children = spawning_generator(rng).spawn(len(MULTI_SENSORS))
+    per_sensor = [generate_measurements(truth, full.single(v), rng=children[v])
+                  for v in sensors]
+    scans = [tuple(s[k] for s in per_sensor) for k in range(n_scans)]
+    return MultiSensorScenario("multi", sensors, model, truth, scans)
+
+
+@dataclass(frozen=True, eq=False)
+class MultiSensorRun(ScenarioRun):
+    """Result of :func:`run_multisensor_scenario` (the fields of
+    :class:`~rankedassign.tracking.scenario.ScenarioRun`; ``n_meas`` counts every sensor).
+
+    Attributes
+    ----------
+    scenario : MultiSensorScenario
+    association : str
+    extraction : str
+    truth : ndarray, shape (n_scans, n_targets, 2)
+    estimates : ndarray, shape (n_scans, n_est_tracks, 2)
+    estimate_labels, labelled_estimates, existence : list
+    invocations, sweeps, row_updates, n_unique, n_tracks, n_estimated, n_meas, n_meas_gated,
+    n_groups : ndarray of int64, shape (n_scans,)
+    n_births : ndarray of int64, shape (n_scans,)
+        Birth tracks appended by the prediction of each scan.
+    timings : dict of ndarray
+        Seconds per scan of each phase (``prediction``, ``cost``, ``association``,
+        ``update``, and ``birth``: the adaptive birth, 0 for a static birth).
+    """
+
+    scenario: MultiSensorScenario
+    n_births: np.ndarray = None
+
+
+def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
+                             sensors=(0, 1, 2), grouping: bool = True,
+                             extraction: str = "hysteresis", birth: str = "paper",
+                             **filter_options) -> MultiSensorRun:
+    """Simulate the ``"multi"`` scenario and run the multi-sensor LMB filter on it.
+
+    Parameters
+    ----------
+    association : callable
+        A multi-sensor association, e.g. ``MultiSensorShortChains(400, 25, 5, 10)``. Required.
+    rng : optional
+        Two child streams are spawned: the first draws the measurements
+        (:func:`make_multisensor_scenario`), the second drives the filter (one child per scan).
+        The same ``rng`` gives the same measurements whatever the association and sensors.
+        A RandomState is replaced by the Generator seeded with one draw from it.
+    n_scans : int
+        Number of scans (default 100, at most
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
+    sensors : sequence of int
+        The sensors the filter fuses (distinct indices into :data:`MULTI_SENSORS`).
+    grouping : bool
+        One problem per group of tracks sharing gated measurements (default True); ``True``
+        or ``False`` only.
+    extraction : {"hysteresis", "map"}
+        State extraction (spec 6.5).
+    birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
+        Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
+        :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
+    **filter_options
+        Further options of :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter`.
+
+    Returns
+    -------
+    MultiSensorRun
+
+    Raises
+    ------
+    TypeError
+        If ``association`` is missing or single-sensor, or on an option of the wrong type
+        (``sensors=5``, ``grouping="no"``, ``rng=1.5``).
+    ValueError
+        On a bad option (an out-of-range sensor, ``n_scans`` above
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`, ...).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.multisensor.scenario import run_multisensor_scenario
+    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChains
+    >>> run = run_multisensor_scenario(MultiSensorShortChains(20, 5, 5, 10), rng=1, n_scans=3,
+    ...                                sensors=(0, 2))
+    >>> run.truth.shape, run.n_meas.shape
+    ((3, 12, 2), (3,))
+    """
+    if association is None:
+        raise TypeError("run_multisensor_scenario needs an association, e.g. "
+                        "MultiSensorShortChains(400, 25, 5, 10)")
+    grouping = check_bool(grouping, "grouping")
+    n_scans = check_n_scans(n_scans)
+    sensors = check_sensors(sensors, len(MULTI_SENSORS))
+    adaptive = birth if isinstance(birth, AdaptiveBirth) else (
+        AdaptiveBirth() if birth == "adaptive" else None)
+    if adaptive is not None:
+        birth = "adaptive"
+    meas_rng, filter_rng = spawning_generator(rng).spawn(2)
+    scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
+                                         birth=birth)
+    filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
+                                extraction=extraction, birth=adaptive, **filter_options)
+    K = scenario.truth.n_scans
+    labelled, existence, counts, times = [], [], [], []
+    scan_rngs = filter_rng.spawn(K)
+    for k, scans in enumerate(scenario.scans):
+        rec = filt.step([s.z for s in scans], rng=scan_rngs[k])
+        labelled.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
+        existence.append(dict(zip(map(tuple, rec.track_labels.tolist()),
+                                  rec.track_existence.tolist(), strict=True)))
+        counts.append([getattr(rec, name) for name in COUNTER_KEYS]
+                      + [rec.labels.shape[0], filt.n_births])
+        times.append([rec.timings.get(name, 0.0) for name in _TIMING_KEYS])
+    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 2)
+    counters = {name: counts[:, i].copy() for i, name in enumerate(COUNTER_KEYS)}
+    counters["n_estimated"] = counts[:, -2].copy()
+    counters["n_births"] = counts[:, -1].copy()
+    times = np.array(times, dtype=np.float64).reshape(K, len(_TIMING_KEYS))
+    timings = {name: times[:, i].copy() for i, name in enumerate(_TIMING_KEYS)}
+    est, labels = tracks_to_array(labelled, dims=(0, 2), return_labels=True)
+    if est.shape[2] == 0:
+        est = np.full((K, 0, 2), np.nan)
+    return MultiSensorRun(
+        scenario=scenario, association=repr(association), extraction=extraction,
+        truth=scenario.truth.positions, estimates=est, estimate_labels=labels,
+        labelled_estimates=labelled, existence=existence, timings=timings, **counters,
+    )

@@ -1,0 +1,765 @@
+"""The labeled multi-Bernoulli (LMB) filter with a pluggable ranked-assignment association.
+
+One scan of :class:`LMBFilter` (spec §6) runs these phases, each a method of its own so that a
+filter with several sensors can reuse them (one measurement array and one set of problems per
+sensor):
+
+1. prediction (6.1, :meth:`LMBFilter.predict`): survivors ``r ← P_S r``, Gaussian components
+   ``m ← F m``, ``P ← F P Fᵀ + Q``; then the birth Bernoullis of the scan are appended with
+   labels ``(k, b)`` (:meth:`LMBFilter._append_births`);
+2. likelihoods and gate (:meth:`LMBFilter._measurement_terms`): the innovation statistics of
+   every component and measurement, the χ² gate, and the measurements some track gates;
+3. groups (§6.5a, :func:`group_tracks`): tracks that share no gated measurement are
+   independent problems (one problem per scan without grouping);
+4. the association problem of a group (6.2, :meth:`LMBFilter._group_problem`):
+   ``η_i(−1) = 1 − r_i``, ``η_i(0) = r_i (1 − P_D)``, ``η_i(j) = r_i P_D q_i(z_j)`` with
+   ``q_i`` the mixture likelihood over ``κ``, in log space;
+5. association (:meth:`LMBFilter._associate`): any
+   :class:`~rankedassign.tracking.Association` returns the marginals ``β`` of every
+   problem; a group without measurements is solved in closed form;
+6. update from the marginals (6.3–6.4, :meth:`LMBFilter._posterior`): ``r_i = Σ_{j≥0} β_ij``
+   and the posterior mixture ``(1/r_i) Σ_j β_ij p^(j)``;
+7. track pruning and cap, then mixture pruning, merging and cap
+   (:meth:`LMBFilter._prune_and_merge`, one compiled kernel per scan);
+8. state extraction (:meth:`LMBFilter._extract`: hysteresis 6.5, or MAP cardinality).
+
+The Kalman algebra is batched with numpy over all components; the per-pair likelihoods, the
+log-sum-exp over each mixture, the cost matrices and the mixture reduction run in compiled
+kernels (:mod:`rankedassign.tracking._kernels`), which repeat numpy's operations in numpy's
+order, so the filter's numbers do not depend on which of the two computes them.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import types
+from time import perf_counter
+from typing import NamedTuple
+
+import numpy as np
+from scipy.stats import chi2
+
+from ...engine.rng import spawning_generator
+from ...numba_options import interruptible
+from ...single.problem import AssignmentProblem
+from ...validation import check_bool, check_choice, check_int, check_real, check_type
+from .. import _kernels
+from .._kernels import MERGE_RULES
+from ..models import Model
+from .association import Association, AssociationResult
+
+__all__ = [
+    "BETA_TOL",
+    "EXTRACTIONS",
+    "ESTIMATES",
+    "MERGE_RULES",
+    "LMBFilter",
+    "ScanRecord",
+    "gate_threshold",
+    "group_tracks",
+    "map_cardinality",
+]
+
+#: State extraction rules of :class:`LMBFilter` (``extraction``).
+EXTRACTIONS = ("hysteresis", "map")
+#: State estimates of a reported track (``estimate``).
+ESTIMATES = ("max-weight", "mean")
+#: Largest ``|Σ_j β_ij − 1|`` the filters accept in the marginals an association returns
+#: (the rounding of a normalised sum is some 1e-15; anything larger is a wrong distribution).
+BETA_TOL = 1e-9
+
+def gate_threshold(gate_prob: float, dim: int = 2) -> float:
+    """χ² gate on the squared Mahalanobis distance for a ``dim``-dimensional measurement.
+
+    Parameters
+    ----------
+    gate_prob : float
+        Probability mass inside the gate, in ``(0, 1)``.
+    dim : int
+        Measurement dimension.
+
+    Returns
+    -------
+    float
+        ``χ²_dim⁻¹(gate_prob)``; for ``dim = 2`` exactly ``−2 ln(1 − gate_prob)``.
+
+    Raises
+    ------
+    TypeError
+        If ``gate_prob`` is not a real number or ``dim`` not an int.
+    ValueError
+        If ``gate_prob`` is outside ``(0, 1)`` or ``dim < 1``.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.single.lmb import gate_threshold
+    >>> round(gate_threshold(0.9999999), 3)
+    32.236
+    """
+    gate_prob = check_real(gate_prob, "gate_prob")
+    dim = check_int(dim, "dim", minimum=1)
+    if not (0 < gate_prob < 1):
+        raise ValueError(f"gate_prob must be in (0, 1), got {gate_prob}")
+    if dim == 2:
+        return -2.0 * math.log1p(-gate_prob)
+    return float(chi2.ppf(gate_prob, dim))
+
+
+def group_tracks(gated: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Split tracks into groups that share no gated measurement (spec §6.5a).
+
+    Parameters
+    ----------
+    gated : ndarray of bool, shape (T, M)
+        ``gated[i, j]``: measurement ``j`` is in the gate of track ``i``.
+
+    Returns
+    -------
+    list of (rows, cols)
+        Connected components of the bipartite track–measurement graph: sorted int arrays of
+        track and measurement indices, ordered by their first track. Tracks that gate nothing are
+        singleton groups with no measurement; measurements that no track gates belong to no group.
+
+    Raises
+    ------
+    ValueError
+        If ``gated`` is not 2-D.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.single.lmb import group_tracks
+    >>> g = np.array([[1, 0, 0], [0, 0, 1], [1, 1, 0], [0, 0, 0]], dtype=bool)
+    >>> [(r.tolist(), c.tolist()) for r, c in group_tracks(g)]
+    [([0, 2], [0, 1]), ([1], [2]), ([3], [])]
+    """
+    gated = np.ascontiguousarray(gated, dtype=np.bool_)
+    if gated.ndim != 2:
+        raise ValueError(f"gated must be a 2-D (T, M) array, got shape {gated.shape}")
+    with interruptible:
+        track_group, meas_group, n = _kernels.connected_groups(gated)
+    return [(np.flatnonzero(track_group == g), np.flatnonzero(meas_group == g))
+            for g in range(n)]
+
+
+def map_cardinality(r: np.ndarray) -> int:
+    """MAP cardinality of an LMB with existence probabilities ``r`` (Vo's default extraction).
+
+    The cardinality distribution of independent Bernoullis is the Poisson-binomial, computed by
+    the convolution recursion; ties go to the smaller cardinality.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.single.lmb import map_cardinality
+    >>> map_cardinality([0.9, 0.8, 0.1]), map_cardinality([])
+    (2, 0)
+    """
+    r = np.ascontiguousarray(r, dtype=np.float64).reshape(-1)
+    with interruptible:
+        return int(np.argmax(_kernels.cardinality_distribution(r)))
+
+
+class ScanRecord(NamedTuple):
+    """What the filter reports for one scan.
+
+    Attributes
+    ----------
+    labels : ndarray of int64, shape (n, 2)
+        Labels ``(birth scan, birth index)`` (both 1-based) of the reported tracks.
+    states : ndarray, shape (n, 4)
+        Their state estimates.
+    existence : ndarray, shape (n,)
+        Their existence probabilities.
+    track_labels, track_existence : ndarray
+        Every track kept after the update, ``(T, 2)`` and ``(T,)``.
+    n_tracks : int
+        Predicted tracks (rows of the association, births included).
+    n_meas, n_meas_gated : int
+        Measurements received and measurements in some gate.
+    n_groups : int
+        Problems solved by the association (0 when no measurement is gated).
+    invocations, sweeps, row_updates, n_unique : int
+        Association accounting summed over the problems of the scan.
+    timings : dict
+        Seconds spent in ``prediction``, ``cost``, ``association``, ``update``.
+    """
+
+    labels: np.ndarray
+    states: np.ndarray
+    existence: np.ndarray
+    track_labels: np.ndarray
+    track_existence: np.ndarray
+    n_tracks: int
+    n_meas: int
+    n_meas_gated: int
+    n_groups: int
+    invocations: int
+    sweeps: int
+    row_updates: int
+    n_unique: int
+    timings: dict
+
+
+# ------------------------------------------------------------------------------- filter
+def _check_association_kind(association, filter_name: str, kind: str, example: str,
+                            other_filter: str) -> None:
+    """Refuse a non-callable, or one of the library's associations of the other kind.
+
+    ``kind`` is this filter's kind ("single-sensor" or "multi-sensor"), ``example`` one of its
+    association classes; an association whose ``sensors`` attribute names the other kind is
+    for ``other_filter``. Plain functions pass.
+    """
+    if not callable(association):
+        raise TypeError(
+            f"association must be callable as association(problem, rng), got "
+            f"{type(association).__name__}"
+        )
+    other = "multi-sensor" if kind == "single-sensor" else "single-sensor"
+    if getattr(association, "sensors", kind) == other:
+        raise TypeError(
+            f"{filter_name} needs a {kind} association such as {example}; got "
+            f"{type(association).__name__} (a {other} association, for {other_filter})"
+        )
+
+
+class LMBFilter:
+    """Compact LMB filter with Gaussian-mixture tracks and pluggable association.
+
+    Parameters
+    ----------
+    model : Model
+        Motion, sensor, clutter, birth and survival models.
+    association : Association or callable
+        Called as ``association(problem, rng)`` on every ranked-assignment problem. The
+        multi-sensor associations
+        (:class:`~rankedassign.tracking.multisensor.association.MultiSensorAssociation`) are
+        refused: they belong to :class:`~rankedassign.tracking.MultiSensorLMBFilter`. The
+        marginals it returns must be finite and non-negative with rows summing to 1 (within
+        :data:`BETA_TOL`).
+    gate_prob : float or None, optional
+        χ² gate probability (default ``0.9999999``, spec §6.3); None disables gating (every
+        measurement enters every row).
+    grouping : bool, optional
+        Solve independent groups of tracks separately (spec §6.5a). Default False (one problem
+        per scan, as in Vo's code). ``True`` or ``False`` only (a string is refused).
+    sample_empty_groups : bool, optional
+        Hand problems without gated measurements (with grouping: the groups of tracks that gate
+        nothing) to the association too, instead of solving them in closed form. The posterior
+        is the same in expectation; only the association's cost and counters change. The
+        paper's observation totals fit a sampler call on every group, these included
+        (ambiguity A13; see the Tracking page of the documentation). Default False.
+    extraction : {"hysteresis", "map"}, optional
+        Hysteresis state extraction (6.5, the paper) or the MAP cardinality of Vo's code.
+    theta_upper, theta_lower : float, optional
+        Hysteresis thresholds ``ϑ_u = 0.9`` and ``ϑ_l = 10⁻³``.
+    prune_track : float, optional
+        Drop tracks with ``r <= prune_track`` (default ``10⁻³``).
+    max_tracks : int, optional
+        Keep at most this many tracks, the most likely ones (default 100).
+    prune_component, merge_threshold, max_components : float, float, int, optional
+        Mixture pruning (``10⁻⁵``), merging (4) and cap (10) per track.
+    merge_rule : {"bhattacharyya", "vo-ma", "heaviest"}, optional
+        Which pairs of components merge (``tracking._kernels.reduce_mixtures``): eight times their
+        Bhattacharyya distance at most ``merge_threshold`` (default; the Mahalanobis test when
+        the two covariances are equal), the Mahalanobis distance in the candidate's covariance
+        (Vo & Ma 2006), or in the heaviest component's covariance (Vo's MATLAB).
+    estimate : {"max-weight", "mean"}, optional
+        State estimate of a reported track: mean of its heaviest component (Vo's code) or of the
+        whole mixture.
+
+    Notes
+    -----
+    Rows of every problem are the persisting tracks in their order, then the births (A21).
+    A problem without measurements factorises over rows and is solved in closed form
+    (``β_i0 ∝ η_i(0)``, ``β_i,−1 ∝ η_i(−1)``) without calling the association; it counts no
+    invocation (unless ``sample_empty_groups``). Pair ``(i, j)`` passes the gate when the
+    squared Mahalanobis distance of ``z_j`` to *some* component of track ``i`` is at most the
+    threshold; its ``q_i(z_j)`` uses every component. A component weight ``β_ij / r_i · w̃``
+    below the pruning threshold would be pruned, so pairs with
+    ``β_ij / r_i <= prune_component`` are not expanded at all.
+
+    References
+    ----------
+    .. [1] S. Reuter, B.-T. Vo, B.-N. Vo, K. Dietmayer, "The Labeled Multi-Bernoulli Filter",
+       IEEE Trans. Signal Process. 62(12), 2014.
+    .. [2] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8), 2017.
+    .. [3] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking import LMBFilter, make_model
+    >>> from rankedassign.tracking.single.association import Association, AssociationResult
+    >>> class AllMissed(Association):     # a trivial association, for illustration only
+    ...     def __call__(self, problem, rng):
+    ...         beta = np.zeros((problem.n_rows, problem.n_meas + 2))
+    ...         beta[:, problem.n_meas] = 1.0
+    ...         return AssociationResult(beta, 1, 0, 0, 1)
+    >>> f = LMBFilter(make_model("paper"), AllMissed())
+    >>> rec = f.step(np.array([[0.0, 0.0]]), rng=0)
+    >>> rec.n_tracks, rec.track_labels.tolist()
+    (4, [[1, 1], [1, 2], [1, 3], [1, 4]])
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        association: Association,
+        *,
+        gate_prob: float | None = 0.9999999,
+        grouping: bool = False,
+        sample_empty_groups: bool = False,
+        extraction: str = "hysteresis",
+        theta_upper: float = 0.9,
+        theta_lower: float = 1e-3,
+        prune_track: float = 1e-3,
+        max_tracks: int = 100,
+        prune_component: float = 1e-5,
+        merge_threshold: float = 4.0,
+        merge_rule: str = "bhattacharyya",
+        max_components: int = 10,
+        estimate: str = "max-weight",
+    ):
+        check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+        self._check_association(association)
+        self.extraction = check_choice(extraction, "extraction", EXTRACTIONS)
+        self.estimate = check_choice(estimate, "estimate", ESTIMATES)
+        self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
+        self.theta_upper = check_real(theta_upper, "theta_upper", minimum=0.0, maximum=1.0)
+        self.theta_lower = check_real(theta_lower, "theta_lower", minimum=0.0,
+                                      maximum=self.theta_upper)
+        self.prune_track = check_real(prune_track, "prune_track", minimum=0.0)
+        if self.prune_track >= 1:
+            raise ValueError(f"prune_track must be < 1, got {self.prune_track}")
+        self.prune_component = check_real(prune_component, "prune_component", minimum=0.0)
+        if self.prune_component >= 1:
+            raise ValueError(f"prune_component must be < 1, got {self.prune_component}")
+        self.merge_threshold = check_real(merge_threshold, "merge_threshold", minimum=0.0,
+                                          finite=False)
+        self.max_tracks = check_int(max_tracks, "max_tracks", minimum=1)
+        self.max_components = check_int(max_components, "max_components", minimum=1)
+        self.model = model
+        self.association = association
+        self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
+        self.grouping = check_bool(grouping, "grouping")
+        self.sample_empty_groups = check_bool(sample_empty_groups, "sample_empty_groups")
+        # model matrices and constants, cached
+        self._F = np.array(model.motion.F)
+        self._FT = self._F.T
+        self._Q = np.array(model.motion.Q)
+        self._R = np.array(model.sensor.R)
+        self._pd = float(model.sensor.p_d)
+        self._ps = float(model.survival.p_s)
+        self._log_pd = math.log(self._pd)
+        self._log_miss = math.log1p(-self._pd) if self._pd < 1 else -np.inf
+        self._log_kappa = math.log(model.clutter.intensity)
+        self._birth_r = model.birth.r
+        self._birth_m = model.birth.means
+        self._birth_P = model.birth.covs
+        self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
+        self._rule = MERGE_RULES[self.merge_rule]
+        self.reset()
+
+    @staticmethod
+    def _check_association(association) -> None:
+        """Refuse what is not an association of this filter (a multi-sensor one included)."""
+        _check_association_kind(association, "LMBFilter", "single-sensor", "ShortChainGibbs",
+                                "MultiSensorLMBFilter")
+
+    # ----------------------------------------------------------------------- state
+    def reset(self) -> None:
+        """Forget every track and restart at scan 1."""
+        self.k = 0
+        self.labels = np.empty((0, 2), dtype=np.int64)
+        self.r = np.empty(0)
+        self.offsets = np.zeros(1, dtype=np.int64)
+        self.w = np.empty(0)
+        self.m = np.empty((0, 4))
+        self.P = np.empty((0, 4, 4))
+        self.confirmed = np.empty(0, dtype=bool)
+
+    @property
+    def n_tracks(self) -> int:
+        """Number of tracks currently held."""
+        return int(self.r.size)
+
+    def track_index(self) -> np.ndarray:
+        """Track of every component, shape (C,)."""
+        return np.repeat(np.arange(self.n_tracks), np.diff(self.offsets))
+
+    # ----------------------------------------------------------------------- 1. prediction
+    def predict(self) -> None:
+        """LMB prediction (spec 6.1): survive, propagate, append the births of the next scan.
+
+        Called by :meth:`step`; public for tests and for custom update loops.
+
+        Examples
+        --------
+        >>> from rankedassign.tracking import Exact, LMBFilter, make_model
+        >>> f = LMBFilter(make_model("paper"), Exact())
+        >>> f.predict()
+        >>> f.n_tracks, f.r.tolist()
+        (4, [0.03, 0.03, 0.03, 0.03])
+        """
+        self.k += 1
+        F = self._F
+        # m <- F m ; P <- F P F' + Q ; r <- P_S r (weights and labels kept)
+        self.m = self.m @ self._FT
+        self.P = F @ self.P @ self._FT + self._Q
+        self.r = self._ps * self.r
+        self._append_births()
+
+    def _append_births(self) -> None:
+        """Append the birth Bernoullis of scan ``k``, labels ``(k, 1..B)``, one component each."""
+        B = self._birth_r.size
+        labels = np.empty((B, 2), dtype=np.int64)
+        labels[:, 0] = self.k
+        labels[:, 1] = self._birth_index
+        self.labels = np.concatenate([self.labels, labels])
+        self.r = np.concatenate([self.r, self._birth_r])
+        self.offsets = np.concatenate([self.offsets, self.w.size + self._birth_index])
+        self.w = np.concatenate([self.w, np.ones(B)])
+        self.m = np.concatenate([self.m, self._birth_m])
+        self.P = np.concatenate([self.P, self._birth_P])
+        self.confirmed = np.concatenate([self.confirmed, np.zeros(B, dtype=bool)])
+
+    # ----------------------------------------------------------------------- 2. likelihoods
+    def _measurement_terms(self, z: np.ndarray) -> _Terms:
+        """Likelihoods of one measurement array against the predicted tracks, and the gate.
+
+        Keeps the measurements that some track gates (all of them without gating) and returns
+        per component the innovation statistics the update needs, per track the log-weights
+        ``ln η`` of eq. (6.2).
+        """
+        T = self.n_tracks
+        M = z.shape[0]
+        if M == 0:
+            return _Terms.empty(self, T)
+        gate = 0.0 if self.gate is None else self.gate
+        with interruptible:
+            det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
+                self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None
+            )
+        used = np.flatnonzero(gated.any(axis=0))
+        gated = gated[:, used]
+        with np.errstate(divide="ignore"):
+            log_r = np.log(self.r)
+            log_dead = np.log1p(-self.r)
+        # ln w_c + ln N(z_j; H m_c, S_c), ln Σ_c w_c N(...) per track, ln η_t(j) (6.2)
+        with interruptible:
+            lw, log_g, log_det = _kernels.detection_log_weights(
+                maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_r, self._log_pd,
+                self._log_kappa,
+            )
+        return _Terms(
+            used=used, gated=gated, Sinv=Sinv, nu=nu[:, used], lw=lw, log_g=log_g,
+            log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead,
+        )
+
+    # ----------------------------------------------------------------------- 3.-5. association
+    def _groups(self, terms: _Terms) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The problems of the scan: one group per connected component, or all tracks in one."""
+        if self.grouping and terms.used.size:
+            return group_tracks(terms.gated)
+        return [(np.arange(self.n_tracks), np.arange(terms.used.size))]
+
+    @staticmethod
+    def _group_problem(terms: _Terms, rows: np.ndarray, cols: np.ndarray) -> AssignmentProblem:
+        """The ranked-assignment problem (cost ``−ln η``, paper layout) of tracks ``rows``."""
+        with interruptible:
+            cost = _kernels.group_cost_matrix(terms.log_det, terms.log_miss, terms.log_dead,
+                                              rows, cols)
+        return AssignmentProblem(cost)
+
+    def _associate(self, terms: _Terms, groups, gen: np.random.Generator):
+        """Marginals ``β`` (T, U + 2) of every group and the accounting summed over them."""
+        T = self.n_tracks
+        U = terms.used.size
+        beta = np.zeros((T, U + 2))
+        sample_empty = self.sample_empty_groups
+        n_problems = sum(1 for _, cols in groups if cols.size or sample_empty)
+        children = iter(gen.spawn(n_problems)) if n_problems else iter(())
+        counts = np.zeros(4, dtype=np.int64)  # invocations, sweeps, row updates, unique
+        for rows, cols in groups:
+            if cols.size == 0 and not sample_empty:
+                # rows take only missed/dead: independent Bernoullis, closed form
+                lm, ld = terms.log_miss[rows], terms.log_dead[rows]
+                top = np.maximum(lm, ld)
+                em, ed = np.exp(lm - top), np.exp(ld - top)
+                beta[rows, -2] = em / (em + ed)
+                beta[rows, -1] = ed / (em + ed)
+                continue
+            res = self.association(self._group_problem(terms, rows, cols), next(children))
+            if not isinstance(res, AssociationResult):
+                res = AssociationResult(*res)
+            b = np.asarray(res.beta, dtype=np.float64)
+            if b.shape != (rows.size, cols.size + 2):
+                raise ValueError(
+                    f"association returned beta of shape {b.shape}, expected "
+                    f"{(rows.size, cols.size + 2)}"
+                )
+            _check_distribution(self.association, {"beta": b}, b.sum(axis=1),
+                                "beta[{i}, :].sum()")
+            whole = rows.size == T and cols.size == U  # one problem: every track and measurement
+            gated = terms.gated if whole else terms.gated[np.ix_(rows, cols)]
+            if (b[:, :-2][~gated] != 0).any():
+                # a forbidden pair (cost +inf) has marginal 0; the update does not compute its
+                # likelihoods
+                raise ValueError("association returned a nonzero marginal for a pair outside "
+                                 "the gate (a forbidden pair of the problem)")
+            if whole:
+                beta = np.ascontiguousarray(b)
+            else:
+                beta[np.ix_(rows, cols)] = b[:, :-2]
+                beta[rows, -2] = b[:, -2]
+                beta[rows, -1] = b[:, -1]
+            counts += (int(res.invocations), int(res.sweeps), int(res.row_updates),
+                       int(res.n_unique))
+        return beta, n_problems, counts
+
+    # ----------------------------------------------------------------------- the scan
+    def step(self, z, rng=None) -> ScanRecord:
+        """Run one scan: predict, build the problem(s), associate, update, extract.
+
+        Parameters
+        ----------
+        z : array_like, shape (M, 2)
+            Measurements of the scan (positions).
+        rng : optional
+            Randomness of the association (anything :func:`numpy.random.default_rng` accepts);
+            one child stream per problem is spawned from it. A
+            :class:`numpy.random.RandomState` is replaced by the Generator seeded with one draw
+            from it (:func:`rankedassign.engine.rng.spawning_generator`).
+
+        Returns
+        -------
+        ScanRecord
+
+        Raises
+        ------
+        TypeError
+            On measurements that are not real numbers (strings, booleans, complex), or an
+            ``rng`` numpy cannot seed from.
+        ValueError
+            On measurements not of shape ``(M, 2)`` (``[]``, shape ``(0,)``, and shape
+            ``(0, 2)`` are a scan without measurements), ragged or non-finite measurements, an
+            invalid seed, or if the association returns ``beta`` of the wrong shape, with a
+            non-finite or negative entry, with a row not summing to 1 (:data:`BETA_TOL`) or
+            with weight on a forbidden pair.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking import LMBFilter, Murty, make_model
+        >>> f = LMBFilter(make_model("vo"), Murty(50))
+        >>> for k in range(3):          # one target near birth location 2, no clutter
+        ...     rec = f.step([[400.0 - 10 * k, -600.0 + 5 * k]], rng=k)
+        >>> rec.labels.tolist(), rec.existence.round(3).tolist()
+        ([[1, 2]], [1.0])
+        """
+        z = _check_measurements(z)
+        gen = spawning_generator(rng)
+        t0 = perf_counter()
+        self.predict()
+        t1 = perf_counter()
+        T = self.n_tracks
+        M_all = z.shape[0]
+        if T == 0:  # an empty birth model and no tracks: nothing to associate
+            t2 = perf_counter()
+            return ScanRecord(
+                np.empty((0, 2), np.int64), np.empty((0, 4)), np.empty(0),
+                self.labels.copy(), self.r.copy(), 0, M_all, 0, 0, 0, 0, 0, 0,
+                {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0},
+            )
+        terms = self._measurement_terms(z)
+        groups = self._groups(terms)
+        t2 = perf_counter()
+        beta, n_problems, counts = self._associate(terms, groups, gen)
+        t3 = perf_counter()
+        r_new, mixture = self._posterior(z[terms.used], beta, terms)
+        self._prune_and_merge(r_new, *mixture)
+        labels, states, ex = self._extract()
+        t4 = perf_counter()
+        inv, sweeps, rows_upd, n_unique = counts.tolist()
+        return ScanRecord(
+            labels, states, ex, self.labels.copy(), self.r.copy(), T, M_all,
+            int(terms.used.size), n_problems, inv, sweeps, rows_upd, n_unique,
+            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2, "update": t4 - t3},
+        )
+
+    # ----------------------------------------------------------------------- 6. update
+    def _posterior(self, z, beta, terms: _Terms):
+        """Posterior existence and mixtures from the marginals (6.3, 6.4), before pruning.
+
+        Returns ``r_new`` (T,) and ``(offsets, w, m, P)`` of the posterior components, grouped
+        by track: the missed-detection components first, then the updates with each
+        measurement in turn.
+        """
+        M = z.shape[0]
+        Sinv, nu, lw, log_g = terms.Sinv, terms.nu, terms.lw, terms.log_g
+        # r_i = Σ_{j >= 0} β_ij  (6.3)
+        r_new = np.clip(beta[:, : M + 1].sum(axis=1), 0.0, 1.0)
+        safe_r = np.where(r_new > 0, r_new, 1.0)
+        rel = beta[:, : M + 1] / safe_r[:, None]  # β_ij / r_i, (T, M + 1)
+        # which predicted component, track and measurement (-1: missed) each posterior
+        # component comes from, grouped by track
+        with interruptible:
+            comp, track, meas, log_ratio, counts = _kernels.posterior_sources(
+                self.offsets, rel, self.prune_component, lw, log_g
+            )
+        # w̃_cj = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
+        ratio = np.exp(log_ratio)
+        if (meas >= 0).any():
+            # Kalman gain and updated covariance per component: K = P H' S⁻¹, P' = P − K S K'
+            PHt = self.P[:, :, [0, 2]]  # (C, 4, 2)
+            K = PHt @ Sinv
+            P_upd = self.P - K @ PHt.transpose(0, 2, 1)
+            P_upd = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+        else:
+            K, P_upd = np.empty((0, 4, 2)), np.empty((0, 4, 4))
+        with interruptible:
+            w_all, m_all, P_all = _kernels.posterior_components(
+                comp, track, meas, ratio, rel, self.w, self.m, self.P, K, nu, P_upd
+            )
+        offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        return r_new, (offsets, w_all, m_all, P_all)
+
+    # ----------------------------------------------------------------------- 7. housekeeping
+    def _prune_and_merge(self, r_new, offsets, w, m, P) -> None:
+        """Drop unlikely tracks (``r <= prune_track``, then all but the ``max_tracks`` most
+        likely) and prune, merge and cap every kept mixture (``_kernels.reduce_mixtures``)."""
+        T = r_new.size
+        keep = (r_new > self.prune_track) & (offsets[1:] > offsets[:-1])
+        if keep.sum() > self.max_tracks:
+            cand = np.flatnonzero(keep)
+            best = cand[np.argsort(-r_new[cand], kind="stable")[: self.max_tracks]]
+            keep = np.zeros(T, dtype=bool)
+            keep[best] = True
+        # weights within each track sum to Σ_j β_ij / r_i · Σ w̃ = 1 before pruning
+        with interruptible:
+            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+                offsets, np.ascontiguousarray(w), np.ascontiguousarray(m), np.ascontiguousarray(P),
+                keep, self.prune_component, self.merge_threshold, self.max_components, self._rule,
+            )
+        self.r = r_new[keep]
+        self.labels = self.labels[keep]
+        self.confirmed = self.confirmed[keep]
+
+    # ----------------------------------------------------------------------- 8. extraction
+    def _extract(self):
+        """Labels, states and existence of the reported tracks (hysteresis 6.5 or MAP)."""
+        r = self.r
+        if self.extraction == "hysteresis":
+            # confirmed_k = [r >= ϑ_u] or (confirmed_{k-1} and r >= ϑ_l)   (6.5)
+            self.confirmed = (r >= self.theta_upper) | (self.confirmed & (r >= self.theta_lower))
+            sel = np.flatnonzero(self.confirmed)
+        else:
+            n_hat = map_cardinality(r)
+            sel = np.sort(np.argsort(-r, kind="stable")[:n_hat])
+        if self.estimate == "max-weight":
+            states = self.m[self.offsets[sel]]  # components are sorted by decreasing weight
+        else:
+            wm = self.w[:, None] * self.m
+            sums = np.add.reduceat(wm, self.offsets[:-1], axis=0) if wm.size else wm
+            states = sums[sel] if sel.size else np.empty((0, 4))
+        return self.labels[sel], np.array(states).reshape(-1, 4), r[sel]
+
+
+class _Terms(NamedTuple):
+    """Per-scan quantities of one measurement array (``U`` = measurements some track gates)."""
+
+    used: np.ndarray  # (U,) kept measurement columns
+    gated: np.ndarray  # (T, U) bool
+    Sinv: np.ndarray  # (C, 2, 2) inverse innovation covariances
+    nu: np.ndarray  # (C, U, 2) innovations
+    lw: np.ndarray  # (C, U) ln w_c + ln N(z_j; H m_c, S_c)
+    log_g: np.ndarray  # (T, U) ln Σ_c w_c N(z_j; H m_c, S_c)
+    log_det: np.ndarray  # (T, U) ln η_t(j), -inf outside the gate
+    log_miss: np.ndarray  # (T,) ln η_t(0)
+    log_dead: np.ndarray  # (T,) ln η_t(-1)
+
+    @classmethod
+    def empty(cls, filt: LMBFilter, T: int) -> _Terms:
+        """The terms of a scan without measurements."""
+        with np.errstate(divide="ignore"):
+            log_r = np.log(filt.r)
+            log_dead = np.log1p(-filt.r)
+        C = filt.w.size
+        return cls(
+            used=np.empty(0, dtype=np.int64), gated=np.zeros((T, 0), dtype=bool),
+            Sinv=np.empty((C, 2, 2)), nu=np.empty((C, 0, 2)), lw=np.empty((C, 0)),
+            log_g=np.empty((T, 0)), log_det=np.empty((T, 0)),
+            log_miss=log_r + filt._log_miss, log_dead=log_dead,
+        )
+
+
+def _check_measurements(z, name: str = "measurements") -> np.ndarray:
+    """One scan's measurements as a float64 (M, 2) array; ``[]`` and (0, 2) give (0, 2).
+
+    ``name`` says in the messages whose measurements they are (the multi-sensor filter names
+    the sensor).
+    """
+    try:
+        a = np.asarray(z)
+    except ValueError:  # numpy: "inhomogeneous shape"
+        raise ValueError(
+            f"{name} must be an (M, 2) array of real numbers, got a ragged sequence (rows of "
+            "different lengths)"
+        ) from None
+    if a.dtype.kind == "O" and all(isinstance(v, numbers.Real) and not isinstance(v, bool)
+                                   for v in a.reshape(-1)):
+        a = a.astype(np.float64)  # e.g. Python ints beyond int64
+    if a.dtype.kind not in "iuf":
+        kind = {"b": "booleans", "U": "strings", "S": "bytes", "c": "complex numbers"}.get(
+            a.dtype.kind, "objects")
+        raise TypeError(f"{name} must be real numbers, got {kind} (dtype {a.dtype}) in a scan "
+                        f"of shape {a.shape}")
+    if a.shape == (0,):  # [] : a scan without measurements
+        return np.empty((0, 2))
+    if a.ndim != 2 or a.shape[1] != 2:
+        empty = " (a scan without measurements is [] or shape (0, 2))" if a.size == 0 else ""
+        raise ValueError(f"{name} must have shape (M, 2), got shape {a.shape}{empty}")
+    if a.shape[0] == 0:
+        return np.empty((0, 2))
+    z = np.array(a, dtype=np.float64)  # a writable copy: one compiled variant of each kernel
+    if not np.isfinite(z).all():
+        i, j = np.argwhere(~np.isfinite(z))[0]
+        raise ValueError(f"{name} must be finite, got {z[i, j]} at [{i}, {j}] in a scan of "
+                         f"shape {z.shape}")
+    return np.ascontiguousarray(z)
+
+
+def _association_name(association) -> str:
+    """How messages name an association: a function by its name, an object by its class."""
+    if isinstance(association, (types.FunctionType, types.MethodType,
+                                types.BuiltinFunctionType)):
+        return association.__qualname__
+    return type(association).__name__
+
+
+def _check_distribution(association, arrays: dict, totals: np.ndarray, row: str) -> None:
+    """Refuse association marginals that are not a distribution over each row's options.
+
+    ``arrays`` maps a name to each returned array, ``totals`` is the total mass of every row
+    and ``row`` the expression of a row's mass in the messages (``"beta[{i}, :].sum()"``).
+    """
+    who = _association_name(association)
+    for what, a in arrays.items():
+        if not np.isfinite(a).all():
+            at = tuple(int(k) for k in np.argwhere(~np.isfinite(a))[0])
+            raise ValueError(f"association {who} returned a non-finite marginal: "
+                             f"{what}{list(at)} = {a[at]}")
+        if (a < 0).any():
+            at = tuple(int(k) for k in np.argwhere(a < 0)[0])
+            raise ValueError(f"association {who} returned a negative marginal: "
+                             f"{what}{list(at)} = {a[at]}")
+    off = np.abs(totals - 1.0)
+    if (off > BETA_TOL).any():
+        i = int(np.argmax(off > BETA_TOL))
+        raise ValueError(
+            f"association {who} returned marginals that are not a distribution: "
+            f"{row.format(i=i)} = {float(totals[i])!r}, not 1 (tolerance {BETA_TOL})"
+        )
