@@ -14,7 +14,7 @@ family ``P = 16, M = (20, 20)`` for the surrogate normaliser.
 import pytest
 
 import oracle
-from oracle.multisensor_dp import surrogate_log_normalizer
+from oracle.multisensor.dp import surrogate_log_normalizer
 from rankedassign.multisensor import synthetic
 
 SIZES = {"A": (4, (4, 4)), "B": (2, (16, 16)), "C": (3, (4, 4, 4))}

@@ -32,7 +32,8 @@ import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
 
-from oracle import enumerate_assignments, log_normalizer, marginals, murty
+from oracle import enumerate_assignments, log_normalizer, marginals
+from oracle.single import murty
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
 

@@ -5,14 +5,15 @@ normalising constant and association marginals by dynamic programming (a subset 
 frontier DP per connected component for gated problems), and the exact truncation error of a
 set of sampled assignments.
 
-The same functions accept a multi-sensor problem
+The same functions (:mod:`oracle.exact`) accept a multi-sensor problem
 (:class:`rankedassign.multisensor.MultiSensorProblem`: enumeration, a row DP over
 used-measurement masks, :class:`MultiSensorMarginals`) or an adaptive-birth problem
 (:class:`rankedassign.adaptive_birth.AdaptiveBirthProblem`: the dense tuple tensor).
 :func:`surrogate_log_normalizer` is the exact normaliser of the MM-Gibbs surrogate target, and
-the submodules :mod:`oracle.transition` and :mod:`oracle.adaptive_birth` build the exact
-one-sweep transition matrices of the multi-sensor and adaptive-birth Gibbs samplers on tiny
-problems.
+:mod:`oracle.multisensor.transition` and :mod:`oracle.adaptive_birth` build the exact one-sweep
+transition matrices of the multi-sensor and adaptive-birth Gibbs samplers on tiny problems.
+The oracle has one folder per problem kind, named as the kind (:mod:`oracle.single`,
+:mod:`oracle.multisensor`, :mod:`oracle.adaptive_birth`).
 
 Examples
 --------
@@ -29,13 +30,11 @@ Examples
 True
 """
 
-from . import adaptive_birth, transition
+from . import adaptive_birth, multisensor, single
 from ._result import Ranked
-from .dp import log_normalizer, marginals
-from .enumerate import enumerate_assignments
-from .multisensor_dp import MultiSensorMarginals, surrogate_log_normalizer
-from .murty import murty
-from .truncation import best_mass, truncation_error
+from .exact import best_mass, enumerate_assignments, log_normalizer, marginals, truncation_error
+from .multisensor import MultiSensorMarginals, surrogate_log_normalizer
+from .single import murty
 
 __all__ = [
     "MultiSensorMarginals",
@@ -45,8 +44,9 @@ __all__ = [
     "enumerate_assignments",
     "log_normalizer",
     "marginals",
+    "multisensor",
     "murty",
+    "single",
     "surrogate_log_normalizer",
-    "transition",
     "truncation_error",
 ]

@@ -11,7 +11,7 @@ from scipy.special import logsumexp
 from scipy.stats import multivariate_normal
 
 import oracle
-from oracle import adaptive_birth as ob
+from oracle.adaptive_birth import exact as ob
 from rankedassign.adaptive_birth import AdaptiveBirthProblem, birth_from_samples
 from rankedassign.adaptive_birth import reference as ref
 from rankedassign.adaptive_birth.prepare import chain_inputs

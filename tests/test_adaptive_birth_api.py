@@ -8,7 +8,7 @@ from numpy.testing import assert_array_equal
 from scipy.stats import chi2
 
 import oracle
-from oracle import adaptive_birth as ob
+from oracle.adaptive_birth import exact as ob
 from rankedassign import sample_original, sample_short_chains
 from rankedassign.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.adaptive_birth.synthetic import make_family

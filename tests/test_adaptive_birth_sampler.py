@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_array_equal
 from scipy.stats import chi2
 
-from oracle import adaptive_birth as ob
+from oracle.adaptive_birth import exact as ob
 from rankedassign.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.adaptive_birth import _kernels as kern
 from rankedassign.adaptive_birth import reference as ref

@@ -42,8 +42,8 @@ import pytest
 
 import oracle
 import rankedassign
-from oracle import adaptive_birth as oracle_ab
-from oracle import transition as oracle_transition
+from oracle.adaptive_birth import exact as oracle_ab
+from oracle.multisensor import transition as oracle_transition
 from rankedassign import AssignmentProblem, SamplerResult, sample_original, sample_short_chains
 from rankedassign.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.multisensor import synthetic as ms_synthetic

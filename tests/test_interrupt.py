@@ -373,7 +373,7 @@ def test_short_chains_in_slices_are_bit_identical(monkeypatch, kind, workers):
 
 @pytest.mark.parametrize("family", ["coupled", "extreme"])  # linear and log-space DPs
 def test_multisensor_row_dps_in_slices_are_bit_identical(monkeypatch, family):
-    from oracle import multisensor_dp as msdp
+    from oracle.multisensor import dp as msdp
 
     p = _real(random_problem(5, (3, 2), 8, family))
     want = (oracle.marginals(p), oracle.log_normalizer(p), msdp.surrogate_log_normalizer(p))
@@ -389,7 +389,7 @@ def test_multisensor_row_dps_in_slices_are_bit_identical(monkeypatch, family):
 
 @pytest.mark.parametrize("method", ["dense", "frontier"])
 def test_single_sensor_dps_in_slices_are_bit_identical(monkeypatch, method):
-    from oracle import dp
+    from oracle.single import dp
 
     rng = np.random.default_rng(4)
     C = rng.normal(size=(7, 9)) * 2
@@ -420,8 +420,8 @@ def test_murty_in_slices_is_bit_identical(monkeypatch):
 
 
 def test_enumeration_and_counting_in_slices_are_bit_identical(monkeypatch):
-    enumerate_module = importlib.import_module("oracle.enumerate")
-    msen = importlib.import_module("oracle.multisensor_enumerate")
+    enumerate_module = importlib.import_module("oracle.single.enumerate")
+    msen = importlib.import_module("oracle.multisensor.enumerate")
     cc = np.ascontiguousarray(synthetic.random(R=4, M=6, rng=3).compact_cost)
     ms = _real(random_problem(3, (2, 3), 2, "forbidden"))
     n = ms.n_feasible()

@@ -3,7 +3,7 @@
 
 Two kinds of check:
 
-* exact algebra (:mod:`oracle.transition`, built from each conditional's mathematics, not from
+* exact algebra (:mod:`oracle.multisensor.transition`, built from each conditional's mathematics, not from
   the sampler code): ``"exact"`` leaves ``pi`` invariant, ``"componentwise"`` the collapsed
   ``pi'``, ``"mm"`` its surrogate ``pi~`` (``s_n -> s_n^V`` with ``survival_power="V"``);
   on the separable random family ``pi~ = pi``; ``"mm-fixed"`` has a stationary law ``mu`` that
@@ -23,7 +23,7 @@ from ms_standin import random_problem
 from numpy.testing import assert_allclose
 from scipy.stats import chi2_contingency, chisquare
 
-from oracle.transition import (
+from oracle.multisensor.transition import (
     multisensor_states,
     row_kernels,
     stationary_distribution,

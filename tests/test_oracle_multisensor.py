@@ -11,8 +11,8 @@ from numpy.testing import assert_allclose, assert_array_equal
 from scipy.special import logsumexp
 
 import oracle
-from oracle import multisensor_dp as msdp
-from oracle import multisensor_enumerate as msen
+from oracle.multisensor import dp as msdp
+from oracle.multisensor import enumerate as msen
 from rankedassign.multisensor import MultiSensorProblem, synthetic
 
 

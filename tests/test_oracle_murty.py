@@ -10,7 +10,8 @@ from hypothesis import strategies as st
 from numpy.testing import assert_array_equal
 from scipy.optimize import linear_sum_assignment
 
-from oracle import enumerate_assignments, murty
+from oracle import enumerate_assignments
+from oracle.single import murty
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
 from rankedassign.validation import MAX_WORK_BYTES

@@ -1,6 +1,6 @@
 """Exact normaliser and marginals of sparse (gated) problems: decomposition and frontier DP.
 
-The frontier DP (``oracle.dp``, forced with ``_log_normalizer(p, "frontier")``) is checked
+The frontier DP (``oracle.single.dp``, forced with ``_log_normalizer(p, "frontier")``) is checked
 against the subset DP (forced with ``"dense"``) and against enumeration; the dispatching public
 functions are checked beyond the subset DP's reach against the per-pair identity of spec
 eq. (5.2) and the cases it must still refuse.
@@ -16,9 +16,10 @@ from numpy.testing import assert_allclose, assert_array_equal
 from scipy.special import logsumexp
 from test_oracle_dp import enumerated_marginals, permuted
 
-from oracle import best_mass, log_normalizer, marginals, murty, truncation_error
+from oracle import best_mass, log_normalizer, marginals, truncation_error
 from oracle import enumerate_assignments as oracle_enumerate
-from oracle.dp import (
+from oracle.single import murty
+from oracle.single.dp import (
     MAX_FRONTIER,
     _components,
     _frontier_ops,

@@ -8,8 +8,9 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 from scipy.special import logsumexp
 
-from oracle import best_mass, enumerate_assignments, murty, truncation_error
+from oracle import best_mass, enumerate_assignments, truncation_error
 from oracle import log_normalizer as oracle_log_normalizer
+from oracle.single import murty
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
 

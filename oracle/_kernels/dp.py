@@ -1,12 +1,12 @@
 """Compiled kernels of the exact normaliser and marginals: the subset DP and the frontier DP.
 
-Spec §5.2, eqs. (5.1)–(5.2). The public wrappers live in :mod:`oracle.dp`, which prepares the
+Spec §5.2, eqs. (5.1)–(5.2). The public wrappers live in :mod:`oracle.single.dp`, which prepares the
 scaled weights of one connected component; these kernels assume clean, C-contiguous float64 /
 int64 arrays and never raise.
 
 A DP over ``2^20`` states can take minutes, so each DP is a *slice* kernel that runs at most
 ``budget`` steps (operations) and keeps its place in ``pos`` and its vectors in arrays the
-caller allocates; :mod:`oracle.dp` calls it until it reports completion, and between two
+caller allocates; :mod:`oracle.single.dp` calls it until it reports completion, and between two
 slices the interpreter runs pending signal handlers (Ctrl-C). Two vectors that the unsliced
 loop swapped after every step alternate by the step's parity instead, so every budget
 performs the same operations in the same order: the same bits.

@@ -29,7 +29,7 @@ itself once solved, by its first child once partitioned); a scanned column is ma
 ``d = -inf``; and a warm start keeps only the closest free column of its first row when that
 column opens the dummy-row hub (the other free columns would leave the frontier unscanned).
 
-Slices. The loop also returns after a budget of iterations, so that :func:`oracle.murty.murty`
+Slices. The loop also returns after a budget of iterations, so that :func:`oracle.murty`
 can run the search in slices (:func:`murty_compact_start`, then :func:`murty_slice` until
 done, the state a :class:`Search`) and a signal ends a long ranking promptly; the slices make
 the same iterations as one call, so the output does not depend on the budget.

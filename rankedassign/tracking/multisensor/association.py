@@ -377,7 +377,7 @@ class MultiSensorExact(MultiSensorAssociation):
     """Exact association marginals (multi-sensor spec §6.2, :func:`oracle.marginals`).
 
     The row DP over used-measurement sets accepts a problem with at most
-    :data:`oracle.multisensor_dp.MAX_MASK_BITS` reachable measurements over all sensors (or at
+    :data:`oracle.multisensor.dp.MAX_MASK_BITS` reachable measurements over all sensors (or at
     most 2 000 000 feasible assignments, then enumerated).
 
     Parameters

@@ -20,12 +20,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
-from rankedassign.adaptive_birth import AdaptiveBirthProblem
-from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import interruptible
 
-from . import adaptive_birth, multisensor_dp
-from ._kernels.dp import (
+from .._kernels.dp import (
     ENTER,
     RETIRE,
     TRANS,
@@ -37,8 +34,8 @@ from ._kernels.dp import (
     frontier_marginal_slice,
     frontier_total_slice,
 )
-from ._kernels.lsap import lsap_kernel
-from ._result import check_problem
+from .._kernels.lsap import lsap_kernel
+from .._result import check_problem
 
 __all__ = ["log_normalizer", "marginals", "MAX_SUBSET_BITS", "MAX_FRONTIER"]
 
@@ -450,100 +447,16 @@ def _solve(problem, *, with_marginals: bool, method: str = "auto"):
 
 # ----------------------------------------------------------------------------- public API
 def log_normalizer(problem) -> float:
-    """Exact ``ln Z``, ``Z = sum over feasible gamma of w(gamma)`` (spec eqs. 1.6, 5.1).
+    """The single-sensor case of :func:`oracle.log_normalizer` (see there).
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
-        The ``P x (M + 2P)`` problem. Every connected component of its row–measurement graph
-        must fit one of the two DPs (see Notes). A multi-sensor problem goes to
-        :func:`oracle.multisensor_dp.log_normalizer`.
+    problem : AssignmentProblem
 
     Returns
     -------
     float
-        ``ln Z = ln sum_Gamma exp(-cost(gamma))``; ``0.0`` for ``P = 0``.
-
-    Raises
-    ------
-    TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem`.
-    ValueError
-        If a connected component has both ``min(P_c, M_c) > 20`` and a frontier width
-        ``> 20`` (the message names both and the limits).
-
-    Notes
-    -----
-    *Decomposition.* Rows and measurements joined by a finite cost form a bipartite graph;
-    its connected components share nothing, so ``Z = prod_c Z_c * prod_i a_i`` over the
-    components and the rows without any finite measurement (``a_i = eta_i(0) + eta_i(-1)``).
-
-    *Subset DP* (spec eq. 5.1), over subsets ``S`` of the component's rows matched so far,
-    one measurement per step::
-
-        f_j(S) = f_{j-1}(S) + sum_{i in S} eta_i(j) f_{j-1}(S \\ {i})
-        Z_c    = sum_S f_M(S) prod_{i not in S} a_i
-
-    or the transposed DP over subsets of measurements, row by row, when ``M_c < P_c``.
-    Time ``O(max(P_c, M_c) min(P_c, M_c) 2^min(P_c, M_c))``, memory ``O(2^min(P_c, M_c))``.
-
-    *Frontier DP*, for sparse (gated) components. The measurements are put in an order with a
-    narrow *frontier* (the cheapest of reverse Cuthill–McKee and a few greedy orders). A row is
-    *active* from its first to its last finite measurement in that order, and the state is
-    the subset of *active* rows already matched: a row enters unmatched at its first
-    measurement, each measurement is left unused or taken by one active unmatched row with a
-    finite entry, and a row retires after its last measurement, times ``a_i`` if still
-    unmatched. Time ``O(M_c F 2^F)`` with ``F`` the largest number of rows active at once
-    (the frontier width), memory ``O(2^F)``.
-
-    Each component uses whichever DP is cheaper by operation count among those within their
-    limits (``min(P_c, M_c) <= 20``, ``F <= 20``, i.e. at most ``2^20`` states); the problem
-    is refused only when neither fits. On the paper's gated tracking problems
-    (``P ~ 22``, ``M ~ 60``) ``F`` is about 10 and a call takes milliseconds.
-
-    Weights are rescaled by the optimal duals of an LSAP on ``[C_meas | diag(-ln a)]`` so that
-    every factor is at most one and the best assignment has weight exactly one: nothing
-    under- or overflows, whatever the range of the costs, and ``ln Z_c = ln Z_c,scaled - c*_c``
-    with ``c*_c`` the component's minimum cost.
-
-    References
-    ----------
-    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
-       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8), 2017.
-    .. [2] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
-       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
-    .. [3] K. G. Murty, "An Algorithm for Ranking all the Assignments in Order of Increasing
-       Cost", Operations Research 16(3), 1968 (the LSAP dual view used for the scaling).
-    .. [4] M. L. Miller, H. S. Stone, I. J. Cox, "Optimizing Murty's Ranked Assignment
-       Method", IEEE Trans. Aerosp. Electron. Syst. 33(3), 1997.
-    .. [5] E. Cuthill, J. McKee, "Reducing the Bandwidth of Sparse Symmetric Matrices",
-       Proc. 24th ACM National Conference, 1969 (the measurement order).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from rankedassign import AssignmentProblem, synthetic
-    >>> from oracle import log_normalizer
-    >>> p = AssignmentProblem.from_eta([[2.0]], [0.5], [0.25])   # Z = 2 + 0.5 + 0.25
-    >>> round(float(np.exp(log_normalizer(p))), 12)
-    2.75
-    >>> u = synthetic.uniform()          # 76 848 assignments, each of cost 4 * 0.5
-    >>> round(float(np.exp(log_normalizer(u) + 4 * 0.5)), 6)
-    76848.0
-
-    A banded problem with 30 rows (beyond the subset DP; at most 2 rows active at once):
-
-    >>> eta = np.zeros((30, 80))
-    >>> for i in range(30):
-    ...     eta[i, 2 * i: 2 * i + 4] = 1.0
-    >>> band = AssignmentProblem.from_eta(eta, np.ones(30), np.zeros(30))
-    >>> round(log_normalizer(band), 6)
-    45.630949
     """
-    if isinstance(problem, MultiSensorProblem):
-        return multisensor_dp.log_normalizer(problem)
-    if isinstance(problem, AdaptiveBirthProblem):
-        return adaptive_birth.log_normalizer(problem)
     check_problem(problem)
     if problem.n_rows == 0:
         return 0.0
@@ -551,74 +464,16 @@ def log_normalizer(problem) -> float:
 
 
 def marginals(problem) -> np.ndarray:
-    """Exact association probabilities of every row (spec eq. 5.2).
+    """The single-sensor case of :func:`oracle.marginals` (see there).
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
-        The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`. A
-        multi-sensor problem goes to :func:`oracle.multisensor_dp.marginals` (which returns a
-        :class:`~oracle.multisensor_dp.MultiSensorMarginals`).
+    problem : AssignmentProblem
 
     Returns
     -------
-    ndarray, float64, shape (P, M + 2)
-        ``[:, j]`` for ``j < M``: ``P(gamma_i = j + 1)``, row ``i`` takes measurement ``j``;
-        ``[:, M]``: ``P(gamma_i = 0)`` (missed); ``[:, M + 1]``: ``P(gamma_i = -1)`` (dead).
-        Each row sums to one; each measurement column sums to at most one.
-
-    Raises
-    ------
-    TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem`.
-    ValueError
-        If a connected component fits neither DP (see :func:`log_normalizer`).
-
-    Notes
-    -----
-    ``P(gamma_i = j) = eta_i(j) Z_{-i,-j} / Z`` and
-    ``P(gamma_i in {0, -1}) = (eta_i(0) + eta_i(-1)) Z_{-i} / Z``. Components are independent,
-    so each is solved on its own (a row without finite measurements is unmatched with
-    probability one). Rather than one DP per pair, one forward and one backward pass of the
-    component's DP (subset or frontier, chosen as in :func:`log_normalizer`) give every
-    transition's weight at once: the weight through "row ``i`` takes measurement ``j``" is
-    ``sum_{S not containing i} F(S) eta_i(j) B(S | {i})`` at that measurement's step, and the
-    weight through "row ``i`` unmatched" is read off where it leaves the state (the terminal
-    weights of the subset DP, the retirement of the frontier DP). Forward or backward vectors
-    are checkpointed every ``sqrt(K)`` steps, so memory stays ``O(sqrt(K) 2^k)``
-    (``k = min(P_c, M_c)`` or ``F``). The unmatched weight of a row is split between missed
-    and dead in proportion ``eta_i(0) : eta_i(-1)``. Rows are normalised by their own total,
-    which equals ``Z_c`` in exact arithmetic. Unreachable measurements (all ``+inf``) get
-    probability 0. Time about four times that of :func:`log_normalizer`.
-
-    References
-    ----------
-    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
-       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8), 2017.
-    .. [2] S. Reuter, B.-T. Vo, B.-N. Vo, K. Dietmayer, "The Labeled Multi-Bernoulli Filter",
-       IEEE Trans. Signal Process. 62(12), 2014.
-    .. [3] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
-       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from rankedassign import AssignmentProblem
-    >>> from oracle import marginals
-    >>> p = AssignmentProblem.from_eta([[2.0]], [0.5], [0.25])
-    >>> marginals(p).round(6).tolist()       # [z1, missed, dead] = [2, 0.5, 0.25] / 2.75
-    [[0.727273, 0.181818, 0.090909]]
-
-    Two rows competing for one measurement, and a third row gating nothing:
-
-    >>> q = AssignmentProblem.from_eta([[3.0], [1.0], [0.0]], [1.0, 1.0, 1.0], [0.0, 0.0, 3.0])
-    >>> marginals(q).round(4).tolist()       # Z_c = 3 + 1 + 1 = 5 for rows 0 and 1
-    [[0.6, 0.4, 0.0], [0.2, 0.8, 0.0], [0.0, 0.25, 0.75]]
+    ndarray, shape (P, M + 2)
     """
-    if isinstance(problem, MultiSensorProblem):
-        return multisensor_dp.marginals(problem)
-    if isinstance(problem, AdaptiveBirthProblem):
-        return adaptive_birth.marginals(problem)
     check_problem(problem)
     P, M = problem.n_rows, problem.n_meas
     if P == 0:

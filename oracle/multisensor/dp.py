@@ -32,7 +32,7 @@ from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import interruptible, jit
 from rankedassign.validation import check_choice
 
-from .multisensor_enumerate import check_ms_problem, count_assignments, enumerate_assignments
+from .enumerate import check_ms_problem, count_assignments, enumerate_assignments
 
 __all__ = [
     "MultiSensorMarginals",
@@ -964,7 +964,7 @@ def surrogate_log_normalizer(problem) -> float:
     >>> import numpy as np
     >>> from rankedassign.multisensor import synthetic
     >>> from oracle import log_normalizer
-    >>> from oracle.multisensor_dp import surrogate_log_normalizer
+    >>> from oracle.multisensor.dp import surrogate_log_normalizer
     >>> p = synthetic.random_coupled(rng=0)
     >>> a, b = surrogate_log_normalizer(p), log_normalizer(p.surrogate())
     >>> bool(np.isclose(a, b, rtol=1e-12))

@@ -19,7 +19,7 @@ from scipy.special import logsumexp
 from rankedassign.adaptive_birth import AdaptiveBirthProblem
 from rankedassign.validation import check_choice, check_int, check_type
 
-from ._result import Ranked, check_enumeration_size
+from .._result import Ranked, check_enumeration_size
 
 __all__ = ["enumerate_assignments", "log_normalizer", "marginals", "truncation_error",
            "kept_mask", "transition_matrix"]

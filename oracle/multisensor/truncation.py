@@ -12,8 +12,8 @@ from scipy.special import logsumexp
 
 from rankedassign.validation import check_int
 
-from .multisensor_dp import _log_normalizer
-from .multisensor_enumerate import check_ms_problem, count_assignments, enumerate_assignments
+from .dp import _log_normalizer
+from .enumerate import check_ms_problem, count_assignments, enumerate_assignments
 
 __all__ = ["truncation_error", "best_mass"]
 
@@ -45,7 +45,7 @@ def truncation_error(problem, assignments) -> float:
     Parameters
     ----------
     problem : MultiSensorProblem
-        ``Z`` comes from :func:`oracle.multisensor_dp.log_normalizer` (row DP, or enumeration).
+        ``Z`` comes from :func:`oracle.multisensor.dp.log_normalizer` (row DP, or enumeration).
     assignments : array_like of int, shape (n, P, V) or (P, V)
         For instance a sampler's output. Duplicates count once; ``n = 0`` gives 1.
 

@@ -10,7 +10,7 @@ from scipy.optimize import linear_sum_assignment
 from rankedassign.numba_options import interruptible
 from rankedassign.validation import MAX_WORK_BYTES, check_int, format_bytes
 
-from ._kernels.murty import (
+from .._kernels.murty import (
     DONE,
     FULL,
     grow_search,
@@ -18,7 +18,7 @@ from ._kernels.murty import (
     murty_slice,
     search_output,
 )
-from ._result import Ranked, check_problem, ranked
+from .._result import Ranked, check_problem, ranked
 
 __all__ = ["murty"]
 

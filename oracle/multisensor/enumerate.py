@@ -15,7 +15,7 @@ from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import interruptible, jit
 from rankedassign.validation import MAX_WORK_BYTES, check_int, check_type
 
-from ._result import Ranked, check_enumeration_size
+from .._result import Ranked, check_enumeration_size
 
 __all__ = ["enumerate_assignments", "count_assignments", "gamma_from_codes"]
 
