@@ -4,8 +4,7 @@ Run the timings with::
 
     python -m pytest benchmarks/test_bench_tracking.py --benchmark-enable
 
-(in the default suite each runs once as a smoke test). Targets: ``ShortChainGibbs(400, 25, 5,
-10)`` at most 0.2 s per 100-scan run on the ``"paper"`` preset and at most 0.07 s on ``"vo"``
+(in the default suite each runs once as a smoke test). Targets: ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)`` at most 0.2 s per 100-scan run on the ``"paper"`` preset and at most 0.07 s on ``"vo"``
 (``test_bench_vo_scenario``; Vo's example, the preset other LMB implementations are timed on),
 ``OriginalGibbs(10 000)`` under 5 s, all after warm-up; the numbers are in
 ``benchmarks/README.md``.

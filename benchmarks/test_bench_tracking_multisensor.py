@@ -16,18 +16,17 @@ import pytest
 
 from rankedassign.tracking import (
     MultiSensorExact,
-    MultiSensorGibbs,
-    MultiSensorShortChains,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
     run_multisensor_scenario,
 )
 
 SENSORS = {"V1": (0,), "V2": (0, 1), "V3": (0, 1, 2)}
 METHODS = {
-    "short-400x25": lambda smoke=False: MultiSensorShortChains(400, 25, 5, 10),
-    "short-400x25-mm": lambda smoke=False: MultiSensorShortChains(400, 25, 5, 10, method="mm"),
-    "short-400x25-mm-fixed": lambda smoke=False: MultiSensorShortChains(
-        400, 25, 5, 10, method="mm-fixed"),
-    "long-10000": lambda smoke=False: MultiSensorGibbs(1_000 if smoke else 10_000),
+    "short-400x25": lambda smoke=False: MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
+    "short-400x25-mm": lambda smoke=False: MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="mm"),
+    "short-400x25-mm-fixed": lambda smoke=False: MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="mm-fixed"),
+    "long-10000": lambda smoke=False: MultiSensorOriginalGibbs(1_000 if smoke else 10_000),
 }
 
 

@@ -36,10 +36,11 @@ def log_normalizer(problem) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
         The ``P x (M + 2P)`` problem. Every connected component of its row–measurement graph
         must fit one of the two DPs (see Notes). A multi-sensor problem goes to
-        :func:`oracle.multisensor.dp.log_normalizer`.
+        :func:`oracle.multisensor.dp.log_normalizer`, an adaptive-birth problem to
+        :func:`oracle.adaptive_birth.exact.log_normalizer`.
 
     Returns
     -------
@@ -49,7 +50,7 @@ def log_normalizer(problem) -> float:
     Raises
     ------
     TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem`.
+        If ``problem`` is of no known kind (:func:`rankedassign.kinds.kind_of`).
     ValueError
         If a connected component has both ``min(P_c, M_c) > 20`` and a frontier width
         ``> 20`` (the message names both and the limits).
@@ -130,10 +131,11 @@ def marginals(problem):
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
         The ``P x (M + 2P)`` problem; same size limit as :func:`log_normalizer`. A
         multi-sensor problem goes to :func:`oracle.multisensor.dp.marginals` (which returns a
-        :class:`~oracle.multisensor.dp.MultiSensorMarginals`).
+        :class:`~oracle.multisensor.dp.MultiSensorMarginals`), an adaptive-birth problem to
+        :func:`oracle.adaptive_birth.exact.marginals` (per-sensor marginals).
 
     Returns
     -------
@@ -145,7 +147,7 @@ def marginals(problem):
     Raises
     ------
     TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem`.
+        If ``problem`` is of no known kind (:func:`rankedassign.kinds.kind_of`).
     ValueError
         If a connected component fits neither DP (see :func:`log_normalizer`).
 
@@ -198,10 +200,11 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
         The ``P x (M + 2P)`` problem; a multi-sensor problem goes to
         :func:`oracle.multisensor.enumerate.enumerate_assignments` (assignments of shape
-        ``(|Gamma|, P, V)``).
+        ``(|Gamma|, P, V)``), an adaptive-birth problem to
+        :func:`oracle.adaptive_birth.exact.enumerate_assignments` (tuples ``(n, V)``).
     limit : int, optional
         Refuse (``ValueError``) when ``|Gamma|`` exceeds this many assignments. The output
         takes ``8 P |Gamma|`` bytes, the enumeration ``(8 P + 40) |Gamma|`` with its sort: a
@@ -218,7 +221,7 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     Raises
     ------
     TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem` or ``limit`` is not
+        If ``problem`` is of no known kind or ``limit`` is not
         an int.
     ValueError
         If ``limit < 1``, ``|Gamma| > limit`` (the message states both numbers and the
@@ -263,10 +266,12 @@ def truncation_error(problem, assignments) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
         The ``P x (M + 2P)`` problem; ``Z`` is computed by :func:`~oracle.log_normalizer`, so
         ``min(P, M) <= 20``. A multi-sensor problem goes to
-        :func:`oracle.multisensor.truncation.truncation_error` (assignments ``(n, P, V)``).
+        :func:`oracle.multisensor.truncation.truncation_error` (assignments ``(n, P, V)``),
+        an adaptive-birth problem to :func:`oracle.adaptive_birth.exact.truncation_error`
+        (tuples ``(n, V)``).
     assignments : array_like of int, shape (n, P) or (P,)
         Column indices (for instance a sampler's output). Duplicates count once; ``n = 0``
         gives an error of 1.
@@ -284,7 +289,7 @@ def truncation_error(problem, assignments) -> float:
     Raises
     ------
     TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem` or the assignments
+        If ``problem`` is of no known kind or the assignments
         are not integers.
     ValueError
         If an assignment is infeasible (the message names its row in the input), has the
@@ -328,8 +333,9 @@ def best_mass(problem, k: int) -> float:
 
     Parameters
     ----------
-    problem : AssignmentProblem or MultiSensorProblem
-        A multi-sensor problem goes to :func:`oracle.multisensor.truncation.best_mass`.
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+        A multi-sensor problem goes to :func:`oracle.multisensor.truncation.best_mass`; an
+        adaptive-birth problem has none (``TypeError``).
     k : int
         Number of assignments, ``k >= 0`` (``0`` gives ``0.0``; ``k >= |Gamma|`` gives 1).
 
@@ -341,7 +347,7 @@ def best_mass(problem, k: int) -> float:
     Raises
     ------
     TypeError
-        If ``problem`` is not an :class:`~rankedassign.AssignmentProblem` or ``k`` is not an
+        If ``problem`` is of no known kind or ``k`` is not an
         int.
     ValueError
         If ``k < 0`` or the problem is too large for the DP (and for enumeration).

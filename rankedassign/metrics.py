@@ -23,8 +23,7 @@ from scipy.optimize import linear_sum_assignment
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import maximum_bipartite_matching
 
-from .single.problem import _as_float_array
-from .validation import check_choice, check_int, check_real
+from .validation import check_choice, check_int, check_real, float_array
 
 __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "track_coverage"]
 
@@ -59,7 +58,7 @@ def _check_cp(c, p) -> tuple[float, float]:
 
 def _as_points(X, name: str) -> np.ndarray:
     """A ``(n, d)`` float array; an empty list (shape ``(0,)``) becomes ``(0, 0)``."""
-    a = _as_float_array(X, name)
+    a = float_array(X, name)
     if a.ndim == 1 and a.size == 0:
         a = a.reshape(0, 0)
     if a.ndim != 2:
@@ -256,7 +255,7 @@ def ospa(X, Y, c: float, p: float) -> OSPAResult:
 
 # ---------------------------------------------------------------------------------- OSPA(2)
 def _as_tracks(a, name: str) -> tuple[np.ndarray, np.ndarray]:
-    arr = _as_float_array(a, name)
+    arr = float_array(a, name)
     if arr.ndim != 3:
         raise ValueError(
             f"{name} must be 3-D with shape (n_scans, n_tracks, d), got shape {arr.shape}"
@@ -504,7 +503,7 @@ def tracks_to_array(
             )
         states = {}
         for lab, x in scan.items():
-            v = _as_float_array(x, f"state of track {lab!r} at scan {k}").reshape(-1)
+            v = float_array(x, f"state of track {lab!r} at scan {k}").reshape(-1)
             if dim is None:
                 dim = v.size
             elif v.size != dim:

@@ -36,7 +36,7 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
     n_obs : int
         Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
     start, scan, rng, **options
@@ -70,7 +70,7 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
     n_chains, chain_length : int
         ``N_S`` and ``N_C``.
     tau_stall, tau_stale : int or None

@@ -131,8 +131,12 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` ranked-assignment problem.
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+        The problem; its kind (:func:`rankedassign.kinds.kind_of`) prepares the run. A
+        single-sensor :class:`AssignmentProblem` is the ``P x (M + 2P)`` ranked-assignment
+        problem; for the other kinds the state and the ``assignments`` of the result are as
+        documented by :class:`~rankedassign.multisensor.MultiSensorProblem` and
+        :class:`~rankedassign.adaptive_birth.AdaptiveBirthProblem`.
     n_obs : int
         Number of observations = full sweeps over all rows (>= 0). Vo's MATLAB ``T`` (stored
         solutions including the initial one) is ``n_obs + 1`` (spec A20).
@@ -148,6 +152,14 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     backend : {"numba", "python"}
         Compiled kernels or the pure-Python reference
         (:func:`rankedassign.reference.sample_original`); the results are identical.
+    **options
+        Options of the problem's kind (``Kind.options``): none for an
+        :class:`AssignmentProblem`; for a
+        :class:`~rankedassign.multisensor.MultiSensorProblem`, ``method`` (the row
+        conditional: ``"exact"``, ``"mm"`` (default), ``"mm-fixed"`` or ``"componentwise"``)
+        and ``survival_power`` (``1``, default, or ``"V"``); for an
+        :class:`~rankedassign.adaptive_birth.AdaptiveBirthProblem`, ``sensor_order``
+        (``"random"``, default, or ``"fixed"``).
 
     Returns
     -------
@@ -158,7 +170,8 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     Raises
     ------
     TypeError
-        If ``problem`` is not an AssignmentProblem or ``n_obs`` is not an int.
+        If ``problem`` is of no known kind, an option does not apply to its kind, or
+        ``n_obs`` is not an int.
     ValueError
         On a negative ``n_obs``, an unknown ``start``/``scan``/``backend``, or an infeasible
         start state (e.g. all-missed when some row's missed cost is ``+inf``).
@@ -212,8 +225,12 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The ``P x (M + 2P)`` ranked-assignment problem.
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+        The problem; its kind (:func:`rankedassign.kinds.kind_of`) prepares the run. A
+        single-sensor :class:`AssignmentProblem` is the ``P x (M + 2P)`` ranked-assignment
+        problem; for the other kinds the state and the ``assignments`` of the result are as
+        documented by :class:`~rankedassign.multisensor.MultiSensorProblem` and
+        :class:`~rankedassign.adaptive_birth.AdaptiveBirthProblem`.
     n_chains : int
         ``N_S``, the maximum number of chains (>= 0).
     chain_length : int
@@ -240,6 +257,8 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         speculatively in parallel batches and replayed in order; everything but
         ``n_speculative_discarded`` is identical to ``workers = 1``. Ignored by the Python
         backend.
+    **options
+        Options of the problem's kind, as in :func:`sample_original`.
 
     Returns
     -------
@@ -250,7 +269,8 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     Raises
     ------
     TypeError
-        If ``problem`` is not an AssignmentProblem or a count/threshold is not an int.
+        If ``problem`` is of no known kind, an option does not apply to its kind, or a
+        count/threshold is not an int.
     ValueError
         On negative counts, thresholds < 1, unknown readings, start, scan or backend,
         ``workers < 1`` or an infeasible start state.

@@ -17,9 +17,11 @@ import dataclasses
 import math
 import numbers
 
+import numpy as np
 from numpy import bool_ as np_bool
 
 __all__ = [
+    "float_array",
     "MAX_COUNT",
     "MAX_WORK_BYTES",
     "STALL_READINGS",
@@ -327,3 +329,81 @@ def check_fields(obj, *, where: str = "") -> None:
         elif kind == "str":
             if not isinstance(value, str):
                 raise TypeError(f"{name} must be a string, got {type(value).__name__} {value!r}")
+
+
+def float_array(x, name: str, *, ndim: int | None = None, allow_nan: bool = True) -> np.ndarray:
+    """Validate numeric array-like input; return a float64 C-contiguous copy.
+
+    The one float-array validator of the package: every public function that takes an array
+    of reals (cost matrices, weights, measurements, states) goes through it.
+
+    Parameters
+    ----------
+    x : array_like
+        Real numbers (booleans count as 0 and 1); Python ints too large for int64 are
+        converted one by one.
+    name : str
+        What ``x`` is, for the messages.
+    ndim : int, optional
+        Required number of dimensions.
+    allow_nan : bool, optional
+        ``False`` refuses NaN entries.
+
+    Returns
+    -------
+    ndarray of float64
+        A new C-contiguous array.
+
+    Raises
+    ------
+    TypeError
+        If ``x`` is not an array of real numbers (strings, ``None``, complex, dates, ragged
+        lists).
+    ValueError
+        For a Python int too large for a float64, a wrong number of dimensions, or NaN when
+        ``allow_nan`` is false.
+
+    Examples
+    --------
+    >>> float_array([[1, 2]], "cost").tolist()
+    [[1.0, 2.0]]
+    >>> float_array(["a"], "cost")
+    Traceback (most recent call last):
+    ...
+    TypeError: cost must be a numeric array, got dtype <U1
+    >>> float_array([1.0, float("nan")], "z", ndim=1, allow_nan=False)
+    Traceback (most recent call last):
+    ...
+    ValueError: z contains NaN
+    """
+    try:
+        arr = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
+    if arr.dtype == object and arr.size and all(
+        isinstance(v, numbers.Real) for v in arr.reshape(-1)
+    ):
+        # Python ints beyond int64 (e.g. 10**30) land in an object array; convert one by one
+        flat = np.empty(arr.size)
+        for k, v in enumerate(arr.reshape(-1)):
+            try:
+                flat[k] = float(v)
+            except OverflowError:
+                text = repr(v)
+                text = text if len(text) <= 24 else f"{text[:12]}... ({len(text)} digits)"
+                raise ValueError(f"{name} has an entry too large for a float64: {text}") from None
+        arr = flat.reshape(arr.shape)
+    if (
+        arr.dtype == object
+        or arr.dtype.kind in "mM"  # datetime64 / timedelta64 count as numbers to numpy
+        or not (np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_))
+    ):
+        raise TypeError(f"{name} must be a numeric array, got dtype {arr.dtype}")
+    if np.issubdtype(arr.dtype, np.complexfloating):
+        raise TypeError(f"{name} must be real, got dtype {arr.dtype}")
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
+    out = np.array(arr, dtype=np.float64, order="C", copy=True)
+    if not allow_nan and np.isnan(out).any():
+        raise ValueError(f"{name} contains NaN")
+    return out

@@ -53,9 +53,9 @@ from rankedassign.tracking import (
     AdaptiveBirth,
     Exact,
     MultiSensorExact,
-    MultiSensorGibbs,
+    MultiSensorOriginalGibbs,
     MultiSensorRun,
-    MultiSensorShortChains,
+    MultiSensorShortChainGibbs,
     Murty,
     OriginalGibbs,
     ScenarioRun,
@@ -321,7 +321,7 @@ def _oracle_cases():
         for k in ks:
             for method in ("numba", "scipy"):
                 cases[f"oracle/murty/{name}/k={k}/{method}"] = functools.partial(
-                    lambda n, k, m: _ranked(oracle.murty(problem(n), k, method=m)),
+                    lambda n, k, m: _ranked(oracle.murty(problem(n), k, backend=m)),
                     name, k, method)
     singles = ("single/random", "single/uniform", "single/diagonal", "single/gated",
                "single/wide", "single/banded")
@@ -375,37 +375,37 @@ def _scenario_items(scenario):
     return [*items, ("scans", scans)]
 
 
-SHORT = (100, 10, 5, 10)
+SHORT = dict(n_chains=100, chain_length=10, tau_stall=5, tau_stale=10)
 FILTER_RUNS = {
     **{f"{preset}/{name}": (preset, assoc, {})
        for preset in ("vo", "paper")
        for name, assoc in (("exact", Exact()), ("murty", Murty(50)),
-                           ("short-chains", ShortChainGibbs(*SHORT)),
+                           ("short-chains", ShortChainGibbs(**SHORT)),
                            ("original", OriginalGibbs(200)))},
-    "vo/short-chains-grouped": ("vo", ShortChainGibbs(*SHORT), {"grouping": True}),
-    "vo/short-chains-python": ("vo", ShortChainGibbs(*SHORT, backend="python"), {}),
-    "paper/short-chains-w2": ("paper", ShortChainGibbs(*SHORT, workers=2), {}),
+    "vo/short-chains-grouped": ("vo", ShortChainGibbs(**SHORT), {"grouping": True}),
+    "vo/short-chains-python": ("vo", ShortChainGibbs(**SHORT, backend="python"), {}),
+    "paper/short-chains-w2": ("paper", ShortChainGibbs(**SHORT, workers=2), {}),
     "paper/short-chains-rao-blackwell": (
-        "paper", ShortChainGibbs(*SHORT, marginals="rao-blackwell"), {}),
+        "paper", ShortChainGibbs(**SHORT, marginals="rao-blackwell"), {}),
     "paper/original-map": ("paper", OriginalGibbs(200), {"extraction": "map"}),
 }
 MS_FILTER_RUNS = {
     f"multi/{name}/{birth}": (assoc, birth)
     for name, assoc in (
-        ("gibbs-mm", MultiSensorGibbs(200, method="mm")),
-        ("short-chains-exact", MultiSensorShortChains(*SHORT, method="exact")),
-        ("exact", MultiSensorExact(fallback=MultiSensorShortChains(*SHORT))))
+        ("gibbs-mm", MultiSensorOriginalGibbs(200, method="mm")),
+        ("short-chains-exact", MultiSensorShortChainGibbs(**SHORT, method="exact")),
+        ("exact", MultiSensorExact(fallback=MultiSensorShortChainGibbs(**SHORT))))
     for birth in ("paper", "adaptive")
 }
 MS_FILTER_RUNS["multi/short-chains-mm-fixed/adaptive-long-fixed"] = (
-    MultiSensorShortChains(*SHORT, method="mm-fixed"),
+    MultiSensorShortChainGibbs(**SHORT, method="mm-fixed"),
     AdaptiveBirth(sampler="long", sensor_order="fixed"))
 MS_FILTER_RUNS["multi/short-chains-exact-rao-blackwell/paper"] = (
-    MultiSensorShortChains(*SHORT, method="exact", marginals="rao-blackwell"), "paper")
+    MultiSensorShortChainGibbs(**SHORT, method="exact", marginals="rao-blackwell"), "paper")
 MS_FILTER_RUNS["multi/short-chains-mm/adaptive"] = (
-    MultiSensorShortChains(*SHORT, method="mm"), AdaptiveBirth())
+    MultiSensorShortChainGibbs(**SHORT, method="mm"), AdaptiveBirth())
 MS_FILTER_RUNS["multi/short-chains-mm/adaptive-python"] = (
-    MultiSensorShortChains(*SHORT, method="mm"), AdaptiveBirth(backend="python"))
+    MultiSensorShortChainGibbs(**SHORT, method="mm"), AdaptiveBirth(backend="python"))
 
 
 @functools.cache

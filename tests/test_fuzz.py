@@ -436,7 +436,7 @@ def test_fuzz_tracks_to_array(est, dims, return_labels):
                                                                 ints_any, anything))
 def test_fuzz_oracle_ranking(p, k):
     exact = brute_force(p) if isinstance(p, AssignmentProblem) else None
-    for f in (oracle.murty, lambda q, k: oracle.murty(q, k, method="scipy"),
+    for f in (oracle.murty, lambda q, k: oracle.murty(q, k, backend="scipy"),
               lambda q, k: oracle.enumerate_assignments(q, limit=k)):
         r = call(f, p, k)
         if ok(r):
@@ -520,7 +520,7 @@ def test_fuzz_oracle_refuses_non_problems(x):
 @FUZZ
 @given(problems(max_rows=2, max_meas=2), st.one_of(anything, st.sampled_from(["numba", "scipy"])))
 def test_fuzz_murty_method(p, method):
-    r = call(oracle.murty, p, 2, method=method)
+    r = call(oracle.murty, p, 2, backend=method)
     assert ok(r) == (isinstance(method, str) and method in ("numba", "scipy"))
 
 

@@ -53,7 +53,7 @@ def last_columns_problem(P, M, seed):
 @pytest.mark.parametrize("name, problem", CASES, ids=CASE_IDS)
 def test_cases_complete_ranking(name, problem, method):
     full = enumerate_assignments(problem)
-    r = murty(problem, len(full.costs) + 5, method=method)  # more than |Gamma|: all of them
+    r = murty(problem, len(full.costs) + 5, backend=method)  # more than |Gamma|: all of them
     check_output(problem, r)
     assert_same_ranking(r, full, complete=True)
 
@@ -63,7 +63,7 @@ def test_cases_complete_ranking(name, problem, method):
 def test_cases_top_k(name, problem, method):
     full = enumerate_assignments(problem)
     k = max(1, len(full.costs) // 3)
-    r = murty(problem, k, method=method)
+    r = murty(problem, k, backend=method)
     check_output(problem, r)
     assert_same_ranking(r, (full.assignments[:k], full.costs[:k]), complete=False)
 
@@ -80,7 +80,7 @@ def test_property_numba_against_enumeration(problem, k):
 @given(problems(max_rows=3, max_meas=4), st.integers(1, 25))
 def test_property_scipy_against_enumeration(problem, k):
     full = enumerate_assignments(problem)
-    r = murty(problem, k, method="scipy")
+    r = murty(problem, k, backend="scipy")
     kk = min(k, len(full.costs))
     assert_same_ranking(r, (full.assignments[:kk], full.costs[:kk]), complete=kk == len(full.costs))
 
@@ -91,7 +91,7 @@ def test_best_solutions_on_last_measurement_columns(seed):
     full = enumerate_assignments(p)
     assert np.all(full.assignments[0] >= 9 - 4)  # the construction did what it says
     for method in METHODS:
-        r = murty(p, 300, method=method)
+        r = murty(p, 300, backend=method)
         assert_same_ranking(r, (full.assignments[:300], full.costs[:300]), complete=False)
 
 
@@ -100,7 +100,7 @@ def test_rank_one_is_the_lsap_optimum(method):
     for seed in range(5):
         p = synthetic.random(R=8, M=12, rng=seed)
         rows, cols = linear_sum_assignment(p.cost)
-        r = murty(p, 1, method=method)
+        r = murty(p, 1, backend=method)
         assert_array_equal(r.costs, [p.cost_of(cols)])
 
 
@@ -116,7 +116,7 @@ def test_rank_one_is_the_lsap_optimum(method):
 )
 def test_numba_equals_scipy_reference(problem, k):
     a = murty(problem, k)
-    b = murty(problem, k, method="scipy")
+    b = murty(problem, k, backend="scipy")
     check_output(problem, a)
     assert_same_ranking(a, b, complete=False)
 
@@ -144,13 +144,13 @@ def test_deterministic():
 def test_k_zero_and_degenerate_shapes():
     p = synthetic.diagonal()
     for method in METHODS:
-        r = murty(p, 0, method=method)
+        r = murty(p, 0, backend=method)
         assert r.assignments.shape == (0, 4) and r.costs.shape == (0,)
-        e = murty(AssignmentProblem.from_cost(np.zeros((0, 2))), 3, method=method)
+        e = murty(AssignmentProblem.from_cost(np.zeros((0, 2))), 3, backend=method)
         assert e.assignments.shape == (1, 0)
         assert_array_equal(e.costs, [0.0])
         m0 = AssignmentProblem.from_eta(np.zeros((2, 0)), [1.0, 0.5], [0.5, 0.25])
-        assert_array_equal(murty(m0, 10, method=method).assignments,
+        assert_array_equal(murty(m0, 10, backend=method).assignments,
                            [[0, 1], [2, 1], [0, 3], [2, 3]])
 
 
@@ -169,8 +169,8 @@ def test_bad_k(k, exc, match):
 
 
 def test_bad_method_and_problem():
-    with pytest.raises(ValueError, match=r"method must be one of \('numba', 'scipy'\), got 'x'"):
-        murty(synthetic.diagonal(), 3, method="x")
+    with pytest.raises(ValueError, match=r"backend must be one of \('numba', 'scipy'\), got 'x'"):
+        murty(synthetic.diagonal(), 3, backend="x")
     with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
         murty(synthetic.diagonal().cost, 3)
     assert murty(synthetic.diagonal(), np.int64(2)).costs.shape == (2,)
@@ -187,7 +187,7 @@ def test_huge_k_is_refused_with_the_bytes_it_would_need():
            r"62773844750873636145663070102318219264 feasible assignments$")
     for method in METHODS:
         with pytest.raises(ValueError, match=msg):
-            murty(p, 10**18, method=method)
+            murty(p, 10**18, backend=method)
     # the first k beyond the limit (the bound is exact in k)
     k = MAX_WORK_BYTES // 1088 + 1
     with pytest.raises(ValueError, match=rf"^k = {k} is too large: {k} assignments need at "
@@ -209,8 +209,8 @@ def test_huge_k_on_a_small_problem_still_gives_every_assignment(method):
     for p in (AssignmentProblem.from_eta([[2.0, 0.5], [0.1, 3.0]], [0.2, 0.4], [0.1, 0.1]),
               last_columns_problem(3, 5, 0), synthetic.uniform(R=2, M=3)):
         n = p.n_feasible()
-        want = murty(p, n + 5, method=method)
-        got = murty(p, 2**62, method=method)
+        want = murty(p, n + 5, backend=method)
+        got = murty(p, 2**62, backend=method)
         assert len(got.costs) == n
         assert_array_equal(got.assignments, want.assignments)
         assert_array_equal(got.costs, want.costs)
@@ -287,7 +287,7 @@ def test_kernel_pinned_to_reference_rankings(name, make, k, source):
         want = (full.assignments[:kk], full.costs[:kk])
         complete = kk == len(full.costs)
     else:
-        want = murty(p, k, method="scipy")
+        want = murty(p, k, backend="scipy")
         complete = False
     r = murty(p, k)
     check_output(p, r)

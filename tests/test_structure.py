@@ -131,3 +131,70 @@ def test_function_local_imports_only_for_optional_dependencies(module):
     bad = sorted({target for target, _, local in _imports(module)
                   if local and target.split(".")[0] not in LAZY_OK})
     assert not bad, f"{module} imports {bad} inside a function"
+
+
+# ------------------------------------------------------------------------------ layers
+#: The layers, bottom up: a module imports only modules of its own layer or of lower ones.
+#: Longest prefix wins. The three kinds are separate layers so that none imports a later one
+#: (the multi-sensor problem converts to and from the single-sensor one, which it may import).
+RANKS = {
+    "rankedassign._version": 0, "rankedassign.validation": 0, "rankedassign.numba_options": 0,
+    "rankedassign.engine": 1,
+    "rankedassign.single": 2.0, "rankedassign.multisensor": 2.1, "rankedassign.adaptive_birth": 2.2,
+    "rankedassign.kinds": 3.0, "rankedassign.metrics": 3.0,
+    "rankedassign.samplers": 3.1, "rankedassign.reference": 3.1,
+    "rankedassign": 3.2,
+    "oracle": 4,
+    "rankedassign.tracking.": 5.0, "rankedassign.tracking.single": 5.1,
+    "rankedassign.tracking.multisensor": 5.2, "rankedassign.tracking.run": 5.3,
+    "rankedassign.tracking.runner": 5.3, "rankedassign.tracking": 5.4,
+    "rankedassign.experiments": 6,
+    "rankedassign.cli": 7, "rankedassign.__main__": 7,
+}
+LAYER_NAMES = {0: "utilities", 1: "engine", 2.0: "single-sensor kind", 2.1: "multi-sensor kind",
+               2.2: "adaptive-birth kind", 3.0: "kind registry and metrics",
+               3.1: "samplers", 3.2: "package API", 4: "oracle", 5.0: "tracking models",
+               5.1: "single-sensor filters", 5.2: "multi-sensor filters",
+               5.3: "scenario runners", 5.4: "tracking API", 6: "experiments", 7: "CLI"}
+KIND_FILES = ("__init__.py", "problem.py", "synthetic.py", "prepare.py", "reference.py",
+              "_kernels.py")
+
+
+def rank(module: str) -> float:
+    best, key = None, ""
+    for prefix, r in RANKS.items():
+        exact = module == prefix.rstrip(".")
+        inside = module.startswith(prefix if prefix.endswith(".") else prefix + ".")
+        if (exact and not prefix.endswith(".")) or inside:
+            if len(prefix) > len(key):
+                best, key = r, prefix
+    assert best is not None, f"{module} is in no layer of RANKS"
+    return best
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_imports_go_down_the_layers(module):
+    """engine -> kinds -> samplers/oracle -> filters -> experiments -> CLI, never upward."""
+    here = rank(module)
+    up = sorted(f"{m} ({LAYER_NAMES[rank(m)]})" for m in _edges(module) if rank(m) > here)
+    assert not up, f"{module} ({LAYER_NAMES[here]}) imports upward: {up}"
+
+
+def test_every_kind_is_one_folder_with_the_same_files():
+    from rankedassign.kinds import KINDS
+
+    names = [kind.name for kind in KINDS]
+    for name in names:
+        folder = ROOT / "rankedassign" / name
+        missing = [f for f in KIND_FILES if not (folder / f).is_file()]
+        assert not missing, f"kind {name!r}: rankedassign/{name}/ lacks {missing}"
+        assert (ROOT / "oracle" / name / "__init__.py").is_file(), f"no oracle/{name}/"
+    assert len(set(names)) == len(names)
+
+
+def test_the_engine_imports_no_kind():
+    kinds = ("rankedassign.single", "rankedassign.multisensor", "rankedassign.adaptive_birth",
+             "rankedassign.kinds")
+    for module in (m for m in MODULES if m.startswith("rankedassign.engine")):
+        bad = sorted(e for e in _edges(module) if e.startswith(kinds))
+        assert not bad, f"{module} imports the kinds {bad}"

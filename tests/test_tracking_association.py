@@ -128,11 +128,11 @@ def test_short_chain_adapter_equals_direct_sampler_call():
 
 
 def test_reprs():
-    assert repr(ShortChainGibbs(400, 25, 5, 10)) == (
+    assert repr(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)) == (
         "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)"
     )
     assert repr(OriginalGibbs(10, scan="random")) == "OriginalGibbs(10, scan='random')"
-    assert repr(Murty(3, method="scipy")) == "Murty(3, method='scipy')"
+    assert repr(Murty(3, backend="scipy")) == "Murty(3, backend='scipy')"
 
 
 @pytest.mark.parametrize(
@@ -149,8 +149,8 @@ def test_reprs():
         (lambda: ShortChainGibbs(10, 25, tau_stale=2.0), TypeError,
          "tau_stale must be None or an int, got float 2.0"),
         (lambda: Murty(0), ValueError, "k must be an int >= 1, got 0"),
-        (lambda: Murty(3, method="lapjv"), ValueError,
-         r"unknown method 'lapjv'; expected one of \('numba', 'scipy'\)"),
+        (lambda: Murty(3, backend="lapjv"), ValueError,
+         r"unknown backend 'lapjv'; expected one of \('numba', 'scipy'\)"),
     ],
 )
 def test_association_errors(build, exc, match):
@@ -166,8 +166,8 @@ def test_exact_refuses_problems_too_large_for_the_dp():
 
 # --------------------------------------------------------------------------- inside run_scenario
 def test_same_rng_same_run_and_same_measurements_across_methods():
-    a = run_scenario("paper", ShortChainGibbs(400, 25, 5, 10), rng=7, n_scans=12)
-    b = run_scenario("paper", ShortChainGibbs(400, 25, 5, 10), rng=7, n_scans=12)
+    a = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=7, n_scans=12)
+    b = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=7, n_scans=12)
     c = run_scenario("paper", OriginalGibbs(200), rng=7, n_scans=12)
     assert_array_equal(a.estimates, b.estimates)
     assert_array_equal(a.sweeps, b.sweeps)
@@ -176,7 +176,7 @@ def test_same_rng_same_run_and_same_measurements_across_methods():
     assert_array_equal(c.sweeps, 200 * c.invocations)
     assert np.all(c.invocations == 1)
     assert np.all(a.row_updates >= a.sweeps)
-    d = run_scenario("paper", ShortChainGibbs(400, 25, 5, 10), rng=8, n_scans=12)
+    d = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=8, n_scans=12)
     assert not np.array_equal(a.scenario.scans[0].z, d.scenario.scans[0].z)
 
 

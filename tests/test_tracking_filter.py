@@ -25,7 +25,7 @@ from rankedassign.tracking import (
     LMBFilter,
     Model,
     MultiSensorExact,
-    MultiSensorShortChains,
+    MultiSensorShortChainGibbs,
     PoissonClutter,
     PositionSensor,
     ShortChainGibbs,
@@ -415,9 +415,9 @@ class BadShape(Association):
         ({"association": MultiSensorExact()}, TypeError,
          re.escape("LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
                    "MultiSensorExact (a multi-sensor association, for MultiSensorLMBFilter)")),
-        ({"association": MultiSensorShortChains(10, 5)}, TypeError,
+        ({"association": MultiSensorShortChainGibbs(10, 5)}, TypeError,
          "LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
-         "MultiSensorShortChains"),
+         "MultiSensorShortChainGibbs"),
     ],
 )
 def test_filter_errors(kwargs, exc, match):
@@ -579,14 +579,14 @@ def test_step_with_a_random_state_is_reproducible():
     z = [[0.0, 0.0], [5.0, 3.0], [400.0, -600.0], [410.0, -590.0]]
 
     def run(rng):
-        f = LMBFilter(make_model("vo"), ShortChainGibbs(20, 5, 5, 10))
+        f = LMBFilter(make_model("vo"), ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10))
         return [f.step(z, rng=rng) for _ in range(3)]
 
     rs = np.random.RandomState(7)
     a, b = run(rs), run(np.random.RandomState(7))
     ref = np.random.RandomState(7)
     keys = [base_key(ref) for _ in range(3)]
-    g = LMBFilter(make_model("vo"), ShortChainGibbs(20, 5, 5, 10))
+    g = LMBFilter(make_model("vo"), ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10))
     c = [g.step(z, rng=k) for k in keys]
     for ra, rb, rc in zip(a, b, c, strict=True):
         assert_array_equal(ra.track_existence, rb.track_existence)

@@ -1,6 +1,6 @@
 """Association marginals from a set of hypotheses: truncated and Rao-Blackwellised.
 
-``marginals_from_hypotheses(..., method="rao-blackwell")`` weighs each hypothesis' row ``i``
+``marginals_from_hypotheses(..., marginals="rao-blackwell")`` weighs each hypothesis' row ``i``
 by its conditional distribution given the other rows. Over *every* feasible hypothesis both
 methods equal the oracle's exact marginals; over a subset the Rao-Blackwellised ones are
 checked against an independent dense implementation of the same formula.
@@ -31,7 +31,7 @@ from rankedassign.tracking.single.association import MARGINALS
 @pytest.mark.parametrize("method", MARGINALS)
 def test_all_hypotheses_give_the_exact_marginals(name, problem, method):
     ranked = oracle.enumerate_assignments(problem)
-    beta = marginals_from_hypotheses(problem, ranked.assignments, ranked.costs, method=method)
+    beta = marginals_from_hypotheses(problem, ranked.assignments, ranked.costs, marginals=method)
     assert beta.shape == (problem.n_rows, problem.n_meas + 2)
     assert_allclose(beta, oracle.marginals(problem), rtol=0, atol=marginal_atol(problem))
 
@@ -42,19 +42,19 @@ def test_rao_blackwell_on_subsets_matches_the_dense_formula(problem, data):
     H = ranked.assignments.shape[0]
     keep = data.draw(st.lists(st.integers(0, H - 1), min_size=1, max_size=H, unique=True))
     a = ranked.assignments[np.sort(keep)]
-    beta = marginals_from_hypotheses(problem, a, method="rao-blackwell")
+    beta = marginals_from_hypotheses(problem, a, marginals="rao-blackwell")
     assert_allclose(beta, dense_rao_blackwell(problem, a), rtol=1e-9, atol=1e-12)
     assert_allclose(beta.sum(axis=1), 1.0, rtol=1e-12)
     # every hypothesis on its own: the row's conditional given the others, never an
     # indicator unless the row has a single option
-    one = marginals_from_hypotheses(problem, a[:1], method="rao-blackwell")
+    one = marginals_from_hypotheses(problem, a[:1], marginals="rao-blackwell")
     assert_allclose(one, dense_rao_blackwell(problem, a[:1]), rtol=1e-9, atol=1e-12)
 
 
 @given(problems())
 def test_all_hypotheses_exact_property(problem):
     ranked = oracle.enumerate_assignments(problem)
-    beta = marginals_from_hypotheses(problem, ranked.assignments, method="rao-blackwell")
+    beta = marginals_from_hypotheses(problem, ranked.assignments, marginals="rao-blackwell")
     assert_allclose(beta, oracle.marginals(problem), rtol=0, atol=marginal_atol(problem))
 
 
@@ -65,7 +65,7 @@ def test_a_newborn_that_was_missed_keeps_its_existence():
     best = [[0, 1 + 2 + 1]]  # row 0 -> measurement 0, row 1 -> dead (column M + P + 1)
     assert prob.is_feasible(best).all()
     trunc = marginals_from_hypotheses(prob, best)
-    rb = marginals_from_hypotheses(prob, best, method="rao-blackwell")
+    rb = marginals_from_hypotheses(prob, best, marginals="rao-blackwell")
     exact = oracle.marginals(prob)
     # the truncated set says the newborn does not exist; the exact existence is 2e-4 / 0.9902
     assert trunc[1, :2].sum() == 0.0
@@ -75,8 +75,8 @@ def test_a_newborn_that_was_missed_keeps_its_existence():
 
 def test_errors_and_reprs():
     prob = AssignmentProblem.from_eta([[3.0]], [1.0], [1.0])
-    with pytest.raises(ValueError, match="unknown method 'rb'; expected one of"):
-        marginals_from_hypotheses(prob, [[0]], method="rb")
+    with pytest.raises(ValueError, match="unknown marginals 'rb'; expected one of"):
+        marginals_from_hypotheses(prob, [[0]], marginals="rb")
     for build in (lambda: OriginalGibbs(10, marginals="exact"),
                   lambda: ShortChainGibbs(10, 5, marginals="x"),
                   lambda: Murty(3, marginals="")):
@@ -85,16 +85,16 @@ def test_errors_and_reprs():
     assert repr(OriginalGibbs(10, marginals="rao-blackwell", scan="random")) == (
         "OriginalGibbs(10, marginals='rao-blackwell', scan='random')"
     )
-    assert repr(Murty(3, method="scipy", marginals="rao-blackwell")) == (
-        "Murty(3, method='scipy', marginals='rao-blackwell')"
+    assert repr(Murty(3, backend="scipy", marginals="rao-blackwell")) == (
+        "Murty(3, backend='scipy', marginals='rao-blackwell')"
     )
-    assert repr(ShortChainGibbs(400, 25, 5, 10, marginals="truncated")) == (
+    assert repr(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals="truncated")) == (
         "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)"
     )
 
 
 ADAPTERS = {
-    "short": lambda m: ShortChainGibbs(40, 10, 5, 10, marginals=m),
+    "short": lambda m: ShortChainGibbs(40, 10, tau_stall=5, tau_stale=10, marginals=m),
     "original": lambda m: OriginalGibbs(300, marginals=m),
     "murty": lambda m: Murty(20, marginals=m),
 }
@@ -121,7 +121,7 @@ def test_short_chains_keep_a_missed_newborn_in_the_filter():
     # The exact update leaves its track r ≈ 3e-3; the short chains never visit the
     # hypotheses in which it exists undetected, so the truncated marginals give r = 0 and the
     # track is pruned; the Rao-Blackwellised marginals keep it, as the exact update does.
-    runs = {m: run_scenario("vo", ShortChainGibbs(400, 25, 5, 10, marginals=m), rng=0,
+    runs = {m: run_scenario("vo", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals=m), rng=0,
                             n_scans=42) for m in MARGINALS}
     exact = run_scenario("vo", Exact(), rng=0, n_scans=42)
     label = (40, 4)

@@ -14,10 +14,10 @@ from rankedassign.tracking import (
     Exact,
     LMBFilter,
     MultiSensorExact,
-    MultiSensorGibbs,
     MultiSensorLMBFilter,
     MultiSensorModel,
-    MultiSensorShortChains,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
     ShortChainGibbs,
     make_model,
     make_multisensor_model,
@@ -167,7 +167,7 @@ def test_model_validation():
         # a numba TypingError after half a minute before
         (ShortChainGibbs(10, 5), re.escape(
             "MultiSensorLMBFilter needs a multi-sensor association such as "
-            "MultiSensorShortChains; got ShortChainGibbs (a single-sensor association, for "
+            "MultiSensorShortChainGibbs; got ShortChainGibbs (a single-sensor association, for "
             "LMBFilter)")),
         # numpy's "inhomogeneous shape" before
         (Exact(), "MultiSensorLMBFilter needs a multi-sensor association .*; got Exact"),
@@ -183,7 +183,7 @@ def test_filter_refuses_a_single_sensor_association(association, match):
 
 def test_exact_refuses_a_single_sensor_fallback():
     with pytest.raises(TypeError, match=re.escape(
-            "fallback must be a multi-sensor association such as MultiSensorShortChains; got "
+            "fallback must be a multi-sensor association such as MultiSensorShortChainGibbs; got "
             "Exact (a single-sensor association)")):
         MultiSensorExact(fallback=Exact())
 
@@ -299,7 +299,7 @@ def test_step_rng_errors_and_random_state():
     # samplers take it
     z = [[[400.0, -600.0], [0.0, 0.0]], [[401.0, -602.0]]]
     rs, keys = np.random.RandomState(2), np.random.RandomState(2)
-    g, h = (MultiSensorLMBFilter(two_sensor_model(), MultiSensorShortChains(20, 5, 5, 10))
+    g, h = (MultiSensorLMBFilter(two_sensor_model(), MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10))
             for _ in range(2))
     for _ in range(2):
         a, b = g.step(z, rng=rs), h.step(z, rng=base_key(keys))
@@ -353,7 +353,7 @@ def test_association_output_is_checked(association, match):
 def test_marginals_from_every_hypothesis_are_exact(method):
     p = small_problem()
     every = oracle.enumerate_assignments(p)
-    dead, tup = multisensor_marginals_from_hypotheses(p, every.assignments, method=method)
+    dead, tup = multisensor_marginals_from_hypotheses(p, every.assignments, marginals=method)
     ex = oracle.marginals(p)
     assert_allclose(dead, ex.dead, rtol=1e-12)
     assert_allclose(tup, ex.tuples, rtol=1e-12, atol=1e-15)
@@ -362,7 +362,7 @@ def test_marginals_from_every_hypothesis_are_exact(method):
 def test_rao_blackwell_rows_sum_to_one_on_a_truncated_set():
     p = small_problem()
     some = oracle.enumerate_assignments(p).assignments[:3]
-    dead, tup = multisensor_marginals_from_hypotheses(p, some, method="rao-blackwell")
+    dead, tup = multisensor_marginals_from_hypotheses(p, some, marginals="rao-blackwell")
     assert_allclose(dead + tup.reshape(3, -1).sum(axis=1), 1.0, rtol=1e-12)
     assert (tup.reshape(3, -1)[:, p.log_eta_alive.reshape(3, -1)[0] == -np.inf] == 0).all()
 
@@ -377,8 +377,8 @@ def test_marginals_from_hypotheses_errors():
         multisensor_marginals_from_hypotheses(p, [[[1, 0], [1, 0], [0, 0]]])
     with pytest.raises(ValueError, match=r"costs must have shape \(1,\)"):
         multisensor_marginals_from_hypotheses(p, np.zeros((1, 3, 2)), costs=[1.0, 2.0])
-    with pytest.raises(ValueError, match="unknown method 'other'"):
-        multisensor_marginals_from_hypotheses(p, np.zeros((1, 3, 2)), method="other")
+    with pytest.raises(ValueError, match="unknown marginals 'other'"):
+        multisensor_marginals_from_hypotheses(p, np.zeros((1, 3, 2)), marginals="other")
 
 
 @pytest.mark.parametrize("method", ["exact", "mm", "mm-fixed", "componentwise"])
@@ -388,8 +388,8 @@ def test_samplers_that_find_every_hypothesis_give_the_exact_marginals(method, ki
     # this seed; the marginals of the full set are exact whatever the kernel's own target.
     p = MultiSensorProblem.from_factors([0.3, 0.5], [0.7, 0.5], [[[0.5, 2.0], [0.3, 1.0]],
                                         [[0.4, 1.5], [0.2, 0.9]]], coupling=np.full((2, 2, 2), 1.3))
-    assoc = (MultiSensorGibbs(2000, method=method) if kind == "gibbs"
-             else MultiSensorShortChains(40, 50, method=method))
+    assoc = (MultiSensorOriginalGibbs(2000, method=method) if kind == "gibbs"
+             else MultiSensorShortChainGibbs(40, 50, method=method))
     res = assoc(p, np.random.default_rng(11))
     assert res.n_unique == (9 if method == "componentwise" else 18) and res.invocations == 1
     ex = oracle.marginals(p)
@@ -398,14 +398,14 @@ def test_samplers_that_find_every_hypothesis_give_the_exact_marginals(method, ki
 
 
 def test_association_reprs_and_checks():
-    assert repr(MultiSensorGibbs(10, method="mm")) == "MultiSensorGibbs(10, method='mm')"
-    assert repr(MultiSensorShortChains(4, 5)) == (
-        "MultiSensorShortChains(4, 5, tau_stall=None, tau_stale=None)")
-    assert "fallback=MultiSensorGibbs(5)" in repr(MultiSensorExact(MultiSensorGibbs(5)))
+    assert repr(MultiSensorOriginalGibbs(10, method="mm")) == "MultiSensorOriginalGibbs(10, method='mm')"
+    assert repr(MultiSensorShortChainGibbs(4, 5)) == (
+        "MultiSensorShortChainGibbs(4, 5, tau_stall=None, tau_stale=None)")
+    assert "fallback=MultiSensorOriginalGibbs(5)" in repr(MultiSensorExact(MultiSensorOriginalGibbs(5)))
     with pytest.raises(ValueError, match="unknown method 'fast'"):
-        MultiSensorGibbs(10, method="fast")
+        MultiSensorOriginalGibbs(10, method="fast")
     with pytest.raises(ValueError, match="n_obs"):
-        MultiSensorGibbs(0)
+        MultiSensorOriginalGibbs(0)
     with pytest.raises(TypeError, match="fallback must be an association or None, got int"):
         MultiSensorExact(3)
 
@@ -415,7 +415,7 @@ def test_exact_refuses_a_problem_beyond_the_dp_and_falls_back_when_asked():
     with pytest.raises(ValueError, match=r"MultiSensorExact: a group of P = 3 tracks with "
                                          r"M = \(12, 12\) gated measurements is beyond"):
         MultiSensorExact()(p, None)
-    ex = MultiSensorExact(fallback=MultiSensorShortChains(2, 2))
+    ex = MultiSensorExact(fallback=MultiSensorShortChainGibbs(2, 2))
     res = ex(p, np.random.default_rng(0))
     assert ex.n_fallback == 1 and res.sweeps > 0
 
@@ -435,14 +435,14 @@ def test_sensor_measurements_do_not_depend_on_the_selection():
 
 
 def test_run_scenario_multi_feeds_ospa2():
-    run = run_scenario("multi", MultiSensorShortChains(30, 5, 5, 10), rng=2, n_scans=4,
+    run = run_scenario("multi", MultiSensorShortChainGibbs(30, 5, tau_stall=5, tau_stale=10), rng=2, n_scans=4,
                        sensors=(0, 2))
     assert run.scenario.sensors == (0, 2) and run.truth.shape == (4, 12, 2)
     assert run.estimates.shape[:2] == (4, run.estimates.shape[1])[:2]
     assert (run.invocations >= 1).all() and (run.sweeps > 0).all()
     curve = ospa2(run.truth, run.estimates, c=200, p=1, window=5).value
     assert curve.shape == (4,) and np.isfinite(curve).all()
-    again = run_multisensor_scenario(MultiSensorShortChains(30, 5, 5, 10), rng=2, n_scans=4,
+    again = run_multisensor_scenario(MultiSensorShortChainGibbs(30, 5, tau_stall=5, tau_stale=10), rng=2, n_scans=4,
                                      sensors=(0, 2))
     assert_array_equal(np.nan_to_num(again.estimates), np.nan_to_num(run.estimates))
 
@@ -459,7 +459,7 @@ def test_run_scenario_errors():
 @pytest.mark.parametrize("method", ["exact", "mm", "componentwise"])
 def test_filter_runs_with_rao_blackwellised_marginals(method):
     run = run_multisensor_scenario(
-        MultiSensorShortChains(20, 5, 5, 10, method=method, marginals="rao-blackwell"),
+        MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method=method, marginals="rao-blackwell"),
         rng=3, n_scans=3, sensors=(0, 1), birth="narrow")
     assert all(0 <= r <= 1 for scan in run.existence for r in scan.values())
     assert (run.sweeps > 0).any()

@@ -20,8 +20,8 @@ from rankedassign.experiments.studies.multisensor_tracking import (
 from rankedassign.metrics import ospa2, track_coverage
 from rankedassign.tracking import (
     MultiSensorExact,
-    MultiSensorGibbs,
-    MultiSensorShortChains,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
     run_multisensor_scenario,
 )
 
@@ -41,7 +41,7 @@ def paper_runs():
     for seed in range(3):
         for sensors in [(0,), (1,), (2,), (0, 1, 2)]:
             out[seed, sensors] = run_multisensor_scenario(
-                MultiSensorShortChains(**SHORT), rng=seed, sensors=sensors)
+                MultiSensorShortChainGibbs(**SHORT), rng=seed, sensors=sensors)
     return out
 
 
@@ -79,7 +79,7 @@ def narrow_runs():
     for seed in range(10):
         exact = run_multisensor_scenario(MultiSensorExact(), rng=seed, sensors=(0, 1, 2),
                                          birth="narrow")
-        short = run_multisensor_scenario(MultiSensorShortChains(**SHORT), rng=seed,
+        short = run_multisensor_scenario(MultiSensorShortChainGibbs(**SHORT), rng=seed,
                                          sensors=(0, 1, 2), birth="narrow")
         out.append((exact, short))
     return out
@@ -117,7 +117,7 @@ def test_many_sweep_gibbs_agrees_with_the_exact_marginals():
     run_multisensor_scenario(capture, rng=0, n_scans=40, sensors=(0, 1, 2), birth="narrow")
     problems = [p for p in problems if p.n_rows > 1][:30]
     assert len(problems) >= 10
-    gibbs = MultiSensorGibbs(20_000)
+    gibbs = MultiSensorOriginalGibbs(20_000)
     for i, p in enumerate(problems):
         ex = oracle.marginals(p)
         res = gibbs(p, np.random.default_rng(i))
@@ -131,7 +131,7 @@ def test_adaptive_birth_tracks_every_target(seed):
     # No birth positioned by hand: the model has no static birth, every track comes from the
     # adaptive-birth sampler (spec §7.2 variant). V = 3, the study's short chains, 100 scans;
     # the study's coverage rule decides whether a target is lost.
-    run = run_multisensor_scenario(MultiSensorShortChains(**SHORT), rng=seed,
+    run = run_multisensor_scenario(MultiSensorShortChainGibbs(**SHORT), rng=seed,
                                    sensors=(0, 1, 2), birth="adaptive")
     assert run.scenario.model.birth.components == ()
     cov = track_coverage(run.truth, run.estimates, COVERAGE_RADIUS, settle=COVERAGE_SETTLE)

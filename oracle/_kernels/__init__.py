@@ -6,7 +6,8 @@
 * :mod:`oracle._kernels.dp`: the subset and frontier DPs of the exact normaliser and marginals.
 
 The public wrappers (:mod:`oracle.single.enumerate`, :mod:`oracle.single.murty`,
-:mod:`oracle.single.dp`) validate their input once; the kernels assume clean, C-contiguous float64 / int64 arrays and never
-raise. Every kernel is compiled by :func:`rankedassign.numba_options.jit`, whose cache key is
-a digest of all the package's sources, so a kernel may call helpers of another file.
+:mod:`oracle.single.dp`) validate their input once; the kernels assume clean, C-contiguous
+float64 / int64 arrays and never raise. Every kernel is compiled by
+:func:`rankedassign.numba_options.jit`, whose cache key is a digest of all the package's
+sources, so a kernel may call helpers of another file.
 """

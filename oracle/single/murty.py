@@ -22,7 +22,7 @@ from .._result import Ranked, check_problem, ranked
 
 __all__ = ["murty"]
 
-_METHODS = ("numba", "scipy")
+_BACKENDS = ("numba", "scipy")
 
 
 def _k_cap(problem, k: int) -> int:
@@ -121,7 +121,7 @@ def _murty_scipy(problem, k: int) -> np.ndarray:
     return np.array(out, dtype=np.int64).reshape(-1, P)
 
 
-def murty(problem, k: int, *, method: str = "numba") -> Ranked:
+def murty(problem, k: int, *, backend: str = "numba") -> Ranked:
     """The ``k`` best assignments in non-decreasing cost (Murty's ranked assignment).
 
     Parameters
@@ -134,7 +134,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
         :data:`~rankedassign.validation.MAX_WORK_BYTES` (4 GiB) of work arrays, about
         ``32 P + 128`` bytes per assignment, is refused (``min(k, |Gamma|)`` counts when
         ``|Gamma|`` is cheap to count): about 4 million assignments for ``P = 30``.
-    method : {"numba", "scipy"}, optional
+    backend : {"numba", "scipy"}, optional
         ``"numba"`` (default): compiled Murty with the Miller–Stone–Cox improvements (lazy
         lower bounds, warm starts, partition ordering) on sparse rows.
         ``"scipy"``: the plain algorithm of spec §5.1 calling
@@ -145,7 +145,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     Ranked
         ``min(k, |Gamma|)`` distinct feasible assignments (``(n, P)`` int64 column indices)
         and their costs (``problem.cost_of``), in non-decreasing cost. The order among equal
-        costs is deterministic but may differ between the two methods.
+        costs is deterministic but may differ between the two backends.
 
     Raises
     ------
@@ -153,7 +153,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
         If ``problem`` is not an :class:`~rankedassign.AssignmentProblem` or ``k`` is not an
         int.
     ValueError
-        If ``k < 0``, ``method`` is unknown, or the ``k`` assignments would not fit in
+        If ``k < 0``, ``backend`` is unknown, or the ``k`` assignments would not fit in
         :data:`~rankedassign.validation.MAX_WORK_BYTES` (the message gives ``k``, the bytes
         and the limit).
 
@@ -164,7 +164,7 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     ``t`` forbids ``(r_t, s[r_t])`` and fixes ``r_1..r_{t-1}`` to ``s``. The children
     partition the parent's set minus ``s``, so no assignment appears twice.
 
-    The ``"numba"`` method follows Miller, Stone & Cox (1997) on the compact layout. Each row
+    The ``"numba"`` backend follows Miller, Stone & Cox (1997) on the compact layout. Each row
     keeps only its finite entries (its measurements, its own missed and dead column: at most
     ``M + 2``), so a row scan costs ``O(M + 2)``. A child enters the queue with a lower bound,
     its parent's cost plus the smallest reduced cost of an allowed alternative for the row
@@ -208,20 +208,20 @@ def murty(problem, k: int, *, method: str = "numba") -> Ranked:
     [-1.7918, 0.2231, 0.5108]
     >>> len(murty(p, 100).costs)       # only 14 feasible assignments
     14
-    >>> murty(synthetic.diagonal(), 1, method="scipy").assignments.tolist()
+    >>> murty(synthetic.diagonal(), 1, backend="scipy").assignments.tolist()
     [[0, 1, 2, 3]]
     """
     check_problem(problem)
     k = check_int(k, "k", minimum=0)
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
+    if backend not in _BACKENDS:
+        raise ValueError(f"backend must be one of {_BACKENDS}, got {backend!r}")
     P = problem.n_rows
     if k == 0:
         return ranked(problem, np.zeros((0, P), dtype=np.int64))
     if P == 0:
         return ranked(problem, np.zeros((1, 0), dtype=np.int64))
     _check_k_memory(problem, k)
-    if method == "scipy":
+    if backend == "scipy":
         return ranked(problem, _murty_scipy(problem, _k_cap(problem, k)))
     # the kernel's costs are problem.cost_of's, bit for bit, sorted stably
     return Ranked(*_murty_sliced(np.ascontiguousarray(problem.compact_cost), k))

@@ -9,9 +9,9 @@ from rankedassign import AssignmentProblem
 from rankedassign.validation import check_int
 
 from .._result import check_problem
-from ..murty import murty
 from .dp import log_normalizer
 from .enumerate import enumerate_assignments
+from .murty import murty
 
 __all__ = ["truncation_error", "best_mass"]
 

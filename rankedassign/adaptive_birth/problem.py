@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..validation import check_int, check_real, check_type
+from ..validation import check_int, check_real, check_type, float_array
 
 __all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples", "SENSOR_ORDERS"]
 
@@ -57,16 +57,6 @@ _MAX_TENSOR = 1 << 26
 _INFO_LIMIT = 2.0**1000
 
 
-def _float_array(x, name: str, ndim: int) -> np.ndarray:
-    try:
-        arr = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
-    if arr.ndim != ndim:
-        raise ValueError(f"{name} must be {ndim}-D, got shape {arr.shape}")
-    if np.isnan(arr).any():
-        raise ValueError(f"{name} contains NaN")
-    return np.ascontiguousarray(arr)
 
 
 def _per_sensor(x, name: str, V: int, shared_ndim: int) -> list:
@@ -291,12 +281,12 @@ class AdaptiveBirthProblem:
             raise TypeError("measurements must be a non-empty list or tuple with one array per "
                             f"sensor, got {type(measurements).__name__}")
         V = len(measurements)
-        mu0 = _float_array(mu0, "mu0", 1)
+        mu0 = float_array(mu0, "mu0", ndim=1, allow_nan=False)
         n = mu0.shape[0]
         if n == 0:
             raise ValueError("mu0 must have at least one state component")
         _check_finite(mu0, "mu0")
-        P0 = _float_array(P0, "P0", 2)
+        P0 = float_array(P0, "P0", ndim=2, allow_nan=False)
         if P0.shape != (n, n):
             raise ValueError(f"P0 must have shape (n, n) = ({n}, {n}), got {P0.shape}")
         _check_finite(P0, "P0")
@@ -327,12 +317,12 @@ class AdaptiveBirthProblem:
                  "a": [], "cz": [], "const": []}
         kept = []
         for v in range(V):
-            Hv = _float_array(Hs[v], f"H[{v}]", 2)
+            Hv = float_array(Hs[v], f"H[{v}]", ndim=2, allow_nan=False)
             if Hv.shape[1] != n:
                 raise ValueError(f"H[{v}] must have n = {n} columns, got shape {Hv.shape}")
             _check_finite(Hv, f"H[{v}]")
             d = Hv.shape[0]
-            Rv = _float_array(Rs[v], f"R[{v}]", 2)
+            Rv = float_array(Rs[v], f"R[{v}]", ndim=2, allow_nan=False)
             if Rv.shape != (d, d):
                 raise ValueError(f"R[{v}] must have shape ({d}, {d}), got {Rv.shape}")
             _check_finite(Rv, f"R[{v}]")
@@ -343,19 +333,19 @@ class AdaptiveBirthProblem:
                 raise ValueError(f"P_D[{v}] must be < 1, got {pd}")
             z = np.asarray(measurements[v], dtype=np.float64) if len(measurements[v]) else \
                 np.zeros((0, d))
-            z = _float_array(z, f"measurements[{v}]", 2)
+            z = float_array(z, f"measurements[{v}]", ndim=2, allow_nan=False)
             if z.shape[1] != d:
                 raise ValueError(f"measurements[{v}] must have shape (M, {d}), got {z.shape}")
             Mv = z.shape[0]
-            ru = _float_array(r_U[v], f"r_U[{v}]", 1) if Mv else np.zeros(0)
+            ru = float_array(r_U[v], f"r_U[{v}]", ndim=1, allow_nan=False) if Mv else np.zeros(0)
             if ru.shape != (Mv,):
                 raise ValueError(f"r_U[{v}] must have shape ({Mv},), got {ru.shape}")
             if ((ru < 0) | (ru > 1)).any():
                 raise ValueError(f"r_U[{v}] must lie in [0, 1]")
-            kap = np.broadcast_to(_float_array(np.atleast_1d(kappas[v]),
-                                               f"clutter_intensity[{v}]", 1), (Mv,)) \
-                if np.ndim(kappas[v]) == 0 else _float_array(kappas[v],
-                                                             f"clutter_intensity[{v}]", 1)
+            kap = float_array(np.atleast_1d(kappas[v]), f"clutter_intensity[{v}]", ndim=1,
+                              allow_nan=False)
+            if np.ndim(kappas[v]) == 0:
+                kap = np.broadcast_to(kap, (Mv,))
             if kap.shape != (Mv,):
                 raise ValueError(f"clutter_intensity[{v}] must be a scalar or have shape "
                                  f"({Mv},), got {kap.shape}")
@@ -689,8 +679,8 @@ def birth_from_samples(problem, result, *, F=None, Q=None, r_b_max: float = 0.01
     r_b_max = check_real(r_b_max, "r_b_max", minimum=0.0, strict_minimum=True, maximum=1.0)
     lambda_b = check_real(lambda_b, "lambda_b", minimum=0.0, strict_minimum=True)
     n = problem._model["n"]
-    F = np.eye(n) if F is None else _float_array(F, "F", 2)
-    Q = np.zeros((n, n)) if Q is None else _float_array(Q, "Q", 2)
+    F = np.eye(n) if F is None else float_array(F, "F", ndim=2, allow_nan=False)
+    Q = np.zeros((n, n)) if Q is None else float_array(Q, "Q", ndim=2, allow_nan=False)
     for name, X in (("F", F), ("Q", Q)):
         if X.shape != (n, n):
             raise ValueError(f"{name} must have shape ({n}, {n}), got {X.shape}")

@@ -21,7 +21,7 @@ from functools import cached_property
 import numpy as np
 
 from ..single.problem import AssignmentProblem
-from ..validation import format_bytes
+from ..validation import float_array, format_bytes
 
 __all__ = ["MAX_TABLE_ENTRIES", "MultiSensorProblem", "check_table_size",
            "count_feasible_all_positive"]
@@ -40,19 +40,6 @@ _COUNT_MAX_STATES = 2**21
 _COUNT_MAX_WORK = 5 * 10**6
 
 
-def _as_float_array(x, name: str) -> np.ndarray:
-    """Validate numeric array-like input and return a float64 C-contiguous copy."""
-    try:
-        arr = np.asarray(x)
-    except Exception as exc:  # ragged lists and the like
-        raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
-    ):
-        raise TypeError(f"{name} must be a numeric array, got dtype {arr.dtype}")
-    if np.issubdtype(arr.dtype, np.complexfloating):
-        raise TypeError(f"{name} must be real, got dtype {arr.dtype}")
-    return np.array(arr, dtype=np.float64, order="C", copy=True)
 
 
 def _dims_text(dims, noun: str) -> str:
@@ -250,8 +237,8 @@ class MultiSensorProblem:
     """
 
     def __init__(self, log_eta_dead, log_eta_alive, log_s=None, log_theta=None):
-        d = _as_float_array(log_eta_dead, "log_eta_dead")
-        a = _as_float_array(log_eta_alive, "log_eta_alive")
+        d = float_array(log_eta_dead, "log_eta_dead")
+        a = float_array(log_eta_alive, "log_eta_alive")
         if a.ndim < 2:
             raise ValueError(
                 "log_eta_alive must have shape (P, M_1+1, ..., M_V+1) with at least one "
@@ -273,7 +260,7 @@ class MultiSensorProblem:
         if (log_s is None) != (log_theta is None):
             raise ValueError("log_s and log_theta must be given together or not at all")
         if log_s is not None:
-            log_s = _as_float_array(log_s, "log_s")
+            log_s = float_array(log_s, "log_s")
             if log_s.shape != (P,):
                 raise ValueError(f"log_s must have shape (P,) = ({P},), got {log_s.shape}")
             _check_log_weights(log_s, "log_s")
@@ -284,7 +271,7 @@ class MultiSensorProblem:
                     f"{len(log_theta)}"
                 )
             for v, th in enumerate(log_theta):
-                th = _as_float_array(th, f"log_theta[{v}]")
+                th = float_array(th, f"log_theta[{v}]")
                 if th.shape != (P, a.shape[v + 1]):
                     raise ValueError(
                         f"log_theta[{v}] must have shape (P, M_{v + 1}+1) = "
@@ -373,8 +360,8 @@ class MultiSensorProblem:
         >>> p.n_meas, p.n_feasible()
         ((2,), 4)
         """
-        d = _as_float_array(eta_dead, "eta_dead")
-        a = _as_float_array(eta_alive, "eta_alive")
+        d = float_array(eta_dead, "eta_dead")
+        a = float_array(eta_alive, "eta_alive")
         _check_weights(d, "eta_dead")
         _check_weights(a, "eta_alive")
         return cls(_log(d), _log(a))
@@ -425,8 +412,8 @@ class MultiSensorProblem:
         >>> np.exp(p.log_eta_alive[0]).round(3).tolist()   # 0.9 * theta1 (x) theta2
         [[0.09, 0.18, 0.36], [1.35, 2.7, 5.4]]
         """
-        d = _as_float_array(eta_dead, "eta_dead")
-        s = _as_float_array(pbar_s, "pbar_s")
+        d = float_array(eta_dead, "eta_dead")
+        s = float_array(pbar_s, "pbar_s")
         if isinstance(theta, np.ndarray) or not hasattr(theta, "__len__"):
             raise TypeError(
                 "theta must be a sequence of V arrays of shape (P, M_v+1), one per sensor, "
@@ -443,7 +430,7 @@ class MultiSensorProblem:
             )
         thetas = []
         for v, th in enumerate(theta):
-            th = _as_float_array(th, f"theta[{v}]")
+            th = float_array(th, f"theta[{v}]")
             if th.ndim != 2 or th.shape[0] != P or th.shape[1] < 1:
                 raise ValueError(
                     f"theta[{v}] must have shape (P, M_{v + 1}+1) with P = {P}, got shape "
@@ -466,7 +453,7 @@ class MultiSensorProblem:
             idx[v + 1] = slice(None)
             la = la + lt[tuple(idx)]
         if coupling is not None:
-            c = _as_float_array(coupling, "coupling")
+            c = float_array(coupling, "coupling")
             if c.shape != shape:
                 raise ValueError(
                     f"coupling must have shape (P, M_1+1, ..., M_V+1) = {shape}, got shape "

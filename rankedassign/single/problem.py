@@ -24,6 +24,8 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from ..validation import float_array
+
 __all__ = ["AssignmentProblem", "COST_LIMIT"]
 
 # The finite costs of a problem are refused when the rows' largest |finite cost| sum beyond
@@ -40,38 +42,6 @@ _COUNT_MAX_SUBSET_BITS = 22
 _COUNT_MAX_WORK = 2 * 10**8
 
 
-def _as_float_array(x, name: str) -> np.ndarray:
-    """Validate numeric array-like input and return a float64 C-contiguous copy.
-
-    ``TypeError`` for what is not an array of real numbers (strings, ``None``, complex, dates,
-    ragged lists); ``ValueError`` for a Python int too large for a double.
-    """
-    try:
-        arr = np.asarray(x)
-    except Exception as exc:  # ragged lists and the like
-        raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
-    if arr.dtype == object and arr.size and all(
-        isinstance(v, numbers.Real) for v in arr.reshape(-1)
-    ):
-        # Python ints beyond int64 (e.g. 10**30) land in an object array; convert one by one
-        flat = np.empty(arr.size)
-        for k, v in enumerate(arr.reshape(-1)):
-            try:
-                flat[k] = float(v)
-            except OverflowError:
-                text = repr(v)
-                text = text if len(text) <= 24 else f"{text[:12]}... ({len(text)} digits)"
-                raise ValueError(f"{name} has an entry too large for a float64: {text}") from None
-        arr = flat.reshape(arr.shape)
-    if (
-        arr.dtype == object
-        or arr.dtype.kind in "mM"  # datetime64 / timedelta64 count as numbers to numpy
-        or not (np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_))
-    ):
-        raise TypeError(f"{name} must be a numeric array, got dtype {arr.dtype}")
-    if np.issubdtype(arr.dtype, np.complexfloating):
-        raise TypeError(f"{name} must be real, got dtype {arr.dtype}")
-    return np.array(arr, dtype=np.float64, order="C", copy=True)
 
 
 def _first(mask: np.ndarray) -> tuple:
@@ -133,7 +103,7 @@ class AssignmentProblem:
     """
 
     def __init__(self, cost):
-        C = _as_float_array(cost, "cost matrix")
+        C = float_array(cost, "cost matrix")
         if C.ndim != 2:
             raise ValueError(
                 f"cost matrix must be 2-D with shape (P, M + 2P), got {C.ndim}-D shape {C.shape}"
@@ -240,9 +210,9 @@ class AssignmentProblem:
         >>> p.cost.tolist()
         [[-0.0, 1.0, 2.0]]
         """
-        D = _as_float_array(log_eta_detect, "log_eta_detect")
-        m = _as_float_array(log_eta_missed, "log_eta_missed")
-        d = _as_float_array(log_eta_dead, "log_eta_dead")
+        D = float_array(log_eta_detect, "log_eta_detect")
+        m = float_array(log_eta_missed, "log_eta_missed")
+        d = float_array(log_eta_dead, "log_eta_dead")
         D, m, d = cls._check_eta_shapes(D, m, d, "log_eta")
         for name, a in (("log_eta_detect", D), ("log_eta_missed", m), ("log_eta_dead", d)):
             if np.isnan(a).any():
@@ -283,9 +253,9 @@ class AssignmentProblem:
         >>> p.cost
         array([[-0.        ,         inf,  0.69314718,  1.38629436]])
         """
-        D = _as_float_array(eta_detect, "eta_detect")
-        m = _as_float_array(eta_missed, "eta_missed")
-        d = _as_float_array(eta_dead, "eta_dead")
+        D = float_array(eta_detect, "eta_detect")
+        m = float_array(eta_missed, "eta_missed")
+        d = float_array(eta_dead, "eta_dead")
         D, m, d = cls._check_eta_shapes(D, m, d, "eta")
         for name, a in (("eta_detect", D), ("eta_missed", m), ("eta_dead", d)):
             if np.isnan(a).any():
@@ -348,7 +318,7 @@ class AssignmentProblem:
         >>> AssignmentProblem.from_vo_layout(vo).cost.tolist()
         [[0.5, 1.0, 2.0]]
         """
-        A = _as_float_array(P0, "Vo-layout cost matrix")
+        A = float_array(P0, "Vo-layout cost matrix")
         if A.ndim != 2 or A.shape[1] < 2 * A.shape[0]:
             raise ValueError(
                 "Vo-layout cost matrix must be 2-D with shape (P, 2P + M) "

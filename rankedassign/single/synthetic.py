@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..validation import check_choice, check_int, check_optional_int
+from ..validation import check_choice, check_int, check_optional_int, float_array
 from .problem import AssignmentProblem
 
 __all__ = ["diagonal", "uniform", "random", "eta_from_parameters"]
@@ -42,19 +42,6 @@ def _check_sizes(R, B, M) -> tuple[int, int, int]:
     return R, B, M
 
 
-def _as_real_array(x, name: str, ndim: int) -> np.ndarray:
-    try:
-        a = np.asarray(x)
-    except Exception as exc:  # ragged lists and the like
-        raise TypeError(f"{name} must be a numeric array, could not convert: {exc}") from None
-    if a.dtype.kind not in "biuf":
-        raise TypeError(f"{name} must be an array of real numbers, got dtype {a.dtype}")
-    a = a.astype(np.float64)
-    if a.ndim != ndim:
-        raise ValueError(f"{name} must be {ndim}-D, got shape {a.shape}")
-    if np.isnan(a).any():
-        raise ValueError(f"{name} contains NaN")
-    return a
 
 
 def eta_from_parameters(r, p_s, p_d, q, *, n_persisting=None, pbar_d="r_pd"):
@@ -94,10 +81,10 @@ def eta_from_parameters(r, p_s, p_d, q, *, n_persisting=None, pbar_d="r_pd"):
     (0.0199, 0.019504, 48.0298)
     """
     check_choice(pbar_d, "pbar_d", _PBAR_D)
-    r = _as_real_array(r, "r", 1)
-    p_s = _as_real_array(p_s, "p_s", 1)
-    p_d = _as_real_array(p_d, "p_d", 1)
-    q = _as_real_array(q, "q", 2)
+    r = float_array(r, "r", ndim=1, allow_nan=False)
+    p_s = float_array(p_s, "p_s", ndim=1, allow_nan=False)
+    p_d = float_array(p_d, "p_d", ndim=1, allow_nan=False)
+    q = float_array(q, "q", ndim=2, allow_nan=False)
     P = r.shape[0]
     for name, a in (("p_s", p_s), ("p_d", p_d)):
         if a.shape != (P,):

@@ -26,8 +26,8 @@ from .multisensor.adaptive_birth import AdaptiveBirth
 from .multisensor.association import (
     MultiSensorAssociationResult,
     MultiSensorExact,
-    MultiSensorGibbs,
-    MultiSensorShortChains,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
 )
 from .multisensor.lmb import MultiSensorLMBFilter, MultiSensorModel
 from .multisensor.scenario import (
@@ -63,11 +63,11 @@ __all__ = [
     "Murty",
     "MultiSensorAssociationResult",
     "MultiSensorExact",
-    "MultiSensorGibbs",
+    "MultiSensorOriginalGibbs",
     "MultiSensorLMBFilter",
     "MultiSensorModel",
     "MultiSensorRun",
-    "MultiSensorShortChains",
+    "MultiSensorShortChainGibbs",
     "OriginalGibbs",
     "PRESET_EXTRACTION",
     "PoissonClutter",

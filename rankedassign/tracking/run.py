@@ -38,8 +38,8 @@ def run_scenario(
         :func:`~rankedassign.tracking.multisensor.scenario.run_multisensor_scenario` (which
         returns a :class:`~rankedassign.tracking.multisensor.scenario.MultiSensorRun`).
     association : Association
-        E.g. ``ShortChainGibbs(400, 25, 5, 10)``, ``OriginalGibbs(10_000)``, ``Murty(k)``,
-        ``Exact()``. Required.
+        E.g. ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``,
+        ``OriginalGibbs(10_000)``, ``Murty(k)``, ``Exact()``. Required.
     rng : optional
         Anything :func:`numpy.random.default_rng` accepts. Two child streams are spawned from
         it: the first draws the measurements, the second drives the filter (one further child per
@@ -87,7 +87,8 @@ def run_scenario(
     ((3, 12, 2), (3,), ['association', 'cost', 'prediction', 'update'], 'map')
     """
     if association is None:
-        raise TypeError("run_scenario needs an association, e.g. ShortChainGibbs(400, 25, 5, 10)")
+        raise TypeError("run_scenario needs an association, e.g. "
+                        "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
     if preset == "multi":

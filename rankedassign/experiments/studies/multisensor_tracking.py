@@ -27,8 +27,8 @@ import numpy as np
 from ...metrics import ospa2, track_coverage
 from ...tracking.multisensor.association import (
     MultiSensorExact,
-    MultiSensorGibbs,
-    MultiSensorShortChains,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
 )
 from ...tracking.multisensor.scenario import BIRTHS, MULTI_SENSORS, run_multisensor_scenario
 from ...tracking.single.association import MARGINALS
@@ -157,17 +157,18 @@ def make_association(cfg: MultiSensorStudyConfig, method: str):
     >>> from rankedassign.experiments.studies.multisensor_tracking import (
     ...     MultiSensorStudyConfig, make_association)
     >>> make_association(MultiSensorStudyConfig(), "short-mm")
-    MultiSensorShortChains(400, 25, tau_stall=5, tau_stale=10, method='mm')
+    MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method='mm')
     """
     check_choice(method, "method", STUDY_METHODS)
-    long = MultiSensorGibbs(cfg.long_obs, marginals=cfg.marginals)
+    long = MultiSensorOriginalGibbs(cfg.long_obs, marginals=cfg.marginals)
     if method == "long":
         return long
     if method == "exact":
         return MultiSensorExact(fallback=long)
     kernel = {"short": "exact", "short-mm": "mm", "short-mm-fixed": "mm-fixed"}[method]
-    return MultiSensorShortChains(cfg.n_chains, cfg.chain_length, cfg.tau_stall, cfg.tau_stale,
-                                  method=kernel, marginals=cfg.marginals)
+    return MultiSensorShortChainGibbs(cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall,
+                                      tau_stale=cfg.tau_stale, method=kernel,
+                                      marginals=cfg.marginals)
 
 
 @dataclass(frozen=True)

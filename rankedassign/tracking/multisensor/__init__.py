@@ -2,8 +2,8 @@
 
 * :mod:`~rankedassign.tracking.multisensor.lmb` — :class:`MultiSensorLMBFilter` and
   :class:`MultiSensorModel`;
-* :mod:`~rankedassign.tracking.multisensor.association` — :class:`MultiSensorGibbs`,
-  :class:`MultiSensorShortChains`, :class:`MultiSensorExact`;
+* :mod:`~rankedassign.tracking.multisensor.association` — :class:`MultiSensorOriginalGibbs`,
+  :class:`MultiSensorShortChainGibbs`, :class:`MultiSensorExact`;
 * :mod:`~rankedassign.tracking.multisensor.adaptive_birth` — :class:`AdaptiveBirth`, births
   from the adaptive-birth sampler;
 * :mod:`~rankedassign.tracking.multisensor.scenario` — the ``"multi"`` scenario and its runner.
@@ -17,8 +17,8 @@ from .association import (
     MultiSensorAssociation,
     MultiSensorAssociationResult,
     MultiSensorExact,
-    MultiSensorGibbs,
-    MultiSensorShortChains,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
 )
 from .lmb import MultiSensorLMBFilter, MultiSensorModel
 from .scenario import (
@@ -29,6 +29,6 @@ from .scenario import (
 )
 
 __all__ = ["AdaptiveBirth", "MultiSensorAssociation", "MultiSensorAssociationResult",
-           "MultiSensorExact", "MultiSensorGibbs", "MultiSensorShortChains",
+           "MultiSensorExact", "MultiSensorOriginalGibbs", "MultiSensorShortChainGibbs",
            "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun", "make_multisensor_model",
            "make_multisensor_scenario", "run_multisensor_scenario"]

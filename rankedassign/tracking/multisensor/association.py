@@ -31,8 +31,8 @@ __all__ = [
     "MultiSensorAssociation",
     "MultiSensorAssociationResult",
     "MultiSensorExact",
-    "MultiSensorGibbs",
-    "MultiSensorShortChains",
+    "MultiSensorOriginalGibbs",
+    "MultiSensorShortChainGibbs",
     "multisensor_marginals_from_hypotheses",
 ]
 
@@ -135,7 +135,7 @@ def _rao_blackwell(g, w, log_dead, ptr, opt_tuple, opt_flat, opt_logw, n_t, n_me
 
 
 def multisensor_marginals_from_hypotheses(problem: MultiSensorProblem, assignments,
-                                          costs=None, *, method: str = "truncated"):
+                                          costs=None, *, marginals: str = "truncated"):
     """Association marginals of a multi-sensor problem from a set of unique hypotheses.
 
     Parameters
@@ -145,7 +145,7 @@ def multisensor_marginals_from_hypotheses(problem: MultiSensorProblem, assignmen
         Unique feasible assignments (``−1`` rows dead, else per sensor ``0`` missed or ``j``).
     costs : array_like, shape (H,), optional
         Their costs ``−ln w`` (default ``problem.cost_of(assignments)``).
-    method : {"truncated", "rao-blackwell"}, optional
+    marginals : {"truncated", "rao-blackwell"}, optional
         ``"truncated"``: ``β_{n,t} = Σ_h w_h 1[γ_n^(h) = t]`` (multi-sensor spec §7.4).
         ``"rao-blackwell"``: ``β_{n,t} = Σ_h w_h π(γ_n = t | γ_{−n}^(h))``.
 
@@ -183,11 +183,11 @@ def multisensor_marginals_from_hypotheses(problem: MultiSensorProblem, assignmen
     >>> dead, tup = multisensor_marginals_from_hypotheses(p, [[[0, 1]]])
     >>> float(dead[0]), tup[0].tolist()
     (0.0, [[0.0, 1.0], [0.0, 0.0]])
-    >>> dead, tup = multisensor_marginals_from_hypotheses(p, [[[0, 1]]], method="rao-blackwell")
+    >>> dead, tup = multisensor_marginals_from_hypotheses(p, [[[0, 1]]], marginals="rao-blackwell")
     >>> (7 * dead).round(9).tolist(), (7 * tup[0]).round(9).tolist()
     ([1.0], [[1.0, 2.0], [3.0, 0.0]])
     """
-    check_choice(method, "method", MARGINALS)
+    check_choice(marginals, "marginals", MARGINALS)
     g = np.asarray(assignments, dtype=np.int64)
     P, V = problem.n_rows, problem.n_sensors
     if g.ndim != 3 or g.shape[1:] != (P, V):
@@ -200,7 +200,7 @@ def multisensor_marginals_from_hypotheses(problem: MultiSensorProblem, assignmen
         raise ValueError(f"costs must have shape ({g.shape[0]},), got {c.shape}")
     if not np.isfinite(c).all():
         raise ValueError("every hypothesis must be feasible (finite cost)")
-    return _marginals(problem, g, c, method)
+    return _marginals(problem, g, c, marginals)
 
 
 def _marginals(problem: MultiSensorProblem, g: np.ndarray, c: np.ndarray, method: str):
@@ -273,8 +273,9 @@ def _from_sampler(problem, res, marginals, method) -> MultiSensorAssociationResu
     dead, tup = _marginals(problem, res.assignments, res.costs, marginals)
     if method == "componentwise" and marginals == "truncated":
         dead, tup = _split_collapsed(problem, dead, tup)
-    return MultiSensorAssociationResult(dead, tup, 1, int(res.n_observations),
-                                        int(res.n_row_updates), int(len(res.costs)))
+    return MultiSensorAssociationResult(
+        dead=dead, tuples=tup, invocations=1, sweeps=int(res.n_observations),
+        row_updates=int(res.n_row_updates), n_unique=int(len(res.costs)))
 
 
 def _extra(marginals, method, options):
@@ -283,7 +284,7 @@ def _extra(marginals, method, options):
     return out + "".join(f", {k}={v!r}" for k, v in options.items())
 
 
-class MultiSensorGibbs(MultiSensorAssociation):
+class MultiSensorOriginalGibbs(MultiSensorAssociation):
     """One long multi-sensor Gibbs chain (Vo, Vo & Beard 2019) as association.
 
     Parameters
@@ -303,9 +304,9 @@ class MultiSensorGibbs(MultiSensorAssociation):
 
     Examples
     --------
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorGibbs
-    >>> MultiSensorGibbs(10_000, method="mm")
-    MultiSensorGibbs(10000, method='mm')
+    >>> from rankedassign.tracking.multisensor.association import MultiSensorOriginalGibbs
+    >>> MultiSensorOriginalGibbs(10_000, method="mm")
+    MultiSensorOriginalGibbs(10000, method='mm')
     """
 
     name = "gibbs"
@@ -318,14 +319,15 @@ class MultiSensorGibbs(MultiSensorAssociation):
         self.options = dict(sampler_options)
 
     def __repr__(self):
-        return f"MultiSensorGibbs({self.n_obs}{_extra(self.marginals, self.method, self.options)})"
+        extra = _extra(self.marginals, self.method, self.options)
+        return f"MultiSensorOriginalGibbs({self.n_obs}{extra})"
 
     def __call__(self, problem, rng) -> MultiSensorAssociationResult:
         res = sample_original(problem, self.n_obs, rng=rng, method=self.method, **self.options)
         return _from_sampler(problem, res, self.marginals, self.method)
 
 
-class MultiSensorShortChains(MultiSensorAssociation):
+class MultiSensorShortChainGibbs(MultiSensorAssociation):
     """Short chains with stall/stale termination (Trezza et al. 2023) on a multi-sensor problem.
 
     Parameters
@@ -335,7 +337,7 @@ class MultiSensorShortChains(MultiSensorAssociation):
     tau_stall, tau_stale : int or None
         Termination thresholds (5 and 10); None disables a rule.
     method : {"exact", "mm", "mm-fixed", "componentwise"}, optional
-        Row kernel (see :class:`MultiSensorGibbs`).
+        Row kernel (see :class:`MultiSensorOriginalGibbs`).
     marginals : {"truncated", "rao-blackwell"}, optional
         How the unique hypotheses become marginals.
     **sampler_options
@@ -343,14 +345,14 @@ class MultiSensorShortChains(MultiSensorAssociation):
 
     Examples
     --------
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChains
-    >>> MultiSensorShortChains(400, 25, 5, 10, marginals="rao-blackwell")
-    MultiSensorShortChains(400, 25, tau_stall=5, tau_stale=10, marginals='rao-blackwell')
+    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChainGibbs
+    >>> MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals="rao-blackwell")
+    MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals='rao-blackwell')
     """
 
     name = "short-chain"
 
-    def __init__(self, n_chains: int, chain_length: int, tau_stall=None, tau_stale=None, *,
+    def __init__(self, n_chains: int, chain_length: int, *, tau_stall=None, tau_stale=None,
                  method: str = "exact", marginals: str = "truncated", **sampler_options):
         self.n_chains = check_int(n_chains, "n_chains", minimum=1)
         self.chain_length = check_int(chain_length, "chain_length", minimum=1)
@@ -361,7 +363,7 @@ class MultiSensorShortChains(MultiSensorAssociation):
         self.options = dict(sampler_options)
 
     def __repr__(self):
-        return (f"MultiSensorShortChains({self.n_chains}, {self.chain_length}, "
+        return (f"MultiSensorShortChainGibbs({self.n_chains}, {self.chain_length}, "
                 f"tau_stall={self.tau_stall}, tau_stale={self.tau_stale}"
                 f"{_extra(self.marginals, self.method, self.options)})")
 
@@ -410,7 +412,7 @@ class MultiSensorExact(MultiSensorAssociation):
             )
         if isinstance(fallback, Association):
             raise TypeError(
-                "fallback must be a multi-sensor association such as MultiSensorShortChains; "
+                "fallback must be a multi-sensor association such as MultiSensorShortChainGibbs; "
                 f"got {type(fallback).__name__} (a single-sensor association)"
             )
         self.fallback = fallback
@@ -432,5 +434,7 @@ class MultiSensorExact(MultiSensorAssociation):
                 ) from None
             self.n_fallback += 1
             return self.fallback(problem, rng)
-        return MultiSensorAssociationResult(np.asarray(m.dead, dtype=np.float64),
-                                            np.asarray(m.tuples, dtype=np.float64), 1, 0, 0, 0)
+        return MultiSensorAssociationResult(
+            dead=np.asarray(m.dead, dtype=np.float64),
+            tuples=np.asarray(m.tuples, dtype=np.float64), invocations=1, sweeps=0,
+            row_updates=0, n_unique=0)

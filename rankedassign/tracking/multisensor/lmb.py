@@ -313,7 +313,7 @@ class MultiSensorLMBFilter(LMBFilter):
     def _check_association(association) -> None:
         """Refuse what is not a multi-sensor association (a single-sensor one included)."""
         _check_association_kind(association, "MultiSensorLMBFilter", "multi-sensor",
-                                "MultiSensorShortChains", "LMBFilter")
+                                "MultiSensorShortChainGibbs", "LMBFilter")
 
     def reset(self) -> None:
         """Forget every track (and, with adaptive birth, the pending births); restart at scan 1.
@@ -387,9 +387,11 @@ class MultiSensorLMBFilter(LMBFilter):
             # no track explains anything: r_U = 1 for every measurement
             birth_s = self._adaptive_births(zs, [np.ones(z.shape[0]) for z in zs], gen)
             return ScanRecord(
-                np.empty((0, 2), np.int64), np.empty((0, 4)), np.empty(0),
-                self.labels.copy(), self.r.copy(), 0, M_all, 0, 0, 0, 0, 0, 0,
-                {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0,
+                labels=np.empty((0, 2), np.int64), states=np.empty((0, 4)),
+                existence=np.empty(0), track_labels=self.labels.copy(),
+                track_existence=self.r.copy(), n_tracks=0, n_meas=M_all, n_meas_gated=0,
+                n_groups=0, invocations=0, sweeps=0, row_updates=0, n_unique=0,
+                timings={"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0,
                  **birth_s},
             )
         used, gated = self._gates(zs)
@@ -442,10 +444,12 @@ class MultiSensorLMBFilter(LMBFilter):
             birth_s = self._adaptive_births(zs, self._unexplained(zs, used, parts), gen)
         inv, sweeps, rows_upd, n_unique = counts.tolist()
         return ScanRecord(
-            labels, states, ex, self.labels.copy(), self.r.copy(), T, M_all,
-            int(sum(u.size for u in used)), n_problems, inv, sweeps, rows_upd, n_unique,
-            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2, "update": t4 - t3,
-             **birth_s},
+            labels=labels, states=states, existence=ex, track_labels=self.labels.copy(),
+            track_existence=self.r.copy(), n_tracks=T, n_meas=M_all,
+            n_meas_gated=int(sum(u.size for u in used)), n_groups=n_problems,
+            invocations=inv, sweeps=sweeps, row_updates=rows_upd, n_unique=n_unique,
+            timings={"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
+                     "update": t4 - t3, **birth_s},
         )
 
     # ----------------------------------------------------------------------- adaptive birth

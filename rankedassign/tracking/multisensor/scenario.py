@@ -209,7 +209,8 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     Parameters
     ----------
     association : callable
-        A multi-sensor association, e.g. ``MultiSensorShortChains(400, 25, 5, 10)``. Required.
+        A multi-sensor association, e.g.
+        ``MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``. Required.
     rng : optional
         Two child streams are spawned: the first draws the measurements
         (:func:`make_multisensor_scenario`), the second drives the filter (one child per scan).
@@ -247,15 +248,15 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     Examples
     --------
     >>> from rankedassign.tracking.multisensor.scenario import run_multisensor_scenario
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChains
-    >>> run = run_multisensor_scenario(MultiSensorShortChains(20, 5, 5, 10), rng=1, n_scans=3,
-    ...                                sensors=(0, 2))
+    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChainGibbs
+    >>> assoc = MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10)
+    >>> run = run_multisensor_scenario(assoc, rng=1, n_scans=3, sensors=(0, 2))
     >>> run.truth.shape, run.n_meas.shape
     ((3, 12, 2), (3,))
     """
     if association is None:
         raise TypeError("run_multisensor_scenario needs an association, e.g. "
-                        "MultiSensorShortChains(400, 25, 5, 10)")
+                        "MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
     grouping = check_bool(grouping, "grouping")
     n_scans = check_n_scans(n_scans)
     sensors = check_sensors(sensors, len(MULTI_SENSORS))

@@ -40,10 +40,10 @@ __all__ = [
 ]
 
 #: How association marginals are formed from a set of hypotheses (``marginals=`` of the
-#: sampler and Murty associations, ``method=`` of :func:`marginals_from_hypotheses`).
+#: sampler and Murty associations, ``marginals=`` of :func:`marginals_from_hypotheses`).
 MARGINALS = ("truncated", "rao-blackwell")
-#: Implementations of Murty's method (``method=`` of :class:`Murty`, see :func:`oracle.murty`).
-MURTY_METHODS = ("numba", "scipy")
+#: Implementations of Murty's method (``backend=`` of :class:`Murty` and :func:`oracle.murty`).
+MURTY_BACKENDS = ("numba", "scipy")
 
 
 class AssociationResult(NamedTuple):
@@ -119,7 +119,7 @@ def _rao_blackwell(cost, a, w, M, ptr, cols):  # pragma: no cover (jit)
 
 
 def marginals_from_hypotheses(
-    problem: AssignmentProblem, assignments, costs=None, *, method: str = "truncated"
+    problem: AssignmentProblem, assignments, costs=None, *, marginals: str = "truncated"
 ) -> np.ndarray:
     """Association marginals from a set of unique hypotheses (spec eqs. 6.3–6.4).
 
@@ -130,7 +130,7 @@ def marginals_from_hypotheses(
         Unique feasible assignments (column indices); duplicates would be counted twice.
     costs : array_like, shape (H,), optional
         Their costs (default: ``problem.cost_of(assignments)``).
-    method : {"truncated", "rao-blackwell"}, optional
+    marginals : {"truncated", "rao-blackwell"}, optional
         ``"truncated"`` (default, the paper's and Vo's construction): the marginals of the
         truncated GLMB, ``beta[i, j] = Σ_h w_h 1[γ_i^(h) = j]``. ``"rao-blackwell"``:
         ``beta[i, j] = Σ_h w_h π(γ_i = j | γ_{−i}^(h))``, each hypothesis contributing row
@@ -146,7 +146,7 @@ def marginals_from_hypotheses(
     Raises
     ------
     ValueError
-        If there is no hypothesis, shapes disagree, a cost is not finite or ``method`` is
+        If there is no hypothesis, shapes disagree, a cost is not finite or ``marginals`` is
         unknown.
 
     Notes
@@ -177,10 +177,10 @@ def marginals_from_hypotheses(
     [[0.6, 0.2, 0.2]]
     >>> marginals_from_hypotheses(p, [[0]]).tolist()                      # the best alone
     [[1.0, 0.0, 0.0]]
-    >>> marginals_from_hypotheses(p, [[0]], method="rao-blackwell").round(2).tolist()
+    >>> marginals_from_hypotheses(p, [[0]], marginals="rao-blackwell").round(2).tolist()
     [[0.6, 0.2, 0.2]]
     """
-    check_choice(method, "method", MARGINALS)
+    check_choice(marginals, "marginals", MARGINALS)
     a = np.asarray(assignments, dtype=np.int64)
     P = problem.n_rows
     if a.ndim != 2 or a.shape[1] != P:
@@ -192,7 +192,7 @@ def marginals_from_hypotheses(
         raise ValueError(f"costs must have shape ({a.shape[0]},), got {c.shape}")
     if not np.isfinite(c).all():
         raise ValueError("every hypothesis must be feasible (finite cost)")
-    return _marginals(problem, a, c, method)
+    return _marginals(problem, a, c, marginals)
 
 
 def _marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, method: str):
@@ -261,7 +261,8 @@ def _marginals_repr(marginals):
 def _from_sampler(problem, res, marginals) -> AssociationResult:
     beta = _marginals(problem, res.assignments, res.costs, marginals)
     return AssociationResult(
-        beta, 1, int(res.n_observations), int(res.n_row_updates), int(len(res.costs))
+        beta=beta, invocations=1, sweeps=int(res.n_observations),
+        row_updates=int(res.n_row_updates), n_unique=int(len(res.costs)),
     )
 
 
@@ -323,15 +324,15 @@ class ShortChainGibbs(Association):
     Examples
     --------
     >>> from rankedassign.tracking import ShortChainGibbs
-    >>> ShortChainGibbs(400, 25, 5, 10)
+    >>> ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)
     ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)
-    >>> ShortChainGibbs(400, 25, 5, 10, marginals="rao-blackwell")
+    >>> ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals="rao-blackwell")
     ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, marginals='rao-blackwell')
     """
 
     name = "short-chain"
 
-    def __init__(self, n_chains: int, chain_length: int, tau_stall=None, tau_stale=None, *,
+    def __init__(self, n_chains: int, chain_length: int, *, tau_stall=None, tau_stale=None,
                  marginals: str = "truncated", **sampler_options):
         self.n_chains = check_int(n_chains, "n_chains", minimum=1)
         self.chain_length = check_int(chain_length, "chain_length", minimum=1)
@@ -360,8 +361,8 @@ class Murty(Association):
     ----------
     k : int
         Number of best hypotheses per call.
-    method : {"numba", "scipy"}
-        Passed to :func:`oracle.murty`.
+    backend : {"numba", "scipy"}
+        The implementation of :func:`oracle.murty`.
     marginals : {"truncated", "rao-blackwell"}, optional
         How the k best hypotheses become association marginals
         (:func:`marginals_from_hypotheses`).
@@ -375,19 +376,20 @@ class Murty(Association):
 
     name = "murty"
 
-    def __init__(self, k: int, *, method: str = "numba", marginals: str = "truncated"):
+    def __init__(self, k: int, *, backend: str = "numba", marginals: str = "truncated"):
         self.k = check_int(k, "k", minimum=1)
-        self.method = check_choice(method, "method", MURTY_METHODS)
+        self.backend = check_choice(backend, "backend", MURTY_BACKENDS)
         self.marginals = _check_marginals(marginals)
 
     def __repr__(self):
-        extra = "" if self.method == "numba" else f", method={self.method!r}"
+        extra = "" if self.backend == "numba" else f", backend={self.backend!r}"
         return f"Murty({self.k}{extra}{_marginals_repr(self.marginals)})"
 
     def __call__(self, problem, rng) -> AssociationResult:
-        ranked = oracle.murty(problem, self.k, method=self.method)
+        ranked = oracle.murty(problem, self.k, backend=self.backend)
         beta = _marginals(problem, ranked.assignments, ranked.costs, self.marginals)
-        return AssociationResult(beta, 1, 0, 0, int(len(ranked.costs)))
+        return AssociationResult(beta=beta, invocations=1, sweeps=0, row_updates=0,
+                                 n_unique=int(len(ranked.costs)))
 
 
 class Exact(Association):
@@ -415,4 +417,4 @@ class Exact(Association):
 
     def __call__(self, problem, rng) -> AssociationResult:
         beta = np.array(oracle.marginals(problem), dtype=np.float64)
-        return AssociationResult(beta, 1, 0, 0, 0)
+        return AssociationResult(beta=beta, invocations=1, sweeps=0, row_updates=0, n_unique=0)

@@ -570,9 +570,11 @@ class LMBFilter:
         if T == 0:  # an empty birth model and no tracks: nothing to associate
             t2 = perf_counter()
             return ScanRecord(
-                np.empty((0, 2), np.int64), np.empty((0, 4)), np.empty(0),
-                self.labels.copy(), self.r.copy(), 0, M_all, 0, 0, 0, 0, 0, 0,
-                {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0},
+                labels=np.empty((0, 2), np.int64), states=np.empty((0, 4)),
+                existence=np.empty(0), track_labels=self.labels.copy(),
+                track_existence=self.r.copy(), n_tracks=0, n_meas=M_all, n_meas_gated=0,
+                n_groups=0, invocations=0, sweeps=0, row_updates=0, n_unique=0,
+                timings={"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0},
             )
         terms = self._measurement_terms(z)
         groups = self._groups(terms)
@@ -585,9 +587,12 @@ class LMBFilter:
         t4 = perf_counter()
         inv, sweeps, rows_upd, n_unique = counts.tolist()
         return ScanRecord(
-            labels, states, ex, self.labels.copy(), self.r.copy(), T, M_all,
-            int(terms.used.size), n_problems, inv, sweeps, rows_upd, n_unique,
-            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2, "update": t4 - t3},
+            labels=labels, states=states, existence=ex, track_labels=self.labels.copy(),
+            track_existence=self.r.copy(), n_tracks=T, n_meas=M_all,
+            n_meas_gated=int(terms.used.size), n_groups=n_problems, invocations=inv,
+            sweeps=sweeps, row_updates=rows_upd, n_unique=n_unique,
+            timings={"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
+                     "update": t4 - t3},
         )
 
     # ----------------------------------------------------------------------- 6. update
