@@ -38,6 +38,7 @@ import oracle
 import rankedassign
 from rankedassign import sample_original, sample_short_chains, samplers
 from rankedassign.adaptive_birth.problem import AdaptiveBirthProblem
+from rankedassign.kinds import KINDS
 from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.numba_options import interruptible, signal_exception
 from rankedassign.single import synthetic
@@ -279,10 +280,11 @@ def test_no_kernel_called_from_python_returns_a_named_tuple(monkeypatch):
     monkeypatch.setattr(samplers, "_SLICE_WORK", 1)
     for p in PROBLEMS.values():
         sample_short_chains(p, 5, 3, workers=2)
-    monkeypatch.setattr(importlib.import_module("oracle.murty"), "_SLICE_WORK", 1)
+    monkeypatch.setattr(importlib.import_module("oracle.single.murty"), "_SLICE_WORK", 1)
     oracle.murty(synthetic.random(R=3, M=4, rng=0), 50)
     kernels = {c[4] for c in _python_calls_of_kernels()}
-    for driver in samplers.DRIVERS.values():  # the driver's loop calls its kernels by closure
+    drivers = [d for kind in KINDS for d in kind.drivers.values()]
+    for driver in drivers:  # the driver's loop calls its kernels by closure
         kernels |= {c.cell_contents for c in driver.__closure__
                     if isinstance(c.cell_contents, CPUDispatcher)}
     checked = 0
@@ -408,7 +410,7 @@ def test_single_sensor_dps_in_slices_are_bit_identical(monkeypatch, method):
 
 
 def test_murty_in_slices_is_bit_identical(monkeypatch):
-    murty_module = importlib.import_module("oracle.murty")
+    murty_module = importlib.import_module("oracle.single.murty")
     problems = [synthetic.random(R=6, M=9, rng=1), synthetic.uniform()]  # ties in the second
     want = [murty_module.murty(p, 3000) for p in problems]
     with monkeypatch.context() as m:

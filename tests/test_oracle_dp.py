@@ -15,6 +15,10 @@ from oracle import enumerate_assignments, log_normalizer, marginals
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
 
+#: The message of an object of no known problem kind (rankedassign.kinds.kind_of).
+NOT_A_PROBLEM = (r"problem must be one of \(AssignmentProblem, MultiSensorProblem, "
+                 r"AdaptiveBirthProblem\), got ")
+
 
 def enumerated_marginals(problem):
     """Marginals by summing π over the oracle's enumeration (itself held to brute force)."""
@@ -143,7 +147,7 @@ def test_transposed_dp_handles_many_rows():
 
 @pytest.mark.parametrize("fn", [log_normalizer, marginals])
 def test_not_a_problem(fn):
-    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got list"):
+    with pytest.raises(TypeError, match=NOT_A_PROBLEM + r"list"):
         fn([[0.0, 1.0, 2.0]])
 
 

@@ -12,6 +12,10 @@ from oracle import Ranked, enumerate_assignments
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
 
+#: The message of an object of no known problem kind (rankedassign.kinds.kind_of).
+NOT_A_PROBLEM = (r"problem must be one of \(AssignmentProblem, MultiSensorProblem, "
+                 r"AdaptiveBirthProblem\), got ")
+
 
 def check_ranked(problem, r):
     a, c = r
@@ -160,7 +164,7 @@ def test_bad_limit(kwargs, exc, match):
 
 
 def test_not_a_problem():
-    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got ndarray"):
+    with pytest.raises(TypeError, match=NOT_A_PROBLEM + r"ndarray"):
         enumerate_assignments(np.zeros((1, 3)))
 
 

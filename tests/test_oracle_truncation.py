@@ -14,6 +14,10 @@ from oracle.single import murty
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
 
+#: The message of an object of no known problem kind (rankedassign.kinds.kind_of).
+NOT_A_PROBLEM = (r"problem must be one of \(AssignmentProblem, MultiSensorProblem, "
+                 r"AdaptiveBirthProblem\), got ")
+
 
 def exact_weights(problem, assignments):
     """Weights relative to the best, from exact (Decimal) sums of the cost entries."""
@@ -136,9 +140,9 @@ def test_bad_input_types_and_sizes():
         truncation_error(p, [[0, 1, 2]])
     with pytest.raises(TypeError, match="integer array of column indices"):
         truncation_error(p, [[0.5, 1, 2, 3]])
-    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got str"):
+    with pytest.raises(TypeError, match=NOT_A_PROBLEM + r"str"):
         truncation_error("p", [[0, 1, 2, 3]])
-    with pytest.raises(TypeError, match="must be a rankedassign.AssignmentProblem.*got NoneType"):
+    with pytest.raises(TypeError, match=NOT_A_PROBLEM + r"NoneType"):
         best_mass(None, 3)
     with pytest.raises(ValueError, match="too large for the exact subset DP"):
         truncation_error(synthetic.random(R=21, M=21, rng=0), np.arange(21)[None, :])

@@ -20,8 +20,7 @@ Examples
 """
 
 from ..engine.kind import Kind
-from . import _kernels, reference, synthetic
-from .prepare import prepare
+from . import _kernels, prepare, reference, synthetic
 from .problem import SENSOR_ORDERS, AdaptiveBirthProblem, BirthLMB, birth_from_samples
 
 __all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples", "SENSOR_ORDERS",
@@ -31,7 +30,7 @@ __all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples", "SENSOR_ORD
 KIND = Kind(
     name="adaptive_birth",
     problem_type=AdaptiveBirthProblem,
-    prepare=prepare,
+    prepare=prepare.prepare,
     new_work=reference.new_work,
     sweep=reference.sweep,
     drivers={"chains": _kernels.run_chains},

@@ -26,8 +26,8 @@ Examples
 """
 
 from ..engine.kind import Kind
-from . import _kernels, reference, synthetic
-from .prepare import METHODS, prepare
+from . import _kernels, prepare, reference, synthetic
+from .prepare import METHODS
 from .problem import MultiSensorProblem, count_feasible_all_positive
 
 __all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic", "METHODS", "KIND"]
@@ -36,7 +36,7 @@ __all__ = ["MultiSensorProblem", "count_feasible_all_positive", "synthetic", "ME
 KIND = Kind(
     name="multisensor",
     problem_type=MultiSensorProblem,
-    prepare=prepare,
+    prepare=prepare.prepare,
     new_work=reference.new_work,
     sweep=reference.sweep,
     drivers={"chains": _kernels.run_chains},

@@ -20,8 +20,7 @@ Examples
 """
 
 from ..engine.kind import Kind
-from . import _kernels, reference, synthetic
-from .prepare import prepare
+from . import _kernels, prepare, reference, synthetic
 from .problem import AssignmentProblem
 
 __all__ = ["AssignmentProblem", "synthetic", "KIND"]
@@ -30,7 +29,7 @@ __all__ = ["AssignmentProblem", "synthetic", "KIND"]
 KIND = Kind(
     name="single",
     problem_type=AssignmentProblem,
-    prepare=prepare,
+    prepare=prepare.prepare,
     new_work=reference.new_work,
     sweep=reference.sweep,
     drivers={"direct": _kernels.run_chains, "prefix": _kernels.run_chains_prefix},
