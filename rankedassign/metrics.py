@@ -29,7 +29,20 @@ __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "tra
 
 
 class OSPAResult(NamedTuple):
-    """OSPA distance and its two components (all floats, in the units of the points)."""
+    """OSPA distance and its two components (all floats, in the units of the points).
+
+    With ``m <= n`` points in the smaller and larger set, ``value**p == localisation**p +
+    cardinality**p`` and every component lies in ``[0, c]``.
+
+    Attributes
+    ----------
+    value : float
+        The OSPA distance ``d_p^(c)(X, Y)``.
+    localisation : float
+        The part due to the assigned pairs, ``((1/n) min_pi sum_i d^(c)(x_i, y_pi(i))^p)^(1/p)``.
+    cardinality : float
+        The part due to the ``n - m`` unassigned points, ``c ((n - m) / n)^(1/p)``.
+    """
 
     value: float
     localisation: float
@@ -37,7 +50,22 @@ class OSPAResult(NamedTuple):
 
 
 class OSPA2Result(NamedTuple):
-    """OSPA(2) per scan: arrays of shape ``(n_scans,)``."""
+    """OSPA(2) per scan: arrays of shape ``(n_scans,)``.
+
+    Entry ``k`` of each array is the OSPA of the window ending at scan ``k`` (spec §7.3) on the
+    time-averaged track distances; as for :class:`OSPAResult`, ``value**p == localisation**p +
+    cardinality**p`` scan by scan.
+
+    Attributes
+    ----------
+    value : ndarray of float64, shape (n_scans,)
+        OSPA(2) at each scan, in ``[0, c]``; 0 where no track exists in the window.
+    localisation : ndarray of float64, shape (n_scans,)
+        Its component due to the assigned pairs of tracks.
+    cardinality : ndarray of float64, shape (n_scans,)
+        Its component due to tracks left without a partner (more true tracks than estimates or
+        the other way round).
+    """
 
     value: np.ndarray
     localisation: np.ndarray

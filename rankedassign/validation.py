@@ -87,6 +87,7 @@ def check_int(value, name: str, *, minimum: int = 0, maximum: int = MAX_COUNT) -
     Returns
     -------
     int
+        ``value`` converted to a Python int (a numpy integer becomes an ``int``).
 
     Raises
     ------
@@ -127,6 +128,30 @@ def check_optional_int(value, name: str, *, minimum: int = 1, maximum: int = MAX
 
     ``none_means`` says in the messages what ``None`` stands for (default ``"off"``).
 
+    Parameters
+    ----------
+    value : object
+        The argument to check: ``None``, or a Python or numpy integer (``bool`` is refused).
+    name : str
+        Its name, used in the messages.
+    minimum, maximum : int, optional
+        Inclusive bounds on an integer ``value`` (default ``1`` and :data:`MAX_COUNT`).
+    none_means : str, optional
+        What ``None`` stands for, written in brackets in the range message
+        (``"tau_stall must be None (off) or an int >= 1"``).
+
+    Returns
+    -------
+    int or None
+        ``None`` if ``value`` is ``None``, else ``value`` as a Python int.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is neither ``None`` nor an integer.
+    ValueError
+        If it is an integer outside ``[minimum, maximum]``.
+
     Examples
     --------
     >>> check_optional_int(None, "tau_stall") is None
@@ -154,6 +179,18 @@ def check_bool(value, name: str) -> bool:
     Strings, numbers and ``None`` are refused: ``bool("false")`` is true, so a switch parsed by
     truthiness would turn on when a user means off.
 
+    Parameters
+    ----------
+    value : object
+        The argument to check.
+    name : str
+        Its name, used in the message.
+
+    Returns
+    -------
+    bool
+        ``value`` as a Python bool (a ``numpy.bool_`` is converted).
+
     Raises
     ------
     TypeError
@@ -175,6 +212,20 @@ def check_bool(value, name: str) -> bool:
 
 def check_choice(value, name: str, choices) -> str:
     """Return ``value`` if it is one of the strings ``choices``.
+
+    Parameters
+    ----------
+    value : object
+        The argument to check; only a ``str`` equal to one of ``choices`` passes.
+    name : str
+        What ``value`` names (``"scan"``, ``"backend"``), used in the message.
+    choices : iterable of str
+        The allowed values, listed in the message in this order.
+
+    Returns
+    -------
+    str
+        ``value`` itself, unchanged.
 
     Raises
     ------
@@ -202,13 +253,27 @@ def check_real(value, name: str, *, minimum=None, maximum=None, strict_minimum=F
     Parameters
     ----------
     value : object
+        The argument to check: a Python or numpy real number (``bool`` is refused).
     name : str
+        Its name, used in the messages.
     minimum, maximum : float or None
         Bounds (``None``: unbounded); ``maximum`` is inclusive.
     strict_minimum : bool
         Require ``value > minimum`` instead of ``>=``.
     finite : bool
         Refuse ``inf`` (NaN is always refused).
+
+    Returns
+    -------
+    float
+        ``value`` as a Python float.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a real number (``bool``, strings, complex numbers, ``None``).
+    ValueError
+        If it is NaN, infinite while ``finite`` is true, or outside the bounds.
 
     Examples
     --------
@@ -236,6 +301,29 @@ def check_real(value, name: str, *, minimum=None, maximum=None, strict_minimum=F
 def check_type(value, name: str, types, hint: str = ""):
     """Return ``value`` if it is an instance of ``types``, else raise :class:`TypeError`.
 
+    Parameters
+    ----------
+    value : object
+        The argument to check.
+    name : str
+        Its name, used in the message.
+    types : type or tuple of type
+        The accepted types, as for :func:`isinstance`; their names are joined by ``" or "`` in
+        the message.
+    hint : str, optional
+        Advice appended to the message after a semicolon (e.g. how to build the right object);
+        empty by default.
+
+    Returns
+    -------
+    object
+        ``value`` itself, unchanged.
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not an instance of ``types``.
+
     Examples
     --------
     >>> check_type(3, "x", int)
@@ -254,6 +342,18 @@ def check_type(value, name: str, types, hint: str = ""):
 
 def format_bytes(n: int) -> str:
     """``n`` bytes in binary units with the exact count, for messages.
+
+    Parameters
+    ----------
+    n : int
+        A number of bytes, non-negative (converted with :class:`int`).
+
+    Returns
+    -------
+    str
+        ``"<n> bytes"`` below 1 KiB; otherwise the size to one decimal in the largest binary
+        unit (KiB to YiB) followed by the exact count in brackets; beyond the YiB range, ``n``
+        in scientific notation.
 
     Examples
     --------

@@ -40,6 +40,7 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
     Parameters
     ----------
     problem : AdaptiveBirthProblem
+        The tuple target to enumerate.
     limit : int, optional
         Refuse when the tuple space holds more than this many tuples. The enumeration takes
         ``8 (3 V + 3)`` bytes per tuple: more than
@@ -86,6 +87,25 @@ def enumerate_assignments(problem, *, limit: int = 2_000_000) -> Ranked:
 def log_normalizer(problem) -> float:
     """``ln sum_J rho(J)`` over the whole tuple space (the Gibbs target's normaliser).
 
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+        The tuple target; its dense tensor :meth:`~AdaptiveBirthProblem.log_weights` is
+        built (or read) once.
+
+    Returns
+    -------
+    float
+        ``ln sum_J rho(J)``, computed with a log-sum-exp over the tensor; ``-inf`` never occurs
+        (the all-missed tuple has a finite weight).
+
+    Raises
+    ------
+    TypeError
+        If ``problem`` is not an AdaptiveBirthProblem.
+    ValueError
+        If its tuple space is too large for the dense tensor.
+
     Examples
     --------
     >>> import numpy as np
@@ -101,6 +121,25 @@ def log_normalizer(problem) -> float:
 
 def marginals(problem) -> list:
     """Per-sensor marginals of ``pi_B``: entry ``v`` is ``P(j^(v) = j)``, shape (M_v + 1,).
+
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+        The tuple target; its dense tensor :meth:`~AdaptiveBirthProblem.log_weights` is
+        built (or read) once.
+
+    Returns
+    -------
+    list of V ndarray of float64, shape (M_v + 1,)
+        Entry ``v``, index ``j``: the probability under ``pi_B = rho / sum rho`` that sensor
+        ``v``'s component of the tuple is ``j`` (index 0: missed). Each sums to 1.
+
+    Raises
+    ------
+    TypeError
+        If ``problem`` is not an AdaptiveBirthProblem.
+    ValueError
+        If its tuple space is too large for the dense tensor.
 
     Examples
     --------
@@ -120,6 +159,22 @@ def marginals(problem) -> list:
 
 def kept_mask(problem) -> np.ndarray:
     """Boolean tensor of the birth tuples ``T* = {J : #det(J) >= max(n_min, 1)}`` (spec §5).
+
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+        The tuple target; only its shape and ``n_min`` are used.
+
+    Returns
+    -------
+    ndarray of bool, shape (M_1 + 1, ..., M_V + 1)
+        True at every tuple detected by at least ``max(n_min, 1)`` sensors (the all-missed
+        tuple is never a birth).
+
+    Raises
+    ------
+    TypeError
+        If ``problem`` is not an AdaptiveBirthProblem.
 
     Examples
     --------
@@ -141,6 +196,7 @@ def truncation_error(problem, assignments) -> float:
     Parameters
     ----------
     problem : AdaptiveBirthProblem
+        The tuple target; its weights and ``n_min`` define ``T*``.
     assignments : array_like of int, shape (k, V) or (V,)
         Tuples (for instance a sampler's ``assignments``). Duplicates count once; tuples
         outside ``T*`` (the all-missed start, fewer than ``n_min`` detections) are ignored,
@@ -189,6 +245,7 @@ def transition_matrix(problem, sensor_order: str = "random", *, limit: int = 200
     Parameters
     ----------
     problem : AdaptiveBirthProblem
+        A tiny tuple target (at most ``limit`` tuples).
     sensor_order : {"random", "fixed"}
         As the samplers' option: the average over all ``V!`` orders of the product of the
         per-sensor kernels, or ``K_0 K_1 ... K_{V-1}``.

@@ -185,13 +185,32 @@ def _check(problem, method, survival_power):
 def row_kernels(problem, method="exact", *, survival_power=1, states=None):
     """The single-row kernels ``K_n`` (one row update each) of a multi-sensor sampler.
 
-    Parameters are as in :func:`transition_matrix`.
+    Parameters
+    ----------
+    problem : MultiSensorProblem
+        A tiny problem (uses ``n_rows``, ``n_sensors``, ``n_meas``, ``log_eta_dead``,
+        ``log_eta_alive``, and for the MM methods ``log_s`` and ``log_theta``).
+    method : {"exact", "mm", "mm-fixed", "componentwise"}
+        Which sampler's row conditional to write down (module docstring).
+    survival_power : {1, "V"}
+        ``alpha`` of the MM alive mass ``s_n^alpha`` (``"V"``: ``alpha = V``); ignored by
+        ``"exact"`` and ``"componentwise"``.
+    states : ndarray of int64, shape (S, P, V), optional
+        The state list the kernels are indexed by (default :func:`multisensor_states`,
+        collapsed for ``"componentwise"``).
 
     Returns
     -------
-    kernels : list of ndarray, shape (S, S)
-        ``kernels[n][s, t]`` = probability that updating row ``n`` moves state ``s`` to ``t``.
-    states : ndarray, shape (S, P, V)
+    kernels : list of P ndarray of float64, shape (S, S)
+        ``kernels[n][s, t]`` = probability that updating row ``n`` moves state ``s`` to ``t``;
+        each row sums to 1 (a state whose row has no candidate of positive weight stays put).
+    states : ndarray of int64, shape (S, P, V)
+        The states, in the order of the kernels' rows and columns.
+
+    Raises
+    ------
+    ValueError
+        On an unknown method or survival power, or too many states.
 
     Examples
     --------
@@ -221,6 +240,7 @@ def transition_matrix(problem, method="exact", *, scan="systematic", survival_po
     problem : MultiSensorProblem
         A tiny problem (uses the arrays named in :mod:`rankedassign.multisensor`).
     method : {"exact", "mm", "mm-fixed", "componentwise"}
+        Which sampler's row conditional (module docstring).
     scan : {"systematic", "random"}
         Rows ``0..P-1`` in order, or a uniformly random order per sweep (``K`` averaged over
         the ``P!`` orders).
@@ -233,7 +253,8 @@ def transition_matrix(problem, method="exact", *, scan="systematic", survival_po
     -------
     K : ndarray, shape (S, S)
         ``K[s, t]`` = probability that one sweep moves state ``s`` to state ``t``.
-    states : ndarray, shape (S, P, V)
+    states : ndarray of int64, shape (S, P, V)
+        The states, in the order of the rows and columns of ``K``.
 
     Raises
     ------
@@ -269,6 +290,18 @@ def stationary_distribution(K):
 
     Solved as the least-squares solution of ``mu (K - I) = 0``, ``sum(mu) = 1``.
 
+    Parameters
+    ----------
+    K : array_like of float, shape (S, S)
+        A row-stochastic matrix (``K[s, t]``: probability of moving from ``s`` to ``t``), e.g.
+        from :func:`transition_matrix`.
+
+    Returns
+    -------
+    ndarray of float64, shape (S,)
+        ``mu``, summing to 1; entries below ``1e-15`` in magnitude (round-off of transient
+        states) are set to 0.
+
     Examples
     --------
     >>> import numpy as np
@@ -292,6 +325,29 @@ def target_distribution(problem, states, method="exact", *, survival_power=1):
     collapsed ``eta'``; ``"mm"``: ``pi~ ∝ prod_n eta~_n(gamma_n)``, ``eta~_n(-1) = eta_n(-1)``,
     ``eta~_n(t) = s_n^alpha prod_v theta_n^(v)(t^(v))`` (spec eq. 3.2). ``"mm-fixed"`` has no
     closed-form target (``ValueError``).
+
+    Parameters
+    ----------
+    problem : MultiSensorProblem
+        The problem whose weights define the target (``log_s`` and ``log_theta`` for
+        ``"mm"``).
+    states : ndarray of int, shape (S, P, V)
+        The states to evaluate it on, e.g. those of :func:`transition_matrix` (collapsed
+        states for ``"componentwise"``).
+    method : {"exact", "mm", "componentwise"}
+        Which target: ``pi``, ``pi~`` or ``pi'``.
+    survival_power : {1, "V"}
+        ``alpha`` of ``s_n^alpha`` in ``pi~`` (``"V"``: ``alpha = V``); used by ``"mm"`` only.
+
+    Returns
+    -------
+    ndarray of float64, shape (S,)
+        The target probability of each state, normalised over ``states``.
+
+    Raises
+    ------
+    ValueError
+        On an unknown method (``"mm-fixed"`` included).
 
     Examples
     --------

@@ -96,6 +96,26 @@ class AdaptiveBirthProblem:
     Build one with :meth:`from_measurements` (linear-Gaussian sensors, the closed form) or
     :meth:`from_log_weights` (any tensor of log-weights). The state is a tuple
     ``J = (j^(1), ..., j^(V))`` with ``j^(v)`` in ``0..M_v`` (0 = missed by sensor ``v``).
+    The constructor itself is private and trusts its arguments; the two builders validate them.
+
+    Parameters
+    ----------
+    shape : sequence of int
+        ``(M_1 + 1, ..., M_V + 1)``, the shape of the tuple space (one axis per sensor).
+    n_min : int
+        Minimum number of detections of a birth tuple, ``0 <= n_min <= V`` (already checked).
+    tensor : ndarray of float64, optional
+        Read-only tensor of ``ln rho`` of shape ``shape`` (:meth:`from_log_weights`);
+        ``None`` for the linear-Gaussian form.
+    model : dict, optional
+        The linear-Gaussian model and the per-measurement information terms precomputed by
+        :meth:`from_measurements` (the prior ``mu0``, ``P0``, its inverse ``M0`` and
+        ``b0 = M0 mu0``, ``c0 = mu0' M0 mu0``, the sensors' ``H``, ``R``, kept ``z``, and
+        ``A``, ``a``, ``cz``, ``const``, ``log_miss``, ``off`` of the Notes there); ``None``
+        for a tensor problem.
+    kept : tuple of V ndarray of int64, optional
+        Indices of the kept measurements per sensor (see Attributes); ``None`` for a tensor
+        problem.
 
     Attributes
     ----------
@@ -400,6 +420,12 @@ class AdaptiveBirthProblem:
     def n_feasible(self) -> int:
         """Size of the tuple space, ``prod_v (M_v + 1)`` (spec §6.1).
 
+        Returns
+        -------
+        int
+            The number of tuples ``J``; every one is a state of the sampler (no one-to-one
+            constraint), although tuples of weight zero are never visited.
+
         Examples
         --------
         >>> import numpy as np
@@ -410,6 +436,24 @@ class AdaptiveBirthProblem:
 
     def n_detections(self, tuples) -> np.ndarray:
         """Number of sensors that detect each tuple, ``#{v : j^(v) > 0}``.
+
+        Parameters
+        ----------
+        tuples : array_like of int, shape (n, V) or (V,)
+            Measurement tuples, entry ``v`` in ``0..M_v``.
+
+        Returns
+        -------
+        ndarray of int, shape (n,)
+            The count of non-zero entries of each tuple (shape ``(1,)`` for a single tuple);
+            tuples with fewer than :attr:`n_min` detections are not births.
+
+        Raises
+        ------
+        TypeError
+            If the tuples are not integers.
+        ValueError
+            On a wrong shape or an entry outside ``0..M_v``.
 
         Examples
         --------
@@ -445,10 +489,13 @@ class AdaptiveBirthProblem:
         Parameters
         ----------
         tuples : array_like of int, shape (n, V) or (V,)
+            Measurement tuples, entry ``v`` in ``0..M_v`` (0 = missed by sensor ``v``).
 
         Returns
         -------
-        ndarray, shape (n,), or float
+        ndarray of float64, shape (n,), or float
+            ``ln rho(J)`` of each tuple, a float for a single ``(V,)`` tuple; ``-inf`` for a
+            tuple of weight zero.
 
         Raises
         ------
@@ -472,6 +519,22 @@ class AdaptiveBirthProblem:
     def cost_of(self, tuples) -> np.ndarray | float:
         """``-ln rho(J)`` (the samplers' ``costs``).
 
+        Parameters
+        ----------
+        tuples : array_like of int, shape (n, V) or (V,)
+            Measurement tuples, entry ``v`` in ``0..M_v``.
+
+        Returns
+        -------
+        ndarray of float64, shape (n,), or float
+            ``-self.log_weight_of(tuples)``; a float for a single ``(V,)`` tuple; ``+inf`` for
+            a tuple of weight zero.
+
+        Raises
+        ------
+        TypeError, ValueError
+            As :meth:`log_weight_of`.
+
         Examples
         --------
         >>> import numpy as np
@@ -483,6 +546,13 @@ class AdaptiveBirthProblem:
 
     def log_weights(self) -> np.ndarray:
         """The dense tensor of ``ln rho`` over the tuple space, shape :attr:`shape`.
+
+        Returns
+        -------
+        ndarray of float64, shape (M_1 + 1, ..., M_V + 1)
+            Entry ``J`` is ``ln rho(J)`` (as :meth:`log_weight_of`); ``-inf`` for weight zero.
+            Read-only: the tensor given to :meth:`from_log_weights`, or the closed form
+            evaluated once for every tuple and cached.
 
         Raises
         ------

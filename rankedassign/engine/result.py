@@ -146,6 +146,33 @@ def check_rules(tau_stall, tau_stale, stall, stale):
     """Validate the stall/stale thresholds and readings; return ``(tau_stall, tau_stale)``.
 
     ``None`` switches a rule off; a threshold is otherwise an int >= 1.
+
+    Parameters
+    ----------
+    tau_stall : int or None
+        Stall threshold (spec §3.2): a chain ends once this many of its observations were
+        not new, counted as the ``stall`` reading says; ``None`` switches the rule off.
+    tau_stale : int or None
+        Stale threshold (spec §3.2): the run ends once this many chains added nothing new,
+        counted as the ``stale`` reading says; ``None`` switches the rule off.
+    stall : str
+        Reading of the stall rule, a key of :data:`~rankedassign.validation.STALL_READINGS`
+        (``"global-consecutive"``, ``"global-cumulative"``, ``"chain-local"``).
+    stale : str
+        Reading of the stale rule, a key of :data:`~rankedassign.validation.STALE_READINGS`
+        (``"consecutive"``, ``"cumulative"``, ``"literal-set"``, ``"literal-multiset"``).
+
+    Returns
+    -------
+    tau_stall, tau_stale : int or None
+        The thresholds as Python ints, ``None`` where a rule is off.
+
+    Raises
+    ------
+    TypeError
+        If a threshold is neither ``None`` nor an int.
+    ValueError
+        If a threshold is below 1 or a reading is unknown.
     """
     tau_stall = check_optional_int(tau_stall, "tau_stall")
     tau_stale = check_optional_int(tau_stale, "tau_stale")
@@ -155,7 +182,27 @@ def check_rules(tau_stall, tau_stale, stall, stale):
 
 
 def check_chain_budget(n_chains, chain_length):
-    """Validate ``N_S`` and ``N_C`` (ints in ``[0, 2**62]``)."""
+    """Validate ``N_S`` and ``N_C`` (ints in ``[0, 2**62]``).
+
+    Parameters
+    ----------
+    n_chains : int
+        ``N_S``, the number of short chains to run at most.
+    chain_length : int
+        ``N_C``, the sweeps (observations) per chain.
+
+    Returns
+    -------
+    n_chains, chain_length : int
+        Both as Python ints.
+
+    Raises
+    ------
+    TypeError
+        If either is not an int (``bool`` and floats included).
+    ValueError
+        If either is negative or above :data:`~rankedassign.validation.MAX_COUNT`.
+    """
     return check_int(n_chains, "n_chains"), check_int(chain_length, "chain_length")
 
 
@@ -166,6 +213,22 @@ def zero_length_run(n_chains, tau_stale, stale):
     counters are ``c`` (consecutive, cumulative), ``0`` (literal-set) and ``c - 1``
     (literal-multiset: ``c`` start states, no observation, ``|U| = 1``). Computed in closed
     form so that ``n_chains = 10**9`` returns at once instead of looping over empty chains.
+
+    Parameters
+    ----------
+    n_chains : int
+        ``N_S``, the chains allowed (already validated, ``>= 0``).
+    tau_stale : int or None
+        Stale threshold; ``None`` means the stale rule is off.
+    stale : str
+        Reading of the stale rule (a key of :data:`~rankedassign.validation.STALE_READINGS`).
+
+    Returns
+    -------
+    n_chains_run : int
+        Chains started before the run ends: ``n_chains``, or fewer if the stale rule fires.
+    stale_fired : bool
+        Whether the stale rule ended the run.
 
     Examples
     --------
@@ -184,7 +247,33 @@ def zero_length_run(n_chains, tau_stale, stale):
 
 def package(prep: Prepared, states, counts, n_obs, n_chains_run, stale, discarded
             ) -> SamplerResult:
-    """Turn a run's unique states and counters into a :class:`SamplerResult`."""
+    """Turn a run's unique states and counters into a :class:`SamplerResult`.
+
+    Parameters
+    ----------
+    prep : Prepared
+        The run's prepared inputs; ``prep.to_result`` maps states to assignments and costs and
+        ``prep.rows`` gives the row updates per sweep.
+    states : array_like of int, shape (n_unique, L) or (n_unique * L,)
+        The unique states visited, in order of discovery (start state first), one row of
+        ``L = prep.x0.shape[0]`` entries each (a flat buffer is reshaped).
+    counts : array_like of int, shape (n_unique,)
+        Observations of each state.
+    n_obs : int
+        Sweeps performed in total (= observations).
+    n_chains_run : int
+        Chains started.
+    stale : bool
+        Whether the stale rule ended the run (``stop_reason="stale"``).
+    discarded : int
+        Sweeps simulated ahead by the parallel kernel and not used (0 for sequential runs).
+
+    Returns
+    -------
+    SamplerResult
+        The result record, with fresh read-only ``assignments``, ``costs`` and ``counts``
+        arrays and ``n_row_updates = n_obs * prep.rows``.
+    """
     states = np.asarray(states, dtype=np.int64).reshape(len(counts), prep.x0.shape[0])
     assignments, costs = prep.to_result(states)
     return SamplerResult(

@@ -82,6 +82,18 @@ def mix64(z: int) -> int:
 def chain_state(base: int, chain: int) -> int:
     """Initial SplitMix64 state of chain ``chain``: ``mix64(base ^ mix64(chain + 1))``.
 
+    Parameters
+    ----------
+    base : int
+        The run's 64-bit base key (:func:`base_key`); only its low 64 bits are used.
+    chain : int
+        0-based chain index (the original sampler's single chain is chain 0).
+
+    Returns
+    -------
+    int
+        The chain's initial state, in ``[0, 2**64)``.
+
     Examples
     --------
     >>> chain_state(0, 0) == mix64(mix64(1))
@@ -216,10 +228,22 @@ class SplitMix64:
         self.state = state & MASK64
 
     def next_u64(self) -> int:
-        """Advance the state by the golden-ratio increment and return the mixed state."""
+        """Advance the state by the golden-ratio increment and return the mixed state.
+
+        Returns
+        -------
+        int
+            ``mix64(state)`` of the advanced state, in ``[0, 2**64)``.
+        """
         self.state = (self.state + GOLDEN) & MASK64
         return mix64(self.state)
 
     def uniform(self) -> float:
-        """A double in ``[0, 1)``: the top 53 bits of :meth:`next_u64` times ``2**-53``."""
+        """A double in ``[0, 1)``: the top 53 bits of :meth:`next_u64` times ``2**-53``.
+
+        Returns
+        -------
+        float
+            A multiple of ``2**-53`` in ``[0, 1)``; the state advances by one step.
+        """
         return (self.next_u64() >> 11) * TWO_M53

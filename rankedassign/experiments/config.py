@@ -106,6 +106,26 @@ class Table1Config(_Synthetic):
     By default the random family is also run under the other reading of ``Pbar_D``
     (:data:`OTHER_RANDOM`), so the report shows both readings beside the paper's row.
 
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
+    families : tuple of str
+        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
+    original_obs : int
+        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
+        (Vo's code).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    diagonal_pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the diagonal family (spec A2).
+
     Examples
     --------
     >>> from rankedassign.experiments import Table1Config
@@ -122,6 +142,31 @@ class AblationConfig(_Synthetic):
 
     By default it adds the random family under the other reading of ``Pbar_D``
     (:data:`OTHER_RANDOM`, spec A2) to the paper's three, so that reading is ablated too.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
+    families : tuple of str
+        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
+    original_obs : int
+        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
+        (Vo's code).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    diagonal_pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the diagonal family (spec A2).
+    stall_readings : tuple of str
+        Readings of the stall rule to run (a non-empty subset of :data:`STALL_READINGS`).
+    stale_readings : tuple of str
+        Readings of the stale rule to run (a non-empty subset of :data:`STALE_READINGS`);
+        every stall reading is paired with every stale reading.
 
     Examples
     --------
@@ -148,6 +193,28 @@ class AblationConfig(_Synthetic):
 class OptimumConfig(_Synthetic):
     """Sampled truncation error next to the best error with as many distinct solutions.
 
+    The short-chain sampler runs with both rules under the recommended readings (S3, T3).
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
+    families : tuple of str
+        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
+    original_obs : int
+        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
+        (Vo's code).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    diagonal_pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the diagonal family (spec A2).
+
     Examples
     --------
     >>> from rankedassign.experiments import OptimumConfig
@@ -159,6 +226,22 @@ class OptimumConfig(_Synthetic):
 @dataclass(frozen=True)
 class SweepConfig:
     """Truncation error against the number of observations, no early stopping.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family.
+    families : tuple of str
+        Matrix families to run (:data:`ALL_FAMILIES`).
+    obs_grid : tuple of int
+        Observation budgets (sweeps), strictly increasing; at budget ``n`` the original
+        sampler runs ``n`` sweeps and the short-chain sampler ``n // L`` chains of ``L``.
+    chain_lengths : tuple of int
+        Chain lengths ``L`` of the short-chain sampler (a length above the budget is skipped).
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family, and of the diagonal family if it is run (spec A2).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
 
     Examples
     --------
@@ -195,6 +278,39 @@ class SweepConfig:
 class TrackingConfig:
     """The paper's tracking study (paper §V-B, spec §6.6).
 
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs (scenarios), each filtered once with each sampler.
+    preset : str
+        Scenario and model preset (a key of :data:`rankedassign.tracking.models.PRESETS`).
+    n_scans : int
+        Scans per run.
+    original_obs : int
+        Sweeps of the original sampler per call.
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler per call.
+    tau_stall, tau_stale : int
+        Thresholds of its stall and stale rules (readings S3, T3).
+    grouping : bool
+        One sampler call per group of tracks sharing gated measurements (spec §6.5a) instead
+        of one per scan.
+    sample_empty_groups : bool
+        Also hand groups without gated measurements to the samplers (``LMBFilter``'s
+        ``sample_empty_groups``): the accounting the paper's observation totals fit.
+    extraction : str or None
+        State extraction rule of the filter; ``None`` takes the preset's own rule (hysteresis
+        for "paper", MAP cardinality for "vo").
+    marginals : str
+        Association marginals of both samplers: ``"truncated"`` (the paper's construction)
+        or ``"rao-blackwell"`` (:func:`rankedassign.tracking.marginals_from_hypotheses`).
+    ospa_c : float
+        OSPA(2) cut-off, in metres (spec §7).
+    ospa_p : float
+        OSPA(2) order, ``>= 1``.
+    ospa_window : int
+        OSPA(2) window length, in scans.
+
     Examples
     --------
     >>> from rankedassign.experiments import TrackingConfig
@@ -230,6 +346,16 @@ class TrackingConfig:
     def paper_var(cls, **changes) -> TrackingConfig:
         """The ``tracking_var`` study: preset ``"paper-var"`` (the paper's birth numbers read as
         variances) with one sampler call per group of tracks, empty groups included.
+
+        Parameters
+        ----------
+        **changes
+            Further field values (e.g. ``n_mc=3``); they override the three above too.
+
+        Returns
+        -------
+        TrackingConfig
+            The settings, validated as any :class:`TrackingConfig`.
 
         Examples
         --------
@@ -273,6 +399,23 @@ class ReadingsConfig:
     ``Pbar_D`` also enters the diagonal family: every random reading is combined with each
     reading of the diagonal family's ``Pbar_D`` in ``diagonal_readings``, so each combination
     is a complete Table I; the uniform family depends on neither choice and is run once.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family and reading.
+    readings : tuple of (str, str)
+        ``(pbar_d, granularity)`` readings of the random family, a non-empty subset of
+        :data:`RANDOM_READINGS` (lists are turned into tuples).
+    diagonal_readings : tuple of str
+        ``Pbar_D`` readings of the diagonal family, a non-empty subset of
+        ``("r_pd", "pd")``.
+    original_obs : int
+        Sweeps of the original sampler's single chain.
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler.
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (readings S3, T3).
 
     Examples
     --------

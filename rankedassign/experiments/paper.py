@@ -24,7 +24,17 @@ __all__ = [
 
 
 class PaperCell(NamedTuple):
-    """One cell of the paper's Table I: ΔObs (%) and ΔError (percentage points)."""
+    """One cell of the paper's Table I: ΔObs (%) and ΔError (percentage points).
+
+    Attributes
+    ----------
+    delta_obs_pct : float
+        ΔObs, the share of the original sampler's observations the short chains save, in
+        percent (two decimals, as printed).
+    delta_error_pp : float
+        ΔError, the absolute difference of the mean truncation errors, in percentage points
+        (two decimals, as printed).
+    """
 
     delta_obs_pct: float
     delta_error_pp: float
@@ -59,6 +69,21 @@ def distance_in_se(ours: float, se: float | None, paper: float) -> float | None:
     A zero standard error gives 0 when the two agree to the paper's printed precision and
     ``±inf`` otherwise.
 
+    Parameters
+    ----------
+    ours : float
+        Our estimate (e.g. a mean ΔObs in % or ΔError in pp).
+    se : float or None
+        Its Monte Carlo standard error, ``None`` for a single run.
+    paper : float
+        The paper's printed value of the same quantity.
+
+    Returns
+    -------
+    float or None
+        ``(ours - paper) / se`` rounded to two decimals (signed: positive when ours is
+        larger); 0 or ``±inf`` for ``se == 0`` as above; ``None`` if ``se`` is ``None``.
+
     Examples
     --------
     >>> from rankedassign.experiments.paper import distance_in_se
@@ -83,6 +108,20 @@ def agrees(ours: float, se: float | None, paper: float) -> bool | None:
 
     The paper prints two decimals, so its number stands for an interval half a unit of the last
     digit wide on either side; ``None`` without a standard error (one Monte Carlo run).
+
+    Parameters
+    ----------
+    ours : float
+        Our estimate (e.g. a mean ΔObs in % or ΔError in pp).
+    se : float or None
+        Its Monte Carlo standard error, ``None`` for a single run.
+    paper : float
+        The paper's printed value of the same quantity (:data:`PAPER_DECIMALS` decimals).
+
+    Returns
+    -------
+    bool or None
+        Whether ``|ours - paper| <= Z_LIMIT * se + 0.005``; ``None`` if ``se`` is ``None``.
 
     Examples
     --------

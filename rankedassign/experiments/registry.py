@@ -40,7 +40,9 @@ class ReproduceError(ValueError):
 class Study:
     """Everything the runner, the command line and the report need to know about one study.
 
-    Parameters
+    Built with one keyword per field below; frozen.
+
+    Attributes
     ----------
     name : str
         Identifier on the command line, in :class:`Config` and in the report's file names.
@@ -96,8 +98,21 @@ _REGISTRY: dict[str, Study] = {}
 def register_study(study: Study) -> Study:
     """Add ``study`` to the registry (run order: ``study.order``, then registration); returns it.
 
+    Parameters
+    ----------
+    study : Study
+        The study to register under ``study.name``. Registering the same object again does
+        nothing.
+
+    Returns
+    -------
+    Study
+        ``study`` itself, so a module can write ``TABLE1 = register_study(Study(...))``.
+
     Raises
     ------
+    TypeError
+        If ``study`` is not a :class:`Study`.
     ReproduceError
         If a different study of the same name is registered already.
 
@@ -119,6 +134,11 @@ def register_study(study: Study) -> Study:
 def study_names() -> tuple[str, ...]:
     """Names of the registered studies, in run order.
 
+    Returns
+    -------
+    tuple of str
+        The names, sorted by ``Study.order`` (ties in registration order).
+
     Examples
     --------
     >>> from rankedassign.experiments import study_names
@@ -130,6 +150,16 @@ def study_names() -> tuple[str, ...]:
 
 def get_study(name: str) -> Study:
     """The registered study called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A registered name (:func:`study_names`), e.g. ``"table1"``.
+
+    Returns
+    -------
+    Study
+        The registered record.
 
     Raises
     ------
@@ -229,6 +259,21 @@ class Config:
     **studies
         Settings of single studies, by name.
 
+    Attributes
+    ----------
+    mode : {"full", "quick"}
+        Whose settings filled the studies not given.
+    studies : dict of str to settings
+        The settings of every registered study, by name (each an instance of the study's
+        ``config_type``); also reachable as ``config.<name>`` and ``config["<name>"]``.
+
+    Raises
+    ------
+    ReproduceError
+        For an unknown mode or study name.
+    TypeError
+        If a study's settings are not of its ``config_type``.
+
     Examples
     --------
     >>> from rankedassign.experiments import Config
@@ -282,11 +327,39 @@ class Config:
         return cls("quick")
 
     def replace(self, **studies) -> Config:
-        """The same settings with some studies' settings replaced."""
+        """The same settings with some studies' settings replaced.
+
+        Parameters
+        ----------
+        **studies
+            New settings of single studies, by name (instances of each study's
+            ``config_type``).
+
+        Returns
+        -------
+        Config
+            A new object with the same ``mode``; the studies not named keep their settings.
+        """
         return Config(self.mode, **{**self.studies, **studies})
 
     def with_mc(self, n_mc: int) -> Config:
-        """The same settings with ``n_mc`` Monte Carlo runs in every study."""
+        """The same settings with ``n_mc`` Monte Carlo runs in every study.
+
+        Parameters
+        ----------
+        n_mc : int
+            Monte Carlo runs, ``>= 1``.
+
+        Returns
+        -------
+        Config
+            A new object in which every study's ``n_mc`` is ``n_mc`` (other settings kept).
+
+        Raises
+        ------
+        ValueError
+            If ``n_mc`` is not a positive integer.
+        """
         if isinstance(n_mc, bool) or not isinstance(n_mc, int) or n_mc < 1:
             raise ValueError(f"n_mc must be a positive integer, got {n_mc!r}")
         return self.replace(
@@ -294,7 +367,14 @@ class Config:
         )
 
     def to_dict(self) -> dict:
-        """Plain-data view (for the report's ``config.json``)."""
+        """Plain-data view (for the report's ``config.json``).
+
+        Returns
+        -------
+        dict
+            ``{"mode": mode, <study>: {field: value}, ...}``, each study's settings as
+            :func:`dataclasses.asdict` gives them.
+        """
         return {"mode": self.mode,
                 **{s: dataclasses.asdict(c) for s, c in self.studies.items()}}
 
@@ -305,12 +385,15 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
     Parameters
     ----------
     base : Config
+        The settings to start from.
     overrides : dict
         ``{study: {field: value}}``; lists become tuples.
 
     Returns
     -------
     Config
+        A new object: ``base`` with the named fields replaced (re-validated by each study's
+        settings type).
 
     Raises
     ------

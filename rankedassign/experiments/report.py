@@ -43,6 +43,15 @@ def _clean(obj):
 def write_json(path, obj) -> None:
     """Write ``obj`` as strict JSON (no NaN: non-finite numbers become ``null``).
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write (replaced if it exists); the text ends with a newline.
+    obj : object
+        Plain data (dicts, lists, numbers, strings, ``None``) or what converts to it: records
+        (dataclasses, named tuples) become objects, tuples and numpy arrays lists, numpy
+        scalars Python numbers, and keys strings.
+
     Examples
     --------
     >>> import json, math, tempfile, pathlib
@@ -57,6 +66,14 @@ def write_json(path, obj) -> None:
 
 def write_csv(path, rows: list[dict]) -> None:
     """Write a list of flat dicts as CSV (columns: union of keys in first-seen order).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        File to write (replaced if it exists).
+    rows : list of dict
+        One dict per line, keys the column names, values scalars; a key missing from a row,
+        a ``None`` and a non-finite float are written as empty cells.
 
     Examples
     --------

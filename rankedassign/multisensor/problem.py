@@ -597,6 +597,16 @@ class MultiSensorProblem:
         ``exp`` of the log-weights; may overflow to ``inf`` for huge weights, in which case
         work with the log arrays.
 
+        Returns
+        -------
+        eta_dead : ndarray of float64, shape (P,)
+            ``eta_n(-1)``, the weight of row ``n`` being dead (0 where it cannot be).
+        eta_alive : ndarray of float64, shape (P, M_1+1, ..., M_V+1)
+            ``eta_n(t)`` for every tuple ``t`` (index 0 on axis ``v``: missed by sensor ``v``);
+            0 for a forbidden tuple.
+
+        Both are new writable arrays.
+
         Examples
         --------
         >>> p = MultiSensorProblem.from_eta([0.5], [[0.25, 2.0]])
@@ -678,6 +688,11 @@ class MultiSensorProblem:
     def all_missed(self) -> np.ndarray:
         """The all-missed assignment: every row the tuple ``(0, ..., 0)``, shape ``(P, V)``.
 
+        Returns
+        -------
+        ndarray of int64, shape (P, V)
+            All zeros (the samplers' default start).
+
         Examples
         --------
         >>> MultiSensorProblem.from_eta([1.0], [[[1.0]]]).all_missed().tolist()
@@ -687,6 +702,11 @@ class MultiSensorProblem:
 
     def all_dead(self) -> np.ndarray:
         """The all-dead assignment: every entry ``-1``, shape ``(P, V)``.
+
+        Returns
+        -------
+        ndarray of int64, shape (P, V)
+            All ``-1``.
 
         Examples
         --------
@@ -809,6 +829,23 @@ class MultiSensorProblem:
 
     def cost_of(self, gamma) -> np.ndarray | float:
         """Cost ``-ln w(gamma)`` of each assignment (``+inf`` if infeasible).
+
+        Parameters
+        ----------
+        gamma : array_like of int, shape (P, V) or (n, P, V)
+            Labels, as for :meth:`log_weight_of`: a dead row is all ``-1``, otherwise each
+            entry is ``0`` (missed by that sensor) or ``j >= 1`` (its measurement ``j``).
+
+        Returns
+        -------
+        ndarray of float64, shape (n,), or float
+            ``-self.log_weight_of(gamma)``: a float for a single ``(P, V)`` assignment, else
+            one entry per assignment; ``+inf`` where an assignment is infeasible.
+
+        Raises
+        ------
+        TypeError, ValueError
+            As :meth:`log_weight_of`.
 
         Examples
         --------

@@ -393,6 +393,18 @@ class AssignmentProblem:
         ``exp(-cost)``; may overflow to ``inf`` for very negative costs, in which case use
         :attr:`compact_cost` and work in log space.
 
+        Returns
+        -------
+        eta_detect : ndarray of float64, shape (P, M)
+            ``eta_i(j)``, the weight of row ``i`` taking measurement ``j + 1``; 0 where the
+            pair is forbidden.
+        eta_missed : ndarray of float64, shape (P,)
+            ``eta_i(0)``, the weight of row ``i`` surviving undetected.
+        eta_dead : ndarray of float64, shape (P,)
+            ``eta_i(-1)``, the weight of row ``i`` not surviving (dead or not born).
+
+        All three are new writable arrays.
+
         Examples
         --------
         >>> p = AssignmentProblem.from_eta([[2.0]], [0.5], [0.25])
@@ -420,6 +432,11 @@ class AssignmentProblem:
     def all_missed(self) -> np.ndarray:
         """The all-missed assignment ``gamma = (0, ..., 0)``: column ``M + i`` for row ``i``.
 
+        Returns
+        -------
+        ndarray of int64, shape (P,)
+            The column indices ``M, M + 1, ..., M + P - 1`` (the samplers' default start).
+
         Examples
         --------
         >>> AssignmentProblem.from_cost([[0.5, 1.0, 2.0]]).all_missed()
@@ -429,6 +446,11 @@ class AssignmentProblem:
 
     def all_dead(self) -> np.ndarray:
         """The all-dead assignment ``gamma = (-1, ..., -1)``: column ``M + P + i`` for row ``i``.
+
+        Returns
+        -------
+        ndarray of int64, shape (P,)
+            The column indices ``M + P, ..., M + 2P - 1``.
 
         Examples
         --------
@@ -542,6 +564,17 @@ class AssignmentProblem:
 
     def log_weight_of(self, assignments) -> np.ndarray | float:
         """Log-weight ``ln w(gamma) = -cost`` of each assignment (``-inf`` if infeasible).
+
+        Parameters
+        ----------
+        assignments : array_like of int, shape (n, P) or (P,)
+            Column indices, one per row, as for :meth:`cost_of`.
+
+        Returns
+        -------
+        ndarray of float64, shape (n,), or float
+            ``-self.cost_of(assignments)``: a float for a single ``(P,)`` assignment, else one
+            entry per assignment; ``-inf`` where an assignment is infeasible.
 
         Examples
         --------

@@ -83,6 +83,41 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
     The specification of :func:`rankedassign.tracking._kernels.reduce_mixtures`, with the same
     parameters and results; see there.
 
+    Parameters
+    ----------
+    offsets : ndarray of int64, shape (T + 1,)
+        Component range of track ``t`` is ``offsets[t]:offsets[t + 1]``.
+    w : ndarray of float64, shape (C,)
+        Component weights, summing to 1 within each track.
+    m : ndarray of float64, shape (C, 4)
+        Component means ``(p_x, v_x, p_y, v_y)``.
+    P : ndarray of float64, shape (C, 4, 4)
+        Component covariances.
+    keep : ndarray of bool, shape (T,)
+        Tracks to keep; the others are dropped with their components.
+    elim : float
+        Pruning threshold: a component is kept if ``w > elim``; the heaviest one of each track
+        always stays.
+    merge_thr : float
+        Merging threshold ``U`` on the statistic chosen by ``rule``.
+    cap : int
+        Maximum number of components per track after merging.
+    rule : int
+        Merging criterion: 0 Bhattacharyya (eight times the distance), 1 Vo & Ma
+        (``d' P_i^-1 d``), 2 heaviest (``d' P_j^-1 d``), as in the kernel.
+
+    Returns
+    -------
+    offsets : ndarray of int64, shape (T_kept + 1,)
+        Component ranges of the kept tracks, in their original order.
+    w : ndarray of float64, shape (C_out,)
+        Weights, in decreasing order within each track (stable on ties) and renormalised to
+        sum to 1 per track.
+    m : ndarray of float64, shape (C_out, 4)
+        Means of the reduced components (moment-matched where components merged).
+    P : ndarray of float64, shape (C_out, 4, 4)
+        Their covariances, symmetrised.
+
     Examples
     --------
     >>> import numpy as np
@@ -111,6 +146,38 @@ _LOG_2PI = math.log(2.0 * math.pi)
 
 def gate_and_distances(m, P, R, z, offsets, gate, use_gate):
     """Innovation statistics and the χ² gate per track (reference; see the kernel).
+
+    The specification of :func:`rankedassign.tracking._kernels.gate_and_distances`.
+
+    Parameters
+    ----------
+    m : ndarray of float64, shape (C, 4)
+        Predicted component means ``(p_x, v_x, p_y, v_y)``.
+    P : ndarray of float64, shape (C, 4, 4)
+        Predicted component covariances.
+    R : ndarray of float64, shape (2, 2)
+        Measurement noise covariance (``H`` picks ``p_x, p_y``).
+    z : ndarray of float64, shape (M, 2)
+        The scan's measurements.
+    offsets : ndarray of int64, shape (T + 1,)
+        Component range of every track.
+    gate : float
+        Threshold on the squared Mahalanobis distance (a χ²₂ quantile).
+    use_gate : bool
+        False: every track–measurement pair is in the gate.
+
+    Returns
+    -------
+    det : ndarray of float64, shape (C,)
+        ``|S|`` with ``S = H P Hᵀ + R``.
+    Sinv : ndarray of float64, shape (C, 2, 2)
+        ``S⁻¹`` (the closed-form 2 x 2 inverse).
+    nu : ndarray of float64, shape (C, M, 2)
+        Innovations ``z_j − H m_c``.
+    maha : ndarray of float64, shape (C, M)
+        ``ν' S⁻¹ ν``.
+    gated : ndarray of bool, shape (T, M)
+        Whether measurement ``j`` lies in the gate of some component of track ``t``.
 
     Examples
     --------
@@ -151,6 +218,42 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
                           log_kappa):
     """Per-component and per-track log-likelihoods of the measurements ``used`` (reference).
 
+    The specification of :func:`rankedassign.tracking._kernels.detection_log_weights`.
+
+    Parameters
+    ----------
+    maha : ndarray of float64, shape (C, M)
+        Squared Mahalanobis distances of every component and measurement
+        (:func:`gate_and_distances`).
+    log_det_S : ndarray of float64, shape (C,)
+        ``ln|S_c|`` of the innovation covariances.
+    log_w : ndarray of float64, shape (C,)
+        ``ln w_c``, the log component weights.
+    offsets : ndarray of int64, shape (T + 1,)
+        Component range of every track.
+    used : ndarray of int64, shape (U,)
+        Measurement columns kept (those in some gate).
+    gated : ndarray of bool, shape (T, U)
+        Gate of the kept columns.
+    log_r : ndarray of float64, shape (T,)
+        ``ln r_+``, the log predicted existence probabilities.
+    log_pd : float
+        ``ln P_D``.
+    log_kappa : float
+        ``ln κ``, the log clutter intensity.
+
+    Returns
+    -------
+    lw : ndarray of float64, shape (C, U)
+        ``ln w_c + ln N(z_j; H m_c, S_c)`` where track ``t`` of component ``c`` gates ``j``,
+        ``−inf`` elsewhere.
+    log_g : ndarray of float64, shape (T, U)
+        ``ln Σ_c w_c N(z_j; H m_c, S_c)`` over the components of each track in the gate,
+        ``−inf`` elsewhere.
+    log_det : ndarray of float64, shape (T, U)
+        ``ln η_t(j) = ln r_t + ln P_D + log_g − ln κ`` in the gate, ``−inf`` outside
+        (spec eq. 6.2).
+
     Examples
     --------
     >>> import numpy as np
@@ -180,6 +283,22 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
 def connected_groups(gated):
     """Connected components of the track–measurement graph (reference, by SciPy).
 
+    Parameters
+    ----------
+    gated : ndarray of bool, shape (T, M)
+        ``gated[t, j]``: measurement ``j`` lies in the gate of track ``t`` (an edge of the
+        bipartite graph).
+
+    Returns
+    -------
+    track_group : ndarray of int64, shape (T,)
+        Group of every track; groups are numbered ``0, 1, ...`` in the order of their first
+        track.
+    meas_group : ndarray of int64, shape (M,)
+        Group of every measurement, ``-1`` for a measurement no track gates.
+    n_groups : int
+        Number of groups (a track gating nothing is a group of its own).
+
     Examples
     --------
     >>> import numpy as np
@@ -203,6 +322,27 @@ def connected_groups(gated):
 def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):
     """Cost matrix ``−ln η`` of the tracks ``rows`` and measurements ``cols`` (reference).
 
+    Parameters
+    ----------
+    log_det : ndarray of float64, shape (T, U)
+        ``ln η_t(j)`` of every track and kept measurement (:func:`detection_log_weights`);
+        ``−inf`` outside the gate.
+    log_miss : ndarray of float64, shape (T,)
+        ``ln η_t(0)``, track ``t`` survives undetected.
+    log_dead : ndarray of float64, shape (T,)
+        ``ln η_t(−1)``, track ``t`` does not exist.
+    rows : ndarray of int64, shape (P,)
+        Tracks of the group, in row order.
+    cols : ndarray of int64, shape (M,)
+        Measurement columns (into ``log_det``) of the group, in column order.
+
+    Returns
+    -------
+    ndarray of float64, shape (P, M + 2P)
+        The paper's layout (spec §1.5): ``C[i, j] = −log_det[rows[i], cols[j]]``,
+        ``C[i, M + i] = −log_miss[rows[i]]``, ``C[i, M + P + i] = −log_dead[rows[i]]``,
+        ``+inf`` elsewhere.
+
     Examples
     --------
     >>> import numpy as np
@@ -223,6 +363,22 @@ def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):
 def truncated_marginals(a, w, M):
     """``β[i, j] = Σ_h w_h 1[γ_i^(h) = j]``, compact columns (reference, by ``bincount``).
 
+    Parameters
+    ----------
+    a : ndarray of int64, shape (H, P)
+        Assignments as cost-matrix columns (one row per hypothesis ``h``).
+    w : ndarray of float64, shape (H,)
+        Normalised hypothesis weights.
+    M : int
+        Number of measurement columns of the cost matrix.
+
+    Returns
+    -------
+    ndarray of float64, shape (P, M + 2)
+        ``β`` in compact columns ``[measurements | missed | dead]``: entry ``[i, j]`` for
+        ``j < M`` is the weight of the hypotheses giving measurement ``j`` to row ``i``,
+        ``[i, M]`` of those leaving it undetected, ``[i, M + 1]`` of those where it is dead.
+
     Examples
     --------
     >>> import numpy as np
@@ -241,6 +397,17 @@ def truncated_marginals(a, w, M):
 def cardinality_distribution(r):
     """Poisson-binomial distribution of the number of existing tracks (reference).
 
+    Parameters
+    ----------
+    r : ndarray of float64, shape (T,)
+        Existence probabilities of the tracks, each in ``[0, 1]``.
+
+    Returns
+    -------
+    ndarray of float64, shape (T + 1,)
+        ``ρ[n]``, the probability that exactly ``n`` tracks exist (independent Bernoulli
+        existences), by the convolution recursion over the tracks in order.
+
     Examples
     --------
     >>> import numpy as np
@@ -258,6 +425,37 @@ def cardinality_distribution(r):
 
 def posterior_sources(offsets, rel, elim, lw, log_g):
     """Where each posterior component comes from, grouped by track (reference; see the kernel).
+
+    The specification of :func:`rankedassign.tracking._kernels.posterior_sources` (spec eq.
+    6.4).
+
+    Parameters
+    ----------
+    offsets : ndarray of int64, shape (T + 1,)
+        Component ranges of the predicted tracks.
+    rel : ndarray of float64, shape (T, M + 1)
+        ``β_ij / r_i``; column ``M`` is the missed detection.
+    elim : float
+        Pairs with ``rel <= elim`` are not expanded (their components would be pruned).
+    lw : ndarray of float64, shape (C, M)
+        ``ln w_c N(z_j; H m_c, S_c)`` (:func:`detection_log_weights`).
+    log_g : ndarray of float64, shape (T, M)
+        Its log-sum over each track's components.
+
+    Returns
+    -------
+    comp : ndarray of int64, shape (N,)
+        Predicted component of every posterior component.
+    track : ndarray of int64, shape (N,)
+        Its track; the output is grouped by track, per track the missed-detection
+        components first, then the updates with each measurement in turn, each over the
+        track's components in order.
+    meas : ndarray of int64, shape (N,)
+        Its measurement, ``-1`` for a missed detection.
+    log_ratio : ndarray of float64, shape (N,)
+        ``lw[c, j] − log_g[t, j]`` for an update (0 for a missed detection).
+    counts : ndarray of int64, shape (T,)
+        Posterior components per track.
 
     Examples
     --------
@@ -292,6 +490,42 @@ def posterior_sources(offsets, rel, elim, lw, log_g):
 
 def posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu, P_upd):
     """Weights, means and covariances of the posterior components (reference; see the kernel).
+
+    The specification of :func:`rankedassign.tracking._kernels.posterior_components` (spec
+    eq. 6.4).
+
+    Parameters
+    ----------
+    comp, track, meas : ndarray of int64, shape (N,)
+        Sources of the posterior components (:func:`posterior_sources`); ``meas = -1`` is a
+        missed detection.
+    ratio : ndarray of float64, shape (N,)
+        ``w_c N_cj / Σ_c' w_c' N_c'j`` for an update (``exp`` of the ``log_ratio`` of
+        :func:`posterior_sources`); not read for a missed detection.
+    rel : ndarray of float64, shape (T, M + 1)
+        ``β_ij / r_i``; column ``M`` is the missed detection.
+    w : ndarray of float64, shape (C,)
+        Predicted component weights.
+    m : ndarray of float64, shape (C, 4)
+        Predicted component means.
+    P : ndarray of float64, shape (C, 4, 4)
+        Predicted component covariances.
+    K : ndarray of float64, shape (C, 4, 2)
+        Kalman gain of every component; may be empty, shape ``(0, 4, 2)``, when no posterior
+        component is an update.
+    nu : ndarray of float64, shape (C, M, 2)
+        Innovations ``z_j − H m_c`` of the kept measurements.
+    P_upd : ndarray of float64, shape (C, 4, 4)
+        Updated covariance ``P − K S Kᵀ`` of every component; may be empty as ``K``.
+
+    Returns
+    -------
+    w : ndarray of float64, shape (N,)
+        ``rel[t, M] w_c`` for a missed detection, ``ratio · rel[t, j]`` for an update.
+    m : ndarray of float64, shape (N, 4)
+        ``m_c`` for a missed detection, ``m_c + K_c ν_cj`` for an update.
+    P : ndarray of float64, shape (N, 4, 4)
+        ``P_c`` for a missed detection, ``P'_c`` for an update.
 
     Examples
     --------

@@ -30,7 +30,68 @@ QUICK_MC = 10
 
 @dataclass(frozen=True, kw_only=True)
 class AblationRow(Table1Row):
-    """A Table I row under one reading pair (``stall``, ``stale``; spec §3.2)."""
+    """A Table I row under one reading pair (``stall``, ``stale``; spec §3.2).
+
+    The statistics are those of :class:`~rankedassign.experiments._synthetic.Table1Row`:
+    ``eps_o``, ``eps_s`` are one run's truncation errors of the original and of the
+    short-chain sampler, ``N_o``, ``N_s`` their observations; standard errors are ``None``
+    for one run.
+
+    Attributes
+    ----------
+    n_mc : int
+        Paired Monte Carlo runs of the cell (the same matrix for both samplers in a run).
+    obs_original_mean, obs_proposed_mean : float
+        Mean observations (sweeps) per run of the original and of the short-chain sampler.
+    error_original_mean, error_proposed_mean : float
+        Mean exact truncation error (spec eq. 1.9) of each sampler, in percent.
+    delta_obs_pct : float
+        ΔObs, ``100 (mean N_o - mean N_s) / mean N_o``: the share of the original sampler's
+        observations the short chains save, in percent.
+    delta_error_pp : float
+        ΔError, ``|mean(eps_s - eps_o)|`` (spec eq. 1.10), in percentage points.
+    delta_error_signed_pp : float
+        ``mean(eps_s - eps_o)`` in percentage points: positive when the short chains leave
+        more of the target's mass uncovered.
+    mean_abs_delta_error_pp : float
+        Mean of the per-run ``|eps_s - eps_o|`` (spec A7), in percentage points.
+    unique_original_mean, unique_proposed_mean : float
+        Mean number of distinct assignments each sampler found.
+    chains_proposed_mean : float
+        Mean number of chains the short-chain sampler ran.
+    stale_stop_fraction : float
+        Fraction of runs in which the stale rule ended the short-chain sampler.
+    delta_obs_pct_se : float or None
+        Standard error of ``delta_obs_pct`` (delta method for the ratio of the paired means).
+    delta_error_pp_se : float or None
+        Standard error of the mean paired difference ``mean(eps_s - eps_o)``.
+    mean_abs_delta_error_pp_se : float or None
+        Standard error of ``mean_abs_delta_error_pp``.
+    error_original_se, error_proposed_se : float or None
+        Standard errors of ``error_original_mean`` and ``error_proposed_mean``.
+    family : str
+        Matrix family (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
+    criterion : {"stall", "stale", "full"}
+        Termination rules of the short-chain sampler: stall only, stale only, or both.
+    paper_family : str or None
+        The paper's family this row reads (``"random-pd"`` reads ``"random"``); ``None``
+        where the paper has no such cell.
+    paper_delta_obs_pct, paper_delta_error_pp : float or None
+        The paper's ΔObs (%) and ΔError (pp) of the cell, ``None`` without a cell.
+    delta_obs_z, delta_error_z : float or None
+        Our distance to the paper's numbers in standard errors
+        (:func:`~rankedassign.experiments.paper.distance_in_se`); ``None`` without a cell, with
+        one run, or when the settings are not the paper's (not judged).
+    agrees_with_paper : bool or None
+        Whether ΔObs and ΔError both lie within three standard errors of the paper's
+        (:func:`~rankedassign.experiments.paper.agrees`); ``None`` when not judged.
+    stall : str
+        Reading of the stall rule of the short chains (spec §3.2), one of
+        :data:`~rankedassign.experiments.config.STALL_READINGS`.
+    stale : str
+        Reading of the stale rule, one of
+        :data:`~rankedassign.experiments.config.STALE_READINGS`.
+    """
 
     stall: str
     stale: str
@@ -67,6 +128,22 @@ def summarise_ablation(runs: list[dict], cfg: AblationConfig) -> list[AblationRo
     The ``"stall"`` criterion rows of one stall reading are the same runs for every stale
     reading (and likewise for ``"stale"``); they are repeated so each reading pair reads as a
     complete Table I.
+
+    Parameters
+    ----------
+    runs : list of dict
+        Per-run records of the study's task: per run and family the original sampler's
+        record and the short chains' under every reading (``"stall"``, ``"stale"`` by
+        reading, ``"full"`` by ``"<stall>|<stale>"``).
+    cfg : AblationConfig
+        The settings of the runs (reading and family order; the cells are judged against
+        the paper's only under its per-run settings).
+
+    Returns
+    -------
+    list of AblationRow
+        For each stall reading, each stale reading and each family, the ``"stall"``,
+        ``"stale"`` and ``"full"`` rows.
     """
     rows = []
     judge = paper_settings(cfg)
@@ -87,6 +164,14 @@ def consistency(rows, families=FAMILIES) -> str:
 
     A cell agrees when ΔObs and ΔError both lie within three standard errors of the paper's
     (:func:`~rankedassign.experiments.paper.agrees`).
+
+    Parameters
+    ----------
+    rows : iterable of Table1Row
+        The rows of one reading pair (e.g. :class:`AblationRow` with the same ``stall`` and
+        ``stale``).
+    families : sequence of str, optional
+        Families whose cells count (default the paper's three).
 
     Returns
     -------

@@ -57,6 +57,7 @@ class StudyConfig:
     sensors : tuple of int
         Values of ``V`` (each with ``M = SIZES[V]``).
     families : tuple of str
+        Problem families (:data:`rankedassign.adaptive_birth.synthetic.FAMILIES`).
     original_obs : int
         Sweeps of the original chain (the port's ``H = 1000``).
     n_chains, chain_length, tau_stall, tau_stale : int
@@ -311,7 +312,31 @@ StudyConfig = StudyConfig
 
 @dataclass(frozen=True)
 class AdaptiveBirthRow:
-    """One Table I row of the adaptive-birth study (errors are fractions, Δ in % and pp)."""
+    """One Table I row of the adaptive-birth study (errors are fractions, Δ in % and pp).
+
+    Attributes
+    ----------
+    family : str
+        Problem family of multi-sensor spec §6.5 (one of ``FAMILIES``).
+    V : int
+        Number of sensors (each with ``M = SIZES[V]`` measurements).
+    criterion : {"stall", "stale", "full"}
+        Termination rules of the short chains: stall only, stale only, or both (S3, T3).
+    n_mc : int
+        Monte Carlo runs (problems drawn) of the cell.
+    delta_obs_pct : float
+        ΔObs, ``100 (mean N_o - mean N_s) / mean N_o``, in percent.
+    delta_error_pp : float
+        ΔError, ``100 |mean eps_o - mean eps_s|``, in percentage points.
+    delta_error_se_pp : float or None
+        Standard error of the mean paired difference ``eps_s - eps_o``, in percentage points;
+        ``None`` for one run.
+    error_original, error_short : float
+        Mean truncation error (over the birth tuples) of the original chain and of the
+        short chains, as fractions.
+    obs_original, obs_short : float
+        Mean observations (sweeps) of each sampler per run.
+    """
 
     family: str
     V: int
@@ -328,7 +353,20 @@ class AdaptiveBirthRow:
 
 @dataclass(frozen=True)
 class AdaptiveBirthSummary:
-    """The study's summary: the Table I rows, the error-vs-observation curves, the verdict."""
+    """The study's summary: the Table I rows, the error-vs-observation curves, the verdict.
+
+    Attributes
+    ----------
+    rows : tuple of AdaptiveBirthRow
+        Per family and ``V`` (in the settings' order), the ``"stall"``, ``"stale"`` and
+        ``"full"`` rows.
+    curves : dict of str to list of dict
+        Keyed ``"<family>, V=<V>"``: the points of :func:`curve`, each with ``n_obs``,
+        ``error_original`` and ``error_short`` (mean errors as fractions).
+    verdict : str
+        One sentence per family (:func:`verdict`), judged on the ``"full"`` rows; empty when
+        no run was summarised.
+    """
 
     rows: tuple
     curves: dict
@@ -357,12 +395,14 @@ def summarise_adaptive_birth(runs: list[dict], cfg: StudyConfig) -> AdaptiveBirt
     Parameters
     ----------
     runs : list of dict
-        Records of :func:`adaptive_birth_task`.
+        Records of :func:`adaptive_birth_task` (Monte Carlo runs and curves).
     cfg : StudyConfig
+        The settings of the runs (not read: the records carry what the summary needs).
 
     Returns
     -------
     AdaptiveBirthSummary
+        The typed rows, the curves by ``"<family>, V=<V>"`` and the verdict.
     """
     table = [{k: v for k, v in r.items() if k != "kind"} for r in runs if r["kind"] == "run"]
     raw = summarise(table)

@@ -197,7 +197,51 @@ def multisensor_task(cfg: MultiSensorConfig, seed: int, run: int, case: str) -> 
 
 @dataclass(frozen=True, kw_only=True)
 class MultiSensorRow(PairedStats):
-    """One Table I row: a case, a method and a criterion (statistics as the single-sensor's)."""
+    """One Table I row: a case, a method and a criterion (statistics as the single-sensor's).
+
+    ``eps_o``, ``eps_s`` are one run's errors (module docstring) of the original and of the
+    short-chain sampler, ``N_o``, ``N_s`` their observations; standard errors are ``None``
+    for one run.
+
+    Attributes
+    ----------
+    n_mc : int
+        Paired Monte Carlo runs of the cell (the same matrix for both samplers in a run).
+    obs_original_mean, obs_proposed_mean : float
+        Mean observations (sweeps) per run of the original and of the short-chain sampler.
+    error_original_mean, error_proposed_mean : float
+        Mean exact truncation error (spec eq. 1.9) of each sampler, in percent.
+    delta_obs_pct : float
+        ΔObs, ``100 (mean N_o - mean N_s) / mean N_o``: the share of the original sampler's
+        observations the short chains save, in percent.
+    delta_error_pp : float
+        ΔError, ``|mean(eps_s - eps_o)|`` (spec eq. 1.10), in percentage points.
+    delta_error_signed_pp : float
+        ``mean(eps_s - eps_o)`` in percentage points: positive when the short chains leave
+        more of the target's mass uncovered.
+    mean_abs_delta_error_pp : float
+        Mean of the per-run ``|eps_s - eps_o|`` (spec A7), in percentage points.
+    unique_original_mean, unique_proposed_mean : float
+        Mean number of distinct assignments each sampler found.
+    chains_proposed_mean : float
+        Mean number of chains the short-chain sampler ran.
+    stale_stop_fraction : float
+        Fraction of runs in which the stale rule ended the short-chain sampler.
+    delta_obs_pct_se : float or None
+        Standard error of ``delta_obs_pct`` (delta method for the ratio of the paired means).
+    delta_error_pp_se : float or None
+        Standard error of the mean paired difference ``mean(eps_s - eps_o)``.
+    mean_abs_delta_error_pp_se : float or None
+        Standard error of ``mean_abs_delta_error_pp``.
+    error_original_se, error_proposed_se : float or None
+        Standard errors of ``error_original_mean`` and ``error_proposed_mean``.
+    case : str
+        ``"<size>/<family>"`` (:data:`CASES`).
+    method : str
+        Row update of both samplers (:data:`METHODS`).
+    criterion : {"stall", "stale", "full"}
+        Termination rules of the short chains: stall (S3) only, stale (T3) only, or both.
+    """
 
     case: str
     method: str
@@ -210,6 +254,30 @@ class MethodAccuracyRow:
 
     Errors in %, ``vs_exact_pp`` the mean paired difference to the ``"exact"`` method's error
     in pp (``None`` without the exact method), ``seconds`` the mean wall time of one chain.
+
+    Attributes
+    ----------
+    case : str
+        ``"<size>/<family>"`` (:data:`CASES`).
+    method : str
+        Row update of the original chain (:data:`METHODS`).
+    n_mc : int
+        Monte Carlo runs.
+    n_obs : int
+        Sweeps of the chain, the common budget (``original_obs`` of the settings).
+    error_mean : float
+        Mean error of the chain, in percent (the module docstring says which error).
+    error_se : float or None
+        Its standard error; ``None`` for one run.
+    vs_exact_pp : float or None
+        Mean paired difference ``error - error of "exact"`` over the runs, in percentage
+        points (0 for the exact method itself); ``None`` when ``"exact"`` was not run.
+    vs_exact_pp_se : float or None
+        Its standard error; ``None`` for one run or without ``"exact"``.
+    unique_mean : float
+        Mean number of distinct states the chain visited.
+    seconds_mean : float
+        Mean wall-clock time of one chain, in seconds.
     """
 
     case: str
@@ -226,7 +294,19 @@ class MethodAccuracyRow:
 
 @dataclass(frozen=True)
 class MultiSensorSummary:
-    """Table I rows, the equal-sweeps accuracy rows and the verdict."""
+    """Table I rows, the equal-sweeps accuracy rows and the verdict.
+
+    Attributes
+    ----------
+    rows : tuple of MultiSensorRow
+        Table I rows, case by case, then method by method, then criterion (stall, stale,
+        full), in the order of the settings.
+    accuracy : tuple of MethodAccuracyRow
+        One row per case and method: the original chain's error at the common budget.
+    verdict : str
+        One paragraph judging "similar results are expected" on the ``"full"`` column
+        (:func:`verdict`).
+    """
 
     rows: tuple
     accuracy: tuple

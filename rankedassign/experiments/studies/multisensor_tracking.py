@@ -228,7 +228,7 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
 
     Examples
     --------
-    >>>     >>> cfg = MultiSensorStudyConfig(n_scans=3, n_chains=20, chain_length=5)
+    >>> cfg = MultiSensorStudyConfig(n_scans=3, n_chains=20, chain_length=5)
     >>> rec = multisensor_tracking_task(cfg, 0, (0,), "short")
     >>> rec.ospa2.shape, rec.sensors, rec.invocations >= 3
     ((3,), (0,), True)
@@ -322,7 +322,7 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
     Examples
     --------
     >>> import numpy as np
-    >>>     >>> recs = [MultiSensorTrackingRecord(r, (0,), m, np.full(2, o), np.zeros(2),
+    >>> recs = [MultiSensorTrackingRecord(r, (0,), m, np.full(2, o), np.zeros(2),
     ...         np.ones(3), s, 2 * s, 2, 0, 1.0)
     ...         for r in (0, 1) for m, o, s in (("long", 10.0, 20_000), ("short", 11.0, 1000))]
     >>> [(s.method, s.ospa2_mean, round(s.sweep_reduction, 2))

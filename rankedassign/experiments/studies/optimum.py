@@ -53,13 +53,23 @@ def best_error(problem, k: int, *, _tail=None) -> float:
     Parameters
     ----------
     problem : AssignmentProblem
+        The single-sensor problem whose target ``pi = w / Z`` the error is measured against.
     k : int
         Number of distinct assignments (``k >= |Gamma|`` gives 0).
+    _tail : ndarray of float64, shape (|Gamma| + 1,), optional
+        Internal: the suffix sums ``tail[k] = sum_{i >= k} w_(i) / Z`` of the sorted
+        normalised weights, when the caller already enumerated them (the study computes them
+        once per problem for both samplers). Leave it ``None``.
 
     Returns
     -------
     float
-        ``1 - (sum of the k largest weights) / Z``.
+        ``1 - (sum of the k largest weights) / Z``, in ``[0, 1]``.
+
+    Raises
+    ------
+    ValueError
+        If ``k`` is not a non-negative integer.
 
     Notes
     -----
@@ -110,7 +120,36 @@ def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
 
 @dataclass(frozen=True)
 class OptimumRow:
-    """One family and sampler: mean distinct solutions, error and best error (percent)."""
+    """One family and sampler: mean distinct solutions, error and best error (percent).
+
+    Standard errors are ``None`` for one run.
+
+    Attributes
+    ----------
+    family : str
+        Matrix family (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
+    sampler : {"original", "proposed"}
+        The original sampler or the short-chain sampler with both rules (S3, T3).
+    n_mc : int
+        Monte Carlo runs.
+    obs_mean : float
+        Mean observations (sweeps) per run.
+    n_unique_mean : float
+        Mean number ``k`` of distinct assignments found.
+    error_pct_mean : float
+        Mean truncation error ``eps`` (spec eq. 1.9), in percent.
+    error_pct_se : float or None
+        Its standard error.
+    best_error_pct_mean : float
+        Mean best error ``eps*(k)`` with the same number of distinct assignments
+        (:func:`best_error`), in percent.
+    best_error_pct_se : float or None
+        Its standard error.
+    excess_error_pp_mean : float
+        Mean per-run excess ``eps - eps*(k)``, in percentage points.
+    excess_error_pp_se : float or None
+        Its standard error.
+    """
 
     family: str
     sampler: str
@@ -126,7 +165,22 @@ class OptimumRow:
 
 
 def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
-    """Rows ``(family, sampler)``: mean distinct solutions, error and best error (in %)."""
+    """Rows ``(family, sampler)``: mean distinct solutions, error and best error (in %).
+
+    Parameters
+    ----------
+    runs : list of dict
+        Per-run records of the study's task: ``{"run", "family", "original", "proposed"}``,
+        each sampler's record holding ``n_obs``, ``n_unique``, ``error`` and ``best_error``
+        (fractions).
+    families : sequence of str
+        Families to summarise, in report order.
+
+    Returns
+    -------
+    list of OptimumRow
+        Per family the ``"original"`` row then the ``"proposed"`` row.
+    """
     rows = []
     for fam in families:
         rs = [r for r in runs if r["family"] == fam]

@@ -38,7 +38,69 @@ QUICK_MC = 20
 @dataclass(frozen=True, kw_only=True)
 class ReadingRow(Table1Row):
     """A Table I row under one reading: ``diagonal_pbar_d`` for the diagonal family and
-    (``pbar_d``, ``granularity``) for the random family."""
+    (``pbar_d``, ``granularity``) for the random family.
+
+    The statistics are those of :class:`~rankedassign.experiments._synthetic.Table1Row`:
+    ``eps_o``, ``eps_s`` are one run's truncation errors of the original and of the
+    short-chain sampler, ``N_o``, ``N_s`` their observations; standard errors are ``None``
+    for one run. The three readings label the whole combination; a family's numbers depend
+    only on the readings it uses (the uniform family's on none).
+
+    Attributes
+    ----------
+    n_mc : int
+        Paired Monte Carlo runs of the cell (the same matrix for both samplers in a run).
+    obs_original_mean, obs_proposed_mean : float
+        Mean observations (sweeps) per run of the original and of the short-chain sampler.
+    error_original_mean, error_proposed_mean : float
+        Mean exact truncation error (spec eq. 1.9) of each sampler, in percent.
+    delta_obs_pct : float
+        ΔObs, ``100 (mean N_o - mean N_s) / mean N_o``: the share of the original sampler's
+        observations the short chains save, in percent.
+    delta_error_pp : float
+        ΔError, ``|mean(eps_s - eps_o)|`` (spec eq. 1.10), in percentage points.
+    delta_error_signed_pp : float
+        ``mean(eps_s - eps_o)`` in percentage points: positive when the short chains leave
+        more of the target's mass uncovered.
+    mean_abs_delta_error_pp : float
+        Mean of the per-run ``|eps_s - eps_o|`` (spec A7), in percentage points.
+    unique_original_mean, unique_proposed_mean : float
+        Mean number of distinct assignments each sampler found.
+    chains_proposed_mean : float
+        Mean number of chains the short-chain sampler ran.
+    stale_stop_fraction : float
+        Fraction of runs in which the stale rule ended the short-chain sampler.
+    delta_obs_pct_se : float or None
+        Standard error of ``delta_obs_pct`` (delta method for the ratio of the paired means).
+    delta_error_pp_se : float or None
+        Standard error of the mean paired difference ``mean(eps_s - eps_o)``.
+    mean_abs_delta_error_pp_se : float or None
+        Standard error of ``mean_abs_delta_error_pp``.
+    error_original_se, error_proposed_se : float or None
+        Standard errors of ``error_original_mean`` and ``error_proposed_mean``.
+    family : str
+        Matrix family (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
+    criterion : {"stall", "stale", "full"}
+        Termination rules of the short-chain sampler: stall only, stale only, or both.
+    paper_family : str or None
+        The paper's family this row reads (``"random-pd"`` reads ``"random"``); ``None``
+        where the paper has no such cell.
+    paper_delta_obs_pct, paper_delta_error_pp : float or None
+        The paper's ΔObs (%) and ΔError (pp) of the cell, ``None`` without a cell.
+    delta_obs_z, delta_error_z : float or None
+        Our distance to the paper's numbers in standard errors
+        (:func:`~rankedassign.experiments.paper.distance_in_se`); ``None`` without a cell, with
+        one run, or when the settings are not the paper's (not judged).
+    agrees_with_paper : bool or None
+        Whether ΔObs and ΔError both lie within three standard errors of the paper's
+        (:func:`~rankedassign.experiments.paper.agrees`); ``None`` when not judged.
+    diagonal_pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the diagonal family in this combination (spec A2): ``r P_d`` or ``P_d``.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family in this combination (spec A2).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    """
 
     diagonal_pbar_d: str
     pbar_d: str
@@ -83,7 +145,24 @@ def readings_task(t1cfg: Table1Config, seed: int, run: int, family: str) -> dict
 
 
 def summarise_readings(runs: list[dict], cfg: ReadingsConfig) -> list[ReadingRow]:
-    """Nine Table I rows (with the paper's cells) per combination of readings."""
+    """Nine Table I rows (with the paper's cells) per combination of readings.
+
+    Parameters
+    ----------
+    runs : list of dict
+        Per-run Table I records of the study's tasks, each labelled with the ``key`` of the
+        reading its family depends on.
+    cfg : ReadingsConfig
+        The settings of the runs (readings; the cells are judged against the paper's only
+        under its per-run settings).
+
+    Returns
+    -------
+    list of ReadingRow
+        Per combination ``(diagonal_pbar_d, pbar_d, granularity)`` (those with the same
+        ``Pbar_D`` in both families first), the three families' ``"stall"``, ``"stale"`` and
+        ``"full"`` rows.
+    """
     rows = []
     judge = paper_settings(cfg)
     for d, a, b in _combinations(cfg):
@@ -104,6 +183,17 @@ def reading_verdicts(rows: list[ReadingRow]) -> dict[tuple[str, str, str], list[
 
     A cell differs when its ΔObs or its ΔError lies more than three standard errors from the
     paper's (:func:`~rankedassign.experiments.paper.agrees`).
+
+    Parameters
+    ----------
+    rows : list of ReadingRow
+        Rows of :func:`summarise_readings`.
+
+    Returns
+    -------
+    dict of tuple to list of str
+        For every combination ``(diagonal_pbar_d, pbar_d, granularity)`` among the rows, in
+        their order, the cells ``"<family> <criterion>"`` that disagree with the paper's.
     """
     out: dict[tuple[str, str, str], list[str]] = {}
     for r in rows:

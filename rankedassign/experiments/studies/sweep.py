@@ -24,7 +24,40 @@ QUICK_MC, QUICK_GRID = 10, (100, 1_000, 10_000, 100_000, 250_000)
 
 @dataclass(frozen=True)
 class SweepRow:
-    """Error statistics (percent) of one family, sampler and observation budget over runs."""
+    """Error statistics (percent) of one family, sampler and observation budget over runs.
+
+    Standard errors are ``None`` for one run.
+
+    Attributes
+    ----------
+    family : str
+        Matrix family (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
+    sampler : str
+        ``"original"`` or ``"short-<L>"``, the short-chain sampler with chains of ``L`` sweeps
+        and no early stopping.
+    chain_length : int or None
+        ``L`` of a short-chain sampler, ``None`` for the original one.
+    budget : int
+        Observation budget ``n`` of the grid point: the original sampler runs ``n`` sweeps,
+        the short-chain sampler ``n // L`` chains of ``L``.
+    n_obs_mean : float
+        Mean observations actually made (``L (n // L)`` for the short chains).
+    n_unique_mean : float
+        Mean number of distinct assignments found.
+    error_pct_mean : float
+        Mean truncation error (spec eq. 1.9), in percent.
+    error_pct_se : float or None
+        Its standard error.
+    error_pct_q10, error_pct_q90 : float
+        10 % and 90 % quantiles of the per-run errors, in percent.
+    diff_vs_original_pp_mean : float
+        Mean per-run difference to the original sampler's error at the same budget on the
+        same matrix, in percentage points (0 for the original sampler).
+    diff_vs_original_pp_se : float or None
+        Its standard error.
+    n_mc : int
+        Monte Carlo runs.
+    """
 
     family: str
     sampler: str
@@ -50,6 +83,21 @@ class ChainLengthCheck:
     ``PAPER_SWEEP_TOLERANCE_PCT`` (0.1 pp) of their midpoint, i.e. ``spread_pp <= 0.2``.
     ``max_se_pp`` is the largest standard error among them: above the tolerance, the runs
     cannot tell.
+
+    Attributes
+    ----------
+    family : str
+        Matrix family.
+    budget : int
+        Observation budget of the check.
+    chain_lengths : tuple of int
+        The chain lengths run at this budget, in the order of the rows.
+    spread_pp : float
+        Largest minus smallest mean error over those chain lengths, in percentage points.
+    max_se_pp : float or None
+        Largest standard error of those mean errors (pp); ``None`` with one run.
+    holds : bool
+        Whether ``spread_pp <= 2 * PAPER_SWEEP_TOLERANCE_PCT`` (0.2 pp).
     """
 
     family: str
@@ -84,7 +132,23 @@ def sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> dict:
 
 
 def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
-    """Rows ``(family, sampler, budget)``: error statistics over runs (percent)."""
+    """Rows ``(family, sampler, budget)``: error statistics over runs (percent).
+
+    Parameters
+    ----------
+    runs : list of dict
+        Per-run records of the study's task, ``{"run", "family", "points"}``, each point a
+        sampler record (``sampler``, ``chain_length``, ``budget``, ``n_obs``, ``n_unique``,
+        ``error`` as a fraction).
+    cfg : SweepConfig, optional
+        Not used: the rows follow from the records alone. Accepted so the function has the
+        ``summarise(runs, cfg)`` signature of every study.
+
+    Returns
+    -------
+    list of SweepRow
+        One row per (family, sampler, budget), in the order the records first name them.
+    """
     groups: dict[tuple, list[dict]] = {}
     diffs: dict[tuple, list[float]] = {}
     for r in runs:
@@ -119,6 +183,17 @@ def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
 
 def chain_length_checks(rows: list[SweepRow]) -> list[ChainLengthCheck]:
     """The paper's ±0.1 % statement checked at every family and budget with two chain lengths.
+
+    Parameters
+    ----------
+    rows : list of SweepRow
+        Rows of :func:`summarise_sweep`; only the short-chain rows are compared.
+
+    Returns
+    -------
+    list of ChainLengthCheck
+        One check per (family, budget) at which at least two chain lengths were run, in the
+        order the rows first name them.
 
     Examples
     --------

@@ -69,6 +69,7 @@ def summarise_table1(runs: list[dict], cfg: Table1Config) -> list[Table1Row]:
     Returns
     -------
     list of Table1Row
+        Per family of ``cfg.families`` the ``"stall"``, ``"stale"`` and ``"full"`` rows.
     """
     rows = []
     judge = paper_settings(cfg)
@@ -81,7 +82,22 @@ def summarise_table1(runs: list[dict], cfg: Table1Config) -> list[Table1Row]:
 
 
 def family_label(family: str, cfg) -> str:
-    """The family with the reading of P̄_D and of the P_s, P_d draws it uses (spec A2, A5)."""
+    """The family with the reading of P̄_D and of the P_s, P_d draws it uses (spec A2, A5).
+
+    Parameters
+    ----------
+    family : str
+        A family name (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
+    cfg : object
+        The study's settings: ``pbar_d`` and ``granularity`` are read for the random
+        families, ``diagonal_pbar_d`` (if the settings have it) for the diagonal one.
+
+    Returns
+    -------
+    str
+        The label of a report row, e.g. ``"random: P̄_D = P_d, matrix P_s, P_d"`` or
+        ``"diagonal: P̄_D = r·P_d"``; the family itself for the uniform family.
+    """
     def pbar(p):
         return "r·P_d" if p == "r_pd" else "P_d"
 

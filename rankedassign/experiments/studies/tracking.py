@@ -103,7 +103,70 @@ class TrackingSummary:
     ``COVERAGE_RADIUS`` = 50 m of it on less than half of its scans after its first
     ``COVERAGE_SETTLE`` = 10; :func:`~rankedassign.metrics.track_coverage`). The paper's totals
     (``paper_obs_*``) travel with them, with the calls per scan and short-chain sweeps per call
-    they imply.
+    they imply. Standard errors are ``None`` for one run.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per method (both methods of a run filter the same measurements).
+    n_scans : int
+        Scans per run.
+    config : dict
+        The settings that shape the numbers: ``preset``, ``original_obs``, ``n_chains``,
+        ``chain_length``, ``tau_stall``, ``tau_stale``, ``grouping``,
+        ``sample_empty_groups``, ``extraction``, ``marginals``, ``ospa_c``, ``ospa_p``,
+        ``ospa_window``.
+    obs_original, obs_proposed : float
+        Mean over runs of the total sweeps (observations) of all sampler calls of a run.
+    obs_original_se, obs_proposed_se : float or None
+        Their standard errors.
+    row_updates_original, row_updates_proposed : float
+        Mean total row updates (single-row conditional draws) per run.
+    invocations_original, invocations_proposed : float
+        Mean total sampler calls per run.
+    sweeps_per_call_original, sweeps_per_call_proposed : float
+        Total sweeps over total calls, over all runs.
+    ospa2_mean_original, ospa2_mean_proposed : float
+        Mean OSPA(2) over the scans and the runs, in metres.
+    ospa2_mean_original_se, ospa2_mean_proposed_se : float or None
+        Standard errors of those means, from the per-run means.
+    association_seconds_original, association_seconds_proposed : float
+        Mean wall-clock time of a run's association steps, in seconds.
+    targets_lost_original, targets_lost_proposed : int
+        True targets lost, summed over all runs (definition above).
+    runs_with_lost_target_original, runs_with_lost_target_proposed : int
+        Runs that lost at least one target.
+    reduction_pct : float
+        ``100 (1 - obs_proposed / obs_original)``: observations saved by the short chains, %.
+    reduction_row_updates_pct : float
+        The same for row updates, %.
+    ospa2_difference_mean : float
+        Mean paired difference of the per-run mean OSPA(2), proposed minus original (m).
+    ospa2_difference_se : float or None
+        Its standard error.
+    paper_obs_original, paper_obs_proposed : int
+        The paper's total observations over its 100 scans (:data:`PAPER_TOTALS`).
+    paper_reduction_pct : float
+        The reduction those totals give, %.
+    mean_rows_per_scan : float
+        Mean number of predicted tracks (rows of the association, births included) per scan,
+        from the original sampler's runs, as the two means below.
+    mean_meas_per_scan : float
+        Mean number of measurements received per scan.
+    mean_groups_per_scan : float
+        Mean number of association problems solved per scan (groups of tracks with grouping,
+        otherwise at most one per scan).
+    paper_calls_per_scan : float
+        Sampler calls per scan implied by the paper's original total at 10 000 sweeps a call
+        (10.76).
+    paper_sweeps_per_call_proposed : float
+        Short-chain sweeps per call implied by the paper's proposed total at that many calls.
+    curves : dict of str to list of float
+        Per-scan means over the runs, each a list of ``n_scans`` values: ``"scan"`` (1-based
+        scan numbers), ``"ospa2_<m>"``, ``"ospa2_localisation_<m>"``,
+        ``"ospa2_cardinality_<m>"``, ``"cumulative_obs_<m>"``,
+        ``"cumulative_row_updates_<m>"``, ``"sweeps_<m>"`` for ``m`` in ``original``,
+        ``proposed``, and ``"n_tracks"``, ``"n_meas"``.
     """
 
     n_mc: int
@@ -145,7 +208,23 @@ class TrackingSummary:
 
 
 def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary:
-    """Totals, reductions and per-scan curves (means over runs) from per-run records."""
+    """Totals, reductions and per-scan curves (means over runs) from per-run records.
+
+    Parameters
+    ----------
+    runs : list of dict
+        Per-run records of the study's task, one per run and method (``"original"``,
+        ``"proposed"``), each with per-scan lists (``sweeps``, ``row_updates``,
+        ``invocations``, ``ospa2`` and its components, ``n_tracks``, ``n_meas``,
+        ``n_groups``, ``association_seconds``) and the targets' ``coverage``.
+    cfg : TrackingConfig
+        The settings of the runs (``n_scans`` and the settings copied into ``config``).
+
+    Returns
+    -------
+    TrackingSummary
+        Means over the runs, paired where both methods enter.
+    """
     by = {m: sorted((r for r in runs if r["method"] == m), key=lambda r: r["run"]) for m in METHODS}
     n = len(by["original"])
 
