@@ -40,7 +40,8 @@ from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from ..registry import Study, register_study
 
-__all__ = ["CRITERIA", "StudyConfig", "QUICK", "FULL", "run_task", "summarise", "curve",
+__all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary", "summarise_adaptive_birth",
+           "CRITERIA", "StudyConfig", "QUICK", "FULL", "run_task", "summarise", "curve",
            "format_table", "plot"]
 
 CRITERIA = ("stall", "stale", "full")
@@ -305,9 +306,6 @@ def plot(curves: dict, path) -> None:
     plt.close(fig)
 
 
-__all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary", "summarise_adaptive_birth"]
-
-StudyConfig = StudyConfig
 
 
 @dataclass(frozen=True)

@@ -36,6 +36,7 @@ from ...validation import check_choice, check_fields, check_int
 from ..registry import Study, register_study
 
 __all__ = [
+    "MULTISENSOR_TRACKING",
     "LONG_CHAIN_SWEEPS",
     "STUDY_METHODS",
     "MultiSensorStudyConfig",
@@ -416,8 +417,6 @@ def plot_multisensor_tracking(summaries, path) -> None:
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
-
-__all__ = ["MULTISENSOR_TRACKING"]
 
 
 def _tasks(cfg: MultiSensorStudyConfig, seed: int) -> list[tuple]:
