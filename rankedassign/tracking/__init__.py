@@ -47,6 +47,7 @@ from .multisensor_scenario import (
     run_multisensor_scenario,
 )
 from .run import ScenarioRun, run_scenario
+from .runner import FilterRun, run_filter
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
 
 __all__ = [
@@ -57,6 +58,7 @@ __all__ = [
     "ConstantSurvival",
     "ConstantVelocity",
     "Exact",
+    "FilterRun",
     "LMBBirth",
     "LMBFilter",
     "Model",
@@ -88,6 +90,7 @@ __all__ = [
     "map_cardinality",
     "marginals_from_hypotheses",
     "paper_truth",
+    "run_filter",
     "run_multisensor_scenario",
     "run_scenario",
 ]
