@@ -8,6 +8,13 @@ Quick start::
     run = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=0)
     curve = ospa2(run.truth, run.estimates, c=200, p=1, window=5).value
 
+On one's own measurements (a CSV with columns ``scan, x, y``)::
+
+    from rankedassign.tracking import LMBFilter, make_model, read_measurements, run_filter
+
+    run = run_filter(LMBFilter(make_model("vo"), ShortChainGibbs(400, 25, 5, 10)),
+                     read_measurements("measurements.csv"), rng=0)
+
 See spec §6 (filter), §7 (OSPA(2)) and §8 (truth).
 """
 
@@ -21,6 +28,7 @@ from .association import (
     ShortChainGibbs,
     marginals_from_hypotheses,
 )
+from .io import read_measurements, write_measurements
 from .lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 from .models import (
     PRESET_EXTRACTION,
@@ -90,7 +98,9 @@ __all__ = [
     "map_cardinality",
     "marginals_from_hypotheses",
     "paper_truth",
+    "read_measurements",
     "run_filter",
     "run_multisensor_scenario",
     "run_scenario",
+    "write_measurements",
 ]
