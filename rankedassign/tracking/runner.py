@@ -176,7 +176,9 @@ def run_filter(filter, scans, *, rng=None, truth=None) -> FilterRun:
     rng : optional
         Anything :func:`numpy.random.default_rng` accepts. One child stream per scan is
         spawned from it (:meth:`numpy.random.Generator.spawn`), and scan ``k`` runs on child
-        ``k``, whatever the association; a :class:`numpy.random.RandomState` is replaced by the
+        ``k``, whatever the association. Spawning advances a Generator's seed sequence, so a
+        Generator passed twice gives two different runs; pass a seed (or a fresh Generator) to
+        repeat one. A :class:`numpy.random.RandomState` is replaced by the
         Generator seeded with one draw from it (:func:`rankedassign._rng.spawning_generator`).
         :func:`~rankedassign.tracking.run.run_scenario` runs its filter with the second child
         of its own ``rng`` (the first draws the measurements), so
