@@ -458,7 +458,7 @@ def _tracking_figure(summaries, by: str):
     colours = {name: f"C{i % 10}" for i, name in enumerate(lines)}
     ncols = min(len(panels), PLOT_COLUMNS)
     nrows = -(-len(panels) // ncols)
-    fig = Figure(figsize=(3.6 * ncols + 0.6, 5.2 * nrows), layout="constrained")
+    fig = Figure(figsize=(max(3.6 * ncols + 0.6, 5.5), 5.2 * nrows), layout="constrained")
     axes = fig.subplots(2 * nrows, ncols, squeeze=False, sharex=True)
     for i, name in enumerate(panels):
         top, bottom = axes[2 * (i // ncols), i % ncols], axes[2 * (i // ncols) + 1, i % ncols]
@@ -488,5 +488,5 @@ def _tracking_figure(summaries, by: str):
         hi = max(ax.get_ylim()[1] for ax in shown)
         for ax in shown:
             ax.set_ylim(lo, hi)
-    fig.suptitle("OSPA(2) and cardinality error per scan, mean over runs")
+    fig.suptitle("OSPA(2) and cardinality error, mean over runs")
     return fig
