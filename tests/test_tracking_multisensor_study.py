@@ -1,13 +1,18 @@
 """Tests of the multi-sensor tracking study's functions (task, summary, table, plot)."""
 
+import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
 
 from rankedassign.experiments.studies.multisensor_tracking import (
+    PLOT_BY,
+    PLOT_COLUMNS,
     MultiSensorStudyConfig,
     MultiSensorTrackingRecord,
+    _tracking_figure,
     make_association,
     multisensor_tracking_table,
     multisensor_tracking_task,
@@ -77,3 +82,56 @@ def test_quick_config_and_plot(tmp_path):
     out = tmp_path / "ms.png"
     plot_multisensor_tracking(summarise_multisensor_tracking([rec, ad]), out)
     assert out.stat().st_size > 0
+
+
+def _quick_cells():
+    """Summaries of the quick study's 13 cells (made-up curves)."""
+    cfg = MultiSensorStudyConfig.quick()
+    cells = [(s, m, "paper") for s in cfg.sensor_sets for m in cfg.methods]
+    cells += [(s, m, "adaptive") for s in cfg.adaptive_sensor_sets for m in cfg.adaptive_methods]
+    recs = [MultiSensorTrackingRecord(0, tuple(s), m, np.full(4, 10.0 * i), np.zeros(4),
+                                      np.ones(12), 10, 20, 1, 0, 1.0, b)
+            for i, (s, m, b) in enumerate(cells)]
+    return summarise_multisensor_tracking(recs)
+
+
+def _panels(fig):
+    """(title, number of lines) of every visible OSPA(2) panel, row by row."""
+    return [(ax.get_title(), len(ax.get_lines())) for ax in fig.axes
+            if ax.get_visible() and ax.get_title()]
+
+
+def test_plot_splits_the_lines_into_panels(tmp_path):
+    pytest.importorskip("matplotlib")
+    summaries = _quick_cells()
+    assert len(summaries) == 13  # the 13 lines that used to share one panel
+    fig = _tracking_figure(summaries, "sensors")
+    assert _panels(fig) == [("sensors {0}", 3), ("sensors {1}", 3), ("sensors {2}", 3),
+                            ("sensors {0,1,2}", 4)]
+    fig = _tracking_figure(summaries, "method")
+    assert _panels(fig) == [("long", 4), ("short", 4), ("short-mm", 4), ("short adaptive", 1)]
+    # a line keeps its colour in every panel; one y scale per metric
+    colours = {}
+    for ax in fig.axes:
+        for line in ax.get_lines():
+            assert colours.setdefault(line.get_label(), line.get_color()) == line.get_color()
+    assert len(colours) == 4
+    ospa_axes = [ax for ax in fig.axes if ax.get_title()]
+    assert len({ax.get_ylim() for ax in ospa_axes}) == 1
+    # more panels than PLOT_COLUMNS wrap onto a second row, the empty places hidden
+    many = [dataclasses.replace(summaries[0], sensors=(v,)) for v in range(PLOT_COLUMNS + 1)]
+    fig = _tracking_figure(many, "sensors")
+    assert len(_panels(fig)) == PLOT_COLUMNS + 1
+    assert sum(not ax.get_visible() for ax in fig.axes) == 2 * (PLOT_COLUMNS - 1)
+    for by in PLOT_BY:
+        out = tmp_path / f"{by}.png"
+        plot_multisensor_tracking(summaries, out, by=by)
+        assert out.stat().st_size > 0
+
+
+def test_plot_errors(tmp_path):
+    with pytest.raises(ValueError, match=re.escape(
+            "unknown by 'sensor'; expected one of ('sensors', 'method')")):
+        plot_multisensor_tracking(_quick_cells(), tmp_path / "x.png", by="sensor")
+    with pytest.raises(ValueError, match="nothing to plot: summaries is empty"):
+        plot_multisensor_tracking([], tmp_path / "x.png")

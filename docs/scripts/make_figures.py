@@ -188,7 +188,8 @@ def tracking_multisensor(out: Path) -> None:
     cfg = MultiSensorStudyConfig(n_mc=1, n_scans=30, seed=SEED % 1000)
     recs = [multisensor_tracking_task(cfg, 0, s, "short-mm")
             for s in ((0,), (1,), (2,), (0, 1, 2))]
-    plot_multisensor_tracking(summarise_multisensor_tracking(recs), out)
+    # one association: one panel, the four sensor sets as its lines
+    plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="method")
 
 
 def sweep_scaling(out: Path) -> None:
@@ -222,7 +223,8 @@ def tracking_multisensor_adaptive(out: Path) -> None:
     recs = [multisensor_tracking_task(cfg, 0, (0, 1), "short")]
     recs += [multisensor_tracking_task(cfg, 0, s, "short", "adaptive")
              for s in ((0, 1), (0, 1, 2))]
-    plot_multisensor_tracking(summarise_multisensor_tracking(recs), out)
+    # one panel per sensor set: static and adaptive birth side by side on sensors 0, 1
+    plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="sensors")
 
 
 FIGURES = {

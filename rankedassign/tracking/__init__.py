@@ -8,9 +8,17 @@ Quick start::
     run = run_scenario("paper", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=0)
     curve = ospa2(run.truth, run.estimates, c=200, p=1, window=5).value
 
+On one's own measurements (a CSV with columns ``scan, x, y``)::
+
+    from rankedassign.tracking import LMBFilter, make_model, read_measurements, run_filter
+
+    lmb = LMBFilter(make_model("vo"), ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))
+    run = run_filter(lmb, read_measurements("measurements.csv"), rng=0)
+
 See spec §6 (filter), §7 (OSPA(2)) and §8 (truth).
 """
 
+from .io import read_measurements, write_measurements
 from .models import (
     PRESET_EXTRACTION,
     BirthComponent,
@@ -37,6 +45,7 @@ from .multisensor.scenario import (
     run_multisensor_scenario,
 )
 from .run import ScenarioRun, run_scenario
+from .runner import FilterRun, run_filter
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
 from .single.association import (
     Association,
@@ -57,6 +66,7 @@ __all__ = [
     "ConstantSurvival",
     "ConstantVelocity",
     "Exact",
+    "FilterRun",
     "LMBBirth",
     "LMBFilter",
     "Model",
@@ -88,6 +98,9 @@ __all__ = [
     "map_cardinality",
     "marginals_from_hypotheses",
     "paper_truth",
+    "read_measurements",
+    "run_filter",
     "run_multisensor_scenario",
     "run_scenario",
+    "write_measurements",
 ]

@@ -7,6 +7,7 @@ Every model is a small frozen dataclass; :func:`make_model` builds the two prese
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -21,6 +22,7 @@ __all__ = [
     "BirthComponent",
     "LMBBirth",
     "ConstantSurvival",
+    "EXTRACTIONS",
     "Model",
     "PRESETS",
     "PRESET_EXTRACTION",
@@ -425,21 +427,41 @@ class ConstantSurvival:
         object.__setattr__(self, "p_s", p_s)
 
 
+#: State extraction rules (spec §6.5): the paper's hysteresis on the existence probabilities, or
+#: the MAP cardinality of Vo's public LMB code (the ``n̂`` most likely tracks).
+EXTRACTIONS = ("hysteresis", "map")
+
+
 @dataclass(frozen=True)
 class Model:
     """Everything the filter and the measurement generator need.
+
+    Parameters
+    ----------
+    motion, sensor, clutter, birth, survival
+        The parts of the model (defaults: the paper's, spec §6.1).
+    extraction : {"hysteresis", "map"}, optional
+        The state extraction a filter on this model uses unless told otherwise (its
+        ``extraction=None``): the paper's hysteresis (default) or Vo's MAP cardinality
+        (:data:`EXTRACTIONS`). :func:`make_model` sets the preset's own
+        (:data:`PRESET_EXTRACTION`), so that a filter built on a preset's model extracts as
+        :func:`~rankedassign.tracking.run.run_scenario` does on that preset.
 
     Raises
     ------
     TypeError
         If a part is not of its type (``motion`` a :class:`ConstantVelocity`, ...).
+    ValueError
+        On an unknown ``extraction`` (one not in :data:`EXTRACTIONS`).
 
     Examples
     --------
-    >>> from rankedassign.tracking.models import make_model
+    >>> from rankedassign.tracking.models import Model, make_model
     >>> m = make_model("paper")
     >>> m.clutter.rate, m.sensor.p_d, m.survival.p_s
     (50.0, 0.98, 0.99)
+    >>> make_model("vo").extraction, Model().extraction
+    ('map', 'hysteresis')
     """
 
     motion: ConstantVelocity = field(default_factory=ConstantVelocity)
@@ -447,6 +469,7 @@ class Model:
     clutter: PoissonClutter = field(default_factory=PoissonClutter)
     birth: LMBBirth = field(default_factory=LMBBirth.paper)
     survival: ConstantSurvival = field(default_factory=ConstantSurvival)
+    extraction: str = "hysteresis"
 
     def __post_init__(self):
         check_type(self.motion, "motion", ConstantVelocity)
@@ -454,6 +477,7 @@ class Model:
         check_type(self.clutter, "clutter", PoissonClutter)
         check_type(self.birth, "birth", LMBBirth)
         check_type(self.survival, "survival", ConstantSurvival)
+        check_choice(self.extraction, "extraction", EXTRACTIONS)
 
 
 def _paper() -> Model:
@@ -492,10 +516,11 @@ def _vo() -> Model:
 
 PRESETS = {"paper": _paper, "paper-var": _paper_var, "vo": _vo}
 
-#: State extraction each preset is run with by default (spec §6.5): the paper's hysteresis
-#: (``ϑ_u = 0.9``, ``ϑ_l = 10⁻³``) for ``"paper"`` and ``"paper-var"``; the MAP cardinality of
-#: Vo's public LMB code (the ``n̂`` most likely tracks) for ``"vo"``, the preset that
-#: reproduces that code's example.
+#: State extraction of each preset (spec §6.5), carried by its model (:attr:`Model.extraction`)
+#: and so the default of every filter built on it: the paper's hysteresis (``ϑ_u = 0.9``,
+#: ``ϑ_l = 10⁻³``) for ``"paper"`` and ``"paper-var"``; the MAP cardinality of Vo's public LMB
+#: code (the ``n̂`` most likely tracks) for ``"vo"``, the preset that reproduces that code's
+#: example.
 PRESET_EXTRACTION = {"paper": "hysteresis", "paper-var": "hysteresis", "vo": "map"}
 
 
@@ -515,6 +540,8 @@ def make_model(preset: str = "paper") -> Model:
     Returns
     -------
     Model
+        With the preset's state extraction (:data:`PRESET_EXTRACTION`: MAP cardinality for
+        ``"vo"``, hysteresis otherwise), which filters built on it use by default.
 
     Raises
     ------
@@ -528,5 +555,8 @@ def make_model(preset: str = "paper") -> Model:
     [100.0, 100.0, 100.0, 100.0]
     >>> make_model("paper-var").birth.covs[0].diagonal().round(6).tolist()
     [300.0, 10.0, 300.0, 10.0]
+    >>> make_model("vo").extraction
+    'map'
     """
-    return PRESETS[check_choice(preset, "preset", tuple(PRESETS))]()
+    preset = check_choice(preset, "preset", tuple(PRESETS))
+    return dataclasses.replace(PRESETS[preset](), extraction=PRESET_EXTRACTION[preset])

@@ -1,22 +1,24 @@
-"""Run the LMB filter on a preset scenario and collect everything the study needs."""
+"""Run the LMB filter on a preset scenario and collect everything the study needs.
+
+The scan loop is :func:`~rankedassign.tracking.runner.run_filter`'s; this module simulates the
+measurements and builds the filter of a preset.
+"""
 
 from __future__ import annotations
 
-import numpy as np
+import dataclasses
 
 from ..engine.rng import spawning_generator
-from ..metrics import tracks_to_array
 from ..validation import check_bool
-from .models import PRESET_EXTRACTION
 from .multisensor.scenario import run_multisensor_scenario
-from .scenario import COUNTER_KEYS, ScenarioRun, check_n_scans, make_scenario
+from .runner import TIMING_KEYS, run_filter
+from .scenario import ScenarioRun, check_n_scans, make_scenario
 from .single.association import Association
 from .single.lmb import LMBFilter
 
-__all__ = ["ScenarioRun", "run_scenario"]
+__all__ = ["ScenarioRun", "TIMING_KEYS", "run_scenario"]
 
-TIMING_KEYS = ("prediction", "cost", "association", "update")
-#: Per-scan counters of :class:`ScanRecord` that :class:`ScenarioRun` keeps as arrays.
+
 def run_scenario(
     preset: str = "paper",
     association: Association | None = None,
@@ -55,9 +57,11 @@ def run_scenario(
         except for ``"multi"`` (True). Otherwise ``True`` or ``False`` (a string is refused).
     extraction : {"hysteresis", "map"} or None
         State extraction (spec 6.5): the paper's hysteresis or the MAP cardinality of Vo's
-        code. None (default) takes the preset's own setting
-        (:data:`~rankedassign.tracking.models.PRESET_EXTRACTION`): hysteresis for ``"paper"``,
-        MAP cardinality for ``"vo"`` (Vo's public example, which extracts by MAP cardinality).
+        code. None (default) takes the preset's own setting, which the preset's model carries
+        (:attr:`Model.extraction <rankedassign.tracking.models.Model>`, from
+        :data:`~rankedassign.tracking.models.PRESET_EXTRACTION`): hysteresis for ``"paper"``,
+        MAP cardinality for ``"vo"`` (Vo's public example, which extracts by MAP cardinality),
+        hysteresis for ``"multi"``. A filter built on ``make_model(preset)`` takes the same.
     sensors : sequence of int or None
         ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
         measurements do not depend on which others are selected.
@@ -96,48 +100,23 @@ def run_scenario(
             association, rng=rng, n_scans=n_scans,
             sensors=(0, 1, 2) if sensors is None else sensors,
             grouping=True if grouping is None else grouping,
-            extraction=extraction or "hysteresis", **filter_options,
+            extraction=extraction, **filter_options,
         )
     if sensors is not None:
         raise ValueError(f"sensors applies to the 'multi' preset only, got preset {preset!r}")
     grouping = False if grouping is None else grouping
     check_n_scans(n_scans)
-    if extraction is None:
-        extraction = PRESET_EXTRACTION.get(preset, "hysteresis")  # unknown presets fail below
     parent = spawning_generator(rng)
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
+    # extraction None: the model's, which make_model set to the preset's (PRESET_EXTRACTION)
     filt = LMBFilter(
         scenario.model, association, grouping=grouping, extraction=extraction, **filter_options
     )
-    K = scenario.truth.n_scans
-    labelled, existence, counts, times = [], [], [], []
-    scan_rngs = filter_rng.spawn(K)
-    for k, scan in enumerate(scenario.scans):
-        rec = filt.step(scan.z, rng=scan_rngs[k])
-        # labels as tuples of Python ints, existence as Python floats
-        labelled.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
-        existence.append(dict(zip(map(tuple, rec.track_labels.tolist()),
-                                  rec.track_existence.tolist(), strict=True)))
-        counts.append([getattr(rec, name) for name in COUNTER_KEYS] + [rec.labels.shape[0]])
-        times.append([rec.timings[name] for name in TIMING_KEYS])
-    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 1)
-    counters = {name: counts[:, i].copy() for i, name in enumerate(COUNTER_KEYS)}
-    counters["n_estimated"] = counts[:, -1].copy()
-    times = np.array(times, dtype=np.float64).reshape(K, len(TIMING_KEYS))
-    timings = {name: times[:, i].copy() for i, name in enumerate(TIMING_KEYS)}
-    est, labels = tracks_to_array(labelled, dims=(0, 2), return_labels=True)
-    if est.shape[2] == 0:  # nothing was ever reported
-        est = np.full((K, 0, 2), np.nan)
+    run = run_filter(filt, [scan.z for scan in scenario.scans], rng=filter_rng)
     return ScenarioRun(
         scenario=scenario,
-        association=repr(association),
-        extraction=extraction,
         truth=scenario.truth.positions,
-        estimates=est,
-        estimate_labels=labels,
-        labelled_estimates=labelled,
-        existence=existence,
-        timings=timings,
-        **counters,
+        **{f.name: getattr(run, f.name) for f in dataclasses.fields(ScenarioRun)
+           if f.name not in ("scenario", "truth")},
     )

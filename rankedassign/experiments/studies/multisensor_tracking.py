@@ -12,7 +12,7 @@ are left out, a target covered on less than half of the rest is lost).
 The functions here are the study's computation: :func:`multisensor_tracking_task` (one run),
 :func:`summarise_multisensor_tracking` (means, standard errors, totals, reductions),
 :func:`multisensor_tracking_table` (a Markdown table) and :func:`plot_multisensor_tracking`
-(OSPA(2) and cardinality error per scan).
+(OSPA(2) and cardinality error per scan, one panel per sensor set or per association).
 """
 
 from __future__ import annotations
@@ -46,6 +46,7 @@ __all__ = [
     "multisensor_tracking_task",
     "summarise_multisensor_tracking",
     "multisensor_tracking_table",
+    "PLOT_BY",
     "plot_multisensor_tracking",
 ]
 
@@ -386,37 +387,111 @@ def multisensor_tracking_table(summaries) -> str:
     return "\n".join(lines)
 
 
-def plot_multisensor_tracking(summaries, path) -> None:
-    """OSPA(2) and cardinality error per scan, one line per (sensor set, association, birth);
-    the adaptive-birth cells are drawn thick.
+#: How :func:`plot_multisensor_tracking` splits the lines into panels: one panel per sensor set
+#: (the associations and births on it as lines) or one per association and birth (the sensor
+#: sets as lines).
+PLOT_BY = ("sensors", "method")
+#: Most panel columns of one row of :func:`plot_multisensor_tracking`; more panels wrap.
+PLOT_COLUMNS = 4
+
+
+def _sensor_label(sensors) -> str:
+    return "{" + ",".join(map(str, sensors)) + "}"
+
+
+def _method_label(s) -> str:
+    return s.method + (" adaptive" if s.birth == "adaptive" else "")
+
+
+def plot_multisensor_tracking(summaries, path, *, by: str = "sensors") -> None:
+    """OSPA(2) and cardinality error per scan, one panel per sensor set or per association.
 
     Parameters
     ----------
     summaries : list of MultiSensorTrackingSummary
     path : str or path-like
         Image file to write (format from the suffix).
+    by : {"sensors", "method"}, optional
+        ``"sensors"`` (default): one panel per sensor set, one line per association and birth
+        on it (the adaptive-birth cells dashed); ``"method"``: one panel per association and
+        birth, one line per sensor set. Each panel has its OSPA(2) above its cardinality error;
+        a line keeps its colour in every panel, and at most :data:`PLOT_COLUMNS` panels share a
+        row.
+
+    Raises
+    ------
+    ValueError
+        On an unknown ``by`` or no summary to plot.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import numpy as np
+    >>> from rankedassign.experiments.studies.multisensor_tracking import (
+    ...     MultiSensorTrackingRecord, plot_multisensor_tracking, summarise_multisensor_tracking)
+    >>> recs = [MultiSensorTrackingRecord(0, s, m, np.full(5, 50.0 / len(s)), np.zeros(5),
+    ...                                   np.ones(12), 100, 200, 5, 0, 1.0)
+    ...         for s in ((0,), (0, 1)) for m in ("short", "long")]
+    >>> out = Path(tempfile.mkdtemp()) / "ms.png"
+    >>> plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="method")
+    >>> out.stat().st_size > 0
+    True
     """
-    import matplotlib
+    _tracking_figure(summaries, by).savefig(path, dpi=110)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
-    for s in summaries:
-        adaptive = s.birth == "adaptive"
-        label = f"{{{','.join(map(str, s.sensors))}}} {s.method}" + (" adaptive" if adaptive
-                                                                     else "")
-        ls = "-" if s.method == "long" else ("--" if s.method == "short" else ":")
-        lw = 2.5 if adaptive else 1.2
-        k = np.arange(1, s.ospa2_curve.size + 1)
-        axes[0].plot(k, s.ospa2_curve, ls, lw=lw, label=label)
-        axes[1].plot(k, s.card_curve, ls, lw=lw, label=label)
-    axes[0].set(xlabel="scan", ylabel="OSPA(2) (m)", title="OSPA(2), mean over runs")
-    axes[1].set(xlabel="scan", ylabel="|#estimates − #targets|", title="cardinality error")
-    axes[1].legend(fontsize=7, ncol=2)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+def _tracking_figure(summaries, by: str):
+    """The matplotlib Figure of :func:`plot_multisensor_tracking` (no pyplot state)."""
+    check_choice(by, "by", PLOT_BY)
+    summaries = list(summaries)
+    if not summaries:
+        raise ValueError("nothing to plot: summaries is empty")
+    from matplotlib.figure import Figure  # optional dependency (the "plot" extra)
 
+    def panel_of(s):
+        return _sensor_label(s.sensors) if by == "sensors" else _method_label(s)
+
+    def line_of(s):
+        return _method_label(s) if by == "sensors" else _sensor_label(s.sensors)
+
+    panels = list(dict.fromkeys(panel_of(s) for s in summaries))
+    lines = list(dict.fromkeys(line_of(s) for s in summaries))
+    colours = {name: f"C{i % 10}" for i, name in enumerate(lines)}
+    ncols = min(len(panels), PLOT_COLUMNS)
+    nrows = -(-len(panels) // ncols)
+    fig = Figure(figsize=(max(3.6 * ncols + 0.6, 5.5), 5.2 * nrows), layout="constrained")
+    axes = fig.subplots(2 * nrows, ncols, squeeze=False, sharex=True)
+    for i, name in enumerate(panels):
+        top, bottom = axes[2 * (i // ncols), i % ncols], axes[2 * (i // ncols) + 1, i % ncols]
+        for s in summaries:
+            if panel_of(s) != name:
+                continue
+            label = line_of(s)
+            style = {"color": colours[label], "lw": 1.4,
+                     "ls": "--" if s.birth == "adaptive" else "-"}
+            k = np.arange(1, s.ospa2_curve.size + 1)
+            top.plot(k, s.ospa2_curve, label=label, **style)
+            bottom.plot(k, s.card_curve, label=label, **style)
+        title = f"sensors {name}" if by == "sensors" else name
+        top.set(title=title, ylabel="OSPA(2) (m)" if i % ncols == 0 else None)
+        bottom.set(xlabel="scan",
+                   ylabel="|#estimates − #targets|" if i % ncols == 0 else None)
+        top.legend(fontsize=7)
+        for ax in (top, bottom):
+            ax.grid(True, alpha=0.3)
+    for i in range(len(panels), nrows * ncols):  # empty places of the last row
+        axes[2 * (i // ncols), i % ncols].set_visible(False)
+        axes[2 * (i // ncols) + 1, i % ncols].set_visible(False)
+    # one y scale per metric, so that panels compare at a glance
+    for row in range(2):
+        shown = [ax for ax in axes[row::2].ravel() if ax.get_visible()]
+        lo = min(ax.get_ylim()[0] for ax in shown)
+        hi = max(ax.get_ylim()[1] for ax in shown)
+        for ax in shown:
+            ax.set_ylim(lo, hi)
+    fig.suptitle("OSPA(2) and cardinality error, mean over runs")
+    return fig
 
 
 def _tasks(cfg: MultiSensorStudyConfig, seed: int) -> list[tuple]:

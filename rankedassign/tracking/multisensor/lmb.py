@@ -41,9 +41,10 @@ from scipy.special import logsumexp
 from ...engine.rng import spawning_generator
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
-from ...validation import check_bool, check_int, check_type
+from ...validation import check_bool, check_choice, check_int, check_type
 from .. import _kernels
 from ..models import (
+    EXTRACTIONS,
     ConstantSurvival,
     ConstantVelocity,
     LMBBirth,
@@ -128,13 +129,18 @@ class MultiSensorModel:
         One Poisson clutter model per sensor (``κ_v``).
     birth : LMBBirth
     survival : ConstantSurvival
+    extraction : {"hysteresis", "map"}, optional
+        The state extraction a filter on this model uses unless told otherwise (default
+        hysteresis; :meth:`from_model` takes the single-sensor model's, so a preset's setting
+        travels on), as :attr:`Model.extraction <rankedassign.tracking.models.Model>`.
 
     Raises
     ------
     TypeError
         If a part is not of its type (``sensors[v]`` a :class:`PositionSensor`, ...).
     ValueError
-        If there is no sensor or ``clutters`` does not have one entry per sensor.
+        If there is no sensor, ``clutters`` does not have one entry per sensor, or on an
+        unknown ``extraction``.
 
     Examples
     --------
@@ -143,6 +149,8 @@ class MultiSensorModel:
     >>> ms = MultiSensorModel.from_model(make_model("paper"))
     >>> ms.n_sensors, ms.select([0]).sensors[0].p_d
     (1, 0.98)
+    >>> MultiSensorModel.from_model(make_model("vo")).extraction
+    'map'
     """
 
     motion: ConstantVelocity
@@ -150,11 +158,13 @@ class MultiSensorModel:
     clutters: tuple
     birth: LMBBirth
     survival: ConstantSurvival
+    extraction: str = "hysteresis"
 
     def __post_init__(self):
         check_type(self.motion, "motion", ConstantVelocity)
         check_type(self.birth, "birth", LMBBirth)
         check_type(self.survival, "survival", ConstantSurvival)
+        check_choice(self.extraction, "extraction", EXTRACTIONS)
         for name in ("sensors", "clutters"):
             check_type(getattr(self, name), name, Sequence, "one entry per sensor")
         object.__setattr__(self, "sensors", tuple(self.sensors))
@@ -180,7 +190,8 @@ class MultiSensorModel:
     def from_model(cls, model: Model) -> MultiSensorModel:
         """The one-sensor model of a single-sensor :class:`~rankedassign.tracking.Model`."""
         check_type(model, "model", Model)
-        return cls(model.motion, (model.sensor,), (model.clutter,), model.birth, model.survival)
+        return cls(model.motion, (model.sensor,), (model.clutter,), model.birth, model.survival,
+                   model.extraction)
 
     def select(self, sensors) -> MultiSensorModel:
         """The model restricted to the sensors of index ``sensors`` (in that order).
@@ -194,7 +205,8 @@ class MultiSensorModel:
         """
         idx = check_sensors(sensors, self.n_sensors)
         return MultiSensorModel(self.motion, tuple(self.sensors[v] for v in idx),
-                                tuple(self.clutters[v] for v in idx), self.birth, self.survival)
+                                tuple(self.clutters[v] for v in idx), self.birth, self.survival,
+                                self.extraction)
 
     def single(self, v: int = 0) -> Model:
         """Sensor ``v`` as a single-sensor :class:`~rankedassign.tracking.Model`.
@@ -207,7 +219,8 @@ class MultiSensorModel:
             If ``v`` is outside ``0..n_sensors - 1`` (no negative indexing).
         """
         v = check_int(v, "v", minimum=0, maximum=self.n_sensors - 1)
-        return Model(self.motion, self.sensors[v], self.clutters[v], self.birth, self.survival)
+        return Model(self.motion, self.sensors[v], self.clutters[v], self.birth, self.survival,
+                     self.extraction)
 
 
 class MultiSensorLMBFilter(LMBFilter):
@@ -236,7 +249,8 @@ class MultiSensorLMBFilter(LMBFilter):
         tracks do not explain make the births of the next scan (see Notes).
     **options
         The housekeeping and extraction options of
-        :class:`~rankedassign.tracking.LMBFilter` (``extraction``, ``theta_upper``,
+        :class:`~rankedassign.tracking.LMBFilter` (``extraction``: None, the default, takes
+        the model's :attr:`MultiSensorModel.extraction`; ``theta_upper``,
         ``prune_track``, ``max_tracks``, ``prune_component``, ``merge_threshold``,
         ``merge_rule``, ``max_components``, ``estimate``). ``sample_empty_groups`` is
         accepted (a bool) and has no effect: groups without measurements are always solved in

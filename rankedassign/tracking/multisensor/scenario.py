@@ -20,16 +20,16 @@ compare on the same data.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...engine.rng import spawning_generator
-from ...metrics import tracks_to_array
 from ...validation import check_bool, check_choice
 from ..models import LMBBirth, PoissonClutter, PositionSensor, make_model
+from ..runner import run_filter
 from ..scenario import (
-    COUNTER_KEYS,
     ScenarioRun,
     Truth,
     check_n_scans,
@@ -53,8 +53,6 @@ __all__ = [
 MULTI_SENSORS = ((10.0, 0.6), (15.0, 0.7), (20.0, 0.8), (10.0, 0.7))
 #: Mean clutter points per scan and sensor.
 MULTI_CLUTTER = 20.0
-
-_TIMING_KEYS = ("prediction", "cost", "association", "update", "birth")
 
 
 #: Birth models: the paper's static birth (``P_B = diag(300², 10², 300², 10²)``, spec §6.1),
@@ -202,7 +200,7 @@ class MultiSensorRun(ScenarioRun):
 
 def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
                              sensors=(0, 1, 2), grouping: bool = True,
-                             extraction: str = "hysteresis", birth: str = "paper",
+                             extraction: str | None = None, birth: str = "paper",
                              **filter_options) -> MultiSensorRun:
     """Simulate the ``"multi"`` scenario and run the multi-sensor LMB filter on it.
 
@@ -224,8 +222,10 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     grouping : bool
         One problem per group of tracks sharing gated measurements (default True); ``True``
         or ``False`` only.
-    extraction : {"hysteresis", "map"}
-        State extraction (spec 6.5).
+    extraction : {"hysteresis", "map"} or None
+        State extraction (spec 6.5). None (default): the model's, hysteresis for this
+        preset (:attr:`MultiSensorModel.extraction
+        <rankedassign.tracking.multisensor.MultiSensorModel>`).
     birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
         Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
         :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
@@ -269,28 +269,11 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
                                          birth=birth)
     filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
                                 extraction=extraction, birth=adaptive, **filter_options)
-    K = scenario.truth.n_scans
-    labelled, existence, counts, times = [], [], [], []
-    scan_rngs = filter_rng.spawn(K)
-    for k, scans in enumerate(scenario.scans):
-        rec = filt.step([s.z for s in scans], rng=scan_rngs[k])
-        labelled.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
-        existence.append(dict(zip(map(tuple, rec.track_labels.tolist()),
-                                  rec.track_existence.tolist(), strict=True)))
-        counts.append([getattr(rec, name) for name in COUNTER_KEYS]
-                      + [rec.labels.shape[0], filt.n_births])
-        times.append([rec.timings.get(name, 0.0) for name in _TIMING_KEYS])
-    counts = np.array(counts, dtype=np.int64).reshape(K, len(COUNTER_KEYS) + 2)
-    counters = {name: counts[:, i].copy() for i, name in enumerate(COUNTER_KEYS)}
-    counters["n_estimated"] = counts[:, -2].copy()
-    counters["n_births"] = counts[:, -1].copy()
-    times = np.array(times, dtype=np.float64).reshape(K, len(_TIMING_KEYS))
-    timings = {name: times[:, i].copy() for i, name in enumerate(_TIMING_KEYS)}
-    est, labels = tracks_to_array(labelled, dims=(0, 2), return_labels=True)
-    if est.shape[2] == 0:
-        est = np.full((K, 0, 2), np.nan)
-    return MultiSensorRun(
-        scenario=scenario, association=repr(association), extraction=extraction,
-        truth=scenario.truth.positions, estimates=est, estimate_labels=labels,
-        labelled_estimates=labelled, existence=existence, timings=timings, **counters,
-    )
+    run = run_filter(filt, [tuple(s.z for s in scans) for scans in scenario.scans],
+                     rng=filter_rng)
+    timings = dict(run.timings)
+    timings.setdefault("birth", np.zeros(run.n_scans))  # a static birth takes no time
+    fields = {f.name: getattr(run, f.name) for f in dataclasses.fields(MultiSensorRun)
+              if f.name not in ("scenario", "truth", "timings")}
+    return MultiSensorRun(scenario=scenario, truth=scenario.truth.positions, timings=timings,
+                          **fields)

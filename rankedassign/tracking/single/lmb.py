@@ -46,7 +46,7 @@ from ...single.problem import AssignmentProblem
 from ...validation import check_bool, check_choice, check_int, check_real, check_type
 from .. import _kernels
 from .._kernels import MERGE_RULES
-from ..models import Model
+from ..models import EXTRACTIONS, Model
 from .association import Association, AssociationResult
 
 __all__ = [
@@ -61,8 +61,6 @@ __all__ = [
     "map_cardinality",
 ]
 
-#: State extraction rules of :class:`LMBFilter` (``extraction``).
-EXTRACTIONS = ("hysteresis", "map")
 #: State estimates of a reported track (``estimate``).
 ESTIMATES = ("max-weight", "mean")
 #: Largest ``|Σ_j β_ij − 1|`` the filters accept in the marginals an association returns
@@ -249,8 +247,15 @@ class LMBFilter:
         is the same in expectation; only the association's cost and counters change. The
         paper's observation totals fit a sampler call on every group, these included
         (ambiguity A13; see the Tracking page of the documentation). Default False.
-    extraction : {"hysteresis", "map"}, optional
-        Hysteresis state extraction (6.5, the paper) or the MAP cardinality of Vo's code.
+    extraction : {"hysteresis", "map"} or None, optional
+        Hysteresis state extraction (6.5, the paper) or the MAP cardinality of Vo's code
+        (:data:`EXTRACTIONS`). None (default): the model's own,
+        :attr:`Model.extraction <rankedassign.tracking.models.Model>`, which is the preset's
+        for a model of :func:`~rankedassign.tracking.models.make_model`
+        (:data:`~rankedassign.tracking.models.PRESET_EXTRACTION`: MAP cardinality for
+        ``"vo"``, as Vo's example; hysteresis for ``"paper"``) and hysteresis for a
+        :class:`~rankedassign.tracking.models.Model` built by hand. An explicit value wins; the
+        attribute :attr:`extraction` says which one the filter took.
     theta_upper, theta_lower : float, optional
         Hysteresis thresholds ``ϑ_u = 0.9`` and ``ϑ_l = 10⁻³``.
     prune_track : float, optional
@@ -302,6 +307,13 @@ class LMBFilter:
     >>> rec = f.step(np.array([[0.0, 0.0]]), rng=0)
     >>> rec.n_tracks, rec.track_labels.tolist()
     (4, [[1, 1], [1, 2], [1, 3], [1, 4]])
+
+    The extraction travels with a preset's model; an explicit ``extraction`` wins:
+
+    >>> LMBFilter(make_model("vo"), AllMissed()).extraction
+    'map'
+    >>> LMBFilter(make_model("vo"), AllMissed(), extraction="hysteresis").extraction
+    'hysteresis'
     """
 
     def __init__(
@@ -312,7 +324,7 @@ class LMBFilter:
         gate_prob: float | None = 0.9999999,
         grouping: bool = False,
         sample_empty_groups: bool = False,
-        extraction: str = "hysteresis",
+        extraction: str | None = None,
         theta_upper: float = 0.9,
         theta_lower: float = 1e-3,
         prune_track: float = 1e-3,
@@ -325,7 +337,9 @@ class LMBFilter:
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
         self._check_association(association)
-        self.extraction = check_choice(extraction, "extraction", EXTRACTIONS)
+        #: The state extraction in use: ``extraction``, or the model's when that is None.
+        self.extraction = check_choice(model.extraction if extraction is None else extraction,
+                                       "extraction", EXTRACTIONS)
         self.estimate = check_choice(estimate, "estimate", ESTIMATES)
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
         self.theta_upper = check_real(theta_upper, "theta_upper", minimum=0.0, maximum=1.0)
