@@ -1,4 +1,4 @@
-"""The compact LMB filter of the tracking study, its models, scenario and association methods.
+"""The LMB and δ-GLMB filters of the tracking study, their models, scenario and associations.
 
 Quick start::
 
@@ -21,6 +21,7 @@ from .association import (
     ShortChainGibbs,
     marginals_from_hypotheses,
 )
+from .glmb import GLMBFilter, GLMBScanRecord, Hypotheses
 from .lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 from .models import (
     PRESET_EXTRACTION,
@@ -57,6 +58,9 @@ __all__ = [
     "ConstantSurvival",
     "ConstantVelocity",
     "Exact",
+    "GLMBFilter",
+    "GLMBScanRecord",
+    "Hypotheses",
     "LMBBirth",
     "LMBFilter",
     "Model",

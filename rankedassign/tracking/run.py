@@ -6,8 +6,9 @@ import numpy as np
 
 from .._rng import spawning_generator
 from ..metrics import tracks_to_array
-from ..validation import check_bool
+from ..validation import check_bool, check_choice
 from .association import Association
+from .glmb import GLMBFilter
 from .lmb import LMBFilter
 from .models import PRESET_EXTRACTION
 from .multisensor_scenario import run_multisensor_scenario
@@ -16,6 +17,8 @@ from .scenario import COUNTER_KEYS, ScenarioRun, check_n_scans, make_scenario
 __all__ = ["ScenarioRun", "run_scenario"]
 
 TIMING_KEYS = ("prediction", "cost", "association", "update")
+#: Filters :func:`run_scenario` runs (``filter``).
+FILTERS = ("lmb", "glmb")
 #: Per-scan counters of :class:`ScanRecord` that :class:`ScenarioRun` keeps as arrays.
 def run_scenario(
     preset: str = "paper",
@@ -26,6 +29,7 @@ def run_scenario(
     grouping: bool | None = None,
     extraction: str | None = None,
     sensors=None,
+    filter: str = "lmb",
     **filter_options,
 ) -> ScenarioRun:
     """Simulate a preset scenario and run the LMB filter on it.
@@ -61,9 +65,14 @@ def run_scenario(
     sensors : sequence of int or None
         ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
         measurements do not depend on which others are selected.
+    filter : {"lmb", "glmb"}, optional
+        The LMB filter (default) or the δ-GLMB filter
+        (:class:`~rankedassign.tracking.glmb.GLMBFilter`, single-sensor presets, no grouping).
+        The measurements depend only on ``rng``, so both filters see the same data.
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.lmb.LMBFilter` (``gate_prob``,
-        ``theta_upper``, ``prune_track``, ``max_components``, ...).
+        ``theta_upper``, ``prune_track``, ``max_components``, ...) or of
+        :class:`~rankedassign.tracking.glmb.GLMBFilter` (``h_upd``, ``h_max``, ...).
 
     Returns
     -------
@@ -88,6 +97,10 @@ def run_scenario(
     """
     if association is None:
         raise TypeError("run_scenario needs an association, e.g. ShortChainGibbs(400, 25, 5, 10)")
+    check_choice(filter, "filter", FILTERS)
+    if filter == "glmb" and (preset == "multi" or grouping):
+        raise ValueError("filter='glmb' runs the single-sensor presets without grouping, got "
+                         f"preset {preset!r}, grouping={grouping!r}")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
     if preset == "multi":
@@ -106,9 +119,11 @@ def run_scenario(
     parent = spawning_generator(rng)
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
-    filt = LMBFilter(
-        scenario.model, association, grouping=grouping, extraction=extraction, **filter_options
-    )
+    if filter == "glmb":
+        filt = GLMBFilter(scenario.model, association, extraction=extraction, **filter_options)
+    else:
+        filt = LMBFilter(scenario.model, association, grouping=grouping, extraction=extraction,
+                         **filter_options)
     K = scenario.truth.n_scans
     labelled, existence, counts, times = [], [], [], []
     scan_rngs = filter_rng.spawn(K)
