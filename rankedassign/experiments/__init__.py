@@ -29,6 +29,7 @@ not depend on where or in which order runs execute.
 from . import (  # noqa: F401
     ablation,
     adaptive_birth,
+    glmb_tracking,
     multisensor,
     multisensor_tracking,
     optimum,

@@ -750,21 +750,52 @@ class GLMBFilter:
                          cat(meas, np.int64), sweeps, row_updates)
 
     def _retained(self, terms: _Terms, children: _Children) -> tuple[float, str]:
-        """``Σ_h w_h K_h / Σ_h w_h Z_h`` with the oracle's exact ``Z_h`` (spec §4)."""
+        """``Σ_h w_h K_h / Σ_h w_h Z_h`` with the exact ``Z_h`` (spec §4).
+
+        ``Z_h`` factorises over the connected components of the problem's gate graph (rows
+        that share no measurement are independent, and every row's missed and dead columns are
+        its own): ``Z_h = Π_g Z_g``. A group is named by its entries, so a group met in several
+        components is solved once per scan, by :func:`oracle.log_normalizer`; a group of one
+        row is its closed form ``Σ_j η(j)``.
+        """
         H = self.n_components
         U = terms.used.size
         mark = np.zeros(U, dtype=bool)
         rows = np.empty(self._births.size + int(np.diff(self.comp_off).max(initial=0)),
                         dtype=np.int64)
         cols = np.empty(U, dtype=np.int64)
-        log_Z = np.empty(H)
+        log_Z = np.zeros(H)
+        cache: dict = {}
         for h in range(H):
-            _, _, problem = self._problem(h, terms, mark, rows, cols)
-            try:
-                log_Z[h] = oracle.log_normalizer(problem)
-            except ValueError as err:
-                return math.nan, (f"component {h} ({problem.n_rows} rows, {problem.n_meas} "
-                                  f"measurements) is beyond the oracle's DP: {err}")
+            with interruptible:
+                P, M = _glmb_kernels.component_problem(
+                    h, self.comp_off, self.comp_tracks, self._births, terms.gated, mark, rows,
+                    cols)
+                r, c = rows[:P].copy(), cols[:M].copy()
+                groups, meas_groups, n = _kernels.connected_groups(
+                    np.ascontiguousarray(terms.gated[np.ix_(r, c)]))
+            for g in range(n):
+                rr = r[groups == g]
+                name = tuple(rr.tolist())
+                value = cache.get(name)
+                if value is None:
+                    cg = c[meas_groups == g]
+                    if rr.size == 1:
+                        t = rr[0]
+                        value = _logsumexp(np.r_[terms.log_det[t, cg], terms.log_miss[t],
+                                                 terms.log_dead[t]])
+                    else:
+                        with interruptible:
+                            cost = _kernels.group_cost_matrix(
+                                terms.log_det, terms.log_miss, terms.log_dead, rr, cg)
+                        try:
+                            value = oracle.log_normalizer(AssignmentProblem(cost))
+                        except ValueError as err:
+                            return math.nan, (
+                                f"component {h} has a group of {rr.size} rows and {cg.size} "
+                                f"measurements beyond the oracle's DP: {err}")
+                    cache[name] = value
+                log_Z[h] += value
         # K_h = Σ over the children of h of Π η = exp(−cost); children are grouped by parent
         log_K = np.full(H, -np.inf)
         starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
