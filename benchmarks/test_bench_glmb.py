@@ -66,22 +66,27 @@ def test_bench_glmb_memory(benchmark):
     sc = make_scenario("vo", rng=0, n_scans=n)
 
     def run():
-        f = GLMBFilter(sc.model, ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))
-        gen = np.random.default_rng(1)
+        # the same run with and without the whole histories (same numbers, tested)
+        fs = [GLMBFilter(sc.model, ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
+                         keep_histories=keep) for keep in (False, True)]
         sizes, comps, tracks = [], [], []
-        for s in sc.scans:
-            f.step(s.z, rng=gen)
-            sizes.append(f.nbytes())
-            comps.append(f.n_components)
-            tracks.append(f.n_tracks)
-        return np.array(sizes), np.array(comps), np.array(tracks), f
+        for k, s in enumerate(sc.scans):
+            for f in fs:
+                f.step(s.z, rng=k)
+            sizes.append([f.nbytes() for f in fs])
+            comps.append(fs[0].n_components)
+            tracks.append(fs[0].n_tracks)
+        return np.array(sizes), np.array(comps), np.array(tracks), fs
 
-    sizes, comps, tracks, f = benchmark.pedantic(run, rounds=1, warmup_rounds=0)
-    assert comps.max() <= f.h_max
-    half = n // 2
+    sizes, comps, tracks, fs = benchmark.pedantic(run, rounds=1, warmup_rounds=0)
+    assert comps.max() <= fs[0].h_max
+    half = max(n // 2, 1)
+    for j, name in enumerate(("without_histories", "with_histories")):
+        benchmark.extra_info[f"max_bytes_{name}_per_100_scans"] = [
+            int(sizes[i:i + 100, j].max()) for i in range(0, n, 100)]
+        benchmark.extra_info[f"max_bytes_{name}_halves"] = [int(sizes[:half, j].max()),
+                                                           int(sizes[half:, j].max())]
     benchmark.extra_info.update(
-        max_bytes_first_half=int(sizes[:half].max()), max_bytes_second_half=int(sizes[half:].max()),
-        max_bytes_per_100_scans=[int(sizes[i:i + 100].max()) for i in range(0, n, 100)],
         max_components=int(comps.max()), max_tracks=int(tracks.max()),
-        history_nodes=int(f._node_parent.size),
+        history_nodes=int(fs[1]._node_parent.size),
     )

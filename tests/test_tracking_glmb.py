@@ -229,6 +229,27 @@ def test_component_weights_sum_to_their_enumeration_and_retained_mass_is_one():
     assert 0 < rec.retained_mass < 1
 
 
+def test_retained_mass_is_nan_with_the_reason_when_the_oracle_cannot(monkeypatch):
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    f = GLMBFilter(model, Murty(5))
+    f.set_prior(labels, means, covs)
+    rec = f.step(Z1, rng=0)
+    assert math.isnan(rec.retained_mass)
+    assert rec.retained_mass_reason == "not computed (retained_mass=False)"
+
+    def beyond(problem):
+        raise ValueError("too large for the DP")
+
+    monkeypatch.setattr(oracle, "log_normalizer", beyond)
+    f = GLMBFilter(model, Murty(5), retained_mass=True)
+    f.set_prior(labels, means, covs)
+    rec = f.step(Z1, rng=0)
+    assert math.isnan(rec.retained_mass)
+    assert re.fullmatch(r"component 0 has a group of \d+ rows and \d+ measurements beyond the "
+                        r"oracle's DP: too large for the DP", rec.retained_mass_reason)
+
+
 def _cardinality(post, n_max):
     card = np.zeros(n_max + 1)
     for s, w in post.items():
@@ -423,10 +444,20 @@ def test_run_scenario_runs_the_glmb_filter_on_the_same_measurements():
 
 
 def test_memory_stays_bounded_by_the_caps():
-    f, _ = _run(ShortChainGibbs(400, 25, 5, 10), n_scans=30, h_max=20, h_upd=100)
+    f, a = _run(ShortChainGibbs(400, 25, 5, 10), n_scans=30, h_max=20, h_upd=100)
     assert f.n_components <= 20
     assert f.n_tracks <= 20 * (1 + np.diff(f.comp_off).max())
     assert f._node_parent.size <= 2 * f._live_nodes + 4096 + f.n_tracks
+    # without the histories the forest holds one node per entry (and the same numbers)
+    g, b = _run(ShortChainGibbs(400, 25, 5, 10), n_scans=30, h_max=20, h_upd=100,
+                keep_histories=False)
+    for x, y in zip(a, b, strict=True):
+        assert_array_equal(x.track_existence, y.track_existence)
+        assert_array_equal(x.states, y.states)
+    assert (g._node_parent == -1).all()
+    assert all(len(hist) == 1 for _, items in g.components() for _, hist in items)
+    with pytest.raises(ValueError, match="extraction='trajectory' needs keep_histories=True"):
+        GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory", keep_histories=False)
 
 
 # ----------------------------------------------------------------------------- bad input

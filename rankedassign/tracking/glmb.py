@@ -396,6 +396,12 @@ class GLMBFilter:
     retained_mass : bool, optional
         Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) with the oracle's DP (default
         False: it costs one exact normaliser per component).
+    keep_histories : bool, optional
+        Keep every entry's whole association history (default True): the trajectories of
+        ``extraction="trajectory"`` and :meth:`components` read it, and it grows by one node
+        (56 bytes) per live entry and scan. False keeps only the last scan's node, so the
+        state stays bounded by the caps however long the run (an entry is told apart by its
+        table index, never by its history, so the filter's numbers do not change).
 
     Notes
     -----
@@ -450,6 +456,7 @@ class GLMBFilter:
         merge_rule: str = "bhattacharyya",
         max_components: int = 10,
         retained_mass: bool = False,
+        keep_histories: bool = True,
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
         _check_association_kind(association, "GLMBFilter", MultiSensorAssociation,
@@ -474,6 +481,10 @@ class GLMBFilter:
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
         self.max_components = check_int(max_components, "max_components", minimum=1)
         self.retained_mass = check_bool(retained_mass, "retained_mass")
+        self.keep_histories = check_bool(keep_histories, "keep_histories")
+        if self.extraction == "trajectory" and not self.keep_histories:
+            raise ValueError("extraction='trajectory' needs keep_histories=True (a trajectory "
+                             "is read along the association history)")
         self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
         self._rules = _kernel_rules(association)
         self._F = np.array(model.motion.F)
@@ -589,7 +600,8 @@ class GLMBFilter:
         """Every component as ``(w, ((label, history), ...))``, in the order held.
 
         ``label`` is a tuple ``(birth scan, birth index)``, ``history`` the tuple of the
-        measurement indices (0-based, ``−1`` missed) of every scan since birth.
+        measurement indices (0-based, ``−1`` missed) of every scan since birth (of the last
+        scan only with ``keep_histories=False``).
 
         Examples
         --------
@@ -841,7 +853,7 @@ class GLMBFilter:
         self.comp_tracks = comp_tracks.astype(np.int64).reshape(-1)
         self.comp_w = w
         meas = np.where(j_src >= 0, terms.used[np.maximum(j_src, 0)] if U else -1, -1)
-        parents = self.hist[e_src]
+        parents = self.hist[e_src] if self.keep_histories else np.full(e_src.size, -1)
         self.labels = self.labels[e_src]
         self.hist = self._append_nodes(parents, meas, self.m[self.offsets[:-1]])
         self._compact_history()
