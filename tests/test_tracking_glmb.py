@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 
 import oracle
-from rankedassign import AssignmentProblem, sample_original, sample_short_chains
+from rankedassign import AssignmentProblem
 from rankedassign._rng import base_key
 from rankedassign.tracking import (
     Association,
@@ -27,18 +27,18 @@ from rankedassign.tracking import (
     LMBBirth,
     LMBFilter,
     Model,
-    Murty,
     MultiSensorShortChains,
+    Murty,
     OriginalGibbs,
     PoissonClutter,
     PositionSensor,
     ShortChainGibbs,
+    _glmb_kernels,
     gate_threshold,
     make_model,
     make_scenario,
     run_scenario,
 )
-from rankedassign.tracking import _glmb_kernels
 from rankedassign.tracking.glmb import Hypotheses, _gibbs_budget, _zobrist, truncate
 
 GATE = gate_threshold(0.9999999)
@@ -72,7 +72,7 @@ def naive_step(model, prior, tracks, z, k, gate=GATE):
         P_, Mz = len(rows), len(z)
         cost = np.full((P_, Mz + 2 * P_), np.inf)
         updated = {}
-        for i, (n, m, P, p) in enumerate(rows):
+        for i, (_, m, P, p) in enumerate(rows):
             S = H @ P @ H.T + R
             Sinv = np.linalg.inv(S)
             K = P @ H.T @ Sinv
@@ -426,11 +426,19 @@ class _Best(Association):
         return Hypotheses(r.assignments, r.costs)
 
 
+class _BestOnly:
+    """A truncation that is no LMB association (not callable): only ``hypotheses``."""
+
+    hypotheses = _Best.hypotheses
+
+
 def test_a_custom_association_supplies_hypotheses():
     a = _run(_Best(), n_scans=3)[1]
     b = _run(Murty(1), n_scans=3)[1]
-    for x, y in zip(a, b, strict=True):
+    c = _run(_BestOnly(), n_scans=3)[1]
+    for x, y, w in zip(a, b, c, strict=True):
         assert_array_equal(x.track_existence, y.track_existence)
+        assert_array_equal(x.track_existence, w.track_existence)
 
 
 def test_run_scenario_runs_the_glmb_filter_on_the_same_measurements():

@@ -138,7 +138,7 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str) -
         filt = tracking.LMBFilter(sc.model, assoc, extraction=extraction)
     K = sc.truth.n_scans
     est, sweeps, comps, kept, n_est, secs = [], [], [], [], [], 0.0
-    for k, (scan, g) in enumerate(zip(sc.scans, filter_rng.spawn(K), strict=True)):
+    for scan, g in zip(sc.scans, filter_rng.spawn(K), strict=True):
         rec = filt.step(scan.z, rng=g)
         est.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
         sweeps.append(int(rec.sweeps))

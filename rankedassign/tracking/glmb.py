@@ -316,6 +316,10 @@ def _zobrist(L: int, K: int) -> np.ndarray:
     return keys
 
 
+def _concat(parts: list, dtype) -> np.ndarray:
+    return np.concatenate(parts).astype(dtype) if parts else np.empty(0, dtype)
+
+
 def _logsumexp(a: np.ndarray) -> float:
     if a.size == 0:
         return -math.inf
@@ -459,10 +463,13 @@ class GLMBFilter:
         keep_histories: bool = True,
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
-        _check_association_kind(association, "GLMBFilter", MultiSensorAssociation,
-                                "single-sensor", "ShortChainGibbs", "MultiSensorLMBFilter")
-        if not (isinstance(association, (OriginalGibbs, ShortChainGibbs, Murty, Exact))
-                or callable(getattr(association, "hypotheses", None))):
+        custom = callable(getattr(association, "hypotheses", None))
+        if not custom or isinstance(association, MultiSensorAssociation):
+            # a truncation of its own need not be callable; anything else is an association
+            _check_association_kind(association, "GLMBFilter", MultiSensorAssociation,
+                                    "single-sensor", "ShortChainGibbs", "MultiSensorLMBFilter")
+        if not (custom or isinstance(association, (OriginalGibbs, ShortChainGibbs, Murty,
+                                                   Exact))):
             raise TypeError(_no_hypotheses_message(association))
         self.model = model
         self.association = association
@@ -756,10 +763,9 @@ class GLMBFilter:
             meas.append(j)
             sweeps += hyp.sweeps
             row_updates += hyp.row_updates
-        cat = (lambda xs, dt: np.concatenate(xs).astype(dt) if xs else np.empty(0, dt))
-        return _Children(cat(comp, np.int64), cat(cost, np.float64),
-                         np.array(off, dtype=np.int64), cat(entry, np.int64),
-                         cat(meas, np.int64), sweeps, row_updates)
+        return _Children(_concat(comp, np.int64), _concat(cost, np.float64),
+                         np.array(off, dtype=np.int64), _concat(entry, np.int64),
+                         _concat(meas, np.int64), sweeps, row_updates)
 
     def _retained(self, terms: _Terms, children: _Children) -> tuple[float, str]:
         """``Σ_h w_h K_h / Σ_h w_h Z_h`` with the exact ``Z_h`` (spec §4).
