@@ -294,13 +294,16 @@ TINY_CONFIG = {
                     "original_obs": 200, "n_chains": 8},
     "adaptive_birth": {"n_mc": 2, "sensors": [2], "original_obs": 60, "n_chains": 6,
                        "chain_length": 10, "curve_obs": [20, 60]},
+    "glmb_tracking": {"n_mc": 1, "n_scans": 4, "methods": ["lmb-short", "glmb-short",
+                                                           "glmb-murty"],
+                      "murty_runs": 1, "h_upd": 50, "h_max": 20, "n_chains": 10, "murty_k": 10},
     "multisensor_tracking": {"n_mc": 1, "n_scans": 3, "sensor_sets": [[0], [0, 1]],
                              "methods": ["long", "short"], "long_obs": 30, "n_chains": 10,
                              "chain_length": 4},
 }
 PNGS = ["table1.png", "sweep.png", "tracking_ospa2.png", "tracking_observations.png",
         "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png",
-        "multisensor.png", "adaptive_birth.png", "multisensor_tracking.png"]
+        "multisensor.png", "adaptive_birth.png", "multisensor_tracking.png", "glmb_tracking.png"]
 
 
 def _strict_json(path):
@@ -328,11 +331,12 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     assert main(["reproduce", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
-    assert "[1/10] table1" in err and "[10/10] multisensor_tracking" in err  # study i of n
+    assert "[1/11] table1" in err and "[11/11] multisensor_tracking" in err  # study i of n
     assert "preparing the compiled kernels" in err
     assert f"report written to {out / 'report.md'}" in err
     for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum",
-                  "random_readings", "multisensor", "adaptive_birth", "multisensor_tracking"):
+                  "random_readings", "glmb_tracking", "multisensor", "adaptive_birth",
+                  "multisensor_tracking"):
         data = _strict_json(out / f"{study}.json")
         assert data, study
         assert isinstance(_strict_json(out / f"{study}_runs.json"), list)

@@ -227,6 +227,17 @@ def tracking_multisensor_adaptive(out: Path) -> None:
     plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="sensors")
 
 
+def glmb_tracking(out: Path) -> None:
+    """The glmb_tracking study's per-scan panels: two 100-scan runs of "vo", every method but
+    Murty (the study's quick settings)."""
+    from rankedassign.experiments import run_study
+    from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig, plot_glmb_tracking
+
+    summary = run_study("glmb_tracking", GLMBStudyConfig.quick(), seed=0, progress=False)
+    assert out.name == "glmb_tracking.png"
+    plot_glmb_tracking(summary, out.parent)
+
+
 FIGURES = {
     "cost_matrix_diagonal": cost_matrix_diagonal,
     "sweep_scaling": sweep_scaling,
@@ -234,6 +245,7 @@ FIGURES = {
     "tracking": tracking,
     "tracking_multisensor": tracking_multisensor,
     "tracking_multisensor_adaptive": tracking_multisensor_adaptive,
+    "glmb_tracking": glmb_tracking,
 }
 
 

@@ -62,6 +62,7 @@ from .runner import StudyFailed, check_output, reproduce
 from .studies import (  # noqa: F401  (each module registers its study)
     ablation,
     adaptive_birth,
+    glmb_tracking,
     multisensor,
     multisensor_tracking,
     optimum,

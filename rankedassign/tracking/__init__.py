@@ -1,4 +1,4 @@
-"""The compact LMB filter of the tracking study, its models, scenario and association methods.
+"""The LMB and δ-GLMB filters of the tracking study, their models, scenario and associations.
 
 Quick start::
 
@@ -56,6 +56,7 @@ from .single.association import (
     ShortChainGibbs,
     marginals_from_hypotheses,
 )
+from .single.glmb import GLMBFilter, GLMBScanRecord, Hypotheses
 from .single.lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 
 __all__ = [
@@ -67,6 +68,9 @@ __all__ = [
     "ConstantVelocity",
     "Exact",
     "FilterRun",
+    "GLMBFilter",
+    "GLMBScanRecord",
+    "Hypotheses",
     "LMBBirth",
     "LMBFilter",
     "Model",

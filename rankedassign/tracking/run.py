@@ -9,16 +9,19 @@ from __future__ import annotations
 import dataclasses
 
 from ..engine.rng import spawning_generator
-from ..validation import check_bool
+from ..validation import check_bool, check_choice
 from .multisensor.scenario import run_multisensor_scenario
 from .runner import TIMING_KEYS, run_filter
 from .scenario import ScenarioRun, check_n_scans, make_scenario
 from .single.association import Association
+from .single.glmb import GLMBFilter
 from .single.lmb import LMBFilter
 
 __all__ = ["ScenarioRun", "TIMING_KEYS", "run_scenario"]
 
 
+#: Filters :func:`run_scenario` runs (``filter``).
+FILTERS = ("lmb", "glmb")
 def run_scenario(
     preset: str = "paper",
     association: Association | None = None,
@@ -28,6 +31,7 @@ def run_scenario(
     grouping: bool | None = None,
     extraction: str | None = None,
     sensors=None,
+    filter: str = "lmb",
     **filter_options,
 ) -> ScenarioRun:
     """Simulate a preset scenario and run the LMB filter on it.
@@ -65,9 +69,14 @@ def run_scenario(
     sensors : sequence of int or None
         ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
         measurements do not depend on which others are selected.
+    filter : {"lmb", "glmb"}, optional
+        The LMB filter (default) or the δ-GLMB filter
+        (:class:`~rankedassign.tracking.GLMBFilter`, single-sensor presets, no grouping).
+        The measurements depend only on ``rng``, so both filters see the same data.
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.LMBFilter` (``gate_prob``,
-        ``theta_upper``, ``prune_track``, ``max_components``, ...).
+        ``theta_upper``, ``prune_track``, ``max_components``, ...) or of
+        :class:`~rankedassign.tracking.GLMBFilter` (``h_upd``, ``h_max``, ...).
 
     Returns
     -------
@@ -93,6 +102,10 @@ def run_scenario(
     if association is None:
         raise TypeError("run_scenario needs an association, e.g. "
                         "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
+    check_choice(filter, "filter", FILTERS)
+    if filter == "glmb" and (preset == "multi" or grouping):
+        raise ValueError("filter='glmb' runs the single-sensor presets without grouping, got "
+                         f"preset {preset!r}, grouping={grouping!r}")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
     if preset == "multi":
@@ -110,9 +123,11 @@ def run_scenario(
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
     # extraction None: the model's, which make_model set to the preset's (PRESET_EXTRACTION)
-    filt = LMBFilter(
-        scenario.model, association, grouping=grouping, extraction=extraction, **filter_options
-    )
+    if filter == "glmb":
+        filt = GLMBFilter(scenario.model, association, extraction=extraction, **filter_options)
+    else:
+        filt = LMBFilter(scenario.model, association, grouping=grouping, extraction=extraction,
+                         **filter_options)
     run = run_filter(filt, [scan.z for scan in scenario.scans], rng=filter_rng)
     return ScenarioRun(
         scenario=scenario,

@@ -179,7 +179,7 @@ def run_filter(filter, scans, *, rng=None, truth=None) -> FilterRun:
         ``k``, whatever the association. Spawning advances a Generator's seed sequence, so a
         Generator passed twice gives two different runs; pass a seed (or a fresh Generator) to
         repeat one. A :class:`numpy.random.RandomState` is replaced by the
-        Generator seeded with one draw from it (:func:`rankedassign._rng.spawning_generator`).
+        Generator seeded with one draw from it (:func:`rankedassign.engine.rng.spawning_generator`).
         :func:`~rankedassign.tracking.run.run_scenario` runs its filter with the second child
         of its own ``rng`` (the first draws the measurements), so
         ``np.random.default_rng(seed).spawn(2)[1]`` here reproduces ``run_scenario(...,

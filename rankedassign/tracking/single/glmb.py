@@ -1,0 +1,1037 @@
+"""The δ-GLMB filter with joint prediction and update (Vo, Vo & Hoang 2017).
+
+A δ-GLMB density is a weighted list of *components* ``(w_h, I_h)``: ``I_h`` is a set of entries
+of a shared *track table*, whose every entry holds a label ``ℓ = (birth scan, birth index)``, a
+Gaussian mixture and the association history ``ξ`` (the measurement per scan since birth).
+One scan of :class:`GLMBFilter` (``../shared/spec/glmb.md`` §2) runs these phases:
+
+1. prediction (:meth:`GLMBFilter._predict`): every entry ``m ← F m``, ``P ← F P Fᵀ + Q``; the
+   births of the scan are appended to the table;
+2. shared terms (:meth:`GLMBFilter._terms`): per (entry, measurement) the likelihoods, the
+   χ² gate and ``−ln η`` (spec §2.1) once for every entry — every component's cost matrix is
+   gathered from them, never recomputed;
+3. allocation: ``T_h = round(H_upd √w_h / Σ √w)`` (spec §2.2);
+4. truncation (:meth:`GLMBFilter._truncate`): the association turns each component's problem
+   into unique assignments ``γ``; the Gibbs samplers run for all components in one compiled
+   call (:func:`rankedassign.tracking.single._glmb_kernels.sample_components`);
+5. children (:meth:`GLMBFilter._update`): ``ln w = ln w_h − cost(γ)``, normalised together;
+   children with the same track set merged; pruning, the ``H_max`` cap, the new track table
+   (unused entries dropped) and the Kalman update of the entries kept;
+6. estimation (:meth:`GLMBFilter._extract`): MAP cardinality and the heaviest component, the
+   trajectories along the histories, or hysteresis on ``r(ℓ)`` (spec §3).
+
+The per-(track, measurement) algebra is that of the LMB filter
+(:mod:`rankedassign.tracking._kernels`), so both filters see the same numbers.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import numbers
+from time import perf_counter
+from typing import NamedTuple
+
+import numpy as np
+
+import oracle
+
+from ...engine._kernels import zobrist_keys
+from ...engine.rng import spawning_generator
+from ...numba_options import interruptible
+from ...samplers import sample_original, sample_short_chains
+from ...single.problem import AssignmentProblem
+from ...validation import check_bool, check_choice, check_int, check_real, check_type
+from .. import _kernels
+from .._kernels import MERGE_RULES
+from ..models import Model
+from . import _glmb_kernels
+from .association import Exact, Murty, OriginalGibbs, ShortChainGibbs
+from .lmb import _association_name, _check_association_kind, _check_measurements, gate_threshold
+
+__all__ = [
+    "GLMB_EXTRACTIONS",
+    "GLMBFilter",
+    "GLMBScanRecord",
+    "Hypotheses",
+    "truncate",
+]
+
+#: State extraction rules of :class:`GLMBFilter` (``extraction``).
+GLMB_EXTRACTIONS = ("map", "trajectory", "hysteresis")
+#: Largest enumeration :class:`~rankedassign.tracking.Exact` runs on one component.
+EXACT_LIMIT = 200_000
+_ZOBRIST_SEED = np.uint64(0x6A09E667F3BCC909)
+_TWO63 = 2**63
+
+
+class Hypotheses(NamedTuple):
+    """The unique assignments a truncation keeps of one component's problem.
+
+    Attributes
+    ----------
+    assignments : ndarray of int64, shape (n, P)
+        Unique feasible assignments (column indices of the problem's cost matrix).
+    costs : ndarray, shape (n,)
+        Their costs ``Σ_i −ln η_i(γ_i)``.
+    sweeps, row_updates : int
+        Markov-chain observations and single-row draws spent (0 for Murty and enumeration).
+    """
+
+    assignments: np.ndarray
+    costs: np.ndarray
+    sweeps: int = 0
+    row_updates: int = 0
+
+
+class GLMBScanRecord(NamedTuple):
+    """What :class:`GLMBFilter` reports for one scan.
+
+    The first fields are those of :class:`~rankedassign.tracking.ScanRecord` that apply.
+
+    Attributes
+    ----------
+    labels : ndarray of int64, shape (n, 2)
+        Labels of the reported tracks, in increasing order.
+    states : ndarray, shape (n, 4)
+        Their state estimates (mean of the heaviest Gaussian of the track's entry).
+    existence : ndarray, shape (n,)
+        Their existence probabilities ``r(ℓ)``.
+    track_labels, track_existence : ndarray
+        Every label of the posterior with ``r(ℓ) = Σ_{h: ℓ ∈ L(I_h)} w_h``, the GLMB → LMB
+        conversion (spec §1), ``(L, 2)`` in increasing order and ``(L,)``.
+    n_tracks : int
+        Entries of the predicted track table (births included).
+    n_meas, n_meas_gated : int
+        Measurements received and measurements in some entry's gate.
+    n_groups : int
+        Problems solved (one per prior component).
+    invocations, sweeps, row_updates, n_unique : int
+        Association calls, Markov-chain observations, single-row draws and unique
+        assignments (children before merging), summed over the components.
+    timings : dict
+        Seconds spent in ``prediction``, ``cost``, ``association``, ``update``.
+    cardinality : ndarray, shape (n_max + 1,)
+        ``ρ(n) = Σ_{h: |I_h| = n} w_h``.
+    n_components : int
+        Components kept after pruning and capping.
+    retained_mass : float
+        ``Σ_h w_h K_h / Σ_h w_h Z_h`` (spec §4), NaN when not computed or not available.
+    retained_mass_reason : str
+        Why ``retained_mass`` is NaN ("" when it is a number).
+    trajectories : tuple
+        With ``extraction="trajectory"``: per reported track ``(label, scans, states)``, the
+        scans (1-based) since its birth and its filtered state at each; else empty.
+    """
+
+    labels: np.ndarray
+    states: np.ndarray
+    existence: np.ndarray
+    track_labels: np.ndarray
+    track_existence: np.ndarray
+    n_tracks: int
+    n_meas: int
+    n_meas_gated: int
+    n_groups: int
+    invocations: int
+    sweeps: int
+    row_updates: int
+    n_unique: int
+    timings: dict
+    cardinality: np.ndarray
+    n_components: int
+    retained_mass: float
+    retained_mass_reason: str
+    trajectories: tuple
+
+
+# ------------------------------------------------------------------------------- truncation
+def _check_count(value, name: str) -> int:
+    """A positive int option (``h_upd``, ``h_max``): ValueError for a non-integer number too."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a positive integer, got {type(value).__name__} "
+                        f"{value!r}")
+    if not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    return check_int(value, name, minimum=1)
+
+
+def _check_threshold(value, name: str) -> float:
+    """A probability threshold in ``[0, 1)``."""
+    v = check_real(value, name)
+    if not 0.0 <= v < 1.0:
+        raise ValueError(f"{name} must be in [0, 1), got {v!r}")
+    return v
+
+
+def _kernel_rules(association):
+    """``(random_scan, tau_stall, tau_stale)`` if the compiled all-components path runs the
+    association exactly as its sampler would, else None (then it runs component by component).
+    """
+    if type(association) is OriginalGibbs:
+        opts = dict(association.options)
+        stall = stale = None
+    elif type(association) is ShortChainGibbs:
+        opts = dict(association.options)
+        if opts.pop("stall", "global-consecutive") != "global-consecutive":
+            return None
+        if opts.pop("stale", "consecutive") != "consecutive":
+            return None
+        opts.pop("workers", None)  # the result does not depend on the threads
+        stall, stale = association.tau_stall, association.tau_stale
+    else:
+        return None
+    scan = opts.pop("scan", "systematic")
+    if (opts.pop("start", "all_missed") != "all_missed" or opts.pop("backend", "numba") != "numba"
+            or scan not in ("systematic", "random") or opts):
+        return None
+    return scan == "random", stall or 0, stale or 0
+
+
+def _gibbs_budget(association, counts: np.ndarray):
+    """Chains and sweeps per chain of every component for its count ``T_h`` (shape (H,)).
+
+    ``T_h`` counts stored solutions with the start state (Vo's ``T``, spec A20), so a chain
+    sampler gets ``T_h − 1`` observations, at most the association's own budget:
+    :class:`~rankedassign.tracking.OriginalGibbs` one chain of ``min(T_h − 1, n_obs)`` sweeps;
+    :class:`~rankedassign.tracking.ShortChainGibbs` chains of ``L = min(N_C, T_h − 1)`` sweeps,
+    ``min(N_S, ⌈(T_h − 1) / L⌉)`` of them. A count of 0 or 1 gives the start state alone (the
+    all-missed solution).
+    """
+    n_obs = np.maximum(counts - 1, 0)
+    if isinstance(association, OriginalGibbs):
+        length = np.minimum(n_obs, association.n_obs)
+        return (length > 0).astype(np.int64), length.astype(np.int64)
+    length = np.minimum(n_obs, association.chain_length)
+    safe = np.maximum(length, 1)
+    chains = np.where(length > 0, np.minimum(-(-n_obs // safe), association.n_chains), 0)
+    return chains.astype(np.int64), length.astype(np.int64)
+
+
+def truncate(association, problem: AssignmentProblem, budget: int, rng=None) -> Hypotheses:
+    """Truncate one component's problem with ``association`` and the count ``budget = T_h``.
+
+    Parameters
+    ----------
+    association : OriginalGibbs, ShortChainGibbs, Murty, Exact or object
+        The library's associations, or any object with a method
+        ``hypotheses(problem, budget, rng)`` returning :class:`Hypotheses` (or anything with
+        ``assignments`` and ``costs``).
+    problem : AssignmentProblem
+    budget : int
+        The component's count ``T_h >= 0`` (spec §2.2): the samplers get ``T_h − 1``
+        observations (see :class:`GLMBFilter`), Murty ``k = max(T_h, 1)``; :class:`Exact`
+        ignores it.
+    rng : optional
+        Anything :func:`numpy.random.default_rng` accepts.
+
+    Returns
+    -------
+    Hypotheses
+
+    Raises
+    ------
+    TypeError
+        If the association cannot supply hypotheses.
+    ValueError
+        If :class:`Exact` meets a problem with more than :data:`EXACT_LIMIT` assignments, or a
+        custom association returns duplicates, infeasible assignments or wrong shapes.
+
+    Examples
+    --------
+    >>> from rankedassign import AssignmentProblem
+    >>> from rankedassign.tracking import Exact, Murty
+    >>> from rankedassign.tracking.single.glmb import truncate
+    >>> p = AssignmentProblem.from_eta([[3.0]], [1.0], [1.0])
+    >>> truncate(Exact(), p, 0).assignments.tolist()
+    [[0], [1], [2]]
+    >>> truncate(Murty(5), p, 2).assignments.tolist()   # k = T_h = 2
+    [[0], [1]]
+    """
+    budget = check_int(budget, "budget")
+    P, M = problem.n_rows, problem.n_meas
+    if isinstance(association, (OriginalGibbs, ShortChainGibbs)):
+        chains, length = _gibbs_budget(association, np.array([budget]))
+        if isinstance(association, OriginalGibbs):
+            res = sample_original(problem, int(length[0]), rng=rng, **association.options)
+        else:
+            res = sample_short_chains(problem, int(chains[0]), int(length[0]),
+                                      tau_stall=association.tau_stall,
+                                      tau_stale=association.tau_stale, rng=rng,
+                                      **association.options)
+        return Hypotheses(res.assignments, res.costs, int(res.n_observations),
+                          int(res.n_row_updates))
+    if isinstance(association, Murty):
+        ranked = oracle.murty(problem, min(association.k, max(budget, 1)),
+                              method=association.method)
+        return Hypotheses(ranked.assignments, ranked.costs)
+    if isinstance(association, Exact):
+        try:
+            ranked = oracle.enumerate_assignments(problem, limit=EXACT_LIMIT)
+        except ValueError as err:
+            raise ValueError(
+                f"Exact() cannot enumerate a component's problem of {P} rows and {M} "
+                f"measurements within {EXACT_LIMIT} assignments (EXACT_LIMIT): {err}; use "
+                "Murty(k) or a sampler for problems of this size"
+            ) from None
+        return Hypotheses(ranked.assignments, ranked.costs)
+    method = getattr(association, "hypotheses", None)
+    if method is None:
+        raise TypeError(_no_hypotheses_message(association))
+    res = method(problem, budget, rng)
+    a = np.asarray(res.assignments, dtype=np.int64)
+    c = np.asarray(res.costs, dtype=np.float64)
+    who = _association_name(association)
+    if a.ndim != 2 or a.shape[1] != P or a.shape[0] == 0 or c.shape != (a.shape[0],):
+        raise ValueError(f"association {who} returned hypotheses of shapes {a.shape} and "
+                         f"{c.shape}, expected (n >= 1, {P}) and (n,)")
+    if not problem.is_feasible(a).all():
+        raise ValueError(f"association {who} returned an infeasible assignment")
+    if np.unique(a, axis=0).shape[0] != a.shape[0]:
+        raise ValueError(f"association {who} returned duplicate assignments (a GLMB component "
+                         "is made of unique ones)")
+    if not np.allclose(c, problem.cost_of(a), rtol=1e-9, atol=1e-9):
+        raise ValueError(f"association {who} returned costs that are not those of its "
+                         "assignments")
+    return Hypotheses(a, problem.cost_of(a), int(getattr(res, "sweeps", 0)),
+                      int(getattr(res, "row_updates", 0)))
+
+
+def _no_hypotheses_message(association) -> str:
+    return (
+        f"GLMBFilter needs an association that supplies hypotheses (unique assignments with "
+        f"their costs): ShortChainGibbs, OriginalGibbs, Murty, Exact, or an object with a "
+        f"method hypotheses(problem, budget, rng); {_association_name(association)} returns "
+        "association marginals only, which suit LMBFilter: the δ-GLMB filter keeps each "
+        "hypothesis as a component and cannot be rebuilt from marginals"
+    )
+
+
+@functools.lru_cache(maxsize=32)
+def _zobrist(L: int, K: int) -> np.ndarray:
+    """Zobrist keys for problems of at most ``L`` rows and ``K − 2`` columns (cached)."""
+    with interruptible:
+        keys = zobrist_keys(max(L, 1), K, _ZOBRIST_SEED)
+    keys.setflags(write=False)
+    return keys
+
+
+def _concat(parts: list, dtype) -> np.ndarray:
+    return np.concatenate(parts).astype(dtype) if parts else np.empty(0, dtype)
+
+
+def _logsumexp(a: np.ndarray) -> float:
+    if a.size == 0:
+        return -math.inf
+    top = float(np.max(a))
+    if not np.isfinite(top):
+        return top
+    return top + math.log(float(np.sum(np.exp(a - top))))
+
+
+class _Children(NamedTuple):
+    """Every unique assignment of the scan as a child of its component (kernel layout)."""
+
+    comp: np.ndarray  # (N,) parent component
+    cost: np.ndarray  # (N,) Σ −ln η
+    off: np.ndarray  # (N + 1,) CSR offsets of the rows that exist after the scan
+    entry: np.ndarray  # their predicted entries
+    meas: np.ndarray  # their measurements (columns of the shared terms; −1 missed)
+    sweeps: int
+    row_updates: int
+
+
+class _Terms(NamedTuple):
+    """The scan's shared per-(entry, measurement) terms (``U`` gated measurements)."""
+
+    used: np.ndarray  # (U,) measurement indices in some gate
+    gated: np.ndarray  # (T, U) bool
+    Sinv: np.ndarray  # (C, 2, 2)
+    nu: np.ndarray  # (C, U, 2) innovations
+    lw: np.ndarray  # (C, U) ln w_c N(z_j; H m_c, S_c)
+    log_g: np.ndarray  # (T, U) ln Σ_c w_c N(z_j; ...)
+    log_det: np.ndarray  # (T, U) ln η_t(j)
+    log_miss: np.ndarray  # (T,) ln η_t(0)
+    log_dead: np.ndarray  # (T,) ln η_t(−1)
+    cc: np.ndarray  # (T, U + 2) −ln η over [measurements | missed | dead]
+    W: np.ndarray  # (T, U + 2) exp(−(cc − row minimum))
+
+
+# ------------------------------------------------------------------------------- the filter
+class GLMBFilter:
+    """δ-GLMB filter with joint prediction and update and pluggable truncation.
+
+    Parameters
+    ----------
+    model : Model
+        Motion, sensor, clutter, birth and survival models (as :class:`LMBFilter`).
+    association : OriginalGibbs, ShortChainGibbs, Murty, Exact or object
+        The truncation of every component's problem, with the component's count ``T_h``
+        (spec §2.3): :class:`~rankedassign.tracking.OriginalGibbs` runs one chain of
+        ``min(T_h − 1, n_obs)`` sweeps (``T_h`` stored solutions with the all-missed start, as
+        Vo's code); :class:`~rankedassign.tracking.ShortChainGibbs` chains of
+        ``L = min(N_C, T_h − 1)`` sweeps, at most ``min(N_S, ⌈(T_h − 1) / L⌉)`` of them, with
+        its stall and stale rules; :class:`~rankedassign.tracking.Murty` the
+        ``min(k, max(T_h, 1))`` best; :class:`~rankedassign.tracking.Exact` every assignment
+        (at most :data:`EXACT_LIMIT`, else ``ValueError``). Any object with a method
+        ``hypotheses(problem, budget, rng)`` returning :class:`Hypotheses` works too. An
+        association that gives marginals only (LBP, a plain LMB association) is refused with
+        ``TypeError``.
+    h_upd : int, optional
+        ``H_upd``, the scan's total count (default 1000).
+    h_max : int, optional
+        ``H_max``, components kept (default 1000).
+    prune_hypothesis : float, optional
+        Drop components with ``w < prune_hypothesis`` (default ``10⁻¹⁵``), in ``[0, 1)``.
+    gate_prob : float or None, optional
+        χ² gate probability (default ``1 − 10⁻⁷``, Vo's); None disables gating.
+    extraction : {"map", "trajectory", "hysteresis"} or None, optional
+        None (default): the model's :attr:`~rankedassign.tracking.Model.extraction` (its
+        preset's: ``"map"`` for ``"vo"``, ``"hysteresis"`` for ``"paper"``). ``"map"`` (Vo's):
+        the MAP cardinality ``n̂ = argmax ρ``, the heaviest component
+        with ``n̂`` tracks, the mean of each track's heaviest Gaussian. ``"trajectory"``: the
+        same tracks, and each one's filtered states along its association history
+        (:attr:`GLMBScanRecord.trajectories`). ``"hysteresis"``: labels with
+        ``r(ℓ) >= theta_upper``, kept while ``r(ℓ) >= theta_lower`` (the paper's rule, spec
+        6.5), each with its heaviest entry.
+    theta_upper, theta_lower : float, optional
+        Hysteresis thresholds (0.9 and ``10⁻³``), in ``[0, 1)``.
+    prune_component, merge_threshold, max_components, merge_rule : optional
+        Mixture reduction of every entry, as :class:`LMBFilter` (``10⁻⁵``, 4, 10,
+        ``"bhattacharyya"``).
+    retained_mass : bool, optional
+        Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) with the oracle's DP (default
+        False: it costs one exact normaliser per component).
+    keep_histories : bool, optional
+        Keep every entry's whole association history (default True): the trajectories of
+        ``extraction="trajectory"`` and :meth:`components` read it, and it grows by one node
+        (56 bytes) per live entry and scan. False keeps only the last scan's node, so the
+        state stays bounded by the caps however long the run (an entry is told apart by its
+        table index, never by its history, so the filter's numbers do not change).
+
+    Notes
+    -----
+    Rows of a component's problem are the births of the scan, then its entries in table order
+    (spec §2.1); ``η(−1) = 1 − r_B`` or ``1 − P_S``, ``η(0) = r_B (1 − P_D)`` or
+    ``P_S (1 − P_D)``, ``η(j) = r_B P_D q(z_j) / κ`` or ``P_S P_D q(z_j) / κ``. Its columns are
+    the measurements some row gates. The terms are computed once per scan for every entry of
+    the predicted table (:class:`_Terms`) and gathered per component. A child's log weight is
+    ``ln w_h − cost(γ)``; the scan constant ``−λ_c + m ln(λ_c c)`` cancels in the
+    normalisation. Two entries with the same label and history are one entry, so children with
+    the same entries are the same component and merge.
+
+    The chains of :class:`OriginalGibbs` and :class:`ShortChainGibbs` (default readings,
+    ``start="all_missed"``) run for all components in one compiled call; other options run
+    the public sampler component by component, as do Murty and Exact. Component ``h`` draws
+    from the streams of base key ``chain_state(key, h)``, ``key`` one draw from ``rng``.
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+    .. [2] B.-T. Vo, B.-N. Vo, "Labeled Random Finite Sets and Multi-Object Conjugate Priors",
+       IEEE Trans. Signal Process. 61(13):3460-3475, 2013.
+    .. [3] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking import GLMBFilter, ShortChainGibbs, make_model
+    >>> f = GLMBFilter(make_model("vo"), ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))
+    >>> for k in range(4):          # one target near birth location 2, no clutter
+    ...     rec = f.step([[400.0 - 10 * k, -600.0 + 5 * k]], rng=k)
+    >>> rec.labels.tolist(), int(rec.cardinality.argmax()), rec.n_components
+    ([[1, 2]], 1, 10)
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        association,
+        *,
+        h_upd: int = 1000,
+        h_max: int = 1000,
+        prune_hypothesis: float = 1e-15,
+        gate_prob: float | None = 0.9999999,
+        extraction: str | None = None,
+        theta_upper: float = 0.9,
+        theta_lower: float = 1e-3,
+        prune_component: float = 1e-5,
+        merge_threshold: float = 4.0,
+        merge_rule: str = "bhattacharyya",
+        max_components: int = 10,
+        retained_mass: bool = False,
+        keep_histories: bool = True,
+    ):
+        check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+        custom = callable(getattr(association, "hypotheses", None))
+        if not custom or getattr(association, "sensors", None) == "multi-sensor":
+            # a truncation of its own need not be callable; anything else is an association
+            _check_association_kind(association, "GLMBFilter", "single-sensor", "ShortChainGibbs",
+                                    "MultiSensorLMBFilter")
+        if not (custom or isinstance(association, (OriginalGibbs, ShortChainGibbs, Murty,
+                                                   Exact))):
+            raise TypeError(_no_hypotheses_message(association))
+        self.model = model
+        self.association = association
+        self.h_upd = _check_count(h_upd, "h_upd")
+        self.h_max = _check_count(h_max, "h_max")
+        self.prune_hypothesis = _check_threshold(prune_hypothesis, "prune_hypothesis")
+        if extraction is None:  # the model's (its preset's, PRESET_EXTRACTION)
+            extraction = getattr(model, "extraction", "map")
+        self.extraction = check_choice(extraction, "extraction", GLMB_EXTRACTIONS)
+        self.theta_upper = _check_threshold(theta_upper, "theta_upper")
+        self.theta_lower = _check_threshold(theta_lower, "theta_lower")
+        if self.theta_lower > self.theta_upper:
+            raise ValueError(f"theta_lower must be <= theta_upper = {self.theta_upper!r}, got "
+                             f"{self.theta_lower!r}")
+        self.prune_component = _check_threshold(prune_component, "prune_component")
+        self.merge_threshold = check_real(merge_threshold, "merge_threshold", minimum=0.0,
+                                          finite=False)
+        self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
+        self.max_components = check_int(max_components, "max_components", minimum=1)
+        self.retained_mass = check_bool(retained_mass, "retained_mass")
+        self.keep_histories = check_bool(keep_histories, "keep_histories")
+        if self.extraction == "trajectory" and not self.keep_histories:
+            raise ValueError("extraction='trajectory' needs keep_histories=True (a trajectory "
+                             "is read along the association history)")
+        self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
+        self._rules = _kernel_rules(association)
+        self._F = np.array(model.motion.F)
+        self._Q = np.array(model.motion.Q)
+        self._R = np.array(model.sensor.R)
+        self._pd = float(model.sensor.p_d)
+        self._ps = float(model.survival.p_s)
+        self._log_pd = math.log(self._pd)
+        self._log_1m_pd = math.log1p(-self._pd) if self._pd < 1 else -math.inf
+        self._log_kappa = math.log(model.clutter.intensity)
+        self._birth_r = np.array(model.birth.r, dtype=np.float64).reshape(-1)
+        self._birth_m = np.array(model.birth.means, dtype=np.float64).reshape(-1, 4)
+        self._birth_P = np.array(model.birth.covs, dtype=np.float64).reshape(-1, 4, 4)
+        self._rule = MERGE_RULES[self.merge_rule]
+        self.reset()
+
+    # ----------------------------------------------------------------------- state
+    def reset(self) -> None:
+        """Forget every track: one component, the empty set, with weight 1; scan 0."""
+        self.k = 0
+        # the track table
+        self.labels = np.empty((0, 2), dtype=np.int64)
+        self.offsets = np.zeros(1, dtype=np.int64)
+        self.w = np.empty(0)
+        self.m = np.empty((0, 4))
+        self.P = np.empty((0, 4, 4))
+        self.hist = np.empty(0, dtype=np.int64)  # history node of every entry
+        # the components: entries (CSR, increasing within a component) and weights
+        self.comp_off = np.zeros(2, dtype=np.int64)
+        self.comp_tracks = np.empty(0, dtype=np.int64)
+        self.comp_w = np.ones(1)
+        # the history forest: parent node, scan, measurement (−1 missed), filtered state
+        self._node_parent = np.empty(0, dtype=np.int64)
+        self._node_scan = np.empty(0, dtype=np.int64)
+        self._node_meas = np.empty(0, dtype=np.int64)
+        self._node_state = np.empty((0, 4))
+        self._live_nodes = 0
+        self._confirmed = np.empty(0, dtype=np.int64)  # label keys (hysteresis)
+
+    def set_prior(self, labels, means, covs, components=None, weights=None) -> None:
+        """Start from a δ-GLMB prior over single-Gaussian tracks (instead of the empty one).
+
+        Parameters
+        ----------
+        labels : array_like of int, shape (T, 2)
+            Distinct labels of the tracks.
+        means, covs : array_like, shapes (T, 4) and (T, 4, 4)
+            Their Gaussians.
+        components : sequence of sequences of int, optional
+            Track indices of every component (default: one component holding every track).
+        weights : array_like, shape (H,), optional
+            Component weights (normalised here; default equal).
+
+        Raises
+        ------
+        ValueError
+            On shapes that disagree, repeated labels, a component with an index out of range
+            or repeated, or weights that are negative, not finite or all zero.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking import Exact, GLMBFilter, make_model
+        >>> f = GLMBFilter(make_model("vo"), Exact())
+        >>> f.set_prior([[0, 1], [0, 2]], np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)),
+        ...             components=[[0], [0, 1]], weights=[1.0, 3.0])
+        >>> f.n_components, f.comp_w.tolist()
+        (2, [0.25, 0.75])
+        """
+        labels = np.asarray(labels, dtype=np.int64).reshape(-1, 2)
+        T = labels.shape[0]
+        means = np.asarray(means, dtype=np.float64)
+        covs = np.asarray(covs, dtype=np.float64)
+        if means.shape != (T, 4) or covs.shape != (T, 4, 4):
+            raise ValueError(f"means and covs must have shapes ({T}, 4) and ({T}, 4, 4), got "
+                             f"{means.shape} and {covs.shape}")
+        if np.unique(labels, axis=0).shape[0] != T:
+            raise ValueError("labels must be distinct")
+        comps = [list(range(T))] if components is None else [list(c) for c in components]
+        for c in comps:
+            if len(set(c)) != len(c) or any(not 0 <= int(i) < T for i in c):
+                raise ValueError(f"component {c} must hold distinct track indices in [0, {T})")
+        w = np.ones(len(comps)) if weights is None else np.asarray(weights, dtype=np.float64)
+        if (w.shape != (len(comps),) or not np.isfinite(w).all() or (w < 0).any()
+                or w.sum() <= 0):
+            raise ValueError(f"weights must be {len(comps)} finite non-negative numbers, not "
+                             f"all zero, got {w.tolist()}")
+        self.reset()
+        self.labels = labels.copy()
+        self.offsets = np.arange(T + 1, dtype=np.int64)
+        self.w = np.ones(T)
+        self.m = np.ascontiguousarray(means)
+        self.P = np.ascontiguousarray(covs)
+        self._append_nodes(np.full(T, -1, dtype=np.int64), np.full(T, -1, dtype=np.int64),
+                           self.m)
+        self.hist = np.arange(T, dtype=np.int64)
+        self.comp_off = np.concatenate([[0], np.cumsum([len(c) for c in comps])]).astype(
+            np.int64)
+        self.comp_tracks = np.array([i for c in comps for i in sorted(c)], dtype=np.int64)
+        self.comp_w = w / w.sum()
+
+    @property
+    def n_components(self) -> int:
+        """Number of components held."""
+        return int(self.comp_w.size)
+
+    @property
+    def n_tracks(self) -> int:
+        """Entries of the track table."""
+        return int(self.labels.shape[0])
+
+    def components(self) -> list[tuple[float, tuple]]:
+        """Every component as ``(w, ((label, history), ...))``, in the order held.
+
+        ``label`` is a tuple ``(birth scan, birth index)``, ``history`` the tuple of the
+        measurement indices (0-based, ``−1`` missed) of every scan since birth (of the last
+        scan only with ``keep_histories=False``).
+
+        Examples
+        --------
+        >>> from rankedassign.tracking import Exact, GLMBFilter, make_model
+        >>> f = GLMBFilter(make_model("vo"), Exact())
+        >>> f.components()
+        [(1.0, ())]
+        """
+        out = []
+        for h in range(self.n_components):
+            tracks = self.comp_tracks[self.comp_off[h]:self.comp_off[h + 1]]
+            items = tuple((tuple(self.labels[e].tolist()), self._history(e)) for e in tracks)
+            out.append((float(self.comp_w[h]), tuple(sorted(items))))
+        return out
+
+    def _history(self, e: int) -> tuple:
+        """Measurement per scan since birth of entry ``e`` (a prior's own node excluded)."""
+        out = []
+        v = int(self.hist[e])
+        while v >= 0:
+            if self._node_scan[v] >= 1:
+                out.append(int(self._node_meas[v]))
+            v = int(self._node_parent[v])
+        return tuple(reversed(out))
+
+    def nbytes(self) -> int:
+        """Bytes held by the filter's state (track table, components, history forest).
+
+        Examples
+        --------
+        >>> from rankedassign.tracking import Exact, GLMBFilter, make_model
+        >>> GLMBFilter(make_model("vo"), Exact()).nbytes() > 0
+        True
+        """
+        arrays = (self.labels, self.offsets, self.w, self.m, self.P, self.hist, self.comp_off,
+                  self.comp_tracks, self.comp_w, self._node_parent, self._node_scan,
+                  self._node_meas, self._node_state, self._confirmed)
+        return int(sum(a.nbytes for a in arrays))
+
+    # ----------------------------------------------------------------------- 1. prediction
+    def _predict(self) -> np.ndarray:
+        """Propagate every entry, append the births of the new scan; return the survival or
+        birth probability of every entry of the predicted table."""
+        self.k += 1
+        T_old = self.n_tracks
+        # m <- F m ; P <- F P F' + Q
+        self.m = self.m @ self._F.T
+        self.P = self._F @ self.P @ self._F.T + self._Q
+        B = self._birth_r.size
+        labels = np.empty((B, 2), dtype=np.int64)
+        labels[:, 0] = self.k
+        labels[:, 1] = np.arange(1, B + 1)
+        self.labels = np.concatenate([self.labels, labels])
+        self.offsets = np.concatenate([self.offsets, self.w.size + np.arange(1, B + 1)])
+        self.w = np.concatenate([self.w, np.ones(B)])
+        self.m = np.ascontiguousarray(np.concatenate([self.m, self._birth_m]))
+        self.P = np.ascontiguousarray(np.concatenate([self.P, self._birth_P]))
+        self.hist = np.concatenate([self.hist, np.full(B, -1, dtype=np.int64)])
+        self._births = np.arange(T_old, T_old + B, dtype=np.int64)
+        return np.concatenate([np.full(T_old, self._ps), self._birth_r])
+
+    # ----------------------------------------------------------------------- 2. shared terms
+    def _terms(self, z: np.ndarray, p_exist: np.ndarray) -> _Terms:
+        """``ln η`` of every entry and measurement, the gate and the Kalman statistics."""
+        T = self.n_tracks
+        C = self.w.size
+        with np.errstate(divide="ignore"):
+            log_p = np.log(p_exist)
+            log_dead = np.log1p(-p_exist)
+        log_miss = log_p + self._log_1m_pd
+        if z.shape[0] == 0 or T == 0:
+            used = np.empty(0, dtype=np.int64)
+            gated = np.zeros((T, 0), dtype=bool)
+            Sinv, nu, lw = np.empty((C, 2, 2)), np.empty((C, 0, 2)), np.empty((C, 0))
+            log_g = log_det = np.empty((T, 0))
+        else:
+            gate = 0.0 if self.gate is None else self.gate
+            with interruptible:
+                det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
+                    self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None)
+            used = np.flatnonzero(gated.any(axis=0))
+            gated = np.ascontiguousarray(gated[:, used])
+            # ln η_t(j) = ln p_t + ln P_D + ln q_t(z_j) − ln κ   (spec §2.1)
+            with interruptible:
+                lw, log_g, log_det = _kernels.detection_log_weights(
+                    maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_p,
+                    self._log_pd, self._log_kappa)
+            nu = nu[:, used]
+        U = used.size
+        cc = np.empty((T, U + 2))
+        cc[:, :U] = -log_det
+        cc[:, U] = -log_miss
+        cc[:, U + 1] = -log_dead
+        # the shifted weights of the samplers (rankedassign._sampling.shifted_weights): a row's
+        # minimum is over its own gated measurements, so it is the same in every component
+        W = np.exp(-(cc - cc.min(axis=1, keepdims=True))) if T else np.empty((0, U + 2))
+        return _Terms(used, gated, Sinv, nu, lw, log_g, log_det, log_miss, log_dead,
+                      np.ascontiguousarray(cc), np.ascontiguousarray(W))
+
+    # ----------------------------------------------------------------------- 3.-4. truncation
+    def _counts(self) -> np.ndarray:
+        """``T_h = round(H_upd √w_h / Σ √w)`` (half away from zero, as MATLAB's round)."""
+        s = np.sqrt(self.comp_w)
+        return np.floor(self.h_upd * s / s.sum() + 0.5).astype(np.int64)
+
+    def _problem(self, h: int, terms: _Terms, mark, rows, cols):
+        """Rows, columns and the AssignmentProblem of component ``h`` (gathered terms)."""
+        with interruptible:
+            P, M = _glmb_kernels.component_problem(h, self.comp_off, self.comp_tracks,
+                                                   self._births, terms.gated, mark, rows, cols)
+        r, c = rows[:P].copy(), cols[:M].copy()
+        with interruptible:
+            cost = _kernels.group_cost_matrix(terms.log_det, terms.log_miss, terms.log_dead,
+                                              r, c)
+        return r, c, AssignmentProblem(cost)
+
+    def _truncate(self, terms: _Terms, counts: np.ndarray, base: np.ndarray) -> _Children:
+        """The children of every component (spec §2.3)."""
+        H = self.n_components
+        U = terms.used.size
+        if self._rules is not None:
+            random_scan, tau_stall, tau_stale = self._rules
+            chains, length = _gibbs_budget(self.association, counts)
+            sizes = np.diff(self.comp_off)
+            P_max = int(self._births.size + (sizes.max() if H else 0))
+            with interruptible:
+                comp, cost, off, entry, meas, sweeps, n_rows = _glmb_kernels.sample_components(
+                    self.comp_off, self.comp_tracks, self._births, terms.W, terms.cc,
+                    terms.gated, chains, length, tau_stall, tau_stale, random_scan, base,
+                    _zobrist(P_max, U + 2))
+            return _Children(comp, cost, off, entry, meas, int(sweeps.sum()),
+                             int((sweeps * n_rows).sum()))
+        # component by component: the public samplers, Murty, enumeration, custom
+        mark = np.zeros(U, dtype=bool)
+        rows = np.empty(self._births.size + int(np.diff(self.comp_off).max(initial=0)),
+                        dtype=np.int64)
+        cols = np.empty(U, dtype=np.int64)
+        comp, cost, off, entry, meas = [], [], [0], [], []
+        sweeps = row_updates = 0
+        for h in range(H):
+            r, c, problem = self._problem(h, terms, mark, rows, cols)
+            hyp = truncate(self.association, problem, int(counts[h]), rng=int(base[h]))
+            a = np.asarray(hyp.assignments, dtype=np.int64)
+            P, M = r.size, c.size
+            exists = a < M + P  # a measurement or missed: the row is there after the scan
+            e = np.broadcast_to(r, a.shape)[exists]
+            j = np.where(a < M, c[np.minimum(a, max(M - 1, 0))] if M else -1, -1)[exists]
+            comp.append(np.full(a.shape[0], h, dtype=np.int64))
+            cost.append(np.asarray(hyp.costs, dtype=np.float64))
+            off.extend((off[-1] + np.cumsum(exists.sum(axis=1))).tolist())
+            entry.append(e)
+            meas.append(j)
+            sweeps += hyp.sweeps
+            row_updates += hyp.row_updates
+        return _Children(_concat(comp, np.int64), _concat(cost, np.float64),
+                         np.array(off, dtype=np.int64), _concat(entry, np.int64),
+                         _concat(meas, np.int64), sweeps, row_updates)
+
+    def _retained(self, terms: _Terms, children: _Children) -> tuple[float, str]:
+        """``Σ_h w_h K_h / Σ_h w_h Z_h`` with the exact ``Z_h`` (spec §4).
+
+        ``Z_h`` factorises over the connected components of the problem's gate graph (rows
+        that share no measurement are independent, and every row's missed and dead columns are
+        its own): ``Z_h = Π_g Z_g``. A group is named by its entries, so a group met in several
+        components is solved once per scan, by :func:`oracle.log_normalizer`; a group of one
+        row is its closed form ``Σ_j η(j)``.
+        """
+        H = self.n_components
+        U = terms.used.size
+        mark = np.zeros(U, dtype=bool)
+        rows = np.empty(self._births.size + int(np.diff(self.comp_off).max(initial=0)),
+                        dtype=np.int64)
+        cols = np.empty(U, dtype=np.int64)
+        log_Z = np.zeros(H)
+        cache: dict = {}
+        for h in range(H):
+            with interruptible:
+                P, M = _glmb_kernels.component_problem(
+                    h, self.comp_off, self.comp_tracks, self._births, terms.gated, mark, rows,
+                    cols)
+                r, c = rows[:P].copy(), cols[:M].copy()
+                groups, meas_groups, n = _kernels.connected_groups(
+                    np.ascontiguousarray(terms.gated[np.ix_(r, c)]))
+            for g in range(n):
+                rr = r[groups == g]
+                name = tuple(rr.tolist())
+                value = cache.get(name)
+                if value is None:
+                    cg = c[meas_groups == g]
+                    if rr.size == 1:
+                        t = rr[0]
+                        value = _logsumexp(np.r_[terms.log_det[t, cg], terms.log_miss[t],
+                                                 terms.log_dead[t]])
+                    else:
+                        with interruptible:
+                            cost = _kernels.group_cost_matrix(
+                                terms.log_det, terms.log_miss, terms.log_dead, rr, cg)
+                        try:
+                            value = oracle.log_normalizer(AssignmentProblem(cost))
+                        except ValueError as err:
+                            return math.nan, (
+                                f"component {h} has a group of {rr.size} rows and {cg.size} "
+                                f"measurements beyond the oracle's DP: {err}")
+                    cache[name] = value
+                log_Z[h] += value
+        # K_h = Σ over the children of h of Π η = exp(−cost); children are grouped by parent
+        log_K = np.full(H, -np.inf)
+        starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
+        log_K[children.comp[starts]] = np.array(
+            [_logsumexp(-x) for x in np.split(children.cost, starts[1:])])
+        log_w = np.log(self.comp_w)
+        return math.exp(_logsumexp(log_w + log_K) - _logsumexp(log_w + log_Z)), ""
+
+    # ----------------------------------------------------------------------- 5. children
+    def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> int:
+        """Merge, prune, cap; the new track table with its Kalman update. Returns children."""
+        U = terms.used.size
+        N = children.comp.size
+        with np.errstate(divide="ignore"):
+            log_w = np.log(self.comp_w)[children.comp] - children.cost
+        # the new entries: one per distinct (predicted entry, measurement or missed)
+        key = children.entry * (U + 1) + (children.meas + 1)
+        uniq, ids = np.unique(key, return_inverse=True)
+        ids = ids.astype(np.int64).reshape(-1)
+        seg = np.repeat(np.arange(N), np.diff(children.off))
+        ids = ids[np.lexsort((ids, seg))]  # increasing within each child
+        with interruptible:
+            group, g_log_w, first = _glmb_kernels.merge_children(children.off, ids, log_w)
+        # normalise (log-sum-exp), prune, cap to the H_max heaviest, renormalise
+        w = np.exp(g_log_w - _logsumexp(g_log_w))
+        order = np.argsort(-w, kind="stable")
+        order = order[w[order] >= self.prune_hypothesis][: self.h_max]
+        if order.size == 0:  # everything below the threshold: keep the heaviest
+            order = np.argsort(-w, kind="stable")[:1]
+        w = w[order]
+        w = w / w.sum()
+        starts = children.off[first[order]]
+        sizes = children.off[first[order] + 1] - starts
+        idx = np.repeat(starts - np.cumsum(np.r_[0, sizes[:-1]]), sizes) + np.arange(sizes.sum())
+        kept_ids = ids[idx]
+        # drop the entries no kept component uses; the remap keeps the order
+        used_ids, comp_tracks = np.unique(kept_ids, return_inverse=True)
+        k_new = uniq[used_ids]
+        e_src = k_new // (U + 1)
+        j_src = k_new % (U + 1) - 1
+        self._kalman(terms, e_src, j_src)
+        self.comp_off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        self.comp_tracks = comp_tracks.astype(np.int64).reshape(-1)
+        self.comp_w = w
+        meas = np.where(j_src >= 0, terms.used[np.maximum(j_src, 0)] if U else -1, -1)
+        parents = self.hist[e_src] if self.keep_histories else np.full(e_src.size, -1)
+        self.labels = self.labels[e_src]
+        self.hist = self._append_nodes(parents, meas, self.m[self.offsets[:-1]])
+        self._compact_history()
+        return N
+
+    def _kalman(self, terms: _Terms, e_src: np.ndarray, j_src: np.ndarray) -> None:
+        """The mixtures of the new entries: entry ``e_src`` predicted (``j_src = −1``) or
+        updated with gated measurement ``j_src``; then pruned, merged and capped."""
+        n_comp = np.diff(self.offsets)[e_src]
+        offsets = np.concatenate([[0], np.cumsum(n_comp)]).astype(np.int64)
+        within = np.arange(offsets[-1]) - np.repeat(offsets[:-1], n_comp)
+        comp = np.repeat(self.offsets[:-1][e_src], n_comp) + within
+        track = np.repeat(e_src, n_comp)
+        j = np.repeat(j_src, n_comp)
+        w = self.w[comp].copy()
+        m = self.m[comp].copy()
+        P = self.P[comp].copy()
+        det = j >= 0
+        if det.any():
+            c, t, jj = comp[det], track[det], j[det]
+            # w̃_c = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
+            w[det] = np.exp(terms.lw[c, jj] - terms.log_g[t, jj])
+            # K = P H' S⁻¹, m' = m + K ν, P' = P − K S K' = P − K H P
+            PHt = self.P[c][:, :, [0, 2]]
+            K = PHt @ terms.Sinv[c]
+            m[det] = self.m[c] + np.einsum("cij,cj->ci", K, terms.nu[c, jj])
+            P_upd = self.P[c] - K @ PHt.transpose(0, 2, 1)
+            P[det] = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+        keep = np.ones(e_src.size, dtype=bool)
+        with interruptible:
+            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+                offsets, np.ascontiguousarray(w), np.ascontiguousarray(m),
+                np.ascontiguousarray(P), keep, self.prune_component, self.merge_threshold,
+                self.max_components, self._rule)
+
+    # ----------------------------------------------------------------------- histories
+    def _append_nodes(self, parents, meas, states) -> np.ndarray:
+        """Append history nodes of scan ``k``; return their indices."""
+        n0 = self._node_parent.size
+        n = parents.size
+        self._node_parent = np.concatenate([self._node_parent, parents])
+        self._node_scan = np.concatenate([self._node_scan, np.full(n, self.k, np.int64)])
+        self._node_meas = np.concatenate([self._node_meas, meas])
+        self._node_state = np.concatenate([self._node_state, states])
+        return np.arange(n0, n0 + n, dtype=np.int64)
+
+    def _compact_history(self) -> None:
+        """Drop the history nodes no entry reaches, when they are most of the forest."""
+        n = self._node_parent.size
+        if n <= 2 * self._live_nodes + 4096:
+            return
+        with interruptible:
+            keep = _glmb_kernels.mark_reachable(self._node_parent, self.hist)
+        new_index = np.cumsum(keep) - 1
+        parent = self._node_parent[keep]
+        self._node_parent = np.where(parent >= 0, new_index[np.maximum(parent, 0)], -1)
+        self._node_scan = self._node_scan[keep]
+        self._node_meas = self._node_meas[keep]
+        self._node_state = self._node_state[keep]
+        self.hist = new_index[self.hist]
+        self._live_nodes = int(keep.sum())
+
+    def _trajectory(self, e: int):
+        scans, states = [], []
+        v = int(self.hist[e])
+        while v >= 0:
+            if self._node_scan[v] >= 1:
+                scans.append(int(self._node_scan[v]))
+                states.append(self._node_state[v])
+            v = int(self._node_parent[v])
+        return (np.array(scans[::-1], dtype=np.int64),
+                np.array(states[::-1]).reshape(-1, 4))
+
+    # ----------------------------------------------------------------------- 6. estimation
+    def _extract(self):
+        """Labels, states, existence of the reported tracks; every label with ``r(ℓ)``;
+        the cardinality distribution; the trajectories."""
+        w = self.comp_w
+        sizes = np.diff(self.comp_off)
+        T = self.n_tracks
+        # r_e = Σ_{h ∋ e} w_h, then r(ℓ) = Σ over the entries of label ℓ
+        r_e = np.bincount(self.comp_tracks, weights=np.repeat(w, sizes), minlength=T)
+        lkey = self.labels[:, 0] * (1 << 32) + self.labels[:, 1]
+        ukey, linv = np.unique(lkey, return_inverse=True)
+        linv = linv.reshape(-1)
+        r_label = np.minimum(np.bincount(linv, weights=r_e, minlength=ukey.size), 1.0)
+        track_labels = np.column_stack([ukey >> 32, ukey & 0xFFFFFFFF]).astype(np.int64)
+        # ρ(n) = Σ_{h: |I_h| = n} w_h
+        rho = np.bincount(sizes, weights=w)
+        trajectories = ()
+        if self.extraction == "hysteresis":
+            # confirmed_k = [r >= ϑ_u] or (confirmed_{k-1} and r >= ϑ_l)   (spec 6.5)
+            was = np.isin(ukey, self._confirmed)
+            conf = (r_label >= self.theta_upper) | (was & (r_label >= self.theta_lower))
+            self._confirmed = ukey[conf]
+            # each confirmed label's heaviest entry
+            order = np.lexsort((-r_e, linv))
+            best = order[np.r_[True, linv[order][1:] != linv[order][:-1]]]
+            entries = best[conf]
+        else:
+            n_hat = int(np.argmax(rho))
+            h = int(np.flatnonzero(sizes == n_hat)[0])  # components are heaviest first
+            entries = self.comp_tracks[self.comp_off[h]:self.comp_off[h + 1]]
+            entries = entries[np.argsort(lkey[entries], kind="stable")]
+            if self.extraction == "trajectory":
+                trajectories = tuple((tuple(self.labels[e].tolist()), *self._trajectory(e))
+                                     for e in entries)
+        states = self.m[self.offsets[entries]].reshape(-1, 4)
+        return (self.labels[entries], states, r_label[linv[entries]], track_labels, r_label,
+                rho, trajectories)
+
+    # ----------------------------------------------------------------------- the scan
+    def step(self, z, rng=None) -> GLMBScanRecord:
+        """Run one scan: predict, truncate every component, update, estimate.
+
+        Parameters
+        ----------
+        z : array_like, shape (M, 2)
+            Measurements of the scan (as :meth:`LMBFilter.step`).
+        rng : optional
+            Anything :func:`numpy.random.default_rng` accepts; one draw from it keys the
+            streams of every component.
+
+        Returns
+        -------
+        GLMBScanRecord
+
+        Raises
+        ------
+        TypeError, ValueError
+            On measurements as :meth:`LMBFilter.step`; ``ValueError`` when :class:`Exact`
+            meets a component too large to enumerate or a custom association returns bad
+            hypotheses.
+
+        Examples
+        --------
+        >>> from rankedassign.tracking import GLMBFilter, Murty, make_model
+        >>> f = GLMBFilter(make_model("vo"), Murty(100), retained_mass=True)
+        >>> rec = f.step([[0.0, 0.0], [400.0, -600.0]], rng=0)
+        >>> rec.labels.tolist(), rec.n_components, round(rec.retained_mass, 6)
+        ([[1, 1], [1, 2]], 36, 1.0)
+        """
+        z = _check_measurements(z)
+        gen = spawning_generator(rng)
+        key = np.uint64(gen.integers(0, _TWO63, dtype=np.uint64))
+        t0 = perf_counter()
+        p_exist = self._predict()
+        T = self.n_tracks
+        t1 = perf_counter()
+        terms = self._terms(z, p_exist)
+        counts = self._counts()
+        with interruptible:
+            base = _glmb_kernels.component_keys(key, self.n_components)
+        t2 = perf_counter()
+        children = self._truncate(terms, counts, base)
+        H = self.n_components
+        if self.retained_mass:
+            retained, reason = self._retained(terms, children)
+        else:
+            retained, reason = math.nan, "not computed (retained_mass=False)"
+        t3 = perf_counter()
+        n_children = self._update(terms, children, z)
+        labels, states, ex, track_labels, track_r, rho, traj = self._extract()
+        t4 = perf_counter()
+        return GLMBScanRecord(
+            labels, states, ex, track_labels, track_r, T, int(z.shape[0]),
+            int(terms.used.size), H, H, children.sweeps, children.row_updates, n_children,
+            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
+             "update": t4 - t3},
+            rho, self.n_components, retained, reason, traj,
+        )

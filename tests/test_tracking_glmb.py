@@ -1,0 +1,548 @@
+"""Tests of the δ-GLMB filter against an exhaustive δ-GLMB recursion written out naively.
+
+The reference (:func:`naive_step`) keeps a δ-GLMB as a dict ``{track set: weight}`` over
+single-Gaussian tracks named by ``(label, history)``, predicts and updates every track with the
+textbook Kalman equations, and enumerates every assignment of every component with the oracle.
+With ``Exact()``, no pruning and no cap the filter must give the same posterior.
+"""
+
+import math
+import re
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numpy.testing import assert_allclose, assert_array_equal
+
+import oracle
+from rankedassign import AssignmentProblem
+from rankedassign.engine.rng import base_key
+from rankedassign.tracking import (
+    Association,
+    AssociationResult,
+    BirthComponent,
+    Exact,
+    GLMBFilter,
+    LMBBirth,
+    LMBFilter,
+    Model,
+    MultiSensorShortChainGibbs,
+    Murty,
+    OriginalGibbs,
+    PoissonClutter,
+    PositionSensor,
+    ShortChainGibbs,
+    _glmb_kernels,
+    gate_threshold,
+    make_model,
+    make_scenario,
+    run_scenario,
+)
+from rankedassign.tracking.single.glmb import Hypotheses, _gibbs_budget, _zobrist, truncate
+
+GATE = gate_threshold(0.9999999)
+
+
+# ----------------------------------------------------------------------------- the reference
+def _small_model(n_births=1, clutter=2.0, p_d=0.9):
+    births = tuple(BirthComponent(0.2, [10.0 * b, 0.0, 0.0, 0.0], np.diag([100.0, 4.0, 100.0,
+                                                                           4.0]))
+                   for b in range(n_births))
+    return Model(sensor=PositionSensor(p_d, 5.0),
+                 clutter=PoissonClutter(clutter, ((-100.0, 100.0), (-100.0, 100.0))),
+                 birth=LMBBirth(births))
+
+
+def naive_step(model, prior, tracks, z, k, gate=GATE):
+    """One exact δ-GLMB scan. ``prior``: {frozenset of track names: w}; ``tracks``:
+    {name: (mean, cov)} with ``name = (label, history)``. Returns the posterior pair."""
+    F, Q = model.motion.F, model.motion.Q
+    H = model.sensor.H
+    R = model.sensor.R
+    pd, ps = model.sensor.p_d, model.survival.p_s
+    kappa = model.clutter.intensity
+    pred = {n: (F @ m, F @ P @ F.T + Q) for n, (m, P) in tracks.items()}
+    births = [(((k, b + 1), ()), (c.mean, c.cov, c.r))
+              for b, c in enumerate(model.birth.components)]
+    new_tracks, post = {}, {}
+    for comp, w in prior.items():
+        rows = [(n, m, P, r) for n, (m, P, r) in births]
+        rows += [(n, pred[n][0], pred[n][1], ps) for n in sorted(comp)]
+        P_, Mz = len(rows), len(z)
+        cost = np.full((P_, Mz + 2 * P_), np.inf)
+        updated = {}
+        for i, (_, m, P, p) in enumerate(rows):
+            S = H @ P @ H.T + R
+            Sinv = np.linalg.inv(S)
+            K = P @ H.T @ Sinv
+            for j in range(Mz):
+                nu = z[j] - H @ m
+                d2 = nu @ Sinv @ nu
+                if d2 <= gate:
+                    q = math.exp(-0.5 * d2) / (2 * math.pi * math.sqrt(np.linalg.det(S)))
+                    cost[i, j] = -math.log(p * pd * q / kappa)
+                    updated[(i, j)] = (m + K @ nu, P - K @ S @ K.T)
+            cost[i, Mz + i] = -math.log(p * (1 - pd))
+            cost[i, Mz + P_ + i] = -math.log1p(-p) if p < 1 else math.inf
+        ranked = oracle.enumerate_assignments(AssignmentProblem(cost))
+        for a, c in zip(ranked.assignments, ranked.costs, strict=True):
+            child = []
+            for i, col in enumerate(a):
+                n, m, P, _ = rows[i]
+                if col < Mz:
+                    name = (n[0], n[1] + (int(col),))
+                    new_tracks[name] = updated[(i, int(col))]
+                elif col < Mz + P_:
+                    name = (n[0], n[1] + (-1,))
+                    new_tracks[name] = (m, P)
+                else:
+                    continue
+                child.append(name)
+            key = frozenset(child)
+            post[key] = post.get(key, 0.0) + w * math.exp(-c)
+    tot = sum(post.values())
+    return {k_: v / tot for k_, v in post.items()}, new_tracks
+
+
+def _as_dict(filt):
+    return {frozenset(items): w for w, items in filt.components()}
+
+
+def _assert_same_glmb(filt, post):
+    got = _as_dict(filt)
+    assert set(got) == set(post)
+    keys = sorted(post, key=lambda s: sorted(s))
+    assert_allclose([got[s] for s in keys], [post[s] for s in keys], rtol=1e-9, atol=1e-15)
+
+
+def _prior_tracks():
+    labels = [[0, 1], [0, 2], [0, 3]]
+    means = np.array([[0.0, 1.0, 0.0, 0.0], [8.0, 0.0, 3.0, -1.0], [-20.0, 0.0, 5.0, 0.0]])
+    covs = np.tile(np.diag([25.0, 4.0, 25.0, 4.0]), (3, 1, 1))
+    return labels, means, covs
+
+
+def _naive_prior(labels, means, covs, components, weights):
+    tracks = {((a, b), ()): (m, P) for (a, b), m, P in zip(map(tuple, labels), means, covs,
+                                                           strict=True)}
+    names = [((a, b), ()) for a, b in map(tuple, labels)]
+    w = np.asarray(weights, dtype=float)
+    return {frozenset(names[i] for i in c): wi / w.sum()
+            for c, wi in zip(components, w, strict=True)}, tracks
+
+
+Z1 = np.array([[1.0, -9.0], [9.0, 2.0], [30.0, 30.0]])
+
+
+# ----------------------------------------------------------------------------- exactness
+def test_one_scan_of_one_component_without_births_is_the_enumeration():
+    model = _small_model(n_births=0)
+    labels, means, covs = _prior_tracks()
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6)
+    f.set_prior(labels, means, covs)
+    rec = f.step(Z1, rng=0)
+    prior, tracks = _naive_prior(labels, means, covs, [[0, 1, 2]], [1.0])
+    post, _ = naive_step(model, prior, tracks, Z1, 1)
+    _assert_same_glmb(f, post)
+    assert rec.n_components == len(post) == rec.n_unique  # nothing merges from one parent
+    assert rec.n_groups == rec.invocations == 1
+    card = np.zeros(4)
+    for s, w in post.items():
+        card[len(s)] += w
+    assert_allclose(rec.cardinality, card, rtol=1e-9, atol=1e-15)
+
+
+def test_several_components_and_births_over_two_scans_are_the_exact_recursion():
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    comps, weights = [[0, 1], [1, 2], [0], []], [0.4, 0.3, 0.2, 0.1]
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6)
+    f.set_prior(labels, means, covs, comps, weights)
+    post, tracks = _naive_prior(labels, means, covs, comps, weights)
+    for k, z in enumerate([Z1, np.array([[2.0, -18.0], [10.0, 1.0]])], start=1):
+        rec = f.step(z, rng=k)
+        post, tracks = naive_step(model, post, tracks, z, k)
+        _assert_same_glmb(f, post)
+    assert rec.n_unique > rec.n_components  # children of different parents merged
+    # the track table holds one entry per (label, history) in use, and nothing else
+    names = {n for s in post for n in s}
+    assert f.n_tracks == len(names)
+    for e in range(f.n_tracks):
+        name = (tuple(f.labels[e].tolist()), f._history(e))
+        assert_allclose(f.m[f.offsets[e]], tracks[name][0], rtol=1e-9, atol=1e-9)
+        assert_allclose(f.P[f.offsets[e]], tracks[name][1], rtol=1e-9, atol=1e-9)
+
+
+def test_murty_with_every_assignment_and_exact_agree():
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    out = []
+    for assoc in (Exact(), Murty(10**6)):
+        f = GLMBFilter(model, assoc, prune_hypothesis=0.0, h_max=10**6, h_upd=10**6)
+        f.set_prior(labels, means, covs, [[0, 1, 2], [0]], [0.7, 0.3])
+        f.step(Z1, rng=0)
+        out.append(_as_dict(f))
+    assert set(out[0]) == set(out[1])
+    assert_allclose([out[1][s] for s in out[0]], list(out[0].values()), rtol=1e-9)
+
+
+def test_existence_equals_the_lmb_filter_with_exact_association_on_the_first_scan():
+    model = make_model("vo")
+    z = np.array([[2.0, -1.0], [395.0, -603.0], [-805.0, -195.0], [-190.0, 806.0],
+                  [404.0, -590.0], [500.0, 500.0]])
+    g = GLMBFilter(model, Exact(), prune_hypothesis=0.0)
+    lmb = LMBFilter(model, Exact(), prune_track=0.0)
+    rg = g.step(z, rng=0)
+    rl = lmb.step(z, rng=0)
+    assert_array_equal(rg.track_labels, rl.track_labels)
+    assert_allclose(rg.track_existence, rl.track_existence, rtol=0, atol=1e-12)
+    assert rg.n_components > 1
+
+
+def test_component_weights_sum_to_their_enumeration_and_retained_mass_is_one():
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6, retained_mass=True)
+    f.set_prior(labels, means, covs, [[0, 1, 2], [1]], [0.6, 0.4])
+    rec = f.step(Z1, rng=0)
+    assert rec.retained_mass == pytest.approx(1.0, rel=1e-12)
+    assert rec.retained_mass_reason == ""
+    # Murty(1) keeps the best assignment of each component: retained mass below one, and the
+    # exact share it keeps
+    g = GLMBFilter(model, Murty(1), prune_hypothesis=0.0, retained_mass=True)
+    g.set_prior(labels, means, covs, [[0, 1, 2], [1]], [0.6, 0.4])
+    rec = g.step(Z1, rng=0)
+    g2 = GLMBFilter(model, Murty(1), prune_hypothesis=0.0)
+    g2.set_prior(labels, means, covs, [[0, 1, 2], [1]], [0.6, 0.4])
+    g2._predict()
+    p = np.concatenate([np.full(3, model.survival.p_s), model.birth.r])
+    terms = g2._terms(Z1, p)
+    mark = np.zeros(terms.used.size, bool)
+    rows, cols = np.empty(8, np.int64), np.empty(terms.used.size, np.int64)
+    num = den = 0.0
+    for h, w in enumerate([0.6, 0.4]):
+        _, _, prob = g2._problem(h, terms, mark, rows, cols)
+        num += w * math.exp(-oracle.murty(prob, 1).costs[0])
+        den += w * math.exp(oracle.log_normalizer(prob))
+    assert rec.retained_mass == pytest.approx(num / den, rel=1e-10)
+    assert 0 < rec.retained_mass < 1
+
+
+def test_retained_mass_is_nan_with_the_reason_when_the_oracle_cannot(monkeypatch):
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    f = GLMBFilter(model, Murty(5))
+    f.set_prior(labels, means, covs)
+    rec = f.step(Z1, rng=0)
+    assert math.isnan(rec.retained_mass)
+    assert rec.retained_mass_reason == "not computed (retained_mass=False)"
+
+    def beyond(problem):
+        raise ValueError("too large for the DP")
+
+    monkeypatch.setattr(oracle, "log_normalizer", beyond)
+    f = GLMBFilter(model, Murty(5), retained_mass=True)
+    f.set_prior(labels, means, covs)
+    rec = f.step(Z1, rng=0)
+    assert math.isnan(rec.retained_mass)
+    assert re.fullmatch(r"component 0 has a group of \d+ rows and \d+ measurements beyond the "
+                        r"oracle's DP: too large for the DP", rec.retained_mass_reason)
+
+
+def _cardinality(post, n_max):
+    card = np.zeros(n_max + 1)
+    for s, w in post.items():
+        card[len(s)] += w
+    return card
+
+
+@settings(max_examples=25)  # each example is a full exact recursion over up to 3 scans
+@given(
+    n_tracks=st.integers(2, 3),
+    n_scans=st.integers(1, 3),
+    data=st.data(),
+)
+def test_cardinality_is_the_exact_one_over_a_few_scans(n_tracks, n_scans, data):
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    labels, means, covs = labels[:n_tracks], means[:n_tracks], covs[:n_tracks]
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6)
+    f.set_prior(labels, means, covs)
+    post, tracks = _naive_prior(labels, means, covs, [list(range(n_tracks))], [1.0])
+    coord = st.floats(-40.0, 40.0, allow_nan=False, width=32)
+    for k in range(1, n_scans + 1):
+        m = data.draw(st.integers(0, 2), label=f"n_meas[{k}]")
+        z = np.array([[data.draw(coord), data.draw(coord)] for _ in range(m)]).reshape(-1, 2)
+        rec = f.step(z, rng=k)
+        post, tracks = naive_step(model, post, tracks, z, k)
+    card = _cardinality(post, rec.cardinality.size + 5)
+    assert_allclose(rec.cardinality, card[: rec.cardinality.size], rtol=1e-9, atol=1e-13)
+    assert card[rec.cardinality.size:].sum() == 0
+
+
+# ----------------------------------------------------------------------------- the samplers
+def _component_terms(z, gate_prob=0.9999999, n_births=1):
+    model = _small_model(n_births=n_births)
+    labels, means, covs = _prior_tracks()
+    f = GLMBFilter(model, OriginalGibbs(100), gate_prob=gate_prob)
+    f.set_prior(labels, means, covs)
+    p = f._predict()
+    return f, f._terms(z, p)
+
+
+@pytest.mark.parametrize("meas", ["few", "many"])  # the direct and the prefix-sum draws
+@pytest.mark.parametrize("assoc", [OriginalGibbs(10_000), ShortChainGibbs(400, 7, tau_stall=3, tau_stale=4),
+                                   ShortChainGibbs(50, 25, tau_stall=None, tau_stale=None, scan="random")])
+def test_compiled_components_are_the_public_samplers(assoc, meas):
+    rng = np.random.default_rng(5)
+    z = Z1 if meas == "few" else rng.uniform(-30, 30, size=(40, 2))
+    f, terms = _component_terms(z, gate_prob=None if meas == "many" else 0.9999999)
+    budget = 300
+    chains, length = _gibbs_budget(assoc, np.array([budget]))
+    rules = (assoc.options.get("scan") == "random", getattr(assoc, "tau_stall", 0) or 0,
+             getattr(assoc, "tau_stale", 0) or 0)
+    base = np.array([base_key(11)], dtype=np.uint64)
+    U = terms.used.size
+    comp, cost, off, entry, meas_, sweeps, n_rows = _glmb_kernels.sample_components(
+        f.comp_off, f.comp_tracks, f._births, terms.W, terms.cc, terms.gated, chains, length,
+        rules[1], rules[2], rules[0], base, _zobrist(8, U + 2))
+    mark = np.zeros(U, bool)
+    rows, cols = np.empty(8, np.int64), np.empty(U, np.int64)
+    r, c, problem = f._problem(0, terms, mark, rows, cols)
+    if meas == "many":
+        assert problem.n_meas > 32 and problem.n_meas > 2 * problem.n_rows
+    hyp = truncate(assoc, problem, budget, rng=11)
+    assert comp.size == hyp.assignments.shape[0]
+    assert sweeps[0] == hyp.sweeps and n_rows[0] * sweeps[0] == hyp.row_updates
+    assert_allclose(cost, hyp.costs, rtol=1e-12)
+    # the same assignments in discovery order, as (entry, measurement) of the rows that exist
+    P, M = r.size, c.size
+    for n, a in enumerate(hyp.assignments):
+        alive = a < M + P
+        exp_entry = r[alive]
+        exp_meas = np.where(a[alive] < M, c[np.minimum(a[alive], M - 1)], -1)
+        assert_array_equal(entry[off[n]:off[n + 1]], exp_entry)
+        assert_array_equal(meas_[off[n]:off[n + 1]], exp_meas)
+
+
+def test_budgets_follow_the_component_counts():
+    chains, length = _gibbs_budget(OriginalGibbs(500), np.array([0, 1, 2, 1000]))
+    assert_array_equal(chains, [0, 0, 1, 1])
+    assert_array_equal(length, [0, 0, 1, 500])
+    chains, length = _gibbs_budget(ShortChainGibbs(10, 25), np.array([0, 1, 5, 101, 1000]))
+    assert_array_equal(length, [0, 0, 4, 25, 25])
+    assert_array_equal(chains, [0, 0, 1, 4, 10])
+
+
+def test_a_count_of_zero_gives_the_all_missed_solution():
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    f = GLMBFilter(model, ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), h_upd=1)
+    f.set_prior(labels, means, covs, [[0, 1, 2], [0]], [0.5, 0.5])
+    assert_array_equal(f._counts(), [1, 1])  # round(1 · 1/2) = 1 (half away from zero)
+    f = GLMBFilter(model, ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), h_upd=1)
+    f.set_prior(labels, means, covs, [[0, 1, 2], [0], [1]], [0.98, 0.01, 0.01])
+    assert_array_equal(f._counts(), [1, 0, 0])
+    rec = f.step(Z1, rng=0)
+    assert rec.sweeps == 0 and rec.n_unique == 3  # one solution per component
+    # every child is its parent with every track, and the birth, there and missed
+    sets = {frozenset(x for x in items) for _, items in f.components()}
+    born = ((1, 1), (-1,))
+    assert sets == {frozenset({((0, 1), (-1,)), ((0, 2), (-1,)), ((0, 3), (-1,)), born}),
+                    frozenset({((0, 1), (-1,)), born}), frozenset({((0, 2), (-1,)), born})}
+
+
+# ----------------------------------------------------------------------------- the filter
+def _run(assoc, n_scans=6, rng=3, **options):
+    sc = make_scenario("vo", rng=1, n_scans=n_scans)
+    f = GLMBFilter(sc.model, assoc, **options)
+    gen = np.random.default_rng(rng)
+    return f, [f.step(s.z, rng=gen) for s in sc.scans]
+
+
+def test_the_same_rng_gives_the_same_output():
+    a = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))[1]
+    b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))[1]
+    c = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=4)[1]
+    for x, y in zip(a, b, strict=True):
+        for name in ("labels", "states", "existence", "track_labels", "track_existence",
+                     "cardinality"):
+            assert_array_equal(getattr(x, name), getattr(y, name))
+        assert (x.sweeps, x.n_unique, x.n_components) == (y.sweeps, y.n_unique, y.n_components)
+    assert any(x.sweeps != y.sweeps or x.n_unique != y.n_unique for x, y in zip(a, c,
+                                                                                  strict=True))
+
+
+def test_vo_scenario_tracks_and_keeps_the_caps():
+    f, recs = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=12, h_max=50)
+    assert all(r.n_components <= 50 for r in recs)
+    assert_allclose(f.comp_w.sum(), 1.0, rtol=1e-12)
+    assert (np.diff(f.comp_w) <= 0).all()  # heaviest first
+    # components are distinct track sets over a table without unused entries
+    comps = f.components()
+    assert len({items for _, items in comps}) == len(comps)
+    assert np.unique(f.comp_tracks).size == f.n_tracks
+    assert recs[-1].labels.shape[0] == 3  # the three targets of the first scans
+    assert_allclose(recs[-1].cardinality.sum(), 1.0, rtol=1e-12)
+
+
+def test_extraction_rules():
+    _, maps = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=8)
+    _, traj = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=8, extraction="trajectory")
+    for a, b in zip(maps, traj, strict=True):
+        assert_array_equal(a.labels, b.labels)
+        assert_array_equal(a.states, b.states)
+        assert maps[0].trajectories == ()
+    last = traj[-1]
+    assert len(last.trajectories) == last.labels.shape[0]
+    for (label, scans, states), lab, x in zip(last.trajectories, last.labels, last.states,
+                                              strict=True):
+        assert label == tuple(lab.tolist())
+        assert scans[0] == label[0] and scans[-1] == 8
+        assert_array_equal(np.diff(scans), 1)
+        assert_array_equal(states[-1], x)
+    _, hyst = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=8, extraction="hysteresis")
+    assert (hyst[-1].existence >= 1e-3).all()
+    assert hyst[-1].labels.shape[0] >= 1
+
+
+def test_murty_and_the_samplers_run_on_the_same_data():
+    for assoc in (Murty(50), OriginalGibbs(1000), ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10,
+                                                                   stall="chain-local")):
+        _, recs = _run(assoc, n_scans=3, h_upd=100)
+        assert recs[-1].n_components >= 1
+        assert (recs[-1].sweeps == 0) == isinstance(assoc, Murty)
+
+
+class _Best(Association):
+    """A custom truncation: the single best assignment (Murty with k = 1)."""
+
+    def __call__(self, problem, rng):  # pragma: no cover - LMB only
+        raise NotImplementedError
+
+    def hypotheses(self, problem, budget, rng):
+        r = oracle.murty(problem, 1)
+        return Hypotheses(r.assignments, r.costs)
+
+
+class _BestOnly:
+    """A truncation that is no LMB association (not callable): only ``hypotheses``."""
+
+    hypotheses = _Best.hypotheses
+
+
+def test_a_custom_association_supplies_hypotheses():
+    a = _run(_Best(), n_scans=3)[1]
+    b = _run(Murty(1), n_scans=3)[1]
+    c = _run(_BestOnly(), n_scans=3)[1]
+    for x, y, w in zip(a, b, c, strict=True):
+        assert_array_equal(x.track_existence, y.track_existence)
+        assert_array_equal(x.track_existence, w.track_existence)
+
+
+def test_run_scenario_runs_the_glmb_filter_on_the_same_measurements():
+    lmb = run_scenario("vo", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=2, n_scans=4)
+    glmb = run_scenario("vo", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=2, n_scans=4,
+                        filter="glmb", h_upd=200)
+    assert_array_equal(lmb.n_meas, glmb.n_meas)
+    for s, t in zip(lmb.scenario.scans, glmb.scenario.scans, strict=True):
+        assert_array_equal(s.z, t.z)
+    assert glmb.extraction == "map"
+
+
+def test_memory_stays_bounded_by_the_caps():
+    f, a = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100)
+    assert f.n_components <= 20
+    assert f.n_tracks <= 20 * (1 + np.diff(f.comp_off).max())
+    assert f._node_parent.size <= 2 * f._live_nodes + 4096 + f.n_tracks
+    # without the histories the forest holds one node per entry (and the same numbers)
+    g, b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100,
+                keep_histories=False)
+    for x, y in zip(a, b, strict=True):
+        assert_array_equal(x.track_existence, y.track_existence)
+        assert_array_equal(x.states, y.states)
+    assert (g._node_parent == -1).all()
+    assert all(len(hist) == 1 for _, items in g.components() for _, hist in items)
+    with pytest.raises(ValueError, match="extraction='trajectory' needs keep_histories=True"):
+        GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory", keep_histories=False)
+
+
+# ----------------------------------------------------------------------------- bad input
+class LBP(Association):
+    """Marginals only (a loopy-belief-propagation stand-in)."""
+
+    def __call__(self, problem, rng):  # pragma: no cover - refused before any call
+        return AssociationResult(np.zeros((problem.n_rows, problem.n_meas + 2)), 1, 0, 0, 0)
+
+
+@pytest.mark.parametrize("kwargs, exc, match", [
+    (dict(h_upd=0), ValueError, "h_upd must be a positive integer, got 0"),
+    (dict(h_upd=2.5), ValueError, "h_upd must be a positive integer, got 2.5"),
+    (dict(h_upd=10.0), ValueError, "h_upd must be a positive integer, got 10.0"),
+    (dict(h_max=-3), ValueError, "h_max must be a positive integer, got -3"),
+    (dict(h_max="9"), TypeError, "h_max must be a positive integer, got str '9'"),
+    (dict(h_upd=True), TypeError, "h_upd must be a positive integer, got bool True"),
+    (dict(prune_hypothesis=1.0), ValueError, r"prune_hypothesis must be in \[0, 1\), got 1.0"),
+    (dict(prune_hypothesis=-1e-3), ValueError,
+     r"prune_hypothesis must be in \[0, 1\), got -0.001"),
+    (dict(theta_upper=1.5), ValueError, r"theta_upper must be in \[0, 1\), got 1.5"),
+    (dict(theta_lower=float("nan")), ValueError, "theta_lower must be a finite real number"),
+    (dict(theta_lower=0.95), ValueError, "theta_lower must be <= theta_upper = 0.9, got 0.95"),
+    (dict(prune_component=1.0), ValueError, r"prune_component must be in \[0, 1\), got 1.0"),
+    (dict(extraction="best"), ValueError, "unknown extraction 'best'"),
+    (dict(retained_mass="yes"), TypeError, "retained_mass must be True or False"),
+])
+def test_bad_options_are_refused(kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        GLMBFilter(make_model("vo"), Murty(10), **kwargs)
+
+
+def test_associations_without_hypotheses_are_refused():
+    msg = ("GLMBFilter needs an association that supplies hypotheses (unique assignments with "
+           "their costs): ShortChainGibbs, OriginalGibbs, Murty, Exact, or an object with a "
+           "method hypotheses(problem, budget, rng); LBP returns association marginals only, "
+           "which suit LMBFilter")
+    with pytest.raises(TypeError, match=re.escape(msg)):
+        GLMBFilter(make_model("vo"), LBP())
+    with pytest.raises(TypeError, match="GLMBFilter needs a single-sensor association"):
+        GLMBFilter(make_model("vo"), MultiSensorShortChainGibbs(10, 5))
+    with pytest.raises(TypeError, match="association must be callable"):
+        GLMBFilter(make_model("vo"), 3)
+    with pytest.raises(TypeError, match="model must be"):
+        GLMBFilter("vo", Murty(3))
+
+
+def test_bad_measurements_are_answered_as_the_lmb_filter_does():
+    f = GLMBFilter(make_model("vo"), Murty(10))
+    with pytest.raises(ValueError, match=re.escape("measurements must be finite, got nan at "
+                                                   "[0, 1] in a scan of shape (1, 2)")):
+        f.step([[0.0, np.nan]])
+    with pytest.raises(ValueError, match=re.escape("must have shape (M, 2), got shape (3, 4)")):
+        f.step(np.zeros((3, 4)))
+    with pytest.raises(TypeError, match="measurements must be real numbers, got strings"):
+        f.step([["a", "b"]])
+    assert f.k == 0  # nothing happened
+    rec = f.step([])  # a scan without measurements
+    assert rec.n_meas == 0 and rec.n_components >= 1
+
+
+def test_exact_refuses_a_component_too_large_to_enumerate():
+    model = make_model("vo")
+    f = GLMBFilter(model, Exact(), gate_prob=None)
+    z = np.random.default_rng(0).uniform(-900, 900, size=(30, 2))
+    with pytest.raises(ValueError, match=re.escape(
+            "Exact() cannot enumerate a component's problem of 4 rows and 30 measurements "
+            "within 200000 assignments (EXACT_LIMIT)")):
+        f.step(z)
+
+
+def test_custom_hypotheses_are_checked():
+    class Twice(_Best):
+        def hypotheses(self, problem, budget, rng):
+            r = oracle.murty(problem, 1)
+            return Hypotheses(np.repeat(r.assignments, 2, axis=0), np.repeat(r.costs, 2))
+
+    f = GLMBFilter(make_model("vo"), Twice())
+    with pytest.raises(ValueError, match="association Twice returned duplicate assignments"):
+        f.step([[0.0, 0.0]])
