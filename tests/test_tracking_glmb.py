@@ -33,12 +33,12 @@ from rankedassign.tracking import (
     PoissonClutter,
     PositionSensor,
     ShortChainGibbs,
-    _glmb_kernels,
     gate_threshold,
     make_model,
     make_scenario,
     run_scenario,
 )
+from rankedassign.tracking.single import _glmb_kernels
 from rankedassign.tracking.single.glmb import Hypotheses, _gibbs_budget, _zobrist, truncate
 
 GATE = gate_threshold(0.9999999)
@@ -546,3 +546,16 @@ def test_custom_hypotheses_are_checked():
     f = GLMBFilter(make_model("vo"), Twice())
     with pytest.raises(ValueError, match="association Twice returned duplicate assignments"):
         f.step([[0.0, 0.0]])
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "the paper's observation savings (99.4 %) cannot carry over to the GLMB filter: its long "
+    "chain already spends only T_h - 1 sweeps per component (about H_upd per scan), so the "
+    "stall/stale rules have little to cut; measured on 'vo', 10 seeds, 100 scans: 48.2 % "
+    "fewer sweeps (87 521 -> 45 364 per run; the LMB filter: 98.9 %)"))
+def test_short_chains_save_the_papers_share_of_sweeps_on_the_glmb_filter():
+    short = run_scenario("vo", ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
+                         filter="glmb", rng=0)
+    long = run_scenario("vo", OriginalGibbs(10_000), filter="glmb", rng=0)
+    saving = 1.0 - short.sweeps.sum() / long.sweeps.sum()
+    assert saving >= 0.99, f"{100 * saving:.1f} % fewer sweeps"
