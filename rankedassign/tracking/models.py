@@ -98,6 +98,14 @@ class ConstantVelocity:
     sigma_w : float
         Standard deviation of the white acceleration noise per axis in m/s² (default 5).
 
+    Attributes
+    ----------
+    dt : float
+        Sampling period ``Δ`` in s, positive and finite (stored as a Python float).
+    sigma_w : float
+        Acceleration noise standard deviation ``σ_w`` in m/s², finite and ``>= 0``.
+        :attr:`F`, :attr:`G` and :attr:`Q` are derived from the two.
+
     Raises
     ------
     TypeError
@@ -176,6 +184,17 @@ class PositionSensor:
         A general noise covariance ``R`` (symmetric positive definite; a vector is its
         diagonal), e.g. ``[25.0, 400.0]`` for 5 m in x and 20 m in y. Stored as a tuple of
         rows, so that sensors compare by value; :attr:`R` gives the array.
+
+    Attributes
+    ----------
+    p_d : float
+        Detection probability ``P_D`` in ``(0, 1]``.
+    sigma_v : float or None
+        Position noise standard deviation in m (10 when neither it nor ``noise_cov`` is
+        given); None when the sensor has a general ``noise_cov``.
+    noise_cov : tuple of tuple of float or None
+        The general ``R`` as 2 rows of 2 floats (a diagonal given as a vector is expanded);
+        None when ``R = σ_v² I_2``. Use :attr:`R` for the covariance either way.
 
     Raises
     ------
@@ -256,6 +275,14 @@ class PoissonClutter:
     region : tuple of tuple of float
         ``((x_min, x_max), (y_min, y_max))`` in m (default ``[−1000, 1000]²``).
 
+    Attributes
+    ----------
+    rate : float
+        Mean clutter points per scan ``λ_c``, positive and finite.
+    region : tuple of tuple of float
+        ``((x_min, x_max), (y_min, y_max))`` in m as Python floats, finite, ``max > min``;
+        :attr:`area` and :attr:`intensity` are derived from it.
+
     Raises
     ------
     TypeError
@@ -317,6 +344,19 @@ class PoissonClutter:
     def sample(self, rng: np.random.Generator) -> np.ndarray:
         """Draw one scan of clutter: ``Poisson(λ_c)`` points uniform on the region, (n, 2).
 
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            Source of the draws: one ``poisson`` draw for the count ``n``, then
+            ``random((n, 2))`` for the positions (a RandomState also works, it has both
+            methods).
+
+        Returns
+        -------
+        ndarray of float64, shape (n, 2)
+            Clutter positions ``(x, y)`` in m, uniform on :attr:`region`;
+            ``n ~ Poisson(rate)``, possibly 0 (shape ``(0, 2)``).
+
         Examples
         --------
         >>> import numpy as np
@@ -334,6 +374,34 @@ class PoissonClutter:
 @dataclass(frozen=True, eq=False)
 class BirthComponent:
     """One Bernoulli component of the LMB birth: existence ``r`` and a Gaussian ``N(mean, cov)``.
+
+    Parameters
+    ----------
+    r : float
+        Existence probability ``r_B`` of the birth track, in ``(0, 1)``.
+    mean : array_like, shape (4,)
+        Mean ``m_B`` of the birth state ``[p_x, v_x, p_y, v_y]`` (finite; any shape with 4
+        entries is flattened).
+    cov : array_like, shape (4, 4) or (4,)
+        Covariance ``P_B``, symmetric positive definite; a vector is its diagonal.
+
+    Attributes
+    ----------
+    r : float
+        Existence probability in ``(0, 1)``.
+    mean : ndarray of float64, shape (4,)
+        Read-only mean.
+    cov : ndarray of float64, shape (4, 4)
+        Read-only covariance (symmetric positive definite, with a finite determinant).
+
+    Raises
+    ------
+    TypeError
+        If ``r`` is not a real number (booleans included) or ``mean`` or ``cov`` does not hold
+        real numbers.
+    ValueError
+        If ``r`` is outside ``(0, 1)``, ``mean`` is not 4 finite numbers, or ``cov`` is not a
+        symmetric positive definite 4 x 4 matrix with a finite determinant.
 
     Examples
     --------
@@ -365,6 +433,22 @@ class LMBBirth:
 
     Labels of the tracks born at scan ``k`` are ``(k, b)``, ``b = 1..len(components)``.
 
+    Parameters
+    ----------
+    components : iterable of BirthComponent
+        The Bernoulli components, in label order (may be empty: no static birth).
+
+    Attributes
+    ----------
+    components : tuple of BirthComponent
+        The components; component ``b - 1`` gives the tracks of label ``(k, b)``.
+        :attr:`r`, :attr:`means` and :attr:`covs` stack them as arrays.
+
+    Raises
+    ------
+    TypeError
+        If a component is not a :class:`BirthComponent`.
+
     Examples
     --------
     >>> from rankedassign.tracking.models import LMBBirth
@@ -387,7 +471,23 @@ class LMBBirth:
 
     @classmethod
     def paper(cls, r: float = 0.03, std=(300.0, 10.0, 300.0, 10.0)) -> LMBBirth:
-        """The four birth locations of spec §6.1 with ``P_B = diag(std)²``."""
+        """The four birth locations of spec §6.1 with ``P_B = diag(std)²``.
+
+        Parameters
+        ----------
+        r : float, optional
+            Existence probability ``r_B`` of each of the four components, in ``(0, 1)``
+            (default 0.03, spec §6.1).
+        std : array_like, shape (4,), optional
+            Standard deviations of ``[p_x, v_x, p_y, v_y]`` in m and m/s (default
+            ``(300, 10, 300, 10)``); ``P_B = diag(std²)``, the same for every component.
+
+        Returns
+        -------
+        LMBBirth
+            Four components with the means of :attr:`MEANS` (in that order), each with
+            existence ``r`` and covariance ``P_B``.
+        """
         cov = np.diag(np.asarray(std, dtype=np.float64) ** 2)
         return cls(tuple(BirthComponent(r, m, cov) for m in cls.MEANS))
 
@@ -410,6 +510,24 @@ class LMBBirth:
 @dataclass(frozen=True)
 class ConstantSurvival:
     """Constant survival probability ``P_S`` (spec §6.1: 0.99).
+
+    Parameters
+    ----------
+    p_s : float
+        Survival probability ``P_S`` of every track from one scan to the next, in ``(0, 1]``
+        (default 0.99).
+
+    Attributes
+    ----------
+    p_s : float
+        Survival probability in ``(0, 1]`` (stored as a Python float).
+
+    Raises
+    ------
+    TypeError
+        If ``p_s`` is not a real number (booleans included).
+    ValueError
+        If ``p_s`` is outside ``(0, 1]``.
 
     Examples
     --------
@@ -446,6 +564,21 @@ class Model:
         (:data:`EXTRACTIONS`). :func:`make_model` sets the preset's own
         (:data:`PRESET_EXTRACTION`), so that a filter built on a preset's model extracts as
         :func:`~rankedassign.tracking.run.run_scenario` does on that preset.
+
+    Attributes
+    ----------
+    motion : ConstantVelocity
+        Motion model (``F``, ``Q``).
+    sensor : PositionSensor
+        Sensor model (``H``, ``R``, ``P_D``).
+    clutter : PoissonClutter
+        Clutter model (``λ_c``, region, intensity ``κ``).
+    birth : LMBBirth
+        Static LMB birth appended at every scan.
+    survival : ConstantSurvival
+        Survival probability ``P_S``.
+    extraction : {"hysteresis", "map"}
+        Default state extraction of a filter on this model.
 
     Raises
     ------

@@ -50,6 +50,16 @@ def _size(n_bytes: float) -> str:
 def check_n_scans(n_scans) -> int:
     """``n_scans`` as an int in ``[1, MAX_SCANS]``; above the bound the message says the memory.
 
+    Parameters
+    ----------
+    n_scans : int
+        Number of scans of a simulated run (a Python or numpy integer, not ``bool``).
+
+    Returns
+    -------
+    int
+        ``n_scans`` as a Python int, in ``[1, MAX_SCANS]``.
+
     Raises
     ------
     TypeError
@@ -116,7 +126,22 @@ class Truth:
         return self.exists.sum(axis=1)
 
     def at(self, k: int) -> tuple[np.ndarray, np.ndarray]:
-        """``(labels (n,), states (n, 4))`` of the targets at 0-based scan ``k``."""
+        """``(labels (n,), states (n, 4))`` of the targets at 0-based scan ``k``.
+
+        Parameters
+        ----------
+        k : int
+            0-based scan index, ``0 <= k < n_scans`` (numpy indexing: a negative ``k`` counts
+            from the end).
+
+        Returns
+        -------
+        labels : ndarray of int64, shape (n,)
+            Indices (into the target axis of :attr:`states`, increasing) of the ``n`` targets
+            that exist at scan ``k``.
+        states : ndarray of float64, shape (n, 4)
+            Their states ``[p_x, v_x, p_y, v_y]`` at scan ``k``.
+        """
         idx = np.flatnonzero(self.exists[k])
         return idx, self.states[k, idx]
 
@@ -236,7 +261,21 @@ def generate_measurements(truth: Truth, model: Model, *, rng=None) -> list[Scan]
 
 @dataclass(frozen=True, eq=False)
 class Scenario:
-    """A model, its truth and one realisation of the measurements."""
+    """A model, its truth and one realisation of the measurements.
+
+    Attributes
+    ----------
+    preset : str
+        Name of the model's preset (``"paper"``, ``"paper-var"`` or ``"vo"``,
+        :data:`~rankedassign.tracking.models.PRESETS`).
+    model : Model
+        The preset's model, which drew the measurements.
+    truth : Truth
+        Ground truth of the run (:func:`paper_truth` with the model's ``F``).
+    scans : list of Scan
+        The measurements of every scan, ``len(scans) == truth.n_scans``
+        (:func:`generate_measurements`).
+    """
 
     preset: str
     model: Model

@@ -120,6 +120,23 @@ _RULES = {"stall": (True, False), "stale": (False, True), "full": (True, True)}
 def run_task(cfg: StudyConfig, seed: int, run: int, family: str, V: int) -> dict:
     """One Monte Carlo run: original chain and the three short-chain criteria on one problem.
 
+    Parameters
+    ----------
+    cfg : StudyConfig
+        Settings: ``original_obs`` sweeps of the original chain, ``n_chains`` chains of
+        ``chain_length`` sweeps and the thresholds ``tau_stall``, ``tau_stale`` of the short
+        chains.
+    seed : int
+        Base seed of the study; with ``run``, ``family`` and ``V`` it seeds one
+        :class:`numpy.random.SeedSequence` whose children draw the problem and each sampler.
+    run : int
+        Index of the Monte Carlo run (0-based); a different ``run`` draws a different problem.
+    family : {"diagonal", "uniform", "random"}
+        Problem family (:data:`~rankedassign.adaptive_birth.synthetic.FAMILIES`).
+    V : int
+        Number of sensors; the problem has ``SIZES[V]`` measurements per sensor (4 for a ``V``
+        not in :data:`~rankedassign.adaptive_birth.synthetic.SIZES`).
+
     Returns
     -------
     dict
@@ -158,6 +175,22 @@ def summarise(runs: list) -> list:
     eps_o - mean eps_s|`` (as the paper's Table I), with the standard error of the mean paired
     difference, plus the raw means.
 
+    Parameters
+    ----------
+    runs : list of dict
+        Records of :func:`run_task`, in any order; each needs ``family``, ``V``, ``run`` and,
+        under ``"original"`` and each of :data:`CRITERIA`, a record with ``n_obs`` and
+        ``error``. Runs are grouped by ``(family, V)`` in order of first appearance.
+
+    Returns
+    -------
+    list of dict
+        One row per ``(family, V)`` and criterion (``"stall"``, ``"stale"``, ``"full"``, in
+        that order), with keys ``family``, ``V``, ``criterion``, ``n_mc``,
+        ``delta_obs_pct``, ``delta_error_pp``, ``delta_error_se_pp`` (NaN for one run),
+        ``error_original``, ``error_short`` (mean errors as fractions), ``obs_original`` and
+        ``obs_short`` (mean sweeps): the fields of :class:`AdaptiveBirthRow`.
+
     Examples
     --------
     >>> rec = {"n_obs": 100, "error": 0.1}
@@ -193,10 +226,24 @@ def curve(cfg: StudyConfig, seed: int, family: str, V: int) -> list:
     Short chains run without termination rules, ``N_C = cfg.chain_length`` and
     ``N_S = budget / N_C`` chains, so both samplers spend the same budget.
 
+    Parameters
+    ----------
+    cfg : StudyConfig
+        Settings: ``n_mc`` problems, the budgets ``curve_obs`` (sweeps) and ``chain_length``.
+    seed : int
+        Base seed of the study; the problems are those of :func:`run_task` with runs
+        ``0 .. n_mc - 1`` (the same seeds), the samplers draw from a further child seed.
+    family : {"diagonal", "uniform", "random"}
+        Problem family (:data:`~rankedassign.adaptive_birth.synthetic.FAMILIES`).
+    V : int
+        Number of sensors (``SIZES[V]`` measurements per sensor).
+
     Returns
     -------
     list of dict
-        ``n_obs``, ``error_original``, ``error_short`` (means over ``cfg.n_mc`` problems).
+        One point per budget of ``cfg.curve_obs``, in that order: ``n_obs`` (the budget),
+        ``error_original``, ``error_short`` (mean truncation errors as fractions over
+        ``cfg.n_mc`` problems).
 
     Examples
     --------
@@ -221,6 +268,18 @@ def curve(cfg: StudyConfig, seed: int, family: str, V: int) -> list:
 
 def format_table(rows: list) -> str:
     """The Table I layout as Markdown (family, V, criterion, ΔObs %, ΔError pp, errors).
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`summarise` (``delta_error_se_pp`` NaN when there is no standard error,
+        then the ``±`` term is left out).
+
+    Returns
+    -------
+    str
+        A Markdown table: the header, the rule, then one line per row in order; ΔObs and
+        ΔError with two decimals, the errors in percent.
 
     Examples
     --------

@@ -149,6 +149,23 @@ class MultiSensorStudyConfig:
 def make_association(cfg: MultiSensorStudyConfig, method: str):
     """The association of ``method`` under the settings ``cfg``.
 
+    Parameters
+    ----------
+    cfg : MultiSensorStudyConfig
+        Settings the association takes: ``long_obs`` (the long chain's sweeps per call),
+        ``n_chains``, ``chain_length``, ``tau_stall``, ``tau_stale`` (the short chains) and
+        ``marginals``.
+    method : {"long", "short", "short-mm", "short-mm-fixed", "exact"}
+        One of :data:`STUDY_METHODS`: the long chain (Alg. 1), the short chains with the
+        Alg. 1 row kernel (``"exact"``), with the MM-Gibbs kernel and its exclusion-aware
+        proposal (``"mm"``) or its fixed proposal (``"mm-fixed"``), or the exact DP with the
+        long chain as its fallback.
+
+    Returns
+    -------
+    MultiSensorOriginalGibbs or MultiSensorShortChainGibbs or MultiSensorExact
+        A new association object (the exact DP's counts ``n_fallback`` from zero).
+
     Raises
     ------
     ValueError
@@ -227,6 +244,29 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
     """Run the filter once (seed ``cfg.seed + run``) and measure it.
 
     ``birth`` is ``cfg.birth`` (the default) or ``"adaptive"``.
+
+    Parameters
+    ----------
+    cfg : MultiSensorStudyConfig
+        Settings: ``seed``, ``n_scans``, the association's settings (:func:`make_association`)
+        and ``birth``, the static birth used when ``birth`` is None.
+    run : int
+        Index of the Monte Carlo run; the scenario is drawn with ``rng=cfg.seed + run``, so
+        every sensor set, association and birth of one run sees the same measurements.
+    sensors : sequence of int
+        Sensors the filter fuses (distinct indices into
+        :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`).
+    method : {"long", "short", "short-mm", "short-mm-fixed", "exact"}
+        Association (:data:`STUDY_METHODS`, built by :func:`make_association`).
+    birth : {"paper", "narrow", "adaptive"}, optional
+        Birth model (:data:`~rankedassign.tracking.multisensor.scenario.BIRTHS`); None
+        (default) is ``cfg.birth``.
+
+    Returns
+    -------
+    MultiSensorTrackingRecord
+        OSPA(2) and cardinality error per scan, the coverage of every target, the sampler
+        work summed over the run, the DP's fallbacks, the seconds and the births per scan.
 
     Examples
     --------
@@ -321,6 +361,18 @@ class MultiSensorTrackingSummary:
 def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
     """One summary per (sensor set, association, birth), in order of first appearance.
 
+    Parameters
+    ----------
+    records : iterable of MultiSensorTrackingRecord
+        Records of :func:`multisensor_tracking_task`, in any order; the runs of one cell must
+        have the same number of scans (their curves are averaged scan by scan).
+
+    Returns
+    -------
+    list of MultiSensorTrackingSummary
+        One per distinct ``(sensors, method, birth)``, in order of first appearance; the runs
+        of a cell are taken in order of ``run``.
+
     Examples
     --------
     >>> import numpy as np
@@ -364,6 +416,20 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
 
 def multisensor_tracking_table(summaries) -> str:
     """The summaries as a Markdown table.
+
+    Parameters
+    ----------
+    summaries : iterable of MultiSensorTrackingSummary
+        Rows of the table, in order (:func:`summarise_multisensor_tracking`).
+
+    Returns
+    -------
+    str
+        A Markdown table of 13 columns (sensors, ``V``, association, birth, OSPA(2) and
+        cardinality error with their standard errors, sweeps, row updates and calls per run,
+        sweep reduction in percent, births per scan, targets lost, seconds per run): the
+        header, the rule, then one line per summary. A NaN sweep reduction or births per scan
+        is left blank.
 
     Examples
     --------

@@ -82,6 +82,17 @@ def _prior_cov(P0) -> tuple:
 def empty_birth(n: int = _STATE_DIM) -> BirthLMB:
     """A :class:`~rankedassign.adaptive_birth.BirthLMB` without components.
 
+    Parameters
+    ----------
+    n : int, optional
+        State dimension of the (absent) components (default 4, ``[p_x, v_x, p_y, v_y]``).
+
+    Returns
+    -------
+    BirthLMB
+        Zero components: ``tuples`` and ``measurements`` int64 of shape (0, 0), ``means``
+        float64 (0, n), ``covs`` float64 (0, n, n), ``r`` and ``log_rho`` float64 (0,).
+
     Examples
     --------
     >>> from rankedassign.tracking.multisensor.adaptive_birth import empty_birth
@@ -133,6 +144,37 @@ class AdaptiveBirth:
         Sensor order of a sweep (spec §4.3, Q8; default a fresh random permutation per sweep).
     backend : {"numba", "python"}
         Backend of the sampler; the births are identical.
+
+    Attributes
+    ----------
+    mu0 : tuple of float
+        Prior mean ``μ_0``, 4 floats (an array given is stored as a tuple, so that settings
+        compare by value).
+    P0 : tuple of tuple of float
+        Prior covariance ``P_0``, 4 rows of 4 floats.
+    tau_rU : float
+        Threshold on ``r_U`` in ``[0, 1]``: only measurements with ``r_U > tau_rU`` make births.
+    n_min : int
+        Minimum detecting sensors of a birth tuple (``>= 1``; :meth:`effective_n_min` caps it
+        at ``V``).
+    r_b_max : float
+        Cap on a birth's existence probability, in ``(0, 1]``.
+    lambda_b : float
+        Expected births per scan (``> 0``), scaling the normalised ``ρ``.
+    max_births : int
+        Most births kept per scan (``>= 1``), those of largest ``ρ``.
+    sampler : {"short", "long"}
+        Short chains or one long chain (:data:`AB_SAMPLERS`).
+    n_chains, chain_length : int
+        Number and length (sweeps) of the short chains; the long chain runs
+        ``n_chains * chain_length`` sweeps.
+    tau_stall, tau_stale : int or None
+        Stall and stale thresholds of the short chains (None: the rule is off); not used by
+        the long chain.
+    sensor_order : {"random", "fixed"}
+        Sensor order of a sweep.
+    backend : {"numba", "python"}
+        Backend of the sampler.
 
     Raises
     ------
@@ -197,6 +239,23 @@ class AdaptiveBirth:
 
     def effective_n_min(self, n_sensors: int) -> int:
         """``min(n_min, V)``: the detections a birth tuple needs with ``V`` sensors.
+
+        Parameters
+        ----------
+        n_sensors : int
+            Number of sensors ``V`` of the scan (``>= 1``).
+
+        Returns
+        -------
+        int
+            ``min(n_min, n_sensors)``, between 1 and ``n_min``.
+
+        Raises
+        ------
+        TypeError
+            If ``n_sensors`` is not an int (``bool`` included).
+        ValueError
+            If ``n_sensors`` is below 1.
 
         Examples
         --------

@@ -81,6 +81,12 @@ def check_sensors(sensors, n_sensors: int, name: str = "sensors") -> tuple[int, 
     name : str
         The argument's name in the messages.
 
+    Returns
+    -------
+    tuple of int
+        The indices as Python ints, in the order given (not sorted), each in
+        ``0..n_sensors - 1`` and none repeated; at least one.
+
     Raises
     ------
     TypeError
@@ -133,6 +139,22 @@ class MultiSensorModel:
         The state extraction a filter on this model uses unless told otherwise (default
         hysteresis; :meth:`from_model` takes the single-sensor model's, so a preset's setting
         travels on), as :attr:`Model.extraction <rankedassign.tracking.models.Model>`.
+
+    Attributes
+    ----------
+    motion : ConstantVelocity
+        Motion model shared by every sensor (``F``, ``Q``).
+    sensors : tuple of PositionSensor
+        The ``V`` sensors, in sensor order (a list given is stored as a tuple).
+    clutters : tuple of PoissonClutter
+        ``clutters[v]`` is the clutter of ``sensors[v]`` (same length as ``sensors``).
+    birth : LMBBirth
+        Static LMB birth of every scan (empty, ``LMBBirth(())``, for a filter with adaptive
+        birth).
+    survival : ConstantSurvival
+        Survival probability ``P_S``, shared by every sensor.
+    extraction : {"hysteresis", "map"}
+        Default state extraction of a filter on this model (:data:`EXTRACTIONS`).
 
     Raises
     ------
@@ -188,13 +210,41 @@ class MultiSensorModel:
 
     @classmethod
     def from_model(cls, model: Model) -> MultiSensorModel:
-        """The one-sensor model of a single-sensor :class:`~rankedassign.tracking.Model`."""
+        """The one-sensor model of a single-sensor :class:`~rankedassign.tracking.Model`.
+
+        Parameters
+        ----------
+        model : Model
+            Single-sensor model; its sensor and clutter become sensor 0.
+
+        Returns
+        -------
+        MultiSensorModel
+            ``V = 1``, with the motion, birth, survival and extraction of ``model``.
+
+        Raises
+        ------
+        TypeError
+            If ``model`` is not a :class:`~rankedassign.tracking.Model`.
+        """
         check_type(model, "model", Model)
         return cls(model.motion, (model.sensor,), (model.clutter,), model.birth, model.survival,
                    model.extraction)
 
     def select(self, sensors) -> MultiSensorModel:
         """The model restricted to the sensors of index ``sensors`` (in that order).
+
+        Parameters
+        ----------
+        sensors : sequence of int
+            Distinct indices into :attr:`sensors`, ``0..n_sensors - 1``, at least one
+            (validated by :func:`check_sensors`).
+
+        Returns
+        -------
+        MultiSensorModel
+            A new model whose sensor ``i`` (and clutter ``i``) is sensor ``sensors[i]`` of this
+            one; motion, birth, survival and extraction are shared.
 
         Raises
         ------
@@ -210,6 +260,17 @@ class MultiSensorModel:
 
     def single(self, v: int = 0) -> Model:
         """Sensor ``v`` as a single-sensor :class:`~rankedassign.tracking.Model`.
+
+        Parameters
+        ----------
+        v : int, optional
+            Index of the sensor, ``0..n_sensors - 1`` (default 0).
+
+        Returns
+        -------
+        Model
+            ``sensors[v]`` and ``clutters[v]`` with the shared motion, birth, survival and
+            extraction.
 
         Raises
         ------

@@ -180,13 +180,27 @@ class MultiSensorRun(ScenarioRun):
     Attributes
     ----------
     scenario : MultiSensorScenario
+        Model, truth and the measurements of the fused sensors.
     association : str
+        ``repr`` of the association used.
     extraction : str
+        State extraction used (``"hysteresis"`` or ``"map"``).
     truth : ndarray, shape (n_scans, n_targets, 2)
+        True positions, NaN where a target does not exist.
     estimates : ndarray, shape (n_scans, n_est_tracks, 2)
+        Estimated positions, one column per reported label (order of first report), NaN where
+        a label is not reported.
     estimate_labels, labelled_estimates, existence : list
-    invocations, sweeps, row_updates, n_unique, n_tracks, n_estimated, n_meas, n_meas_gated,
-    n_groups : ndarray of int64, shape (n_scans,)
+        Labels of the columns of ``estimates``; per scan ``{label: state (4,)}`` of the
+        reported tracks; per scan ``{label: r}`` of every track held after the update.
+    invocations, sweeps, row_updates, n_unique : ndarray of int64, shape (n_scans,)
+        Association accounting per scan (sampler calls, full sweeps, single-row updates,
+        unique hypotheses), summed over the groups.
+    n_tracks, n_estimated : ndarray of int64, shape (n_scans,)
+        Predicted tracks (births included) and reported tracks per scan.
+    n_meas, n_meas_gated, n_groups : ndarray of int64, shape (n_scans,)
+        Measurements received from all sensors, those inside some track's gate of their
+        sensor, and problems solved, per scan.
     n_births : ndarray of int64, shape (n_scans,)
         Birth tracks appended by the prediction of each scan.
     timings : dict of ndarray

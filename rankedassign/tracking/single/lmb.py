@@ -147,6 +147,18 @@ def map_cardinality(r: np.ndarray) -> int:
     The cardinality distribution of independent Bernoullis is the Poisson-binomial, computed by
     the convolution recursion; ties go to the smaller cardinality.
 
+    Parameters
+    ----------
+    r : array_like of float, shape (T,)
+        Existence probabilities of the ``T`` tracks, in ``[0, 1]`` (any shape is flattened;
+        converted to float64).
+
+    Returns
+    -------
+    int
+        ``argmax_n ρ(n)`` of the Poisson-binomial ``ρ`` on ``0..T``: the number of tracks to
+        report, 0 for no track.
+
     Examples
     --------
     >>> from rankedassign.tracking.single.lmb import map_cardinality
@@ -401,7 +413,15 @@ class LMBFilter:
         return int(self.r.size)
 
     def track_index(self) -> np.ndarray:
-        """Track of every component, shape (C,)."""
+        """Track of every component, shape (C,).
+
+        Returns
+        -------
+        ndarray of int64, shape (C,)
+            ``C`` is the total number of Gaussian components: entry ``c`` is the (0-based)
+            index into ``labels`` and ``r`` of the track that owns component ``c``
+            (components ``offsets[i]:offsets[i + 1]`` belong to track ``i``), non-decreasing.
+        """
         return np.repeat(np.arange(self.n_tracks), np.diff(self.offsets))
 
     # ----------------------------------------------------------------------- 1. prediction
