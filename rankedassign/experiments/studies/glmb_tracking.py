@@ -125,8 +125,29 @@ def _association(cfg: GLMBStudyConfig, method: str):
 
 
 def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str) -> dict:
-    """One run of one method; every method of a run sees the measurements of
-    :func:`~rankedassign.tracking.run_scenario` with the same ``rng``."""
+    """One run of one method; every method of a run sees the same measurements.
+
+    Parameters
+    ----------
+    cfg : GLMBStudyConfig
+        The study's settings (preset, scans, budgets, OSPA(2) parameters).
+    seed : int
+        The study's seed; run ``run`` draws from ``run_seed(seed, run)``, split into the
+        measurements' stream and the filter's, as :func:`~rankedassign.tracking.run_scenario`
+        does with that ``rng``.
+    run : int
+        Monte Carlo run index (0-based).
+    method : str
+        One of ``cfg.methods``: ``"lmb-long"``, ``"lmb-short"``, ``"glmb-long"``,
+        ``"glmb-short"`` or ``"glmb-murty"``.
+
+    Returns
+    -------
+    dict
+        Plain data for JSON: ``run``, ``method``, the per-scan ``ospa2`` curve,
+        ``cardinality_error`` (absolute, per scan), ``sweeps`` and ``components`` per scan,
+        ``retained_mass`` per scan (``None`` where not computed) and ``seconds`` of filter time.
+    """
     meas_rng, filter_rng = spawning_generator(run_seed(seed, run)).spawn(2)
     sc = tracking.make_scenario(cfg.preset, rng=meas_rng, n_scans=cfg.n_scans)
     extraction = tracking.PRESET_EXTRACTION[cfg.preset]
@@ -172,8 +193,25 @@ def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
 class GLMBMethodSummary:
     """One method over its runs: means (and standard errors over runs) of the per-run values.
 
-    ``retained_mass_mean`` / ``_min`` are over every scan of every run (NaN for the LMB filter);
-    ``sweeps`` is the total per run.
+    Attributes
+    ----------
+    method : str
+        The method (``"glmb-short"``, ...).
+    n_runs : int
+        Runs it ran.
+    ospa2_mean, ospa2_se : float
+        Mean OSPA(2) over scans and runs (m), and the standard error over the runs' means.
+    cardinality_error_mean : float
+        Mean absolute cardinality error over scans and runs.
+    sweeps : float
+        Sweeps per run (total over the scans), mean over runs.
+    components_mean : float
+        GLMB components kept per scan, mean (0 for the LMB filter).
+    retained_mass_mean, retained_mass_min : float
+        Posterior mass retained per scan, mean and worst over every scan of every run (NaN for
+        the LMB filter, or where it was not computed).
+    seconds : float
+        Filter time per run (s), mean over runs.
     """
 
     method: str
@@ -192,10 +230,26 @@ class GLMBMethodSummary:
 class GLMBStudySummary:
     """The study's rows, the paired comparisons of the targets, and the per-scan curves.
 
-    ``short_vs_long_pct``: GLMB short chains' mean OSPA(2) over the long chain's, minus 1, in %
-    (paired over the runs both ran); ``savings_pct``: the short chains' sweeps saved against
-    the long chain, GLMB and LMB; ``glmb_vs_lmb_pct``: GLMB short chains against LMB short
-    chains, and long against long.
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs.
+    config : dict
+        The settings the study ran with.
+    rows : tuple of GLMBMethodSummary
+        One per method, in the order of ``config["methods"]``.
+    short_vs_long_pct : float
+        GLMB short chains' mean OSPA(2) over the GLMB long chain's, minus 1, in % (paired over
+        the runs both ran).
+    glmb_savings_pct, lmb_savings_pct : float
+        Sweeps the short chains save against the long chain (%), on the GLMB and on the LMB
+        filter.
+    glmb_vs_lmb_short_pct, glmb_vs_lmb_long_pct : float
+        GLMB over LMB mean OSPA(2), minus 1, in %: short chains against short chains, long
+        chain against long chain.
+    curves : dict
+        Per-scan means for the plot: ``"scan"`` and, per method ``m``, ``ospa2_m``,
+        ``cardinality_error_m``, ``components_m``, ``sweeps_m`` and ``retained_mass_m``.
     """
 
     n_mc: int
@@ -219,7 +273,19 @@ def _masses(r) -> np.ndarray:
 
 
 def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudySummary:
-    """Per-method rows, the paired target comparisons and the per-scan means."""
+    """Per-method rows, the paired target comparisons and the per-scan means.
+
+    Parameters
+    ----------
+    runs : list of dict
+        Records of :func:`glmb_tracking_task`.
+    cfg : GLMBStudyConfig
+        The settings of the runs (methods, scans).
+
+    Returns
+    -------
+    GLMBStudySummary
+    """
     by = {m: sorted((r for r in runs if r["method"] == m), key=lambda r: r["run"])
           for m in cfg.methods}
     rows, curves = [], {"scan": list(range(1, cfg.n_scans + 1))}

@@ -614,6 +614,12 @@ class GLMBFilter:
         measurement indices (0-based, ``−1`` missed) of every scan since birth (of the last
         scan only with ``keep_histories=False``).
 
+        Returns
+        -------
+        list of tuple
+            ``(w, tracks)`` per component: its weight (float, the weights sum to 1) and its
+            tracks as ``((label, history), ...)``.
+
         Examples
         --------
         >>> from rankedassign.tracking import Exact, GLMBFilter, make_model
@@ -640,6 +646,11 @@ class GLMBFilter:
 
     def nbytes(self) -> int:
         """Bytes held by the filter's state (track table, components, history forest).
+
+        Returns
+        -------
+        int
+            The sum of the ``nbytes`` of the state's arrays.
 
         Examples
         --------
