@@ -30,7 +30,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign.multisensor import MultiSensorProblem
-from rankedassign.numba_options import interruptible, jit
+from rankedassign.numba_options import instantiate, interruptible, jit
 from rankedassign.validation import check_choice
 
 from .multisensor_enumerate import check_ms_problem, count_assignments, enumerate_assignments
@@ -658,23 +658,45 @@ def _row_marginal_reference(w_dead, w_alive, masks, n_bits):
     return dead, alive
 
 
-@jit()
-def _permanent_slice(theta, f, pos, budget):  # pragma: no cover - compiled
+@jit(inline="always")
+def _mul_add(acc, w, x):  # pragma: no cover - compiled
+    """``acc + w x``: one term of the matched-subset DP."""
+    return acc + w * x
+
+
+@jit(inline="always")
+def _log_mul_add(acc, w, x):  # pragma: no cover - compiled
+    """:func:`_mul_add` in log space: ``ln(e^acc + e^(w + x))``."""
+    return _lae(acc, w + x)
+
+
+def _add_term(acc, w, x):  # pragma: no cover - replaced in every instantiation
+    """The term :func:`_permanent_steps` adds: bound by each instantiation."""
+    raise NotImplementedError
+
+
+def _permanent_steps(theta, f, pos, budget):  # pragma: no cover - compiled (instantiated)
     """Up to ``budget`` steps of the single-sensor matched-subset DP (spec §6.3); True when
-    it is done.
+    it is done. A template: ``_add_term`` is :func:`_mul_add` in :func:`_permanent_slice`,
+    :func:`_log_mul_add` in :func:`_permanent_log_slice`.
 
     Parameters
     ----------
     theta : (P, M + 1) float64
-        Scaled factors ``theta_n(0..M)`` (``<= 1``).
+        Scaled factors ``theta_n(0..M)`` (``<= 1``), or their logs in log space.
     f : (2^P,) float64
-        Starts as ``[1, 0, ...]``; once done ``Perm(A) = sum_{S in A} f(S) prod_{n in A \\ S}
-        theta_n(0)``: every row of the alive set ``A`` takes a distinct measurement or is
-        missed.
+        Starts as ``[1, 0, ...]`` (``[0, -inf, ...]`` in log space); once done ``Perm(A) =
+        sum_{S in A} f(S) prod_{n in A \\ S} theta_n(0)`` (or its log): every row of the alive
+        set ``A`` takes a distinct measurement or is missed.
     pos : (1,) int64
         Steps done: measurements ``1..M``, then one missed step per row; start at zero.
     budget : int
         Steps in this call (``>= 1``; one step is ``O(P 2^P)``).
+
+    Returns
+    -------
+    bool
+        True when all steps are done.
     """
     P, M1 = theta.shape
     N = f.shape[0]
@@ -689,43 +711,22 @@ def _permanent_slice(theta, f, pos, budget):  # pragma: no cover - compiled
                 acc = f[S]
                 for i in range(P):
                     if (S >> i) & 1:
-                        acc += theta[i, j] * f[S ^ (1 << i)]
+                        acc = _add_term(acc, theta[i, j], f[S ^ (1 << i)])
                 f[S] = acc
         else:
             i = s - (M1 - 1)  # row i missed: f(S) += theta_i(0) f(S \ {i})
             for S in range(N - 1, 0, -1):
                 if (S >> i) & 1:
-                    f[S] += theta[i, 0] * f[S ^ (1 << i)]
+                    f[S] = _add_term(f[S], theta[i, 0], f[S ^ (1 << i)])
         s += 1
     pos[0] = s
     return s >= M1 - 1 + P
 
 
-@jit()
-def _permanent_log_slice(log_theta, f, pos, budget):  # pragma: no cover - compiled
-    """:func:`_permanent_slice` in log space (``f`` starts as ``[0, -inf, ...]``; once done
-    ``ln Perm(A)``), for huge weight ranges."""
-    P, M1 = log_theta.shape
-    N = f.shape[0]
-    s = pos[0]
-    stop = min(M1 - 1 + P, s + budget)
-    while s < stop:
-        if s < M1 - 1:
-            j = s + 1
-            for S in range(N - 1, 0, -1):
-                acc = f[S]
-                for i in range(P):
-                    if (S >> i) & 1:
-                        acc = _lae(acc, log_theta[i, j] + f[S ^ (1 << i)])
-                f[S] = acc
-        else:
-            i = s - (M1 - 1)
-            for S in range(N - 1, 0, -1):
-                if (S >> i) & 1:
-                    f[S] = _lae(f[S], log_theta[i, 0] + f[S ^ (1 << i)])
-        s += 1
-    pos[0] = s
-    return s >= M1 - 1 + P
+#: :func:`_permanent_steps` on the scaled factors, and in log space for huge weight ranges.
+_permanent_slice = instantiate(_permanent_steps, "_permanent_slice", {"_add_term": _mul_add})
+_permanent_log_slice = instantiate(_permanent_steps, "_permanent_log_slice",
+                                   {"_add_term": _log_mul_add})
 
 
 def _permanent(theta, log_space: bool = False) -> np.ndarray:
