@@ -272,7 +272,7 @@ RowWork = namedtuple("RowWork", ["beta", "log_b", "alpha", "nxt"])
 RowMarginals = namedtuple("RowMarginals", ["dead", "alive", "acc"])
 
 
-@jit()
+@jit(inline="always")
 def _row_backward(dp, work, pos, left):  # pragma: no cover - compiled
     """Pass 0: ``beta_n`` for ``n = pos[1]`` down to 0, from the state ``pos[2]`` on, only
     where ``cap[S] <= n``; each row divided by its maximum. Returns the budget left (the pass
@@ -311,7 +311,7 @@ def _row_backward(dp, work, pos, left):  # pragma: no cover - compiled
     return left
 
 
-@jit()
+@jit(inline="always")
 def _row_forward(dp, work, out, pos, left):  # pragma: no cover - compiled
     """Passes 1 and 2, row ``n = pos[1]`` on: row ``n``'s marginals, then the push to
     ``alpha_{n+1}`` (divided by its maximum), from the state ``pos[2]`` on. Returns the budget
