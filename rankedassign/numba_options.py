@@ -99,7 +99,8 @@ def _keyed(func, qualname: str | None = None):
     return func
 
 
-def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "never"):
+def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "never",
+        nrt: bool = True):
     """Return numba's ``njit`` decorator with the project's options.
 
     Parameters
@@ -111,6 +112,12 @@ def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "nev
     inline : {"never", "always"}, optional
         numba's ``inline`` option: ``"always"`` writes the function into each compiled caller
         (at numba's IR level), which saves a call whose arguments are many arrays.
+    nrt : bool, optional
+        False compiles without numba's reference counting (its runtime, NRT): the kernel may
+        then allocate nothing, and every array it touches must be kept alive by its caller.
+        For a loop that hands named records of arrays to phases inlined into it: each record
+        bound to a phase's argument, and each array read from one, would otherwise cost an
+        atomic reference count update per array, on every pass of the loop.
 
     Returns
     -------
@@ -131,8 +138,9 @@ def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "nev
     def decorate(func):
         if use_cache:
             func = _keyed(func)
+        extra = {} if nrt else {"_nrt": False}  # (numba's option for it is private)
         return numba.njit(cache=use_cache, fastmath=False, nogil=True, parallel=parallel,
-                          inline=inline, error_model="numpy")(func)
+                          inline=inline, error_model="numpy", **extra)(func)
 
     return decorate
 

@@ -23,13 +23,14 @@ a zeta transform per row).
 
 from __future__ import annotations
 
+from collections import namedtuple
 from typing import NamedTuple
 
 import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign.multisensor import MultiSensorProblem
-from rankedassign.numba_options import interruptible, jit
+from rankedassign.numba_options import instantiate, interruptible, jit
 from rankedassign.validation import check_choice
 
 from .enumerate import check_ms_problem, count_assignments, enumerate_assignments
@@ -254,40 +255,33 @@ def _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):  # pragma: no
     return True
 
 
-@jit()
-def _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive, alpha, nxt, acc,
-                        pos, budget):  # pragma: no cover - compiled
-    """Up to ``budget`` states of the backward then forward row DP; True when it is done.
+#: The data of the row DP's marginal pass: ``w_dead`` (P,) and ``w_alive`` (P, T) float64 the
+#: scaled weights (0 = forbidden), ``masks`` (T,) int64 the ``det(t)`` bitsets (``-1``: the
+#: tuple is never allowed) and ``cap`` (2^B,) int8 the most measurements of one sensor in each
+#: set (:func:`sensor_caps`).
+RowDP = namedtuple("RowDP", ["w_dead", "w_alive", "masks", "cap"])
 
-    ``beta_n(S)`` is the weight of completing rows ``n..P-1`` when the measurements in ``S``
-    are taken; ``alpha_n(S)`` the weight of rows ``0..n-1`` using exactly ``S``. Then
-    ``P(gamma_n = t) ~ eta_n(t) sum_{S : S & det t = 0} alpha_n(S) beta_{n+1}(S | det t)``.
+#: The vectors of the row DP's marginal pass: ``beta`` (P + 1, 2^B) float64, zero with row ``P``
+#: one; ``log_b`` (P + 1,) float64, zero (the logs of each row's divisors); ``alpha`` (2^B,)
+#: ``[1, 0, ...]`` and ``nxt`` (2^B,) zero.
+RowWork = namedtuple("RowWork", ["beta", "log_b", "alpha", "nxt"])
 
-    ``cap[S]`` is the largest number of measurements ``S`` holds of any one sensor: rows
-    ``0..n-1`` use at most ``n`` of each sensor, so ``beta_n`` is only needed (and only
-    computed) where ``cap[S] <= n``.
+#: What the row DP's marginal pass adds up, zero at the start: ``dead`` (P,) and ``alive``
+#: (P, T) row ``n``'s weights, each row on its own scale (normalise per row); ``acc`` (1,) the
+#: ``ln`` of the scaled Z once done.
+RowMarginals = namedtuple("RowMarginals", ["dead", "alive", "acc"])
 
-    Parameters
-    ----------
-    w_dead, w_alive, masks, budget
-        As in :func:`_row_dp_slice`.
-    cap : (2^B,) int8
-    beta : (P + 1, 2^B) float64
-        Zero, with row ``P`` one. ``log_b`` : (P + 1,) float64, zero.
-    dead : (P,) float64, alive : (P, T) float64
-        Zero; row ``n``'s weights, each row on its own scale (normalise per row), once done.
-    alpha, nxt : (2^B,) float64
-        ``[1, 0, ...]`` and zero.
-    acc : (1,) float64
-        ``ln`` of the scaled Z once done.
-    pos : (3,) int64
-        Pass (0 backward, 1 and 2 the forward pass's marginals and push), row, next state;
-        start at ``[0, P - 1, 0]``.
-    """
-    P, T = w_alive.shape
-    N = alpha.shape[0]
-    left = budget
-    while pos[0] == 0 and pos[1] >= 0:  # backward
+
+@jit(inline="always")
+def _row_backward(dp, work, pos, left):  # pragma: no cover - compiled
+    """Pass 0: ``beta_n`` for ``n = pos[1]`` down to 0, from the state ``pos[2]`` on, only
+    where ``cap[S] <= n``; each row divided by its maximum. Returns the budget left (the pass
+    is complete when ``pos[1] < 0``)."""
+    w_dead, w_alive, masks, cap = dp
+    beta, log_b = work.beta, work.log_b
+    T = w_alive.shape[1]
+    N = beta.shape[1]
+    while pos[1] >= 0:
         n = pos[1]
         S0 = pos[2]
         S1 = min(N, S0 + max(left, 0))
@@ -304,7 +298,7 @@ def _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive, a
         left -= S1 - S0
         pos[2] = S1
         if S1 < N:
-            return False
+            return left
         mx = beta[n].max()
         if mx > 0.0:
             for S in range(N):
@@ -314,10 +308,20 @@ def _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive, a
             log_b[n] = log_b[n + 1]
         pos[1] = n - 1
         pos[2] = 0
-    if pos[0] == 0:  # the backward pass is complete: the forward pass starts at row 0
-        pos[0] = 1
-        pos[1] = 0
-    while pos[1] < P:  # forward
+    return left
+
+
+@jit(inline="always")
+def _row_forward(dp, work, out, pos, left):  # pragma: no cover - compiled
+    """Passes 1 and 2, row ``n = pos[1]`` on: row ``n``'s marginals, then the push to
+    ``alpha_{n+1}`` (divided by its maximum), from the state ``pos[2]`` on. Returns the budget
+    left (the passes are complete when ``pos[1] = P``)."""
+    w_dead, w_alive, masks, _ = dp
+    beta, alpha, nxt = work.beta, work.alpha, work.nxt
+    dead, alive = out.dead, out.alive
+    P, T = w_alive.shape
+    N = alpha.shape[0]
+    while pos[1] < P:
         n = pos[1]
         S0 = pos[2]
         S1 = min(N, S0 + max(left, 0))
@@ -346,7 +350,7 @@ def _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive, a
         left -= S1 - S0
         pos[2] = S1
         if S1 < N:
-            return False
+            return left
         pos[2] = 0
         if pos[0] == 1:
             pos[0] = 2
@@ -357,7 +361,54 @@ def _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive, a
             nxt[S] = 0.0
         pos[0] = 1
         pos[1] = n + 1
-    acc[0] = np.log(beta[0, 0]) + log_b[0] if beta[0, 0] > 0.0 else -np.inf
+    return left
+
+
+@jit()
+def _row_marginal_slice(dp, work, out, pos, budget):  # pragma: no cover - compiled
+    """Up to ``budget`` states of the backward then forward row DP; True when it is done.
+
+    ``beta_n(S)`` is the weight of completing rows ``n..P-1`` when the measurements in ``S``
+    are taken; ``alpha_n(S)`` the weight of rows ``0..n-1`` using exactly ``S``. Then
+    ``P(gamma_n = t) ~ eta_n(t) sum_{S : S & det t = 0} alpha_n(S) beta_{n+1}(S | det t)``.
+
+    ``cap[S]`` is the largest number of measurements ``S`` holds of any one sensor: rows
+    ``0..n-1`` use at most ``n`` of each sensor, so ``beta_n`` is only needed (and only
+    computed) where ``cap[S] <= n``.
+
+    Parameters
+    ----------
+    dp : RowDP
+        ``w_dead`` (P,), ``w_alive`` (P, T), ``masks`` (T,), ``cap`` (2^B,).
+    work : RowWork
+        ``beta`` (P + 1, 2^B) zero with row ``P`` one, ``log_b`` (P + 1,) zero, ``alpha``
+        ``[1, 0, ...]``, ``nxt`` zero.
+    out : RowMarginals
+        ``dead`` (P,), ``alive`` (P, T) zero; ``acc`` (1,).
+    pos : ndarray, int64, shape (3,)
+        Pass (0 backward, 1 and 2 the forward pass's marginals and push), row, next state;
+        start at ``[0, P - 1, 0]``.
+    budget : int
+        States in this call (``>= 1``).
+
+    Returns
+    -------
+    bool
+        True when done: ``out.dead``, ``out.alive`` then hold row ``n``'s weights (each row on
+        its own scale) and ``out.acc[0]`` the ``ln`` of the scaled Z.
+    """
+    left = budget
+    if pos[0] == 0:
+        left = _row_backward(dp, work, pos, left)
+        if pos[1] >= 0:
+            return False
+        pos[0] = 1  # the backward pass is complete: the forward pass starts at row 0
+        pos[1] = 0
+    _row_forward(dp, work, out, pos, left)
+    if pos[1] < dp.w_alive.shape[0]:
+        return False
+    beta, log_b = work.beta, work.log_b
+    out.acc[0] = np.log(beta[0, 0]) + log_b[0] if beta[0, 0] > 0.0 else -np.inf
     return True
 
 
@@ -520,11 +571,13 @@ def _row_marginal(w_dead, w_alive, masks, n_bits, cap):
     alpha[0] = 1.0
     nxt = np.zeros(N)
     acc = np.zeros(1)
+    dp = RowDP(w_dead, w_alive, masks, cap)
+    work = RowWork(beta, log_b, alpha, nxt)
+    out = RowMarginals(dead, alive, acc)
     pos = np.array([0, P - 1, 0], dtype=np.int64)
     budget = _slice_budget(T)
     with interruptible:
-        while not _row_marginal_slice(w_dead, w_alive, masks, cap, beta, log_b, dead, alive,
-                                      alpha, nxt, acc, pos, budget):
+        while not _row_marginal_slice(dp, work, out, pos, budget):
             pass
     return dead, alive, float(acc[0])
 
@@ -605,23 +658,45 @@ def _row_marginal_reference(w_dead, w_alive, masks, n_bits):
     return dead, alive
 
 
-@jit()
-def _permanent_slice(theta, f, pos, budget):  # pragma: no cover - compiled
+@jit(inline="always")
+def _mul_add(acc, w, x):  # pragma: no cover - compiled
+    """``acc + w x``: one term of the matched-subset DP."""
+    return acc + w * x
+
+
+@jit(inline="always")
+def _log_mul_add(acc, w, x):  # pragma: no cover - compiled
+    """:func:`_mul_add` in log space: ``ln(e^acc + e^(w + x))``."""
+    return _lae(acc, w + x)
+
+
+def _add_term(acc, w, x):  # pragma: no cover - replaced in every instantiation
+    """The term :func:`_permanent_steps` adds: bound by each instantiation."""
+    raise NotImplementedError
+
+
+def _permanent_steps(theta, f, pos, budget):  # pragma: no cover - compiled (instantiated)
     """Up to ``budget`` steps of the single-sensor matched-subset DP (spec §6.3); True when
-    it is done.
+    it is done. A template: ``_add_term`` is :func:`_mul_add` in :func:`_permanent_slice`,
+    :func:`_log_mul_add` in :func:`_permanent_log_slice`.
 
     Parameters
     ----------
     theta : (P, M + 1) float64
-        Scaled factors ``theta_n(0..M)`` (``<= 1``).
+        Scaled factors ``theta_n(0..M)`` (``<= 1``), or their logs in log space.
     f : (2^P,) float64
-        Starts as ``[1, 0, ...]``; once done ``Perm(A) = sum_{S in A} f(S) prod_{n in A \\ S}
-        theta_n(0)``: every row of the alive set ``A`` takes a distinct measurement or is
-        missed.
+        Starts as ``[1, 0, ...]`` (``[0, -inf, ...]`` in log space); once done ``Perm(A) =
+        sum_{S in A} f(S) prod_{n in A \\ S} theta_n(0)`` (or its log): every row of the alive
+        set ``A`` takes a distinct measurement or is missed.
     pos : (1,) int64
         Steps done: measurements ``1..M``, then one missed step per row; start at zero.
     budget : int
         Steps in this call (``>= 1``; one step is ``O(P 2^P)``).
+
+    Returns
+    -------
+    bool
+        True when all steps are done.
     """
     P, M1 = theta.shape
     N = f.shape[0]
@@ -636,43 +711,22 @@ def _permanent_slice(theta, f, pos, budget):  # pragma: no cover - compiled
                 acc = f[S]
                 for i in range(P):
                     if (S >> i) & 1:
-                        acc += theta[i, j] * f[S ^ (1 << i)]
+                        acc = _add_term(acc, theta[i, j], f[S ^ (1 << i)])
                 f[S] = acc
         else:
             i = s - (M1 - 1)  # row i missed: f(S) += theta_i(0) f(S \ {i})
             for S in range(N - 1, 0, -1):
                 if (S >> i) & 1:
-                    f[S] += theta[i, 0] * f[S ^ (1 << i)]
+                    f[S] = _add_term(f[S], theta[i, 0], f[S ^ (1 << i)])
         s += 1
     pos[0] = s
     return s >= M1 - 1 + P
 
 
-@jit()
-def _permanent_log_slice(log_theta, f, pos, budget):  # pragma: no cover - compiled
-    """:func:`_permanent_slice` in log space (``f`` starts as ``[0, -inf, ...]``; once done
-    ``ln Perm(A)``), for huge weight ranges."""
-    P, M1 = log_theta.shape
-    N = f.shape[0]
-    s = pos[0]
-    stop = min(M1 - 1 + P, s + budget)
-    while s < stop:
-        if s < M1 - 1:
-            j = s + 1
-            for S in range(N - 1, 0, -1):
-                acc = f[S]
-                for i in range(P):
-                    if (S >> i) & 1:
-                        acc = _lae(acc, log_theta[i, j] + f[S ^ (1 << i)])
-                f[S] = acc
-        else:
-            i = s - (M1 - 1)
-            for S in range(N - 1, 0, -1):
-                if (S >> i) & 1:
-                    f[S] = _lae(f[S], log_theta[i, 0] + f[S ^ (1 << i)])
-        s += 1
-    pos[0] = s
-    return s >= M1 - 1 + P
+#: :func:`_permanent_steps` on the scaled factors, and in log space for huge weight ranges.
+_permanent_slice = instantiate(_permanent_steps, "_permanent_slice", {"_add_term": _mul_add})
+_permanent_log_slice = instantiate(_permanent_steps, "_permanent_log_slice",
+                                   {"_add_term": _log_mul_add})
 
 
 def _permanent(theta, log_space: bool = False) -> np.ndarray:

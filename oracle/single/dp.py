@@ -26,6 +26,12 @@ from .._kernels.dp import (
     ENTER,
     RETIRE,
     TRANS,
+    FrontierDP,
+    FrontierMarginals,
+    FrontierWork,
+    SubsetDP,
+    SubsetMarginals,
+    SubsetWork,
     dp_marginal_slice,
     dp_terminal,
     dp_total_finish,
@@ -171,12 +177,14 @@ def _dense_marginals(scaled):
     Bst[n_blocks] = T
     F = np.zeros(n)
     F[0] = 1.0
+    dp = SubsetDP(W, s, T)
+    work = SubsetWork(Bst, T.copy(), np.empty(n), F, np.empty(n), np.empty((L + 1, n)))
     pair, stay, term_out = np.zeros((K, k)), np.zeros(K), np.zeros(k)
+    out = SubsetMarginals(pair, stay, term_out)
     pos = np.array([0, 0, K - 1], dtype=np.int64)
-    args = (W, s, T, Bst, T.copy(), np.empty(n), F, np.empty(n), np.empty((L + 1, n)), pair,
-            stay, term_out, pos, _steps_per_slice(k))
+    budget = _steps_per_slice(k)
     with interruptible:
-        while not dp_marginal_slice(*args):
+        while not dp_marginal_slice(dp, work, out, pos, budget):
             pass
     total = Bst[0][0] if K > 0 else T[0]
     if over_rows:
@@ -343,9 +351,10 @@ def _frontier_total(finite, order, width, scaled):
     F, G = np.zeros(full), np.zeros(full)
     F[0] = 1.0
     pos = np.zeros(2, dtype=np.int64)
+    dp = FrontierDP(ops, W, s, w_un)
     budget = _steps_per_slice(W.shape[1])
     with interruptible:
-        while not frontier_total_slice(ops, W, s, w_un, F, G, pos, budget):
+        while not frontier_total_slice(dp, F, G, pos, budget):
             pass
     return F[0] if ops.shape[0] % 2 == 0 else G[0]
 
@@ -364,13 +373,15 @@ def _frontier_marginals(finite, order, width, scaled):
     full = 1 << n_slots
     F, G, B, Bn = np.zeros(full), np.zeros(full), np.zeros(full), np.zeros(full)
     F[0] = B[0] = 1.0
+    dp = FrontierDP(ops, W, s, w_un)
+    work = FrontierWork(nb, ck_off, np.empty(ck_off[-1]), F, G, np.empty(blk_max),
+                        np.zeros(L + 1, dtype=np.int64), B, Bn)
     pair, unmatched, acc = np.zeros((K, n_slots)), np.zeros(w_un.shape[0]), np.zeros(1)
+    out = FrontierMarginals(pair, unmatched, acc)
     pos = np.array([0, n_blocks - 1, 0, 0], dtype=np.int64)
-    args = (ops, W, s, w_un, nb, ck_off, np.empty(ck_off[-1]), F, G, np.empty(blk_max),
-            np.zeros(L + 1, dtype=np.int64), B, Bn, pair, unmatched, acc, pos,
-            _steps_per_slice(n_slots))
+    budget = _steps_per_slice(n_slots)
     with interruptible:
-        while not frontier_marginal_slice(*args):
+        while not frontier_marginal_slice(dp, work, out, pos, budget):
             pass
     total = acc[0]
     pm = np.zeros(finite.shape)

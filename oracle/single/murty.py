@@ -242,9 +242,9 @@ def _murty_sliced(cc, k):
         out, costs, rest = murty_compact_start(cc, k, budget)
         if rest is None:
             return out, costs
-        (ptr, col, cost, pos), search = rest
+        graph, search = rest
         while True:  # later slices return an integer: a signal is raised here, between two
-            status = murty_slice(ptr, col, cost, pos, search, k, budget)
+            status = murty_slice(graph, search, k, budget)
             if status == DONE:
                 return search_output(search)
             if status == FULL:
