@@ -263,7 +263,7 @@ def truncate(association, problem: AssignmentProblem, budget: int, rng=None) -> 
                           int(res.n_row_updates))
     if isinstance(association, Murty):
         ranked = oracle.murty(problem, min(association.k, max(budget, 1)),
-                              method=association.method)
+                              backend=association.backend)
         return Hypotheses(ranked.assignments, ranked.costs)
     if isinstance(association, Exact):
         try:
