@@ -20,7 +20,7 @@ the problems are the paper's random family (``synthetic.random(R=P, M=M)``).
 import pytest
 
 from rankedassign import kinds, sample_original, warmup
-from rankedassign.engine import result as _sampling
+from rankedassign.single import prepare as single_prepare
 from rankedassign.single import synthetic
 
 #: Grids of the figure: M at P = 50, and P at M = 1000.
@@ -43,7 +43,7 @@ def _compiled():
 @pytest.fixture
 def rule(request, monkeypatch):
     if request.param == "direct":  # every row draws by the direct sum, whatever M
-        monkeypatch.setattr(_sampling, "uses_prefix_sums", lambda P, M: False)
+        monkeypatch.setattr(single_prepare, "uses_prefix_sums", lambda P, M: False)
     return request.param
 
 
@@ -74,5 +74,5 @@ def test_direct_rule_is_forced(monkeypatch):
     """The ``direct`` fixture really switches the large problems to the direct draw."""
     p = synthetic.random(R=5, M=100, rng=0)
     assert kinds.prepare(p, "all_missed", "systematic", 0).driver == "prefix"
-    monkeypatch.setattr(_sampling, "uses_prefix_sums", lambda P, M: False)
+    monkeypatch.setattr(single_prepare, "uses_prefix_sums", lambda P, M: False)
     assert kinds.prepare(p, "all_missed", "systematic", 0).driver == "direct"
