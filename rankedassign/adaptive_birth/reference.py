@@ -46,7 +46,50 @@ __all__ = ["RefData", "reference_data", "new_work", "sweep", "draw", "cholesky",
 
 class RefData(NamedTuple):
     """The chain inputs of :func:`rankedassign.adaptive_birth.prepare.chain_inputs` as
-    Python lists (exact copies of the float64 values)."""
+    Python lists (exact copies of the float64 values).
+
+    ``T = off[V]`` is the number of kept measurements over all sensors; sensor ``s``'s
+    measurement ``j >= 1`` is row ``t = off[s] + j - 1`` of the stacked ``a``, ``cz`` and
+    ``const``. The arrays the other mode does not read are placeholders of length 1 (``n = 1``
+    in tensor mode).
+
+    Attributes
+    ----------
+    mode : int
+        0: ``ln rho`` read from the tensor ``logw``; 1: linear-Gaussian closed form from the
+        information sums (spec ``multisensor.md`` §4.2).
+    V : int
+        Number of sensors, the length of a tuple ``J``.
+    n : int
+        State dimension of the Gaussian model (1 in tensor mode).
+    random_order : bool
+        A fresh random sensor order every sweep (``sensor_order="random"``), else ``0..V-1``.
+    shape : list of int, length V
+        ``M_s + 1``: the candidates ``j = 0..M_s`` of each sensor (Gaussian mode: kept
+        measurements only).
+    off : list of int, length V + 1
+        Offsets of each sensor's measurements in ``a``, ``cz``, ``const`` (zeros in tensor
+        mode).
+    strides : list of int, length V
+        C-order strides of the tensor, in entries (last sensor fastest).
+    logw : list of float, length prod(shape)
+        Tensor mode: ``ln rho(J)`` of every tuple, flat in C order (``-inf`` = weight 0).
+    M0 : list of list of float, shape (n, n)
+        Prior information matrix ``P0^-1``.
+    b0 : list of float, length n
+        Prior information vector ``P0^-1 mu0``.
+    c0 : float
+        ``mu0' P0^-1 mu0``.
+    A : list, shape (V, n, n)
+        ``A_s = H_s' R_s^-1 H_s`` per sensor.
+    a : list of list of float, shape (T, n)
+        ``a_sj = H_s' R_s^-1 z_sj`` per kept measurement (one placeholder row when ``T = 0``).
+    cz, const : list of float, length T
+        ``cz_sj = z_sj' R_s^-1 z_sj`` and ``const_sj = ln r_U^(s)(j) + ln(P_D^(s) / kappa_s)
+        - (d_s ln 2 pi + ln|R_s|) / 2`` per kept measurement (a placeholder when ``T = 0``).
+    log_miss : list of float, length V
+        ``ln(1 - P_D^(s))`` per sensor (zeros in tensor mode).
+    """
 
     mode: int
     V: int
@@ -68,6 +111,18 @@ class RefData(NamedTuple):
 
 def reference_data(data) -> RefData:
     """Convert the kernel's data tuple into :class:`RefData` (lists of Python numbers).
+
+    Parameters
+    ----------
+    data : tuple
+        The 16 arrays and scalars of :func:`rankedassign.adaptive_birth.prepare.chain_inputs`,
+        in the order of the fields of :class:`RefData`.
+
+    Returns
+    -------
+    RefData
+        ``mode``, ``V``, ``n`` as int, ``random_order`` as bool, ``c0`` as float, every array
+        as (nested) lists of the same values.
 
     Examples
     --------
@@ -94,6 +149,18 @@ class Work(NamedTuple):
 
 def new_work(data: RefData, x) -> Work:
     """Scratch for a chain started at ``x`` (the sums are recomputed every sweep).
+
+    Parameters
+    ----------
+    data : RefData
+        Gives the state dimension ``n``.
+    x : list of int, length V
+        The start tuple; not read, since :func:`sweep` recomputes the sums from the tuple.
+
+    Returns
+    -------
+    Work
+        Zeroed running sums: ``M`` (n x n), ``b`` (length n) and ``c`` (``[0.0]``).
 
     Examples
     --------
@@ -156,6 +223,20 @@ def draw(lw, g) -> int:
 def cholesky(M, n):
     """Lower Cholesky factor of the ``n x n`` list-of-lists ``M`` (plain loops).
 
+    Parameters
+    ----------
+    M : list of list of float, shape (n, n)
+        Symmetric positive definite; only the lower triangle (``M[i][j]``, ``j <= i``) is read.
+    n : int
+        Its dimension.
+
+    Returns
+    -------
+    L : list of list of float, shape (n, n)
+        Lower triangular with positive diagonal, ``L L' = M``; zeros above the diagonal.
+        Row by row, ``L_ij = (M_ij - sum_{k<j} L_ik L_jk) / L_jj`` and
+        ``L_ii = sqrt(M_ii - sum_{k<i} L_ik^2)``, sums left to right.
+
     Examples
     --------
     >>> cholesky([[4.0, 2.0], [2.0, 5.0]], 2)
@@ -177,6 +258,18 @@ def cholesky(M, n):
 def half_logdet(L, n):
     """``sum_i ln L_ii = ln|M| / 2`` for ``M = L L'``.
 
+    Parameters
+    ----------
+    L : list of list of float, shape (n, n)
+        Lower Cholesky factor (:func:`cholesky`); only its diagonal is read.
+    n : int
+        Its dimension.
+
+    Returns
+    -------
+    float
+        Half the log-determinant of ``M``, summed over ``i = 0..n-1`` in order.
+
     Examples
     --------
     >>> half_logdet([[2.0, 0.0], [1.0, 2.0]], 2)
@@ -190,6 +283,20 @@ def half_logdet(L, n):
 
 def quad(L, b, n):
     """``|L^-1 b|^2 = b' M^-1 b`` for ``M = L L'`` (forward substitution).
+
+    Parameters
+    ----------
+    L : list of list of float, shape (n, n)
+        Lower Cholesky factor (:func:`cholesky`).
+    b : list of float, length n
+        Information vector.
+    n : int
+        The dimension.
+
+    Returns
+    -------
+    float
+        ``sum_i y_i^2`` with ``y = L^-1 b`` solved row by row.
 
     Examples
     --------
@@ -231,11 +338,26 @@ def conditional_log_weights(data: RefData, work: Work, x, s):
     In Gaussian mode ``work`` must hold the sums of ``x`` (as :func:`sweep` keeps them); on
     return it holds ``(M-, b-, c-)`` and ``M+`` is returned with the weights.
 
+    Parameters
+    ----------
+    data : RefData
+    work : Work
+        Gaussian mode: the running sums ``(M, b, c)`` of ``x``, updated in place to the sums
+        without sensor ``s``. Not read in tensor mode.
+    x : list of int, length V
+        The current tuple ``J``; only ``x[s]`` (Gaussian mode) or the entries other than
+        ``x[s]`` (tensor mode) matter.
+    s : int
+        The sensor whose entry is redrawn, ``0 <= s < V``.
+
     Returns
     -------
     lw : list of float, length M_s + 1
+        ``lw[j] = ln rho(J^-s ⊕ j)`` up to a constant common to all ``j`` (exact in tensor
+        mode); ``lw[0]`` is missed.
     Mp : list of list of float or None
-        ``M+`` (Gaussian mode).
+        ``M+ = M- + A_s`` (Gaussian mode, for :func:`sweep`'s update on a detection); None in
+        tensor mode.
 
     Examples
     --------

@@ -205,6 +205,13 @@ def start_state(problem, start, method):
         For ``"componentwise"`` dead rows become ``(0, ..., 0)``: the collapsed space has no
         dead row, so ``"all_dead"`` is the same state as ``"all_missed"`` there.
 
+    Returns
+    -------
+    ndarray of int32, shape (P * V,)
+        C-contiguous chain state: position ``n * V + v`` holds ``gamma_n^(v) + 1`` (0 dead,
+        1 missed, ``j + 1`` measurement ``j``), of positive weight under the method's target
+        (the collapsed weights for ``"componentwise"``).
+
     Raises
     ------
     TypeError
@@ -275,6 +282,19 @@ def _row_log_weights(problem, gammas, collapsed):
 def states_to_assignments(problem, states):
     """Chain states (n, P * V) -> ``gamma`` of shape (n, P, V), int64.
 
+    Parameters
+    ----------
+    problem : MultiSensorProblem
+        Gives ``P = n_rows`` and ``V = n_sensors``.
+    states : array_like of int, shape (n, P * V)
+        Chain states, position ``n * V + v`` holding ``gamma_n^(v) + 1``.
+
+    Returns
+    -------
+    ndarray of int64, shape (n, P, V)
+        ``gamma``, one per state in the order of ``states``: ``-1`` dead, ``0`` missed,
+        ``j >= 1`` measurement ``j`` of the sensor.
+
     Examples
     --------
     >>> import numpy as np
@@ -289,6 +309,22 @@ def states_to_assignments(problem, states):
 
 def assignment_costs(problem, assignments, method):
     """Exact ``-log w(gamma)`` of each assignment (collapsed weights for componentwise).
+
+    Parameters
+    ----------
+    problem : MultiSensorProblem
+        Uses ``n_rows``, ``n_meas``, ``log_eta_dead`` and ``log_eta_alive``.
+    assignments : array_like of int, shape (n, P, V)
+        ``gamma`` per assignment (:func:`states_to_assignments`); a dead row is ``-1`` on every
+        sensor (only its first entry is read).
+    method : str
+        ``"componentwise"`` costs a row ``(0, ..., 0)`` with the collapsed weight
+        ``eta_n(-1) + eta_n(0, ..., 0)`` of spec §1.6; any other method with ``eta``.
+
+    Returns
+    -------
+    ndarray of float64, shape (n,)
+        ``-sum_n log eta_n(gamma_n)`` per assignment; ``+inf`` for zero weight.
 
     Examples
     --------

@@ -86,9 +86,22 @@ class RefData:
 
 
 def pick(weights, total, u):
-    """Sequential inverse CDF: the first index whose running sum of ``weights`` exceeds
-    ``u * total`` (positive weights only); the last positive one if rounding leaves none;
-    ``-1`` if no weight is positive.
+    """Sequential inverse CDF: the candidate of uniform ``u`` under ``weights``.
+
+    Parameters
+    ----------
+    weights : sequence of float
+        Non-negative weights of the candidates, in candidate order (0 = impossible).
+    total : float
+        Their sum, accumulated left to right by the caller.
+    u : float
+        The draw's uniform in ``[0, 1)``.
+
+    Returns
+    -------
+    int
+        The first index whose running sum of the positive weights exceeds ``u * total``; the
+        last positive one if rounding leaves none; ``-1`` if no weight is positive.
 
     Examples
     --------
@@ -110,8 +123,21 @@ def pick(weights, total, u):
 def draw(weights, logs, u):
     """One categorical draw with uniform ``u`` from ``weights`` (shifted, may underflow).
 
-    If every weight is 0 the draw uses ``exp(logs[k] - max(logs))`` instead; ``-1`` if every
-    log-weight is ``-inf``.
+    Parameters
+    ----------
+    weights : sequence of float
+        Shifted weights ``exp(log - max)`` of the candidates (from the prepared arrays), in
+        candidate order; may all have underflowed to 0.
+    logs : sequence of float
+        The same candidates' log-weights, same length (``-inf`` = impossible).
+    u : float
+        The draw's uniform in ``[0, 1)``, used once by :func:`pick`.
+
+    Returns
+    -------
+    int
+        Index of the candidate drawn. If every weight is 0 the draw uses
+        ``exp(logs[k] - max(logs))`` instead; ``-1`` if every log-weight is ``-inf``.
 
     Examples
     --------
@@ -138,6 +164,19 @@ def draw(weights, logs, u):
 
 def new_work(data, x):
     """Occupancy table ``occ[v][j]`` of the state ``x`` (rows holding measurement ``j``).
+
+    Parameters
+    ----------
+    data : RefData
+        Gives ``V`` and the measurement counts ``n_meas``.
+    x : list of int, length P * V
+        State, ``x[n * V + v] = gamma_n^(v) + 1``.
+
+    Returns
+    -------
+    list of list of int
+        ``occ[v]`` has length ``M_v + 1``; ``occ[v][j]`` counts the rows holding measurement
+        ``j`` of sensor ``v`` (0 or 1 for a feasible ``x``; ``occ[v][0]`` unused, 0).
 
     Examples
     --------

@@ -39,6 +39,18 @@ def uses_prefix_sums(P: int, M: int) -> bool:
     cheaper of the two: more than :data:`M_DIRECT` measurements and more than ``2 P``. The
     rule depends only on the problem's shape, so both implementations follow it.
 
+    Parameters
+    ----------
+    P : int
+        Number of rows (tracks).
+    M : int
+        Number of measurements.
+
+    Returns
+    -------
+    bool
+        ``M > M_DIRECT and M > 2 * P``: True selects driver ``"prefix"``, False ``"direct"``.
+
     Examples
     --------
     >>> uses_prefix_sums(4, 16), uses_prefix_sums(50, 50), uses_prefix_sums(50, 5000)
@@ -53,15 +65,41 @@ CANCEL_GUARD = 2.0**-20
 
 
 class SingleData(NamedTuple):
-    """The single-sensor sampler's inputs as plain lists (the reference's ``data``)."""
+    """The single-sensor sampler's inputs as plain lists (the reference's ``data``).
 
-    W: list        # (P, M + 2) shifted weights
-    cc: list       # (P, M + 2) compact costs
-    S: list        # (P, M + 1) prefix sums of the measurement weights
-    next_pos: list  # (P, M) first positive weight at or after each measurement
+    Built by :func:`prepare` from the same float64 arrays the kernels receive (``tolist``
+    copies every value exactly), and read by :func:`rankedassign.single.reference.sweep`.
+
+    Attributes
+    ----------
+    W : list of list of float, shape (P, M + 2)
+        Shifted weights (:func:`shifted_weights`), columns in compact order: measurements
+        ``0..M-1``, missed ``M``, dead ``M + 1``; 0 for a forbidden entry.
+    cc : list of list of float, shape (P, M + 2)
+        Compact costs (:attr:`AssignmentProblem.compact_cost`, ``+inf`` = forbidden); read
+        only by the fall-back draw when every available ``W`` has underflowed to 0.
+    S : list of list of float, shape (P, M + 1)
+        Per-row prefix sums of the measurement weights (:func:`prefix_sums`). Without prefix
+        sums (``prefix`` False) an unread placeholder of zeros, shape (P, 1).
+    next_pos : list of list of int, shape (P, M)
+        ``next_pos[i][k]``: the first measurement ``k' >= k`` with ``W[i][k'] > 0``, or ``M``
+        (:func:`prefix_sums`). Without prefix sums an unread placeholder of zeros, shape (P, 1).
+    random_scan : bool
+        True for ``scan="random"`` (a fresh Fisher-Yates permutation of the rows every sweep),
+        False for the systematic order ``0..P-1``.
+    M : int
+        Number of measurements.
+    prefix : bool
+        Rows draw from the prefix sums (:func:`uses_prefix_sums`), else by the direct sum.
+    """
+
+    W: list
+    cc: list
+    S: list
+    next_pos: list
     random_scan: bool
     M: int
-    prefix: bool   # rows draw from prefix sums (uses_prefix_sums)
+    prefix: bool
 
 
 # ------------------------------------------------------------------------------ single sensor
@@ -73,6 +111,17 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
     does not change any conditional, which is a ratio of weights of one row. Computed once per
     call with numpy and shared by both implementations, so the samplers never call ``exp``
     in the hot loop.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+        Its :attr:`~AssignmentProblem.compact_cost` is read; every row has a finite entry.
+
+    Returns
+    -------
+    ndarray, shape (P, M + 2), float64
+        C-contiguous; each row's largest weight is 1 (its cheapest entry), forbidden entries
+        are 0. Shape (0, M + 2) of zeros when ``P = 0``.
 
     Examples
     --------
@@ -125,13 +174,58 @@ def prefix_sums(W):
 
 
 def to_compact(problem: AssignmentProblem, cols: np.ndarray) -> np.ndarray:
-    """Column indices -> compact indices (measurement k, missed M, dead M + 1), int32."""
+    """Column indices -> compact indices (measurement k, missed M, dead M + 1), int32.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+        Gives ``P = n_rows`` and ``M = n_meas``.
+    cols : ndarray of int, shape (P,) or (n, P)
+        Column indices of the full ``P x (M + 2P)`` cost matrix, one per row, feasible for
+        their rows: ``j < M`` a measurement, ``M + i`` row ``i``'s missed column, ``M + P + i``
+        its dead column.
+
+    Returns
+    -------
+    ndarray of int32, same shape as ``cols``
+        ``j`` for a measurement, ``M`` for missed, ``M + 1`` for dead; the row of a missed or
+        dead column is not checked (the inverse of :func:`to_columns` on feasible input).
+
+    Examples
+    --------
+    >>> from rankedassign import AssignmentProblem
+    >>> p = AssignmentProblem.from_eta([[2.0, 1.0]], [1.0], [1.0])
+    >>> to_compact(p, np.array([1])).tolist(), to_compact(p, np.array([2, 3])).tolist()
+    ([1], [2, 3])
+    """
     M = problem.n_meas
     return np.where(cols < M, cols, np.where(cols < M + problem.n_rows, M, M + 1)).astype(np.int32)
 
 
 def to_columns(problem: AssignmentProblem, compact: np.ndarray) -> np.ndarray:
-    """Compact indices (n, P) -> column indices (n, P), int64 (spec §1.5 mapping)."""
+    """Compact indices (n, P) -> column indices (n, P), int64 (spec §1.5 mapping).
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+        Gives ``P = n_rows`` and ``M = n_meas``.
+    compact : ndarray of int, shape (n, P)
+        Chain states, one compact index per row: ``k < M`` measurement ``k``, ``M`` missed,
+        ``M + 1`` dead. A 1-D state of shape (P,) also works.
+
+    Returns
+    -------
+    ndarray of int64, shape (n, P)
+        Column indices of the full ``P x (M + 2P)`` matrix: ``k`` for a measurement,
+        ``M + i`` for row ``i`` missed, ``M + P + i`` for row ``i`` dead.
+
+    Examples
+    --------
+    >>> from rankedassign import AssignmentProblem
+    >>> p = AssignmentProblem.from_eta([[2.0, 1.0], [1.0, 2.0]], [1.0, 1.0], [1.0, 1.0])
+    >>> to_columns(p, np.array([[1, 2], [3, 0]])).tolist()
+    [[1, 3], [4, 0]]
+    """
     P, M = problem.n_rows, problem.n_meas
     k = compact.astype(np.int64)
     rows = np.arange(P, dtype=np.int64)[None, :]
@@ -139,7 +233,36 @@ def to_columns(problem: AssignmentProblem, compact: np.ndarray) -> np.ndarray:
 
 
 def start_columns(problem: AssignmentProblem, start) -> np.ndarray:
-    """Validate ``start`` and return it as column indices, shape (P,), int64."""
+    """Validate ``start`` and return it as column indices, shape (P,), int64.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    start : {"all_missed", "all_dead", "lsap"} or array_like of int, shape (P,)
+        Every row missed, every row dead, the cheapest assignment
+        (:func:`scipy.optimize.linear_sum_assignment` on :attr:`AssignmentProblem.cost`), or
+        explicit column indices of the full ``P x (M + 2P)`` matrix.
+
+    Returns
+    -------
+    ndarray of int64, shape (P,)
+        A feasible assignment: one column per row, no forbidden entry, no measurement twice.
+
+    Raises
+    ------
+    TypeError
+        If an explicit start is not an integer array (booleans included).
+    ValueError
+        On an unknown name; ``"all_missed"`` (``"all_dead"``) when some row has a ``+inf``
+        missed (dead) cost; an explicit start of the wrong shape or infeasible.
+
+    Examples
+    --------
+    >>> from rankedassign import AssignmentProblem
+    >>> p = AssignmentProblem.from_eta([[2.0, 1.0], [1.0, 2.0]], [1.0, 1.0], [1.0, 1.0])
+    >>> start_columns(p, "all_missed").tolist(), start_columns(p, "lsap").tolist()
+    ([2, 3], [0, 1])
+    """
     P, M = problem.n_rows, problem.n_meas
     cc = problem.compact_cost
     if isinstance(start, str):
