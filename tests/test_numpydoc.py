@@ -91,6 +91,8 @@ def test_numpydoc(name):
         listed = [n for item in doc["Attributes"] for n in item.name.split(", ")]
         missing = [f for f in _fields(obj) if f not in listed]
         assert not missing, f"{name}: fields {missing} not in its Attributes section"
+        unknown = [n for n in listed if n not in _fields(obj) and not hasattr(obj, n)]
+        assert not unknown, f"{name}: Attributes {unknown} are no fields or attributes"
         return
     result = numpydoc_validate.validate(name)
     errors = [f"{code} {msg}" for code, msg in result["errors"] if code in CODES]
