@@ -133,7 +133,7 @@ def test_bench_murty(benchmark, size, k, method):
     problem = PROBLEMS[size]()
     benchmark.group = f"murty {size} k={k}"
     benchmark.extra_info.update(P=problem.n_rows, M=problem.n_meas, k=k, method=method)
-    r = benchmark(murty, problem, k, method=method)
+    r = benchmark(murty, problem, k, backend=method)
     assert len(r.costs) == k
 
 

@@ -454,9 +454,12 @@ def log_brute_ospa(X, Y, c, p):
     m, n = len(X), len(Y)
     extra = [math.log(n - m)] if n > m else []
     best = np.inf
+    # math.hypot scales before squaring: np.linalg.norm's sum of squares underflows to 0 for
+    # coordinates of 1e-300 (hypothesis found X = [[0, 0]], Y = [[1e-300, 1e-300]])
+    dist = [[math.hypot(*(X[i] - Y[j])) for j in range(n)] for i in range(m)]
     for perm in itertools.permutations(range(n), m):
-        terms = [p * math.log(min(1.0, np.linalg.norm(X[i] - Y[j]) / c))
-                 if np.linalg.norm(X[i] - Y[j]) > 0 else -np.inf for i, j in enumerate(perm)]
+        terms = [p * math.log(min(1.0, dist[i][j] / c)) if dist[i][j] > 0 else -np.inf
+                 for i, j in enumerate(perm)]
         best = min(best, logsumexp(terms + extra) if terms + extra else -np.inf)
     return (best - math.log(n)) / p
 
