@@ -8,7 +8,9 @@ Run the timings with::
 "GLMB vs LMB, vo preset, 100 scans": one 100-scan run of Vo's example on the same measurements
 (``run_scenario(..., rng=0)``) by the LMB filter and by the δ-GLMB filter, both with
 ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``; the GLMB filter also with the long chain
-(``OriginalGibbs(10 000)``, ``T_h − 1`` sweeps per component). Target of issue #26: GLMB with
+(``OriginalGibbs(10 000)``, ``T_h − 1`` sweeps per component) and Murty's ``k = min(1000, T_h)``
+best (one compiled loop over the components); the LMB filter also with Murty(1000) and the
+exact marginals. Target of issue #26: GLMB with
 short chains at most 20× the LMB filter's time. ``test_bench_glmb_memory`` runs 1 000 scans and
 records the filter's state size (:meth:`GLMBFilter.nbytes`) per scan in ``extra_info``: it
 must not grow once the caps bind. The numbers are in ``benchmarks/README.md``.
@@ -18,7 +20,9 @@ import numpy as np
 import pytest
 
 from rankedassign.tracking import (
+    Exact,
     GLMBFilter,
+    Murty,
     OriginalGibbs,
     ShortChainGibbs,
     make_scenario,
@@ -29,6 +33,10 @@ METHODS = {
     "lmb-short-chain": ("lmb", lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)),
     "glmb-short-chain": ("glmb", lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)),
     "glmb-original-10000": ("glmb", lambda: OriginalGibbs(10_000)),
+    # the compiled per-component loop of the oracle's Murty search, k = min(1000, T_h)
+    "glmb-murty-1000": ("glmb", lambda: Murty(1000)),
+    "lmb-murty-1000": ("lmb", lambda: Murty(1000)),
+    "lmb-exact": ("lmb", lambda: Exact()),
 }
 
 
@@ -66,9 +74,10 @@ def test_bench_glmb_memory(benchmark):
     sc = make_scenario("vo", rng=0, n_scans=n)
 
     def run():
-        # the same run with and without the whole histories (same numbers, tested)
+        # the same run without the whole histories (the default) and with them (same
+        # numbers, tested)
         fs = [GLMBFilter(sc.model, ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
-                         keep_histories=keep) for keep in (False, True)]
+                         keep_histories=keep) for keep in (None, True)]
         sizes, comps, tracks = [], [], []
         for k, s in enumerate(sc.scans):
             for f in fs:

@@ -26,9 +26,10 @@ Setting ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the coverage 
 Cache invalidation across files. numba's cache notices when the file that defines a kernel
 changes, but not when a kernel it calls (and has compiled into itself) changes in another
 file. :func:`jit` therefore keys every cached kernel by a digest of all the Python sources of
-the package that defines it (``__qualname__`` gets the digest as a suffix, which names the
-cache file): editing any kernel file recompiles everything, and kernels can live in as many
-files as their algorithms need.
+both packages, :data:`KERNEL_PACKAGES` (``__qualname__`` gets the digest as a suffix, which
+names the cache file): editing any kernel file recompiles everything, kernels can live in as
+many files as their algorithms need, and a kernel of one package may call the other's (the
+δ-GLMB filter's per-component loop runs the oracle's Murty search and enumeration).
 
 Signals. A compiled kernel runs without looking at signals; Python runs the handler of a
 signal that arrived meanwhile (Ctrl-C's ``KeyboardInterrupt``, a SIGTERM handler) at the first
@@ -53,6 +54,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib.util
 import os
 import sys
 import types
@@ -61,12 +63,15 @@ from pathlib import Path
 
 import numba
 
-__all__ = ["CACHE", "jit", "threads", "instantiate", "source_digest", "interruptible",
-           "signal_exception"]
+__all__ = ["CACHE", "KERNEL_PACKAGES", "jit", "threads", "instantiate", "source_digest",
+           "interruptible", "signal_exception"]
 
 CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
 # Read by the OpenMP runtime when numba's thread pool starts (on the first parallel call).
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+#: The packages whose kernels may compile one another's into themselves: every cache key
+#: digests the sources of both.
+KERNEL_PACKAGES = ("rankedassign", "oracle")
 
 
 @functools.cache
@@ -76,15 +81,17 @@ def source_digest(package: str) -> str:
     Parameters
     ----------
     package : str
-        A top-level package name whose module is already imported (``"rankedassign"``,
-        ``"oracle"``).
+        A top-level package name (``"rankedassign"``, ``"oracle"``); it is found without
+        being imported.
 
     Examples
     --------
     >>> len(source_digest("rankedassign"))
     10
     """
-    root = Path(sys.modules[package].__file__).parent
+    module = sys.modules.get(package)
+    origin = module.__file__ if module is not None else importlib.util.find_spec(package).origin
+    root = Path(origin).parent
     h = hashlib.sha1(numba.__version__.encode())
     for path in sorted(root.rglob("*.py")):
         h.update(str(path.relative_to(root)).encode())
@@ -92,10 +99,16 @@ def source_digest(package: str) -> str:
     return h.hexdigest()[:10]
 
 
+@functools.cache
+def _kernel_digest() -> str:
+    """Digest of the sources of every package of :data:`KERNEL_PACKAGES` (10 hex digits)."""
+    parts = "".join(source_digest(p) for p in KERNEL_PACKAGES)
+    return hashlib.sha1(parts.encode()).hexdigest()[:10]
+
+
 def _keyed(func, qualname: str | None = None):
-    """``func`` renamed so that its cache file is specific to the package's sources."""
-    package = func.__module__.split(".")[0]
-    func.__qualname__ = f"{qualname or func.__qualname__}__{source_digest(package)}"
+    """``func`` renamed so that its cache file is specific to the sources of both packages."""
+    func.__qualname__ = f"{qualname or func.__qualname__}__{_kernel_digest()}"
     return func
 
 

@@ -139,7 +139,7 @@ Z1 = np.array([[1.0, -9.0], [9.0, 2.0], [30.0, 30.0]])
 def test_one_scan_of_one_component_without_births_is_the_enumeration():
     model = _small_model(n_births=0)
     labels, means, covs = _prior_tracks()
-    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6)
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6, keep_histories=True)
     f.set_prior(labels, means, covs)
     rec = f.step(Z1, rng=0)
     prior, tracks = _naive_prior(labels, means, covs, [[0, 1, 2]], [1.0])
@@ -157,7 +157,7 @@ def test_several_components_and_births_over_two_scans_are_the_exact_recursion():
     model = _small_model(n_births=1)
     labels, means, covs = _prior_tracks()
     comps, weights = [[0, 1], [1, 2], [0], []], [0.4, 0.3, 0.2, 0.1]
-    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6)
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6, keep_histories=True)
     f.set_prior(labels, means, covs, comps, weights)
     post, tracks = _naive_prior(labels, means, covs, comps, weights)
     for k, z in enumerate([Z1, np.array([[2.0, -18.0], [10.0, 1.0]])], start=1):
@@ -179,7 +179,7 @@ def test_murty_with_every_assignment_and_exact_agree():
     labels, means, covs = _prior_tracks()
     out = []
     for assoc in (Exact(), Murty(10**6)):
-        f = GLMBFilter(model, assoc, prune_hypothesis=0.0, h_max=10**6, h_upd=10**6)
+        f = GLMBFilter(model, assoc, prune_hypothesis=0.0, h_max=10**6, keep_histories=True, h_upd=10**6)
         f.set_prior(labels, means, covs, [[0, 1, 2], [0]], [0.7, 0.3])
         f.step(Z1, rng=0)
         out.append(_as_dict(f))
@@ -267,7 +267,7 @@ def test_cardinality_is_the_exact_one_over_a_few_scans(n_tracks, n_scans, data):
     model = _small_model(n_births=1)
     labels, means, covs = _prior_tracks()
     labels, means, covs = labels[:n_tracks], means[:n_tracks], covs[:n_tracks]
-    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6)
+    f = GLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6, keep_histories=True)
     f.set_prior(labels, means, covs)
     post, tracks = _naive_prior(labels, means, covs, [list(range(n_tracks))], [1.0])
     coord = st.floats(-40.0, 40.0, allow_nan=False, width=32)
@@ -375,7 +375,8 @@ def test_the_same_rng_gives_the_same_output():
 
 
 def test_vo_scenario_tracks_and_keeps_the_caps():
-    f, recs = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=12, h_max=50)
+    f, recs = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=12, h_max=50,
+                   keep_histories=True)
     assert all(r.n_components <= 50 for r in recs)
     assert_allclose(f.comp_w.sum(), 1.0, rtol=1e-12)
     assert (np.diff(f.comp_w) <= 0).all()  # heaviest first
@@ -415,6 +416,47 @@ def test_murty_and_the_samplers_run_on_the_same_data():
         assert (recs[-1].sweeps == 0) == isinstance(assoc, Murty)
 
 
+class _MurtyPerComponent(Murty):
+    """Murty run component by component (a subclass takes the Python path of ``truncate``)."""
+
+
+class _ExactPerComponent(Exact):
+    """Exact run component by component."""
+
+
+def _assert_same_runs(a, b):
+    (fa, ra), (fb, rb) = a, b
+    for x, y in zip(ra, rb, strict=True):
+        for name in ("labels", "states", "existence", "track_labels", "track_existence",
+                     "cardinality"):
+            assert_array_equal(getattr(x, name), getattr(y, name))
+        assert (x.n_unique, x.n_components) == (y.n_unique, y.n_components)
+    assert fa.components() == fb.components()
+
+
+def test_the_compiled_murty_and_exact_loops_are_the_per_component_truncations():
+    """One compiled call for every component gives the children of ``truncate`` on each."""
+    for k in (1, 7, 1000):
+        _assert_same_runs(_run(Murty(k), n_scans=8, h_upd=300),
+                          _run(_MurtyPerComponent(k), n_scans=8, h_upd=300))
+    model = _small_model(n_births=2, clutter=1.0)
+    z = [Z1, Z1[:2] + 1.0, Z1[:1] + 2.0]
+    runs = []
+    for assoc in (Exact(), _ExactPerComponent()):
+        f = GLMBFilter(model, assoc, prune_hypothesis=0.0, h_max=10**6)
+        runs.append((f, [f.step(zk, rng=k) for k, zk in enumerate(z)]))
+    _assert_same_runs(*runs)
+    assert runs[0][0].n_components > 50
+
+
+def test_the_compiled_murty_loop_slices_its_components(monkeypatch):
+    from rankedassign.tracking.single import glmb
+
+    whole = _run(Murty(50), n_scans=5, h_upd=300)
+    monkeypatch.setattr(glmb, "_RANKED_SLICE", 7)
+    _assert_same_runs(whole, _run(Murty(50), n_scans=5, h_upd=300))
+
+
 class _Best(Association):
     """A custom truncation: the single best assignment (Murty with k = 1)."""
 
@@ -452,13 +494,16 @@ def test_run_scenario_runs_the_glmb_filter_on_the_same_measurements():
 
 
 def test_memory_stays_bounded_by_the_caps():
-    f, a = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100)
+    f, a = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100,
+                keep_histories=True)
     assert f.n_components <= 20
     assert f.n_tracks <= 20 * (1 + np.diff(f.comp_off).max())
     assert f._node_parent.size <= 2 * f._live_nodes + 4096 + f.n_tracks
-    # without the histories the forest holds one node per entry (and the same numbers)
-    g, b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100,
-                keep_histories=False)
+    # without the histories (the default) the forest holds one node per entry, and the
+    # numbers are the same
+    g, b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100)
+    assert g.keep_histories is False
+    assert GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory").keep_histories
     for x, y in zip(a, b, strict=True):
         assert_array_equal(x.track_existence, y.track_existence)
         assert_array_equal(x.states, y.states)
@@ -535,6 +580,18 @@ def test_exact_refuses_a_component_too_large_to_enumerate():
             "Exact() cannot enumerate a component's problem of 4 rows and 30 measurements "
             "within 200000 assignments (EXACT_LIMIT)")):
         f.step(z)
+
+
+def test_exact_refuses_a_scan_whose_components_do_not_fit_together(monkeypatch):
+    from rankedassign.tracking.single import glmb
+
+    monkeypatch.setattr(glmb, "EXACT_SCAN_LIMIT", 40)
+    f = GLMBFilter(_small_model(n_births=2, clutter=1.0), Exact())
+    f.step(Z1, rng=0)
+    with pytest.raises(ValueError, match=r"Exact\(\) would keep \d+ assignments of \d+ "
+                       r"components in one scan, above EXACT_SCAN_LIMIT = 40 \(each component "
+                       r"has at most \d+\); use Murty\(k\) or a sampler"):
+        f.step(Z1 + 1.0, rng=1)
 
 
 def test_custom_hypotheses_are_checked():

@@ -1,18 +1,22 @@
 """The δ-GLMB tracking study: GLMB against LMB, every truncation, on the same measurements.
 
-``rankedassign reproduce glmb_tracking`` runs, on Vo's example (preset ``"vo"``), the LMB
-filter with the long chain and the short chains, and the δ-GLMB filter
-(:class:`~rankedassign.tracking.GLMBFilter`) with the long chain (Vo's truncation), the short
-chains and Murty's k best, every method of a run on the same measurements. Per scan it records
-OSPA(2), the cardinality error, the sweeps, the components kept and — for the GLMB filter —
-the posterior mass the truncation retains (``../shared/spec/glmb.md`` §4), and reports the
-tables, the per-scan plots and a verdict: do the short chains' savings carry over to the GLMB
-filter, at what cost in OSPA(2) and in retained mass?
+``rankedassign reproduce glmb_tracking`` runs, on Vo's example (preset ``"vo"``) and on the
+paper's scenario (``"paper"``), the LMB filter and the δ-GLMB filter
+(:class:`~rankedassign.tracking.GLMBFilter`), each with the exact truncation where it fits
+(:class:`~rankedassign.tracking.Exact`: the exact marginals of the LMB update, every assignment
+of every GLMB component), the long chain (Vo's truncation), the short chains and Murty's k best,
+every method of a run on the same measurements. Per scan it records OSPA and OSPA(2), the
+cardinality error, the sweeps, the components kept and — for the GLMB filter — the posterior
+mass the truncation retains (``../shared/spec/glmb.md`` §4), and reports the tables, the
+per-scan plots and a verdict: do the short chains' savings carry over to the GLMB filter, at
+what cost in OSPA(2) and in retained mass? A method that does not fit (a component too large to
+enumerate) is reported with the scan and the size where it stopped.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,20 +27,23 @@ from ...engine.rng import spawning_generator
 from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
-from .._plots import figure
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
 
-__all__ = ["GLMB_METHODS", "GLMBStudyConfig", "GLMBMethodSummary", "GLMBStudySummary",
+__all__ = ["GLMB_METHODS", "GLMBStudyConfig", "GLMBMethodSummary", "GLMBPresetSummary",
+           "GLMBStudySummary",
            "glmb_tracking_task", "summarise_glmb_tracking", "GLMB_TRACKING"]
 
 #: Methods of the study: filter and truncation.
-GLMB_METHODS = ("lmb-long", "lmb-short", "glmb-long", "glmb-short", "glmb-murty")
-_LABELS = {"lmb-long": "LMB, long chain", "lmb-short": "LMB, short chains",
-           "glmb-long": "GLMB, long chain", "glmb-short": "GLMB, short chains",
-           "glmb-murty": "GLMB, Murty"}
-_COLORS = {"lmb-long": "0.45", "lmb-short": "C1", "glmb-long": "C0", "glmb-short": "C3",
-           "glmb-murty": "C4"}
+GLMB_METHODS = ("lmb-exact", "lmb-long", "lmb-short", "lmb-murty", "glmb-exact", "glmb-long",
+                "glmb-short", "glmb-murty")
+_LABELS = {"lmb-exact": "LMB, exact", "lmb-long": "LMB, long chain",
+           "lmb-short": "LMB, short chains", "lmb-murty": "LMB, Murty",
+           "glmb-exact": "GLMB, exact", "glmb-long": "GLMB, long chain",
+           "glmb-short": "GLMB, short chains", "glmb-murty": "GLMB, Murty"}
+_COLORS = {"lmb-exact": "0.2", "lmb-long": "0.45", "lmb-short": "C1", "lmb-murty": "C5",
+           "glmb-exact": "C2", "glmb-long": "C0", "glmb-short": "C3", "glmb-murty": "C4"}
+_STYLES = {m: ("--" if m.startswith("lmb") else "-") for m in GLMB_METHODS}
 #: Targets of issue #26: GLMB short chains within 5 % of the long chain, GLMB within 10 % of
 #: LMB, in mean OSPA(2).
 SHORT_VS_LONG_TARGET, GLMB_VS_LMB_TARGET = 5.0, 10.0
@@ -49,14 +56,16 @@ class GLMBStudyConfig:
     Attributes
     ----------
     n_mc, n_scans : int
-        Monte Carlo runs and scans per run.
-    preset : str
-        Single-sensor model preset (``"vo"``, Vo's example).
+        Monte Carlo runs (per preset) and scans per run.
+    presets : tuple of str
+        Single-sensor model presets (``"vo"``, Vo's example, and ``"paper"``, the paper's
+        scenario; ``"paper-var"`` too).
     methods : tuple of str
         Of :data:`GLMB_METHODS`.
-    murty_runs : int
-        Runs (the first ones) of ``"glmb-murty"``: a Python loop of one Murty search per
-        component, some 60 s a run.
+    murty_runs, glmb_exact_runs : int
+        Runs (the first ones) of the Murty methods and of ``"glmb-exact"`` (which enumerates
+        every assignment of every component until a component does not fit: some five minutes
+        a run on ``"vo"``).
     h_upd, h_max : int
         The GLMB filter's ``H_upd`` and ``H_max`` (Vo: 1000 and 1000).
     original_obs : int
@@ -64,24 +73,29 @@ class GLMBStudyConfig:
     n_chains, chain_length, tau_stall, tau_stale : int
         Short chains (400, 25, 5, 10).
     murty_k : int
-        Cap of Murty's ``k`` (each component takes ``k = min(murty_k, T_h)``).
-    retained_mass : bool
-        Compute the retained posterior mass of the GLMB runs.
+        Murty's ``k``: the LMB filter's, and the cap of the GLMB's (each component takes
+        ``k = min(murty_k, T_h)``).
+    retained_mass : tuple of str
+        The presets on which the GLMB runs compute the retained posterior mass (an exact
+        normaliser per component: about 6 s a run on ``"vo"``, 3 min on ``"paper"``).
     ospa_c, ospa_p, ospa_window : float, float, int
-        OSPA(2) (spec §7: 200 m, 1, 5 scans).
+        OSPA(2) (spec §7: 200 m, 1, 5 scans); OSPA has the same ``c`` and ``p``.
 
     Examples
     --------
     >>> from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
-    >>> GLMBStudyConfig().n_mc, GLMBStudyConfig.quick().n_mc
-    (10, 2)
+    >>> GLMBStudyConfig().n_mc, GLMBStudyConfig.quick().n_mc, GLMBStudyConfig().presets
+    (10, 2, ('vo', 'paper'))
+    >>> GLMBStudyConfig.quick().retained_mass
+    ('vo',)
     """
 
     n_mc: int = 10
     n_scans: int = 100
-    preset: str = "vo"
+    presets: tuple = ("vo", "paper")
     methods: tuple = GLMB_METHODS
-    murty_runs: int = 2
+    murty_runs: int = 10
+    glmb_exact_runs: int = 2
     h_upd: int = 1000
     h_max: int = 1000
     original_obs: int = 10_000
@@ -90,32 +104,41 @@ class GLMBStudyConfig:
     tau_stall: int = 5
     tau_stale: int = 10
     murty_k: int = 1000
-    retained_mass: bool = True
+    retained_mass: tuple = ("vo", "paper")
     ospa_c: float = 200.0
     ospa_p: float = 1.0
     ospa_window: int = 5
 
     @classmethod
     def quick(cls) -> GLMBStudyConfig:
-        """Two runs of 100 scans, every method but Murty (which takes a minute a run)."""
-        return cls(n_mc=2, methods=GLMB_METHODS[:4], murty_runs=0)
+        """Two runs of 100 scans per preset; Murty on the first, the GLMB enumeration not at
+        all; the retained mass on ``"vo"``."""
+        return cls(n_mc=2, murty_runs=1, glmb_exact_runs=0, retained_mass=("vo",))
 
     def __post_init__(self):
         check_fields(self, where="glmb_tracking: ")
         object.__setattr__(self, "methods", tuple(self.methods))
+        object.__setattr__(self, "presets", tuple(self.presets))
+        object.__setattr__(self, "retained_mass", tuple(self.retained_mass))
         for m in self.methods:
             check_choice(m, "method", GLMB_METHODS)
-        check_choice(self.preset, "preset", ("vo", "paper", "paper-var"))
+        if not self.presets:
+            raise ValueError("presets must name at least one preset")
+        for p in self.presets + self.retained_mass:
+            check_choice(p, "preset", ("vo", "paper", "paper-var"))
         for name in ("n_mc", "n_scans", "h_upd", "h_max", "original_obs", "n_chains",
                      "chain_length", "tau_stall", "tau_stale", "murty_k", "ospa_window"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
-        if self.murty_runs < 0:
-            raise ValueError(f"murty_runs must be >= 0, got {self.murty_runs}")
+        for name in ("murty_runs", "glmb_exact_runs"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
 
 
 def _association(cfg: GLMBStudyConfig, method: str):
     kind = method.split("-")[1]
+    if kind == "exact":
+        return tracking.Exact()
     if kind == "long":
         return tracking.OriginalGibbs(cfg.original_obs)
     if kind == "short":
@@ -124,13 +147,24 @@ def _association(cfg: GLMBStudyConfig, method: str):
     return tracking.Murty(cfg.murty_k)
 
 
-def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str) -> dict:
-    """One run of one method; every method of a run sees the same measurements.
+def _filter(cfg: GLMBStudyConfig, method: str, preset: str, model):
+    extraction = model.extraction  # the preset's (PRESET_EXTRACTION)
+    assoc = _association(cfg, method)
+    if method.startswith("glmb"):
+        return tracking.GLMBFilter(model, assoc, h_upd=cfg.h_upd, h_max=cfg.h_max,
+                                   extraction=extraction,
+                                   retained_mass=preset in cfg.retained_mass)
+    return tracking.LMBFilter(model, assoc, extraction=extraction)
+
+
+def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
+                       preset: str = "vo") -> dict:
+    """One run of one method on one preset; every method of a run sees the same measurements.
 
     Parameters
     ----------
     cfg : GLMBStudyConfig
-        The study's settings (preset, scans, budgets, OSPA(2) parameters).
+        The study's settings (scans, budgets, OSPA(2) parameters).
     seed : int
         The study's seed; run ``run`` draws from ``run_seed(seed, run)``, split into the
         measurements' stream and the filter's, as :func:`~rankedassign.tracking.run_scenario`
@@ -138,29 +172,34 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str) -
     run : int
         Monte Carlo run index (0-based).
     method : str
-        One of ``cfg.methods``: ``"lmb-long"``, ``"lmb-short"``, ``"glmb-long"``,
-        ``"glmb-short"`` or ``"glmb-murty"``.
+        One of ``cfg.methods`` (:data:`GLMB_METHODS`).
+    preset : str, optional
+        The scenario's preset (default ``"vo"``).
 
     Returns
     -------
     dict
-        Plain data for JSON: ``run``, ``method``, the per-scan ``ospa2`` curve,
-        ``cardinality_error`` (absolute, per scan), ``sweeps`` and ``components`` per scan,
-        ``retained_mass`` per scan (``None`` where not computed) and ``seconds`` of filter time.
+        Plain data for JSON: ``preset``, ``run``, ``method``, the per-scan ``ospa`` and
+        ``ospa2`` curves, ``cardinality_error`` (absolute, per scan), ``sweeps`` and
+        ``components`` per scan, ``retained_mass`` per scan (``None`` where not computed),
+        ``seconds`` of filter time, and ``failed``: None, or — when the truncation does not
+        fit a scan's problem (``Exact``) — the scan and the error, the curves then empty.
     """
     meas_rng, filter_rng = spawning_generator(run_seed(seed, run)).spawn(2)
-    sc = tracking.make_scenario(cfg.preset, rng=meas_rng, n_scans=cfg.n_scans)
-    extraction = tracking.PRESET_EXTRACTION[cfg.preset]
-    assoc = _association(cfg, method)
-    if method.startswith("glmb"):
-        filt = tracking.GLMBFilter(sc.model, assoc, h_upd=cfg.h_upd, h_max=cfg.h_max,
-                                   extraction=extraction, retained_mass=cfg.retained_mass)
-    else:
-        filt = tracking.LMBFilter(sc.model, assoc, extraction=extraction)
+    sc = tracking.make_scenario(preset, rng=meas_rng, n_scans=cfg.n_scans)
+    filt = _filter(cfg, method, preset, sc.model)
     K = sc.truth.n_scans
     est, sweeps, comps, kept, n_est, secs = [], [], [], [], [], 0.0
-    for scan, g in zip(sc.scans, filter_rng.spawn(K), strict=True):
-        rec = filt.step(scan.z, rng=g)
+    out = {"preset": preset, "run": run, "method": method, "failed": None}
+    for k, (scan, g) in enumerate(zip(sc.scans, filter_rng.spawn(K), strict=True)):
+        try:
+            rec = filt.step(scan.z, rng=g)
+        except ValueError as err:  # a problem beyond the exact truncation's reach
+            if not method.endswith("exact"):
+                raise
+            return {**out, "failed": {"scan": k + 1, "error": str(err)}, "ospa": [],
+                    "ospa2": [], "cardinality_error": [], "sweeps": [], "components": [],
+                    "retained_mass": [], "seconds": secs}
         est.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
         sweeps.append(int(rec.sweeps))
         comps.append(int(getattr(rec, "n_components", 0)))
@@ -170,10 +209,12 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str) -
     e = metrics.tracks_to_array(est, dims=(0, 2))
     if e.shape[2] == 0:
         e = np.full((K, 0, 2), np.nan)
+    o1 = metrics.ospa2(sc.truth.positions, e, cfg.ospa_c, cfg.ospa_p, 1)
     o2 = metrics.ospa2(sc.truth.positions, e, cfg.ospa_c, cfg.ospa_p, cfg.ospa_window)
     card_err = np.abs(np.array(n_est) - sc.truth.n_targets)
     return {
-        "run": run, "method": method,
+        **out,
+        "ospa": np.asarray(o1.value, dtype=float).tolist(),
         "ospa2": np.asarray(o2.value, dtype=float).tolist(),
         "cardinality_error": card_err.astype(int).tolist(),
         "sweeps": sweeps, "components": comps,
@@ -184,23 +225,32 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str) -
 
 
 def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
-    """``(cfg, seed, run, method)``: every run of every method (Murty: ``murty_runs``)."""
-    return [(cfg, seed, r, m) for r in range(cfg.n_mc) for m in cfg.methods
-            if m != "glmb-murty" or r < cfg.murty_runs]
+    """``(cfg, seed, run, method, preset)``: every run of every method on every preset (the
+    Murty methods: the first ``murty_runs``; ``"glmb-exact"``: the first ``glmb_exact_runs``)."""
+    def runs(m):
+        if m.endswith("murty"):
+            return min(cfg.n_mc, cfg.murty_runs)
+        return min(cfg.n_mc, cfg.glmb_exact_runs) if m == "glmb-exact" else cfg.n_mc
+
+    return [(cfg, seed, r, m, p) for p in cfg.presets for m in cfg.methods
+            for r in range(runs(m))]
 
 
 @dataclass(frozen=True)
 class GLMBMethodSummary:
-    """One method over its runs: means (and standard errors over runs) of the per-run values.
+    """One method on one preset over its runs: means (and standard errors over runs).
 
     Attributes
     ----------
+    preset : str
+        The scenario's preset.
     method : str
         The method (``"glmb-short"``, ...).
     n_runs : int
-        Runs it ran.
-    ospa2_mean, ospa2_se : float
-        Mean OSPA(2) over scans and runs (m), and the standard error over the runs' means.
+        Runs that finished (a run whose truncation did not fit is counted in ``failed``).
+    ospa_mean, ospa_se, ospa2_mean, ospa2_se : float
+        Mean OSPA and OSPA(2) over scans and runs (m), and the standard errors over the runs'
+        means.
     cardinality_error_mean : float
         Mean absolute cardinality error over scans and runs.
     sweeps : float
@@ -212,10 +262,15 @@ class GLMBMethodSummary:
         the LMB filter, or where it was not computed).
     seconds : float
         Filter time per run (s), mean over runs.
+    failed : str
+        ``""``, or how many runs did not fit and the first one's scan and error.
     """
 
+    preset: str
     method: str
     n_runs: int
+    ospa_mean: float
+    ospa_se: float
     ospa2_mean: float
     ospa2_se: float
     cardinality_error_mean: float
@@ -224,18 +279,17 @@ class GLMBMethodSummary:
     retained_mass_mean: float
     retained_mass_min: float
     seconds: float
+    failed: str
 
 
 @dataclass(frozen=True)
-class GLMBStudySummary:
-    """The study's rows, the paired comparisons of the targets, and the per-scan curves.
+class GLMBPresetSummary:
+    """One preset's rows, the paired comparisons of the targets, and the per-scan curves.
 
     Attributes
     ----------
-    n_mc : int
-        Monte Carlo runs.
-    config : dict
-        The settings the study ran with.
+    preset : str
+        The scenario's preset.
     rows : tuple of GLMBMethodSummary
         One per method, in the order of ``config["methods"]``.
     short_vs_long_pct : float
@@ -248,12 +302,12 @@ class GLMBStudySummary:
         GLMB over LMB mean OSPA(2), minus 1, in %: short chains against short chains, long
         chain against long chain.
     curves : dict
-        Per-scan means for the plot: ``"scan"`` and, per method ``m``, ``ospa2_m``,
-        ``cardinality_error_m``, ``components_m``, ``sweeps_m`` and ``retained_mass_m``.
+        Per-scan means for the plot: ``"scan"`` and, per method ``m``, ``ospa_m``,
+        ``ospa2_m``, ``cardinality_error_m``, ``components_m``, ``sweeps_m`` and
+        ``retained_mass_m``.
     """
 
-    n_mc: int
-    config: dict
+    preset: str
     rows: tuple
     short_vs_long_pct: float
     glmb_savings_pct: float
@@ -261,6 +315,25 @@ class GLMBStudySummary:
     glmb_vs_lmb_short_pct: float
     glmb_vs_lmb_long_pct: float
     curves: dict
+
+
+@dataclass(frozen=True)
+class GLMBStudySummary:
+    """The study's summary: one :class:`GLMBPresetSummary` per preset.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per preset.
+    config : dict
+        The settings the study ran with.
+    presets : tuple of GLMBPresetSummary
+        In the order of ``config["presets"]``.
+    """
+
+    n_mc: int
+    config: dict
+    presets: tuple
 
 
 def _se(x) -> float:
@@ -272,70 +345,105 @@ def _masses(r) -> np.ndarray:
     return np.array([math.nan if v is None else v for v in r["retained_mass"]], dtype=float)
 
 
+def _failures(rs: list[dict]) -> str:
+    bad = [r for r in rs if r["failed"]]
+    if not bad:
+        return ""
+    f = bad[0]["failed"]
+    return (f"{len(bad)} of {len(rs)} runs do not fit; run {bad[0]['run']} stopped at scan "
+            f"{f['scan']}: {f['error']}")
+
+
+def _method_row(preset: str, m: str, all_runs: list[dict]) -> GLMBMethodSummary:
+    rs = [r for r in all_runs if not r["failed"]]
+    nan = math.nan
+    if not rs:
+        return GLMBMethodSummary(preset, m, 0, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+                                 nan, _failures(all_runs))
+    o1 = np.array([r["ospa"] for r in rs])
+    o2 = np.array([r["ospa2"] for r in rs])
+    mass = np.array([_masses(r) for r in rs])
+    finite = mass[np.isfinite(mass)]
+    return GLMBMethodSummary(
+        preset=preset, method=m, n_runs=len(rs), ospa_mean=float(o1.mean()),
+        ospa_se=_se(o1.mean(axis=1)), ospa2_mean=float(o2.mean()), ospa2_se=_se(o2.mean(axis=1)),
+        cardinality_error_mean=float(np.mean([r["cardinality_error"] for r in rs])),
+        sweeps=float(np.mean([sum(r["sweeps"]) for r in rs])),
+        components_mean=float(np.mean([r["components"] for r in rs])),
+        retained_mass_mean=float(finite.mean()) if finite.size else nan,
+        retained_mass_min=float(finite.min()) if finite.size else nan,
+        seconds=float(np.mean([r["seconds"] for r in rs])), failed=_failures(all_runs))
+
+
+def _curves(by: dict, n_scans: int) -> dict:
+    curves = {"scan": list(range(1, n_scans + 1))}
+    for m, all_runs in by.items():
+        rs = [r for r in all_runs if not r["failed"]]
+        if not rs:
+            continue
+        for key in ("ospa", "ospa2", "cardinality_error", "components", "sweeps"):
+            curves[f"{key}_{m}"] = np.mean([r[key] for r in rs], axis=0).tolist()
+        mass = np.array([_masses(r) for r in rs])
+        if np.isfinite(mass).any():
+            with np.errstate(invalid="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # a scan without any value
+                curves[f"retained_mass_{m}"] = np.nanmean(mass, axis=0).tolist()
+    return curves
+
+
+def _paired(by: dict, a: str, b: str, key: str = "ospa2") -> float:
+    """Mean of a's per-run means over b's, minus 1 (%), over the runs both finished."""
+    def per_run(m):
+        return {r["run"]: np.mean(r[key]) if key == "ospa2" else sum(r[key])
+                for r in by.get(m, []) if not r["failed"]}
+
+    ra, rb = per_run(a), per_run(b)
+    common = sorted(set(ra) & set(rb))
+    if not common:
+        return math.nan
+    return 100.0 * (np.mean([ra[i] for i in common]) / np.mean([rb[i] for i in common]) - 1)
+
+
 def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudySummary:
-    """Per-method rows, the paired target comparisons and the per-scan means.
+    """Per-preset, per-method rows, the paired target comparisons and the per-scan means.
 
     Parameters
     ----------
     runs : list of dict
         Records of :func:`glmb_tracking_task`.
     cfg : GLMBStudyConfig
-        The settings of the runs (methods, scans).
+        The settings of the runs (presets, methods, scans).
 
     Returns
     -------
     GLMBStudySummary
     """
-    by = {m: sorted((r for r in runs if r["method"] == m), key=lambda r: r["run"])
-          for m in cfg.methods}
-    rows, curves = [], {"scan": list(range(1, cfg.n_scans + 1))}
-    for m, rs in by.items():
-        if not rs:
-            continue
-        o = np.array([r["ospa2"] for r in rs])
-        mass = np.array([_masses(r) for r in rs])
-        finite = mass[np.isfinite(mass)]
-        rows.append(GLMBMethodSummary(
-            method=m, n_runs=len(rs), ospa2_mean=float(o.mean()), ospa2_se=_se(o.mean(axis=1)),
-            cardinality_error_mean=float(np.mean([r["cardinality_error"] for r in rs])),
-            sweeps=float(np.mean([sum(r["sweeps"]) for r in rs])),
-            components_mean=float(np.mean([r["components"] for r in rs])),
-            retained_mass_mean=float(finite.mean()) if finite.size else math.nan,
-            retained_mass_min=float(finite.min()) if finite.size else math.nan,
-            seconds=float(np.mean([r["seconds"] for r in rs])),
+    out = []
+    for preset in cfg.presets:
+        by = {m: sorted((r for r in runs if r["method"] == m
+                         and r.get("preset", "vo") == preset), key=lambda r: r["run"])
+              for m in cfg.methods}
+        by = {m: rs for m, rs in by.items() if rs}
+        out.append(GLMBPresetSummary(
+            preset=preset,
+            rows=tuple(_method_row(preset, m, rs) for m, rs in by.items()),
+            short_vs_long_pct=_paired(by, "glmb-short", "glmb-long"),
+            glmb_savings_pct=-_paired(by, "glmb-short", "glmb-long", "sweeps"),
+            lmb_savings_pct=-_paired(by, "lmb-short", "lmb-long", "sweeps"),
+            glmb_vs_lmb_short_pct=_paired(by, "glmb-short", "lmb-short"),
+            glmb_vs_lmb_long_pct=_paired(by, "glmb-long", "lmb-long"),
+            curves=_curves(by, cfg.n_scans),
         ))
-        curves[f"ospa2_{m}"] = o.mean(axis=0).tolist()
-        curves[f"cardinality_error_{m}"] = np.mean([r["cardinality_error"] for r in rs],
-                                                   axis=0).tolist()
-        curves[f"components_{m}"] = np.mean([r["components"] for r in rs], axis=0).tolist()
-        curves[f"sweeps_{m}"] = np.mean([r["sweeps"] for r in rs], axis=0).tolist()
-        if finite.size:
-            with np.errstate(invalid="ignore"):
-                curves[f"retained_mass_{m}"] = np.nanmean(mass, axis=0).tolist()
-
-    def paired(a, b, key="ospa2"):
-        """Mean of a's per-run means over b's, minus 1 (%), over the runs both have."""
-        ra = {r["run"]: np.mean(r[key]) if key == "ospa2" else sum(r[key]) for r in by.get(a, [])}
-        rb = {r["run"]: np.mean(r[key]) if key == "ospa2" else sum(r[key]) for r in by.get(b, [])}
-        common = sorted(set(ra) & set(rb))
-        if not common:
-            return math.nan
-        return 100.0 * (np.mean([ra[i] for i in common]) / np.mean([rb[i] for i in common]) - 1)
-
     return GLMBStudySummary(
         n_mc=cfg.n_mc,
-        config={"preset": cfg.preset, "n_scans": cfg.n_scans, "h_upd": cfg.h_upd,
-                "h_max": cfg.h_max, "original_obs": cfg.original_obs,
-                "n_chains": cfg.n_chains, "chain_length": cfg.chain_length,
-                "tau_stall": cfg.tau_stall, "tau_stale": cfg.tau_stale, "murty_k": cfg.murty_k,
+        config={"presets": list(cfg.presets), "methods": list(cfg.methods),
+                "n_scans": cfg.n_scans, "h_upd": cfg.h_upd, "h_max": cfg.h_max,
+                "original_obs": cfg.original_obs, "n_chains": cfg.n_chains,
+                "chain_length": cfg.chain_length, "tau_stall": cfg.tau_stall,
+                "tau_stale": cfg.tau_stale, "murty_k": cfg.murty_k, "murty_runs": cfg.murty_runs,
+                "glmb_exact_runs": cfg.glmb_exact_runs, "retained_mass": list(cfg.retained_mass),
                 "ospa_c": cfg.ospa_c, "ospa_p": cfg.ospa_p, "ospa_window": cfg.ospa_window},
-        rows=tuple(rows),
-        short_vs_long_pct=paired("glmb-short", "glmb-long"),
-        glmb_savings_pct=-paired("glmb-short", "glmb-long", "sweeps"),
-        lmb_savings_pct=-paired("lmb-short", "lmb-long", "sweeps"),
-        glmb_vs_lmb_short_pct=paired("glmb-short", "lmb-short"),
-        glmb_vs_lmb_long_pct=paired("glmb-long", "lmb-long"),
-        curves=curves,
+        presets=tuple(out),
     )
 
 
@@ -343,7 +451,7 @@ def _off(v: float, what: str) -> str:
     return f"{fmt.num(abs(v), 1)} % {'above' if v >= 0 else 'below'} {what}"
 
 
-def _verdict(s: GLMBStudySummary) -> str:
+def _verdict(s: GLMBPresetSummary) -> str:
     parts = []
     paper = 100.0 * (1 - PAPER_TOTALS["proposed"] / PAPER_TOTALS["original"])
     if math.isfinite(s.short_vs_long_pct):
@@ -366,7 +474,17 @@ def _verdict(s: GLMBStudySummary) -> str:
             parts.append(f"With the {name}, the GLMB filter's mean OSPA(2) is "
                          f"{_off(v, 'the LMB filter’s')} (target: at most "
                          f"{GLMB_VS_LMB_TARGET:g} % above, {'met' if ok else 'not met'}).")
-    mass = {r.method: r for r in s.rows if math.isfinite(r.retained_mass_mean)}
+    rows = {r.method: r for r in s.rows}
+    exact = rows.get("lmb-exact")
+    if exact is not None and math.isfinite(exact.ospa2_mean):
+        near = [f"{_LABELS[m]} {_off(100 * (r.ospa2_mean / exact.ospa2_mean - 1), 'it')}"
+                for m, r in rows.items() if m != "lmb-exact" and math.isfinite(r.ospa2_mean)]
+        parts.append(f"Against the LMB filter's exact update ({fmt.num(exact.ospa2_mean, 2)} m "
+                     "mean OSPA(2)): " + "; ".join(near) + ".")
+    for m, r in rows.items():
+        if r.failed:
+            parts.append(f"{_LABELS[m]}: {r.failed}.")
+    mass = {m: r for m, r in rows.items() if math.isfinite(r.retained_mass_mean)}
     if mass:
         parts.append("Posterior mass retained per scan (mean, worst scan): " + "; ".join(
             f"{_LABELS[m]} {fmt.num(r.retained_mass_mean, 4)}, {fmt.num(r.retained_mass_min, 4)}"
@@ -375,69 +493,96 @@ def _verdict(s: GLMBStudySummary) -> str:
     return " ".join(parts)
 
 
+def _table(s: GLMBPresetSummary) -> str:
+    header = ["method", "runs", "OSPA (m)", "OSPA(2) (m)", "cardinality error (abs.)",
+              "sweeps per run", "components", "retained mass (mean / min)", "seconds per run"]
+    rows = []
+    for r in s.rows:
+        if not r.n_runs:
+            rows.append([_LABELS[r.method], "0", "does not fit"] + ["–"] * 6)
+            continue
+        rows.append([
+            _LABELS[r.method], str(r.n_runs), fmt.pm(r.ospa_mean, r.ospa_se),
+            fmt.pm(r.ospa2_mean, r.ospa2_se), fmt.num(r.cardinality_error_mean, 3),
+            fmt.integer(r.sweeps),
+            fmt.num(r.components_mean, 1) if r.method.startswith("glmb") else "–",
+            (f"{fmt.num(r.retained_mass_mean, 4)} / {fmt.num(r.retained_mass_min, 4)}"
+             if math.isfinite(r.retained_mass_mean) else "–"),
+            fmt.num(r.seconds, 2)])
+    return fmt.table(header, rows)
+
+
 def render_glmb_tracking(s: GLMBStudySummary, cfg: GLMBStudyConfig) -> str:
     """The study's report section."""
     c = s.config
-    header = ["method", "runs", "OSPA(2) (m)", "cardinality error (abs.)", "sweeps per run",
-              "components", "retained mass (mean / min)", "seconds per run"]
-    rows = [[_LABELS[r.method], str(r.n_runs), fmt.pm(r.ospa2_mean, r.ospa2_se),
-             fmt.num(r.cardinality_error_mean, 3), fmt.integer(r.sweeps),
-             fmt.num(r.components_mean, 1) if r.method.startswith("glmb") else "–",
-             (f"{fmt.num(r.retained_mass_mean, 4)} / {fmt.num(r.retained_mass_min, 4)}"
-              if math.isfinite(r.retained_mass_mean) else "–"),
-             fmt.num(r.seconds, 2)] for r in s.rows]
+    sections = "\n".join(
+        f"""### Preset `{p.preset}`
+
+{_table(p)}
+
+**Verdict.** {_verdict(p)}
+""" for p in s.presets)
     return f"""## δ-GLMB against LMB — every truncation on the same measurements (issue #26)
 
-Preset `{c["preset"]}`, {fmt.plural(s.n_mc, "Monte Carlo run")} of {c["n_scans"]} scans; every
-method of a run sees the same measurements. GLMB: `H_upd = {c["h_upd"]}`, `H_max = {c["h_max"]}`,
-component count `T_h = round(H_upd √w_h / Σ √w)`; long chain `T_h − 1` sweeps per component
-(at most {c["original_obs"]:,}; LMB: {c["original_obs"]:,} per scan); short chains
-{c["n_chains"]} × {c["chain_length"]}, τ_stall = {c["tau_stall"]}, τ_stale = {c["tau_stale"]},
-within the same `T_h − 1`; Murty `k = min({c["murty_k"]}, T_h)`. OSPA(2): c = {c["ospa_c"]:g} m,
-p = {c["ospa_p"]:g}, window {c["ospa_window"]}. The retained mass is
-`Σ_h w_h K_h / Σ_h w_h Z_h` with the exact normalisers (spec §4).
+Presets {", ".join(f"`{p}`" for p in c["presets"])}, {fmt.plural(s.n_mc, "Monte Carlo run")}
+each of {c["n_scans"]} scans (the Murty methods: the first {c["murty_runs"]}; the GLMB
+enumeration: the first {c["glmb_exact_runs"]}); every method of a run sees the same
+measurements. GLMB: `H_upd = {c["h_upd"]}`, `H_max = {c["h_max"]}`, component
+count `T_h = round(H_upd √w_h / Σ √w)`; exact: every assignment of every component (at most
+200 000 per component, else the run is reported as not fitting) — for the LMB filter the exact
+marginals; long chain `T_h − 1` sweeps per component (at most {c["original_obs"]:,}; LMB:
+{c["original_obs"]:,} per scan); short chains {c["n_chains"]} × {c["chain_length"]},
+τ_stall = {c["tau_stall"]}, τ_stale = {c["tau_stale"]}, within the same `T_h − 1`; Murty
+`k = min({c["murty_k"]}, T_h)` (LMB: `k = {c["murty_k"]}`). OSPA: c = {c["ospa_c"]:g} m,
+p = {c["ospa_p"]:g}; OSPA(2) the same over a window of {c["ospa_window"]} scans. The retained
+mass is `Σ_h w_h K_h / Σ_h w_h Z_h` with the exact normalisers (spec §4), computed on
+{", ".join(f"`{p}`" for p in c["retained_mass"]) or "no preset"}.
 
-{fmt.table(header, rows)}
-
-**Verdict.** {_verdict(s)}
-
-![OSPA(2), cardinality error, components and retained mass per scan](glmb_tracking.png)
+{sections}
+![OSPA(2), OSPA, cardinality error, components and retained mass per scan](glmb_tracking.png)
 """
 
 
 def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
-    """Four panels per scan: OSPA(2), cardinality error, components, retained mass."""
-    cur = s.curves
-    k = np.array(cur["scan"])
-    fig, axes = figure(4, width=4.5, height=3.6)
-    methods = [r.method for r in s.rows]
-    for ax, what, ylabel in zip(axes, ("ospa2", "cardinality_error", "components",
-                                       "retained_mass"),
-                                ("OSPA(2) (m)", "abs. cardinality error", "components",
-                                 "retained mass"), strict=True):
-        for m in methods:
-            key = f"{what}_{m}"
-            if key in cur and (what not in ("components", "retained_mass")
-                               or m.startswith("glmb")):
-                ax.plot(k, cur[key], label=_LABELS[m], lw=1, color=_COLORS[m])
-        ax.set_xlabel("scan")
-        ax.set_ylabel(ylabel)
-        ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=7)
-    fig.suptitle(f"δ-GLMB and LMB on preset {s.config['preset']!r}, mean of "
-                 f"{fmt.plural(s.n_mc, 'run')}", fontsize=10)
+    """Five panels per scan and preset: OSPA(2), OSPA, cardinality error, components, mass."""
+    from matplotlib.figure import Figure
+
+    panels = (("ospa2", "OSPA(2) (m)"), ("ospa", "OSPA (m)"),
+              ("cardinality_error", "abs. cardinality error"), ("components", "components"),
+              ("retained_mass", "retained mass"))
+    n = len(s.presets)
+    fig = Figure(figsize=(4.2 * len(panels), 3.4 * n), layout="constrained")
+    axes = fig.subplots(n, len(panels), squeeze=False)
+    for p, row in zip(s.presets, axes, strict=True):
+        cur = p.curves
+        k = np.array(cur["scan"])
+        for ax, (what, ylabel) in zip(row, panels, strict=True):
+            for r in p.rows:
+                m = r.method
+                key = f"{what}_{m}"
+                if key in cur and (what not in ("components", "retained_mass")
+                                   or m.startswith("glmb")):
+                    ax.plot(k, cur[key], label=_LABELS[m], lw=1, color=_COLORS[m],
+                            ls=_STYLES[m])
+            ax.set_xlabel("scan")
+            ax.set_ylabel(ylabel)
+            ax.set_title(f"preset {p.preset!r}", fontsize=9)
+            ax.grid(True, alpha=0.3)
+        row[0].legend(fontsize=7)
+    fig.suptitle(f"δ-GLMB and LMB, mean of {fmt.plural(s.n_mc, 'run')} per preset",
+                 fontsize=10)
     name = "glmb_tracking.png"
-    fig.savefig(Path(directory) / name, dpi=110)
+    fig.savefig(Path(directory) / name, dpi=100)
     return [name]
 
 
 def _csv_rows(s: GLMBStudySummary) -> list[dict]:
-    return [dict(r.__dict__) for r in s.rows]
+    return [dict(r.__dict__) for p in s.presets for r in p.rows]
 
 
 GLMB_TRACKING = register_study(Study(
     name="glmb_tracking",
-    title="δ-GLMB against LMB with the long chain, the short chains and Murty (issue #26)",
+    title="δ-GLMB against LMB, exact, long chain, short chains and Murty (issue #26)",
     config_type=GLMBStudyConfig,
     full=GLMBStudyConfig,
     quick=GLMBStudyConfig.quick,

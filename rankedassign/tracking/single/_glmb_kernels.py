@@ -11,6 +11,10 @@ run here in one compiled call per scan:
    per-(track, measurement) terms, runs the chains and emits every unique assignment as a
    child (its parent, its cost, and the (track, measurement) pair of every row that exists
    after the scan);
+   :func:`ranked_components` does the same for Murty's ``k`` best and for the enumeration of
+   every assignment (:class:`~rankedassign.tracking.Murty`, :class:`~rankedassign.tracking.Exact`),
+   with the oracle's compiled searches (:mod:`oracle.kernels`), after
+   :func:`count_components` has counted each component's assignments for the enumeration;
 3. :func:`merge_children` merges children with the same track set and sums their weights;
 4. :func:`mark_reachable` finds the association-history nodes that live tracks still use.
 
@@ -34,14 +38,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_kernel
+
 from ...engine._kernels import chain_state, hash_of, mix64
 from ...numba_options import jit
 from ...single._kernels import sweep, sweep_prefix
 from ...single.prepare import M_DIRECT, prefix_sums
 from .._kernels import _logaddexp
 
-__all__ = ["component_keys", "component_problem", "sample_components", "merge_children",
-           "mark_reachable"]
+__all__ = ["component_keys", "component_problem", "component_costs", "count_components",
+           "ranked_components", "sample_components", "merge_children", "mark_reachable"]
 
 
 @jit()
@@ -113,6 +119,186 @@ def component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
             M += 1
             mark[j] = False
     return P, M
+
+
+@jit()
+def component_costs(h, comp_off, comp_tracks, births, cc_all, gated, mark, rows, cols):
+    """The compact costs of component ``h``'s problem, gathered from the scan's terms.
+
+    Parameters
+    ----------
+    h, comp_off, comp_tracks, births, gated, mark, rows, cols
+        As in :func:`component_problem` (``rows`` and ``cols`` are filled).
+    cc_all : ndarray of float64, shape (T, U + 2)
+        ``−ln η`` of every entry: its gated measurements, missed, dead (``+inf`` outside the
+        gate).
+
+    Returns
+    -------
+    P, M : int
+        Rows and columns of the problem.
+    cc : ndarray of float64, shape (P, M + 2)
+        Its compact costs (:attr:`rankedassign.AssignmentProblem.compact_cost`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.single._glmb_kernels import component_costs
+    >>> gated = np.array([[True, False], [False, True]])
+    >>> cc_all = np.array([[0.5, np.inf, 1.0, 2.0], [np.inf, 0.25, 3.0, 4.0]])
+    >>> rows, cols = np.empty(2, np.int64), np.empty(2, np.int64)
+    >>> P, M, cc = component_costs(0, np.array([0, 1]), np.array([1]), np.array([0]), cc_all,
+    ...                            gated, np.zeros(2, bool), rows, cols)
+    >>> cc.tolist()
+    [[0.5, inf, 1.0, 2.0], [inf, 0.25, 3.0, 4.0]]
+    """
+    P, M = component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
+    U = gated.shape[1]
+    cc = np.empty((P, M + 2))
+    for i in range(P):
+        r = rows[i]
+        for j in range(M):
+            cc[i, j] = cc_all[r, cols[j]]
+        cc[i, M] = cc_all[r, U]
+        cc[i, M + 1] = cc_all[r, U + 1]
+    return P, M, cc
+
+
+@jit()
+def count_components(comp_off, comp_tracks, births, cc_all, gated, cap):
+    """``min(|Γ_h|, cap + 1)`` for every component (the depth-first count of the oracle).
+
+    Parameters
+    ----------
+    comp_off, comp_tracks, births, cc_all, gated
+        As in :func:`component_costs`.
+    cap : int
+        The count stops past it.
+
+    Returns
+    -------
+    counts : ndarray of int64, shape (H,)
+        The number of feasible assignments of each component's problem, ``cap + 1`` for one
+        with more than ``cap``.
+    sizes : ndarray of int64, shape (H, 2)
+        ``(P, M)`` of each problem.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.single._glmb_kernels import count_components
+    >>> gated = np.array([[True]])
+    >>> counts, sizes = count_components(np.array([0, 0]), np.empty(0, np.int64),
+    ...                                  np.array([0]), np.array([[0.5, 1.0, 2.0]]), gated, 10)
+    >>> counts.tolist(), sizes.tolist()
+    ([3], [[1, 1]])
+    """
+    H = comp_off.size - 1
+    T, U = gated.shape
+    mark = np.zeros(U, dtype=np.bool_)
+    width = 0
+    for h in range(H):
+        width = max(width, comp_off[h + 1] - comp_off[h])
+    rows = np.empty(births.size + width, dtype=np.int64)
+    cols = np.empty(U, dtype=np.int64)
+    counts = np.empty(H, dtype=np.int64)
+    sizes = np.empty((H, 2), dtype=np.int64)
+    for h in range(H):
+        P, M, cc = component_costs(h, comp_off, comp_tracks, births, cc_all, gated, mark, rows,
+                                   cols)
+        sizes[h, 0], sizes[h, 1] = P, M
+        if P == 0:
+            counts[h] = 1
+            continue
+        used = np.zeros(M, dtype=np.bool_)
+        opt = np.full(P, NO_OPTION, dtype=np.int64)
+        at = np.zeros(2, dtype=np.int64)
+        count_slice(cc, cap, used, opt, at, 1 << 62)
+        counts[h] = at[1]
+    return counts, sizes
+
+
+@jit()
+def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exact, h0, h1):
+    """Murty's ``k`` best, or every assignment, of components ``h0 .. h1 − 1``: the children.
+
+    Parameters
+    ----------
+    comp_off, comp_tracks, births, cc_all, gated
+        As in :func:`component_costs`.
+    n_want : ndarray of int64, shape (H,)
+        Murty's ``k >= 1`` of every component, or (``exact``) its count of assignments from
+        :func:`count_components`.
+    exact : bool
+        Enumerate every assignment (:func:`oracle.kernels.enumerate_sorted_kernel`) instead of
+        Murty's search (:func:`oracle.kernels.murty_compact_kernel`).
+    h0, h1 : int
+        The components, ``0 <= h0 <= h1 <= H``.
+
+    Returns
+    -------
+    comp, cost, off, entry, meas : ndarray
+        The children, as :func:`sample_components` returns them: parent, cost (best first
+        within a parent, as the oracle returns them), and the (entry, measurement or ``−1``)
+        of every row that exists after the scan, child ``c``'s in ``off[c]:off[c + 1]``
+        (``off[0] = 0``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.single._glmb_kernels import ranked_components
+    >>> gated = np.array([[True]])
+    >>> out = ranked_components(np.array([0, 0]), np.empty(0, np.int64), np.array([0]),
+    ...                         np.array([[0.5, 1.0, 2.0]]), gated, np.array([2]), False, 0, 1)
+    >>> [x.tolist() for x in out]
+    [[0, 0], [0.5, 1.0], [0, 1, 2], [0, 0], [0, -1]]
+    """
+    T, U = gated.shape
+    mark = np.zeros(U, dtype=np.bool_)
+    width = 0
+    n_cap = 0
+    e_cap = 0
+    for h in range(h0, h1):
+        size = comp_off[h + 1] - comp_off[h]
+        width = max(width, size)
+        n_cap += n_want[h]
+        e_cap += n_want[h] * (births.size + size)
+    rows = np.empty(births.size + width, dtype=np.int64)
+    cols = np.empty(U, dtype=np.int64)
+    child_comp = np.empty(n_cap, dtype=np.int64)
+    child_cost = np.empty(n_cap)
+    child_off = np.zeros(n_cap + 1, dtype=np.int64)
+    child_entry = np.empty(e_cap, dtype=np.int64)
+    child_meas = np.empty(e_cap, dtype=np.int64)
+    n_out = 0
+    e_out = 0
+    for h in range(h0, h1):
+        P, M, cc = component_costs(h, comp_off, comp_tracks, births, cc_all, gated, mark, rows,
+                                   cols)
+        if P == 0:  # no row at all: the one empty assignment
+            child_comp[n_out] = h
+            child_cost[n_out] = 0.0
+            n_out += 1
+            child_off[n_out] = e_out
+            continue
+        if exact:
+            a, c = enumerate_sorted_kernel(cc, n_want[h])
+        else:
+            a, c = murty_compact_kernel(cc, n_want[h])
+        for u in range(a.shape[0]):
+            child_comp[n_out] = h
+            child_cost[n_out] = c[u]
+            for i in range(P):
+                k = a[u, i]
+                if k < M + P:  # a measurement or missed: the row is there after the scan
+                    child_entry[e_out] = rows[i]
+                    child_meas[e_out] = cols[k] if k < M else -1
+                    e_out += 1
+            n_out += 1
+            child_off[n_out] = e_out
+    return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
+            child_off[:n_out + 1].copy(), child_entry[:e_out].copy(),
+            child_meas[:e_out].copy())
 
 
 @jit()

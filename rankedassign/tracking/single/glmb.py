@@ -41,7 +41,14 @@ from ...engine.rng import spawning_generator
 from ...numba_options import interruptible
 from ...samplers import sample_original, sample_short_chains
 from ...single.problem import AssignmentProblem
-from ...validation import check_bool, check_choice, check_int, check_real, check_type
+from ...validation import (
+    MAX_WORK_BYTES,
+    check_bool,
+    check_choice,
+    check_int,
+    check_real,
+    check_type,
+)
 from .. import _kernels
 from .._kernels import MERGE_RULES
 from ..models import Model
@@ -61,6 +68,11 @@ __all__ = [
 GLMB_EXTRACTIONS = ("map", "trajectory", "hysteresis")
 #: Largest enumeration :class:`~rankedassign.tracking.Exact` runs on one component.
 EXACT_LIMIT = 200_000
+#: Largest number of assignments :class:`~rankedassign.tracking.Exact` keeps in one scan, over
+#: all components (their children must fit in memory before the merge and the cap).
+EXACT_SCAN_LIMIT = 5_000_000
+#: Assignments per compiled call of the Murty and Exact truncations (a slice of components).
+_RANKED_SLICE = 20_000
 _ZOBRIST_SEED = np.uint64(0x6A09E667F3BCC909)
 _TWO63 = 2**63
 
@@ -373,7 +385,8 @@ class GLMBFilter:
         ``L = min(N_C, T_h − 1)`` sweeps, at most ``min(N_S, ⌈(T_h − 1) / L⌉)`` of them, with
         its stall and stale rules; :class:`~rankedassign.tracking.Murty` the
         ``min(k, max(T_h, 1))`` best; :class:`~rankedassign.tracking.Exact` every assignment
-        (at most :data:`EXACT_LIMIT`, else ``ValueError``). Any object with a method
+        (at most :data:`EXACT_LIMIT` per component and :data:`EXACT_SCAN_LIMIT` per scan, else
+        ``ValueError``). Any object with a method
         ``hypotheses(problem, budget, rng)`` returning :class:`Hypotheses` works too. An
         association that gives marginals only (LBP, a plain LMB association) is refused with
         ``TypeError``.
@@ -402,12 +415,14 @@ class GLMBFilter:
     retained_mass : bool, optional
         Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) with the oracle's DP (default
         False: it costs one exact normaliser per component).
-    keep_histories : bool, optional
-        Keep every entry's whole association history (default True): the trajectories of
-        ``extraction="trajectory"`` and :meth:`components` read it, and it grows by one node
-        (56 bytes) per live entry and scan. False keeps only the last scan's node, so the
-        state stays bounded by the caps however long the run (an entry is told apart by its
-        table index, never by its history, so the filter's numbers do not change).
+    keep_histories : bool or None, optional
+        Keep every entry's whole association history: the trajectories of
+        ``extraction="trajectory"`` and the histories of :meth:`components` read it, and it
+        grows by one node (56 bytes) per live entry and scan, with the ages of the tracks.
+        False keeps only the last scan's node, so the state stays bounded by the caps however
+        long the run (an entry is told apart by its table index, never by its history, so the
+        filter's numbers do not change). None (default): True for
+        ``extraction="trajectory"``, else False.
 
     Notes
     -----
@@ -462,7 +477,7 @@ class GLMBFilter:
         merge_rule: str = "bhattacharyya",
         max_components: int = 10,
         retained_mass: bool = False,
-        keep_histories: bool = True,
+        keep_histories: bool | None = None,
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
         custom = callable(getattr(association, "hypotheses", None))
@@ -492,6 +507,8 @@ class GLMBFilter:
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
         self.max_components = check_int(max_components, "max_components", minimum=1)
         self.retained_mass = check_bool(retained_mass, "retained_mass")
+        if keep_histories is None:
+            keep_histories = self.extraction == "trajectory"
         self.keep_histories = check_bool(keep_histories, "keep_histories")
         if self.extraction == "trajectory" and not self.keep_histories:
             raise ValueError("extraction='trajectory' needs keep_histories=True (a trajectory "
@@ -756,6 +773,11 @@ class GLMBFilter:
                     _zobrist(P_max, U + 2))
             return _Children(comp, cost, off, entry, meas, int(sweeps.sum()),
                              int((sweeps * n_rows).sum()))
+        if type(self.association) in (Murty, Exact) and getattr(
+                self.association, "backend", "numba") == "numba":
+            ranked = self._ranked(terms, counts)
+            if ranked is not None:
+                return ranked
         # component by component: the public samplers, Murty, enumeration, custom
         mark = np.zeros(U, dtype=bool)
         rows = np.empty(self._births.size + int(np.diff(self.comp_off).max(initial=0)),
@@ -781,6 +803,48 @@ class GLMBFilter:
         return _Children(_concat(comp, np.int64), _concat(cost, np.float64),
                          np.array(off, dtype=np.int64), _concat(entry, np.int64),
                          _concat(meas, np.int64), sweeps, row_updates)
+
+    def _ranked(self, terms: _Terms, counts: np.ndarray) -> _Children | None:
+        """Murty's ``k = min(k, max(T_h, 1))`` best or every assignment of every component, in
+        compiled loops over the components (the oracle's searches, :mod:`oracle.kernels`).
+
+        None when a component is beyond :data:`EXACT_LIMIT` or the work arrays' limit: the
+        component-by-component path then raises the error of :func:`truncate` for it.
+        """
+        exact = isinstance(self.association, Exact)
+        args = (self.comp_off, self.comp_tracks, self._births, terms.cc, terms.gated)
+        if exact:
+            with interruptible:
+                n_want, sizes = _glmb_kernels.count_components(*args, EXACT_LIMIT)
+            if (n_want > EXACT_LIMIT).any():
+                return None
+            total = int(n_want.sum())
+            if total > EXACT_SCAN_LIMIT:
+                raise ValueError(
+                    f"Exact() would keep {total} assignments of {n_want.size} components in "
+                    f"one scan, above EXACT_SCAN_LIMIT = {EXACT_SCAN_LIMIT} (each component "
+                    f"has at most {int(n_want.max())}); use Murty(k) or a sampler for "
+                    "problems of this size")
+        else:
+            n_want = np.minimum(self.association.k, np.maximum(counts, 1)).astype(np.int64)
+        P_max = self._births.size + int(np.diff(self.comp_off).max(initial=0))
+        if int(n_want.max(initial=0)) * (32 * P_max + 128) > MAX_WORK_BYTES:
+            return None
+        # slices of components of about _RANKED_SLICE assignments: Ctrl-C stays prompt
+        cum = np.cumsum(n_want)
+        cuts = np.searchsorted(cum, np.arange(_RANKED_SLICE, cum[-1], _RANKED_SLICE),
+                               side="right")
+        bounds = np.unique(np.r_[0, cuts, n_want.size])
+        parts = []
+        for h0, h1 in zip(bounds[:-1], bounds[1:], strict=True):
+            with interruptible:
+                parts.append(_glmb_kernels.ranked_components(*args, n_want, exact, int(h0),
+                                                             int(h1)))
+        comp, cost, off, entry, meas = (list(x) for x in zip(*parts, strict=True))
+        shift = np.cumsum([0] + [o[-1] for o in off[:-1]])
+        off = np.concatenate([off[0][:1]] + [o[1:] + d for o, d in zip(off, shift, strict=True)])
+        return _Children(_concat(comp, np.int64), _concat(cost, np.float64), off,
+                         _concat(entry, np.int64), _concat(meas, np.int64), 0, 0)
 
     def _retained(self, terms: _Terms, children: _Children) -> tuple[float, str]:
         """``Σ_h w_h K_h / Σ_h w_h Z_h`` with the exact ``Z_h`` (spec §4).
