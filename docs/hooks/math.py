@@ -4,7 +4,7 @@
 ``<span class="arithmatex">\\(...\\)</span>`` or ``<div class="arithmatex">\\[...\\]</div>``.
 This hook replaces each wrapper's TeX by MathML from ``latex2mathml`` (a pure-Python package of
 the ``docs`` extra), which browsers display natively: the site needs no MathJax and no network.
-The TeX stays in the page as the MathML ``annotation``, so copying and search still see it.
+Formulas in headings are converted in the table of contents too.
 
 A formula ``latex2mathml`` cannot convert, or converts with a TeX command left in the output,
 is a warning, so it fails the strict build.
@@ -34,10 +34,21 @@ REWRITES = [
 ]
 
 
-def _to_mathml(tex: str, display: bool) -> str:
+def _to_mathml(tex: str, display: bool, page) -> str | None:
+    """MathML for ``tex``; ``None`` (and a warning: strict builds fail) if it does not convert."""
+    source = tex
     for pattern, repl in REWRITES:
         tex = pattern.sub(repl, tex)
-    return convert(tex.strip(), display="block" if display else "inline")
+    try:
+        mathml = convert(tex.strip(), display="block" if display else "inline")
+    except Exception as exc:  # latex2mathml raises many types on bad input
+        _logger.warning("%s: cannot convert %r to MathML: %s", page.file.src_uri, source, exc)
+        return None
+    leftover = LEFTOVER.search(mathml)
+    if leftover:
+        _logger.warning("%s: TeX command not understood in %r: %s",
+                        page.file.src_uri, source, leftover.group(0))
+    return mathml
 
 
 def _replace(match: re.Match, page) -> str:
@@ -47,25 +58,26 @@ def _replace(match: re.Match, page) -> str:
     if not (inline or display):
         _logger.warning("%s: unexpected math wrapper content %r", page.file.src_uri, raw[:80])
         return match.group(0)
-    tex = (inline or display).group("tex")
-    try:
-        mathml = _to_mathml(tex, display=display is not None)
-    except Exception as exc:  # latex2mathml raises many types on bad input
-        _logger.warning("%s: cannot convert %r to MathML: %s", page.file.src_uri, tex, exc)
+    mathml = _to_mathml((inline or display).group("tex"), display is not None, page)
+    if mathml is None:
         return match.group(0)
-    if LEFTOVER.search(mathml):
-        _logger.warning(
-            "%s: TeX command not understood in %r: %s",
-            page.file.src_uri, tex, LEFTOVER.search(mathml).group(0),
-        )
-    # keep the source as an annotation (copy/paste, search); MathML Core ignores it visually
-    annotation = f'<annotation encoding="application/x-tex">{html.escape(tex.strip())}</annotation>'
-    mathml = re.sub(r"(<math[^>]*>)(.*)(</math>)",
-                    lambda m: f"{m.group(1)}<semantics><mrow>{m.group(2)}</mrow>{annotation}</semantics>{m.group(3)}",
-                    mathml, count=1, flags=re.DOTALL)
     cls = "arithmatex arithmatex--display" if display else "arithmatex"
     return f'<{match.group("tag")} class="{cls}">{mathml}</{match.group("tag")}>'
 
 
+# a heading's formula reaches the table of contents as bare text, delimiters included
+TOC_INLINE = re.compile(r"\\\((?P<tex>.+?)\\\)")
+
+
+def _toc(items, page) -> None:
+    for item in items:
+        item.title = TOC_INLINE.sub(
+            lambda m: _to_mathml(html.unescape(m.group("tex")), False, page) or m.group(0),
+            item.title,
+        )
+        _toc(item.children, page)
+
+
 def on_page_content(html_text: str, page, config, files) -> str:
+    _toc(page.toc.items, page)
     return WRAPPER.sub(lambda m: _replace(m, page), html_text)
