@@ -98,9 +98,10 @@ def _chromium() -> str:
 
 @pytest.fixture(scope="module")
 def site() -> Path:
-    """The site, built strictly as the default test does, into the build folder."""
+    """The site, built strictly as the default test does, into the build folder (no --quiet:
+    it hides the warnings from the strict count)."""
     proc = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "--quiet", "--site-dir", str(SITE)],
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(SITE)],
         cwd=ROOT, capture_output=True, text=True, timeout=300,
         env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
     )
