@@ -88,6 +88,11 @@ PAGE_SCRIPT = """() => {
 }"""
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _compiled_samplers():
+    """Overrides tests/conftest.py's warm-up of the same name: the site needs no kernel."""
+
+
 def _chromium() -> str:
     for candidate in (os.environ.get("CHROMIUM"), "/usr/lib/chromium/chromium",
                       shutil.which("chromium"), shutil.which("chromium-browser")):
