@@ -9,14 +9,16 @@ files are not touched.
 
 Resolution follows Sphinx's Python domain: a name is looked up in the enclosing class, then in
 the docstring's module and its parent packages (including names they import), then as a full
-path. The link goes to the object itself when the API pages render it, else to the nearest
-enclosing object they render (a field without a docstring links to its record).
+path; ``.name`` with no such match is a suffix of exactly one object's path. The link goes to
+the object where the API pages render it, else to the nearest enclosing object they render (a
+field without a docstring to its record, a constant bound by ``A, B = 1, 2`` or an attribute
+set outside ``__init__`` to its module or class, a private module to its package).
 
-A role whose target is not found fails the strict build: the extension logs a warning, and the
-link it emits has no target, which autorefs reports too. Names outside the documented packages
-(``numpy``, the standard library, ``numba``, Stone Soup) have no entry on this site: they are
-listed in ``external`` and render as code, not as links; an external name that is not listed is
-an error like any other.
+A role whose target is not found becomes a link without a target, which autorefs reports
+where a page shows it, with the docstring's file and line: a strict build fails. A private
+docstring that no page shows is not an error (the build logs it at level INFO, ``mkdocs build
+-v``). Names outside the documented packages have no entry on this site: Python's builtins and
+the packages listed in ``external`` render as code, not as links; any other name is an error.
 """
 
 from __future__ import annotations
@@ -99,6 +101,8 @@ class SphinxRoles(griffe.Extension):
             self._loading = False
         while self._pending:
             self._walk(self._pending.pop(0))
+        _logger.info("Sphinx roles: %d rewritten, %d without a target", self.n_roles,
+                     self.n_unresolved)
 
     def _walk(self, obj: griffe.Object) -> None:
         for member in list(obj.members.values()):
