@@ -4,15 +4,22 @@ Run with::
 
     python -m pytest benchmarks/bench_stonesoup.py --benchmark-enable --benchmark-columns=min,median,mean,rounds
 
-One group per size (tracks / detections: 7 / 11, 30 / 58, 60 / 120), both associators warm
-(numba compiled, the scene built once), each call the whole ``associate``: the hypothesiser
-(Stone Soup's ``PDAHypothesiser`` with a Kalman predictor and updater), the clustering, the
-marginals and the output hypotheses. Tracks sit on a line 3 m apart with the detections
-scattered along it, so that neighbouring tracks share detections: at 30 / 58 every track is
-in one cluster (the target of issue #28: ``JPDAwithDP`` at least 5x faster than
-``JPDAwithEHM2`` there). ``extra_info`` records the clusters and the largest one. The file is
-not collected by the default suite (its name does not start with ``test_``): ``JPDAwithEHM2``
-takes seconds at 60 / 120. The numbers are in ``benchmarks/README.md``.
+One group per scene (tracks / detections: 7 / 11, 30 / 58, 60 / 120, and 30 / 58 with the
+tracks closer together), both associators warm (numba compiled, the scene built once), in two
+modes:
+
+* ``end-to-end``: the whole ``associate``, the hypothesiser (Stone Soup's ``PDAHypothesiser``
+  with a Kalman predictor and updater) included, then the clustering, the marginals and the
+  output hypotheses;
+* ``association``: the same with the hypotheses computed once beforehand (a hypothesiser that
+  hands them back), so that only what the two associators do differently is timed.
+
+Tracks sit on a line 3 m apart (2 m in the ``dense`` scene) with the detections scattered
+along it, so that neighbouring tracks share detections: at 30 / 58 every track is in one
+cluster (the target of issue #28: ``JPDAwithDP`` at least 5x faster than ``JPDAwithEHM2``
+there, end to end). ``extra_info`` records the clusters and the largest one. The file is not
+collected by the default suite (its name does not start with ``test_``): ``JPDAwithEHM2``
+takes seconds on the larger scenes. The numbers are in ``benchmarks/README.md``.
 """
 
 from __future__ import annotations
@@ -24,7 +31,9 @@ import pytest
 
 pytest.importorskip("stonesoup")
 
+from stonesoup.base import Property  # noqa: E402
 from stonesoup.dataassociator.probability import JPDAwithEHM2  # noqa: E402
+from stonesoup.hypothesiser.base import Hypothesiser  # noqa: E402
 from stonesoup.hypothesiser.probability import PDAHypothesiser  # noqa: E402
 from stonesoup.models.measurement.linear import LinearGaussian  # noqa: E402
 from stonesoup.models.transition.linear import (  # noqa: E402
@@ -44,8 +53,9 @@ T0 = datetime.datetime(2025, 1, 1)
 T1 = T0 + datetime.timedelta(seconds=1)
 CV = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.05)] * 2)
 MM = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=np.eye(2))
-SPACING = 3.0
-SIZES = [(7, 11), (30, 58), (60, 120)]
+#: name -> (tracks, detections, spacing of the tracks in m)
+SCENES = {"7x11": (7, 11, 3.0), "30x58": (30, 58, 3.0), "60x120": (60, 120, 3.0),
+          "30x58-dense": (30, 58, 2.0)}
 ASSOCIATORS = {"JPDAwithDP": JPDAwithDP, "JPDAwithEHM2": JPDAwithEHM2}
 
 
@@ -54,11 +64,20 @@ def _hypothesiser():
                            prob_detect=0.9)
 
 
-def _scene(n_tracks, n_dets, seed=5):
+class _Given(Hypothesiser):
+    """Hands back hypotheses computed beforehand (the ``association`` mode)."""
+
+    table: dict = Property(doc="Track -> its MultipleHypothesis.")
+
+    def hypothesise(self, track, detections, timestamp, **kwargs):
+        return self.table[track]
+
+
+def _scene(n_tracks, n_dets, spacing, seed=5):
     rng = np.random.default_rng(seed)
-    tracks = {Track([GaussianState([[i * SPACING], [0.0], [0.0], [0.0]], np.eye(4),
+    tracks = {Track([GaussianState([[i * spacing], [0.0], [0.0], [0.0]], np.eye(4),
                                    timestamp=T0)]) for i in range(n_tracks)}
-    dets = {Detection([[rng.uniform(-1.0, n_tracks * SPACING)], [rng.normal(0.0, 1.0)]],
+    dets = {Detection([[rng.uniform(-1.0, n_tracks * spacing)], [rng.normal(0.0, 1.0)]],
                       timestamp=T1, measurement_model=MM) for _ in range(n_dets)}
     return tracks, dets
 
@@ -76,24 +95,28 @@ def _clusters(hyp, tracks, dets):
 
 @pytest.fixture(scope="module")
 def scenes():
-    out = {size: _scene(*size) for size in SIZES}
-    hyp = _hypothesiser()
-    small = _scene(3, 4)
-    JPDAwithDP(hyp).associate(*small, T1)  # compile the oracle's kernels
+    out = {name: _scene(*spec) for name, spec in SCENES.items()}
+    small = _scene(3, 4, 3.0)
+    JPDAwithDP(_hypothesiser()).associate(*small, T1)  # compile the oracle's kernels
     return out
 
 
-@pytest.mark.parametrize("size", SIZES, ids=lambda s: f"{s[0]}x{s[1]}")
+@pytest.mark.parametrize("mode", ["end-to-end", "association"])
+@pytest.mark.parametrize("scene", sorted(SCENES))
 @pytest.mark.parametrize("name", sorted(ASSOCIATORS))
-def test_bench_jpda(benchmark, scenes, size, name):
-    tracks, dets = scenes[size]
+def test_bench_jpda(benchmark, scenes, scene, name, mode):
+    tracks, dets = scenes[scene]
     hyp = _hypothesiser()
-    assoc = ASSOCIATORS[name](hyp)
-    benchmark.group = f"JPDA end to end, {size[0]} tracks / {size[1]} detections"
+    n_tracks, n_dets, spacing = SCENES[scene]
+    benchmark.group = (f"JPDA, {n_tracks} tracks / {n_dets} detections, {spacing:g} m apart, "
+                       f"{mode}")
     clusters = _clusters(hyp, tracks, dets)
+    if mode == "association":
+        hyp = _Given({t: hyp.hypothesise(t, dets, T1) for t in tracks})
+    assoc = ASSOCIATORS[name](hyp)
     benchmark.extra_info.update(n_clusters=len(clusters),
                                 largest_cluster=max(clusters, key=lambda c: c[0]))
-    rounds = 3 if name == "JPDAwithEHM2" and size[0] >= 60 else 5
-    out = benchmark.pedantic(assoc.associate, args=(tracks, dets, T1), rounds=rounds,
+    slow = name == "JPDAwithEHM2" and (n_tracks >= 60 or spacing < 3)
+    out = benchmark.pedantic(assoc.associate, args=(tracks, dets, T1), rounds=3 if slow else 5,
                              warmup_rounds=1)
     assert set(out) == tracks
