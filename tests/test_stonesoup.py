@@ -504,3 +504,75 @@ def test_linear_motion_and_set_motion():
         LinearMotion(np.eye(4), -np.eye(4))
     with pytest.raises(TypeError, match=r"F must hold real numbers"):
         LinearMotion([["a"] * 4] * 4, np.zeros((4, 4)))
+
+
+# ------------------------------------------------------------------------------ end to end
+def _simulated_scans(n_steps=10):
+    from stonesoup.simulator.simple import (
+        MultiTargetGroundTruthSimulator,
+        SimpleDetectionSimulator,
+    )
+
+    cv = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.05)] * 2, seed=3)
+    mm = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=np.eye(2), seed=4)
+    truth = MultiTargetGroundTruthSimulator(
+        cv, GaussianState([[0], [0], [0], [0]], np.diag([100.0, 1, 100, 1]), timestamp=T0),
+        timestep=datetime.timedelta(seconds=1), number_steps=n_steps, birth_rate=0.2,
+        death_probability=0.02, initial_number_targets=4, seed=1)
+    sim = SimpleDetectionSimulator(truth, mm, meas_range=np.array([[-50, 50], [-50, 50]]),
+                                   detection_probability=0.9, clutter_rate=3.0, seed=2)
+    return [(t, set(d)) for t, d in sim], sim.clutter_spatial_density
+
+
+def test_jpda_with_dp_in_stone_soups_tracker_tracks_as_ehm2():
+    """A drop-in replacement: Stone Soup's JPDA tracker gives the same tracks with either."""
+    from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
+    from stonesoup.deleter.error import CovarianceBasedDeleter
+    from stonesoup.initiator.simple import MultiMeasurementInitiator
+    from stonesoup.tracker.simple import MultiTargetMixtureTracker
+
+    scans, density = _simulated_scans()
+    predictor, updater = KalmanPredictor(CV), KalmanUpdater(MM)
+
+    def run(associator_cls):
+        deleter = CovarianceBasedDeleter(covar_trace_thresh=20.0)
+        initiator = MultiMeasurementInitiator(
+            prior_state=GaussianState([[0], [0], [0], [0]], np.diag([0.0, 1, 0, 1])),
+            measurement_model=MM, deleter=deleter, updater=updater, min_points=2,
+            data_associator=GNNWith2DAssignment(
+                DistanceHypothesiser(predictor, updater, Mahalanobis(), missed_distance=3)))
+        tracker = MultiTargetMixtureTracker(
+            initiator=initiator, deleter=deleter, detector=scans, updater=updater,
+            data_associator=associator_cls(PDAHypothesiser(
+                predictor, updater, clutter_spatial_density=density, prob_detect=0.9)))
+        out = []
+        for _, tracks in tracker:
+            out.append(sorted(tuple(np.round(t.state_vector.ravel(), 6)) for t in tracks))
+        return out
+
+    ours, theirs = run(JPDAwithDP), run(JPDAwithEHM2)
+    assert sum(map(len, ours)) > 0
+    assert ours == theirs
+
+
+def test_lmb_tracker_seed_and_intervals():
+    scans, density = _simulated_scans(8)
+    kw = dict(prob_detection=0.9, clutter_rate=3.0, clutter_spatial_density=density,
+              birth_components=[WeightedGaussianState([[0], [0], [0], [0]],
+                                                      np.diag([100.0, 1, 100, 1]), weight=0.1)],
+              association=ShortChainGibbs(50, 10, tau_stall=5, tau_stale=10))
+
+    def states(seed):
+        out = []
+        for _, tracks in LMBTracker(scans, CV, MM, seed=seed, **kw):
+            out.append(sorted((t.id, tuple(t.state_vector.ravel())) for t in tracks))
+        return out
+
+    assert states(7) == states(7)
+    # a scan 2 s after the previous one is predicted with F and Q of 2 s
+    tracker = LMBTracker(None, CV, MM, **kw)
+    tracker.update_tracker(T0, set())
+    tracker.update_tracker(T0 + datetime.timedelta(seconds=2), set())
+    two = datetime.timedelta(seconds=2)
+    np.testing.assert_array_equal(tracker.filter.model.motion.F, CV.matrix(time_interval=two))
+    np.testing.assert_array_equal(tracker.filter.model.motion.Q, CV.covar(time_interval=two))
