@@ -149,6 +149,7 @@ RANKS = {
     "rankedassign.tracking.runner": 5.05,
     "rankedassign.tracking.multisensor": 5.2, "rankedassign.tracking.run": 5.3,
     "rankedassign.tracking.io": 5.3, "rankedassign.tracking": 5.4,
+    "rankedassign.stonesoup": 5.6,
     "rankedassign.experiments": 6,
     "rankedassign.cli": 7, "rankedassign.__main__": 7,
 }
@@ -157,7 +158,8 @@ LAYER_NAMES = {0: "utilities", 1: "engine", 2.0: "single-sensor kind", 2.1: "mul
                3.1: "samplers", 3.2: "package API", 4: "oracle", 5.0: "tracking models",
                5.05: "the scan loop",
                5.1: "single-sensor filters", 5.2: "multi-sensor filters",
-               5.3: "scenario runners and files", 5.4: "tracking API", 6: "experiments", 7: "CLI"}
+               5.3: "scenario runners and files", 5.4: "tracking API",
+               5.6: "Stone Soup plug-in", 6: "experiments", 7: "CLI"}
 KIND_FILES = ("__init__.py", "problem.py", "synthetic.py", "prepare.py", "reference.py",
               "_kernels.py")
 

@@ -144,7 +144,7 @@ def test_birth_type_error():
          "r must be a real number, got bool True"),
         (lambda: BirthComponent(0.1, ["0", "0", "0", "0"], np.eye(4)),
          "birth mean must hold real numbers"),
-        (lambda: Model(motion="cv"), "motion must be a ConstantVelocity, got str"),
+        (lambda: Model(motion="cv"), "motion must be a ConstantVelocity or LinearMotion, got str"),
         (lambda: Model(sensor=PoissonClutter()), "sensor must be a PositionSensor, got "
                                                   "PoissonClutter"),
         (lambda: Model(birth=(BirthComponent(0.1, np.zeros(4), np.eye(4)),)),

@@ -17,6 +17,7 @@ from ..validation import check_choice, check_real, check_type
 
 __all__ = [
     "ConstantVelocity",
+    "LinearMotion",
     "PositionSensor",
     "PoissonClutter",
     "BirthComponent",
@@ -168,6 +169,70 @@ class ConstantVelocity:
         G = self.G
         return _readonly(self.sigma_w**2 * G @ G.T)
 
+
+
+@dataclass(frozen=True, eq=False)
+class LinearMotion:
+    """Linear-Gaussian motion given by its matrices: ``x' = F x + w``, ``w ~ N(0, Q)``.
+
+    For motion models that :class:`ConstantVelocity` does not describe, such as the
+    continuous white-noise acceleration model of Stone Soup's ``ConstantVelocity`` (used by
+    :mod:`rankedassign.stonesoup`). The state is ``[p_x, v_x, p_y, v_y]``, as everywhere in
+    the filters.
+
+    Parameters
+    ----------
+    F : array_like, shape (4, 4)
+        State transition matrix (finite).
+    Q : array_like, shape (4, 4)
+        Process noise covariance, symmetric positive semi-definite (``0`` is allowed: no time
+        has passed).
+
+    Attributes
+    ----------
+    F : ndarray of float64, shape (4, 4)
+        Read-only transition matrix.
+    Q : ndarray of float64, shape (4, 4)
+        Read-only process noise covariance.
+
+    Raises
+    ------
+    TypeError
+        If ``F`` or ``Q`` does not hold real numbers.
+    ValueError
+        If ``F`` is not a finite 4 x 4 matrix, or ``Q`` is not a finite symmetric positive
+        semi-definite 4 x 4 matrix.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.models import ConstantVelocity, LinearMotion
+    >>> cv = ConstantVelocity()
+    >>> LinearMotion(cv.F, cv.Q).Q[:2, :2].tolist()
+    [[6.25, 12.5], [12.5, 25.0]]
+    >>> LinearMotion(np.eye(4), np.zeros((4, 4))).F.shape
+    (4, 4)
+    """
+
+    F: np.ndarray
+    Q: np.ndarray
+
+    def __post_init__(self):
+        F = _real_array(self.F, "F")
+        if F.shape != (4, 4) or not np.isfinite(F).all():
+            raise ValueError(f"F must be a finite 4x4 matrix, got shape {F.shape}"
+                             + ("" if F.shape != (4, 4) else f" with values {F.tolist()}"))
+        Q = _real_array(self.Q, "Q")
+        with np.errstate(all="ignore"):
+            bad = (Q.shape != (4, 4) or not np.isfinite(Q).all() or not np.allclose(Q, Q.T)
+                   or not _eigenvalues(Q).min() >= -1e-12 * max(1.0, np.abs(Q).max()))
+        if bad:
+            raise ValueError(
+                "Q must be a symmetric positive semi-definite 4x4 matrix, got shape "
+                f"{Q.shape}" + ("" if Q.shape != (4, 4) else f" with values {Q.tolist()}")
+            )
+        object.__setattr__(self, "F", _readonly(F))
+        object.__setattr__(self, "Q", _readonly(Q))
 
 @dataclass(frozen=True)
 class PositionSensor:
@@ -567,7 +632,7 @@ class Model:
 
     Attributes
     ----------
-    motion : ConstantVelocity
+    motion : ConstantVelocity or LinearMotion
         Motion model (``F``, ``Q``).
     sensor : PositionSensor
         Sensor model (``H``, ``R``, ``P_D``).
@@ -583,7 +648,8 @@ class Model:
     Raises
     ------
     TypeError
-        If a part is not of its type (``motion`` a :class:`ConstantVelocity`, ...).
+        If a part is not of its type (``motion`` a :class:`ConstantVelocity` or
+        :class:`LinearMotion`, ...).
     ValueError
         On an unknown ``extraction`` (one not in :data:`EXTRACTIONS`).
 
@@ -605,7 +671,7 @@ class Model:
     extraction: str = "hysteresis"
 
     def __post_init__(self):
-        check_type(self.motion, "motion", ConstantVelocity)
+        check_type(self.motion, "motion", (ConstantVelocity, LinearMotion))
         check_type(self.sensor, "sensor", PositionSensor)
         check_type(self.clutter, "clutter", PoissonClutter)
         check_type(self.birth, "birth", LMBBirth)

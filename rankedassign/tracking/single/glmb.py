@@ -26,6 +26,7 @@ The per-(track, measurement) algebra is that of the LMB filter
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import numbers
@@ -51,7 +52,7 @@ from ...validation import (
 )
 from .. import _kernels
 from .._kernels import MERGE_RULES
-from ..models import Model
+from ..models import ConstantVelocity, LinearMotion, Model
 from . import _glmb_kernels
 from .association import Exact, Murty, OriginalGibbs, ShortChainGibbs
 from .lmb import _association_name, _check_association_kind, _check_measurements, gate_threshold
@@ -528,6 +529,38 @@ class GLMBFilter:
         self._birth_P = np.array(model.birth.covs, dtype=np.float64).reshape(-1, 4, 4)
         self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
+
+    def set_motion(self, motion) -> None:
+        """Predict with ``motion`` from the next scan on (the components are kept).
+
+        For a motion model whose matrices depend on the time between scans (a Stone Soup
+        transition model, :class:`rankedassign.stonesoup.GLMBTracker`); :attr:`model` becomes
+        the model with this motion.
+
+        Parameters
+        ----------
+        motion : ConstantVelocity or LinearMotion
+            The motion model of the next prediction(s).
+
+        Raises
+        ------
+        TypeError
+            If ``motion`` is neither.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking import GLMBFilter, Murty, make_model
+        >>> from rankedassign.tracking.models import LinearMotion
+        >>> f = GLMBFilter(make_model("paper"), Murty(10))
+        >>> f.set_motion(LinearMotion(np.eye(4), np.zeros((4, 4))))
+        >>> f.model.motion.F.tolist() == np.eye(4).tolist()
+        True
+        """
+        check_type(motion, "motion", (ConstantVelocity, LinearMotion))
+        self.model = dataclasses.replace(self.model, motion=motion)
+        self._F = np.array(motion.F)
+        self._Q = np.array(motion.Q)
 
     # ----------------------------------------------------------------------- state
     def reset(self) -> None:

@@ -31,6 +31,7 @@ order, so the filter's numbers do not depend on which of the two computes them.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import types
@@ -46,7 +47,7 @@ from ...single.problem import AssignmentProblem
 from ...validation import check_bool, check_choice, check_int, check_real, check_type
 from .. import _kernels
 from .._kernels import MERGE_RULES
-from ..models import EXTRACTIONS, Model
+from ..models import EXTRACTIONS, ConstantVelocity, LinearMotion, Model
 from .association import Association, AssociationResult
 
 __all__ = [
@@ -394,6 +395,39 @@ class LMBFilter:
         """Refuse what is not an association of this filter (a multi-sensor one included)."""
         _check_association_kind(association, "LMBFilter", "single-sensor", "ShortChainGibbs",
                                 "MultiSensorLMBFilter")
+
+    def set_motion(self, motion) -> None:
+        """Predict with ``motion`` from the next scan on (the tracks are kept).
+
+        For a motion model whose matrices depend on the time between scans (a Stone Soup
+        transition model, :class:`rankedassign.stonesoup.LMBTracker`); :attr:`model` becomes
+        the model with this motion.
+
+        Parameters
+        ----------
+        motion : ConstantVelocity or LinearMotion
+            The motion model of the next prediction(s).
+
+        Raises
+        ------
+        TypeError
+            If ``motion`` is neither.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking import Exact, LMBFilter, make_model
+        >>> from rankedassign.tracking.models import LinearMotion
+        >>> f = LMBFilter(make_model("paper"), Exact())
+        >>> f.set_motion(LinearMotion(np.eye(4), np.zeros((4, 4))))
+        >>> f.model.motion.F.tolist() == np.eye(4).tolist()
+        True
+        """
+        check_type(motion, "motion", (ConstantVelocity, LinearMotion))
+        self.model = dataclasses.replace(self.model, motion=motion)
+        self._F = np.array(motion.F)
+        self._FT = self._F.T
+        self._Q = np.array(motion.Q)
 
     # ----------------------------------------------------------------------- state
     def reset(self) -> None:

@@ -1,0 +1,28 @@
+"""rankedassign as a Stone Soup plug-in: exact and sampled JPDA, OSPA(2), LMB and δ-GLMB trackers.
+
+Installed with the extra ``rankedassign[stonesoup]`` and registered under Stone Soup's
+``stonesoup.plugins`` entry-point group as ``rankedassign``, so that Stone Soup's plug-in
+loader makes this module available as ``stonesoup.plugins.rankedassign``::
+
+    from stonesoup.plugins.rankedassign import JPDAwithDP, OSPA2Metric, LMBTracker
+
+* :class:`JPDAwithDP` — Stone Soup's ``JPDA`` with the exact marginals of the oracle's DP
+  (:func:`oracle.marginals`), cluster by cluster;
+* :class:`JPDAwithGibbs` — the same with marginals from one of our samplers;
+* :class:`OSPA2Metric` — OSPA(2) (:func:`rankedassign.metrics.ospa2`) as a Stone Soup
+  ``MetricGenerator``;
+* :class:`LMBTracker`, :class:`GLMBTracker` — Stone Soup trackers around
+  :class:`rankedassign.tracking.LMBFilter` and :class:`rankedassign.tracking.GLMBFilter`, built
+  from Stone Soup's linear-Gaussian models.
+
+The classes follow Stone Soup's conventions: declarative ``Property`` attributes, a ``seed``
+property where there is randomness (mapped onto our ``rng`` by
+:func:`numpy.random.default_rng`), Stone Soup types in and out. This module imports Stone
+Soup; :mod:`rankedassign` itself does not import this module.
+"""
+
+from .associators import JPDAwithDP, JPDAwithGibbs
+from .metrics import OSPA2Metric
+from .trackers import GLMBTracker, LMBTracker
+
+__all__ = ["GLMBTracker", "JPDAwithDP", "JPDAwithGibbs", "LMBTracker", "OSPA2Metric"]
