@@ -12,7 +12,7 @@ chains replayed in chain order — does not depend on what a *row update* is. A 
 * ``sweep(data, work, b, zkeys, state, h, rs) -> h``: one sweep (one observation) in place on
   the ``int32`` state vector ``state``, returning its new Zobrist hash (for every position
   ``l`` whose value changes from ``a`` to ``c``: ``h ^= zkeys[l, a] ^ zkeys[l, c]``), drawing
-  uniforms from the chain's stream ``rs`` with :func:`rankedassign._rng_kernels.next_uniform`;
+  uniforms from the chain's stream ``rs`` with :func:`rankedassign.engine._kernels.next_uniform`;
 
 and :func:`make_driver` compiles the driver for it. ``data`` is the problem's tuple of
 read-only arrays and scalars. A state is a flat ``int32`` vector of length ``L`` whose values

@@ -57,7 +57,7 @@ from .single.association import (
     ShortChainGibbs,
     marginals_from_hypotheses,
 )
-from .single.glmb import GLMBFilter, GLMBScanRecord, Hypotheses
+from .single.glmb import GLMB_EXTRACTIONS, GLMBFilter, GLMBScanRecord, Hypotheses
 from .single.lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
 
 __all__ = [
@@ -69,6 +69,7 @@ __all__ = [
     "ConstantVelocity",
     "Exact",
     "FilterRun",
+    "GLMB_EXTRACTIONS",
     "GLMBFilter",
     "GLMBScanRecord",
     "Hypotheses",

@@ -20,10 +20,12 @@ run here in one compiled call per scan:
 
 The chains are those of :func:`rankedassign.sample_short_chains` with the default readings of
 the stall and stale rules (the original sampler is one chain without rules): the same sweep
-(:func:`rankedassign._kernels.sweep`, or :func:`~rankedassign._kernels.sweep_prefix` where
-:func:`rankedassign._sampling.uses_prefix_sums` says so), the same SplitMix64 stream per chain,
-the same start state and the same unique set in discovery order. Given the base key of
-:func:`rankedassign.engine.rng.base_key` a component's children are the sampler's unique assignments
+(:func:`rankedassign.single._kernels.sweep`, or
+:func:`~rankedassign.single._kernels.sweep_prefix` where
+:func:`rankedassign.single.prepare.uses_prefix_sums` says so), the same SplitMix64 stream per
+chain, the same start state and the same unique set in discovery order. Given the base key of
+:func:`rankedassign.engine.rng.base_key` a component's children are the sampler's unique
+assignments
 (``tests/test_tracking_glmb.py`` holds the two together).
 
 References

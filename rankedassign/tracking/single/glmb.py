@@ -767,7 +767,7 @@ class GLMBFilter:
         cc[:, :U] = -log_det
         cc[:, U] = -log_miss
         cc[:, U + 1] = -log_dead
-        # the shifted weights of the samplers (rankedassign._sampling.shifted_weights): a row's
+        # the shifted weights of the samplers (rankedassign.single.prepare.shifted_weights): a row's
         # minimum is over its own gated measurements, so it is the same in every component
         W = np.exp(-(cc - cc.min(axis=1, keepdims=True))) if T else np.empty((0, U + 2))
         return _Terms(used, gated, Sinv, nu, lw, log_g, log_det, log_miss, log_dead,
