@@ -123,6 +123,20 @@ def component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
     return P, M
 
 
+@jit(inline="always")
+def _emit_rows(child_entry, child_meas, e_out, rows, cols, option, M, dead):
+    """Write the (entry, measurement or ``−1``) of every row of one child that exists after
+    the scan (``option[i] < dead``; a measurement when ``< M``, else missed); return the new
+    end of the pairs."""
+    for i in range(option.size):
+        k = option[i]
+        if k < dead:
+            child_entry[e_out] = rows[i]
+            child_meas[e_out] = cols[k] if k < M else -1
+            e_out += 1
+    return e_out
+
+
 @jit()
 def component_costs(h, comp_off, comp_tracks, births, cc_all, gated, mark, rows, cols):
     """The compact costs of component ``h``'s problem, gathered from the scan's terms.
@@ -290,12 +304,8 @@ def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exac
         for u in range(a.shape[0]):
             child_comp[n_out] = h
             child_cost[n_out] = c[u]
-            for i in range(P):
-                k = a[u, i]
-                if k < M + P:  # a measurement or missed: the row is there after the scan
-                    child_entry[e_out] = rows[i]
-                    child_meas[e_out] = cols[k] if k < M else -1
-                    e_out += 1
+            # full columns: a measurement (< M) or missed (< M + P), then dead
+            e_out = _emit_rows(child_entry, child_meas, e_out, rows, cols, a[u], M, M + P)
             n_out += 1
             child_off[n_out] = e_out
     return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
@@ -492,12 +502,8 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
                 cost += cc[i, states[u, i]]
             child_comp[n_out] = h
             child_cost[n_out] = cost
-            for i in range(P):
-                k = states[u, i]
-                if k <= M:
-                    child_entry[e_out] = rows[i]
-                    child_meas[e_out] = cols[k] if k < M else -1
-                    e_out += 1
+            # compact columns: a measurement (< M) or missed (M), then dead (M + 1)
+            e_out = _emit_rows(child_entry, child_meas, e_out, rows, cols, states[u], M, M + 1)
             n_out += 1
             child_off[n_out] = e_out
     return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
