@@ -38,6 +38,7 @@ from .multisensor.association import (
     MultiSensorOriginalGibbs,
     MultiSensorShortChainGibbs,
 )
+from .multisensor.glmb import MultiSensorGLMBFilter
 from .multisensor.lmb import MultiSensorLMBFilter, MultiSensorModel
 from .multisensor.scenario import (
     MultiSensorRun,
@@ -81,6 +82,7 @@ __all__ = [
     "MultiSensorAssociationResult",
     "MultiSensorExact",
     "MultiSensorOriginalGibbs",
+    "MultiSensorGLMBFilter",
     "MultiSensorLMBFilter",
     "MultiSensorModel",
     "MultiSensorRun",

@@ -1,9 +1,11 @@
-"""The multi-sensor LMB filter (Vo, Vo & Beard 2019 update), its associations and scenario.
+"""The multi-sensor LMB and δ-GLMB filters (Vo, Vo & Beard 2019 update), its associations and scenario.
 
 * :mod:`~rankedassign.tracking.multisensor.lmb` — :class:`MultiSensorLMBFilter` and
   :class:`MultiSensorModel`;
 * :mod:`~rankedassign.tracking.multisensor.association` — :class:`MultiSensorOriginalGibbs`,
   :class:`MultiSensorShortChainGibbs`, :class:`MultiSensorExact`;
+* :mod:`~rankedassign.tracking.multisensor.glmb` — :class:`MultiSensorGLMBFilter`, the
+  multi-sensor δ-GLMB filter on the components of the single-sensor one;
 * :mod:`~rankedassign.tracking.multisensor.adaptive_birth` — :class:`AdaptiveBirth`, births
   from the adaptive-birth sampler;
 * :mod:`~rankedassign.tracking.multisensor.scenario` — the ``"multi"`` scenario and its runner.
@@ -20,6 +22,7 @@ from .association import (
     MultiSensorOriginalGibbs,
     MultiSensorShortChainGibbs,
 )
+from .glmb import MultiSensorGLMBFilter
 from .lmb import MultiSensorLMBFilter, MultiSensorModel
 from .scenario import (
     MultiSensorRun,
@@ -30,5 +33,5 @@ from .scenario import (
 
 __all__ = ["AdaptiveBirth", "MultiSensorAssociation", "MultiSensorAssociationResult",
            "MultiSensorExact", "MultiSensorOriginalGibbs", "MultiSensorShortChainGibbs",
-           "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun", "make_multisensor_model",
+           "MultiSensorGLMBFilter", "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun", "make_multisensor_model",
            "make_multisensor_scenario", "run_multisensor_scenario"]

@@ -37,10 +37,12 @@ from ..scenario import (
     paper_truth,
 )
 from .adaptive_birth import AdaptiveBirth
+from .glmb import MultiSensorGLMBFilter
 from .lmb import MultiSensorLMBFilter, MultiSensorModel, check_sensors
 
 __all__ = [
     "BIRTHS",
+    "FILTERS",
     "MULTI_SENSORS",
     "MultiSensorRun",
     "MultiSensorScenario",
@@ -61,6 +63,8 @@ MULTI_CLUTTER = 20.0
 #: (:class:`~rankedassign.tracking.AdaptiveBirth` with the defaults of spec §7.2;
 #: the model then has no static birth).
 BIRTHS = ("paper", "narrow", "adaptive")
+#: Filters :func:`run_multisensor_scenario` runs: the multi-sensor LMB and δ-GLMB filters.
+FILTERS = ("lmb", "glmb")
 
 
 def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiSensorModel:
@@ -215,8 +219,8 @@ class MultiSensorRun(ScenarioRun):
 def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
                              sensors=(0, 1, 2), grouping: bool = True,
                              extraction: str | None = None, birth: str = "paper",
-                             **filter_options) -> MultiSensorRun:
-    """Simulate the ``"multi"`` scenario and run the multi-sensor LMB filter on it.
+                             filter: str = "lmb", **filter_options) -> MultiSensorRun:
+    """Simulate the ``"multi"`` scenario and run the multi-sensor LMB or δ-GLMB filter on it.
 
     Parameters
     ----------
@@ -243,8 +247,13 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
         Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
         :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
+    filter : {"lmb", "glmb"}
+        :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter` (default) or
+        :class:`~rankedassign.tracking.MultiSensorGLMBFilter` (:data:`FILTERS`); the
+        measurements are the same for both. The δ-GLMB filter takes no ``grouping`` (its
+        components are truncated whole): it must be left at its default.
     **filter_options
-        Further options of :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter`.
+        Further options of the filter.
 
     Returns
     -------
@@ -272,6 +281,10 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         raise TypeError("run_multisensor_scenario needs an association, e.g. "
                         "MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
     grouping = check_bool(grouping, "grouping")
+    check_choice(filter, "filter", FILTERS)
+    if filter == "glmb" and not grouping:
+        raise ValueError("grouping=False applies to the LMB filter only: the δ-GLMB filter "
+                         "truncates every component's problem whole")
     n_scans = check_n_scans(n_scans)
     sensors = check_sensors(sensors, len(MULTI_SENSORS))
     adaptive = birth if isinstance(birth, AdaptiveBirth) else (
@@ -281,8 +294,12 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     meas_rng, filter_rng = spawning_generator(rng).spawn(2)
     scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
                                          birth=birth)
-    filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
-                                extraction=extraction, birth=adaptive, **filter_options)
+    if filter == "glmb":
+        filt = MultiSensorGLMBFilter(scenario.model, association, extraction=extraction,
+                                     birth=adaptive, **filter_options)
+    else:
+        filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
+                                    extraction=extraction, birth=adaptive, **filter_options)
     run = run_filter(filt, [tuple(s.z for s in scans) for scans in scenario.scans],
                      rng=filter_rng)
     timings = dict(run.timings)

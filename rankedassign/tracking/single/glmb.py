@@ -212,7 +212,7 @@ def _gibbs_budget(association, counts: np.ndarray):
     all-missed solution).
     """
     n_obs = np.maximum(counts - 1, 0)
-    if isinstance(association, OriginalGibbs):
+    if hasattr(association, "n_obs"):  # one long chain (single- or multi-sensor)
         length = np.minimum(n_obs, association.n_obs)
         return (length > 0).astype(np.int64), length.astype(np.int64)
     length = np.minimum(n_obs, association.chain_length)
@@ -461,6 +461,9 @@ class GLMBFilter:
     ([[1, 2]], 1, 10)
     """
 
+    #: Shape of one history node's measurement record (a single sensor: a scalar index).
+    _meas_shape: tuple = ()
+
     def __init__(
         self,
         model: Model,
@@ -481,14 +484,7 @@ class GLMBFilter:
         keep_histories: bool | None = None,
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
-        custom = callable(getattr(association, "hypotheses", None))
-        if not custom or getattr(association, "sensors", None) == "multi-sensor":
-            # a truncation of its own need not be callable; anything else is an association
-            _check_association_kind(association, "GLMBFilter", "single-sensor", "ShortChainGibbs",
-                                    "MultiSensorLMBFilter")
-        if not (custom or isinstance(association, (OriginalGibbs, ShortChainGibbs, Murty,
-                                                   Exact))):
-            raise TypeError(_no_hypotheses_message(association))
+        self._check_truncation(association)
         self.model = model
         self.association = association
         self.h_upd = _check_count(h_upd, "h_upd")
@@ -529,6 +525,18 @@ class GLMBFilter:
         self._birth_P = np.array(model.birth.covs, dtype=np.float64).reshape(-1, 4, 4)
         self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
+
+    @staticmethod
+    def _check_truncation(association) -> None:
+        """Refuse an association that cannot truncate a single-sensor component's problem."""
+        custom = callable(getattr(association, "hypotheses", None))
+        if not custom or getattr(association, "sensors", None) == "multi-sensor":
+            # a truncation of its own need not be callable; anything else is an association
+            _check_association_kind(association, "GLMBFilter", "single-sensor", "ShortChainGibbs",
+                                    "MultiSensorLMBFilter")
+        if not (custom or isinstance(association, (OriginalGibbs, ShortChainGibbs, Murty,
+                                                   Exact))):
+            raise TypeError(_no_hypotheses_message(association))
 
     def set_motion(self, motion) -> None:
         """Predict with ``motion`` from the next scan on (the components are kept).
@@ -580,7 +588,7 @@ class GLMBFilter:
         # the history forest: parent node, scan, measurement (−1 missed), filtered state
         self._node_parent = np.empty(0, dtype=np.int64)
         self._node_scan = np.empty(0, dtype=np.int64)
-        self._node_meas = np.empty(0, dtype=np.int64)
+        self._node_meas = np.empty((0, *self._meas_shape), dtype=np.int64)
         self._node_state = np.empty((0, 4))
         self._live_nodes = 0
         self._confirmed = np.empty(0, dtype=np.int64)  # label keys (hysteresis)
@@ -639,8 +647,8 @@ class GLMBFilter:
         self.w = np.ones(T)
         self.m = np.ascontiguousarray(means)
         self.P = np.ascontiguousarray(covs)
-        self._append_nodes(np.full(T, -1, dtype=np.int64), np.full(T, -1, dtype=np.int64),
-                           self.m)
+        self._append_nodes(np.full(T, -1, dtype=np.int64),
+                           np.full((T, *self._meas_shape), -1, dtype=np.int64), self.m)
         self.hist = np.arange(T, dtype=np.int64)
         self.comp_off = np.concatenate([[0], np.cumsum([len(c) for c in comps])]).astype(
             np.int64)
@@ -690,7 +698,8 @@ class GLMBFilter:
         v = int(self.hist[e])
         while v >= 0:
             if self._node_scan[v] >= 1:
-                out.append(int(self._node_meas[v]))
+                x = self._node_meas[v]
+                out.append(int(x) if x.ndim == 0 else tuple(x.tolist()))
             v = int(self._node_parent[v])
         return tuple(reversed(out))
 
@@ -937,7 +946,7 @@ class GLMBFilter:
     # ----------------------------------------------------------------------- 5. children
     def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> int:
         """Merge, prune, cap; the new track table with its Kalman update. Returns children."""
-        U = terms.used.size
+        U = self._radix(terms) - 1
         N = children.comp.size
         with np.errstate(divide="ignore"):
             log_w = np.log(self.comp_w)[children.comp] - children.cost
@@ -970,12 +979,24 @@ class GLMBFilter:
         self.comp_off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
         self.comp_tracks = comp_tracks.astype(np.int64).reshape(-1)
         self.comp_w = w
-        meas = np.where(j_src >= 0, terms.used[np.maximum(j_src, 0)] if U else -1, -1)
+        meas = self._history_meas(terms, j_src)
         parents = self.hist[e_src] if self.keep_histories else np.full(e_src.size, -1)
         self.labels = self.labels[e_src]
         self.hist = self._append_nodes(parents, meas, self.m[self.offsets[:-1]])
         self._compact_history()
         return N
+
+    @staticmethod
+    def _radix(terms: _Terms) -> int:
+        """Distinct updates of one entry: a gated measurement or missed (``U + 1``)."""
+        return int(terms.used.size) + 1
+
+    @staticmethod
+    def _history_meas(terms: _Terms, j_src: np.ndarray) -> np.ndarray:
+        """The measurement index (−1 missed) each new entry's history node records."""
+        if terms.used.size == 0:
+            return np.full(j_src.size, -1, dtype=np.int64)
+        return np.where(j_src >= 0, terms.used[np.maximum(j_src, 0)], -1)
 
     def _kalman(self, terms: _Terms, e_src: np.ndarray, j_src: np.ndarray) -> None:
         """The mixtures of the new entries: entry ``e_src`` predicted (``j_src = −1``) or

@@ -1,0 +1,683 @@
+"""The multi-sensor δ-GLMB filter (Vo, Vo & Beard 2019) on the multi-sensor samplers.
+
+:class:`MultiSensorGLMBFilter` is :class:`~rankedassign.tracking.GLMBFilter` (the components,
+the track table, the allocation ``T_h = round(H_upd √w_h / Σ √w)``, the merge of children with
+the same track set, pruning, the ``H_max`` cap, mixture reduction and the estimates) with each
+component's problem replaced by the multi-sensor one (``../shared/spec/glmb.md`` §6,
+``multisensor.md`` §1.3–1.5):
+
+1. shared terms (:meth:`MultiSensorGLMBFilter._terms`): per sensor the χ² gate of every entry
+   of the predicted table; per entry every measurement tuple it allows (one gated measurement
+   or missed per sensor) with ::
+
+       ln η(t) = ln p + Σ_{v∉D} ln(1 − P_D^v) + Σ_{v∈D} (ln P_D^v − ln κ_v)
+                 + ln Σ_c w_c N(z_D; H_D m_c, H_D P_c H_Dᵀ + R_D)
+
+   (``D`` the sensors that detect, ``p`` the survival or birth probability), and the
+   single-sensor factors ``θ^(v)`` of MM-Gibbs — once per scan, never per component;
+2. per component a :class:`~rankedassign.multisensor.MultiSensorProblem` gathered from them
+   (births first, then the component's entries; the columns of sensor ``v`` are the
+   measurements some row gates), truncated by the multi-sensor long or short chains
+   (``method="exact"``, ``"mm"``, ``"mm-fixed"``) or enumerated;
+3. children: a row alive in ``γ`` becomes the entry updated with its tuple (the stacked
+   Kalman update on ``z_D``, in sensor order) or predicted only; ``ln w = ln w_h − cost(γ)``.
+
+With adaptive birth (:class:`~rankedassign.tracking.AdaptiveBirth`) the births of the next
+scan come from the measurements the posterior does not explain,
+``r_U^(v)(j) = 1 − Σ_h w_h Σ_{e ∈ I_h} 1[e took z_j^(v)]``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+from time import perf_counter
+from typing import NamedTuple
+
+import numpy as np
+
+import oracle
+
+from ...engine.rng import spawning_generator
+from ...multisensor import MultiSensorProblem
+from ...numba_options import interruptible
+from ...samplers import sample_original, sample_short_chains
+from ...validation import check_type
+from .. import _kernels
+from ..single.glmb import (
+    EXACT_LIMIT,
+    EXACT_SCAN_LIMIT,
+    GLMBFilter,
+    GLMBScanRecord,
+    Hypotheses,
+    _Children,
+    _concat,
+    _gibbs_budget,
+    _logsumexp,
+)
+from ..single.lmb import _association_name, _check_association_kind, _check_measurements
+from ..single.lmb import group_tracks
+from .adaptive_birth import AdaptiveBirth, empty_birth
+from .association import (
+    MultiSensorExact,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
+)
+from .lmb import MultiSensorModel
+
+__all__ = ["GLMB_METHODS", "MultiSensorGLMBFilter", "truncate_multisensor"]
+
+#: Row kernels of the multi-sensor chains that a GLMB component can be truncated with. The
+#: sensor-component-wise kernel samples the collapsed target, whose all-missed row stands for
+#: "dead or missed": it cannot tell a child's dead rows from its missed ones.
+GLMB_METHODS = ("exact", "mm", "mm-fixed")
+_POS = [0, 2]  # H picks p_x, p_y
+_LOG_2PI = math.log(2.0 * math.pi)
+_TWO63 = 2**63
+
+
+class _MSTerms(NamedTuple):
+    """The scan's shared terms: per sensor the gated measurements, per entry its tuples."""
+
+    used: tuple  # V arrays (U_v,): measurement indices in some entry's gate
+    gated: tuple  # V arrays (T, U_v) bool
+    zu: tuple  # V arrays (U_v, 2): the gated measurements
+    dims: np.ndarray  # (V,) U_v + 1
+    strides: np.ndarray  # (V,) of the flat tuple index over dims (C order)
+    tup_off: np.ndarray  # (T + 1,) CSR offsets of every entry's tuples (all-missed first)
+    tup_g: np.ndarray  # (N, V) per sensor 0 missed or 1 + index into used_v
+    tup_la: np.ndarray  # (N,) ln η(t)
+    log_dead: np.ndarray  # (T,) ln η(−1)
+    log_p: np.ndarray  # (T,) ln p (survival or birth), the MM factor ln s
+    log_theta: tuple  # V arrays (T, U_v + 1): ln θ^(v), column 0 missed
+
+
+def _stacked(m, P, zD, R_D, update: bool):
+    """``ln N(z_D; H_D m, H_D P H_Dᵀ + R_D)`` for a batch, with the Kalman update if asked.
+
+    ``m`` (N, 4), ``P`` (N, 4, 4), ``zD`` (N, 2d) stacked positions of ``d`` sensors whose
+    noise covariances ``R_D`` (2d, 2d) are block diagonal; every sensor measures the position.
+    """
+    d = zD.shape[1] // 2
+    HPH = P[:, _POS][:, :, _POS]
+    S = np.tile(HPH, (1, d, d)) + R_D
+    nu = zD - np.tile(m[:, _POS], (1, d))
+    L = np.linalg.cholesky(S)
+    y = np.linalg.solve(L, nu[:, :, None])[:, :, 0]
+    ll = (-0.5 * (y * y).sum(axis=1) - np.log(np.diagonal(L, axis1=1, axis2=2)).sum(axis=1)
+          - d * _LOG_2PI)
+    if not update:
+        return ll, None, None
+    PHt = np.tile(P[:, :, _POS], (1, 1, d))  # (N, 4, 2d)
+    K = np.linalg.solve(S, PHt.transpose(0, 2, 1)).transpose(0, 2, 1)
+    m_upd = m + np.einsum("nij,nj->ni", K, nu)
+    P_upd = P - K @ PHt.transpose(0, 2, 1)
+    return ll, m_upd, 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+
+
+def _block_diag(Rs) -> np.ndarray:
+    d = len(Rs)
+    out = np.zeros((2 * d, 2 * d))
+    for i, R in enumerate(Rs):
+        out[2 * i:2 * i + 2, 2 * i:2 * i + 2] = R
+    return out
+
+
+def _segment_logsumexp(x: np.ndarray, seg: np.ndarray, n: int) -> np.ndarray:
+    """``ln Σ exp(x)`` within each segment ``seg`` (sorted ids ``0..n-1``, all present)."""
+    top = np.full(n, -np.inf)
+    np.maximum.at(top, seg, x)
+    safe = np.where(np.isfinite(top), top, 0.0)
+    with np.errstate(divide="ignore"):
+        return np.log(np.bincount(seg, weights=np.exp(x - safe[seg]), minlength=n)) + safe
+
+
+def truncate_multisensor(association, problem: MultiSensorProblem, budget: int,
+                         rng=None) -> Hypotheses:
+    """Truncate one component's multi-sensor problem with ``association`` and ``T_h = budget``.
+
+    Parameters
+    ----------
+    association : MultiSensorOriginalGibbs, MultiSensorShortChainGibbs, MultiSensorExact or
+        object
+        The library's multi-sensor associations (their ``method`` one of
+        :data:`GLMB_METHODS`), or any object with a method ``hypotheses(problem, budget, rng)``
+        returning assignments of shape ``(n, P, V)``.
+    problem : MultiSensorProblem
+    budget : int
+        The component's count ``T_h >= 0``: the chains get ``T_h − 1`` observations as in
+        :class:`~rankedassign.tracking.GLMBFilter`; :class:`MultiSensorExact` ignores it (its
+        ``fallback``, if any, gets it on a problem beyond :data:`EXACT_LIMIT`).
+    rng : optional
+        Anything :func:`numpy.random.default_rng` accepts.
+
+    Returns
+    -------
+    Hypotheses
+        ``assignments`` of shape ``(n, P, V)`` and their exact costs ``−ln w(γ)``.
+
+    Raises
+    ------
+    ValueError
+        If :class:`MultiSensorExact` without a fallback meets a problem of more than
+        :data:`EXACT_LIMIT` assignments, or a custom association returns duplicates,
+        infeasible assignments or wrong shapes.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.multisensor import MultiSensorProblem
+    >>> from rankedassign.tracking.multisensor.association import MultiSensorExact
+    >>> from rankedassign.tracking.multisensor.glmb import truncate_multisensor
+    >>> p = MultiSensorProblem.from_eta([1.0], np.ones((1, 2, 2)))
+    >>> truncate_multisensor(MultiSensorExact(), p, 0).assignments.shape
+    (5, 1, 2)
+    """
+    P, V = problem.n_rows, problem.n_sensors
+    if isinstance(association, (MultiSensorOriginalGibbs, MultiSensorShortChainGibbs)):
+        chains, length = _gibbs_budget(association, np.array([budget]))
+        if isinstance(association, MultiSensorOriginalGibbs):
+            res = sample_original(problem, int(length[0]), rng=rng, method=association.method,
+                                  **association.options)
+        else:
+            res = sample_short_chains(problem, int(chains[0]), int(length[0]),
+                                      tau_stall=association.tau_stall,
+                                      tau_stale=association.tau_stale, rng=rng,
+                                      method=association.method, **association.options)
+        return Hypotheses(res.assignments, res.costs, int(res.n_observations),
+                          int(res.n_row_updates))
+    if isinstance(association, MultiSensorExact):
+        try:
+            ranked = oracle.enumerate_assignments(problem, limit=EXACT_LIMIT)
+        except ValueError as err:
+            if association.fallback is not None:
+                association.n_fallback += 1
+                return truncate_multisensor(association.fallback, problem, budget, rng)
+            raise ValueError(
+                f"MultiSensorExact() cannot enumerate a component's problem of {P} rows and "
+                f"M = {problem.n_meas} measurements within {EXACT_LIMIT} assignments "
+                f"(EXACT_LIMIT): {err}; pass fallback=<a multi-sensor sampler association> "
+                "or use the chains for problems of this size") from None
+        return Hypotheses(ranked.assignments, ranked.costs)
+    method = getattr(association, "hypotheses", None)
+    if method is None:
+        raise TypeError(_no_hypotheses_message(association))
+    res = method(problem, budget, rng)
+    a = np.asarray(res.assignments, dtype=np.int64)
+    who = _association_name(association)
+    if a.ndim != 3 or a.shape[1:] != (P, V) or a.shape[0] == 0:
+        raise ValueError(f"association {who} returned assignments of shape {a.shape}, "
+                         f"expected (n >= 1, {P}, {V})")
+    if not problem.is_feasible(a).all():
+        raise ValueError(f"association {who} returned an infeasible assignment")
+    if np.unique(a.reshape(a.shape[0], -1), axis=0).shape[0] != a.shape[0]:
+        raise ValueError(f"association {who} returned duplicate assignments (a GLMB component "
+                         "is made of unique ones)")
+    return Hypotheses(a, -problem.log_weight_of(a), int(getattr(res, "sweeps", 0)),
+                      int(getattr(res, "row_updates", 0)))
+
+
+def _no_hypotheses_message(association) -> str:
+    return (
+        "MultiSensorGLMBFilter needs an association that supplies hypotheses (unique "
+        "assignments with their costs): MultiSensorShortChainGibbs, MultiSensorOriginalGibbs, "
+        "MultiSensorExact, or an object with a method hypotheses(problem, budget, rng); "
+        f"{_association_name(association)} returns association marginals only, which suit "
+        "MultiSensorLMBFilter"
+    )
+
+
+class MultiSensorGLMBFilter(GLMBFilter):
+    """δ-GLMB filter fusing ``V`` position sensors by the multi-sensor joint update.
+
+    Parameters
+    ----------
+    model : MultiSensorModel or Model
+        A single-sensor :class:`~rankedassign.tracking.Model` is taken as ``V = 1``.
+    association : MultiSensorShortChainGibbs, MultiSensorOriginalGibbs, MultiSensorExact or
+        object
+        The truncation of every component's multi-sensor problem with its count ``T_h``, as
+        in :class:`~rankedassign.tracking.GLMBFilter`: the long chain runs
+        ``min(T_h − 1, n_obs)`` sweeps, the short chains ``L = min(N_C, T_h − 1)`` sweeps, at
+        most ``min(N_S, ⌈(T_h − 1) / L⌉)`` of them, with the row kernel ``method`` of the
+        association (one of :data:`GLMB_METHODS`); :class:`MultiSensorExact` enumerates every
+        assignment (at most :data:`~rankedassign.tracking.single.glmb.EXACT_LIMIT` per
+        component, or its ``fallback`` runs). Any object with a method
+        ``hypotheses(problem, budget, rng)`` works too. Single-sensor associations and
+        association marginals are refused with ``TypeError``.
+    birth : AdaptiveBirth or None, optional
+        None (default): the model's static birth at every scan. An
+        :class:`~rankedassign.tracking.AdaptiveBirth`: the births of scan ``k + 1`` are made
+        from the measurements of scan ``k`` that the posterior does not explain (module
+        docstring); births with ``r_B <= birth_threshold`` are dropped.
+    birth_threshold : float, optional
+        See ``birth`` (default ``10⁻³``, the LMB filter's ``prune_track``).
+    **options
+        The options of :class:`~rankedassign.tracking.GLMBFilter`: ``h_upd``, ``h_max``,
+        ``prune_hypothesis``, ``gate_prob`` (per sensor), ``extraction``, ``theta_upper``,
+        ``theta_lower``, ``prune_component``, ``merge_threshold``, ``merge_rule``,
+        ``max_components``, ``retained_mass`` (by the multi-sensor DP, per connected group of
+        rows), ``keep_histories``.
+
+    Attributes
+    ----------
+    V : int
+        Number of sensors.
+    n_births : int
+        Births appended by the last prediction.
+    r_U : list of ndarray or None
+        With adaptive birth, per sensor ``r_U`` of the last scan's measurements.
+
+    Notes
+    -----
+    A component whose count ``T_h`` is 0 or 1 keeps its all-missed child alone (the chains'
+    start state), without building its problem. A history node records, per sensor, the
+    measurement index of the update (−1 missed): :meth:`components` gives a track's history as
+    one tuple of ``V`` indices per scan. With one sensor the filter is the single-sensor
+    δ-GLMB filter on the same data (tested with enumeration to ``10⁻¹²`` in the weights).
+
+    References
+    ----------
+    .. [1] B.-N. Vo, B.-T. Vo, M. Beard, "Multi-Sensor Multi-Object Tracking with the
+       Generalized Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process.
+       67(23):5952-5967, 2019.
+    .. [2] B.-N. Vo, B.-T. Vo, H. G. Hoang, "An Efficient Implementation of the Generalized
+       Labeled Multi-Bernoulli Filter", IEEE Trans. Signal Process. 65(8):1975-1987, 2017.
+    .. [3] A. Trezza, D. J. Bucci Jr., P. K. Varshney, "On Gibbs Sampling Architecture for
+       Labeled Random Finite Sets Multi-Object Tracking", arXiv:2306.15135, 2023.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking import make_multisensor_model
+    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChainGibbs
+    >>> from rankedassign.tracking.multisensor.glmb import MultiSensorGLMBFilter
+    >>> model = make_multisensor_model((0, 1), birth="narrow")
+    >>> f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(
+    ...     400, 25, tau_stall=5, tau_stale=10, method="mm"))
+    >>> for k in range(4):          # one target near birth location 2, seen by both sensors
+    ...     z = [[400.0 - 10 * k, -600.0 + 5 * k]]
+    ...     rec = f.step([z, z], rng=k)
+    >>> rec.labels.tolist(), int(rec.cardinality.argmax())
+    ([[1, 2]], 1)
+    """
+
+    def __init__(self, model, association, *, birth: AdaptiveBirth | None = None,
+                 birth_threshold: float = 1e-3, **options):
+        from ...validation import check_real
+
+        if not isinstance(model, MultiSensorModel):
+            from ..models import Model
+
+            if isinstance(model, Model):
+                model = MultiSensorModel.from_model(model)
+        check_type(model, "model", MultiSensorModel,
+                   "build one with MultiSensorModel(...) or make_multisensor_model()")
+        if birth is not None:
+            check_type(birth, "birth", AdaptiveBirth,
+                       "None for the model's static birth or AdaptiveBirth(...)")
+        self.adaptive_birth = birth
+        self.birth_threshold = check_real(birth_threshold, "birth_threshold", minimum=0.0)
+        self.ms_model = model
+        self.V = model.n_sensors
+        self._meas_shape = (self.V,)
+        super().__init__(model.single(0), association, **options)
+        self._Rs = [np.array(s.R, dtype=np.float64) for s in model.sensors]
+        pds = np.array([s.p_d for s in model.sensors], dtype=np.float64)
+        with np.errstate(divide="ignore"):
+            self._log_pds = np.log(pds)
+            self._log_misses = np.log1p(-pds)
+        self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
+
+    @staticmethod
+    def _check_truncation(association) -> None:
+        custom = callable(getattr(association, "hypotheses", None))
+        if not custom or getattr(association, "sensors", None) == "single-sensor":
+            _check_association_kind(association, "MultiSensorGLMBFilter", "multi-sensor",
+                                    "MultiSensorShortChainGibbs", "GLMBFilter")
+        if not (custom or isinstance(association, (MultiSensorOriginalGibbs,
+                                                   MultiSensorShortChainGibbs,
+                                                   MultiSensorExact))):
+            raise TypeError(_no_hypotheses_message(association))
+        chain = association.fallback if isinstance(association, MultiSensorExact) else \
+            association
+        method = getattr(chain, "method", None)
+        if isinstance(chain, (MultiSensorOriginalGibbs, MultiSensorShortChainGibbs)) and \
+                method not in GLMB_METHODS:
+            raise ValueError(
+                f"MultiSensorGLMBFilter truncates with method in {GLMB_METHODS}, got "
+                f"{method!r}: the component-wise kernel samples the collapsed target, whose "
+                "all-missed row stands for dead or missed, so a child's dead rows cannot be "
+                "told from its missed ones")
+
+    def reset(self) -> None:
+        """Forget every track (and the pending adaptive births); one empty component."""
+        super().reset()
+        self.n_births = 0
+        self.r_U = None
+        if getattr(self, "adaptive_birth", None) is not None:
+            b = empty_birth()
+            self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
+            self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
+            self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
+
+    # ----------------------------------------------------------------------- shared terms
+    def _terms(self, zs, p_exist: np.ndarray) -> _MSTerms:
+        """``ln η`` of every entry's tuples, the MM factors and the per-sensor gates."""
+        T = self.n_tracks
+        V = self.V
+        with np.errstate(divide="ignore"):
+            log_p = np.log(p_exist)
+            log_dead = np.log1p(-p_exist)
+        used, gated, zu = [], [], []
+        gate = 0.0 if self.gate is None else self.gate
+        for z, R in zip(zs, self._Rs, strict=True):
+            if z.shape[0] == 0 or T == 0:
+                used.append(np.empty(0, dtype=np.int64))
+                gated.append(np.zeros((T, 0), dtype=bool))
+                zu.append(np.empty((0, 2)))
+                continue
+            with interruptible:
+                _, _, _, _, g = _kernels.gate_and_distances(
+                    self.m, self.P, R, z, self.offsets, gate, self.gate is not None)
+            u = np.flatnonzero(g.any(axis=0))
+            used.append(u)
+            gated.append(np.ascontiguousarray(g[:, u]))
+            zu.append(z[u])
+        dims = np.array([u.size + 1 for u in used], dtype=np.int64)
+        strides = np.ones(V, dtype=np.int64)
+        for v in range(V - 2, -1, -1):
+            strides[v] = strides[v + 1] * dims[v + 1]
+        # every entry's tuples: the product of its gated lists (0 = missed), all-missed first
+        per_entry = []
+        for t in range(T):
+            lists = [np.r_[0, np.flatnonzero(gated[v][t]) + 1] for v in range(V)]
+            per_entry.append(np.array(list(itertools.product(*lists)), dtype=np.int64)
+                             .reshape(-1, V))
+        counts = np.array([a.shape[0] for a in per_entry], dtype=np.int64)
+        tup_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        tup_g = np.concatenate(per_entry) if T else np.empty((0, V), dtype=np.int64)
+        tup_e = np.repeat(np.arange(T), counts)
+        det = tup_g > 0
+        # ln η(t) = ln p + Σ_{v∉D} ln(1 − P_D^v) + Σ_{v∈D} (ln P_D^v − ln κ_v) + ln q(z_D)
+        with np.errstate(invalid="ignore"):
+            tup_la = (log_p[tup_e] + np.where(det, self._log_pds - self._log_kappas,
+                                              self._log_misses).sum(axis=1))
+        log_q = np.zeros(tup_g.shape[0])
+        patterns = det @ (1 << np.arange(V))
+        log_w = np.log(self.w)
+        for pat in np.unique(patterns[patterns > 0]):
+            D = [v for v in range(V) if pat >> v & 1]
+            sel = np.flatnonzero(patterns == pat)
+            n_c = np.diff(self.offsets)[tup_e[sel]]
+            pair = np.repeat(np.arange(sel.size), n_c)
+            comp = (np.repeat(self.offsets[:-1][tup_e[sel]] - np.cumsum(np.r_[0, n_c[:-1]]),
+                              n_c) + np.arange(n_c.sum()))
+            zD = np.hstack([zu[v][tup_g[sel[pair], v] - 1] for v in D])
+            ll, _, _ = _stacked(self.m[comp], self.P[comp], zD,
+                                _block_diag([self._Rs[v] for v in D]), update=False)
+            log_q[sel] = _segment_logsumexp(ll + log_w[comp], pair, sel.size)
+        tup_la = tup_la + log_q
+        # MM factors: ln s = ln p, ln θ^(v)(0) = ln(1 − P_D^v), ln θ^(v)(j) from the one-sensor
+        # tuples (the entry's single-detection likelihoods)
+        log_theta = []
+        for v in range(V):
+            th = np.full((T, dims[v]), -np.inf)
+            th[:, 0] = self._log_misses[v]
+            one = np.flatnonzero(patterns == (1 << v))
+            th[tup_e[one], tup_g[one, v]] = (self._log_pds[v] - self._log_kappas[v]
+                                             + log_q[one])
+            log_theta.append(th)
+        return _MSTerms(tuple(used), tuple(gated), tuple(zu), dims, strides, tup_off, tup_g,
+                        np.ascontiguousarray(tup_la), log_dead, log_p, tuple(log_theta))
+
+    def _radix(self, terms: _MSTerms) -> int:
+        return int(np.prod(terms.dims))
+
+    def _history_meas(self, terms: _MSTerms, j_src: np.ndarray) -> np.ndarray:
+        g = ((j_src + 1)[:, None] // terms.strides[None, :]) % terms.dims[None, :]
+        out = np.full(g.shape, -1, dtype=np.int64)
+        for v in range(self.V):
+            hit = g[:, v] > 0
+            out[hit, v] = terms.used[v][g[hit, v] - 1]
+        return out
+
+    # ----------------------------------------------------------------------- a component
+    def _rows(self, h: int) -> np.ndarray:
+        return np.r_[self._births, self.comp_tracks[self.comp_off[h]:self.comp_off[h + 1]]] \
+            .astype(np.int64)
+
+    def _problem(self, rows: np.ndarray, terms: _MSTerms):
+        """The columns per sensor and the MultiSensorProblem of the entries ``rows``."""
+        V = self.V
+        cols = [np.flatnonzero(terms.gated[v][rows].any(axis=0)) for v in range(V)]
+        maps = []
+        for v in range(V):
+            mp = np.full(terms.dims[v], -1, dtype=np.int64)
+            mp[0] = 0
+            mp[cols[v] + 1] = np.arange(1, cols[v].size + 1)
+            maps.append(mp)
+        n_t = terms.tup_off[rows + 1] - terms.tup_off[rows]
+        idx = (np.repeat(terms.tup_off[rows] - np.cumsum(np.r_[0, n_t[:-1]]), n_t)
+               + np.arange(n_t.sum()))
+        g = terms.tup_g[idx]
+        la = np.full((rows.size, *(c.size + 1 for c in cols)), -np.inf)
+        la[(np.repeat(np.arange(rows.size), n_t), *(maps[v][g[:, v]] for v in range(V)))] = \
+            terms.tup_la[idx]
+        theta = [terms.log_theta[v][rows][:, np.r_[0, cols[v] + 1]] for v in range(V)]
+        return cols, MultiSensorProblem(terms.log_dead[rows], la, terms.log_p[rows], theta)
+
+    def _truncate(self, terms: _MSTerms, counts: np.ndarray, base: np.ndarray) -> _Children:
+        """The children of every component (spec §2.3), component by component."""
+        H = self.n_components
+        chains_ok = isinstance(self.association, (MultiSensorOriginalGibbs,
+                                                  MultiSensorShortChainGibbs))
+        comp, cost, off, entry, meas = [], [], [0], [], []
+        sweeps = row_updates = 0
+        kept = 0
+        for h in range(H):
+            rows = self._rows(h)
+            if chains_ok and counts[h] <= 1:
+                # the chains' start state alone: every row missed by every sensor
+                a_cost = np.array([-terms.tup_la[terms.tup_off[rows]].sum()])
+                comp.append(np.array([h], dtype=np.int64))
+                cost.append(a_cost)
+                off.append(off[-1] + rows.size)
+                entry.append(rows)
+                meas.append(np.full(rows.size, -1, dtype=np.int64))
+                kept += 1
+                continue
+            cols, problem = self._problem(rows, terms)
+            with interruptible:
+                hyp = truncate_multisensor(self.association, problem, int(counts[h]),
+                                           rng=int(base[h]))
+            a = np.asarray(hyp.assignments, dtype=np.int64).reshape(-1, rows.size, self.V)
+            kept += a.shape[0]
+            if kept > EXACT_SCAN_LIMIT:
+                raise ValueError(
+                    f"the truncation keeps more than EXACT_SCAN_LIMIT = {EXACT_SCAN_LIMIT} "
+                    f"assignments in one scan (component {h} of {H}); use the chains for "
+                    "problems of this size")
+            alive = a[:, :, 0] >= 0
+            flat = np.zeros(a.shape[:2], dtype=np.int64)
+            for v in range(self.V):
+                gv = a[:, :, v]
+                glob = np.where(gv > 0, cols[v][np.maximum(gv - 1, 0)] + 1 if cols[v].size
+                                else 0, 0)
+                flat += glob * terms.strides[v]
+            comp.append(np.full(a.shape[0], h, dtype=np.int64))
+            cost.append(np.asarray(hyp.costs, dtype=np.float64))
+            off.extend((off[-1] + np.cumsum(alive.sum(axis=1))).tolist())
+            entry.append(np.broadcast_to(rows, alive.shape)[alive])
+            meas.append(flat[alive] - 1)
+            sweeps += hyp.sweeps
+            row_updates += hyp.row_updates
+        return _Children(_concat(comp, np.int64), _concat(cost, np.float64),
+                         np.array(off, dtype=np.int64), _concat(entry, np.int64),
+                         _concat(meas, np.int64), sweeps, row_updates)
+
+    # ----------------------------------------------------------------------- retained mass
+    def _retained(self, terms: _MSTerms, children: _Children) -> tuple[float, str]:
+        """``Σ_h w_h K_h / Σ_h w_h Z_h`` with ``Z_h`` the product over the component's groups
+        of rows that share no measurement of any sensor (each by the multi-sensor DP)."""
+        H = self.n_components
+        log_Z = np.zeros(H)
+        cache: dict = {}
+        gated_all = np.hstack(terms.gated) if terms.gated else np.zeros((self.n_tracks, 0))
+        for h in range(H):
+            rows = self._rows(h)
+            for g_rows, _ in group_tracks(gated_all[rows]):
+                rr = rows[g_rows]
+                name = tuple(rr.tolist())
+                value = cache.get(name)
+                if value is None:
+                    if rr.size == 1:
+                        t = rr[0]
+                        value = _logsumexp(np.r_[terms.tup_la[terms.tup_off[t]:
+                                                              terms.tup_off[t + 1]],
+                                                 terms.log_dead[t]])
+                    else:
+                        _, problem = self._problem(rr, terms)
+                        try:
+                            with interruptible:
+                                value = oracle.log_normalizer(problem)
+                        except ValueError as err:
+                            return math.nan, (
+                                f"component {h} has a group of {rr.size} rows and "
+                                f"M = {problem.n_meas} measurements beyond the oracle's DP: "
+                                f"{err}")
+                    cache[name] = value
+                log_Z[h] += value
+        log_K = np.full(H, -np.inf)
+        starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
+        log_K[children.comp[starts]] = np.array(
+            [_logsumexp(-x) for x in np.split(children.cost, starts[1:])])
+        log_w = np.log(self.comp_w)
+        return math.exp(_logsumexp(log_w + log_K) - _logsumexp(log_w + log_Z)), ""
+
+    # ----------------------------------------------------------------------- the update
+    def _kalman(self, terms: _MSTerms, e_src: np.ndarray, j_src: np.ndarray) -> None:
+        """Mixtures of the new entries: ``e_src`` predicted (``j_src = −1``) or updated with
+        its tuple (the stacked update on ``z_D``); then pruned, merged and capped."""
+        n_comp = np.diff(self.offsets)[e_src]
+        offsets = np.concatenate([[0], np.cumsum(n_comp)]).astype(np.int64)
+        within = np.arange(offsets[-1]) - np.repeat(offsets[:-1], n_comp)
+        comp = np.repeat(self.offsets[:-1][e_src], n_comp) + within
+        new = np.repeat(np.arange(e_src.size), n_comp)
+        g = ((j_src + 1)[:, None] // terms.strides[None, :]) % terms.dims[None, :]
+        g = g[new]
+        w = self.w[comp].copy()
+        m = self.m[comp].copy()
+        P = self.P[comp].copy()
+        patterns = (g > 0) @ (1 << np.arange(self.V))
+        for pat in np.unique(patterns[patterns > 0]):
+            D = [v for v in range(self.V) if pat >> v & 1]
+            sel = np.flatnonzero(patterns == pat)
+            zD = np.hstack([terms.zu[v][g[sel, v] - 1] for v in D])
+            ll, m_upd, P_upd = _stacked(self.m[comp[sel]], self.P[comp[sel]], zD,
+                                        _block_diag([self._Rs[v] for v in D]), update=True)
+            # w̃_c = w_c N(z_D; ...) / Σ_c' w_c' N(z_D; ...) within each new entry
+            seg_ids, seg = np.unique(new[sel], return_inverse=True)
+            lw = np.log(self.w[comp[sel]]) + ll
+            w[sel] = np.exp(lw - _segment_logsumexp(lw, seg.reshape(-1), seg_ids.size)[seg])
+            m[sel] = m_upd
+            P[sel] = P_upd
+        keep = np.ones(e_src.size, dtype=bool)
+        with interruptible:
+            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+                offsets, np.ascontiguousarray(w), np.ascontiguousarray(m),
+                np.ascontiguousarray(P), keep, self.prune_component, self.merge_threshold,
+                self.max_components, self._rule)
+
+    # ----------------------------------------------------------------------- adaptive birth
+    def _adaptive_births(self, zs, gen) -> dict:
+        """The births of the next scan from ``r_U`` of this scan's measurements."""
+        if self.adaptive_birth is None:
+            return {}
+        t0 = perf_counter()
+        r_e = np.bincount(self.comp_tracks, weights=np.repeat(self.comp_w,
+                                                              np.diff(self.comp_off)),
+                          minlength=self.n_tracks)
+        last = self._node_meas[self.hist] if self.n_tracks else np.empty((0, self.V), np.int64)
+        r_U = []
+        for v, z in enumerate(zs):
+            hit = last[:, v] >= 0
+            r_A = np.bincount(last[hit, v], weights=r_e[hit], minlength=z.shape[0])
+            r_U.append(np.clip(1.0 - r_A, 0.0, 1.0))
+        self.r_U = r_U
+        birth_rng = gen.spawn(1)[0]
+        m = self.ms_model
+        b = self.adaptive_birth.births(zs, r_U, sensors=m.sensors, clutters=m.clutters,
+                                       F=self._F, Q=self._Q, rng=birth_rng,
+                                       r_min=self.birth_threshold)
+        self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
+        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
+        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
+        return {"birth": perf_counter() - t0}
+
+    # ----------------------------------------------------------------------- the scan
+    def step(self, zs, rng=None) -> GLMBScanRecord:
+        """Run one scan: predict, truncate every component, update, estimate.
+
+        Parameters
+        ----------
+        zs : sequence of V array_like, shape (M_v, 2)
+            One measurement set per sensor, in the model's sensor order.
+        rng : optional
+            Anything :func:`numpy.random.default_rng` accepts; one draw keys the streams of
+            every component, a child spawned after it drives the adaptive birth.
+
+        Returns
+        -------
+        GLMBScanRecord
+            ``n_meas`` and ``n_meas_gated`` count every sensor; ``timings`` has ``birth``
+            with adaptive birth.
+
+        Raises
+        ------
+        TypeError, ValueError
+            If ``zs`` is not one measurement array per sensor (the message gives ``V``), on
+            bad measurements (the message names the sensor), or as
+            :meth:`GLMBFilter.step <rankedassign.tracking.GLMBFilter.step>`.
+        """
+        if isinstance(zs, (str, bytes)) or not isinstance(zs, (Sequence, np.ndarray)):
+            raise TypeError(f"step needs one measurement array per sensor (V = {self.V}), "
+                            f"got {type(zs).__name__}")
+        if isinstance(zs, np.ndarray) or len(zs) != self.V:
+            got = "an array" if isinstance(zs, np.ndarray) else f"{len(zs)} arrays"
+            raise ValueError(f"step needs one measurement array per sensor (V = {self.V}), "
+                             f"got {got}")
+        zs = [_check_measurements(z, f"measurements of sensor {v}") for v, z in enumerate(zs)]
+        gen = spawning_generator(rng)
+        key = np.uint64(gen.integers(0, _TWO63, dtype=np.uint64))
+        t0 = perf_counter()
+        self.n_births = int(self._birth_r.size)
+        p_exist = self._predict()
+        T = self.n_tracks
+        t1 = perf_counter()
+        terms = self._terms(zs, p_exist)
+        counts = self._counts()
+        from ..single import _glmb_kernels
+
+        with interruptible:
+            base = _glmb_kernels.component_keys(key, self.n_components)
+        t2 = perf_counter()
+        children = self._truncate(terms, counts, base)
+        H = self.n_components
+        if self.retained_mass:
+            retained, reason = self._retained(terms, children)
+        else:
+            retained, reason = math.nan, "not computed (retained_mass=False)"
+        t3 = perf_counter()
+        n_children = self._update(terms, children, None)
+        labels, states, ex, track_labels, track_r, rho, traj = self._extract()
+        t4 = perf_counter()
+        timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
+                   "update": t4 - t3}
+        timings.update(self._adaptive_births(zs, gen))
+        return GLMBScanRecord(
+            labels, states, ex, track_labels, track_r, T, int(sum(z.shape[0] for z in zs)),
+            int(sum(u.size for u in terms.used)), H, H, children.sweeps,
+            children.row_updates, n_children, timings, rho, self.n_components, retained,
+            reason, traj,
+        )
