@@ -477,8 +477,9 @@ class MultiSensorGLMBFilter(GLMBFilter):
         kept = 0
         for h in range(H):
             rows = self._rows(h)
-            if chains_ok and counts[h] <= 1:
-                # the chains' start state alone: every row missed by every sensor
+            if rows.size == 0 or (chains_ok and counts[h] <= 1):
+                # the chains' start state alone: every row missed by every sensor (an empty
+                # component has the empty assignment only)
                 a_cost = np.array([-terms.tup_la[terms.tup_off[rows]].sum()])
                 comp.append(np.array([h], dtype=np.int64))
                 cost.append(a_cost)

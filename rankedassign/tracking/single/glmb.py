@@ -1090,7 +1090,7 @@ class GLMBFilter:
             self._confirmed = ukey[conf]
             # each confirmed label's heaviest entry
             order = np.lexsort((-r_e, linv))
-            best = order[np.r_[True, linv[order][1:] != linv[order][:-1]]]
+            best = order[np.r_[True, linv[order][1:] != linv[order][:-1]]] if T else order
             entries = best[conf]
         else:
             n_hat = int(np.argmax(rho))
