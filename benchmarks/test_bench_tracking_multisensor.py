@@ -1,4 +1,4 @@
-"""Multi-sensor LMB filter speed: one 100-scan run of the ``"multi"`` scenario per sensor set
+"""Multi-sensor LMB (and δ-GLMB) filter speed: one 100-scan run of the ``"multi"`` scenario per sensor set
 (``V = 1, 2, 3``) and association, with the static birth and with adaptive birth.
 
 Run the timings with::
@@ -30,12 +30,12 @@ METHODS = {
 }
 
 
-def _run(benchmark, make, sensors, birth="paper"):
+def _run(benchmark, make, sensors, birth="paper", filter="lmb"):
     smoke = benchmark.disabled
     n_scans = 2 if smoke else 100
     run = benchmark.pedantic(
         lambda: run_multisensor_scenario(make(smoke), rng=0, n_scans=n_scans, sensors=sensors,
-                                         birth=birth),
+                                         birth=birth, filter=filter),
         rounds=1, iterations=1, warmup_rounds=0,
     )
     benchmark.extra_info.update(
@@ -67,3 +67,11 @@ def test_bench_multi_adaptive_birth(benchmark, method, sensors):
     # adaptive birth (AdaptiveBirth() defaults, spec §7.2): no static birth; extra_info holds
     # the per-scan seconds of the birth sampler ("per_scan_birth_s") and the births per scan
     _run(benchmark, METHODS[method], SENSORS[sensors], birth="adaptive")
+
+
+@pytest.mark.parametrize("filter", ["lmb", "glmb"])
+@pytest.mark.benchmark(group="multisensor-glmb-vs-lmb")
+def test_bench_multi_glmb_against_lmb(benchmark, filter):
+    # the δ-GLMB filter against the LMB filter on the same measurements: three sensors, MM
+    # short chains, the narrow birth (target: GLMB at most 20x the LMB filter's time)
+    _run(benchmark, METHODS["short-400x25-mm"], SENSORS["V3"], birth="narrow", filter=filter)

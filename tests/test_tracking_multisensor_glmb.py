@@ -406,3 +406,16 @@ def test_exact_without_fallback_names_the_component_too_large():
         assert g.association.n_fallback == 1
     finally:
         mod.EXACT_LIMIT = old
+
+
+def test_run_scenario_on_multi_runs_the_multisensor_glmb_filter():
+    from rankedassign.tracking import run_scenario
+
+    assoc = MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="mm")
+    run = run_scenario("multi", assoc, filter="glmb", rng=2, n_scans=2, sensors=(0, 2),
+                       birth="narrow")
+    same = run_multisensor_scenario(assoc, filter="glmb", rng=2, n_scans=2, sensors=(0, 2),
+                                    birth="narrow")
+    assert run.n_unique.tolist() == same.n_unique.tolist()
+    with pytest.raises(ValueError, match="filter='glmb' runs without grouping"):
+        run_scenario("multi", assoc, filter="glmb", grouping=True, n_scans=1)

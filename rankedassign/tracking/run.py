@@ -71,7 +71,8 @@ def run_scenario(
         measurements do not depend on which others are selected.
     filter : {"lmb", "glmb"}, optional
         The LMB filter (default) or the δ-GLMB filter
-        (:class:`~rankedassign.tracking.GLMBFilter`, single-sensor presets, no grouping).
+        (:class:`~rankedassign.tracking.GLMBFilter`; on ``"multi"``
+        :class:`~rankedassign.tracking.MultiSensorGLMBFilter`), which takes no grouping.
         The measurements depend only on ``rng``, so both filters see the same data.
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.LMBFilter` (``gate_prob``,
@@ -103,17 +104,17 @@ def run_scenario(
         raise TypeError("run_scenario needs an association, e.g. "
                         "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
     check_choice(filter, "filter", FILTERS)
-    if filter == "glmb" and (preset == "multi" or grouping):
-        raise ValueError("filter='glmb' runs the single-sensor presets without grouping, got "
-                         f"preset {preset!r}, grouping={grouping!r}")
+    if filter == "glmb" and grouping:
+        raise ValueError("filter='glmb' runs without grouping (every component's problem is "
+                         f"truncated whole), got grouping={grouping!r}")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
     if preset == "multi":
         return run_multisensor_scenario(
             association, rng=rng, n_scans=n_scans,
             sensors=(0, 1, 2) if sensors is None else sensors,
-            grouping=True if grouping is None else grouping,
-            extraction=extraction, **filter_options,
+            grouping=True if grouping is None or filter == "glmb" else grouping,
+            extraction=extraction, filter=filter, **filter_options,
         )
     if sensors is not None:
         raise ValueError(f"sensors applies to the 'multi' preset only, got preset {preset!r}")

@@ -1,4 +1,4 @@
-"""The multi-sensor LMB and δ-GLMB filters (Vo, Vo & Beard 2019 update), its associations and scenario.
+"""The multi-sensor LMB and δ-GLMB filters (Vo, Vo & Beard 2019), associations and scenario.
 
 * :mod:`~rankedassign.tracking.multisensor.lmb` — :class:`MultiSensorLMBFilter` and
   :class:`MultiSensorModel`;
@@ -33,5 +33,5 @@ from .scenario import (
 
 __all__ = ["AdaptiveBirth", "MultiSensorAssociation", "MultiSensorAssociationResult",
            "MultiSensorExact", "MultiSensorOriginalGibbs", "MultiSensorShortChainGibbs",
-           "MultiSensorGLMBFilter", "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun", "make_multisensor_model",
-           "make_multisensor_scenario", "run_multisensor_scenario"]
+           "MultiSensorGLMBFilter", "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun",
+           "make_multisensor_model", "make_multisensor_scenario", "run_multisensor_scenario"]

@@ -43,8 +43,10 @@ from ...engine.rng import spawning_generator
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
 from ...samplers import sample_original, sample_short_chains
-from ...validation import check_type
+from ...validation import check_real, check_type
 from .. import _kernels
+from ..models import Model
+from ..single import _glmb_kernels
 from ..single.glmb import (
     EXACT_LIMIT,
     EXACT_SCAN_LIMIT,
@@ -56,8 +58,12 @@ from ..single.glmb import (
     _gibbs_budget,
     _logsumexp,
 )
-from ..single.lmb import _association_name, _check_association_kind, _check_measurements
-from ..single.lmb import group_tracks
+from ..single.lmb import (
+    _association_name,
+    _check_association_kind,
+    _check_measurements,
+    group_tracks,
+)
 from .adaptive_birth import AdaptiveBirth, empty_birth
 from .association import (
     MultiSensorExact,
@@ -304,13 +310,8 @@ class MultiSensorGLMBFilter(GLMBFilter):
 
     def __init__(self, model, association, *, birth: AdaptiveBirth | None = None,
                  birth_threshold: float = 1e-3, **options):
-        from ...validation import check_real
-
-        if not isinstance(model, MultiSensorModel):
-            from ..models import Model
-
-            if isinstance(model, Model):
-                model = MultiSensorModel.from_model(model)
+        if isinstance(model, Model):
+            model = MultiSensorModel.from_model(model)
         check_type(model, "model", MultiSensorModel,
                    "build one with MultiSensorModel(...) or make_multisensor_model()")
         if birth is not None:
@@ -658,8 +659,6 @@ class MultiSensorGLMBFilter(GLMBFilter):
         t1 = perf_counter()
         terms = self._terms(zs, p_exist)
         counts = self._counts()
-        from ..single import _glmb_kernels
-
         with interruptible:
             base = _glmb_kernels.component_keys(key, self.n_components)
         t2 = perf_counter()
