@@ -17,9 +17,12 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+
 from . import adaptive_birth, multisensor, single
 from .engine.kind import Kind
 from .engine.result import Prepared
+from .validation import check_beta
 
 __all__ = ["KINDS", "Kind", "kind_of", "kind_named", "prepare"]
 
@@ -84,7 +87,7 @@ def kind_named(name: str) -> Kind:
     return _BY_NAME[name]
 
 
-def prepare(problem, start, scan, rng, **options) -> Prepared:
+def prepare(problem, start, scan, rng, beta=1.0, **options) -> Prepared:
     """Validate a sampler call's problem and options; build its :class:`Prepared` inputs.
 
     Parameters
@@ -93,6 +96,11 @@ def prepare(problem, start, scan, rng, **options) -> Prepared:
         The problem; its kind (:func:`kind_of`) does the preparation.
     start, scan, rng
         As in :func:`rankedassign.sample_original`.
+    beta : float, optional
+        Inverse temperature in ``(0, 1]`` (default 1). With ``beta < 1`` the chains run on the
+        kind's tempered problem (:attr:`Kind.temper <rankedassign.engine.kind.Kind>`: every
+        row conditional raised to ``beta``) and the result's costs are those of ``problem``
+        itself; ``beta = 1`` prepares ``problem`` as it is, so its draws are unchanged.
     **options
         The kind's options (:attr:`Kind.options <rankedassign.engine.kind.Kind>`): none for an
         :class:`~rankedassign.AssignmentProblem`; ``method`` and ``survival_power`` for a
@@ -107,5 +115,16 @@ def prepare(problem, start, scan, rng, **options) -> Prepared:
     ------
     TypeError
         If ``problem`` is of no known kind, or an option does not apply to it.
+    ValueError
+        If ``beta`` is not a real number in ``(0, 1]``, or the kind cannot temper the call
+        (:attr:`Kind.temper <rankedassign.engine.kind.Kind>`).
     """
-    return kind_of(problem).prepare(problem, start, scan, rng, options)
+    kind = kind_of(problem)
+    beta = check_beta(beta)
+    if beta == 1.0:
+        return kind.prepare(problem, start, scan, rng, options)
+    prep = kind.prepare(kind.temper(problem, beta, options), start, scan, rng, options)
+    # the costs of the result are the problem's own: prepare it once more for its to_result
+    # (seed 0: the caller's rng is drawn from once, by the tempered preparation)
+    own = kind.prepare(problem, start, scan, 0, options)
+    return dataclasses.replace(prep, problem=problem, to_result=own.to_result)

@@ -31,7 +31,7 @@ def _run(prep, n_chains, chain_length, **rules):
 
 
 def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None,
-                    **options):
+                    beta=1.0, **options):
     """Reference original Gibbs sampler (spec §2.2); see :func:`rankedassign.sample_original`.
 
     Parameters
@@ -39,7 +39,7 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
     n_obs : int
         Number of sweeps (observations); Vo's ``T`` is ``n_obs + 1``.
-    start, scan, rng, **options
+    start, scan, rng, beta, **options
         As in :func:`rankedassign.sample_original`.
 
     Returns
@@ -59,13 +59,13 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     (200, [16, 17, 18, 19])
     """
     n_obs = check_int(n_obs, "n_obs")
-    prep = prepare(problem, start, scan, rng, **options)
+    prep = prepare(problem, start, scan, rng, beta, **options)
     return _run(prep, 1, n_obs)     # one chain, neither rule: Vo's long chain
 
 
 def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
                         stall="global-consecutive", stale="consecutive", start="all_missed",
-                        scan="systematic", rng=None, workers=1, **options):
+                        scan="systematic", rng=None, workers=1, beta=1.0, **options):
     """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
 
     Parameters
@@ -77,7 +77,7 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         Thresholds; ``None`` disables a rule.
     stall, stale : str
         Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
-    start, scan, rng, **options
+    start, scan, rng, beta, **options
         As in :func:`rankedassign.sample_short_chains`.
     workers : int
         Accepted and ignored (sequential).
@@ -103,7 +103,7 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     n_chains, chain_length = check_chain_budget(n_chains, chain_length)
     tau_stall, tau_stale = check_rules(tau_stall, tau_stale, stall, stale)
     check_int(workers, "workers", minimum=1)
-    prep = prepare(problem, start, scan, rng, **options)
+    prep = prepare(problem, start, scan, rng, beta, **options)
     if chain_length == 0:  # empty chains: closed form instead of looping over them
         chains_run, stale_fired = zero_length_run(n_chains, tau_stale, stale)
         return package(prep, [prep.x0.tolist()], [0], 0, chains_run, stale_fired, 0)

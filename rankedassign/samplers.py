@@ -126,7 +126,7 @@ def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers
 
 # ------------------------------------------------------------------------------ public API
 def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None,
-                    backend="numba", **options) -> SamplerResult:
+                    backend="numba", beta=1.0, **options) -> SamplerResult:
     """Original Gibbs sampler: one long chain of ``n_obs`` sweeps (Vo, Vo & Hoang 2017).
 
     Parameters
@@ -152,6 +152,13 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     backend : {"numba", "python"}
         Compiled kernels or the pure-Python reference
         (:func:`rankedassign.reference.sample_original`); the results are identical.
+    beta : float
+        Inverse temperature in ``(0, 1]`` (default 1): the chain samples ``π^β``, every row
+        conditional raised to ``beta`` inside the same kernels (the kind's
+        :attr:`~rankedassign.engine.kind.Kind.temper`). The result's ``costs`` are those of
+        ``problem`` itself, so a truncation re-weights every unique assignment exactly.
+        ``beta = 1`` gives today's draws bit for bit; the sensor-component-wise multi-sensor
+        kernel refuses ``beta < 1``.
     **options
         Options of the problem's kind (``Kind.options``): none for an
         :class:`AssignmentProblem`; for a
@@ -173,8 +180,9 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
         If ``problem`` is of no known kind, an option does not apply to its kind, or
         ``n_obs`` is not an int.
     ValueError
-        On a negative ``n_obs``, an unknown ``start``/``scan``/``backend``, or an infeasible
-        start state (e.g. all-missed when some row's missed cost is ``+inf``).
+        On a negative ``n_obs``, an unknown ``start``/``scan``/``backend``, an infeasible
+        start state (e.g. all-missed when some row's missed cost is ``+inf``), or ``beta``
+        outside ``(0, 1]``.
 
     Notes
     -----
@@ -211,16 +219,16 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
     check_choice(backend, "backend", BACKENDS)
     if backend == "python":
         return reference.sample_original(problem, n_obs, start=start, scan=scan, rng=rng,
-                                         **options)
+                                         beta=beta, **options)
     n_obs = check_int(n_obs, "n_obs")
-    prep = prepare(problem, start, scan, rng, **options)
+    prep = prepare(problem, start, scan, rng, beta, **options)
     return _run(prep, 1, n_obs, Rules(0, 0, 0, 0), 1)
 
 
 def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
                         stall="global-consecutive", stale="consecutive", start="all_missed",
                         scan="systematic", rng=None, backend="numba",
-                        workers=1, **options) -> SamplerResult:
+                        workers=1, beta=1.0, **options) -> SamplerResult:
     """Short-chain, multi-simulation Gibbs sampler with stall/stale termination.
 
     Parameters
@@ -257,6 +265,8 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         speculatively in parallel batches and replayed in order; everything but
         ``n_speculative_discarded`` is identical to ``workers = 1``. Ignored by the Python
         backend.
+    beta : float
+        Inverse temperature in ``(0, 1]`` (default 1), as in :func:`sample_original`.
     **options
         Options of the problem's kind, as in :func:`sample_original`.
 
@@ -273,7 +283,7 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         count/threshold is not an int.
     ValueError
         On negative counts, thresholds < 1, unknown readings, start, scan or backend,
-        ``workers < 1`` or an infeasible start state.
+        ``workers < 1``, an infeasible start state or ``beta`` outside ``(0, 1]``.
 
     Notes
     -----
@@ -337,12 +347,12 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         return reference.sample_short_chains(
             problem, n_chains, chain_length, tau_stall=tau_stall, tau_stale=tau_stale,
             stall=stall, stale=stale, start=start, scan=scan, rng=rng, workers=workers,
-            **options,
+            beta=beta, **options,
         )
     n_chains, chain_length = check_chain_budget(n_chains, chain_length)
     tau_stall, tau_stale = check_rules(tau_stall, tau_stale, stall, stale)
     workers = check_int(workers, "workers", minimum=1)
-    prep = prepare(problem, start, scan, rng, **options)
+    prep = prepare(problem, start, scan, rng, beta, **options)
     if chain_length == 0:  # empty chains: closed form instead of looping over them
         chains_run, stale_fired = zero_length_run(n_chains, tau_stale, stale)
         return package(prep, prep.x0[None, :], [0], 0, chains_run, stale_fired, 0)

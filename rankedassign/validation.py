@@ -26,6 +26,7 @@ __all__ = [
     "MAX_WORK_BYTES",
     "STALL_READINGS",
     "STALE_READINGS",
+    "check_beta",
     "check_bool",
     "check_fields",
     "check_choice",
@@ -244,6 +245,40 @@ def check_choice(value, name: str, choices) -> str:
     if not isinstance(value, str) or value not in choices:
         raise ValueError(f"unknown {name} {value!r}; expected one of {tuple(choices)}")
     return value
+
+
+def check_beta(beta) -> float:
+    """Return the inverse temperature ``beta`` as a float after checking it is in ``(0, 1]``.
+
+    Parameters
+    ----------
+    beta : object
+        A Python or numpy real number (``bool`` is refused).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        If ``beta`` is not a real number, is NaN, or lies outside ``(0, 1]``; the message names
+        ``beta``.
+
+    Examples
+    --------
+    >>> check_beta(0.5)
+    0.5
+    >>> check_beta(0)
+    Traceback (most recent call last):
+    ...
+    ValueError: beta must be a real number in (0, 1] (the conditionals are raised to beta), got 0
+    """
+    ok = isinstance(beta, numbers.Real) and not isinstance(beta, bool | np.bool_)
+    if not ok or not (0.0 < float(beta) <= 1.0):  # NaN fails the comparison
+        raise ValueError(f"beta must be a real number in (0, 1] (the conditionals are raised "
+                         f"to beta), got {beta!r}")
+    return float(beta)
 
 
 def check_real(value, name: str, *, minimum=None, maximum=None, strict_minimum=False,

@@ -202,3 +202,30 @@ def test_underflow_fallback_draws_exact_conditional():
     expected = n * np.array([1.0, 1.0, np.exp(-1.0)]) / (2.0 + np.exp(-1.0))
     t = float(np.sum((observed - expected) ** 2 / expected))
     assert t < stats.chi2.isf(FALSE_FAILURE, 2), t
+
+
+@pytest.mark.parametrize("name", sorted(PROBLEMS))
+@pytest.mark.parametrize("beta", [0.5, 0.8])
+def test_tempered_chain_is_stationary_for_and_visits_pi_to_the_beta(name, beta):
+    # the exact sweep matrix of the conditionals raised to beta, built from the costs times
+    # beta here (independently of the sampler's tempering); pi^beta is stationary for it, and
+    # the visits of sample_original(..., beta=beta) follow the Markov-chain CLT around it
+    p = PROBLEMS[name]
+    hot = AssignmentProblem(p.cost * beta)
+    states = enumerate_gamma(p)
+    K = transition(hot, states, "systematic")
+    pi_beta = target(p, states) ** beta
+    pi_beta /= pi_beta.sum()
+    assert_allclose(target(hot, states), pi_beta, rtol=1e-11)
+    assert_allclose(pi_beta @ K, pi_beta, rtol=1e-11, atol=1e-15)
+    n = 200_000
+    res = sample_original(p, n, rng=20230615, beta=beta)
+    assert_allclose(res.costs, p.cost_of(res.assignments))  # the problem's own costs
+    counts = visit_counts(p, res, states)
+    s = len(states)
+    Z = np.linalg.inv(np.eye(s) - K + np.outer(np.ones(s), pi_beta))
+    S = pi_beta[:, None] * Z + (pi_beta[:, None] * Z).T - np.diag(pi_beta) - np.outer(
+        pi_beta, pi_beta)
+    t, dof = chi2_statistic((counts - n * pi_beta) / np.sqrt(n), S)
+    assert dof == s - 1
+    assert t < stats.chi2.isf(FALSE_FAILURE, dof), (t, dof)

@@ -35,4 +35,5 @@ KIND = Kind(
     sweep=reference.sweep,
     drivers={"chains": _kernels.run_chains},
     options={"sensor_order": "'random' (default: a fresh permutation per sweep) or 'fixed'"},
+    temper=prepare.temper,
 )

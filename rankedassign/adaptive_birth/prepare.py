@@ -140,3 +140,40 @@ def prepare(problem, start, scan, rng, options) -> Prepared:
                 make_ref_data=lambda: reference_data(data),
                 x0=x0, n_values=max(problem.shape), base=base_key(rng), rows=V,
                 sweep_cost=sum(problem.shape) * (n * n + 1), to_result=to_result)
+
+
+def temper(problem: AdaptiveBirthProblem, beta: float, options) -> AdaptiveBirthProblem:
+    """The problem of weights ``ρ^β`` (its dense log-weight tensor times ``beta``).
+
+    Every per-sensor conditional (spec §4.2) becomes the one of ``problem`` raised to
+    ``beta``. A linear-Gaussian problem is evaluated once on its whole tuple space
+    (:meth:`~rankedassign.adaptive_birth.AdaptiveBirthProblem.log_weights`), so tempering it
+    is refused beyond that method's ``2**26`` tuples.
+
+    Parameters
+    ----------
+    problem : AdaptiveBirthProblem
+    beta : float
+        Inverse temperature in ``(0, 1]``.
+    options : dict
+        The sampler's options (``sensor_order`` applies unchanged).
+
+    Returns
+    -------
+    AdaptiveBirthProblem
+        With the same ``n_min``.
+
+    Raises
+    ------
+    ValueError
+        If the tuple space is too large for the dense tensor.
+
+    Examples
+    --------
+    >>> p = AdaptiveBirthProblem.from_log_weights(np.log([[4.0, 1.0]]), n_min=0)
+    >>> np.exp(temper(p, 0.5, {}).log_weights()).tolist()
+    [[2.0, 1.0]]
+    """
+    return AdaptiveBirthProblem.from_log_weights(problem.log_weights() * beta,
+                                                 n_min=problem.n_min)
+

@@ -48,6 +48,10 @@ class Kind:
         The kind's sampler options (keyword arguments of :func:`rankedassign.sample_original`
         and :func:`rankedassign.sample_short_chains` beyond the common ones), each with a one
         line description; empty for the single-sensor kind.
+    temper : callable
+        ``temper(problem, beta, options) -> problem``: the problem whose row conditionals are
+        those of ``problem`` raised to ``beta`` (its weights to the power ``beta``), for the
+        samplers' ``beta`` option; it may refuse an option whose target cannot be tempered so.
 
     Examples
     --------
@@ -65,6 +69,7 @@ class Kind:
     sweep: Callable = field(repr=False)
     drivers: Mapping[str, Callable] = field(repr=False)
     options: Mapping[str, str] = field(default_factory=dict)
+    temper: Callable | None = field(default=None, repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "drivers", MappingProxyType(dict(self.drivers)))

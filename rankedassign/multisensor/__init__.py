@@ -45,4 +45,5 @@ KIND = Kind(
                   "'componentwise' (rankedassign.multisensor.prepare.METHODS)",
         "survival_power": "1 (default) or 'V': the survival factor's exponent",
     },
+    temper=prepare.temper,
 )

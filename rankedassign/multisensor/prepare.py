@@ -54,6 +54,7 @@ __all__ = [
     "METHODS",
     "STARTS",
     "prepare",
+    "temper",
     "prepare_data",
     "start_state",
     "states_to_assignments",
@@ -421,3 +422,47 @@ def prepare(problem, start, scan, rng, options) -> Prepared:
         n_values=max((int(m) for m in problem.n_meas), default=0) + 2, base=base_key(rng),
         rows=int(problem.n_rows), sweep_cost=sweep_cost(problem, method), to_result=to_result,
     )
+
+
+def temper(problem, beta: float, options):
+    """The problem of weights ``η^β``: every log-weight (and MM factor) times ``beta``.
+
+    The exact conditional of a row (spec §2.1) becomes the one of ``problem`` raised to
+    ``beta``, so ``method="exact"`` targets ``π^β``; the factors ``s`` and ``θ^(v)`` are
+    raised to ``beta`` too, so the MM kernels sample the tempered surrogate ``π̃^β``.
+
+    Parameters
+    ----------
+    problem : MultiSensorProblem
+    beta : float
+        Inverse temperature in ``(0, 1]``.
+    options : dict
+        The sampler's options; ``method="componentwise"`` is refused (its collapsed weight
+        ``η(−1) + η(0, ..., 0)`` raised to ``beta`` is not the sum of the tempered weights).
+
+    Returns
+    -------
+    MultiSensorProblem
+
+    Raises
+    ------
+    ValueError
+        For ``method="componentwise"``.
+
+    Examples
+    --------
+    >>> from rankedassign.multisensor import MultiSensorProblem
+    >>> p = MultiSensorProblem.from_eta([1.0], [[[4.0, 1.0]]])
+    >>> np.exp(temper(p, 0.5, {"method": "exact"}).log_eta_alive).tolist()
+    [[[2.0, 1.0]]]
+    """
+    if options.get("method", "mm") == "componentwise":
+        raise ValueError(
+            "beta != 1 does not apply to method='componentwise': its collapsed weight "
+            "eta(-1) + eta(0, ..., 0) raised to beta is not the sum of the tempered weights; "
+            "use method='exact', 'mm' or 'mm-fixed'")
+    theta = None if problem.log_theta is None else [t * beta for t in problem.log_theta]
+    log_s = None if problem.log_s is None else problem.log_s * beta
+    return type(problem)(problem.log_eta_dead * beta, problem.log_eta_alive * beta, log_s,
+                         theta)
+

@@ -33,4 +33,5 @@ KIND = Kind(
     new_work=reference.new_work,
     sweep=reference.sweep,
     drivers={"direct": _kernels.run_chains, "prefix": _kernels.run_chains_prefix},
+    temper=prepare.temper,
 )

@@ -21,8 +21,9 @@ from ..numba_options import interruptible, jit
 from ..validation import check_choice
 from .problem import AssignmentProblem
 
-__all__ = ["prepare", "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData", "uses_prefix_sums",
-           "shifted_weights", "prefix_sums", "to_compact", "to_columns", "start_columns"]
+__all__ = ["prepare", "temper", "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData",
+           "uses_prefix_sums", "shifted_weights", "prefix_sums", "to_compact", "to_columns",
+           "start_columns"]
 
 STARTS = ("all_missed", "all_dead", "lsap")
 
@@ -366,3 +367,32 @@ def prepare(problem: AssignmentProblem, start, scan, rng, options) -> Prepared:
         x0=x0, n_values=M + 2,
         base=base_key(rng), rows=P, sweep_cost=P * (M + 2), to_result=to_result,
     )
+
+
+def temper(problem: AssignmentProblem, beta: float, options) -> AssignmentProblem:
+    """The problem of weights ``η^β``: every cost ``−ln η`` times ``beta``.
+
+    Every row conditional (spec eq. 2.1) of the result is the one of ``problem`` raised to
+    ``beta`` and renormalised, so the chains target ``π^β``. The support (the ``+inf``
+    entries) is unchanged.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    beta : float
+        Inverse temperature in ``(0, 1]``.
+    options : dict
+        The kind's options (none).
+
+    Returns
+    -------
+    AssignmentProblem
+
+    Examples
+    --------
+    >>> p = AssignmentProblem.from_eta([[4.0]], [1.0], [0.25])
+    >>> np.exp(-temper(p, 0.5, {}).compact_cost).round(3).tolist()
+    [[2.0, 1.0, 0.5]]
+    """
+    return AssignmentProblem(problem.cost * beta)
+
