@@ -58,7 +58,8 @@ def test_fusing_three_sensors_beats_the_best_single_sensor_by_20_percent(runs):
     "measured shortfall on these three seeds, not shown to be ruled out by the model: with "
     "the MAP estimate the short chains trail the long chain by 5.2 % on seeds 0-2 (18.81 m "
     "against 17.88 m; per seed 16.25/16.27, 22.27/20.61, 17.90/16.77). Over seeds 0-9 "
-    "(the runs of this fixture, rng = 0..9) the gap is 3.9 % (19.18 m against 18.46 m), within the target, "
+    "(the runs of this fixture, rng = 0..9) the gap is 3.9 % (19.18 m against 18.46 m), "
+    "within the target, "
     "and single seeds range from -10 % to +25 %; with the preset's hysteresis estimate the "
     "short chains are 4.7 % better on seeds 0-2 (23.5 m against 24.7 m)"))
 def test_short_chains_are_within_5_percent_of_the_long_chain(runs):
