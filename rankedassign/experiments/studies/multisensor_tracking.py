@@ -389,6 +389,8 @@ class MultiSensorTrackingSummary:
         Mean birth tracks appended per scan.
     birth_seconds : float
         Mean seconds per run spent making adaptive births.
+    filter : {"lmb", "glmb"}
+        The filter of the cell.
     """
 
     sensors: tuple
