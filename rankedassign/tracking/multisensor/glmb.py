@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
 from time import perf_counter
 from typing import NamedTuple
 
@@ -39,14 +38,12 @@ import numpy as np
 
 import oracle
 
-from ...engine.rng import spawning_generator
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
 from ...samplers import sample_original, sample_short_chains
 from ...validation import check_real, check_type
 from .. import _kernels
 from ..models import Model
-from ..single import _glmb_kernels
 from ..single.glmb import (
     EXACT_LIMIT,
     EXACT_SCAN_LIMIT,
@@ -61,7 +58,6 @@ from ..single.glmb import (
 from ..single.lmb import (
     _association_name,
     _check_association_kind,
-    _check_measurements,
     group_tracks,
 )
 from .adaptive_birth import AdaptiveBirth, empty_birth
@@ -70,7 +66,7 @@ from .association import (
     MultiSensorOriginalGibbs,
     MultiSensorShortChainGibbs,
 )
-from .lmb import MultiSensorModel
+from .lmb import MultiSensorModel, check_scans
 
 __all__ = ["GLMB_METHODS", "MultiSensorGLMBFilter", "truncate_multisensor"]
 
@@ -80,7 +76,6 @@ __all__ = ["GLMB_METHODS", "MultiSensorGLMBFilter", "truncate_multisensor"]
 GLMB_METHODS = ("exact", "mm", "mm-fixed")
 _POS = [0, 2]  # H picks p_x, p_y
 _LOG_2PI = math.log(2.0 * math.pi)
-_TWO63 = 2**63
 
 
 class _MSTerms(NamedTuple):
@@ -642,42 +637,16 @@ class MultiSensorGLMBFilter(GLMBFilter):
             bad measurements (the message names the sensor), or as
             :meth:`GLMBFilter.step <rankedassign.tracking.GLMBFilter.step>`.
         """
-        if isinstance(zs, (str, bytes)) or not isinstance(zs, (Sequence, np.ndarray)):
-            raise TypeError(f"step needs one measurement array per sensor (V = {self.V}), "
-                            f"got {type(zs).__name__}")
-        if isinstance(zs, np.ndarray) or len(zs) != self.V:
-            got = "an array" if isinstance(zs, np.ndarray) else f"{len(zs)} arrays"
-            raise ValueError(f"step needs one measurement array per sensor (V = {self.V}), "
-                             f"got {got}")
-        zs = [_check_measurements(z, f"measurements of sensor {v}") for v, z in enumerate(zs)]
-        gen = spawning_generator(rng)
-        key = np.uint64(gen.integers(0, _TWO63, dtype=np.uint64))
-        t0 = perf_counter()
-        self.n_births = int(self._birth_r.size)
-        p_exist = self._predict()
-        T = self.n_tracks
-        t1 = perf_counter()
-        terms = self._terms(zs, p_exist)
-        counts = self._counts()
-        with interruptible:
-            base = _glmb_kernels.component_keys(key, self.n_components)
-        t2 = perf_counter()
-        children = self._truncate(terms, counts, base)
-        H = self.n_components
-        if self.retained_mass:
-            retained, reason = self._retained(terms, children)
-        else:
-            retained, reason = math.nan, "not computed (retained_mass=False)"
-        t3 = perf_counter()
-        n_children = self._update(terms, children, None)
-        labels, states, ex, track_labels, track_r, rho, traj = self._extract()
-        t4 = perf_counter()
-        timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
-                   "update": t4 - t3}
-        timings.update(self._adaptive_births(zs, gen))
-        return GLMBScanRecord(
-            labels, states, ex, track_labels, track_r, T, int(sum(z.shape[0] for z in zs)),
-            int(sum(u.size for u in terms.used)), H, H, children.sweeps,
-            children.row_updates, n_children, timings, rho, self.n_components, retained,
-            reason, traj,
-        )
+        self.n_births = int(self._birth_r.size)  # the births this scan's prediction appends
+        return self._scan(check_scans(zs, self.V), rng)
+
+    @staticmethod
+    def _n_meas(zs) -> int:
+        return int(sum(z.shape[0] for z in zs))
+
+    @staticmethod
+    def _n_gated(terms) -> int:
+        return int(sum(u.size for u in terms.used))
+
+    def _after_scan(self, zs, gen) -> dict:
+        return self._adaptive_births(zs, gen)

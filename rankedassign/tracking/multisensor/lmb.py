@@ -63,7 +63,7 @@ from ..single.lmb import (
 from .adaptive_birth import AdaptiveBirth, empty_birth
 from .association import MultiSensorAssociationResult
 
-__all__ = ["MultiSensorModel", "MultiSensorLMBFilter", "check_sensors"]
+__all__ = ["MultiSensorModel", "MultiSensorLMBFilter", "check_scans", "check_sensors"]
 
 _POS = [0, 2]  # H picks p_x, p_y
 _LOG_2PI = math.log(2.0 * math.pi)
@@ -120,6 +120,43 @@ def check_sensors(sensors, n_sensors: int, name: str = "sensors") -> tuple[int, 
     if not idx or len(set(idx)) != len(idx) or min(idx) < 0 or max(idx) >= n_sensors:
         raise ValueError(f"{name} must be distinct indices in 0..{n_sensors - 1}, got {idx}")
     return tuple(idx)
+
+
+def check_scans(zs, n_sensors: int) -> list:
+    """One scan's measurements of every sensor, validated: a list of ``(M_v, 2)`` arrays.
+
+    Parameters
+    ----------
+    zs : sequence of array_like
+        One measurement set per sensor, in the model's sensor order.
+    n_sensors : int
+        ``V``.
+
+    Returns
+    -------
+    list of ndarray
+
+    Raises
+    ------
+    TypeError
+        If ``zs`` is not a sequence of measurement sets (a string, a number).
+    ValueError
+        If it holds other than ``V`` sets (or is one array), or a set is malformed; the
+        message gives ``V`` or names the sensor.
+
+    Examples
+    --------
+    >>> [z.shape for z in check_scans([[[0.0, 1.0]], []], 2)]
+    [(1, 2), (0, 2)]
+    """
+    if isinstance(zs, (str, bytes)) or not isinstance(zs, (Sequence, np.ndarray)):
+        raise TypeError(f"step needs one measurement array per sensor (V = {n_sensors}), "
+                        f"got {type(zs).__name__}")
+    if isinstance(zs, np.ndarray) or len(zs) != n_sensors:
+        got = "an array" if isinstance(zs, np.ndarray) else f"{len(zs)} arrays"
+        raise ValueError(f"step needs one measurement array per sensor (V = {n_sensors}), "
+                         f"got {got}")
+    return [_check_measurements(z, f"measurements of sensor {v}") for v, z in enumerate(zs)]
 
 
 @dataclass(frozen=True)
@@ -443,14 +480,7 @@ class MultiSensorLMBFilter(LMBFilter):
             the wrong shape, with a non-finite or negative entry, or with a row whose
             ``dead[n] + tuples[n].sum()`` is not 1.
         """
-        if isinstance(zs, (str, bytes)) or not isinstance(zs, (Sequence, np.ndarray)):
-            raise TypeError(f"step needs one measurement array per sensor (V = {self.V}), "
-                            f"got {type(zs).__name__}")
-        if isinstance(zs, np.ndarray) or len(zs) != self.V:
-            got = "an array" if isinstance(zs, np.ndarray) else f"{len(zs)} arrays"
-            raise ValueError(f"step needs one measurement array per sensor (V = {self.V}), "
-                             f"got {got}")
-        zs = [_check_measurements(z, f"measurements of sensor {v}") for v, z in enumerate(zs)]
+        zs = check_scans(zs, self.V)
         gen = spawning_generator(rng)
         t0 = perf_counter()
         self.predict()

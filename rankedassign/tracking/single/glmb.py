@@ -1135,7 +1135,24 @@ class GLMBFilter:
         >>> rec.labels.tolist(), rec.n_components, round(rec.retained_mass, 6)
         ([[1, 1], [1, 2]], 36, 1.0)
         """
-        z = _check_measurements(z)
+        return self._scan(_check_measurements(z), rng)
+
+    # hooks of the scan that a filter of several sensors replaces (its measurements are one
+    # array per sensor, its terms hold one gate per sensor, its births may adapt)
+    @staticmethod
+    def _n_meas(z) -> int:
+        return int(z.shape[0])
+
+    @staticmethod
+    def _n_gated(terms) -> int:
+        return int(terms.used.size)
+
+    def _after_scan(self, z, gen) -> dict:
+        """Work after the estimate (none here); returns extra ``timings`` entries."""
+        return {}
+
+    def _scan(self, z, rng) -> GLMBScanRecord:
+        """One scan on validated measurements ``z`` (see :meth:`step`)."""
         gen = spawning_generator(rng)
         key = np.uint64(gen.integers(0, _TWO63, dtype=np.uint64))
         t0 = perf_counter()
@@ -1157,10 +1174,11 @@ class GLMBFilter:
         n_children = self._update(terms, children, z)
         labels, states, ex, track_labels, track_r, rho, traj = self._extract()
         t4 = perf_counter()
+        timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
+                   "update": t4 - t3}
+        timings.update(self._after_scan(z, gen))
         return GLMBScanRecord(
-            labels, states, ex, track_labels, track_r, T, int(z.shape[0]),
-            int(terms.used.size), H, H, children.sweeps, children.row_updates, n_children,
-            {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
-             "update": t4 - t3},
-            rho, self.n_components, retained, reason, traj,
+            labels, states, ex, track_labels, track_r, T, self._n_meas(z),
+            self._n_gated(terms), H, H, children.sweeps, children.row_updates, n_children,
+            timings, rho, self.n_components, retained, reason, traj,
         )
