@@ -11,6 +11,7 @@ from . import metrics
 from ._version import __version__
 from .samplers import SamplerResult, sample_original, sample_short_chains, warmup
 from .single import synthetic
+from .single.lbp import LBPResult, lbp_marginals
 from .single.problem import AssignmentProblem
 
 __all__ = [
@@ -18,6 +19,8 @@ __all__ = [
     "SamplerResult",
     "sample_original",
     "sample_short_chains",
+    "lbp_marginals",
+    "LBPResult",
     "warmup",
     "synthetic",
     "metrics",

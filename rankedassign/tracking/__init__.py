@@ -50,9 +50,11 @@ from .run import ScenarioRun, run_scenario
 from .runner import FilterRun, run_filter
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
 from .single.association import (
+    LBP,
     Association,
     AssociationResult,
     Exact,
+    LBPConvergenceWarning,
     Murty,
     OriginalGibbs,
     ShortChainGibbs,
@@ -70,6 +72,8 @@ __all__ = [
     "ConstantVelocity",
     "Exact",
     "FilterRun",
+    "LBP",
+    "LBPConvergenceWarning",
     "GLMB_EXTRACTIONS",
     "GLMBFilter",
     "GLMBScanRecord",

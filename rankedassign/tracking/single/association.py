@@ -16,6 +16,7 @@ of the hypothesis, :func:`marginals_from_hypotheses` explains it.
 
 from __future__ import annotations
 
+import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -24,6 +25,7 @@ import oracle
 
 from ...numba_options import interruptible, jit
 from ...samplers import sample_original, sample_short_chains
+from ...single.lbp import LBP_MAX_ITER, LBP_TOL, check_lbp_settings, lbp_marginals
 from ...single.problem import AssignmentProblem
 from ...validation import check_choice, check_int, check_optional_int
 from .. import _kernels
@@ -35,6 +37,8 @@ __all__ = [
     "ShortChainGibbs",
     "Murty",
     "Exact",
+    "LBP",
+    "LBPConvergenceWarning",
     "marginals_from_hypotheses",
     "MARGINALS",
 ]
@@ -418,3 +422,84 @@ class Exact(Association):
     def __call__(self, problem, rng) -> AssociationResult:
         beta = np.array(oracle.marginals(problem), dtype=np.float64)
         return AssociationResult(beta=beta, invocations=1, sweeps=0, row_updates=0, n_unique=0)
+
+
+class LBPConvergenceWarning(RuntimeWarning):
+    """Loopy belief propagation stopped at ``max_iter`` before its messages settled."""
+
+
+class LBP(Association):
+    """Loopy belief propagation (Williams & Lau 2014, :func:`rankedassign.lbp_marginals`).
+
+    Approximate association marginals from message passing, without sampling or
+    enumeration: exact when no two tracks gate the same measurement, within about ``1e-3`` on
+    the paper's random ``4 x 24`` matrices, and tens of times faster than :class:`Exact` on a
+    30-track problem (the Herding, tempering and belief propagation page of the documentation
+    has the measurements). It gives marginals only, so it serves the LMB filter, not the
+    δ-GLMB filter (which needs hypotheses).
+
+    Parameters
+    ----------
+    tol : float, optional
+        Stop when no message changes by more than ``tol`` (default ``1e-9``).
+    max_iter : int, optional
+        Iteration cap (default 1000). A call that reaches it keeps its last beliefs, emits an
+        :class:`LBPConvergenceWarning` naming the problem's size and the last change, and is
+        counted in :attr:`n_unconverged`.
+
+    Attributes
+    ----------
+    n_calls, n_unconverged : int
+        Calls made and calls that stopped at ``max_iter`` (in this process).
+    iterations : int
+        Iterations over all calls.
+
+    References
+    ----------
+    .. [1] J. Williams, R. Lau, "Approximate evaluation of marginal association probabilities
+       with belief propagation", IEEE Trans. Aerosp. Electron. Syst. 50(4):2942-2959, 2014.
+
+    Examples
+    --------
+    >>> from rankedassign import AssignmentProblem
+    >>> from rankedassign.tracking import LBP
+    >>> assoc = LBP()
+    >>> assoc
+    LBP()
+    >>> p = AssignmentProblem.from_eta([[2.0]], [0.5], [0.25])
+    >>> assoc(p, None).beta.round(6).tolist()
+    [[0.727273, 0.181818, 0.090909]]
+    >>> assoc.n_calls, assoc.n_unconverged
+    (1, 0)
+    """
+
+    name = "lbp"
+
+    def __init__(self, *, tol: float = LBP_TOL, max_iter: int = LBP_MAX_ITER):
+        self.tol, self.max_iter = check_lbp_settings(tol, max_iter)
+        self.n_calls = 0
+        self.n_unconverged = 0
+        self.iterations = 0
+
+    def __repr__(self):
+        parts = []
+        if self.tol != LBP_TOL:
+            parts.append(f"tol={self.tol!r}")
+        if self.max_iter != LBP_MAX_ITER:
+            parts.append(f"max_iter={self.max_iter!r}")
+        return f"LBP({', '.join(parts)})"
+
+    def __call__(self, problem, rng) -> AssociationResult:
+        res = lbp_marginals(problem, tol=self.tol, max_iter=self.max_iter)
+        self.n_calls += 1
+        self.iterations += res.iterations
+        if not res.converged:
+            self.n_unconverged += 1
+            warnings.warn(
+                f"loopy belief propagation did not converge within max_iter={self.max_iter} "
+                f"iterations on a {problem.n_rows} x {problem.n_meas} problem (last message "
+                f"change {res.change:.3g} > tol={self.tol:g}); its last beliefs are used",
+                LBPConvergenceWarning, stacklevel=2,
+            )
+        return AssociationResult(beta=res.marginals, invocations=1, sweeps=0, row_updates=0,
+                                 n_unique=0)
