@@ -239,3 +239,24 @@ def test_bench_frontier_tracking_scan(benchmark, fn, tracking_problem):
     benchmark.extra_info.update(P=tracking_problem.n_rows, M=tracking_problem.n_meas)
     out = benchmark(fn, tracking_problem)
     assert np.all(np.isfinite(out))
+
+
+@pytest.mark.parametrize("fn", ["lbp", "exact"])
+def test_bench_lbp_vs_exact_marginals_30x60(benchmark, fn):
+    """Loopy belief propagation against the exact marginals it approximates, 30 tracks x 60
+    measurements in a gate (target: LBP at least 10x faster)."""
+    from rankedassign import lbp_marginals
+
+    problem = gated_problem(np.random.default_rng(1), n_rows=30, n_meas=60)
+    benchmark.group = "LBP vs exact marginals gated 30x60"
+    benchmark.extra_info.update(P=problem.n_rows, M=problem.n_meas,
+                                gated=int(np.isfinite(problem.compact_cost[:, :-2]).sum()))
+    if fn == "lbp":
+        lbp_marginals(problem)                     # compiled outside the timing
+        out = benchmark(lambda: lbp_marginals(problem).marginals)
+        err = float(np.abs(out - marginals(problem)).max())
+        benchmark.extra_info["max_error"] = err
+        assert err < 1e-3
+    else:
+        out = benchmark(marginals, problem)
+    assert out.shape == (30, 62)

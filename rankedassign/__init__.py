@@ -9,7 +9,14 @@ builds on both and is imported on its own (``from rankedassign.tracking import .
 
 from . import metrics
 from ._version import __version__
-from .samplers import SamplerResult, sample_original, sample_short_chains, warmup
+from .samplers import (
+    Herding,
+    SamplerResult,
+    sample_herded,
+    sample_original,
+    sample_short_chains,
+    warmup,
+)
 from .single import synthetic
 from .single.lbp import LBPResult, lbp_marginals
 from .single.problem import AssignmentProblem
@@ -19,6 +26,8 @@ __all__ = [
     "SamplerResult",
     "sample_original",
     "sample_short_chains",
+    "sample_herded",
+    "Herding",
     "lbp_marginals",
     "LBPResult",
     "warmup",

@@ -12,22 +12,30 @@ with hypothesis over random problems and every option).
 
 from __future__ import annotations
 
+from .engine.herding import DEFAULT_MAX_KEYS, Herding, check_herding
 from .engine.reference import run_chains
 from .engine.result import check_chain_budget, check_rules, package, zero_length_run
-from .kinds import kind_named, prepare
+from .kinds import kind_named, kind_of, prepare
 from .validation import check_int
 
-__all__ = ["sample_original", "sample_short_chains"]
+__all__ = ["sample_original", "sample_short_chains", "sample_herded"]
 
 
-def _run(prep, n_chains, chain_length, **rules):
+def _run(prep, n_chains, chain_length, herding=None, **rules):
     kind = kind_named(prep.kind)
+    if herding is None:
+        sweep, new_work, data, tally = kind.sweep, kind.new_work, prep.ref_data, (0, 0)
+    else:
+        from .samplers import herded_rule
+
+        rule = herded_rule(kind)
+        _, _, make_ref, _ = rule.inputs(prep, herding, chain_length)
+        data, tally = make_ref()
+        sweep, new_work = rule.sweep, rule.new_work
     states, counts, n_obs, chains_run, stale = run_chains(
-        kind.sweep, kind.new_work, prep.ref_data, prep.x0.tolist(), prep.base, n_chains,
-        chain_length,
-        **rules,
+        sweep, new_work, data, prep.x0.tolist(), prep.base, n_chains, chain_length, **rules,
     )
-    return package(prep, states, counts, n_obs, chains_run, stale, 0)
+    return package(prep, states, counts, n_obs, chains_run, stale, 0, tally)
 
 
 def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rng=None,
@@ -65,7 +73,8 @@ def sample_original(problem, n_obs, *, start="all_missed", scan="systematic", rn
 
 def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_stale=None,
                         stall="global-consecutive", stale="consecutive", start="all_missed",
-                        scan="systematic", rng=None, workers=1, beta=1.0, **options):
+                        scan="systematic", rng=None, workers=1, beta=1.0, herding=None,
+                        **options):
     """Reference short-chain sampler (spec §3.3); see :func:`rankedassign.sample_short_chains`.
 
     Parameters
@@ -77,7 +86,7 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
         Thresholds; ``None`` disables a rule.
     stall, stale : str
         Readings of the rules (spec §3.2), as in :func:`rankedassign.sample_short_chains`.
-    start, scan, rng, beta, **options
+    start, scan, rng, beta, herding, **options
         As in :func:`rankedassign.sample_short_chains`.
     workers : int
         Accepted and ignored (sequential).
@@ -103,10 +112,51 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     n_chains, chain_length = check_chain_budget(n_chains, chain_length)
     tau_stall, tau_stale = check_rules(tau_stall, tau_stale, stall, stale)
     check_int(workers, "workers", minimum=1)
+    if check_herding(herding) is not None:
+        from .samplers import herded_rule
+
+        herded_rule(kind_of(problem))
     prep = prepare(problem, start, scan, rng, beta, **options)
     if chain_length == 0:  # empty chains: closed form instead of looping over them
         chains_run, stale_fired = zero_length_run(n_chains, tau_stale, stale)
         return package(prep, [prep.x0.tolist()], [0], 0, chains_run, stale_fired, 0)
-    return _run(prep, n_chains, chain_length, tau_stall=tau_stall, tau_stale=tau_stale,
-                stall=stall, stale=stale)
+    return _run(prep, n_chains, chain_length, herding, tau_stall=tau_stall,
+                tau_stale=tau_stale, stall=stall, stale=stale)
+
+
+def sample_herded(problem, n_obs, *, keys="shared", init="uniform", max_keys=DEFAULT_MAX_KEYS,
+                  beta=1.0, start="all_missed", scan="systematic", rng=None, **options):
+    """Reference herded Gibbs sampler; see :func:`rankedassign.sample_herded`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    n_obs : int
+        Number of sweeps (observations).
+    keys, init, max_keys, beta, start, scan, rng, **options
+        As in :func:`rankedassign.sample_herded`.
+
+    Returns
+    -------
+    SamplerResult
+
+    References
+    ----------
+    .. [1] Y. Chen, L. Bornn, N. de Freitas, M. Eskelin, J. Fang, M. Welling, "Herded Gibbs
+       Sampling", J. Mach. Learn. Res. 17(10):1-29, 2016.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> res = sample_herded(synthetic.diagonal(), 200, init="zero")
+    >>> int(res.counts.sum()), res.n_fallbacks
+    (200, 0)
+    """
+    herding = Herding(keys=keys, init=init, max_keys=max_keys)
+    n_obs = check_int(n_obs, "n_obs")
+    from .samplers import herded_rule
+
+    herded_rule(kind_of(problem))
+    prep = prepare(problem, start, scan, rng, beta, **options)
+    return _run(prep, 1, n_obs, herding)
 

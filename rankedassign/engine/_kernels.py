@@ -249,6 +249,17 @@ def sweep(data, work, b, zkeys, state, h, rs):  # pragma: no cover - replaced
     raise NotImplementedError
 
 
+def chain_done(data, work, b, j):  # pragma: no cover - replaced in every instantiation
+    """Chain of slab ``b`` ended at its observation ``j`` (the replay's order)."""
+    raise NotImplementedError
+
+
+@jit()
+def no_chain_done(data, work, b, j):
+    """The default :func:`make_driver` ``chain_done``: a kind that keeps no per-chain tally."""
+    return None
+
+
 def _speculate_impl(*args):  # pragma: no cover - replaced in every instantiation
     raise NotImplementedError
 
@@ -723,6 +734,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
                 left -= j - j_before
             if speculative:
                 used_hist[j] += 1
+            chain_done(data, work, b, j)
             ctr[DISCARDED] += done - j
             pos[_IN_CHAIN] = 0
             pos[_B] = b + 1
@@ -758,7 +770,7 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
     return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
 
 
-def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
+def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done, cache=None):
     """Compile the chain driver for one problem type.
 
     Parameters
@@ -767,6 +779,11 @@ def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
         Unique name of the problem type (names the compiled functions and their cache files).
     alloc_work, reset_work, sweep : compiled functions
         The problem type's workspace allocation, reset and sweep (see the module docstring).
+    chain_done : compiled function, optional
+        ``chain_done(data, work, b, j)``, called once per chain in the replay's (chain) order
+        when the chain of slab ``b`` ends at its observation ``j``: where a kind keeps a tally
+        of its chains (the herded draw counts its key-table fall-backs) it reads the slab's
+        state at ``j``, so sweeps speculated past ``j`` are not counted. Default: nothing.
     cache : bool, optional
         As in :func:`rankedassign.numba_options.jit`; off for functions defined interactively.
 
@@ -825,7 +842,7 @@ def make_driver(name, alloc_work, reset_work, sweep, *, cache=None):
                           cache=cache)
     run_slice = instantiate(_run_slice, f"run_slice_{name}",
                             {"_speculate_impl": spec, "_advance_impl": adv,
-                             "reset_work": reset_work}, cache=cache)
+                             "reset_work": reset_work, "chain_done": chain_done}, cache=cache)
     start = instantiate(_start, f"start_{name}",
                         {"_new_run_impl": new_run, "_run_slice_impl": run_slice}, cache=cache)
 

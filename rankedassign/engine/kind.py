@@ -14,7 +14,31 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
-__all__ = ["Kind"]
+__all__ = ["Kind", "DrawRule"]
+
+
+@dataclass(frozen=True)
+class DrawRule:
+    """A row update of a kind other than its Gibbs draw (the herded draw), in both forms.
+
+    Attributes
+    ----------
+    driver : callable
+        The compiled chain driver (:func:`rankedassign.engine._kernels.make_driver`).
+    new_work, sweep : callable
+        The reference row update, as :attr:`Kind.new_work` and :attr:`Kind.sweep`.
+    inputs : callable
+        ``inputs(prep, settings, chain_length) -> (data, tally, make_ref, chain_bytes)``:
+        from the kind's :class:`~rankedassign.engine.result.Prepared` Gibbs inputs, the
+        driver's ``data``; the array its run's tallies accumulate in; ``make_ref() ->
+        (ref_data, ref_tally)``, the same for the reference (built only when it runs); and the
+        bytes of one chain's workspace (which bounds how many chains are simulated at once).
+    """
+
+    driver: Callable = field(repr=False)
+    new_work: Callable = field(repr=False)
+    sweep: Callable = field(repr=False)
+    inputs: Callable = field(repr=False)
 
 
 @dataclass(frozen=True)
@@ -52,6 +76,9 @@ class Kind:
         ``temper(problem, beta, options) -> problem``: the problem whose row conditionals are
         those of ``problem`` raised to ``beta`` (its weights to the power ``beta``), for the
         samplers' ``beta`` option; it may refuse an option whose target cannot be tempered so.
+    draws : mapping of str to DrawRule
+        Row updates beside the Gibbs draw (``"herded"``: :func:`rankedassign.sample_herded`);
+        empty where the kind has none yet.
 
     Examples
     --------
@@ -70,7 +97,9 @@ class Kind:
     drivers: Mapping[str, Callable] = field(repr=False)
     options: Mapping[str, str] = field(default_factory=dict)
     temper: Callable | None = field(default=None, repr=False)
+    draws: Mapping[str, DrawRule] = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "drivers", MappingProxyType(dict(self.drivers)))
+        object.__setattr__(self, "draws", MappingProxyType(dict(self.draws)))
         object.__setattr__(self, "options", MappingProxyType(dict(self.options)))

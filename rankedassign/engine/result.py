@@ -55,6 +55,12 @@ class SamplerResult:
         ``"stale"`` if the stale rule fired (even on the last chain), else ``"budget"``.
     n_speculative_discarded : int
         Sweeps simulated ahead by the parallel kernel and not used (0 for sequential runs).
+    n_keys : int
+        Herded draw (:func:`rankedassign.sample_herded`): keys created in the chains' tables,
+        summed over the chains; 0 for the Gibbs draw.
+    n_fallbacks : int
+        Herded draw: row updates that met a new key while their chain's table was full
+        (``max_keys``) and drew as the Gibbs sampler does; 0 for the Gibbs draw.
 
     Examples
     --------
@@ -72,6 +78,8 @@ class SamplerResult:
     n_chains_run: int
     stop_reason: str
     n_speculative_discarded: int = 0
+    n_keys: int = 0
+    n_fallbacks: int = 0
 
     def __post_init__(self):
         for name in ("assignments", "costs", "counts"):
@@ -245,8 +253,8 @@ def zero_length_run(n_chains, tau_stale, stale):
     return n_chains, False
 
 
-def package(prep: Prepared, states, counts, n_obs, n_chains_run, stale, discarded
-            ) -> SamplerResult:
+def package(prep: Prepared, states, counts, n_obs, n_chains_run, stale, discarded,
+            tally=(0, 0)) -> SamplerResult:
     """Turn a run's unique states and counters into a :class:`SamplerResult`.
 
     Parameters
@@ -267,6 +275,8 @@ def package(prep: Prepared, states, counts, n_obs, n_chains_run, stale, discarde
         Whether the stale rule ended the run (``stop_reason="stale"``).
     discarded : int
         Sweeps simulated ahead by the parallel kernel and not used (0 for sequential runs).
+    tally : pair of int, optional
+        The herded draw's ``(keys created, fall-back draws)``; ``(0, 0)`` otherwise.
 
     Returns
     -------
@@ -285,4 +295,6 @@ def package(prep: Prepared, states, counts, n_obs, n_chains_run, stale, discarde
         n_chains_run=int(n_chains_run),
         stop_reason="stale" if stale else "budget",
         n_speculative_discarded=int(discarded),
+        n_keys=int(tally[0]),
+        n_fallbacks=int(tally[1]),
     )

@@ -19,7 +19,7 @@ Examples
 ('single', ['direct', 'prefix'], (4, 24))
 """
 
-from ..engine.kind import Kind
+from ..engine.kind import DrawRule, Kind
 from . import _kernels, prepare, reference, synthetic
 from .problem import AssignmentProblem
 
@@ -34,4 +34,6 @@ KIND = Kind(
     sweep=reference.sweep,
     drivers={"direct": _kernels.run_chains, "prefix": _kernels.run_chains_prefix},
     temper=prepare.temper,
+    draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
+                              reference.herd_sweep, prepare.herd_inputs)},
 )

@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine._kernels import make_driver, next_uniform
+from ..engine._kernels import make_driver, mix64, next_uniform
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
 
@@ -414,9 +414,197 @@ def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
                         work[3][b], work[4][b], h, rs, work[1][b], work[2][b], data[4])
 
 
+# ---------------------------------------------------------------------------- herded draw
+# data of the herded driver: (W, cc, random_scan, key_mode, init_mode, capacity, chain_length,
+# tally); work: (free, perm, p, cum, keyv, hw, kst, krow, tslot, thash, cnt, hist), see
+# alloc_work_herded.
+_HGOLD = np.uint64(0x9E3779B97F4A7C15)
+_TWO = np.int64(2)
+
+
+@jit()
+def _key_hash(i, keyv):
+    """Hash of row ``i``'s key vector ``keyv`` (entries >= -1), for the key table."""
+    h = mix64(np.multiply(np.uint64(i + 1), _HGOLD))
+    for t in range(keyv.shape[0]):
+        h = mix64(h ^ np.uint64(np.int64(keyv[t]) + _TWO))
+    return h
+
+
+@jit()
+def _table_find(i, keyv, h, krow, kst, tslot, thash):
+    """Slot of row ``i``'s key in the table, or ``-1 - t`` with ``t`` the free table entry."""
+    mask = tslot.shape[0] - 1
+    t = np.int64(h & np.uint64(mask))
+    P = keyv.shape[0]
+    while True:
+        v = tslot[t]
+        if v == 0:
+            return -1 - t
+        if thash[t] == h:
+            s = v - 1
+            if krow[s] == i:
+                same = True
+                for r in range(P):
+                    if kst[s, r] != keyv[r]:
+                        same = False
+                        break
+                if same:
+                    return s
+        t = (t + 1) & mask
+
+
+@jit(inline="always")
+def sweep_herded(W, cc, zkeys, state, free, h, rs, perm, p, cum, keyv, hw, kst, krow, tslot,
+                 thash, cnt, random_scan, key_mode, init_mode, capacity):
+    """One herded sweep over all rows, in place (twin of the reference's ``herd_sweep``).
+
+    ``p`` receives each row's conditional (the reference's ``conditional``, operation for
+    operation), ``keyv`` its key (``herd_key``: the state with row ``i`` as -1, or its gated
+    measurements held by the other rows in increasing order, padded with -1), found in the
+    open-addressing table ``tslot``/``thash`` (slot + 1, key hash) and confirmed on the stored
+    key ``kst``/``krow``; ``hw[s]`` are slot ``s``'s weights. ``cnt`` is ``[keys, fall-backs,
+    sweeps]`` of the chain.
+    """
+    P = state.shape[0]
+    M = W.shape[1] - 2
+    K = M + 2
+    if random_scan:
+        _shuffle(perm, rs)
+    for t in range(P):
+        i = perm[t] if random_scan else t
+        k_old = state[i]
+        if k_old < M:
+            free[k_old] = 1.0
+        # the conditional (the reference's conditional())
+        meas = 0.0
+        for k in range(M):
+            meas += W[i, k] * free[k]
+        total = (meas + W[i, M]) + W[i, M + 1]
+        if total > 0.0:
+            for k in range(M):
+                p[k] = (W[i, k] * free[k]) / total
+            p[M] = W[i, M] / total
+            p[M + 1] = W[i, M + 1] / total
+        else:
+            m = np.inf
+            for k in range(K):
+                if (k >= M or free[k] > 0.0) and cc[i, k] < m:
+                    m = cc[i, k]
+            tot = 0.0
+            for k in range(K):
+                if k >= M or free[k] > 0.0:
+                    p[k] = np.exp(-(cc[i, k] - m))
+                    tot += p[k]
+                else:
+                    p[k] = 0.0
+            for k in range(K):
+                p[k] = p[k] / tot
+        # the key (the reference's herd_key)
+        if key_mode == 0:
+            for r in range(P):
+                keyv[r] = state[r]
+            keyv[i] = -1
+        else:
+            n = 0
+            for k in range(M):
+                if free[k] == 0.0 and cc[i, k] < np.inf:
+                    keyv[n] = k
+                    n += 1
+            for r in range(n, P):
+                keyv[r] = -1
+        hk = _key_hash(i, keyv)
+        s = _table_find(i, keyv, hk, krow, kst, tslot, thash)
+        if s < 0 and cnt[0] < capacity:  # a new key with room: its initial weights
+            e = -1 - s
+            s = cnt[0]
+            cnt[0] += 1
+            tslot[e] = s + 1
+            thash[e] = hk
+            krow[s] = i
+            for r in range(P):
+                kst[s, r] = keyv[r]
+            for k in range(K):
+                if init_mode == 0:
+                    hw[s, k] = p[k]
+                elif init_mode == 1:
+                    hw[s, k] = 0.0
+                else:
+                    hw[s, k] = next_uniform(rs)
+        if s < 0:  # the table is full: an ordinary Gibbs draw
+            cnt[1] += 1
+            k_new = draw_direct(W, cc, i, free, cum, next_uniform(rs))
+        else:
+            best = -1
+            for k in range(K):
+                hw[s, k] += p[k]
+                if p[k] > 0.0 and (best < 0 or hw[s, k] > hw[s, best]):
+                    best = k
+            hw[s, best] -= 1.0
+            k_new = best
+        if k_new < M:
+            free[k_new] = 0.0
+        if k_new != k_old:
+            state[i] = k_new
+            h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
+    cnt[2] += 1
+    return h
+
+
+@jit()
+def alloc_work_herded(data, nb):
+    """Workspace of ``nb`` herded chains: the direct draw's, scratch rows and key tables."""
+    W = data[0]
+    P = W.shape[0]
+    M = W.shape[1] - 2
+    K = M + 2
+    cap = data[5]
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    return (np.empty((nb, M)), np.empty((nb, P), dtype=np.int64), np.empty((nb, K)),
+            np.empty((nb, K)), np.empty((nb, P), dtype=np.int32), np.empty((nb, cap, K)),
+            np.empty((nb, cap, P), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
+            np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
+            np.zeros((nb, 3), dtype=np.int64), np.zeros((nb, data[6] + 1, 2), dtype=np.int64))
+
+
+@jit()
+def reset_work_herded(data, work, b, x0):
+    """Slab ``b`` for a new chain from ``x0``: free mask, an empty key table, zero tallies."""
+    _reset_free(work[0][b], x0)
+    work[8][b, :] = 0
+    work[10][b, :] = 0
+    work[11][b, 0, :] = 0
+
+
+@jit(inline="always")
+def row_sweep_herded(data, work, b, zkeys, state, h, rs):
+    """One herded sweep of chain slab ``b``; records the chain's tallies after it."""
+    cnt = work[10][b]
+    h = sweep_herded(data[0], data[1], zkeys, state, work[0][b], h, rs, work[1][b],
+                     work[2][b], work[3][b], work[4][b], work[5][b], work[6][b], work[7][b],
+                     work[8][b], work[9][b], cnt, data[2], data[3], data[4], data[5])
+    j = cnt[2]
+    work[11][b, j, 0] = cnt[0]
+    work[11][b, j, 1] = cnt[1]
+    return h
+
+
+@jit()
+def chain_done_herded(data, work, b, j):
+    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
+    tally = data[7]
+    tally[0] += work[11][b, j, 0]
+    tally[1] += work[11][b, j, 1]
+
+
 #: The chain driver compiled for the single-sensor problem with the direct draw
 #: (:func:`._chains.make_driver`).
 run_chains = make_driver("single", alloc_work, reset_work, row_sweep)
 #: The chain driver compiled for the single-sensor problem with the prefix-sum draw.
 run_chains_prefix = make_driver("single_prefix", alloc_work_prefix, reset_work_prefix,
                                 row_sweep_prefix)
+#: The chain driver compiled for the single-sensor problem with the herded draw.
+run_chains_herded = make_driver("single_herded", alloc_work_herded, reset_work_herded,
+                                row_sweep_herded, chain_done=chain_done_herded)

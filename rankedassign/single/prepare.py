@@ -15,13 +15,14 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.result import SCANS, Prepared
 from ..engine.rng import base_key
 from ..numba_options import interruptible, jit
 from ..validation import check_choice
 from .problem import AssignmentProblem
 
-__all__ = ["prepare", "temper", "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData",
+__all__ = ["prepare", "temper", "herd_inputs", "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData",
            "uses_prefix_sums", "shifted_weights", "prefix_sums", "to_compact", "to_columns",
            "start_columns"]
 
@@ -396,3 +397,43 @@ def temper(problem: AssignmentProblem, beta: float, options) -> AssignmentProble
     """
     return AssignmentProblem(problem.cost * beta)
 
+
+
+def herd_inputs(prep: Prepared, herding, chain_length: int):
+    """The herded driver's inputs from a single-sensor call's Gibbs inputs.
+
+    Parameters
+    ----------
+    prep : Prepared
+        The call's :func:`prepare` result (either driver: the herded draw needs every row's
+        whole conditional, so it always sums directly).
+    herding : rankedassign.engine.herding.Herding
+        Keys, initial weights and the table bound.
+    chain_length : int
+        Observations per chain (the key table never needs more than ``P`` keys per sweep).
+
+    Returns
+    -------
+    data, tally, make_ref, chain_bytes
+        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents; the tallies are
+        ``[keys created, fall-back draws]``.
+    """
+    from .reference import HerdData
+
+    W, cc, random_scan = prep.data[0], prep.data[1], prep.data[-1]
+    P, K = W.shape
+    cap = herding.capacity(P, chain_length)
+    tally = np.zeros(2, dtype=np.int64)
+    data = (W, cc, random_scan, KEY_CODES[herding.keys], INIT_CODES[herding.init], cap,
+            chain_length, tally)
+
+    def make_ref():
+        ref_tally = [0, 0]
+        return HerdData(W.tolist(), cc.tolist(), random_scan, K - 2, herding.keys,
+                        herding.init, cap, ref_tally), ref_tally
+
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    chain_bytes = cap * (8 * K + 4 * P + 4) + 16 * T + 16 * (chain_length + 1) + 24 * K
+    return data, tally, make_ref, chain_bytes

@@ -257,3 +257,165 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
             owner[k_new] = i
             bisect.insort(held, k_new)
         x[i] = k_new
+
+
+# ------------------------------------------------------------------------------ herded draw
+class HerdData(NamedTuple):
+    """The herded sampler's inputs as plain lists and numbers (:func:`herd_sweep`).
+
+    Attributes
+    ----------
+    W, cc, random_scan, M
+        As in :class:`~rankedassign.single.prepare.SingleData`.
+    keys : {"full", "shared"}
+        What a key is (:class:`~rankedassign.engine.herding.Herding`).
+    init : {"conditional", "zero", "uniform"}
+        A new key's initial weights.
+    capacity : int
+        Keys a chain's table may hold.
+    tally : list of int
+        ``[keys created, fall-back draws]`` over the run, updated in place.
+    """
+
+    W: list
+    cc: list
+    random_scan: bool
+    M: int
+    keys: str
+    init: str
+    capacity: int
+    tally: list
+
+
+class HerdWork(NamedTuple):
+    """A herded chain's bookkeeping: who holds each measurement, and its key table."""
+
+    owner: list    # length M: row holding each measurement, -1 if free
+    table: dict    # key -> list of K weights
+
+
+def new_herd_work(data: HerdData, x) -> HerdWork:
+    """Bookkeeping of a herded chain in state ``x``: an empty key table."""
+    owner = [-1] * data.M
+    for i, k in enumerate(x):
+        if k < data.M:
+            owner[k] = i
+    return HerdWork(owner, {})
+
+
+def conditional(W_i, cc_i, i, owner) -> list:
+    """Row ``i``'s conditional ``π_i(k | γ_{-i})`` over its ``M + 2`` candidates, as a list.
+
+    ``W_i[k] / total`` for an available candidate, 0 for a measurement another row holds;
+    ``total`` is the sum of the available weights left to right, as in :func:`draw_direct`.
+    If every available weight underflowed, the exact weights ``exp(-(cc_i[k] - m))`` are used
+    (``m`` the cheapest available cost), as in :func:`draw_direct`'s fall-back.
+
+    Examples
+    --------
+    >>> conditional([1.0, 1.0, 2.0, 0.0], [0.0, 0.0, -0.7, float("inf")], 0, [-1, 1])
+    [0.25, 0.0, 0.5, 0.0]
+    """
+    M = len(owner)
+    K = M + 2
+    avail = [k >= M or owner[k] in (-1, i) for k in range(K)]
+    meas = 0.0
+    for k in range(M):
+        meas += W_i[k] if avail[k] else 0.0
+    total = (meas + W_i[M]) + W_i[M + 1]
+    if total > 0.0:
+        return [(W_i[k] if avail[k] else 0.0) / total for k in range(K)]
+    m = min(cc_i[k] for k in range(K) if avail[k])
+    e = [math.exp(-(cc_i[k] - m)) if avail[k] else 0.0 for k in range(K)]
+    total = 0.0
+    for k in range(K):
+        if avail[k]:
+            total += e[k]
+    return [v / total for v in e]
+
+
+def herd_key(data: HerdData, x, i, owner) -> tuple:
+    """Row ``i``'s key: ``(i, γ_{-i})`` (``"full"``) or ``(i, its gated measurements that the
+    other rows hold, increasing)`` (``"shared"``), with row ``i``'s measurement released."""
+    if data.keys == "full":
+        return (i,) + tuple(-1 if r == i else v for r, v in enumerate(x))
+    cc_i = data.cc[i]
+    return (i,) + tuple(k for k in range(data.M)
+                        if owner[k] not in (-1, i) and cc_i[k] < math.inf)
+
+
+def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
+    """One herded sweep over all rows, updating ``x`` and ``work`` in place.
+
+    Parameters
+    ----------
+    data : HerdData
+    work : HerdWork
+        The chain's bookkeeping (:func:`new_herd_work`).
+    x : list of int, length P
+        Compact state.
+    g : SplitMix64
+        The chain's stream (used by a random scan, uniform initial weights and fall-backs).
+
+    Notes
+    -----
+    Rows are visited as in :func:`sweep`. Row ``i`` releases its measurement, computes its
+    conditional ``p`` (:func:`conditional`) and its key (:func:`herd_key`). A key not in the
+    table gets initial weights (``p`` itself, zeros, or ``M + 2`` uniforms from ``g`` in
+    candidate order) if the table has room; otherwise the row draws as the Gibbs sampler
+    does (one uniform, :func:`draw_direct`) and the draw is tallied as a fall-back. With the
+    key's weights ``w``: ``w[k] += p[k]`` for every candidate, then the pick is the first
+    ``k`` with ``p[k] > 0`` of the largest ``w[k]``, and ``w[pick] -= 1``.
+
+    Examples
+    --------
+    >>> from rankedassign.engine.rng import SplitMix64
+    >>> data = HerdData([[1.0, 1.0, 0.0]], [[0.0, 0.0, float("inf")]], False, 1, "shared",
+    ...                 "zero", 8, [0, 0])
+    >>> x = [1]
+    >>> work = new_herd_work(data, x)
+    >>> picks = []
+    >>> for _ in range(4):
+    ...     herd_sweep(data, work, x, SplitMix64(0))
+    ...     picks.append(x[0])
+    >>> picks, data.tally                 # alternates between measurement 0 and missed
+    ([0, 1, 0, 1], [1, 0])
+    """
+    P = len(x)
+    M = data.M
+    K = M + 2
+    owner = work.owner
+    order = list(range(P))
+    if data.random_scan:
+        for t in range(P - 1, 0, -1):
+            j = min(int(g.uniform() * (t + 1)), t)
+            order[t], order[j] = order[j], order[t]
+    for i in order:
+        if x[i] < M:
+            owner[x[i]] = -1
+        p = conditional(data.W[i], data.cc[i], i, owner)
+        key = herd_key(data, x, i, owner)
+        w = work.table.get(key)
+        if w is None and len(work.table) < data.capacity:
+            if data.init == "conditional":
+                w = list(p)
+            elif data.init == "zero":
+                w = [0.0] * K
+            else:
+                w = [g.uniform() for _ in range(K)]
+            work.table[key] = w
+            data.tally[0] += 1
+        if w is None:  # the table is full: an ordinary Gibbs draw
+            data.tally[1] += 1
+            k_new = draw_direct(data.W[i], data.cc[i], i, owner, g.uniform())
+        else:
+            best = -1
+            for k in range(K):
+                w[k] += p[k]
+                if p[k] > 0.0 and (best < 0 or w[k] > w[best]):
+                    best = k
+            w[best] -= 1.0
+            k_new = best
+        if k_new < M:
+            owner[k_new] = i
+        x[i] = k_new
