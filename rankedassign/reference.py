@@ -124,7 +124,8 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
                 tau_stale=tau_stale, stall=stall, stale=stale)
 
 
-def sample_herded(problem, n_obs, *, keys="shared", init="uniform", max_keys=DEFAULT_MAX_KEYS,
+def sample_herded(problem, n_obs, *, keys="shared", init="conditional",
+                  max_keys=DEFAULT_MAX_KEYS,
                   beta=1.0, start="all_missed", scan="systematic", rng=None, **options):
     """Reference herded Gibbs sampler; see :func:`rankedassign.sample_herded`.
 
