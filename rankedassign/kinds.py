@@ -24,7 +24,7 @@ from .engine.kind import Kind
 from .engine.result import Prepared
 from .validation import check_beta
 
-__all__ = ["KINDS", "Kind", "kind_of", "kind_named", "prepare"]
+__all__ = ["KINDS", "Kind", "kind_of", "kind_named", "herded_rule", "prepare"]
 
 #: Every problem kind, in the order error messages list them.
 KINDS: tuple[Kind, ...] = (single.KIND, multisensor.KIND, adaptive_birth.KIND)
@@ -85,6 +85,35 @@ def kind_named(name: str) -> Kind:
     'MultiSensorProblem'
     """
     return _BY_NAME[name]
+
+
+def herded_rule(kind: Kind):
+    """The kind's herded draw (:attr:`Kind.draws <rankedassign.engine.kind.Kind>`).
+
+    Parameters
+    ----------
+    kind : Kind
+
+    Returns
+    -------
+    rankedassign.engine.kind.DrawRule
+
+    Raises
+    ------
+    TypeError
+        If the kind has none; the message names its problem type and the kinds that herd.
+
+    Examples
+    --------
+    >>> herded_rule(kind_named("single")).driver.__name__
+    'run_chains_single_herded'
+    """
+    rule = kind.draws.get("herded")
+    if rule is None:
+        have = ", ".join(k.problem_type.__name__ for k in KINDS if "herded" in k.draws)
+        raise TypeError(f"the herded draw is not implemented for a "
+                        f"{kind.problem_type.__name__} yet (it is for: {have})")
+    return rule
 
 
 def prepare(problem, start, scan, rng, beta=1.0, **options) -> Prepared:

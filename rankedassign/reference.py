@@ -15,7 +15,7 @@ from __future__ import annotations
 from .engine.herding import DEFAULT_MAX_KEYS, Herding, check_herding
 from .engine.reference import run_chains
 from .engine.result import check_chain_budget, check_rules, package, zero_length_run
-from .kinds import kind_named, kind_of, prepare
+from .kinds import herded_rule, kind_named, kind_of, prepare
 from .validation import check_int
 
 __all__ = ["sample_original", "sample_short_chains", "sample_herded"]
@@ -26,8 +26,6 @@ def _run(prep, n_chains, chain_length, herding=None, **rules):
     if herding is None:
         sweep, new_work, data, tally = kind.sweep, kind.new_work, prep.ref_data, (0, 0)
     else:
-        from .samplers import herded_rule
-
         rule = herded_rule(kind)
         _, _, make_ref, _ = rule.inputs(prep, herding, chain_length)
         data, tally = make_ref()
@@ -113,8 +111,6 @@ def sample_short_chains(problem, n_chains, chain_length, *, tau_stall=None, tau_
     tau_stall, tau_stale = check_rules(tau_stall, tau_stale, stall, stale)
     check_int(workers, "workers", minimum=1)
     if check_herding(herding) is not None:
-        from .samplers import herded_rule
-
         herded_rule(kind_of(problem))
     prep = prepare(problem, start, scan, rng, beta, **options)
     if chain_length == 0:  # empty chains: closed form instead of looping over them
@@ -155,8 +151,6 @@ def sample_herded(problem, n_obs, *, keys="shared", init="conditional",
     """
     herding = Herding(keys=keys, init=init, max_keys=max_keys)
     n_obs = check_int(n_obs, "n_obs")
-    from .samplers import herded_rule
-
     herded_rule(kind_of(problem))
     prep = prepare(problem, start, scan, rng, beta, **options)
     return _run(prep, 1, n_obs, herding)

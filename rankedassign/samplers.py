@@ -50,7 +50,7 @@ from .engine.result import (
     zero_length_run,
 )
 from .engine.rng import ZOBRIST_SEED
-from .kinds import KINDS, kind_named, kind_of, prepare
+from .kinds import herded_rule, kind_named, kind_of, prepare
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import interruptible, threads
 from .single import synthetic
@@ -104,17 +104,6 @@ def _zobrist(L: int, K: int) -> np.ndarray:
         keys = zobrist_keys(L, K, np.uint64(ZOBRIST_SEED))
     keys.setflags(write=False)
     return keys
-
-
-def herded_rule(kind):
-    """The kind's herded draw (:attr:`Kind.draws <rankedassign.engine.kind.Kind>`), or a
-    ``TypeError`` that names the problem type and the kinds that herd."""
-    rule = kind.draws.get("herded")
-    if rule is None:
-        have = ", ".join(k.problem_type.__name__ for k in KINDS if "herded" in k.draws)
-        raise TypeError(f"the herded draw is not implemented for a "
-                        f"{kind.problem_type.__name__} yet (it is for: {have})")
-    return rule
 
 
 def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers: int,

@@ -225,3 +225,28 @@ def test_kinds_without_a_herded_draw_say_so():
                lambda: sample_short_chains(ms, 3, 3, herding=Herding())):
         with pytest.raises(TypeError, match=msg):
             fn()
+
+
+def test_lmb_association_one_chain_and_short_chains():
+    from rankedassign.tracking import Exact, HerdedGibbs, run_scenario
+
+    p = synthetic.random(rng=3)
+    one = HerdedGibbs(300)
+    out = one(p, 7)
+    res = sample_herded(p, 300, rng=7)
+    assert out.sweeps == 300 and out.n_unique == len(res)
+    short = HerdedGibbs(25, n_chains=200, tau_stall=5, tau_stale=10)
+    assert short.herding.init == "uniform" and one.herding.init == "conditional"
+    got = short(p, 7)
+    ref = sample_short_chains(p, 200, 25, tau_stall=5, tau_stale=10, rng=7,
+                              herding=Herding(init="uniform"))
+    assert got.sweeps == ref.n_observations and got.n_unique == len(ref)
+    a = run_scenario("vo", HerdedGibbs(1000), rng=0, n_scans=30)
+    b = run_scenario("vo", Exact(), rng=0, n_scans=30)
+    from rankedassign.metrics import ospa2
+
+    da = ospa2(a.truth, a.estimates, c=100, p=1, window=1).value
+    db = ospa2(b.truth, b.estimates, c=100, p=1, window=1).value
+    assert abs(np.nanmean(da) - np.nanmean(db)) < 2.0
+    assert repr(HerdedGibbs(25, n_chains=400, tau_stall=5, tau_stale=10, keys="full")) == \
+        "HerdedGibbs(25, keys='full', n_chains=400, tau_stall=5, tau_stale=10)"

@@ -65,6 +65,11 @@ class Herding:
         never larger than its row updates. A row update with a new key when the table is full
         draws as the Gibbs sampler does and is counted in ``n_fallbacks``.
 
+    Attributes
+    ----------
+    keys, init, max_keys
+        The parameters, validated.
+
     Examples
     --------
     >>> Herding()
@@ -87,6 +92,17 @@ class Herding:
     def capacity(self, rows: int, chain_length: int) -> int:
         """Keys one chain's table needs room for: ``min(max_keys, rows * chain_length)``, >= 1.
 
+        Parameters
+        ----------
+        rows : int
+            Row updates per sweep.
+        chain_length : int
+            Sweeps of the chain.
+
+        Returns
+        -------
+        int
+
         Examples
         --------
         >>> Herding().capacity(4, 25)
@@ -97,6 +113,15 @@ class Herding:
 
 def check_herding(herding):
     """Return ``herding`` if it is None or a :class:`Herding`, else raise ``TypeError``.
+
+    Parameters
+    ----------
+    herding : object
+        The ``herding`` argument of a sampler.
+
+    Returns
+    -------
+    Herding or None
 
     Examples
     --------

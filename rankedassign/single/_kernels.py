@@ -415,9 +415,6 @@ def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
 
 
 # ---------------------------------------------------------------------------- herded draw
-# data of the herded driver: (W, cc, random_scan, key_mode, init_mode, capacity, chain_length,
-# tally); work: (free, perm, p, cum, keyv, hw, kst, krow, tslot, thash, cnt, hist), see
-# alloc_work_herded.
 _HGOLD = np.uint64(0x9E3779B97F4A7C15)
 _TWO = np.int64(2)
 
@@ -455,17 +452,24 @@ def _table_find(i, keyv, h, krow, kst, tslot, thash):
 
 
 @jit(inline="always")
-def sweep_herded(W, cc, zkeys, state, free, h, rs, perm, p, cum, keyv, hw, kst, krow, tslot,
-                 thash, cnt, random_scan, key_mode, init_mode, capacity):
-    """One herded sweep over all rows, in place (twin of the reference's ``herd_sweep``).
+def sweep_herded(data, work, b, zkeys, state, h, rs):
+    """One herded sweep of chain slab ``b``, in place (twin of the reference's ``herd_sweep``).
 
-    ``p`` receives each row's conditional (the reference's ``conditional``, operation for
-    operation), ``keyv`` its key (``herd_key``: the state with row ``i`` as -1, or its gated
-    measurements held by the other rows in increasing order, padded with -1), found in the
-    open-addressing table ``tslot``/``thash`` (slot + 1, key hash) and confirmed on the stored
-    key ``kst``/``krow``; ``hw[s]`` are slot ``s``'s weights. ``cnt`` is ``[keys, fall-backs,
-    sweeps]`` of the chain.
+    ``data = (W, cc, random_scan, key_mode, init_mode, capacity, chain_length, tally)``; slab
+    ``b`` of ``work`` (:func:`alloc_work_herded`) holds the free mask, the row order, the
+    scratch rows ``p`` (each row's conditional: the reference's ``conditional``, operation for
+    operation) and ``cum`` (the fall-back draw's), ``keyv`` (the row's key, the reference's
+    ``herd_key``: the state with row ``i`` as -1, or its gated measurements held by the other
+    rows in increasing order, padded with -1), the key table (weights ``hw``, stored keys
+    ``kst``/``krow``, the open-addressing index ``tslot``/``thash`` of slot + 1 and key hash),
+    the chain's ``cnt = [keys, fall-backs, sweeps]`` and ``hist``, the tallies after each
+    sweep (read by :func:`chain_done_herded`).
     """
+    W, cc, random_scan, key_mode, init_mode, capacity = (data[0], data[1], data[2], data[3],
+                                                         data[4], data[5])
+    free, perm, p, cum, keyv = work[0][b], work[1][b], work[2][b], work[3][b], work[4][b]
+    hw, kst, krow, tslot, thash = work[5][b], work[6][b], work[7][b], work[8][b], work[9][b]
+    cnt = work[10][b]
     P = state.shape[0]
     M = W.shape[1] - 2
     K = M + 2
@@ -548,6 +552,8 @@ def sweep_herded(W, cc, zkeys, state, free, h, rs, perm, p, cum, keyv, hw, kst, 
             state[i] = k_new
             h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
     cnt[2] += 1
+    work[11][b, cnt[2], 0] = cnt[0]
+    work[11][b, cnt[2], 1] = cnt[1]
     return h
 
 
@@ -578,19 +584,6 @@ def reset_work_herded(data, work, b, x0):
     work[11][b, 0, :] = 0
 
 
-@jit(inline="always")
-def row_sweep_herded(data, work, b, zkeys, state, h, rs):
-    """One herded sweep of chain slab ``b``; records the chain's tallies after it."""
-    cnt = work[10][b]
-    h = sweep_herded(data[0], data[1], zkeys, state, work[0][b], h, rs, work[1][b],
-                     work[2][b], work[3][b], work[4][b], work[5][b], work[6][b], work[7][b],
-                     work[8][b], work[9][b], cnt, data[2], data[3], data[4], data[5])
-    j = cnt[2]
-    work[11][b, j, 0] = cnt[0]
-    work[11][b, j, 1] = cnt[1]
-    return h
-
-
 @jit()
 def chain_done_herded(data, work, b, j):
     """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
@@ -607,4 +600,4 @@ run_chains_prefix = make_driver("single_prefix", alloc_work_prefix, reset_work_p
                                 row_sweep_prefix)
 #: The chain driver compiled for the single-sensor problem with the herded draw.
 run_chains_herded = make_driver("single_herded", alloc_work_herded, reset_work_herded,
-                                row_sweep_herded, chain_done=chain_done_herded)
+                                sweep_herded, chain_done=chain_done_herded)

@@ -58,7 +58,29 @@ class LBPResult(NamedTuple):
 
 
 def check_lbp_settings(tol, max_iter):
-    """Return ``(tol, max_iter)`` checked: ``tol >= 0`` real, ``max_iter >= 1`` int."""
+    """Return ``(tol, max_iter)`` checked: ``tol >= 0`` real, ``max_iter >= 1`` int.
+
+    Parameters
+    ----------
+    tol : float
+        Stopping tolerance of :func:`lbp_marginals`.
+    max_iter : int
+        Its iteration cap.
+
+    Returns
+    -------
+    (float, int)
+
+    Raises
+    ------
+    TypeError, ValueError
+        If either is of the wrong type or out of range (the message names it).
+
+    Examples
+    --------
+    >>> check_lbp_settings(1e-6, 10)
+    (1e-06, 10)
+    """
     tol = check_real(tol, "tol", minimum=0.0)
     max_iter = check_int(max_iter, "max_iter", minimum=1)
     return tol, max_iter
@@ -100,6 +122,17 @@ def lbp_reference(problem, *, tol=LBP_TOL, max_iter=LBP_MAX_ITER) -> LBPResult:
     Same parameters, result and messages as :func:`lbp_marginals` (bit for bit), in
     ``O(P M)`` per iteration however sparse the gate. For reading and for tests; use
     :func:`lbp_marginals`.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem
+    tol : float, optional
+    max_iter : int, optional
+        As in :func:`lbp_marginals`.
+
+    Returns
+    -------
+    LBPResult
 
     Examples
     --------

@@ -22,7 +22,8 @@ from ..numba_options import interruptible, jit
 from ..validation import check_choice
 from .problem import AssignmentProblem
 
-__all__ = ["prepare", "temper", "herd_inputs", "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData",
+__all__ = ["prepare", "temper", "herd_inputs", "HerdData",
+           "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData",
            "uses_prefix_sums", "shifted_weights", "prefix_sums", "to_compact", "to_columns",
            "start_columns"]
 
@@ -102,6 +103,33 @@ class SingleData(NamedTuple):
     random_scan: bool
     M: int
     prefix: bool
+
+
+class HerdData(NamedTuple):
+    """The herded sampler's inputs as plain lists and numbers (the reference's ``herd_sweep``).
+
+    Attributes
+    ----------
+    W, cc, random_scan, M
+        As in :class:`SingleData`.
+    keys : {"full", "shared"}
+        What a key is (:class:`~rankedassign.engine.herding.Herding`).
+    init : {"conditional", "zero", "uniform"}
+        A new key's initial weights.
+    capacity : int
+        Keys a chain's table may hold.
+    tally : list of int
+        ``[keys created, fall-back draws]`` over the run, updated in place.
+    """
+
+    W: list
+    cc: list
+    random_scan: bool
+    M: int
+    keys: str
+    init: str
+    capacity: int
+    tally: list
 
 
 # ------------------------------------------------------------------------------ single sensor
@@ -418,8 +446,6 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
         As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents; the tallies are
         ``[keys created, fall-back draws]``.
     """
-    from .reference import HerdData
-
     W, cc, random_scan = prep.data[0], prep.data[1], prep.data[-1]
     P, K = W.shape
     cap = herding.capacity(P, chain_length)

@@ -20,7 +20,7 @@ import bisect
 import math
 from typing import NamedTuple
 
-from .prepare import CANCEL_GUARD, SingleData
+from .prepare import CANCEL_GUARD, HerdData, SingleData
 
 
 def draw_direct(W_i, cc_i, i, owner, u) -> int:
@@ -260,33 +260,6 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
 
 
 # ------------------------------------------------------------------------------ herded draw
-class HerdData(NamedTuple):
-    """The herded sampler's inputs as plain lists and numbers (:func:`herd_sweep`).
-
-    Attributes
-    ----------
-    W, cc, random_scan, M
-        As in :class:`~rankedassign.single.prepare.SingleData`.
-    keys : {"full", "shared"}
-        What a key is (:class:`~rankedassign.engine.herding.Herding`).
-    init : {"conditional", "zero", "uniform"}
-        A new key's initial weights.
-    capacity : int
-        Keys a chain's table may hold.
-    tally : list of int
-        ``[keys created, fall-back draws]`` over the run, updated in place.
-    """
-
-    W: list
-    cc: list
-    random_scan: bool
-    M: int
-    keys: str
-    init: str
-    capacity: int
-    tally: list
-
-
 class HerdWork(NamedTuple):
     """A herded chain's bookkeeping: who holds each measurement, and its key table."""
 
