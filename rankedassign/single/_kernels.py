@@ -419,7 +419,7 @@ _HGOLD = np.uint64(0x9E3779B97F4A7C15)
 _TWO = np.int64(2)
 
 
-@jit()
+@jit(inline="always")
 def _key_hash(i, keyv):
     """Hash of row ``i``'s key vector ``keyv`` (entries >= -1), for the key table."""
     h = mix64(np.multiply(np.uint64(i + 1), _HGOLD))
@@ -428,7 +428,7 @@ def _key_hash(i, keyv):
     return h
 
 
-@jit()
+@jit(inline="always")
 def _table_find(i, keyv, h, krow, kst, tslot, thash):
     """Slot of row ``i``'s key in the table, or ``-1 - t`` with ``t`` the free table entry."""
     mask = tslot.shape[0] - 1
@@ -480,46 +480,28 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
         k_old = state[i]
         if k_old < M:
             free[k_old] = 1.0
-        # the conditional (the reference's conditional())
-        meas = 0.0
-        for k in range(M):
-            meas += W[i, k] * free[k]
-        total = (meas + W[i, M]) + W[i, M + 1]
-        if total > 0.0:
-            for k in range(M):
-                p[k] = (W[i, k] * free[k]) / total
-            p[M] = W[i, M] / total
-            p[M + 1] = W[i, M + 1] / total
-        else:
-            m = np.inf
-            for k in range(K):
-                if (k >= M or free[k] > 0.0) and cc[i, k] < m:
-                    m = cc[i, k]
-            tot = 0.0
-            for k in range(K):
-                if k >= M or free[k] > 0.0:
-                    p[k] = np.exp(-(cc[i, k] - m))
-                    tot += p[k]
-                else:
-                    p[k] = 0.0
-            for k in range(K):
-                p[k] = p[k] / tot
-        # the key (the reference's herd_key)
+        # the key (the reference's herd_key): it reads only the other rows' state
         if key_mode == 0:
             for r in range(P):
                 keyv[r] = state[r]
             keyv[i] = -1
         else:
             n = 0
-            for k in range(M):
-                if free[k] == 0.0 and cc[i, k] < np.inf:
-                    keyv[n] = k
+            for r in range(P):
+                v = state[r]
+                if r != i and v < M and cc[i, v] < np.inf:
+                    q = n  # insert v: keyv[:n] stays increasing
+                    while q > 0 and keyv[q - 1] > v:
+                        keyv[q] = keyv[q - 1]
+                        q -= 1
+                    keyv[q] = v
                     n += 1
             for r in range(n, P):
                 keyv[r] = -1
         hk = _key_hash(i, keyv)
         s = _table_find(i, keyv, hk, krow, kst, tslot, thash)
-        if s < 0 and cnt[0] < capacity:  # a new key with room: its initial weights
+        new = False
+        if s < 0 and cnt[0] < capacity:  # a new key with room
             e = -1 - s
             s = cnt[0]
             cnt[0] += 1
@@ -528,23 +510,73 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
             krow[s] = i
             for r in range(P):
                 kst[s, r] = keyv[r]
-            for k in range(K):
-                if init_mode == 0:
-                    hw[s, k] = p[k]
-                elif init_mode == 1:
-                    hw[s, k] = 0.0
-                else:
-                    hw[s, k] = next_uniform(rs)
+            new = True
         if s < 0:  # the table is full: an ordinary Gibbs draw
             cnt[1] += 1
             k_new = draw_direct(W, cc, i, free, cum, next_uniform(rs))
         else:
+            # the conditional (the reference's conditional()), herded in the same pass
+            meas = 0.0
+            for k in range(M):
+                meas += W[i, k] * free[k]
+            total = (meas + W[i, M]) + W[i, M + 1]
+            exact = not total > 0.0
+            inv = 0.0
+            if exact:  # every available weight underflowed: exact weights
+                m = np.inf
+                for k in range(K):
+                    if (k >= M or free[k] > 0.0) and cc[i, k] < m:
+                        m = cc[i, k]
+                tot = 0.0
+                for k in range(K):
+                    if k >= M or free[k] > 0.0:
+                        p[k] = np.exp(-(cc[i, k] - m))
+                        tot += p[k]
+                    else:
+                        p[k] = 0.0
+                for k in range(K):
+                    p[k] = p[k] / tot
+            else:
+                inv = 1.0 / total
+            if new:  # the key's initial weights; -inf where the key's conditional is 0
+                for k in range(K):
+                    if exact:
+                        pk = p[k]
+                    elif k < M:
+                        pk = (W[i, k] * free[k]) * inv
+                    else:
+                        pk = W[i, k] * inv
+                    if init_mode == 0:
+                        w0 = pk
+                    elif init_mode == 1:
+                        w0 = 0.0
+                    else:
+                        w0 = next_uniform(rs)
+                    hw[s, k] = w0 if pk > 0.0 else -np.inf
+            # w += p and the first largest w (a candidate of probability 0 holds -inf)
             best = -1
-            for k in range(K):
-                hw[s, k] += p[k]
-                if p[k] > 0.0 and (best < 0 or hw[s, k] > hw[s, best]):
-                    best = k
-            hw[s, best] -= 1.0
+            bw = -np.inf
+            if exact:
+                for k in range(K):
+                    v = hw[s, k] + p[k]
+                    hw[s, k] = v
+                    if v > bw:
+                        best = k
+                        bw = v
+            else:  # the hot loop
+                for k in range(M):
+                    v = hw[s, k] + (W[i, k] * free[k]) * inv
+                    hw[s, k] = v
+                    if v > bw:
+                        best = k
+                        bw = v
+                for k in range(M, K):
+                    v = hw[s, k] + W[i, k] * inv
+                    hw[s, k] = v
+                    if v > bw:
+                        best = k
+                        bw = v
+            hw[s, best] = bw - 1.0
             k_new = best
         if k_new < M:
             free[k_new] = 0.0

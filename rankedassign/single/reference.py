@@ -279,15 +279,16 @@ def new_herd_work(data: HerdData, x) -> HerdWork:
 def conditional(W_i, cc_i, i, owner) -> list:
     """Row ``i``'s conditional ``π_i(k | γ_{-i})`` over its ``M + 2`` candidates, as a list.
 
-    ``W_i[k] / total`` for an available candidate, 0 for a measurement another row holds;
-    ``total`` is the sum of the available weights left to right, as in :func:`draw_direct`.
+    ``W_i[k] * (1 / total)`` for an available candidate, 0 for a measurement another row
+    holds; ``total`` is the sum of the available weights left to right, as in
+    :func:`draw_direct`.
     If every available weight underflowed, the exact weights ``exp(-(cc_i[k] - m))`` are used
     (``m`` the cheapest available cost), as in :func:`draw_direct`'s fall-back.
 
     Examples
     --------
-    >>> conditional([1.0, 1.0, 2.0, 0.0], [0.0, 0.0, -0.7, float("inf")], 0, [-1, 1])
-    [0.25, 0.0, 0.5, 0.0]
+    >>> conditional([1.0, 1.0, 3.0, 0.0], [0.0, 0.0, -1.1, float("inf")], 0, [-1, 1])
+    [0.25, 0.0, 0.75, 0.0]
     """
     M = len(owner)
     K = M + 2
@@ -297,7 +298,8 @@ def conditional(W_i, cc_i, i, owner) -> list:
         meas += W_i[k] if avail[k] else 0.0
     total = (meas + W_i[M]) + W_i[M + 1]
     if total > 0.0:
-        return [(W_i[k] if avail[k] else 0.0) / total for k in range(K)]
+        inv = 1.0 / total
+        return [(W_i[k] if avail[k] else 0.0) * inv for k in range(K)]
     m = min(cc_i[k] for k in range(K) if avail[k])
     e = [math.exp(-(cc_i[k] - m)) if avail[k] else 0.0 for k in range(K)]
     total = 0.0
@@ -338,7 +340,9 @@ def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
     candidate order) if the table has room; otherwise the row draws as the Gibbs sampler
     does (one uniform, :func:`draw_direct`) and the draw is tallied as a fall-back. With the
     key's weights ``w``: ``w[k] += p[k]`` for every candidate, then the pick is the first
-    ``k`` with ``p[k] > 0`` of the largest ``w[k]``, and ``w[pick] -= 1``.
+    ``k`` with ``p[k] > 0`` of the largest ``w[k]``, and ``w[pick] -= 1``. The key fixes its
+    conditional, so the candidates of probability 0 are known when the key is created: their
+    weights are set to ``-inf`` then, and the pick is simply the first largest ``w[k]``.
 
     Examples
     --------
@@ -366,9 +370,9 @@ def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
     for i in order:
         if x[i] < M:
             owner[x[i]] = -1
-        p = conditional(data.W[i], data.cc[i], i, owner)
         key = herd_key(data, x, i, owner)
         w = work.table.get(key)
+        p = conditional(data.W[i], data.cc[i], i, owner)
         if w is None and len(work.table) < data.capacity:
             if data.init == "conditional":
                 w = list(p)
@@ -376,6 +380,8 @@ def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
                 w = [0.0] * K
             else:
                 w = [g.uniform() for _ in range(K)]
+            # a candidate the key's conditional gives probability 0 can never be picked
+            w = [v if p[k] > 0.0 else -math.inf for k, v in enumerate(w)]
             work.table[key] = w
             data.tally[0] += 1
         if w is None:  # the table is full: an ordinary Gibbs draw
@@ -385,7 +391,7 @@ def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
             best = -1
             for k in range(K):
                 w[k] += p[k]
-                if p[k] > 0.0 and (best < 0 or w[k] > w[best]):
+                if w[k] > (w[best] if best >= 0 else -math.inf):
                     best = k
             w[best] -= 1.0
             k_new = best
