@@ -14,9 +14,12 @@ chains replayed in chain order — does not depend on what a *row update* is. A 
   ``l`` whose value changes from ``a`` to ``c``: ``h ^= zkeys[l, a] ^ zkeys[l, c]``), drawing
   uniforms from the chain's stream ``rs`` with :func:`rankedassign.engine._kernels.next_uniform`;
 
-and :func:`make_driver` compiles the driver for it. ``data`` is the problem's tuple of
-read-only arrays and scalars. A state is a flat ``int32`` vector of length ``L`` whose values
-index the columns of the Zobrist table ``zkeys`` of shape ``(L, K)``.
+and, optionally, ``chain_done(data, work, b, j)`` (called in chain order when the chain of slab
+``b`` ends at its observation ``j``, for a kind that keeps a tally per chain, such as the
+herded draw's key-table fall-backs); :func:`make_driver` compiles the driver for it.
+``data`` is the problem's tuple of read-only arrays and scalars. A state is a flat ``int32``
+vector of length ``L`` whose values index the columns of the Zobrist table ``zkeys`` of shape
+``(L, K)``.
 
 How it is generic. :func:`_speculate`, :func:`_advance`, :func:`_new_run`, :func:`_run_slice`
 and :func:`_start` below are plain Python templates that call the three functions above (and
