@@ -20,6 +20,7 @@ from .samplers import (
 from .single import synthetic
 from .single.lbp import LBPResult, lbp_marginals
 from .single.problem import AssignmentProblem
+from .single.tempered import TemperedResult, sample_tempered
 
 __all__ = [
     "AssignmentProblem",
@@ -27,6 +28,8 @@ __all__ = [
     "sample_original",
     "sample_short_chains",
     "sample_herded",
+    "sample_tempered",
+    "TemperedResult",
     "Herding",
     "lbp_marginals",
     "LBPResult",
