@@ -314,9 +314,9 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None,
     if backend == "python":
         return tempered_reference(problem, n_steps, beta=beta, start=start, rng=rng)
     problem, n_steps, x0, W, Wb, R, refresh, base = _inputs(problem, n_steps, beta, start, rng)
-    zkeys = zobrist_keys(problem.n_rows, problem.n_meas + 2, np.uint64(ZOBRIST_SEED))
     rs = np.array([chain_state(base, 0)], dtype=np.uint64)
     with interruptible:
+        zkeys = zobrist_keys(problem.n_rows, problem.n_meas + 2, np.uint64(ZOBRIST_SEED))
         status, states, counts, _, acc, wsum, w2sum = _tempered_kernels.tempered_kernel(
             W, Wb, R, zkeys, x0, rs, n_steps, refresh)
     if status != _tempered_kernels.OK:
