@@ -53,6 +53,18 @@ def test_kernel_equals_reference(data):
         np.testing.assert_allclose(res.marginals.sum(axis=1), 1.0, rtol=0, atol=1e-12)
 
 
+def test_slices_change_no_bit(monkeypatch):
+    """The moves run in slices (a signal ends a long run between two); one move per slice and
+    a growing unique set give the bits of one slice."""
+    from rankedassign.single import tempered
+
+    p = synthetic.random(rng=3)
+    whole = sample_tempered(p, 5_000, beta=0.6, rng=2)
+    monkeypatch.setattr(tempered, "_SLICE_WORK", 1)
+    _same(whole, sample_tempered(p, 5_000, beta=0.6, rng=2))
+    assert len(whole.counts) > 64                  # the unique set grew at least once
+
+
 def _stationary(problem, beta):
     """``f(x) ∝ π(x) Z(x)`` over the enumerated assignments, from the costs alone."""
     ranked = oracle.enumerate_assignments(problem)

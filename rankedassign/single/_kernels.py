@@ -53,6 +53,17 @@ from .prepare import CANCEL_GUARD
 
 
 # ---------------------------------------------------------------------------------- Gibbs
+@jit(inline="always")
+def cheapest_available(cc, i, free):
+    """The cheapest compact cost of row ``i`` among its available candidates (``free`` mask)."""
+    M = cc.shape[1] - 2
+    m = np.inf
+    for k in range(M + 2):
+        if (k >= M or free[k] > 0.0) and cc[i, k] < m:
+            m = cc[i, k]
+    return m
+
+
 @jit()
 def draw_exact(cc, i, free, u):
     """Row ``i``'s draw from exact weights, for when every shifted weight underflowed.
@@ -66,10 +77,7 @@ def draw_exact(cc, i, free, u):
     """
     M = cc.shape[1] - 2
     K = M + 2
-    m = np.inf
-    for k in range(K):
-        if (k >= M or free[k] > 0.0) and cc[i, k] < m:
-            m = cc[i, k]
+    m = cheapest_available(cc, i, free)
     total = 0.0
     for k in range(K):
         if k >= M or free[k] > 0.0:
@@ -523,10 +531,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
             exact = not total > 0.0
             inv = 0.0
             if exact:  # every available weight underflowed: exact weights
-                m = np.inf
-                for k in range(K):
-                    if (k >= M or free[k] > 0.0) and cc[i, k] < m:
-                        m = cc[i, k]
+                m = cheapest_available(cc, i, free)
                 tot = 0.0
                 for k in range(K):
                     if k >= M or free[k] > 0.0:
@@ -584,8 +589,10 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
             state[i] = k_new
             h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
     cnt[2] += 1
-    work[11][b, cnt[2], 0] = cnt[0]
-    work[11][b, cnt[2], 1] = cnt[1]
+    hist = work[11]
+    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
+        hist[b, cnt[2], 0] = cnt[0]
+        hist[b, cnt[2], 1] = cnt[1]
     return h
 
 
@@ -604,7 +611,10 @@ def alloc_work_herded(data, nb):
             np.empty((nb, K)), np.empty((nb, P), dtype=np.int32), np.empty((nb, cap, K)),
             np.empty((nb, cap, P), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
             np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
-            np.zeros((nb, 3), dtype=np.int64), np.zeros((nb, data[6] + 1, 2), dtype=np.int64))
+            np.zeros((nb, 3), dtype=np.int64),
+            # the tallies after each sweep, which speculation needs (nb > 1: the chain may be
+            # simulated past its last observation); one chain at a time reads cnt itself
+            np.zeros((nb, data[6] + 1 if nb > 1 else 1, 2), dtype=np.int64))
 
 
 @jit()
@@ -620,8 +630,13 @@ def reset_work_herded(data, work, b, x0):
 def chain_done_herded(data, work, b, j):
     """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
     tally = data[7]
-    tally[0] += work[11][b, j, 0]
-    tally[1] += work[11][b, j, 1]
+    hist = work[11]
+    if hist.shape[1] > 1:
+        tally[0] += hist[b, j, 0]
+        tally[1] += hist[b, j, 1]
+    else:  # simulated up to j exactly
+        tally[0] += work[10][b, 0]
+        tally[1] += work[10][b, 1]
 
 
 #: The chain driver compiled for the single-sensor problem with the direct draw

@@ -4,7 +4,8 @@ in :mod:`.tempered`).
 Mirrors :func:`rankedassign.single.tempered.tempered_reference` operation for operation (same
 sums in the same order, one SplitMix64 stream), so both give the same bits. The unique set is
 an open-addressing hash set keyed by the Zobrist hash of the state (confirmed on the state),
-grown by doubling.
+grown by doubling between two calls; the moves run in slices (:func:`tempered_steps`), so a
+signal ends a long run within one slice.
 """
 
 from __future__ import annotations
@@ -15,8 +16,8 @@ from ..engine._kernels import next_uniform
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
 
-#: Status codes of :func:`tempered_kernel`.
-OK, UNDERFLOW = 0, 1
+#: Status codes of :func:`tempered_steps`.
+OK, UNDERFLOW, NEED_ROOM = 0, 1, 2
 
 
 @jit()
@@ -52,68 +53,63 @@ def _weights(R, S, Sb, state, p):
 
 
 @jit()
-def _grow(states, hashes, counts, n_u):
-    """The unique set with twice the room (states, hashes, counts, table)."""
-    cap = 2 * states.shape[0]
-    P = states.shape[1]
-    st = np.empty((cap, P), dtype=np.int32)
-    hs = np.empty(cap, dtype=np.uint64)
-    ct = np.zeros(cap, dtype=np.int64)
-    st[:n_u] = states[:n_u]
-    hs[:n_u] = hashes[:n_u]
-    ct[:n_u] = counts[:n_u]
-    table = np.zeros(2 * cap, dtype=np.int64)
-    mask = 2 * cap - 1
-    for u in range(n_u):
-        t = np.int64(hs[u] & np.uint64(mask))
-        while table[t] != 0:
-            t = (t + 1) & mask
-        table[t] = u + 1
-    return st, hs, ct, table
+def tempered_start(W, Wb, R, zkeys, run):  # pragma: no cover (jit)
+    """The run's state at its start ``state``: masks, sums, ``p``, ``Z`` and ``U = {x0}``.
 
-
-@jit()
-def tempered_kernel(W, Wb, R, zkeys, x0, rs, n_steps, refresh):  # pragma: no cover (jit)
-    """Run ``n_steps`` moves; see :func:`rankedassign.single.tempered.tempered_reference`.
-
-    Returns ``(status, states, counts, n_unique, acc, wsum, w2sum)``: the unique states in
-    discovery order (``x0`` first) with their visits, the importance-weighted indicator sums
-    ``acc`` (P, M + 2), and the sums of the weights and of their squares.
+    ``run = (state, free, S, Sb, p, acc, states, hashes, counts, table, hu, fs)`` with
+    ``hu = [hash of the state, unique states, stream state]`` (uint64) and
+    ``fs = [Σ w, Σ w², Z]``. Returns :data:`OK` or :data:`UNDERFLOW`.
     """
-    P = x0.shape[0]
+    state, free, S, Sb, p, _, states, hashes, counts, table, hu, fs = run
+    P = state.shape[0]
     M = W.shape[1] - 2
-    K = M + 2
-    state = x0.copy()
-    free = np.ones(M)
+    free[:] = 1.0
     for i in range(P):
         if state[i] < M:
             free[state[i]] = 0.0
-    S = np.empty(P)
-    Sb = np.empty(P)
-    p = np.empty(P)
-    acc = np.zeros((P, K))
-    cap = 64
-    states = np.empty((cap, P), dtype=np.int32)
-    hashes = np.empty(cap, dtype=np.uint64)
-    counts = np.zeros(cap, dtype=np.int64)
-    table = np.zeros(2 * cap, dtype=np.int64)
     h = np.uint64(0)
     for i in range(P):
         h ^= zkeys[i, state[i]]
     states[0] = state
     hashes[0] = h
-    table[np.int64(h & np.uint64(2 * cap - 1))] = 1
-    n_u = 1
-    wsum = 0.0
-    w2sum = 0.0
+    counts[0] = 0
+    table[np.int64(h & np.uint64(table.shape[0] - 1))] = 1
+    hu[0] = h
+    hu[1] = 1
     for i in range(P):
         S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
     Z = _weights(R, S, Sb, state, p)
-    if not Z > 0.0:
-        return UNDERFLOW, states[:1], counts[:1], 1, acc, wsum, w2sum
-    for t in range(n_steps):
+    fs[0] = 0.0
+    fs[1] = 0.0
+    fs[2] = Z
+    return OK if Z > 0.0 else UNDERFLOW
+
+
+@jit()
+def tempered_steps(W, Wb, R, zkeys, run, t0, t1, refresh):  # pragma: no cover (jit)
+    """Moves ``t0 .. t1 - 1`` of a run (:func:`tempered_start`), in place.
+
+    Returns ``(status, t)``: :data:`OK` with ``t = t1``; :data:`NEED_ROOM` with the move ``t``
+    not yet made when the unique set may not hold one more state (grow it, then continue from
+    ``t``); :data:`UNDERFLOW`. Moves in several calls are the moves of one call, bit for bit.
+    """
+    state, free, S, Sb, p, acc, states, hashes, counts, table, hu, fs = run
+    P = state.shape[0]
+    M = W.shape[1] - 2
+    K = M + 2
+    h = hu[0]
+    n_u = np.int64(hu[1])
+    wsum = fs[0]
+    w2sum = fs[1]
+    Z = fs[2]
+    status = OK
+    t = t0
+    while t < t1:
+        if 2 * (n_u + 1) > states.shape[0]:
+            status = NEED_ROOM
+            break
         # the row: i with probability p_i / Z
-        target = next_uniform(rs) * Z
+        target = next_uniform_of(hu) * Z
         r = P - 1
         run = 0.0
         for i in range(P):
@@ -135,8 +131,9 @@ def tempered_kernel(W, Wb, R, zkeys, x0, rs, n_steps, refresh):  # pragma: no co
             tot += Wb[r, k] * free[k]
         tot = (tot + Wb[r, M]) + Wb[r, M + 1]
         if not tot > 0.0:
-            return UNDERFLOW, states[:n_u], counts[:n_u], n_u, acc, wsum, w2sum
-        u = next_uniform(rs) * tot
+            status = UNDERFLOW
+            break
+        u = next_uniform_of(hu) * tot
         c = -1
         run = 0.0
         for k in range(K):
@@ -159,12 +156,14 @@ def tempered_kernel(W, Wb, R, zkeys, x0, rs, n_steps, refresh):  # pragma: no co
         if c != a:
             h ^= zkeys[r, a] ^ zkeys[r, c]
             state[r] = c
-        if refresh > 0 and (t + 1) % refresh == 0:
+        if (t + 1) % refresh == 0:
             for i in range(P):
                 S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
+        t += 1
         Z = _weights(R, S, Sb, state, p)
         if not Z > 0.0:
-            return UNDERFLOW, states[:n_u], counts[:n_u], n_u, acc, wsum, w2sum
+            status = UNDERFLOW
+            break
         w = 1.0 / Z
         wsum += w
         w2sum += w * w
@@ -189,15 +188,31 @@ def tempered_kernel(W, Wb, R, zkeys, x0, rs, n_steps, refresh):  # pragma: no co
         if found >= 0:
             counts[found] += 1
         else:
-            if 2 * (n_u + 1) > states.shape[0]:
-                states, hashes, counts, table = _grow(states, hashes, counts, n_u)
-                mask = table.shape[0] - 1
-                slot = np.int64(h & np.uint64(mask))
-                while table[slot] != 0:
-                    slot = (slot + 1) & mask
             states[n_u] = state
             hashes[n_u] = h
             counts[n_u] = 1
             table[slot] = n_u + 1
             n_u += 1
-    return OK, states[:n_u], counts[:n_u], n_u, acc, wsum, w2sum
+    hu[0] = h
+    hu[1] = np.uint64(n_u)
+    fs[0] = wsum
+    fs[1] = w2sum
+    fs[2] = Z
+    return status, t
+
+
+@jit()
+def next_uniform_of(hu):  # pragma: no cover (jit)
+    """A uniform from the stream whose state is ``hu[2]`` (the run's record keeps it there)."""
+    return next_uniform(hu[2:3])
+
+
+@jit()
+def rehash(hashes, n_u, table):  # pragma: no cover (jit)
+    """Insert unique states ``0..n_u-1`` by their ``hashes`` into the empty ``table``."""
+    mask = table.shape[0] - 1
+    for u in range(n_u):
+        t = np.int64(hashes[u] & np.uint64(mask))
+        while table[t] != 0:
+            t = (t + 1) & mask
+        table[t] = u + 1

@@ -184,6 +184,23 @@ def draw_prefix(W_i, S_i, next_i, cc_i, i, owner, held, u) -> int:
     return max(k for k in free if W_i[k] > 0.0)  # rounding: last positive free measurement
 
 
+def scan_order(P: int, random_scan: bool, g) -> list:
+    """The rows of one sweep: ``0..P-1``, or a Fisher-Yates permutation of them drawn from ``g``
+    (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``, swap ``t`` and ``j``).
+
+    Examples
+    --------
+    >>> scan_order(3, False, None)
+    [0, 1, 2]
+    """
+    order = list(range(P))
+    if random_scan:
+        for t in range(P - 1, 0, -1):
+            j = min(int(g.uniform() * (t + 1)), t)
+            order[t], order[j] = order[j], order[t]
+    return order
+
+
 class SingleWork(NamedTuple):
     """A chain's bookkeeping: who holds each measurement, and the held ones in order."""
 
@@ -235,15 +252,9 @@ def sweep(data: SingleData, work: SingleWork, x, g) -> None:
     >>> x, work.owner
     ([1], [-1])
     """
-    P = len(x)
     M = data.M
     owner, held = work
-    order = list(range(P))
-    if data.random_scan:
-        for t in range(P - 1, 0, -1):
-            j = min(int(g.uniform() * (t + 1)), t)
-            order[t], order[j] = order[j], order[t]
-    for i in order:
+    for i in scan_order(len(x), data.random_scan, g):
         if x[i] < M:  # release row i's measurement
             owner[x[i]] = -1
             held.remove(x[i])
@@ -358,16 +369,10 @@ def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
     >>> picks, data.tally                 # alternates between measurement 0 and missed
     ([0, 1, 0, 1], [1, 0])
     """
-    P = len(x)
     M = data.M
     K = M + 2
     owner = work.owner
-    order = list(range(P))
-    if data.random_scan:
-        for t in range(P - 1, 0, -1):
-            j = min(int(g.uniform() * (t + 1)), t)
-            order[t], order[j] = order[j], order[t]
-    for i in order:
+    for i in scan_order(len(x), data.random_scan, g):
         if x[i] < M:
             owner[x[i]] = -1
         key = herd_key(data, x, i, owner)

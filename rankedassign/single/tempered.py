@@ -80,6 +80,28 @@ def _inputs(problem, n_steps, beta, start, rng):
         refresh, base_key(rng)
 
 
+# Candidate evaluations per slice of the kernel (about a few milliseconds of moves); between
+# slices the interpreter runs pending signal handlers. The tests shrink it: same bits.
+_SLICE_WORK = 1 << 22
+
+
+def _grow(run):
+    """Double the unique set of ``run`` (states, hashes, counts and a fresh hash table)."""
+    states, hashes, counts = run[6], run[7], run[8]
+    n_u = int(run[10][1])
+    cap = 2 * states.shape[0]
+    new_states = np.empty((cap, states.shape[1]), dtype=np.int32)
+    new_states[:n_u] = states[:n_u]
+    new_hashes = np.empty(cap, dtype=np.uint64)
+    new_hashes[:n_u] = hashes[:n_u]
+    new_counts = np.zeros(cap, dtype=np.int64)
+    new_counts[:n_u] = counts[:n_u]
+    table = np.zeros(2 * cap, dtype=np.int64)
+    with interruptible:
+        _tempered_kernels.rehash(new_hashes, n_u, table)
+    run[6], run[7], run[8], run[9] = new_states, new_hashes, new_counts, table
+
+
 def _underflow(problem):
     raise ValueError(
         "tempered Gibbs sampling: a row's available weights underflowed (its available "
@@ -314,11 +336,28 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None,
     if backend == "python":
         return tempered_reference(problem, n_steps, beta=beta, start=start, rng=rng)
     problem, n_steps, x0, W, Wb, R, refresh, base = _inputs(problem, n_steps, beta, start, rng)
-    rs = np.array([chain_state(base, 0)], dtype=np.uint64)
+    P, K = W.shape
     with interruptible:
-        zkeys = zobrist_keys(problem.n_rows, problem.n_meas + 2, np.uint64(ZOBRIST_SEED))
-        status, states, counts, _, acc, wsum, w2sum = _tempered_kernels.tempered_kernel(
-            W, Wb, R, zkeys, x0, rs, n_steps, refresh)
+        zkeys = zobrist_keys(P, K, np.uint64(ZOBRIST_SEED))
+    cap = 64
+    run = [x0.copy(), np.ones(K - 2), np.empty(P), np.empty(P), np.empty(P), np.zeros((P, K)),
+           np.empty((cap, P), dtype=np.int32), np.empty(cap, dtype=np.uint64),
+           np.zeros(cap, dtype=np.int64), np.zeros(2 * cap, dtype=np.int64),
+           np.array([0, 0, chain_state(base, 0)], dtype=np.uint64), np.zeros(3)]
+    with interruptible:
+        status = _tempered_kernels.tempered_start(W, Wb, R, zkeys, tuple(run))
+    budget = max(1, _SLICE_WORK // (P + K))  # moves per slice: a few ms
+    t = 0
+    while status == _tempered_kernels.OK and t < n_steps:
+        with interruptible:
+            status, t = _tempered_kernels.tempered_steps(W, Wb, R, zkeys, tuple(run), t,
+                                                         min(n_steps, t + budget), refresh)
+        if status == _tempered_kernels.NEED_ROOM:
+            _grow(run)
+            status = _tempered_kernels.OK
     if status != _tempered_kernels.OK:
         _underflow(problem)
+    n_u = int(run[10][1])
+    wsum, w2sum = float(run[11][0]), float(run[11][1])
+    states, counts, acc = run[6][:n_u], run[8][:n_u], run[5]
     return _result(problem, states, counts, acc, wsum, w2sum, n_steps)
