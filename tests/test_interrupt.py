@@ -56,8 +56,7 @@ _CHILD = textwrap.dedent("""
     sys.path.insert(0, {tests!r})
     from ms_standin import random_problem
     import oracle
-    from rankedassign import (Herding, sample_herded, sample_original, sample_short_chains,
-                              sample_tempered, synthetic)
+    from rankedassign import sample_original, sample_short_chains, synthetic
     from rankedassign.multisensor import MultiSensorProblem
     from rankedassign.adaptive_birth.problem import AdaptiveBirthProblem
 
@@ -92,10 +91,6 @@ _CHILD = textwrap.dedent("""
         "multisensor-marginals": lambda: oracle.marginals(big),
         "dp-marginals": lambda: oracle.marginals(dense),
         "murty": lambda: oracle.murty(ranked, 10**6),
-        "herded": lambda: sample_herded(p, 2**40, rng=1),
-        "herded-short-2-workers": lambda: sample_short_chains(p, 10**6, 10**6, rng=1, workers=2,
-                                                              herding=Herding()),
-        "tempered": lambda: sample_tempered(p, 2**40, beta=0.5, rng=1),
     }}
     # compile or load every kernel before timing anything
     sample_original(p, 2, rng=1)
@@ -106,9 +101,6 @@ _CHILD = textwrap.dedent("""
     oracle.marginals(real(random_problem(3, (2, 2), 0, "coupled")))
     oracle.marginals(synthetic.random(R=3, M=4, rng=0))
     oracle.murty(ranked, 10)
-    sample_herded(p, 2, rng=1)
-    sample_short_chains(p, 3, 2, rng=1, workers=2, herding=Herding())
-    sample_tempered(p, 2, beta=0.5, rng=1)
     for name in sys.argv[1:]:
         print("start", name, flush=True)
         try:
@@ -130,9 +122,6 @@ CASES = {
     "multisensor-marginals": signal.SIGINT,
     "dp-marginals": signal.SIGINT,
     "murty": signal.SIGINT,
-    "herded": signal.SIGINT,
-    "herded-short-2-workers": signal.SIGINT,
-    "tempered": signal.SIGINT,
 }
 EXPECTED = {signal.SIGINT: "KeyboardInterrupt", signal.SIGTERM: "Terminated"}
 
