@@ -515,8 +515,9 @@ class LBP(Association):
     """Loopy belief propagation (Williams & Lau 2014, :func:`rankedassign.lbp_marginals`).
 
     Approximate association marginals from message passing, without sampling or
-    enumeration: exact when no two tracks gate the same measurement, within about ``1e-3`` on
-    the paper's random ``4 x 24`` matrices, and tens of times faster than :class:`Exact` on a
+    enumeration: exact when no two tracks gate the same measurement, at most 0.002 from the
+    exact marginals on 200 of the paper's random ``4 x 24`` matrices (0.071 on one gated
+    30-track problem with a tight loop), and tens of times faster than :class:`Exact` on a
     30-track problem (the Herding, tempering and belief propagation page of the documentation
     has the measurements). It gives marginals only, so it serves the LMB filter, not the
     δ-GLMB filter (which needs hypotheses).
