@@ -63,6 +63,15 @@ _CHILD = textwrap.dedent("""
     class Terminated(BaseException):
         pass
 
+    # A signal handler's exception raised inside a finaliser is "unraisable" and dropped by
+    # Python; say so on stderr, so that a lost signal is told from a slice that never ends.
+    _hook = sys.unraisablehook
+    def on_unraisable(u):
+        print("unraisable", type(u.exc_value).__name__, "in", repr(u.object)[:200],
+              file=sys.stderr, flush=True)
+        _hook(u)
+    sys.unraisablehook = on_unraisable
+
     def on_sigterm(signum, frame):
         raise Terminated
 
@@ -126,6 +135,41 @@ CASES = {
 EXPECTED = {signal.SIGINT: "KeyboardInterrupt", signal.SIGTERM: "Terminated"}
 
 
+# Seconds the parent waits for any one line of the child before killing it: a signal that is
+# lost (or a slice that never ends) fails the fixture with the child's stderr instead of
+# stalling the run.
+DEADLINE = 120.0
+
+
+def _lines(child):
+    """A queue of the child's stdout lines, filled by a reader thread (None at the end)."""
+    import queue
+    import threading
+
+    q = queue.Queue()
+
+    def read():
+        for line in child.stdout:
+            q.put(line)
+        q.put(None)
+
+    threading.Thread(target=read, daemon=True).start()
+    return q
+
+
+def _readline(child, lines, deadline=DEADLINE):
+    """The child's next stdout line, split; kill it and fail if none comes within ``deadline``."""
+    import queue
+
+    try:
+        line = lines.get(timeout=deadline)
+    except queue.Empty:
+        child.kill()
+        pytest.fail(f"the child printed nothing for {deadline:.0f} s; stderr:\n"
+                    f"{child.stderr.read()}")
+    return [] if line is None else line.split()
+
+
 @pytest.fixture(scope="module")
 def latencies():
     """Run every case in one child; ``{name: (exception name, seconds)}``."""
@@ -135,15 +179,19 @@ def latencies():
     out = {}
     with subprocess.Popen([sys.executable, "-c", code, *CASES], cwd=root, env=env,
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as child:
+        lines = _lines(child)
         try:
             for name, signum in CASES.items():
-                line = child.stdout.readline().split()
+                line = _readline(child, lines, 600.0)  # the first one waits for the warm-ups
                 assert line == ["start", name], (line, "" if line else child.stderr.read())
                 time.sleep(WAIT)
                 sent = time.monotonic()
                 child.send_signal(signum)
-                line = child.stdout.readline().split()
-                assert line[:2] == ["caught", name], (line, child.stderr.read())
+                line = _readline(child, lines)
+                if line[:2] != ["caught", name]:
+                    child.kill()
+                    pytest.fail(f"{line} after a {signum.name} (expected 'caught {name}'); "
+                                f"stderr:\n{child.stderr.read()}")
                 out[name] = (line[2], float(line[3]) - sent)
             assert child.wait(timeout=60) == 0, child.stderr.read()
         finally:
