@@ -74,9 +74,18 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 KERNEL_PACKAGES = ("rankedassign", "oracle")
 
 
+#: Parts of :mod:`rankedassign` that define no kernel and that no kernel module imports (the
+#: studies, the command line, the Stone Soup plug-in): left out of :func:`source_digest`, so
+#: editing a study does not recompile every kernel. ``tests/test_numba_options.py`` keeps
+#: both conditions.
+NO_KERNELS = ("experiments", "stonesoup", "cli.py", "__main__.py")
+
+
 @functools.cache
 def source_digest(package: str) -> str:
     """Digest of every ``.py`` file of the installed ``package`` (first 10 hex digits).
+
+    The parts of :mod:`rankedassign` in :data:`NO_KERNELS` are left out.
 
     Parameters
     ----------
@@ -94,7 +103,10 @@ def source_digest(package: str) -> str:
     root = Path(origin).parent
     h = hashlib.sha1(numba.__version__.encode())
     for path in sorted(root.rglob("*.py")):
-        h.update(str(path.relative_to(root)).encode())
+        rel = path.relative_to(root)
+        if package == "rankedassign" and rel.parts[0] in NO_KERNELS:
+            continue
+        h.update(str(rel).encode())
         h.update(path.read_bytes())
     return h.hexdigest()[:10]
 

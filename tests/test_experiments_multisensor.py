@@ -41,7 +41,7 @@ def ab_result():
 
 def test_registry_presence_and_order():
     names = study_names()
-    assert names[-3:] == ("multisensor", "adaptive_birth", "multisensor_tracking")
+    assert names[-4:-1] == ("multisensor", "adaptive_birth", "multisensor_tracking")
     assert get_study("multisensor").paper == "" and get_study("adaptive_birth").paper == ""
     assert Config.quick().multisensor == MS.MultiSensorConfig(n_mc=MS.QUICK_MC)
     assert Config.full().multisensor == MS.MultiSensorConfig()

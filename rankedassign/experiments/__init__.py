@@ -16,7 +16,9 @@ registry:
 * ``multisensor`` — Table I for every multi-sensor sampler, and each one's error at equal
   sweeps (no paper numbers);
 * ``adaptive_birth`` — Table I and error curves of the adaptive-birth sampler (no paper
-  numbers).
+  numbers);
+* ``tempering_herding`` — herded, tempered and LBP association graded by the exact oracle on
+  every problem kind, and in the LMB filter (the paper's future work; no paper numbers).
 
 Adding a study is adding one module that registers a :class:`Study` and importing it below.
 
@@ -69,6 +71,7 @@ from .studies import (  # noqa: F401  (each module registers its study)
     readings,
     sweep,
     table1,
+    tempering_herding,
     tracking,
 )
 from .studies.ablation import AblationRow

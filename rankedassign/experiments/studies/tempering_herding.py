@@ -1,0 +1,689 @@
+"""The paper's future work, graded by the exact oracle: herded, tempered and LBP association.
+
+The paper closes with "Future work is being conducted to investigate the effects of Gibbs
+tempering and herding on the various Gibbs samplers in the RFS literature". This study runs
+every method of :data:`~rankedassign.experiments.config.TH_METHODS` on the same problems at
+the same sweep budgets and records, against the oracle on the same data:
+
+* the exact truncation error (spec eq. 1.9) of the unique assignments found;
+* the unique count, the observations (sweeps) spent and the wall time of the call;
+* the L1 error of the association marginals against :func:`oracle.marginals`: the mean over
+  rows of ``Σ_j |β̂_ij − β_ij|`` (0 exact, 2 disjoint). A sampler's marginals are those the
+  LMB filter forms from its unique set (:func:`~rankedassign.tracking.marginals_from_hypotheses`,
+  each hypothesis with its exact weight); Zanella–Roberts gives its importance-weighted
+  marginals; LBP its beliefs. Not computed for the adaptive-birth kind.
+
+A tracking part runs the LMB filter on the ``"paper"`` and ``"vo"`` presets with exact,
+Gibbs, short-chain, herded and LBP association on the same measurements (OSPA(2), sweeps and
+seconds per run).
+
+Random streams of run ``r`` (``s = run_seed(seed, r)``): ``child_seed(s, 0)`` draws the
+random-family matrices exactly as the Table I studies do (so the single-sensor problems are
+theirs), ``child_seed(s, 7, family, method, budget)`` drives one method at one budget.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import oracle
+
+from ... import (
+    Herding,
+    lbp_marginals,
+    metrics,
+    sample_herded,
+    sample_original,
+    sample_short_chains,
+    sample_tempered,
+    tracking,
+)
+from ...adaptive_birth.synthetic import make_family
+from ...kinds import kind_of
+from ...multisensor import MultiSensorProblem
+from ...multisensor import synthetic as ms_synthetic
+from ...single.problem import AssignmentProblem
+from ...tracking.multisensor.association import multisensor_marginals_from_hypotheses
+from ...tracking.single.association import marginals_from_hypotheses
+from .. import _format as fmt
+from .._executor import child_seed, run_seed
+from .._synthetic import make_problem as make_single
+from ..config import TH_FAMILIES, TH_METHODS, TemperingHerdingConfig
+from ..registry import Study, register_study
+
+__all__ = ["TEMPERING_HERDING", "THRow", "THTrackingRow", "THSummary", "FUTURE_WORK",
+           "summarise_tempering_herding", "make_problem", "applies"]
+
+#: The paper's closing sentence, quoted by the report in place of a paper column.
+FUTURE_WORK = ("Future work is being conducted to investigate the effects of Gibbs tempering "
+               "and herding on the various Gibbs samplers in the RFS literature.")
+#: Stream key of one method's run (after the Table I studies' 0-3 and the others').
+KEY_METHOD = 7
+#: Quick mode: Monte Carlo runs per family, tracking runs per preset and the budgets (the
+#: 250 000-sweep budget takes most of the full study's time); the per-call settings (chain
+#: length, thresholds, the tracking scans) are the full study's.
+QUICK_MC, QUICK_TRACKING_MC, QUICK_BUDGETS = 3, 1, (100, 1_000, 10_000)
+#: Adaptive-birth families: sensors (measurements per sensor from the kind's spec sizes).
+BIRTH_SENSORS = 4
+
+_LABELS = {
+    "gibbs": "Gibbs, one chain",
+    "short": "short chains",
+    "herded-shared": "herded, shared keys",
+    "herded-full": "herded, full keys",
+    "herded-short-shared": "herded short chains, shared keys",
+    "herded-short-full": "herded short chains, full keys",
+    "beta-0.5": "Gibbs at β = 0.5",
+    "beta-0.7": "Gibbs at β = 0.7",
+    "beta-0.9": "Gibbs at β = 0.9",
+    "zanella-roberts": "Zanella–Roberts",
+    "lbp": "loopy BP (marginals only)",
+}
+
+
+def label(method: str) -> str:
+    """The report's name of a method."""
+    return _LABELS.get(method, method)
+
+
+def kind_name(family: str) -> str:
+    """``"single"``, ``"multisensor"`` or ``"adaptive_birth"`` for a family name."""
+    if family.startswith("ms:"):
+        return "multisensor"
+    if family.startswith("birth:"):
+        return "adaptive_birth"
+    return "single"
+
+
+def make_problem(family: str, run_ss, cfg: TemperingHerdingConfig):
+    """The problem of ``family`` (:data:`~rankedassign.experiments.config.TH_FAMILIES`) in one run.
+
+    Parameters
+    ----------
+    family : str
+        A paper family (the matrix of the Table I studies in the same run), ``"ms:<size>/
+        <family>"`` or ``"birth:<family>"``.
+    run_ss : numpy.random.SeedSequence
+        The run's seed (:func:`~rankedassign.experiments.run_seed`).
+    cfg : TemperingHerdingConfig
+
+    Returns
+    -------
+    AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import run_seed
+    >>> from rankedassign.experiments.config import TemperingHerdingConfig
+    >>> cfg = TemperingHerdingConfig()
+    >>> make_problem("ms:B/random", run_seed(0, 0), cfg).n_meas
+    (16, 16)
+    >>> make_problem("birth:uniform", run_seed(0, 0), cfg).n_sensors
+    4
+    """
+    kind = kind_name(family)
+    if kind == "single":
+        return make_single(family, run_ss, cfg)
+    if kind == "multisensor":
+        size, _, fam = family[3:].partition("/")
+        P, M = ms_synthetic.SIZES[size]
+        build = getattr(ms_synthetic, fam)
+        return build(P, M) if fam in ("diagonal", "uniform") else build(
+            P, M, rng=child_seed(run_ss, 0))
+    return make_family(family[6:], BIRTH_SENSORS, rng=child_seed(run_ss, 0))
+
+
+def applies(method: str, problem) -> bool:
+    """Whether ``method`` runs on ``problem``'s kind (herding where the kind herds; ZR, LBP on
+    single-sensor problems).
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> applies("lbp", synthetic.diagonal()), applies("gibbs", synthetic.diagonal())
+    (True, True)
+    """
+    single = isinstance(problem, AssignmentProblem)
+    if method in ("zanella-roberts", "lbp"):
+        return single
+    if method.startswith("herded"):
+        return "herded" in kind_of(problem).draws
+    return True
+
+
+def _options(problem, cfg) -> dict:
+    return {"method": cfg.ms_method} if isinstance(problem, MultiSensorProblem) else {}
+
+
+def _short(problem, budget, cfg, rng, **extra):
+    length = min(cfg.chain_length, budget)  # never more sweeps than the budget
+    return sample_short_chains(problem, budget // length, length, tau_stall=cfg.tau_stall,
+                               tau_stale=cfg.tau_stale, rng=rng, **extra,
+                               **_options(problem, cfg))
+
+
+def _call(method: str, problem, budget: int, cfg, rng):
+    """Run one method; ``(result, sweeps spent)``."""
+    opts = _options(problem, cfg)
+    if method == "gibbs":
+        res = sample_original(problem, budget, rng=rng, **opts)
+    elif method == "short":
+        res = _short(problem, budget, cfg, rng)
+    elif method in ("herded-shared", "herded-full"):
+        res = sample_herded(problem, budget, keys=method.split("-")[1], rng=rng, **opts)
+    elif method.startswith("herded-short-"):
+        res = _short(problem, budget, cfg, rng,
+                     herding=Herding(keys=method.rsplit("-", 1)[1], init="uniform"))
+    elif method.startswith("beta-"):
+        res = sample_original(problem, budget, rng=rng, beta=float(method[5:]), **opts)
+    elif method == "zanella-roberts":
+        res = sample_tempered(problem, budget * problem.n_rows, beta=cfg.zr_beta, rng=rng)
+        return res, budget
+    else:  # pragma: no cover - checked by the config
+        raise ValueError(method)
+    return res, int(res.n_observations)
+
+
+def _l1(problem, exact, assignments=None, costs=None, marginals=None) -> float | None:
+    """Mean row L1 distance of the marginals to the exact ones (module docstring)."""
+    if exact is None:
+        return None
+    if isinstance(problem, AssignmentProblem):
+        m = marginals if marginals is not None else marginals_from_hypotheses(
+            problem, assignments, costs)
+        return float(np.abs(m - exact).sum() / problem.n_rows)
+    dead, tup = multisensor_marginals_from_hypotheses(problem, assignments, costs)
+    P = problem.n_rows
+    return float((np.abs(dead - exact.dead).sum()
+                  + np.abs(tup - exact.tuples).reshape(P, -1).sum()) / P)
+
+
+_WARM: set = set()
+
+
+def _warm(problem, cfg) -> None:
+    """Load (or compile) every kernel the methods use on this kind, once per process, so no
+    timed call includes it."""
+    kind = kind_of(problem).name
+    if kind in _WARM:
+        return
+    for method in TH_METHODS:
+        if method != "lbp" and applies(method, problem):
+            # Zanella-Roberts: enough moves that its unique table grows once (its own kernel)
+            _call(method, problem, 1_000 if method == "zanella-roberts" else 2, cfg, 0)
+    if isinstance(problem, AssignmentProblem):
+        lbp_marginals(problem)
+    _WARM.add(kind)
+
+
+def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str) -> dict:
+    """One run of one family: every method at every budget, graded by the oracle.
+
+    Returns
+    -------
+    dict
+        ``part="synthetic"``, ``run``, ``family``, ``kind`` and ``methods``: per method either
+        ``None`` (not applicable) or ``{budget: record}`` with ``n_obs``, ``n_unique``,
+        ``error`` (fraction), ``seconds`` and ``l1`` (``None`` where not computed); LBP's single
+        record (key ``"0"``) has ``l1``, ``seconds``, ``iterations`` and ``converged``.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments.config import TemperingHerdingConfig
+    >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=("gibbs", "lbp"))
+    >>> out = synthetic_task(cfg, 0, 0, "uniform")
+    >>> out["methods"]["gibbs"]["50"]["n_obs"], out["methods"]["lbp"]["0"]["converged"]
+    (50, True)
+    """
+    s = run_seed(seed, run)
+    problem = make_problem(family, s, cfg)
+    _warm(problem, cfg)
+    kind = kind_of(problem).name
+    exact = None if kind == "adaptive_birth" else oracle.marginals(problem)
+    fi = TH_FAMILIES.index(family)
+    out = {"part": "synthetic", "run": run, "family": family, "kind": kind, "methods": {}}
+    for method in cfg.methods:
+        if not applies(method, problem):
+            out["methods"][method] = None
+            continue
+        mi = TH_METHODS.index(method)
+        if method == "lbp":
+            t0 = time.perf_counter()
+            lb = lbp_marginals(problem)
+            dt = time.perf_counter() - t0
+            out["methods"][method] = {"0": {
+                "l1": _l1(problem, exact, marginals=lb.marginals), "seconds": dt,
+                "iterations": int(lb.iterations), "converged": bool(lb.converged)}}
+            continue
+        recs = {}
+        for budget in cfg.budgets:
+            rng = child_seed(s, KEY_METHOD, fi, mi, budget)
+            t0 = time.perf_counter()
+            res, n_obs = _call(method, problem, budget, cfg, rng)
+            dt = time.perf_counter() - t0
+            if method == "zanella-roberts":
+                l1 = _l1(problem, exact, marginals=res.marginals)
+            else:
+                l1 = _l1(problem, exact, res.assignments, res.costs)
+            recs[str(budget)] = {
+                "n_obs": n_obs, "n_unique": int(len(res.costs)), "seconds": dt,
+                "error": float(oracle.truncation_error(problem, res.assignments)), "l1": l1}
+        out["methods"][method] = recs
+    return out
+
+
+def _association(method: str, cfg: TemperingHerdingConfig):
+    if method == "exact":
+        return tracking.Exact()
+    if method == "gibbs":
+        return tracking.OriginalGibbs(cfg.tracking_obs)
+    if method == "short":
+        return tracking.ShortChainGibbs(cfg.tracking_chains, cfg.chain_length,
+                                        tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale)
+    if method == "herded":
+        return tracking.HerdedGibbs(cfg.tracking_obs)
+    if method == "herded-short":
+        return tracking.HerdedGibbs(cfg.chain_length, n_chains=cfg.tracking_chains,
+                                    tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale)
+    return tracking.LBP()
+
+
+def tracking_task(cfg: TemperingHerdingConfig, seed: int, run: int, preset: str,
+                  method: str) -> dict:
+    """One tracking run of one association on one preset (every method sees the same data).
+
+    Returns
+    -------
+    dict
+        ``part="tracking"``, ``run``, ``preset``, ``method``, ``ospa2`` (mean over scans),
+        ``sweeps`` (total), ``seconds`` (the whole run) and ``association_seconds``.
+    """
+    t0 = time.perf_counter()
+    sr = tracking.run_scenario(preset, _association(method, cfg), rng=run_seed(seed, run),
+                               n_scans=cfg.n_scans)
+    seconds = time.perf_counter() - t0
+    o2 = metrics.ospa2(sr.truth, sr.estimates, cfg.ospa_c, cfg.ospa_p, cfg.ospa_window)
+    return {"part": "tracking", "run": run, "preset": preset, "method": method,
+            "ospa2": float(np.mean(o2.value)), "sweeps": int(np.sum(sr.sweeps)),
+            "seconds": seconds,
+            "association_seconds": float(np.sum(sr.timings["association"]))}
+
+
+def th_tasks(cfg: TemperingHerdingConfig, seed: int) -> list[tuple]:
+    """Every synthetic ``(family, run)`` and tracking ``(preset, method, run)`` task."""
+    out = [("synthetic", cfg, seed, r, fam) for fam in cfg.families for r in range(cfg.n_mc)]
+    out += [("tracking", cfg, seed, r, preset, m) for preset in cfg.presets
+            for m in cfg.tracking_methods for r in range(cfg.tracking_mc)]
+    return out
+
+
+def th_task(part: str, *args) -> dict:
+    """Run one task of :func:`th_tasks` (the registry's single task function)."""
+    return synthetic_task(*args) if part == "synthetic" else tracking_task(*args)
+
+
+# ---------------------------------------------------------------------------------- summary
+@dataclass(frozen=True)
+class THRow:
+    """One method at one budget on one family, over the runs.
+
+    Attributes
+    ----------
+    family, kind, method : str
+    budget : int
+        Sweeps per call (0 for LBP, which has no budget).
+    n_runs : int
+    obs_mean : float
+        Sweeps spent (Zanella–Roberts: moves / P).
+    error_pct_mean, error_pct_se : float or None
+        Exact truncation error in percent (None for LBP).
+    unique_mean : float or None
+    seconds_mean : float
+        Wall time of one call.
+    l1_mean, l1_se : float or None
+        Mean row L1 error of the marginals (None where not computed).
+    """
+
+    family: str
+    kind: str
+    method: str
+    budget: int
+    n_runs: int
+    obs_mean: float
+    error_pct_mean: float | None
+    error_pct_se: float | None
+    unique_mean: float | None
+    seconds_mean: float
+    l1_mean: float | None
+    l1_se: float | None
+
+
+@dataclass(frozen=True)
+class THTrackingRow:
+    """One association on one tracking preset, over the runs (OSPA(2) in metres)."""
+
+    preset: str
+    method: str
+    n_runs: int
+    ospa2_mean: float
+    ospa2_se: float | None
+    sweeps_mean: float
+    seconds_mean: float
+    association_seconds_mean: float
+
+
+@dataclass(frozen=True)
+class THSummary:
+    """Rows of both parts, the per-family verdicts and the herded-vs-Gibbs counts.
+
+    Attributes
+    ----------
+    rows : list of THRow
+    tracking : list of THTrackingRow
+    verdicts : dict
+        Family -> ``{"obs": {budget: method}, "time": {budget: method}, "l1": {budget:
+        method}}``: the best method at equal observations (lowest mean error at that
+        budget), at equal time (lowest error at the time the Gibbs chain takes for that
+        budget, each method read off its own error-against-seconds curve) and the lowest
+        marginal error at that budget.
+    herded_vs_gibbs : dict
+        Family -> ``{budget: [k, n]}``: runs in which the herded chain with shared keys is at
+        or below the Gibbs chain's truncation error, of ``n``.
+    """
+
+    rows: list = field(default_factory=list)
+    tracking: list = field(default_factory=list)
+    verdicts: dict = field(default_factory=dict)
+    herded_vs_gibbs: dict = field(default_factory=dict)
+
+
+def _mean_se(x):
+    x = [v for v in x if v is not None]
+    if not x:
+        return None, None
+    a = np.asarray(x, dtype=float)
+    return float(a.mean()), (float(a.std(ddof=1) / math.sqrt(len(a))) if len(a) > 1 else None)
+
+
+def _at_time(rows, t: float) -> float | None:
+    """A method's error at wall time ``t``, log-interpolated on its own curve, or None outside
+    the times it was measured at (no extrapolation)."""
+    pts = sorted((r.seconds_mean, r.error_pct_mean) for r in rows
+                 if r.error_pct_mean is not None and r.seconds_mean > 0)
+    if not pts or t < pts[0][0] * (1 - 1e-9) or t > pts[-1][0] * (1 + 1e-9):
+        return None
+    if len(pts) == 1:
+        return pts[0][1]
+    xs = np.log([p[0] for p in pts])
+    return float(np.interp(math.log(t), xs, [p[1] for p in pts]))
+
+
+def _best(cands: dict) -> str | None:
+    cands = {k: v for k, v in cands.items() if v is not None}
+    return min(cands, key=lambda k: (cands[k], TH_METHODS.index(k))) if cands else None
+
+
+def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -> THSummary:
+    """Average the runs into rows, and name the best method per family and budget.
+
+    Parameters
+    ----------
+    runs : list of dict
+        Records of :func:`synthetic_task` and :func:`tracking_task`.
+    cfg : TemperingHerdingConfig
+
+    Returns
+    -------
+    THSummary
+    """
+    syn = [r for r in runs if r["part"] == "synthetic"]
+    rows = []
+    herded_vs_gibbs = {}
+    for fam in cfg.families:
+        rs = sorted((r for r in syn if r["family"] == fam), key=lambda r: r["run"])
+        if not rs:
+            continue
+        kind = rs[0]["kind"]
+        for method in cfg.methods:
+            recs = [r["methods"][method] for r in rs if r["methods"].get(method) is not None]
+            if not recs:
+                continue
+            for key in recs[0]:
+                cell = [rec[key] for rec in recs]
+                err = [None if "error" not in c else 100.0 * c["error"] for c in cell]
+                em, es = _mean_se(err)
+                lm, ls = _mean_se([c["l1"] for c in cell])
+                rows.append(THRow(
+                    family=fam, kind=kind, method=method, budget=int(key), n_runs=len(cell),
+                    obs_mean=float(np.mean([c.get("n_obs", 0) for c in cell])),
+                    error_pct_mean=em, error_pct_se=es,
+                    unique_mean=(None if "n_unique" not in cell[0] else
+                                 float(np.mean([c["n_unique"] for c in cell]))),
+                    seconds_mean=float(np.mean([c["seconds"] for c in cell])),
+                    l1_mean=lm, l1_se=ls))
+        g = [r["methods"].get("gibbs") for r in rs]
+        h = [r["methods"].get("herded-shared") for r in rs]
+        if all(x is not None for x in g + h):
+            herded_vs_gibbs[fam] = {
+                b: [sum(hh[str(b)]["error"] <= gg[str(b)]["error"]
+                        for gg, hh in zip(g, h, strict=True)),
+                    len(g)] for b in cfg.budgets}
+    verdicts = {}
+    for fam in dict.fromkeys(r.family for r in rows):
+        fr = [r for r in rows if r.family == fam and r.error_pct_mean is not None]
+        by_m = {}
+        for r in fr:
+            by_m.setdefault(r.method, []).append(r)
+        v = {"obs": {}, "time": {}, "l1": {}}
+        gibbs = {r.budget: r for r in by_m.get("gibbs", [])}
+        for b in cfg.budgets:
+            v["obs"][b] = _best({r.method: r.error_pct_mean for r in fr if r.budget == b})
+            v["l1"][b] = _best({r.method: r.l1_mean for r in rows
+                                if r.family == fam and r.budget in (b, 0)})
+            if b in gibbs:
+                v["time"][b] = _best({m: _at_time(rs_, gibbs[b].seconds_mean)
+                                      for m, rs_ in by_m.items()})
+        verdicts[fam] = v
+    trk = []
+    for preset in cfg.presets:
+        for method in cfg.tracking_methods:
+            rs = [r for r in runs if r["part"] == "tracking" and r["preset"] == preset
+                  and r["method"] == method]
+            if not rs:
+                continue
+            om, os_ = _mean_se([r["ospa2"] for r in rs])
+            trk.append(THTrackingRow(
+                preset=preset, method=method, n_runs=len(rs), ospa2_mean=om, ospa2_se=os_,
+                sweeps_mean=float(np.mean([r["sweeps"] for r in rs])),
+                seconds_mean=float(np.mean([r["seconds"] for r in rs])),
+                association_seconds_mean=float(np.mean([r["association_seconds"]
+                                                        for r in rs]))))
+    return THSummary(rows=rows, tracking=trk, verdicts=verdicts,
+                     herded_vs_gibbs=herded_vs_gibbs)
+
+
+# ----------------------------------------------------------------------------------- report
+def _cell(r: THRow | None) -> str:
+    if r is None:
+        return "–"
+    return (f"{fmt.pm(r.error_pct_mean, r.error_pct_se)} · {fmt.integer(r.unique_mean)} · "
+            f"{1e3 * r.seconds_mean:.3g} ms")
+
+
+def _family_title(fam: str) -> str:
+    kind = kind_name(fam)
+    if kind == "multisensor":
+        return f"multi-sensor case {fam[3:]}"
+    if kind == "adaptive_birth":
+        return f"adaptive birth, {fam[6:]} family ({BIRTH_SENSORS} sensors)"
+    return f"{fam} family"
+
+
+def _verdict_text(fam: str, s: THSummary, cfg) -> str:
+    v = s.verdicts.get(fam, {})
+    by = {(r.method, r.budget): r for r in s.rows if r.family == fam}
+
+    def said(kind):
+        parts = []
+        for b, m in v.get(kind, {}).items():
+            if m is None:
+                continue
+            r = by.get((m, b)) or by.get((m, 0))
+            val = (f"L1 {fmt.num(r.l1_mean)}" if kind == "l1" else
+                   f"{fmt.num(r.error_pct_mean)} %" if kind == "obs" else "")
+            parts.append(f"{b:,}: **{label(m)}**" + (f" ({val})" if val else ""))
+        return "; ".join(parts) if parts else "–"
+
+    lines = [f"- at equal observations (lowest mean error at each budget): {said('obs')}",
+             f"- at equal time (lowest error at the Gibbs chain's time for each budget): "
+             f"{said('time')}"]
+    if any(m is not None for m in v.get("l1", {}).values()):
+        lines.append(f"- marginals (lowest mean L1 error at each budget): {said('l1')}")
+    hv = s.herded_vs_gibbs.get(fam)
+    if hv:
+        lines.append("- herded (shared keys) at or below Gibbs, runs: " + "; ".join(
+            f"{b:,}: {k} of {n}" for b, (k, n) in hv.items()))
+    return "\n".join(lines)
+
+
+def render_tempering_herding(s: THSummary, cfg: TemperingHerdingConfig) -> str:
+    """The study's report section: per family a table and the verdicts, then the tracking."""
+    out = [f"""## Tempering, herding and belief propagation — graded by the exact oracle
+
+The paper has no numbers here. It closes: "{FUTURE_WORK}" This section grades those methods,
+and loopy belief propagation, against the exact answer on the same problems: {fmt.plural(
+    cfg.n_mc, "Monte Carlo run")} per family, budgets of {", ".join(f"{b:,}" for b in
+    cfg.budgets)} sweeps per call (short chains: {cfg.chain_length} sweeps each, τ_stall =
+{cfg.tau_stall}, τ_stale = {cfg.tau_stale}; herded short chains start from seeded uniform
+weights; Zanella–Roberts runs budget × P moves at β = {cfg.zr_beta:g}; the multi-sensor
+samplers use the `{cfg.ms_method}` conditional).
+
+Each cell is **truncation error (%) ± SE · unique assignments · time per call**. "–" means
+the method does not apply to the problem kind (Zanella–Roberts and LBP are single-sensor;
+herding runs on the kinds that have a herded draw). The marginal error is the mean over rows
+of the L1 distance to `oracle.marginals` (0 exact, 2 disjoint); samplers' marginals are the
+ones the LMB filter forms from their unique sets.
+
+![Truncation error against observations, per family](tempering_herding_obs.png)
+
+![Truncation error against wall time per call, per family](tempering_herding_time.png)
+
+![Marginal L1 error against observations, per family (LBP dotted)](tempering_herding_marginals.png)
+"""]
+    for fam in dict.fromkeys(r.family for r in s.rows):
+        fr = {(r.method, r.budget): r for r in s.rows if r.family == fam}
+        methods = list(dict.fromkeys(r.method for r in s.rows if r.family == fam))
+        body = []
+        for m in cfg.methods:
+            if m == "lbp":
+                continue
+            body.append([label(m)] + [_cell(fr.get((m, b))) for b in cfg.budgets])
+        l1_body = []
+        for m in methods:
+            if m == "lbp":
+                r = fr[(m, 0)]
+                l1_body.append([label(m)] + [fmt.pm(r.l1_mean, r.l1_se, 4)] * len(cfg.budgets))
+            elif any(fr.get((m, b)) is not None and fr[(m, b)].l1_mean is not None
+                     for b in cfg.budgets):
+                l1_body.append([label(m)] + [
+                    fmt.pm(fr[(m, b)].l1_mean, fr[(m, b)].l1_se, 4) if (m, b) in fr else "–"
+                    for b in cfg.budgets])
+        head = ["method"] + [f"{b:,} sweeps" for b in cfg.budgets]
+        out.append(f"### {_family_title(fam)}\n\n{fmt.table(head, body)}\n")
+        if l1_body:
+            out.append(f"Marginal L1 error (LBP has no budget: the same number in every "
+                       f"column):\n\n{fmt.table(head, l1_body)}\n")
+        out.append(_verdict_text(fam, s, cfg) + "\n")
+    if s.tracking:
+        body = [[f"`{r.preset}`", label(r.method) if r.method != "exact" else "exact",
+                 fmt.pm(r.ospa2_mean, r.ospa2_se, 2), fmt.integer(r.sweeps_mean),
+                 f"{r.seconds_mean:.2f}", f"{r.association_seconds_mean:.2f}"]
+                for r in s.tracking]
+        n = s.tracking[0].n_runs
+        out.append(f"""### Tracking
+
+The LMB filter on the same measurements with each association ({fmt.plural(n, "run")} per
+preset, {cfg.n_scans} scans; Gibbs and herded: {cfg.tracking_obs:,} sweeps per call; short
+chains: {cfg.tracking_chains} × {cfg.chain_length}). OSPA(2) is the mean over scans (c =
+{cfg.ospa_c:g} m, p = {cfg.ospa_p:g}, window {cfg.ospa_window}).
+
+{fmt.table(["preset", "association", "OSPA(2) (m)", "sweeps per run", "seconds per run",
+            "of which association (s)"], body)}
+""")
+    return "\n".join(out)
+
+
+def plot_tempering_herding(s: THSummary, directory: Path) -> list[str]:
+    """Error against observations and against seconds (one panel per family), and the
+    marginal error against observations."""
+    from matplotlib.figure import Figure
+
+    fams = list(dict.fromkeys(r.family for r in s.rows))
+    names = []
+    for fname, x_of, y_of, ylabel in (
+            ("tempering_herding_obs.png", "obs_mean", "error_pct_mean", "truncation error (%)"),
+            ("tempering_herding_time.png", "seconds_mean", "error_pct_mean",
+             "truncation error (%)"),
+            ("tempering_herding_marginals.png", "obs_mean", "l1_mean", "marginal L1 error")):
+        ncol = min(3, len(fams))
+        nrow = math.ceil(len(fams) / ncol)
+        fig = Figure(figsize=(5.0 * ncol, 3.6 * nrow), layout="constrained")
+        axes = fig.subplots(nrow, ncol, squeeze=False).ravel()
+        for ax, fam in zip(axes, fams, strict=False):
+            for m in dict.fromkeys(r.method for r in s.rows if r.family == fam):
+                rs = sorted((r for r in s.rows if r.family == fam and r.method == m
+                             and getattr(r, y_of) is not None), key=lambda r: r.budget)
+                if not rs:
+                    continue
+                if m == "lbp":
+                    if y_of == "l1_mean":
+                        ax.axhline(rs[0].l1_mean, color="k", ls=":", label=label(m))
+                    continue
+                x = [getattr(r, x_of) for r in rs]
+                y = [getattr(r, y_of) for r in rs]
+                ax.plot(x, y, marker="o", ms=3, label=label(m),
+                        **({"color": "k", "lw": 2} if m == "gibbs" else {}))
+            ax.set_xscale("log")
+            ax.set_yscale("symlog", linthresh=1e-3)
+            ax.set_title(_family_title(fam), fontsize=10)
+            ax.set_xlabel("seconds per call" if x_of == "seconds_mean"
+                          else "observations (sweeps)")
+            ax.set_ylabel(ylabel)
+            ax.grid(True, which="both", alpha=0.3)
+        for ax in axes[len(fams):]:
+            ax.set_visible(False)
+        if fams:
+            axes[0].legend(fontsize=7)
+        fig.savefig(directory / fname, dpi=100)
+        names.append(fname)
+    return names
+
+
+def _csv(s: THSummary) -> list[dict]:
+    import dataclasses
+
+    return ([{"part": "synthetic", **dataclasses.asdict(r)} for r in s.rows]
+            + [{"part": "tracking", **dataclasses.asdict(r)} for r in s.tracking])
+
+
+TEMPERING_HERDING = register_study(Study(
+    name="tempering_herding",
+    title="Herded, tempered and LBP association graded by the exact oracle (future work)",
+    config_type=TemperingHerdingConfig,
+    full=TemperingHerdingConfig,
+    quick=lambda: TemperingHerdingConfig(n_mc=QUICK_MC, tracking_mc=QUICK_TRACKING_MC,
+                                     budgets=QUICK_BUDGETS),
+    tasks=th_tasks,
+    task=th_task,
+    summarise=summarise_tempering_herding,
+    render=render_tempering_herding,
+    plot=plot_tempering_herding,
+    csv_rows=_csv,
+    paper="",
+    order=100,
+))

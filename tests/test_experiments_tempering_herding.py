@@ -1,0 +1,178 @@
+"""The ``tempering_herding`` study: every method graded by the oracle on the same problems."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import oracle
+from rankedassign import lbp_marginals, sample_original
+from rankedassign.experiments import Config, child_seed, get_study, run_seed, run_study
+from rankedassign.experiments.config import TH_METHODS, TemperingHerdingConfig
+from rankedassign.experiments.studies import tempering_herding as TH
+
+TINY = TemperingHerdingConfig(
+    n_mc=2, families=("uniform", "random", "ms:A/random_coupled", "birth:diagonal"),
+    budgets=(20, 200), tracking_mc=1, presets=("vo",), n_scans=4, tracking_obs=50,
+    tracking_chains=4)
+
+
+@pytest.fixture(scope="module")
+def result():
+    return run_study("tempering_herding", TINY, seed=5, progress=False, return_runs=True)
+
+
+def test_registered_with_quick_and_full_settings():
+    st = get_study("tempering_herding")
+    assert st.paper == "" and st.config_type is TemperingHerdingConfig
+    full, quick = Config.full().tempering_herding, Config.quick().tempering_herding
+    assert full.budgets == (100, 1_000, 10_000, 250_000) and full.n_mc == 20
+    assert quick.budgets == (100, 1_000, 10_000) and quick.n_mc == 3 and quick.tracking_mc == 1
+    # the per-call settings are the full study's
+    for name in ("chain_length", "tau_stall", "tau_stale", "zr_beta", "n_scans",
+                 "tracking_obs", "tracking_chains", "methods", "families", "presets"):
+        assert getattr(quick, name) == getattr(full, name), name
+
+
+def test_every_applicable_method_at_every_budget(result):
+    s, runs = result
+    assert len(runs) == TINY.n_mc * len(TINY.families) + len(TINY.tracking_methods)
+    for fam in TINY.families:
+        problem = TH.make_problem(fam, run_seed(5, 0), TINY)
+        for m in TH_METHODS:
+            rows = [r for r in s.rows if r.family == fam and r.method == m]
+            if not TH.applies(m, problem):
+                assert rows == [], (fam, m)
+                continue
+            budgets = [0] if m == "lbp" else list(TINY.budgets)
+            assert [r.budget for r in rows] == budgets, (fam, m)
+            for r in rows:
+                assert r.n_runs == TINY.n_mc and r.seconds_mean > 0
+                if m == "lbp":
+                    assert r.error_pct_mean is None and 0 <= r.l1_mean < 0.05
+                    continue
+                assert 0 <= r.error_pct_mean <= 100 and r.unique_mean >= 1
+                assert (r.l1_mean is None) == (TH.kind_name(fam) == "adaptive_birth")
+                if r.l1_mean is not None:
+                    assert 0 <= r.l1_mean <= 2
+                if m in ("gibbs",) or m.startswith(("herded-s", "herded-f", "beta")):
+                    assert r.obs_mean == r.budget
+                if m.endswith("short") or "short-" in m:
+                    assert r.obs_mean <= r.budget
+    # Zanella-Roberts and LBP are single-sensor methods
+    assert TH.applies("zanella-roberts", TH.make_problem("random", run_seed(5, 0), TINY))
+    assert not TH.applies("lbp", TH.make_problem("ms:A/random_coupled", run_seed(5, 0), TINY))
+
+
+def test_records_are_the_oracle_s_numbers_on_the_same_data(result):
+    """One cell recomputed from the public functions: the same problem, stream and grade."""
+    _, runs = result
+    rec = next(r for r in runs if r["part"] == "synthetic" and r["family"] == "random"
+               and r["run"] == 1)
+    s = run_seed(5, 1)
+    problem = TH.make_problem("random", s, TINY)
+    rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index("random"),
+                     TH_METHODS.index("gibbs"), 200)
+    res = sample_original(problem, 200, rng=rng)
+    cell = rec["methods"]["gibbs"]["200"]
+    assert cell["n_unique"] == len(res.costs)
+    assert cell["error"] == oracle.truncation_error(problem, res.assignments)
+    exact = oracle.marginals(problem)
+    lb = lbp_marginals(problem)
+    assert_allclose(rec["methods"]["lbp"]["0"]["l1"],
+                    np.abs(lb.marginals - exact).sum() / problem.n_rows, rtol=1e-12)
+    assert rec["methods"]["zanella-roberts"]["200"]["n_obs"] == 200
+    # the single-sensor matrices are the Table I studies' of the same run
+    from rankedassign.experiments._synthetic import make_problem
+
+    assert np.array_equal(make_problem("random", s, TINY).cost, problem.cost)
+
+
+def test_the_same_seed_gives_the_same_numbers(result):
+    s, _ = result
+    again = run_study("tempering_herding", dataclasses.replace(
+        TINY, families=("random",), tracking_mc=0), seed=5, progress=False)
+
+    def strip(rows):
+        return [dataclasses.replace(r, seconds_mean=0.0) for r in rows]
+
+    assert strip(again.rows) == strip([r for r in s.rows if r.family == "random"])
+
+
+def test_verdicts_name_the_best_measured_method(result):
+    s, _ = result
+    for fam, v in s.verdicts.items():
+        rows = [r for r in s.rows if r.family == fam]
+        for b, m in v["obs"].items():
+            at = {r.method: r.error_pct_mean for r in rows if r.budget == b}
+            assert at[m] == min(at.values())
+        assert set(v["time"]) <= set(TINY.budgets)
+        for m in v["time"].values():
+            assert m is None or m in {r.method for r in rows}
+    for counts in s.herded_vs_gibbs.values():
+        for k, n in counts.values():
+            assert 0 <= k <= n == TINY.n_mc
+
+
+def test_equal_time_reads_each_curve_without_extrapolating():
+    rows = [TH.THRow("f", "single", "m", b, 1, b, e, None, 1, t, None, None)
+            for b, e, t in ((10, 50.0, 0.001), (100, 10.0, 0.01))]
+    assert TH._at_time(rows, 0.001) == 50.0
+    assert math.isclose(TH._at_time(rows, math.sqrt(1e-5)), 30.0)  # halfway in log time
+    assert TH._at_time(rows, 0.0005) is None and TH._at_time(rows, 0.02) is None
+
+
+def test_tracking_part_runs_every_association_on_the_same_measurements(result):
+    s, runs = result
+    got = {r.method: r for r in s.tracking}
+    assert list(got) == list(TINY.tracking_methods)
+    for m, r in got.items():
+        assert r.preset == "vo" and r.n_runs == 1 and 0 <= r.ospa2_mean <= TINY.ospa_c
+        assert (r.sweeps_mean == 0) == (m in ("exact", "lbp"))
+    from rankedassign.tracking import Exact, run_scenario
+
+    rec = next(r for r in runs if r["part"] == "tracking" and r["method"] == "exact")
+    sr = run_scenario("vo", Exact(), rng=run_seed(5, 0), n_scans=TINY.n_scans)
+    from rankedassign.metrics import ospa2
+
+    want = ospa2(sr.truth, sr.estimates, TINY.ospa_c, TINY.ospa_p, TINY.ospa_window).value
+    assert_allclose(rec["ospa2"], np.mean(want), rtol=1e-12)
+
+
+def test_report_plots_and_csv(result, tmp_path):
+    s, _ = result
+    text = TH.render_tempering_herding(s, TINY)
+    assert TH.FUTURE_WORK in text and "The paper has no numbers here" in text
+    for title in ("### uniform family", "### random family",
+                  "### multi-sensor case A/random_coupled",
+                  "### adaptive birth, diagonal family (4 sensors)", "### Tracking"):
+        assert title in text
+    assert "at equal observations" in text and "at equal time" in text
+    assert TH.plot_tempering_herding(s, tmp_path) == [
+        "tempering_herding_obs.png", "tempering_herding_time.png",
+        "tempering_herding_marginals.png"]
+    for name in ("tempering_herding_obs.png", "tempering_herding_time.png"):
+        assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
+    rows = get_study("tempering_herding").csv_rows(s)
+    assert {r["part"] for r in rows} == {"synthetic", "tracking"}
+
+
+@pytest.mark.parametrize("bad, message", [
+    ({"methods": ("tempered",)}, "unknown methods: method 'tempered'; expected one of"),
+    ({"families": ("ms:D/random",)}, "unknown families: family 'ms:D/random'"),
+    ({"budgets": (100, 100)}, "budgets must be a non-empty, strictly increasing tuple"),
+    ({"budgets": ()}, "budgets must be a non-empty, strictly increasing tuple"),
+    ({"zr_beta": 1.5}, "zr_beta must be <= 1.0, got 1.5"),
+    ({"zr_beta": 0.0}, "zr_beta must be > 0.0, got 0.0"),
+    ({"ms_method": "componentwise"}, "unknown ms_method 'componentwise'"),
+    ({"tracking_mc": -1}, "tracking_mc must be a non-negative integer, got -1"),
+    ({"n_mc": 0}, "n_mc must be a positive integer, got 0"),
+    ({"presets": ("multi",)}, "unknown presets: preset 'multi'"),
+])
+def test_bad_settings_are_refused_by_name(bad, message):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(")):
+        TemperingHerdingConfig(**bad)
