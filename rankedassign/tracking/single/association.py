@@ -430,15 +430,63 @@ class HerdedGibbs(Association):
         return f"HerdedGibbs({', '.join(parts)}{_marginals_repr(self.marginals)}{extra})"
 
     def __call__(self, problem, rng) -> AssociationResult:
+        res = self._sample(problem, self.n_chains or 1, self.n_obs, rng)
+        return _from_sampler(problem, res, self.marginals)
+
+    def _sample(self, problem, n_chains: int, length: int, rng):
         h = self.herding
         if self.n_chains is None:
-            res = sample_herded(problem, self.n_obs, keys=h.keys, init=h.init,
-                                max_keys=h.max_keys, rng=rng, **self.options)
+            return sample_herded(problem, length, keys=h.keys, init=h.init,
+                                 max_keys=h.max_keys, rng=rng, **self.options)
+        return sample_short_chains(problem, n_chains, length, tau_stall=self.tau_stall,
+                                   tau_stale=self.tau_stale, rng=rng, herding=h,
+                                   **self.options)
+
+    def hypotheses(self, problem, budget: int, rng):
+        """The δ-GLMB truncation of one component's problem with the count ``budget = T_h``.
+
+        The rule of the Gibbs truncations (:class:`~rankedassign.tracking.GLMBFilter`): ``T_h``
+        counts stored solutions with the start state, so the herded draw gets ``n = T_h − 1``
+        observations, at most its own budget: one chain of ``min(n, n_obs)`` sweeps, or
+        ``min(n_chains, ⌈n / L⌉)`` short chains of ``L = min(n_obs, n)``. ``n = 0`` gives
+        the start state alone.
+
+        Parameters
+        ----------
+        problem : AssignmentProblem
+        budget : int
+            The component's count ``T_h >= 0``.
+        rng : optional
+            Anything :func:`numpy.random.default_rng` accepts.
+
+        Returns
+        -------
+        rankedassign.tracking.single.glmb.Hypotheses
+            The unique assignments, their costs, and the sweeps and row updates spent.
+
+        Examples
+        --------
+        >>> from rankedassign import synthetic
+        >>> from rankedassign.tracking import HerdedGibbs
+        >>> hyp = HerdedGibbs(1000).hypotheses(synthetic.random(rng=0), 51, rng=0)
+        >>> hyp.sweeps, len(hyp.costs) <= 51
+        (50, True)
+        >>> HerdedGibbs(25, n_chains=4).hypotheses(synthetic.random(rng=0), 1, rng=0).sweeps
+        0
+        """
+        from .glmb import Hypotheses
+
+        n = max(check_int(budget, "budget", minimum=0) - 1, 0)
+        if n == 0:
+            one = {k: v for k, v in self.options.items() if k != "workers"}
+            res = sample_herded(problem, 0, rng=rng, **one)  # the start state alone
+        elif self.n_chains is None:
+            res = self._sample(problem, 1, min(n, self.n_obs), rng)
         else:
-            res = sample_short_chains(problem, self.n_chains, self.n_obs,
-                                      tau_stall=self.tau_stall, tau_stale=self.tau_stale,
-                                      rng=rng, herding=h, **self.options)
-        return _from_sampler(problem, res, self.marginals)
+            length = min(self.n_obs, n)
+            res = self._sample(problem, min(self.n_chains, -(-n // length)), length, rng)
+        return Hypotheses(res.assignments, res.costs, int(res.n_observations),
+                          int(res.n_row_updates))
 
 
 class Murty(Association):
