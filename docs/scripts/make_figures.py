@@ -238,6 +238,37 @@ def glmb_tracking(out: Path) -> None:
     plot_glmb_tracking(summary, out.parent)
 
 
+_TH = {}
+
+
+def _tempering_herding(out: Path, which: str) -> None:
+    """The tempering_herding study's plots from its quick settings without the tracking part
+    (one run serves both figures)."""
+    import dataclasses
+    import shutil
+    import tempfile
+
+    from rankedassign.experiments import get_study, run_study
+    from rankedassign.experiments.studies.tempering_herding import plot_tempering_herding
+
+    if "summary" not in _TH:
+        cfg = dataclasses.replace(get_study("tempering_herding").quick(), tracking_mc=0)
+        _TH["summary"] = run_study("tempering_herding", cfg, seed=0, progress=False)
+    with tempfile.TemporaryDirectory() as tmp:
+        plot_tempering_herding(_TH["summary"], Path(tmp))
+        shutil.copy(Path(tmp) / f"tempering_herding_{which}.png", out)
+
+
+def tempering_herding_obs(out: Path) -> None:
+    """Truncation error against observations, every method, every family (quick study)."""
+    _tempering_herding(out, "obs")
+
+
+def tempering_herding_time(out: Path) -> None:
+    """Truncation error against seconds per call, every method, every family (quick study)."""
+    _tempering_herding(out, "time")
+
+
 def stonesoup_ospa(out: Path) -> None:
     """The example of docs/stonesoup.md: its code blocks, run as written, save this figure."""
     import os
@@ -266,6 +297,8 @@ FIGURES = {
     "tracking_multisensor_adaptive": tracking_multisensor_adaptive,
     "glmb_tracking": glmb_tracking,
     "stonesoup_ospa": stonesoup_ospa,
+    "tempering_herding_obs": tempering_herding_obs,
+    "tempering_herding_time": tempering_herding_time,
 }
 
 

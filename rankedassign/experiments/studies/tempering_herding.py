@@ -83,6 +83,10 @@ _LABELS = {
     "beta-0.9": "Gibbs at β = 0.9",
     "zanella-roberts": "Zanella–Roberts",
     "lbp": "loopy BP (marginals only)",
+    # the tracking part's associations
+    "exact": "exact",
+    "herded": "herded, one chain",
+    "herded-short": "herded short chains",
 }
 
 
@@ -534,7 +538,7 @@ def _verdict_text(fam: str, s: THSummary, cfg) -> str:
             if m is None:
                 continue
             r = by.get((m, b)) or by.get((m, 0))
-            val = (f"L1 {fmt.num(r.l1_mean)}" if kind == "l1" else
+            val = (f"L1 {r.l1_mean:.3g}" if kind == "l1" else
                    f"{fmt.num(r.error_pct_mean)} %" if kind == "obs" else "")
             parts.append(f"{b:,}: **{label(m)}**" + (f" ({val})" if val else ""))
         return "; ".join(parts) if parts else "–"
@@ -600,7 +604,7 @@ ones the LMB filter forms from their unique sets.
                        f"column):\n\n{fmt.table(head, l1_body)}\n")
         out.append(_verdict_text(fam, s, cfg) + "\n")
     if s.tracking:
-        body = [[f"`{r.preset}`", label(r.method) if r.method != "exact" else "exact",
+        body = [[f"`{r.preset}`", label(r.method),
                  fmt.pm(r.ospa2_mean, r.ospa2_se, 2), fmt.integer(r.sweeps_mean),
                  f"{r.seconds_mean:.2f}", f"{r.association_seconds_mean:.2f}"]
                 for r in s.tracking]
