@@ -447,9 +447,10 @@ run_chains = make_driver("multisensor", alloc_work, reset_work, sweep)
 
 # ---------------------------------------------------------------------------- herded draw
 # Twins of the herded row updates of rankedassign.multisensor.reference (herd_sweep). The
-# herded driver's data is (gibbs data, gate, width, key mode, init mode, capacity,
-# chain_length, tally) (rankedassign.multisensor.prepare.herd_inputs); its workspace is the
-# Gibbs one (work[0..7]) followed by
+# herded driver's data is the Gibbs data (data[0..12]) followed by the gate, the weights'
+# width, the key mode, the init mode, the capacity, chain_length and the tally (data[13..19],
+# rankedassign.multisensor.prepare.herd_inputs; one flat tuple: the parallel speculation
+# takes no nested tuple); its workspace is laid out as the Gibbs one (work[0..7]) followed by
 #
 #     cand   int64[nb, C]          full candidate index of each compact candidate
 #     p      float64[nb, Kw]       the draw's conditional over its full candidate range
@@ -468,14 +469,14 @@ def _row_key(data, work, b, state, n, vlo, vhi):
     """Row ``n``'s key vector into ``keyv[b]`` (twin of the reference's ``herd_key``): the
     state with row ``n`` as -1 (full), or the codes ``v K + j`` of the gated measurements of
     sensors ``vlo..vhi-1`` that other rows hold (shared)."""
-    params, n_meas = data[0][0], data[0][1]
+    params, n_meas = data[0], data[1]
     P = params[2]
     V = params[3]
-    gate = data[1]
+    gate = data[13]
     Kc = gate.shape[2]
     occ, keyv = work[0], work[10][b]
     c = 0
-    if data[3] == 0:
+    if data[15] == 0:
         for r in range(P * V):
             keyv[r] = -1 if r // V == n else state[r]
         c = P * V
@@ -494,13 +495,13 @@ def _row_key(data, work, b, state, n, vlo, vhi):
 def _component_key(data, work, b, state, n, v, off):
     """Component ``v`` of row ``n``'s key vector (twin of the reference's
     ``_component_key``); ``off`` is the tuple offset of the row's other components."""
-    params, n_meas, strides, la = data[0][0], data[0][1], data[0][2], data[0][6]
+    params, n_meas, strides, la = data[0], data[1], data[2], data[6]
     P = params[2]
     V = params[3]
-    Kc = data[1].shape[2]
+    Kc = data[13].shape[2]
     occ, row, keyv = work[0], work[7], work[10][b]
     c = 0
-    if data[3] == 0:
+    if data[15] == 0:
         for r in range(P * V):
             keyv[r] = state[r]
         for w in range(V):
@@ -549,19 +550,19 @@ def _herd_stage(data, work, b, rid, nc, K, rs):
             tot += e
         for c in range(nc):
             p[cand[b, c]] = p[cand[b, c]] / tot
-    s, new = herd_lookup(rid, keyv, work[16][b], data[5], work[13][b], work[12][b],
+    s, new = herd_lookup(rid, keyv, work[16][b], data[17], work[13][b], work[12][b],
                          work[14][b], work[15][b])
     if s < 0:  # the table is full: an ordinary Gibbs draw
         c = draw(wbuf, lbuf, b, nc, next_uniform(rs))
         return -1 if c < 0 else cand[b, c]
-    return herd_pick(work[11][b, s], p, K, new, data[4], rs)
+    return herd_pick(work[11][b, s], p, K, new, data[16], rs)
 
 
 @jit(inline="always")
 def _herd_row_exact(data, work, b, state, n, rs):
     """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``."""
-    params, n_meas, strides, Wd, ld, Wa, la = (data[0][0], data[0][1], data[0][2], data[0][3],
-                                                data[0][4], data[0][5], data[0][6])
+    params, n_meas, strides, Wd, ld, Wa, la = (data[0], data[1], data[2], data[3],
+                                                data[4], data[5], data[6])
     V = params[3]
     avail, navail, idx, wbuf, lbuf, row, cand = (work[1], work[2], work[3], work[4], work[5],
                                                  work[7], work[8])
@@ -600,9 +601,9 @@ def _herd_row_exact(data, work, b, state, n, rs):
 @jit(inline="always")
 def _herd_row_mm(data, work, b, state, n, rs):
     """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``."""
-    params, n_meas, ld, Th, lth, las, Ea, Ed, qdead = (data[0][0], data[0][1], data[0][4],
-                                                       data[0][7], data[0][8], data[0][9],
-                                                       data[0][10], data[0][11], data[0][12])
+    params, n_meas, ld, Th, lth, las, Ea, Ed, qdead = (data[0], data[1], data[4],
+                                                       data[7], data[8], data[9],
+                                                       data[10], data[11], data[12])
     V = params[3]
     avail, navail, wbuf, lbuf, row, cand, p = (work[1], work[2], work[4], work[5], work[7],
                                                work[8], work[9][b])
@@ -611,12 +612,12 @@ def _herd_row_mm(data, work, b, state, n, rs):
         _row_key(data, work, b, state, n, 0, 0)
         p[0] = qdead[n]
         p[1] = 1.0 - qdead[n]
-        s, new = herd_lookup(rid, work[10][b], work[16][b], data[5], work[13][b], work[12][b],
+        s, new = herd_lookup(rid, work[10][b], work[16][b], data[17], work[13][b], work[12][b],
                              work[14][b], work[15][b])
         if s < 0:
             dead = next_uniform(rs) < qdead[n]
         else:
-            dead = herd_pick(work[11][b, s], p, 2, new, data[4], rs) == 0
+            dead = herd_pick(work[11][b, s], p, 2, new, data[16], rs) == 0
     else:
         alive = Ea[n]
         for v in range(V):
@@ -662,8 +663,8 @@ def _herd_row_mm(data, work, b, state, n, rs):
 @jit(inline="always")
 def _herd_row_componentwise(data, work, b, state, n, rs):
     """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``."""
-    params, n_meas, strides, Wa, la = (data[0][0], data[0][1], data[0][2], data[0][5],
-                                       data[0][6])
+    params, n_meas, strides, Wa, la = (data[0], data[1], data[2], data[5],
+                                       data[6])
     V = params[3]
     avail, navail, wbuf, lbuf, row, cand = (work[1], work[2], work[4], work[5], work[7],
                                             work[8])
@@ -696,7 +697,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     method, then the row is written back as in :func:`sweep`. The chain's tallies are
     ``cnt[b]`` (keys, fall-backs, sweeps) and, when chains are speculated, ``hist``.
     """
-    params, n_meas = data[0][0], data[0][1]
+    params, n_meas = data[0], data[1]
     occ, avail, navail, perm, row = work[0], work[1], work[2], work[6], work[7]
     method = params[0]
     P = params[2]
@@ -753,28 +754,36 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
 @jit()
 def alloc_work_herded(data, nb):
     """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables."""
-    g = alloc_work(data[0], nb)
-    params = data[0][0]
-    L = max(params[2] * params[3], 1)
-    Kw = data[2]
-    cap = data[5]
-    C = max(g[4].shape[1], 2)  # MM's dead/alive draw has two candidates
+    params, n_meas, Wa = data[0], data[1], data[5]
+    P = params[2]
+    V = params[3]
+    K = 1
+    for v in range(V):
+        if n_meas[v] + 1 > K:
+            K = n_meas[v] + 1
+    C = max(1 + Wa.shape[1], K, 2)  # as alloc_work; MM's dead/alive draw has two candidates
+    L = max(P * V, 1)
+    Kw = data[14]
+    cap = data[17]
     T = 4
     while T < 2 * cap:
         T *= 2
-    return (g[0], g[1], g[2], g[3], np.zeros((nb, C)), np.zeros((nb, C)), g[6], g[7],
+    return (np.zeros((nb, V, K), dtype=np.int64), np.zeros((nb, V, K), dtype=np.int64),
+            np.zeros((nb, V), dtype=np.int64), np.zeros((nb, V), dtype=np.int64),
+            np.zeros((nb, C)), np.zeros((nb, C)), np.zeros((nb, max(P, 1)), dtype=np.int64),
+            np.zeros((nb, V), dtype=np.int64),
             np.zeros((nb, C), dtype=np.int64), np.zeros((nb, Kw)),
             np.empty((nb, L), dtype=np.int32), np.empty((nb, cap, Kw)),
             np.empty((nb, cap, L), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
             np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
             np.zeros((nb, 3), dtype=np.int64),
-            np.zeros((nb, data[6] + 1 if nb > 1 else 1, 2), dtype=np.int64))
+            np.zeros((nb, data[18] + 1 if nb > 1 else 1, 2), dtype=np.int64))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies."""
-    reset_work(data[0], work, b, x0)
+    reset_work(data, work, b, x0)
     work[14][b, :] = 0
     work[16][b, :] = 0
     work[17][b, 0, :] = 0
@@ -783,7 +792,7 @@ def reset_work_herded(data, work, b, x0):
 @jit()
 def chain_done_herded(data, work, b, j):
     """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data[7]
+    tally = data[19]
     hist = work[17]
     if hist.shape[1] > 1:
         tally[0] += hist[b, j, 0]

@@ -528,7 +528,9 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     Returns
     -------
     data, tally, make_ref, chain_bytes
-        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents; the tallies are
+        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is the Gibbs
+        data tuple followed by the gate (:func:`herd_gate`), the width of a key's weights, the
+        key and init codes, the table capacity, ``chain_length`` and the tallies
         ``[keys created, fall-back draws]``.
 
     Notes
@@ -548,7 +550,7 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     ...     log_s = None; log_theta = None
     >>> prep = prepare(Stub(), "all_missed", "systematic", 0, {"method": "exact"})
     >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
-    >>> int(data[2]), data[5], tally.tolist()      # 1 + 6 candidates, 2 rows x 10 sweeps
+    >>> int(data[14]), data[17], tally.tolist()    # 1 + 6 candidates, 2 rows x 10 sweeps
     (7, 20, [0, 0])
     """
     data = prep.data
@@ -564,8 +566,8 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
         width, draws = max(2, K), P * (V + 1)
     cap = herding.capacity(draws, chain_length)
     tally = np.zeros(2, dtype=np.int64)
-    hdata = (data, gate, np.int64(width), KEY_CODES[herding.keys], INIT_CODES[herding.init],
-             cap, chain_length, tally)
+    hdata = data + (gate, np.int64(width), KEY_CODES[herding.keys], INIT_CODES[herding.init],
+                    cap, chain_length, tally)
 
     def make_ref():
         ref_tally = [0, 0]
