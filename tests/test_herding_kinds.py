@@ -118,7 +118,8 @@ def test_multisensor_one_chain_reference_equals_numba(registered, data):
     res = sample_herded(problem, n_obs, **kw)
     _same(reference.sample_herded(problem, n_obs, **kw), res)
     assert res.n_keys <= kw["max_keys"] and int(res.counts.sum()) == n_obs
-    assert np.isfinite(res.costs).all()
+    if kw["method"] in ("exact", "componentwise"):  # MM's surrogate may leave the support
+        assert np.isfinite(res.costs).all()
 
 
 @settings(max_examples=40, deadline=None)
@@ -356,21 +357,20 @@ def test_multisensor_herded_association_in_the_lmb_filter():
     )
 
     sensors = (0, 2)
-    sc = make_multisensor_scenario(rng=0, n_scans=6, sensors=sensors)
+    sc = make_multisensor_scenario(rng=0, n_scans=8, sensors=sensors)
     scans = [tuple(s.z for s in scan) for scan in sc.scans]
-    runs = {}
-    for name, assoc in [("one", MultiSensorHerdedGibbs(300)),
-                        ("short", MultiSensorHerdedGibbs(10, n_chains=50, tau_stall=3,
-                                                         tau_stale=5, method="mm"))]:
-        a = run_filter(MultiSensorLMBFilter(make_multisensor_model(sensors), assoc), scans,
-                       rng=1, truth=sc.truth)
-        b = run_filter(MultiSensorLMBFilter(make_multisensor_model(sensors), assoc), scans,
-                       rng=1, truth=sc.truth)
-        assert np.isfinite(a.ospa2.value).all() and a.estimates.shape[0] == 6
+    for assoc in (MultiSensorHerdedGibbs(100),
+                  MultiSensorHerdedGibbs(10, n_chains=40, tau_stall=3, tau_stale=5,
+                                         method="mm")):
+        a, b = (run_filter(MultiSensorLMBFilter(make_multisensor_model(sensors), assoc), scans,
+                           rng=1, truth=sc.truth) for _ in range(2))
+        assert np.isfinite(a.ospa2.value).all() and a.estimates.shape[0] == 8
+        r = [v for scan in a.existence for v in scan.values()]
+        assert r and all(0.0 <= v <= 1.0 for v in r)           # finite existence
         est = a.estimates[~np.isnan(a.estimates)]
-        assert est.size > 0 and np.isfinite(est).all()
+        assert np.isfinite(est).all() and int(a.sweeps.sum()) > 0
         assert_array_equal(a.estimates, b.estimates)            # reproducible
-        runs[name] = a
+        assert a.existence == b.existence
     p = _ms(5)
     out = MultiSensorHerdedGibbs(200)(p, 7)
     res = sample_herded(p, 200, rng=7, method="exact")
