@@ -312,19 +312,20 @@ def _tv(problem, res):
 
 
 def test_long_herded_chains_approach_the_posterior():
-    """On a tiny problem the frequencies of a long herded chain are as close to the exact
-    posterior as a Gibbs chain of the same length, or closer (docs/herding.md has the
-    numbers); Gibbs' own distance at 20 000 sweeps is about 0.01 here."""
+    """On a tiny problem (68 assignments; 24 tuples for adaptive birth) the frequencies of a
+    long herded chain are at most half as far from the exact posterior (total variation) as
+    those of Gibbs chains of the same length (mean of three seeds; deterministic, so no false
+    failures). docs/herding.md has the numbers."""
     p = ms_synthetic.random(2, (2, 2), rng=7)     # separable: the MM surrogate is exact
     n = 20_000
     for method in ("exact", "mm"):
         gibbs = np.mean([_tv(p, sample_original(p, n, rng=r, method=method)) for r in range(3)])
         for keys in KEYS:
             herded = _tv(p, sample_herded(p, n, keys=keys, method=method))
-            assert herded <= max(gibbs, 0.01), (method, keys, herded, gibbs)
+            assert herded <= gibbs / 2, (method, keys, herded, gibbs)
     ab = _ab(3)
     gibbs = np.mean([_tv(ab, sample_original(ab, n, rng=r)) for r in range(3)])
-    assert _tv(ab, sample_herded(ab, n, sensor_order="fixed")) <= max(gibbs, 0.01)
+    assert _tv(ab, sample_herded(ab, n, sensor_order="fixed")) <= gibbs / 2
 
 
 # ------------------------------------------------------------------ bad input
