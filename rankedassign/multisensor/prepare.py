@@ -493,7 +493,7 @@ def herd_gate(data):
     >>> class Stub:
     ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
     ...     log_eta_dead = np.zeros(1); log_s = None; log_theta = None
-    ...     log_eta_alive = np.log([[[1.0, 1.0], [0.0, 0.0]]])   # measurement 1 of sensor 0: 0
+    ...     log_eta_alive = np.array([[[0.0, 0.0], [-np.inf, -np.inf]]])   # sensor 0's j = 1: 0
     >>> herd_gate(prepare_data(Stub(), "exact", "systematic")).astype(int).tolist()
     [[[0, 0], [0, 1]]]
     """
