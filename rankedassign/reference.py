@@ -127,7 +127,7 @@ def sample_herded(problem, n_obs, *, keys="shared", init="conditional",
 
     Parameters
     ----------
-    problem : AssignmentProblem
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
     n_obs : int
         Number of sweeps (observations).
     keys, init, max_keys, beta, start, scan, rng, **options

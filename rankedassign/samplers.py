@@ -391,15 +391,21 @@ def sample_herded(problem, n_obs, *, keys="shared", init="conditional",
 
     Parameters
     ----------
-    problem : AssignmentProblem
-        The problem (the herded draw is implemented for the single-sensor kind; the other
-        kinds raise ``TypeError``).
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+        The problem; every kind has a herded draw (:attr:`Kind.draws
+        <rankedassign.engine.kind.Kind>`). A multi-sensor row herds its one draw
+        (``method="exact"``: dead or a tuple) or each of its draws (the MM methods: dead or
+        alive, then each sensor's component; ``"componentwise"``: each component), each with
+        its own key; an adaptive-birth sweep herds each sensor's entry.
     n_obs : int
         Observations (full sweeps), >= 0.
     keys : {"shared", "full"}
         What a row's key is: ``"shared"`` (default), the gated measurements of the row that
         the other rows hold (all its conditional depends on), or ``"full"``, the other rows'
-        whole state ``γ_{-i}`` (Chen et al.'s key).
+        whole state ``γ_{-i}`` (Chen et al.'s key). For the other kinds, see
+        :func:`rankedassign.multisensor.reference.herd_key` and
+        :func:`rankedassign.adaptive_birth.reference.herd_key` (there both keys are the other
+        sensors' entries).
     init : {"conditional", "zero", "uniform"}
         A new key's initial weights: the key's conditional (default), zeros, or uniforms in
         ``[0, 1)`` from the chain's stream. With the first two the chain is deterministic

@@ -217,10 +217,18 @@ def test_herding_option_must_be_a_herding():
         sample_short_chains(synthetic.random(rng=0), 3, 3, herding="herded")
 
 
-def test_kinds_without_a_herded_draw_say_so():
+def test_kinds_without_a_herded_draw_say_so(monkeypatch):
+    """Every registered kind herds now; a kind registered without a herded draw says so."""
+    import dataclasses
+
+    from rankedassign import kinds
+
+    bare = dataclasses.replace(kinds.kind_named("multisensor"), draws={})
+    monkeypatch.setattr(kinds, "KINDS", (kinds.KINDS[0], bare, kinds.KINDS[2]))
+    monkeypatch.setattr(kinds, "_BY_NAME", {k.name: k for k in kinds.KINDS})
     ms = ms_synthetic.random(rng=0)
     msg = (r"the herded draw is not implemented for a MultiSensorProblem yet \(it is for: "
-           r"AssignmentProblem")
+           r"AssignmentProblem, AdaptiveBirthProblem\)")
     for fn in (lambda: sample_herded(ms, 5), lambda: sample_herded(ms, 5, backend="python"),
                lambda: sample_short_chains(ms, 3, 3, herding=Herding())):
         with pytest.raises(TypeError, match=msg):

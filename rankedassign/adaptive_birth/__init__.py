@@ -19,7 +19,7 @@ Examples
 ('adaptive_birth', 27)
 """
 
-from ..engine.kind import Kind
+from ..engine.kind import DrawRule, Kind
 from . import _kernels, prepare, reference, synthetic
 from .problem import SENSOR_ORDERS, AdaptiveBirthProblem, BirthLMB, birth_from_samples
 
@@ -36,4 +36,6 @@ KIND = Kind(
     drivers={"chains": _kernels.run_chains},
     options={"sensor_order": "'random' (default: a fresh permutation per sweep) or 'fixed'"},
     temper=prepare.temper,
+    draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
+                              reference.herd_sweep, prepare.herd_inputs)},
 )

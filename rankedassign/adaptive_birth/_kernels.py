@@ -28,11 +28,12 @@ import math
 
 import numpy as np
 
-from ..engine._kernels import make_driver, next_uniform
+from ..engine._kernels import herd_lookup, herd_pick, make_driver, next_uniform
 from ..numba_options import jit
 
 __all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
-           "run_chains"]
+           "run_chains", "sweep_herded", "alloc_work_herded", "reset_work_herded",
+           "chain_done_herded", "run_chains_herded"]
 
 
 @jit()
@@ -275,3 +276,147 @@ def sweep(data, work, b, zkeys, state, h, rs):
 
 #: The chain driver compiled for the adaptive-birth problem (:func:`.._chains.make_driver`).
 run_chains = make_driver("adaptive_birth", alloc_work, reset_work, sweep)
+
+
+# ---------------------------------------------------------------------------- herded draw
+@jit(inline="always")
+def _conditional(lw, p, K):
+    """Twin of :func:`rankedassign.adaptive_birth.reference.conditional` into ``p``."""
+    mx = lw[0]
+    for j in range(K):
+        if lw[j] > mx:
+            mx = lw[j]
+    total = 0.0
+    for j in range(K):
+        p[j] = math.exp(lw[j] - mx)
+        total += p[j]
+    inv = 1.0 / total
+    for j in range(K):
+        p[j] = p[j] * inv
+
+
+@jit(inline="always")
+def sweep_herded(data, work, b, zkeys, state, h, rs):
+    """One herded sweep of slab ``b`` (twin of the reference's ``herd_sweep``).
+
+    ``data`` is the Gibbs data (``data[0..15]``) followed by the key mode, the init mode, the
+    capacity, ``chain_length`` and the tally (one flat tuple: the parallel speculation takes
+    no nested tuple); ``work`` is
+    the Gibbs workspace (``work[0..8]``) followed by the conditional ``p``, the key vector
+    ``keyv`` (``J`` with the redrawn sensor as -1; the key is the same for both key modes),
+    the key table (weights ``hw``, keys ``kst``/``krow``, index ``tslot``/``thash``), the
+    chain's ``cnt = [keys, fall-backs, sweeps]`` and ``hist`` (:func:`chain_done_herded`).
+    """
+    gd = data
+    V = gd[1]
+    strides = gd[6]
+    logw = gd[7]
+    order = work[0][b]
+    M, bb, c, Mp, L, y, bj, lw = (work[1][b], work[2][b], work[3][b], work[4][b], work[5][b],
+                                  work[6][b], work[7][b], work[8][b])
+    p, keyv, cnt = work[9][b], work[10][b], work[16][b]
+    for v in range(V):
+        order[v] = v
+    if gd[3]:                                            # Fisher-Yates, t = V-1..1
+        for t in range(V - 1, 0, -1):
+            k = min(np.int64(next_uniform(rs) * (t + 1)), t)
+            tmp = order[t]
+            order[t] = order[k]
+            order[k] = tmp
+    gaussian = gd[0] == 1
+    if gaussian:
+        _sums(gd, M, bb, c, state)
+    for r in range(V):
+        s = order[r]
+        K = gd[4][s]
+        if gaussian:
+            _gaussian_weights(gd, M, bb, c, Mp, L, y, bj, lw, state, s)
+        else:
+            base = 0
+            for v in range(V):
+                if v != s:
+                    base += state[v] * strides[v]
+            for j in range(K):
+                lw[j] = logw[base + j * strides[s]]
+        _conditional(lw, p, K)
+        for v in range(V):
+            keyv[v] = -1 if v == s else state[v]
+        slot, new = herd_lookup(s, keyv, cnt, data[18], work[13][b], work[12][b], work[14][b],
+                                work[15][b])
+        if slot < 0:  # the table is full: an ordinary Gibbs draw
+            j = draw(lw, K, next_uniform(rs))
+        else:
+            j = herd_pick(work[11][b, slot], p, K, new, data[17], rs)
+        if gaussian and j > 0:                           # (M, b, c) <- sums of the new tuple
+            t = gd[5][s] + j - 1
+            n = gd[2]
+            for i in range(n):
+                for k in range(n):
+                    M[i, k] = Mp[i, k]
+                bb[i] += gd[12][t, i]
+            c[0] += gd[13][t]
+        old = state[s]
+        if j != old:
+            h ^= zkeys[s, old] ^ zkeys[s, j]
+            state[s] = j
+    cnt[2] += 1
+    hist = work[17]
+    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
+        hist[b, cnt[2], 0] = cnt[0]
+        hist[b, cnt[2], 1] = cnt[1]
+    return h
+
+
+@jit()
+def alloc_work_herded(data, nb):
+    """Workspace of ``nb`` herded chains: the Gibbs scratch, the conditional, key tables.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.adaptive_birth.prepare import AdaptiveBirthProblem, chain_inputs
+    >>> d = chain_inputs(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 4))))
+    >>> work = alloc_work_herded(d + (1, 0, 8, 5, np.zeros(2, dtype=np.int64)), 3)
+    >>> work[9].shape, work[11].shape
+    ((3, 4), (3, 8, 4))
+    """
+    g = alloc_work(data, nb)
+    V = data[1]
+    K = g[8].shape[1]
+    cap = data[18]
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    L = max(V, 1)
+    return (g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], np.zeros((nb, K)),
+            np.empty((nb, L), dtype=np.int32), np.empty((nb, cap, K)),
+            np.empty((nb, cap, L), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
+            np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
+            np.zeros((nb, 3), dtype=np.int64),
+            np.zeros((nb, data[19] + 1 if nb > 1 else 1, 2), dtype=np.int64))
+
+
+@jit()
+def reset_work_herded(data, work, b, x0):
+    """Slab ``b`` for a new chain: an empty key table and zero tallies."""
+    work[14][b, :] = 0
+    work[16][b, :] = 0
+    work[17][b, 0, :] = 0
+
+
+@jit()
+def chain_done_herded(data, work, b, j):
+    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
+    tally = data[20]
+    hist = work[17]
+    if hist.shape[1] > 1:
+        tally[0] += hist[b, j, 0]
+        tally[1] += hist[b, j, 1]
+    else:  # simulated up to j exactly
+        tally[0] += work[16][b, 0]
+        tally[1] += work[16][b, 1]
+
+
+#: The chain driver compiled for the adaptive-birth problem with the herded draw.
+run_chains_herded = make_driver("adaptive_birth_herded", alloc_work_herded, reset_work_herded,
+                                sweep_herded, chain_done=chain_done_herded)

@@ -8,11 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice, check_type
 from .problem import SENSOR_ORDERS, AdaptiveBirthProblem
-from .reference import reference_data
+from .reference import HerdData, reference_data
 
 
 # ---------------------------------------------------------------------------- sampler inputs
@@ -177,3 +178,51 @@ def temper(problem: AdaptiveBirthProblem, beta: float, options) -> AdaptiveBirth
     return AdaptiveBirthProblem.from_log_weights(problem.log_weights() * beta,
                                                  n_min=problem.n_min)
 
+
+
+def herd_inputs(prep: Prepared, herding, chain_length: int):
+    """The herded driver's inputs from an adaptive-birth call's Gibbs inputs.
+
+    Parameters
+    ----------
+    prep : Prepared
+        The call's :func:`prepare` result.
+    herding : rankedassign.engine.herding.Herding
+        Keys (``"shared"`` and ``"full"`` are the same key here:
+        :func:`rankedassign.adaptive_birth.reference.herd_key`), initial weights and the
+        table bound.
+    chain_length : int
+        Observations per chain (a sweep makes ``V`` draws).
+
+    Returns
+    -------
+    data, tally, make_ref, chain_bytes
+        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is the Gibbs
+        data tuple (:func:`chain_inputs`) followed by the key and init codes, the table
+        capacity, ``chain_length`` and the tallies ``[keys created, fall-back draws]``.
+
+    Examples
+    --------
+    >>> from rankedassign.engine.herding import Herding
+    >>> p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3)))
+    >>> prep = prepare(p, "all_missed", "systematic", 0, {})
+    >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
+    >>> data[18], make_ref()[0].capacity       # 2 sensors x 10 sweeps
+    (20, 20)
+    """
+    data = prep.data
+    V = int(data[1])
+    K = int(max(data[4])) if V else 1
+    cap = herding.capacity(V, chain_length)
+    tally = np.zeros(2, dtype=np.int64)
+    hdata = data + (KEY_CODES[herding.keys], INIT_CODES[herding.init], cap, chain_length, tally)
+
+    def make_ref():
+        ref_tally = [0, 0]
+        return HerdData(prep.ref_data, herding.keys, herding.init, cap, ref_tally), ref_tally
+
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    chain_bytes = cap * (8 * K + 4 * V + 4) + 16 * T + 16 * (chain_length + 1) + 8 * K
+    return hdata, tally, make_ref, chain_bytes

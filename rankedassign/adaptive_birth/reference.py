@@ -40,8 +40,11 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+from ..engine.reference import herd_choice
+
 __all__ = ["RefData", "reference_data", "new_work", "sweep", "draw", "cholesky", "half_logdet",
-           "quad", "conditional_log_weights"]
+           "quad", "conditional_log_weights", "HerdData", "new_herd_work", "conditional",
+           "herd_key", "herd_sweep"]
 
 
 class RefData(NamedTuple):
@@ -400,6 +403,28 @@ def conditional_log_weights(data: RefData, work: Work, x, s):
     return lw, Mp
 
 
+def _order(data: RefData, g):
+    """The sensors of one sweep: ``0..V-1``, or Fisher-Yates from the identity."""
+    V = data.V
+    order = list(range(V))
+    if data.random_order:
+        for t in range(V - 1, 0, -1):
+            k = min(int(g.uniform() * (t + 1)), t)
+            order[t], order[k] = order[k], order[t]
+    return order
+
+
+def _accept(data: RefData, work: Work, Mp, s, j):
+    """Gaussian mode, sensor ``s`` detecting ``j > 0``: ``(M, b, c)`` <- the new tuple's sums."""
+    if data.mode == 1 and j > 0:
+        t = data.off[s] + j - 1
+        for i in range(data.n):
+            for k in range(data.n):
+                work.M[i][k] = Mp[i][k]
+            work.b[i] += data.a[t][i]
+        work.c[0] += data.cz[t]
+
+
 def sweep(data: RefData, work: Work, x, g) -> None:
     """One sweep over the sensors, in place on the tuple ``x`` (a list of ints).
 
@@ -425,22 +450,177 @@ def sweep(data: RefData, work: Work, x, g) -> None:
     >>> x                   # (0, 0) -> (2, 0) is impossible; only one move leaves (0, 0)
     [0, 0]
     """
-    V = data.V
-    order = list(range(V))
-    if data.random_order:
-        for t in range(V - 1, 0, -1):
-            k = min(int(g.uniform() * (t + 1)), t)
-            order[t], order[k] = order[k], order[t]
     if data.mode == 1:
         _sums(data, work, x)
-    for s in order:
+    for s in _order(data, g):
         lw, Mp = conditional_log_weights(data, work, x, s)
         j = draw(lw, g)
-        if data.mode == 1 and j > 0:                     # (M, b, c) <- sums of the new tuple
-            t = data.off[s] + j - 1
-            for i in range(data.n):
-                for k in range(data.n):
-                    work.M[i][k] = Mp[i][k]
-                work.b[i] += data.a[t][i]
-            work.c[0] += data.cz[t]
+        _accept(data, work, Mp, s, j)
+        x[s] = j
+
+
+# ------------------------------------------------------------------------------ herded draw
+class HerdData(NamedTuple):
+    """The herded sampler's inputs (:func:`rankedassign.adaptive_birth.prepare.herd_inputs`).
+
+    Attributes
+    ----------
+    base : RefData
+        The Gibbs sampler's inputs.
+    keys : {"full", "shared"}
+        What a key is; both are the other sensors' entries here (:func:`herd_key`).
+    init : {"conditional", "zero", "uniform"}
+        A new key's initial weights.
+    capacity : int
+        Keys a chain's table may hold.
+    tally : list of int
+        ``[keys created, fall-back draws]`` over the run, updated in place.
+    """
+
+    base: RefData
+    keys: str
+    init: str
+    capacity: int
+    tally: list
+
+
+class HerdWork(NamedTuple):
+    """A herded chain's bookkeeping: the Gibbs scratch and the key table."""
+
+    sums: Work
+    table: dict
+
+
+def new_herd_work(data: HerdData, x) -> HerdWork:
+    """Bookkeeping of a herded chain started at ``x``: the Gibbs scratch, an empty key table.
+
+    Parameters
+    ----------
+    data : HerdData
+    x : list of int, length V
+        The start tuple.
+
+    Returns
+    -------
+    HerdWork
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.adaptive_birth.prepare import AdaptiveBirthProblem, chain_inputs
+    >>> d = reference_data(chain_inputs(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 2)))))
+    >>> new_herd_work(HerdData(d, "shared", "zero", 4, [0, 0]), [0, 0]).table
+    {}
+    """
+    return HerdWork(new_work(data.base, x), {})
+
+
+def conditional(lw) -> list:
+    """Sensor ``s``'s conditional from its log-weights: ``exp(lw - max lw) * (1 / total)``.
+
+    Parameters
+    ----------
+    lw : list of float
+        :func:`conditional_log_weights`, at least one finite.
+
+    Returns
+    -------
+    list of float
+        The probabilities, the weights of :func:`draw` normalised.
+
+    Examples
+    --------
+    >>> conditional([0.0, float("-inf"), 0.0])
+    [0.5, 0.0, 0.5]
+    """
+    mx = lw[0]
+    for w in lw:
+        if w > mx:
+            mx = w
+    W = [math.exp(w - mx) for w in lw]
+    total = 0.0
+    for w in W:
+        total += w
+    inv = 1.0 / total
+    return [w * inv for w in W]
+
+
+def herd_key(data: HerdData, x, s) -> tuple:
+    """The key of sensor ``s``'s draw: ``(s, J^-s)`` with entry ``s`` as ``-1``.
+
+    Parameters
+    ----------
+    data : HerdData
+    x : list of int, length V
+        The tuple ``J`` before the draw.
+    s : int
+        The sensor.
+
+    Returns
+    -------
+    tuple
+
+    Notes
+    -----
+    ``"shared"`` and ``"full"`` keys are the same here. The conditional of ``j^(s)`` (spec
+    eq. 4.3) is ``ρ(J^-s ⊕ j)`` over ``j``: read from the tensor at the offset of ``J^-s``,
+    or, for a linear-Gaussian problem, from the information sums ``(M-, b-, c-)`` over the
+    other detecting sensors, a sum of one term per (sensor, measurement) of ``J^-s``. Either
+    way it depends on every entry of ``J^-s`` (no coarser statistic of the other entries fixes
+    it), so the shared key, the statistic the conditional depends on, is ``J^-s`` itself.
+
+    Examples
+    --------
+    >>> herd_key(None, [2, 0, 1], 1)
+    (1, 2, -1, 1)
+    """
+    return (s,) + tuple(-1 if v == s else x[v] for v in range(len(x)))
+
+
+def herd_sweep(data: HerdData, work: HerdWork, x, g) -> None:
+    """One herded sweep over the sensors, in place on the tuple ``x``.
+
+    Parameters
+    ----------
+    data : HerdData
+    work : HerdWork
+        From :func:`new_herd_work`.
+    x : list of int, length V
+        The tuple ``J``.
+    g : SplitMix64
+        The chain's stream (the random sensor order, uniform initial weights, fall-backs).
+
+    Notes
+    -----
+    The order and the log-weights are those of :func:`sweep`; sensor ``s``'s entry is then
+    the herded choice (:func:`rankedassign.engine.reference.herd_choice`) of the key
+    :func:`herd_key` over ``0..M_s`` with the probabilities of :func:`conditional`, or, when
+    the key is new and the table full, the Gibbs draw (:func:`draw`, one uniform).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.engine.rng import SplitMix64
+    >>> from rankedassign.adaptive_birth.prepare import AdaptiveBirthProblem, chain_inputs
+    >>> p = AdaptiveBirthProblem.from_log_weights(np.log([1.0, 3.0]))    # one sensor
+    >>> d = HerdData(reference_data(chain_inputs(p, "fixed")), "shared", "zero", 4, [0, 0])
+    >>> x = [0]
+    >>> work = new_herd_work(d, x)
+    >>> seen = []
+    >>> for _ in range(4):
+    ...     herd_sweep(d, work, x, SplitMix64(0))
+    ...     seen.append(x[0])
+    >>> seen, d.tally                      # 1 : 3, deterministically
+    ([1, 0, 1, 1], [1, 0])
+    """
+    base = data.base
+    if base.mode == 1:
+        _sums(base, work.sums, x)
+    for s in _order(base, g):
+        lw, Mp = conditional_log_weights(base, work.sums, x, s)
+        j = herd_choice(work.table, herd_key(data, x, s), conditional(lw), data.init,
+                        data.capacity, data.tally, g)
+        if j is None:  # the table is full: an ordinary Gibbs draw
+            j = draw(lw, g)
+        _accept(base, work.sums, Mp, s, j)
         x[s] = j

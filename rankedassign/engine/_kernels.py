@@ -193,8 +193,116 @@ def zobrist_keys(L, K, seed):
     return keys
 
 
+
+# ------------------------------------------------------------------------ herded draw
+# The key table of a herded chain (rankedassign.engine.herding), shared by every kind that
+# herds: keys are a row id and an int32 vector of entries >= -1, stored with open addressing.
+_HGOLD = np.uint64(0x9E3779B97F4A7C15)
+_TWO = np.int64(2)
+
+
+@jit(inline="always")
+def key_hash(i, keyv):
+    """Hash of row ``i``'s key vector ``keyv`` (entries >= -1), for the key table.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> k = np.array([1, -1], dtype=np.int32)
+    >>> bool(key_hash(0, k) == key_hash(0, k.copy())), bool(key_hash(0, k) == key_hash(1, k))
+    (True, False)
+    """
+    h = mix64(np.multiply(np.uint64(i + 1), _HGOLD))
+    for t in range(keyv.shape[0]):
+        h = mix64(h ^ np.uint64(np.int64(keyv[t]) + _TWO))
+    return h
+
+
+@jit(inline="always")
+def table_find(i, keyv, h, krow, kst, tslot, thash):
+    """Slot of row ``i``'s key in the table, or ``-1 - t`` with ``t`` the free table entry.
+
+    ``krow``/``kst`` are the stored keys (row id, key vector) by slot, ``tslot``/``thash`` the
+    open-addressing index (slot + 1, 0 = empty; the key's hash ``h``), a power of two long.
+    """
+    mask = tslot.shape[0] - 1
+    t = np.int64(h & np.uint64(mask))
+    P = keyv.shape[0]
+    while True:
+        v = tslot[t]
+        if v == 0:
+            return -1 - t
+        if thash[t] == h:
+            s = v - 1
+            if krow[s] == i:
+                same = True
+                for r in range(P):
+                    if kst[s, r] != keyv[r]:
+                        same = False
+                        break
+                if same:
+                    return s
+        t = (t + 1) & mask
+
+
+@jit(inline="always")
+def herd_lookup(i, keyv, cnt, capacity, krow, kst, tslot, thash):
+    """The table slot of key ``(i, keyv)``: ``(slot, is_new)``, or ``(-1, False)`` when the
+    key is new and the table holds ``capacity`` keys already.
+
+    A new key is stored in slot ``cnt[0]`` (then incremented); ``cnt[1]`` counts the
+    fall-backs (the full-table case). The twin of the dictionary look-up of
+    :func:`rankedassign.engine.reference.herd_choice`.
+    """
+    hk = key_hash(i, keyv)
+    s = table_find(i, keyv, hk, krow, kst, tslot, thash)
+    if s >= 0:
+        return s, False
+    if cnt[0] >= capacity:
+        cnt[1] += 1
+        return np.int64(-1), False
+    e = -1 - s
+    s = cnt[0]
+    cnt[0] += 1
+    tslot[e] = s + 1
+    thash[e] = hk
+    krow[s] = i
+    for r in range(keyv.shape[0]):
+        kst[s, r] = keyv[r]
+    return s, True
+
+
+@jit(inline="always")
+def herd_pick(w, p, K, new, init_mode, rs):
+    """One herded choice among ``K`` candidates on the key's weights ``w`` (twin of
+    :func:`rankedassign.engine.reference.herd_choice`).
+
+    A new key first gets its initial weights (``init_mode`` 0: ``p``, 1: zeros, 2: ``K``
+    uniforms from ``rs``), ``-inf`` where ``p`` is 0. Then ``w += p``, the choice is the first
+    candidate of ``p > 0`` of the largest ``w``, and ``w[choice] -= 1``.
+    """
+    if new:
+        for k in range(K):
+            if init_mode == 0:
+                w0 = p[k]
+            elif init_mode == 1:
+                w0 = 0.0
+            else:
+                w0 = next_uniform(rs)
+            w[k] = w0 if p[k] > 0.0 else -np.inf
+    best = -1
+    bw = -np.inf
+    for k in range(K):
+        v = w[k] + p[k]
+        w[k] = v
+        if p[k] > 0.0 and (best < 0 or v > bw):
+            best = k
+            bw = v
+    w[best] = bw - 1.0
+    return best
+
 __all__ = ["Rules", "UniqueSet", "Slab", "Run", "make_driver", "N_COUNTERS",
-           "DEFAULT_BUDGET"]
+           "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick"]
 
 # Slots of the run counter array ``ctr`` (returned by run_chains).
 NU, NOBS, NCHAINS, STALE_RUN, STALE_CUM, STALE_FIRED, DISCARDED = 0, 1, 2, 3, 4, 5, 6

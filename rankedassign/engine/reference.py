@@ -17,7 +17,11 @@ References
 
 from __future__ import annotations
 
+import math
+
 from .rng import SplitMix64, chain_state
+
+__all__ = ["run_chains", "herd_choice"]
 
 
 def run_chains(sweep, new_work, data, x0, base, n_chains, chain_length, *, tau_stall=None,
@@ -132,3 +136,70 @@ def run_chains(sweep, new_work, data, x0, base, n_chains, chain_length, *, tau_s
                 stale_fired = True
                 break
     return states, counts, n_obs, chains_run, stale_fired
+
+
+def herd_choice(table, key, p, init, capacity, tally, g):
+    """One herded choice (Chen et al. 2016) among the ``len(p)`` candidates of a draw.
+
+    Parameters
+    ----------
+    table : dict
+        The chain's key table, key -> list of weights; a new key is added in place.
+    key : tuple
+        The draw's key (its row or component, and the statistic its conditional depends on).
+    p : list of float
+        The draw's conditional over its candidates (0 = impossible), at least one positive.
+    init : {"conditional", "zero", "uniform"}
+        A new key's initial weights: ``p``, zeros, or ``len(p)`` uniforms from ``g``.
+    capacity : int
+        Keys the table may hold.
+    tally : list of int
+        ``[keys created, fall-backs]``, updated in place.
+    g : SplitMix64
+        The chain's stream (uniform initial weights only).
+
+    Returns
+    -------
+    int or None
+        The candidate chosen, or None when ``key`` is new and the table is full (counted as
+        a fall-back: the caller draws as the Gibbs sampler does).
+
+    Notes
+    -----
+    A new key's weights are set to ``-inf`` where ``p`` is 0. Then ``w += p``, the choice is
+    the first candidate with ``p > 0`` of the largest ``w``, and ``w[choice] -= 1``. The
+    numba twin is :func:`rankedassign.engine._kernels.herd_lookup` followed by
+    :func:`rankedassign.engine._kernels.herd_pick`.
+
+    Examples
+    --------
+    >>> table, tally = {}, [0, 0]
+    >>> [herd_choice(table, ("row", 0), [0.75, 0.25], "zero", 1, tally, None)
+    ...  for _ in range(4)], tally
+    ([0, 0, 1, 0], [1, 0])
+    >>> herd_choice(table, ("row", 1), [1.0], "zero", 1, tally, None), tally
+    (None, [1, 1])
+    """
+    w = table.get(key)
+    K = len(p)
+    if w is None:
+        if len(table) >= capacity:
+            tally[1] += 1
+            return None
+        if init == "conditional":
+            w = list(p)
+        elif init == "zero":
+            w = [0.0] * K
+        else:
+            w = [g.uniform() for _ in range(K)]
+        # a candidate the key's conditional gives probability 0 can never be picked
+        w = [v if p[k] > 0.0 else -math.inf for k, v in enumerate(w)]
+        table[key] = w
+        tally[0] += 1
+    best = -1
+    for k in range(K):
+        w[k] += p[k]
+        if p[k] > 0.0 and (best < 0 or w[k] > w[best]):
+            best = k
+    w[best] -= 1.0
+    return best

@@ -25,7 +25,7 @@ Examples
 (True, 2, 67744)
 """
 
-from ..engine.kind import Kind
+from ..engine.kind import DrawRule, Kind
 from . import _kernels, prepare, reference, synthetic
 from .prepare import METHODS
 from .problem import MultiSensorProblem, count_feasible_all_positive
@@ -46,4 +46,6 @@ KIND = Kind(
         "survival_power": "1 (default) or 'V': the survival factor's exponent",
     },
     temper=prepare.temper,
+    draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
+                              reference.herd_sweep, prepare.herd_inputs)},
 )

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine._kernels import make_driver, next_uniform
+from ..engine._kernels import herd_lookup, herd_pick, make_driver, next_uniform
 from ..numba_options import jit
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
@@ -443,3 +443,365 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
 
 #: The chain driver compiled for the multi-sensor problem (:func:`.._chains.make_driver`).
 run_chains = make_driver("multisensor", alloc_work, reset_work, sweep)
+
+
+# ---------------------------------------------------------------------------- herded draw
+# Twins of the herded row updates of rankedassign.multisensor.reference (herd_sweep). The
+# herded driver's data is the Gibbs data (data[0..12]) followed by the gate, the weights'
+# width, the key mode, the init mode, the capacity, chain_length and the tally (data[13..19],
+# rankedassign.multisensor.prepare.herd_inputs; one flat tuple: the parallel speculation
+# takes no nested tuple); its workspace is laid out as the Gibbs one (work[0..7]) followed by
+#
+#     cand   int64[nb, C]          full candidate index of each compact candidate
+#     p      float64[nb, Kw]       the draw's conditional over its full candidate range
+#     keyv   int32[nb, L]          the draw's key vector (L = max(P V, 1)), padded with -1
+#     hw     float64[nb, cap, Kw]  the key table's weights
+#     kst    int32[nb, cap, L]     stored key vectors
+#     krow   int32[nb, cap]        stored draw ids n (V + 1) + stage
+#     tslot  int64[nb, T2]         open-addressing index: slot + 1 (0 empty)
+#     thash  uint64[nb, T2]        and the key's hash
+#     cnt    int64[nb, 3]          keys, fall-backs, sweeps
+#     hist   int64[nb, N + 1, 2]   the tallies after each sweep (speculation only; else N = 0)
+
+
+@jit(inline="always")
+def _row_key(data, work, b, state, n, vlo, vhi):
+    """Row ``n``'s key vector into ``keyv[b]`` (twin of the reference's ``herd_key``): the
+    state with row ``n`` as -1 (full), or the codes ``v K + j`` of the gated measurements of
+    sensors ``vlo..vhi-1`` that other rows hold (shared)."""
+    params, n_meas = data[0], data[1]
+    P = params[2]
+    V = params[3]
+    gate = data[13]
+    Kc = gate.shape[2]
+    occ, keyv = work[0], work[10][b]
+    c = 0
+    if data[15] == 0:
+        for r in range(P * V):
+            keyv[r] = -1 if r // V == n else state[r]
+        c = P * V
+    else:
+        for v in range(vlo, vhi):
+            own = state[n * V + v] - 1
+            for j in range(1, n_meas[v] + 1):
+                if occ[b, v, j] > 0 and own != j and gate[n, v, j]:
+                    keyv[c] = v * Kc + j
+                    c += 1
+    for r in range(c, keyv.shape[0]):
+        keyv[r] = -1
+
+
+@jit(inline="always")
+def _component_key(data, work, b, state, n, v, off):
+    """Component ``v`` of row ``n``'s key vector (twin of the reference's
+    ``_component_key``); ``off`` is the tuple offset of the row's other components."""
+    params, n_meas, strides, la = data[0], data[1], data[2], data[6]
+    P = params[2]
+    V = params[3]
+    Kc = data[13].shape[2]
+    occ, row, keyv = work[0], work[7], work[10][b]
+    c = 0
+    if data[15] == 0:
+        for r in range(P * V):
+            keyv[r] = state[r]
+        for w in range(V):
+            keyv[n * V + w] = -1 if w == v else row[b, w] + 1
+        c = P * V
+    else:
+        for w in range(V):
+            if w != v:
+                keyv[c] = row[b, w]
+                c += 1
+        own = state[n * V + v] - 1
+        for j in range(1, n_meas[v] + 1):
+            if occ[b, v, j] > 0 and own != j and la[n, off + j * strides[v]] > -np.inf:
+                keyv[c] = v * Kc + j
+                c += 1
+    for r in range(c, keyv.shape[0]):
+        keyv[r] = -1
+
+
+@jit(inline="always")
+def _herd_stage(data, work, b, rid, nc, K, rs):
+    """One herded draw (twin of the reference's ``_herd_stage``) over ``K`` candidates, the
+    ``nc`` available ones in ``wbuf/lbuf/cand[b]``, key in ``keyv[b]``: the candidate, -1 if
+    none has weight, or the Gibbs draw of the same lists when the table is full."""
+    wbuf, lbuf, cand, p, keyv = work[4], work[5], work[8], work[9][b], work[10][b]
+    for k in range(K):
+        p[k] = 0.0
+    total = 0.0
+    for c in range(nc):
+        total += wbuf[b, c]
+    if total > 0.0:
+        inv = 1.0 / total
+        for c in range(nc):
+            p[cand[b, c]] = wbuf[b, c] * inv
+    else:  # every available weight underflowed: exact weights
+        m = -np.inf
+        for c in range(nc):
+            if lbuf[b, c] > m:
+                m = lbuf[b, c]
+        if m == -np.inf:
+            return -1
+        tot = 0.0
+        for c in range(nc):
+            e = np.exp(lbuf[b, c] - m)
+            p[cand[b, c]] = e
+            tot += e
+        for c in range(nc):
+            p[cand[b, c]] = p[cand[b, c]] / tot
+    s, new = herd_lookup(rid, keyv, work[16][b], data[17], work[13][b], work[12][b],
+                         work[14][b], work[15][b])
+    if s < 0:  # the table is full: an ordinary Gibbs draw
+        c = draw(wbuf, lbuf, b, nc, next_uniform(rs))
+        return -1 if c < 0 else cand[b, c]
+    return herd_pick(work[11][b, s], p, K, new, data[16], rs)
+
+
+@jit(inline="always")
+def _herd_row_exact(data, work, b, state, n, rs):
+    """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``."""
+    params, n_meas, strides, Wd, ld, Wa, la = (data[0], data[1], data[2], data[3],
+                                                data[4], data[5], data[6])
+    V = params[3]
+    avail, navail, idx, wbuf, lbuf, row, cand = (work[1], work[2], work[3], work[4], work[5],
+                                                 work[7], work[8])
+    wbuf[b, 0] = Wd[n]
+    lbuf[b, 0] = ld[n]
+    cand[b, 0] = 0
+    nc = 1
+    for v in range(V):
+        idx[b, v] = 0
+    while True:  # A_1 x ... x A_V in C order (odometer, last sensor fastest)
+        off = 0
+        for v in range(V):
+            off += avail[b, v, idx[b, v]] * strides[v]
+        wbuf[b, nc] = Wa[n, off]
+        lbuf[b, nc] = la[n, off]
+        cand[b, nc] = 1 + off
+        nc += 1
+        v = V - 1
+        while v >= 0:
+            idx[b, v] += 1
+            if idx[b, v] < navail[b, v]:
+                break
+            idx[b, v] = 0
+            v -= 1
+        if v < 0:
+            break
+    _row_key(data, work, b, state, n, 0, V)
+    k = _herd_stage(data, work, b, n * (V + 1), nc, 1 + Wa.shape[1], rs)
+    if k < 0:
+        return False
+    for v in range(V):
+        row[b, v] = -1 if k == 0 else (k - 1) // strides[v] % (n_meas[v] + 1)
+    return True
+
+
+@jit(inline="always")
+def _herd_row_mm(data, work, b, state, n, rs):
+    """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``."""
+    params, n_meas, ld, Th, lth, las, Ea, Ed, qdead = (data[0], data[1], data[4],
+                                                       data[7], data[8], data[9],
+                                                       data[10], data[11], data[12])
+    V = params[3]
+    avail, navail, wbuf, lbuf, row, cand, p = (work[1], work[2], work[4], work[5], work[7],
+                                               work[8], work[9][b])
+    rid = n * (V + 1)
+    if params[0] == MM_FIXED:  # dead with probability Q_n, whatever the other rows hold
+        _row_key(data, work, b, state, n, 0, 0)
+        p[0] = qdead[n]
+        p[1] = 1.0 - qdead[n]
+        s, new = herd_lookup(rid, work[10][b], work[16][b], data[17], work[13][b], work[12][b],
+                             work[14][b], work[15][b])
+        if s < 0:
+            dead = next_uniform(rs) < qdead[n]
+        else:
+            dead = herd_pick(work[11][b, s], p, 2, new, data[16], rs) == 0
+    else:
+        alive = Ea[n]
+        for v in range(V):
+            sv = 0.0
+            for c in range(navail[b, v]):
+                sv += Th[n, v, avail[b, v, c]]
+            alive *= sv
+        wbuf[b, 0] = Ed[n]
+        wbuf[b, 1] = alive
+        lbuf[b, 0] = ld[n]
+        lbuf[b, 1] = 0.0 if Ed[n] + alive > 0.0 else _mm_log_alive(lth, las, avail, navail,
+                                                                     b, n, V)
+        cand[b, 0] = 0
+        cand[b, 1] = 1
+        _row_key(data, work, b, state, n, 0, V)
+        k = _herd_stage(data, work, b, rid, 2, 2, rs)
+        if k < 0:
+            return False
+        dead = k == 0
+    if dead:
+        for v in range(V):
+            row[b, v] = -1
+        return True
+    for v in range(V):
+        na = navail[b, v]
+        for c in range(na):
+            j = avail[b, v, c]
+            wbuf[b, c] = Th[n, v, j]
+            lbuf[b, c] = lth[n, v, j]
+            cand[b, c] = j
+        _row_key(data, work, b, state, n, v, v + 1)
+        k = _herd_stage(data, work, b, rid + 1 + v, na, n_meas[v] + 1, rs)
+        if k < 0:  # mm-fixed only: the alive branch is infeasible here
+            if ld[n] > -np.inf:
+                for w in range(V):
+                    row[b, w] = -1
+                return True
+            return False
+        row[b, v] = k
+    return True
+
+
+@jit(inline="always")
+def _herd_row_componentwise(data, work, b, state, n, rs):
+    """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``."""
+    params, n_meas, strides, Wa, la = (data[0], data[1], data[2], data[5],
+                                       data[6])
+    V = params[3]
+    avail, navail, wbuf, lbuf, row, cand = (work[1], work[2], work[4], work[5], work[7],
+                                            work[8])
+    for v in range(V):
+        row[b, v] = state[n * V + v] - 1
+    for v in range(V):
+        off = 0
+        for w in range(V):
+            if w != v:
+                off += row[b, w] * strides[w]
+        na = navail[b, v]
+        for c in range(na):
+            j = avail[b, v, c]
+            wbuf[b, c] = Wa[n, off + j * strides[v]]
+            lbuf[b, c] = la[n, off + j * strides[v]]
+            cand[b, c] = j
+        _component_key(data, work, b, state, n, v, off)
+        k = _herd_stage(data, work, b, n * (V + 1) + 1 + v, na, n_meas[v] + 1, rs)
+        if k >= 0:
+            row[b, v] = k
+    return True
+
+
+@jit(inline="always")
+def sweep_herded(data, work, b, zkeys, state, h, rs):
+    """One herded sweep of slab ``b``, in place (twin of the reference's ``herd_sweep``).
+
+    The row order and the sets ``A_n^(v)`` are those of :func:`sweep`; each row update is
+    :func:`_herd_row_exact`, :func:`_herd_row_mm` or :func:`_herd_row_componentwise` by the
+    method, then the row is written back as in :func:`sweep`. The chain's tallies are
+    ``cnt[b]`` (keys, fall-backs, sweeps) and, when chains are speculated, ``hist``.
+    """
+    params, n_meas = data[0], data[1]
+    occ, avail, navail, perm, row = work[0], work[1], work[2], work[6], work[7]
+    method = params[0]
+    P = params[2]
+    V = params[3]
+    for t in range(P):
+        perm[b, t] = t
+    if params[1]:  # random scan: Fisher-Yates from the identity
+        for t in range(P - 1, 0, -1):
+            j = np.int64(next_uniform(rs) * (t + 1))
+            if j > t:
+                j = t
+            tmp = perm[b, t]
+            perm[b, t] = perm[b, j]
+            perm[b, j] = tmp
+    for t in range(P):
+        n = perm[b, t]
+        for v in range(V):  # A_n^(v): missed, and measurements free of the other rows
+            own = state[n * V + v] - 1
+            avail[b, v, 0] = 0
+            c = 1
+            for j in range(1, n_meas[v] + 1):
+                if occ[b, v, j] == 0 or own == j:
+                    avail[b, v, c] = j
+                    c += 1
+            navail[b, v] = c
+        if method == EXACT:
+            ok = _herd_row_exact(data, work, b, state, n, rs)
+        elif method == COMPONENTWISE:
+            ok = _herd_row_componentwise(data, work, b, state, n, rs)
+        else:
+            ok = _herd_row_mm(data, work, b, state, n, rs)
+        if not ok:
+            continue
+        for v in range(V):
+            pos = n * V + v
+            old = np.int64(state[pos])
+            new = row[b, v] + 1
+            if old != new:
+                if old >= 2:
+                    occ[b, v, old - 1] -= 1
+                if new >= 2:
+                    occ[b, v, new - 1] += 1
+                state[pos] = new
+                h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
+    cnt = work[16][b]
+    cnt[2] += 1
+    hist = work[17]
+    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
+        hist[b, cnt[2], 0] = cnt[0]
+        hist[b, cnt[2], 1] = cnt[1]
+    return h
+
+
+@jit()
+def alloc_work_herded(data, nb):
+    """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables."""
+    params, n_meas, Wa = data[0], data[1], data[5]
+    P = params[2]
+    V = params[3]
+    K = 1
+    for v in range(V):
+        if n_meas[v] + 1 > K:
+            K = n_meas[v] + 1
+    C = max(1 + Wa.shape[1], K, 2)  # as alloc_work; MM's dead/alive draw has two candidates
+    L = max(P * V, 1)
+    Kw = data[14]
+    cap = data[17]
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    return (np.zeros((nb, V, K), dtype=np.int64), np.zeros((nb, V, K), dtype=np.int64),
+            np.zeros((nb, V), dtype=np.int64), np.zeros((nb, V), dtype=np.int64),
+            np.zeros((nb, C)), np.zeros((nb, C)), np.zeros((nb, max(P, 1)), dtype=np.int64),
+            np.zeros((nb, V), dtype=np.int64),
+            np.zeros((nb, C), dtype=np.int64), np.zeros((nb, Kw)),
+            np.empty((nb, L), dtype=np.int32), np.empty((nb, cap, Kw)),
+            np.empty((nb, cap, L), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
+            np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
+            np.zeros((nb, 3), dtype=np.int64),
+            np.zeros((nb, data[18] + 1 if nb > 1 else 1, 2), dtype=np.int64))
+
+
+@jit()
+def reset_work_herded(data, work, b, x0):
+    """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies."""
+    reset_work(data, work, b, x0)
+    work[14][b, :] = 0
+    work[16][b, :] = 0
+    work[17][b, 0, :] = 0
+
+
+@jit()
+def chain_done_herded(data, work, b, j):
+    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
+    tally = data[19]
+    hist = work[17]
+    if hist.shape[1] > 1:
+        tally[0] += hist[b, j, 0]
+        tally[1] += hist[b, j, 1]
+    else:  # simulated up to j exactly
+        tally[0] += work[16][b, 0]
+        tally[1] += work[16][b, 1]
+
+
+#: The chain driver compiled for the multi-sensor problem with the herded draw.
+run_chains_herded = make_driver("multisensor_herded", alloc_work_herded, reset_work_herded,
+                                sweep_herded, chain_done=chain_done_herded)

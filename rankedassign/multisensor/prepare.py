@@ -45,10 +45,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice
-from .reference import RefData
+from .reference import HerdData, RefData
 
 __all__ = [
     "METHODS",
@@ -59,6 +60,8 @@ __all__ = [
     "start_state",
     "states_to_assignments",
     "assignment_costs",
+    "herd_gate",
+    "herd_inputs",
 ]
 
 METHODS = ("exact", "mm", "mm-fixed", "componentwise")
@@ -466,3 +469,114 @@ def temper(problem, beta: float, options):
     return type(problem)(problem.log_eta_dead * beta, problem.log_eta_alive * beta, log_s,
                          theta)
 
+
+
+def herd_gate(data):
+    """Which measurements can carry weight for each row: the gate of the shared herding keys.
+
+    Parameters
+    ----------
+    data : tuple
+        The kernels' data tuple (:func:`prepare_data`).
+
+    Returns
+    -------
+    ndarray of bool, shape (P, V, max M_v + 1)
+        ``gate[n, v, j]`` for ``j >= 1``: ``"exact"``: some tuple with measurement ``j`` on
+        sensor ``v`` has ``eta_n > 0``; ``"mm"``/``"mm-fixed"``: ``theta_n^(v)(j) > 0``;
+        ``"componentwise"``: False (its gate depends on the row's other components and is
+        read from the collapsed weights). Column 0 (missed) is False: it is never held.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 1, 2, (1, 1)
+    ...     log_eta_dead = np.zeros(1); log_s = None; log_theta = None
+    ...     log_eta_alive = np.array([[[0.0, 0.0], [-np.inf, -np.inf]]])   # sensor 0's j = 1: 0
+    >>> herd_gate(prepare_data(Stub(), "exact", "systematic")).astype(int).tolist()
+    [[[0, 0], [0, 1]]]
+    """
+    params, n_meas, lth, la = data[0], data[1], data[8], data[6]
+    method, P, V = int(params[0]), int(params[2]), int(params[3])
+    M = [int(m) for m in n_meas]
+    K = max(M) + 1 if V else 1
+    gate = np.zeros((P, V, K), dtype=np.bool_)
+    if method == METHOD_CODES["exact"]:
+        alive = (la > -np.inf).reshape((P,) + tuple(m + 1 for m in M))
+        for v in range(V):
+            axes = tuple(a for a in range(1, V + 1) if a != v + 1)
+            gate[:, v, : M[v] + 1] = alive.any(axis=axes) if axes else alive
+    elif method != METHOD_CODES["componentwise"]:
+        gate[:] = lth > -np.inf
+    gate[:, :, 0] = False
+    return gate
+
+
+def herd_inputs(prep: Prepared, herding, chain_length: int):
+    """The herded driver's inputs from a multi-sensor call's Gibbs inputs.
+
+    Parameters
+    ----------
+    prep : Prepared
+        The call's :func:`prepare` result (any method).
+    herding : rankedassign.engine.herding.Herding
+        Keys, initial weights and the table bound.
+    chain_length : int
+        Observations per chain (the key table never needs more keys than draws).
+
+    Returns
+    -------
+    data, tally, make_ref, chain_bytes
+        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is the Gibbs
+        data tuple followed by the gate (:func:`herd_gate`), the width of a key's weights, the
+        key and init codes, the table capacity, ``chain_length`` and the tallies
+        ``[keys created, fall-back draws]``.
+
+    Notes
+    -----
+    The herded draws of one row update (:func:`rankedassign.multisensor.reference.herd_sweep`)
+    are one for ``"exact"`` (over ``1 + prod_v (M_v + 1)`` candidates: dead and every tuple),
+    ``V + 1`` for the MM methods (dead/alive, then each sensor over ``0..M_v``) and ``V`` for
+    ``"componentwise"``; the key table is sized for that many draws per sweep.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.engine.herding import Herding
+    >>> class Stub:
+    ...     n_rows, n_sensors, n_meas = 2, 2, (1, 2)
+    ...     log_eta_dead = np.zeros(2); log_eta_alive = np.zeros((2, 2, 3))
+    ...     log_s = None; log_theta = None
+    >>> prep = prepare(Stub(), "all_missed", "systematic", 0, {"method": "exact"})
+    >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
+    >>> int(data[14]), data[17], tally.tolist()    # 1 + 6 candidates, 2 rows x 10 sweeps
+    (7, 20, [0, 0])
+    """
+    data = prep.data
+    params = data[0]
+    method, P, V = int(params[0]), int(params[2]), int(params[3])
+    gate = herd_gate(data)
+    K = gate.shape[2]
+    if method == METHOD_CODES["exact"]:
+        width, draws = 1 + data[5].shape[1], P
+    elif method == METHOD_CODES["componentwise"]:
+        width, draws = K, P * V
+    else:
+        width, draws = max(2, K), P * (V + 1)
+    cap = herding.capacity(draws, chain_length)
+    tally = np.zeros(2, dtype=np.int64)
+    hdata = data + (gate, np.int64(width), KEY_CODES[herding.keys], INIT_CODES[herding.init],
+                    cap, chain_length, tally)
+
+    def make_ref():
+        ref_tally = [0, 0]
+        return HerdData(prep.ref_data, gate.tolist(), K, herding.keys, herding.init, cap,
+                        ref_tally), ref_tally
+
+    L = max(P * V, 1)
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    chain_bytes = cap * (8 * width + 4 * L + 4) + 16 * T + 16 * (chain_length + 1) + 8 * width
+    return hdata, tally, make_ref, chain_bytes

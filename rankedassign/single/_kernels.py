@@ -47,7 +47,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine._kernels import make_driver, mix64, next_uniform
+from ..engine._kernels import key_hash as _key_hash
+from ..engine._kernels import make_driver, next_uniform
+from ..engine._kernels import table_find as _table_find
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
 
@@ -423,42 +425,6 @@ def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
 
 
 # ---------------------------------------------------------------------------- herded draw
-_HGOLD = np.uint64(0x9E3779B97F4A7C15)
-_TWO = np.int64(2)
-
-
-@jit(inline="always")
-def _key_hash(i, keyv):
-    """Hash of row ``i``'s key vector ``keyv`` (entries >= -1), for the key table."""
-    h = mix64(np.multiply(np.uint64(i + 1), _HGOLD))
-    for t in range(keyv.shape[0]):
-        h = mix64(h ^ np.uint64(np.int64(keyv[t]) + _TWO))
-    return h
-
-
-@jit(inline="always")
-def _table_find(i, keyv, h, krow, kst, tslot, thash):
-    """Slot of row ``i``'s key in the table, or ``-1 - t`` with ``t`` the free table entry."""
-    mask = tslot.shape[0] - 1
-    t = np.int64(h & np.uint64(mask))
-    P = keyv.shape[0]
-    while True:
-        v = tslot[t]
-        if v == 0:
-            return -1 - t
-        if thash[t] == h:
-            s = v - 1
-            if krow[s] == i:
-                same = True
-                for r in range(P):
-                    if kst[s, r] != keyv[r]:
-                        same = False
-                        break
-                if same:
-                    return s
-        t = (t + 1) & mask
-
-
 @jit(inline="always")
 def sweep_herded(data, work, b, zkeys, state, h, rs):
     """One herded sweep of chain slab ``b``, in place (twin of the reference's ``herd_sweep``).

@@ -35,6 +35,7 @@ from .multisensor.adaptive_birth import AdaptiveBirth
 from .multisensor.association import (
     MultiSensorAssociationResult,
     MultiSensorExact,
+    MultiSensorHerdedGibbs,
     MultiSensorOriginalGibbs,
     MultiSensorShortChainGibbs,
 )
@@ -87,6 +88,7 @@ __all__ = [
     "Murty",
     "MultiSensorAssociationResult",
     "MultiSensorExact",
+    "MultiSensorHerdedGibbs",
     "MultiSensorOriginalGibbs",
     "MultiSensorGLMBFilter",
     "MultiSensorLMBFilter",

@@ -3,7 +3,8 @@
 * :mod:`~rankedassign.tracking.multisensor.lmb` — :class:`MultiSensorLMBFilter` and
   :class:`MultiSensorModel`;
 * :mod:`~rankedassign.tracking.multisensor.association` — :class:`MultiSensorOriginalGibbs`,
-  :class:`MultiSensorShortChainGibbs`, :class:`MultiSensorExact`;
+  :class:`MultiSensorShortChainGibbs`, :class:`MultiSensorHerdedGibbs`,
+  :class:`MultiSensorExact`;
 * :mod:`~rankedassign.tracking.multisensor.glmb` — :class:`MultiSensorGLMBFilter`, the
   multi-sensor δ-GLMB filter on the components of the single-sensor one;
 * :mod:`~rankedassign.tracking.multisensor.adaptive_birth` — :class:`AdaptiveBirth`, births
@@ -19,6 +20,7 @@ from .association import (
     MultiSensorAssociation,
     MultiSensorAssociationResult,
     MultiSensorExact,
+    MultiSensorHerdedGibbs,
     MultiSensorOriginalGibbs,
     MultiSensorShortChainGibbs,
 )
@@ -32,6 +34,7 @@ from .scenario import (
 )
 
 __all__ = ["AdaptiveBirth", "MultiSensorAssociation", "MultiSensorAssociationResult",
-           "MultiSensorExact", "MultiSensorOriginalGibbs", "MultiSensorShortChainGibbs",
+           "MultiSensorExact", "MultiSensorHerdedGibbs", "MultiSensorOriginalGibbs",
+           "MultiSensorShortChainGibbs",
            "MultiSensorGLMBFilter", "MultiSensorLMBFilter", "MultiSensorModel", "MultiSensorRun",
            "make_multisensor_model", "make_multisensor_scenario", "run_multisensor_scenario"]

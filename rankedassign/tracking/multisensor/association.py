@@ -20,9 +20,10 @@ import numpy as np
 
 import oracle
 
+from ...engine.herding import DEFAULT_MAX_KEYS, Herding
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible, jit
-from ...samplers import sample_original, sample_short_chains
+from ...samplers import sample_herded, sample_original, sample_short_chains
 from ...validation import check_choice, check_int, check_optional_int
 from ..single.association import MARGINALS, Association
 
@@ -31,6 +32,7 @@ __all__ = [
     "MultiSensorAssociation",
     "MultiSensorAssociationResult",
     "MultiSensorExact",
+    "MultiSensorHerdedGibbs",
     "MultiSensorOriginalGibbs",
     "MultiSensorShortChainGibbs",
     "multisensor_marginals_from_hypotheses",
@@ -372,6 +374,98 @@ class MultiSensorShortChainGibbs(MultiSensorAssociation):
             problem, self.n_chains, self.chain_length, tau_stall=self.tau_stall,
             tau_stale=self.tau_stale, rng=rng, method=self.method, **self.options,
         )
+        return _from_sampler(problem, res, self.marginals, self.method)
+
+
+class MultiSensorHerdedGibbs(MultiSensorAssociation):
+    """Herded Gibbs (Chen et al. 2016, :func:`rankedassign.sample_herded`) on a multi-sensor
+    problem, as association.
+
+    One deterministic herded chain of ``n_obs`` sweeps, or, with ``n_chains``, herded short
+    chains with seeded initial weights and the stall/stale rules
+    (:func:`rankedassign.sample_short_chains` with ``herding=``); the multi-sensor twin of
+    :class:`rankedassign.tracking.HerdedGibbs`.
+
+    Parameters
+    ----------
+    n_obs : int
+        Sweeps of the one chain, or the length ``N_C`` of each short chain.
+    keys : {"shared", "full"}
+        The herding keys (:class:`rankedassign.Herding`;
+        :func:`rankedassign.multisensor.reference.herd_key` says what they are per method).
+    init : {"conditional", "zero", "uniform"} or None
+        Initial weights; None (default): ``"conditional"`` for one chain, ``"uniform"`` for
+        short chains (so that they differ).
+    max_keys : int
+        Bound of each chain's key table.
+    n_chains : int or None
+        None (default): one chain. Otherwise ``N_S`` short chains of ``n_obs`` sweeps.
+    tau_stall, tau_stale : int or None
+        The short chains' rules (ignored for one chain).
+    method : {"exact", "mm", "mm-fixed", "componentwise"}, optional
+        Row kernel (see :class:`MultiSensorOriginalGibbs`); every one herds.
+    marginals : {"truncated", "rao-blackwell"}, optional
+        How the unique hypotheses become marginals.
+    **sampler_options
+        Passed to the sampler (``start``, ``scan``, ``beta``, ``backend``, ``workers`` for
+        short chains).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking import MultiSensorHerdedGibbs
+    >>> MultiSensorHerdedGibbs(1000)
+    MultiSensorHerdedGibbs(1000)
+    >>> MultiSensorHerdedGibbs(25, n_chains=400, tau_stall=5, tau_stale=10, method="mm")
+    MultiSensorHerdedGibbs(25, n_chains=400, tau_stall=5, tau_stale=10, method='mm')
+    >>> from rankedassign.multisensor import synthetic
+    >>> out = MultiSensorHerdedGibbs(200)(synthetic.random(3, (2, 2), rng=0), 1)
+    >>> out.sweeps, out.tuples.shape
+    (200, (3, 3, 3))
+    """
+
+    name = "herded"
+
+    def __init__(self, n_obs: int, *, keys: str = "shared", init=None,
+                 max_keys: int = DEFAULT_MAX_KEYS, n_chains=None, tau_stall=None,
+                 tau_stale=None, method: str = "exact", marginals: str = "truncated",
+                 **sampler_options):
+        self.n_obs = check_int(n_obs, "n_obs", minimum=1)
+        self.n_chains = check_optional_int(n_chains, "n_chains", minimum=1)
+        default_init = "conditional" if self.n_chains is None else "uniform"
+        self.herding = Herding(keys=keys, init=default_init if init is None else init,
+                               max_keys=max_keys)
+        self.init_given = init
+        self.tau_stall = check_optional_int(tau_stall, "tau_stall", minimum=1)
+        self.tau_stale = check_optional_int(tau_stale, "tau_stale", minimum=1)
+        self.method = check_choice(method, "method", MULTISENSOR_METHODS)
+        self.marginals = check_choice(marginals, "marginals", MARGINALS)
+        self.options = dict(sampler_options)
+
+    def __repr__(self):
+        h = self.herding
+        parts = [str(self.n_obs)]
+        if h.keys != "shared":
+            parts.append(f"keys={h.keys!r}")
+        if self.init_given is not None:
+            parts.append(f"init={h.init!r}")
+        if h.max_keys != DEFAULT_MAX_KEYS:
+            parts.append(f"max_keys={h.max_keys}")
+        if self.n_chains is not None:
+            parts.append(f"n_chains={self.n_chains}, tau_stall={self.tau_stall}, "
+                         f"tau_stale={self.tau_stale}")
+        return (f"MultiSensorHerdedGibbs({', '.join(parts)}"
+                f"{_extra(self.marginals, self.method, self.options)})")
+
+    def __call__(self, problem, rng) -> MultiSensorAssociationResult:
+        h = self.herding
+        if self.n_chains is None:
+            res = sample_herded(problem, self.n_obs, keys=h.keys, init=h.init,
+                                max_keys=h.max_keys, rng=rng, method=self.method,
+                                **self.options)
+        else:
+            res = sample_short_chains(problem, self.n_chains, self.n_obs,
+                                      tau_stall=self.tau_stall, tau_stale=self.tau_stale,
+                                      rng=rng, herding=h, method=self.method, **self.options)
         return _from_sampler(problem, res, self.marginals, self.method)
 
 
