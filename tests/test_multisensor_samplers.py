@@ -188,6 +188,16 @@ def test_zero_rows_and_sensor_without_measurements():
         run_both(p, method, "systematic", 1, 5, 3)
 
 
+def test_the_workspace_holds_the_mm_dead_alive_draw_without_measurements():
+    """MM's dead/alive draw writes two candidate slots; with no measurement on any sensor the
+    workspace once had one (numba checks no bounds: the write went past the array)."""
+    p = random_problem(2, (0,), 1, "coupled")
+    for method in METHODS:
+        data = prepare_data(p, method, "systematic")
+        wbuf, lbuf = K.alloc_work(data, 3)[4:6]
+        assert wbuf.shape[1] >= 2 and lbuf.shape[1] >= 2, method
+
+
 # ------------------------------------------------------------------------------ errors
 def test_error_messages():
     problem = random_problem(2, (1, 1), 0)

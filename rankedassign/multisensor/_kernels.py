@@ -25,7 +25,7 @@ method (the method is a code in ``data``), so one driver is compiled for all of 
     avail   int64[nb, V, K]   A_n^(v) of the row being updated (first navail entries)
     navail  int64[nb, V]
     idx     int64[nb, V]      odometer over the product of the A_n^(v)
-    wbuf    float64[nb, C]    candidate weights (C = max(1 + T, K))
+    wbuf    float64[nb, C]    candidate weights (C = max(1 + T, K, 2))
     lbuf    float64[nb, C]    candidate log-weights (for the underflow fall-back)
     perm    int64[nb, P]      row order of the sweep
     row     int64[nb, V]      the updated row (gamma values)
@@ -110,7 +110,7 @@ def alloc_work(data, nb):
     for v in range(V):
         if n_meas[v] + 1 > K:
             K = n_meas[v] + 1
-    C = max(1 + Wa.shape[1], K)
+    C = max(1 + Wa.shape[1], K, 2)  # MM's dead/alive draw has two candidates
     return (
         np.zeros((nb, V, K), dtype=np.int64),
         np.zeros((nb, V, K), dtype=np.int64),
@@ -761,7 +761,7 @@ def alloc_work_herded(data, nb):
     for v in range(V):
         if n_meas[v] + 1 > K:
             K = n_meas[v] + 1
-    C = max(1 + Wa.shape[1], K, 2)  # as alloc_work; MM's dead/alive draw has two candidates
+    C = max(1 + Wa.shape[1], K, 2)  # as alloc_work
     L = max(P * V, 1)
     Kw = data[14]
     cap = data[17]
