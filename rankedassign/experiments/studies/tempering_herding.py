@@ -632,6 +632,7 @@ def plot_tempering_herding(s: THSummary, directory: Path) -> list[str]:
     """Error against observations and against seconds (one panel per family), and the
     marginal error against observations."""
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
 
     fams = list(dict.fromkeys(r.family for r in s.rows))
     names = []
@@ -660,6 +661,9 @@ def plot_tempering_herding(s: THSummary, directory: Path) -> list[str]:
                         **({"color": "k", "lw": 2} if m == "gibbs" else {}))
             ax.set_xscale("log")
             ax.set_yscale("symlog", linthresh=1e-3)
+            if ax.get_ylim()[0] < 0:  # errors are never negative
+                ax.set_ylim(bottom=0.0)
+            ax.xaxis.set_minor_formatter(NullFormatter())
             ax.set_title(_family_title(fam), fontsize=10)
             ax.set_xlabel("seconds per call" if x_of == "seconds_mean"
                           else "observations (sweeps)")
