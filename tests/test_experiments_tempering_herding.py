@@ -59,10 +59,10 @@ def test_every_applicable_method_at_every_budget(result):
                 assert (r.l1_mean is None) == (TH.kind_name(fam) == "adaptive_birth")
                 if r.l1_mean is not None:
                     assert 0 <= r.l1_mean <= 2
-                if m in ("gibbs",) or m.startswith(("herded-s", "herded-f", "beta")):
-                    assert r.obs_mean == r.budget
-                if m.endswith("short") or "short-" in m:
-                    assert r.obs_mean <= r.budget
+                if m in ("gibbs", "herded-shared", "herded-full") or m.startswith("beta"):
+                    assert r.obs_mean == r.budget  # one chain runs the budget
+                if "short" in m:
+                    assert r.obs_mean <= r.budget  # the rules may stop short chains early
     # Zanella-Roberts and LBP are single-sensor methods
     assert TH.applies("zanella-roberts", TH.make_problem("random", run_seed(5, 0), TINY))
     assert not TH.applies("lbp", TH.make_problem("ms:A/random_coupled", run_seed(5, 0), TINY))

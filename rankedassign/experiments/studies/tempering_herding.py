@@ -24,6 +24,7 @@ theirs), ``child_seed(s, 7, family, method, budget)`` drives one method at one b
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -143,8 +144,19 @@ def make_problem(family: str, run_ss, cfg: TemperingHerdingConfig):
 
 
 def applies(method: str, problem) -> bool:
-    """Whether ``method`` runs on ``problem``'s kind (herding where the kind herds; ZR, LBP on
-    single-sensor problems).
+    """Whether ``method`` runs on ``problem``'s kind.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`~rankedassign.experiments.config.TH_METHODS`.
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+
+    Returns
+    -------
+    bool
+        Herding where the kind has a herded draw, Zanella–Roberts and LBP on single-sensor
+        problems, the Gibbs methods everywhere.
 
     Examples
     --------
@@ -369,7 +381,21 @@ class THRow:
 
 @dataclass(frozen=True)
 class THTrackingRow:
-    """One association on one tracking preset, over the runs (OSPA(2) in metres)."""
+    """One association on one tracking preset, over the runs.
+
+    Attributes
+    ----------
+    preset, method : str
+        Tracking preset and association
+        (:data:`~rankedassign.experiments.config.TH_TRACKING_METHODS`).
+    n_runs : int
+    ospa2_mean, ospa2_se : float or None
+        OSPA(2) averaged over scans (m), its mean over runs and standard error.
+    sweeps_mean : float
+        Sweeps per run.
+    seconds_mean, association_seconds_mean : float
+        Wall time per run, and the part of it spent in the association.
+    """
 
     preset: str
     method: str
@@ -679,8 +705,6 @@ def plot_tempering_herding(s: THSummary, directory: Path) -> list[str]:
 
 
 def _csv(s: THSummary) -> list[dict]:
-    import dataclasses
-
     return ([{"part": "synthetic", **dataclasses.asdict(r)} for r in s.rows]
             + [{"part": "tracking", **dataclasses.asdict(r)} for r in s.tracking])
 

@@ -34,6 +34,7 @@ from .. import _kernels
 __all__ = [
     "AssociationResult",
     "Association",
+    "Hypotheses",
     "OriginalGibbs",
     "ShortChainGibbs",
     "Murty",
@@ -219,6 +220,25 @@ def _marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, method:
             return _rao_blackwell(C, a, w, M, ptr, cols)
     with interruptible:
         return _kernels.truncated_marginals(a, w, M)
+
+
+class Hypotheses(NamedTuple):
+    """The unique assignments a truncation keeps of one component's problem.
+
+    Attributes
+    ----------
+    assignments : ndarray of int64, shape (n, P)
+        Unique feasible assignments (column indices of the problem's cost matrix).
+    costs : ndarray, shape (n,)
+        Their costs ``Σ_i −ln η_i(γ_i)``.
+    sweeps, row_updates : int
+        Markov-chain observations and single-row draws spent (0 for Murty and enumeration).
+    """
+
+    assignments: np.ndarray
+    costs: np.ndarray
+    sweeps: int = 0
+    row_updates: int = 0
 
 
 class Association:
@@ -461,7 +481,7 @@ class HerdedGibbs(Association):
 
         Returns
         -------
-        rankedassign.tracking.single.glmb.Hypotheses
+        Hypotheses
             The unique assignments, their costs, and the sweeps and row updates spent.
 
         Examples
@@ -474,8 +494,6 @@ class HerdedGibbs(Association):
         >>> HerdedGibbs(25, n_chains=4).hypotheses(synthetic.random(rng=0), 1, rng=0).sweeps
         0
         """
-        from .glmb import Hypotheses
-
         n = max(check_int(budget, "budget", minimum=0) - 1, 0)
         if n == 0:
             one = {k: v for k, v in self.options.items() if k != "workers"}

@@ -54,7 +54,7 @@ from .. import _kernels
 from .._kernels import MERGE_RULES
 from ..models import ConstantVelocity, LinearMotion, Model
 from . import _glmb_kernels
-from .association import Exact, Murty, OriginalGibbs, ShortChainGibbs
+from .association import Exact, Hypotheses, Murty, OriginalGibbs, ShortChainGibbs
 from .lmb import _association_name, _check_association_kind, _check_measurements, gate_threshold
 
 __all__ = [
@@ -76,25 +76,6 @@ EXACT_SCAN_LIMIT = 5_000_000
 _RANKED_SLICE = 20_000
 _ZOBRIST_SEED = np.uint64(0x6A09E667F3BCC909)
 _TWO63 = 2**63
-
-
-class Hypotheses(NamedTuple):
-    """The unique assignments a truncation keeps of one component's problem.
-
-    Attributes
-    ----------
-    assignments : ndarray of int64, shape (n, P)
-        Unique feasible assignments (column indices of the problem's cost matrix).
-    costs : ndarray, shape (n,)
-        Their costs ``Σ_i −ln η_i(γ_i)``.
-    sweeps, row_updates : int
-        Markov-chain observations and single-row draws spent (0 for Murty and enumeration).
-    """
-
-    assignments: np.ndarray
-    costs: np.ndarray
-    sweeps: int = 0
-    row_updates: int = 0
 
 
 class GLMBScanRecord(NamedTuple):
