@@ -337,7 +337,8 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
     assert "[1/12] table1" in err and "[12/12] tempering_herding" in err  # study i of n
-    assert "preparing the compiled kernels" in err
+    assert "preparing each study's compiled kernels" in err
+    assert "[1/12] table1: kernels ready in" in err
     assert f"report written to {out / 'report.md'}" in err
     for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum",
                   "random_readings", "glmb_tracking", "multisensor", "adaptive_birth",

@@ -545,3 +545,28 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
         want = ospa2(run.truth, run.estimates, cfg.ospa_c, cfg.ospa_p, window).value
         assert_allclose(rec[key], want, rtol=1e-12)
     assert rec["ospa"] != rec["ospa2"]
+
+
+def test_every_study_has_a_tiny_warm_up_that_runs_one_task_set():
+    """The runner compiles each study's kernels just before the study (issue: a first run
+    that starts in seconds): every registered study defines ``warm``, its settings keep one
+    Monte Carlo run and are no larger than the quick ones, and running them works."""
+    from rankedassign.experiments import get_study, study_names, warm_study
+    from rankedassign.experiments.registry import study_config
+
+    quick = Config.quick()
+    assert len(study_names()) == 12
+    for st in map(get_study, study_names()):
+        assert st.warm is not None, st.name
+        tiny = st.warm(study_config(quick, st))
+        assert type(tiny) is type(study_config(quick, st)), st.name
+        assert tiny.n_mc == 1, st.name
+        assert len(list(st.tasks(tiny, 0))) <= len(list(st.tasks(study_config(quick, st), 0)))
+    assert warm_study("table1", quick) >= 0.0
+
+
+def test_a_study_without_warm_up_warms_in_no_time():
+    from rankedassign.experiments import get_study, warm_study
+
+    st = dataclasses.replace(get_study("table1"), warm=None)
+    assert warm_study(st) == 0.0

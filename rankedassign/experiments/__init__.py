@@ -59,6 +59,7 @@ from .registry import (
     register_study,
     run_study,
     study_names,
+    warm_study,
 )
 from .runner import StudyFailed, check_output, reproduce
 from .studies import (  # noqa: F401  (each module registers its study)
@@ -122,4 +123,5 @@ __all__ = [
     "run_study",
     "run_tasks",
     "study_names",
+    "warm_study",
 ]

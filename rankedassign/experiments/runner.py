@@ -12,16 +12,12 @@ from contextlib import ExitStack
 from pathlib import Path
 from typing import NamedTuple
 
-from .. import warmup
 from .._version import __version__
 from ..validation import MAX_MC
 from . import _outdir
 from ._executor import SchedulerError, dask_executor, local_executor
-from .config import Table1Config, TrackingConfig
-from .registry import Config, ReproduceError, get_study, run_study, study_names
+from .registry import Config, ReproduceError, get_study, run_study, study_names, warm_study
 from .report import render_report, write_csv, write_json
-from .studies.table1 import table1_task
-from .studies.tracking import tracking_task
 
 __all__ = ["reproduce", "check_output", "StudyFailed"]
 
@@ -126,21 +122,6 @@ class OutputState(NamedTuple):
 
     before: tuple | None
     names: set | None
-
-
-def compile_kernels() -> None:
-    """Compile (or load from numba's cache) every kernel the studies use, in this process.
-
-    Run before the worker processes start, so that on a first run they load the compiled
-    kernels from the on-disk cache instead of each compiling them while the progress bars
-    stand still.
-    """
-    warmup()
-    table1_task(Table1Config(n_mc=1, families=("random",), original_obs=10, n_chains=2),
-                0, 0, "random")
-    tiny = TrackingConfig(n_mc=1, n_scans=2, original_obs=5, n_chains=2)
-    for method in ("original", "proposed"):
-        tracking_task(tiny, 0, 0, method)
 
 
 def _study_list(studies) -> list[str]:
@@ -303,11 +284,8 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
     tmp = _outdir.new_partial(out, command)
     try:
         with ExitStack() as stack:
-            t0 = time.perf_counter()
-            say("preparing the compiled kernels (numba compiles them on the first run, "
-                "which takes a minute or two; later runs load them from its cache) ...")
-            compile_kernels()
-            say(f"kernels ready in {time.perf_counter() - t0:.0f} s")
+            say("preparing each study's compiled kernels before it starts (numba compiles "
+                "them on the first run, later runs load them from its cache) ...")
             if dask_scheduler is not None:
                 executor = stack.enter_context(dask_executor(dask_scheduler))
                 where = f"dask {dask_scheduler}"
@@ -316,11 +294,14 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 n = workers or os.cpu_count() or 1
                 where = "serial (in-process)" if executor is None else f"{n} local processes"
             for i, study in enumerate(studies, 1):
-                t0 = time.perf_counter()
+                tag = f"[{i}/{len(studies)}] {study}"
                 try:
+                    # In this process, once: the workers then load the kernels from the cache.
+                    say(f"{tag}: kernels ready in {warm_study(study, cfg):.1f} s")
+                    t0 = time.perf_counter()
                     res, runs = run_study(
                         study, cfg, seed=seed, executor=executor, progress=progress,
-                        return_runs=True, desc=f"[{i}/{len(studies)}] {study}",
+                        return_runs=True, desc=tag,
                     )
                 except (ReproduceError, SchedulerError):
                     raise

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .. import _format as fmt
 from .._executor import run_seed
@@ -260,4 +260,5 @@ ABLATION = register_study(Study(
     plot=None,
     csv_rows=as_rows,
     order=50,
+    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
 ))

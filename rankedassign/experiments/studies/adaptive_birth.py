@@ -27,7 +27,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -534,4 +534,6 @@ ADAPTIVE_BIRTH = register_study(Study(
     plot=plot_adaptive_birth,
     csv_rows=_csv,
     order=90,
+    warm=lambda c: replace(c, n_mc=1, sensors=c.sensors[:1], original_obs=60, n_chains=6,
+                               chain_length=10, curve_obs=(20, 60)),
 ))

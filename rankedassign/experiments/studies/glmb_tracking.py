@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -629,4 +629,7 @@ GLMB_TRACKING = register_study(Study(
     csv_rows=_csv_rows,
     paper="",
     order=75,
+    warm=lambda c: replace(c, n_mc=1, n_scans=4, murty_runs=min(c.murty_runs, 1),
+                               glmb_exact_runs=min(c.glmb_exact_runs, 1), h_upd=50,
+                               h_max=20, original_obs=100, n_chains=10, murty_k=10),
 ))

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -479,4 +479,5 @@ MULTISENSOR = register_study(Study(
     plot=plot_multisensor,
     csv_rows=_csv,
     order=80,
+    warm=lambda c: replace(c, n_mc=1, original_obs=100, n_chains=4),
 ))

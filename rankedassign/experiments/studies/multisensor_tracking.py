@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -729,4 +729,7 @@ MULTISENSOR_TRACKING = register_study(Study(
     csv_rows=_csv_rows,
     paper="",
     order=95,
+    warm=lambda c: replace(
+        c, n_mc=1, n_scans=3, long_obs=30, n_chains=10, chain_length=4,
+        sensor_sets=tuple(c.sensor_sets[:1]) + tuple(c.sensor_sets[1:][-1:])),
 ))

@@ -8,7 +8,7 @@ original sampler's) error next to ``eps*`` at the same ``k``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -274,4 +274,5 @@ OPTIMUM = register_study(Study(
     plot=plot_optimum,
     csv_rows=as_rows,
     order=60,
+    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
 ))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -336,4 +336,5 @@ SWEEP = register_study(Study(
     plot=plot_sweep,
     csv_rows=as_rows,
     order=20,
+    warm=lambda c: replace(c, n_mc=1, obs_grid=c.obs_grid[:1], chain_lengths=c.chain_lengths[:1]),
 ))

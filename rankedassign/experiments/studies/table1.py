@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -280,5 +281,6 @@ TABLE1 = register_study(Study(
     plot=plot_table1,
     csv_rows=as_rows,
     order=10,
+    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
     paper="Table I",
 ))

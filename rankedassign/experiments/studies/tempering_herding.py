@@ -27,7 +27,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -724,4 +724,7 @@ TEMPERING_HERDING = register_study(Study(
     csv_rows=_csv,
     paper="",
     order=100,
+    warm=lambda c: replace(c, n_mc=1, budgets=c.budgets[:1],
+                               tracking_mc=min(c.tracking_mc, 1), n_scans=3,
+                               tracking_obs=20, tracking_chains=2),
 ))

@@ -9,7 +9,7 @@ whose observation counts match the paper's totals; measured numbers in the repro
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -459,6 +459,7 @@ TRACKING = register_study(Study(
     csv_rows=_curves_csv,
     paper="§V-B",
     order=30,
+    warm=lambda c: replace(c, n_mc=1, n_scans=3, original_obs=50, n_chains=4),
 ))
 TRACKING_VAR = register_study(Study(
     name="tracking_var",
@@ -475,4 +476,5 @@ TRACKING_VAR = register_study(Study(
     csv_rows=_curves_csv,
     paper="§V-B",
     order=40,
+    warm=lambda c: replace(c, n_mc=1, n_scans=3, original_obs=50, n_chains=4),
 ))
