@@ -20,7 +20,7 @@ Examples
 """
 
 from ..engine.kind import DrawRule, Kind
-from . import _kernels, prepare, reference, synthetic
+from . import _kernels, prepare, reference, synthetic, tempered
 from .problem import SENSOR_ORDERS, AdaptiveBirthProblem, BirthLMB, birth_from_samples
 
 __all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples", "SENSOR_ORDERS",
@@ -38,4 +38,5 @@ KIND = Kind(
     temper=prepare.temper,
     draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
                               reference.herd_sweep, prepare.herd_inputs)},
+    tempered=tempered.sample_tempered,
 )

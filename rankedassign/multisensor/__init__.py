@@ -26,7 +26,7 @@ Examples
 """
 
 from ..engine.kind import DrawRule, Kind
-from . import _kernels, prepare, reference, synthetic
+from . import _kernels, prepare, reference, synthetic, tempered
 from .prepare import METHODS
 from .problem import MultiSensorProblem, count_feasible_all_positive
 
@@ -48,4 +48,5 @@ KIND = Kind(
     temper=prepare.temper,
     draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
                               reference.herd_sweep, prepare.herd_inputs)},
+    tempered=tempered.sample_tempered,
 )
