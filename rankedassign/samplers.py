@@ -575,9 +575,9 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, bac
            and name not in ("beta", "start", "rng", "backend")]
     unknown = sorted(set(options) - set(own))
     if unknown:
-        raise TypeError(f"unexpected option(s) {unknown} for tempered Gibbs sampling of a "
-                        f"{kind.problem_type.__name__}; "
-                        + (f"its options: {own}" if own else "it takes none"))
+        raise TypeError(f"unexpected option(s) {unknown} for tempered Gibbs sampling "
+                        f"({kind.problem_type.__name__}): "
+                        + (f"its options are {own}" if own else "it takes none"))
     return kind.tempered(problem, n_steps, beta=beta, start=start, rng=rng, backend=backend,
                          **options)
 

@@ -142,7 +142,10 @@ def tempered_weights(data: TemperedData, work, x, p) -> float:
             e = math.exp(beta * (w - mx))
             wb.append(e)
             sb += e
-        rr = math.exp((1.0 - beta) * (mx - lw[x[s]]))
+        try:
+            rr = math.exp((1.0 - beta) * (mx - lw[x[s]]))
+        except OverflowError:  # the kernel's exp gives inf, hence a ratio it refuses too
+            return -1.0
         ratio = (rr * S) / sb
         if not (ratio >= 0.0 and ratio < math.inf):
             return -1.0
