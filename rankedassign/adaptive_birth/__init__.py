@@ -8,7 +8,10 @@ constraint between tuples. Files in their roles, as in every kind's folder:
 * :mod:`~rankedassign.adaptive_birth.synthetic` — the study's families;
 * :mod:`~rankedassign.adaptive_birth.prepare` — a sampler call's shared inputs;
 * :mod:`~rankedassign.adaptive_birth.reference` — the pure-Python row update;
-* :mod:`~rankedassign.adaptive_birth._kernels` — its numba twin and the compiled driver.
+* :mod:`~rankedassign.adaptive_birth._kernels` — its numba twin and the compiled driver;
+* :mod:`~rankedassign.adaptive_birth.tempered` — tempered Gibbs sampling of Zanella & Roberts
+  (:func:`rankedassign.sample_tempered`), its kernel in
+  :mod:`~rankedassign.adaptive_birth._tempered_kernels`.
 
 :data:`KIND` is the record the samplers and the oracle dispatch on (:mod:`rankedassign.kinds`).
 

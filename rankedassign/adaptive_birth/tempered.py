@@ -120,8 +120,8 @@ def tempered_weights(data: TemperedData, work, x, p) -> float:
     >>> ratios = [0.0, 0.0]
     >>> Z = tempered_weights(data, (new_work(data.base, [0, 0]), [[], []], [0.0, 0.0]),
     ...                      [0, 0], ratios)
-    >>> [round(r, 6) for r in ratios]            # sensor 1: 3**0.5 * 4 / (1 + 3**0.5)
-    [1.0, 2.535898]
+    >>> [round(r, 6) for r in ratios]     # sensor 1: g(0) / pi(0) = (1 / (1 + 3**0.5)) / (1 / 4)
+    [1.0, 1.464102]
     """
     base = data.base
     beta = data.beta
@@ -338,9 +338,8 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, bac
     --------
     >>> import numpy as np
     >>> import oracle
-    >>> from rankedassign.adaptive_birth import synthetic
-    >>> p = synthetic.make_family("random", 3, 4, rng=0)
-    >>> res = sample_tempered(p, 50_000, beta=0.5, rng=1)
+    >>> p = AdaptiveBirthProblem.from_log_weights(np.random.default_rng(0).normal(0, 2, (3, 4, 5)))
+    >>> res = sample_tempered(p, 100_000, beta=0.5, rng=1)
     >>> exact = oracle.marginals(p)
     >>> bool(max(np.abs(m - e).max() for m, e in zip(res.marginals, exact)) < 0.02)
     True

@@ -14,7 +14,10 @@ Files in their roles, as in every kind's folder: :mod:`~rankedassign.multisensor
 :mod:`~rankedassign.multisensor.synthetic`, :mod:`~rankedassign.multisensor.prepare`,
 :mod:`~rankedassign.multisensor.reference` (pure Python) and
 :mod:`~rankedassign.multisensor._kernels` (numba). :data:`KIND` is the record the samplers and
-the oracle dispatch on (:mod:`rankedassign.kinds`). The adaptive-birth problem, whose state is
+the oracle dispatch on (:mod:`rankedassign.kinds`). Tempered Gibbs sampling of Zanella &
+Roberts on the exact posterior (:func:`rankedassign.sample_tempered`) is
+:mod:`~rankedassign.multisensor.tempered`, with its numba twin
+:mod:`~rankedassign.multisensor._tempered_kernels`. The adaptive-birth problem, whose state is
 one measurement tuple, is a kind of its own: :mod:`rankedassign.adaptive_birth`.
 
 Examples

@@ -7,7 +7,10 @@ Files in their roles, as in every kind's folder:
 * :mod:`~rankedassign.single.synthetic` — the paper's synthetic families;
 * :mod:`~rankedassign.single.prepare` — a sampler call's shared inputs;
 * :mod:`~rankedassign.single.reference` — the pure-Python row update (specification);
-* :mod:`~rankedassign.single._kernels` — its numba twin and the compiled chain drivers.
+* :mod:`~rankedassign.single._kernels` — its numba twin and the compiled chain drivers;
+* :mod:`~rankedassign.single.tempered` — tempered Gibbs sampling of Zanella & Roberts
+  (:func:`rankedassign.sample_tempered`), its kernel in
+  :mod:`~rankedassign.single._tempered_kernels`.
 
 :data:`KIND` is the record the samplers and the oracle dispatch on
 (:mod:`rankedassign.kinds`).
