@@ -35,6 +35,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine.tempered import TemperedResult, ess, run_compiled, run_reference
+from ..numba_options import interruptible
 from ..validation import check_beta, check_choice, check_int, check_type
 from . import _tempered_kernels
 from .prepare import METHODS, prepare, states_to_assignments
@@ -440,7 +441,8 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, bac
     work = (np.zeros((V, K), dtype=np.int64), np.zeros((V, K), dtype=np.int64),
             np.zeros(V, dtype=np.int64), np.zeros(V, dtype=np.int64), np.zeros(P),
             np.zeros(V, dtype=np.int64))
-    _tempered_kernels.occupancy(work[0], prep.x0)
+    with interruptible:
+        _tempered_kernels.occupancy(work[0], prep.x0)
     acc = np.zeros((P, 1 + T))
     moves = max(1, _SLICE_WORK // (P * (1 + T + sum(problem.n_meas))))
     out = run_compiled(_tempered_kernels.KERNELS, data, work, prep.x0, prep.n_values, P, acc,
