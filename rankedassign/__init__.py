@@ -12,15 +12,16 @@ from ._version import __version__
 from .samplers import (
     Herding,
     SamplerResult,
+    TemperedResult,
     sample_herded,
     sample_original,
     sample_short_chains,
+    sample_tempered,
     warmup,
 )
 from .single import synthetic
 from .single.lbp import LBPResult, lbp_marginals
 from .single.problem import AssignmentProblem
-from .single.tempered import TemperedResult, sample_tempered
 
 __all__ = [
     "AssignmentProblem",

@@ -31,6 +31,7 @@ of observations that returned to it.
 from __future__ import annotations
 
 import functools
+import inspect
 
 import numpy as np
 from numba import parallel_chunksize
@@ -50,15 +51,16 @@ from .engine.result import (
     zero_length_run,
 )
 from .engine.rng import ZOBRIST_SEED
-from .kinds import herded_rule, kind_named, kind_of, prepare
+from .engine.tempered import TemperedResult
+from .kinds import KINDS, herded_rule, kind_named, kind_of, prepare
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import interruptible, threads
 from .single import synthetic
 from .single.problem import AssignmentProblem
 from .validation import STALE_READINGS, STALL_READINGS, check_choice, check_int
 
-__all__ = ["SamplerResult", "Herding", "sample_original", "sample_short_chains",
-           "sample_herded", "warmup"]
+__all__ = ["SamplerResult", "Herding", "TemperedResult", "sample_original",
+           "sample_short_chains", "sample_herded", "sample_tempered", "warmup"]
 
 
 # Upper bound on the speculation slab (batch x chain_length x L int32 entries, 64 MiB).
@@ -485,6 +487,99 @@ def sample_herded(problem, n_obs, *, keys="shared", init="conditional",
     herded_rule(kind_of(problem))
     prep = prepare(problem, start, scan, rng, beta, **options)
     return _run(prep, 1, n_obs, Rules(0, 0, 0, 0), 1, herding)
+
+
+def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, backend="numba",
+                    **options) -> TemperedResult:
+    """Tempered Gibbs sampling of Zanella & Roberts (2019): unique states, weighted marginals.
+
+    Parameters
+    ----------
+    problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
+        The problem; its kind's tempered sampler runs (:attr:`Kind.tempered
+        <rankedassign.engine.kind.Kind>`): :func:`rankedassign.single.tempered.sample_tempered`,
+        :func:`rankedassign.multisensor.tempered.sample_tempered` (a row is an object, its
+        value dead or a whole measurement tuple) or
+        :func:`rankedassign.adaptive_birth.tempered.sample_tempered` (a row is a sensor's entry
+        of the birth tuple).
+    n_steps : int
+        Moves (each updates one row), >= 0.
+    beta : float
+        Inverse temperature of the tempered conditionals ``g_i ∝ π_i^β``, in ``(0, 1]``;
+        ``beta = 1`` is a random-scan Gibbs sampler with uniform row choice.
+    start : str or array_like of int
+        Start state, as in :func:`sample_original` for the kind.
+    rng : None, int, SeedSequence, BitGenerator or Generator
+        Anything :func:`numpy.random.default_rng` accepts (one draw: the stream's key).
+    backend : {"numba", "python"}
+        The compiled kernel or the kind's pure-Python reference; the results are identical.
+    **options
+        The kind's options: ``method`` for a multi-sensor problem (only ``"exact"``, the
+        conditional of ``π`` itself); none for the other kinds.
+
+    Returns
+    -------
+    TemperedResult
+        ``assignments``, ``costs`` and ``counts`` of the unique states in the kind's layout,
+        the importance-weighted ``marginals`` in the layout of the kind's
+        :func:`oracle.marginals`, the number of moves and the weights' effective sample size
+        ``ess``.
+
+    Raises
+    ------
+    TypeError
+        If ``problem`` is of no known kind, or an option does not apply to its kind.
+    ValueError
+        If ``beta`` is outside ``(0, 1]``, ``n_steps`` is negative, a multi-sensor ``method``
+        is not ``"exact"``, the start is infeasible, or a state's weights are not
+        representable (the message says why).
+
+    Notes
+    -----
+    At state ``x`` row ``i`` has the ratio ``p_i(x) = g_i(x_i | x_-i) / π_i(x_i | x_-i)``; a
+    move picks row ``i`` with probability ``p_i / Z``, ``Z = Σ_i p_i``, and draws ``x_i`` from
+    ``g_i``. The chain is reversible with respect to ``π(x) Z(x)``, so the states weighted by
+    ``1 / Z(x)`` average to expectations under ``π`` (Zanella & Roberts 2019, Prop. 1). A move
+    costs ``O(P + M)`` on a single-sensor problem (running sums), and on the other kinds about
+    one exact Gibbs sweep (every row's ratio is computed again; see the kinds' functions).
+
+    References
+    ----------
+    .. [1] G. Zanella, G. Roberts, "Scalable importance tempering and Bayesian variable
+       selection", J. R. Stat. Soc. B 81(3):489-517, 2019.
+
+    Examples
+    --------
+    >>> from rankedassign import sample_tempered, synthetic
+    >>> from rankedassign.multisensor import synthetic as ms_synthetic
+    >>> sample_tempered(synthetic.random(rng=0), 100, beta=0.5, rng=1).marginals.shape
+    (4, 18)
+    >>> res = sample_tempered(ms_synthetic.diagonal(P=2, M=(2, 2)), 100, beta=0.5, rng=1)
+    >>> res.assignments.shape[1:], res.marginals.tuples.shape
+    ((2, 2), (2, 3, 3))
+    >>> sample_tempered(ms_synthetic.diagonal(), 10, beta=0.5, method="mm")
+    Traceback (most recent call last):
+    ...
+    ValueError: method='mm' does not apply to tempered Gibbs sampling: its target is the exact
+    posterior pi, whose row conditional is method='exact' (spec eq. 2.1); the MM and
+    componentwise row updates are Gibbs proposals of other targets or of several draws per
+    row; use method='exact' (the default)
+    """
+    kind = kind_of(problem)
+    if kind.tempered is None:
+        have = ", ".join(k.problem_type.__name__ for k in KINDS if k.tempered is not None)
+        raise TypeError(f"tempered Gibbs sampling is not implemented for a "
+                        f"{kind.problem_type.__name__} yet (it is for: {have})")
+    own = [name for name, par in inspect.signature(kind.tempered).parameters.items()
+           if par.kind is inspect.Parameter.KEYWORD_ONLY
+           and name not in ("beta", "start", "rng", "backend")]
+    unknown = sorted(set(options) - set(own))
+    if unknown:
+        raise TypeError(f"unexpected option(s) {unknown} for tempered Gibbs sampling "
+                        f"({kind.problem_type.__name__}): "
+                        + (f"its options are {own}" if own else "it takes none"))
+    return kind.tempered(problem, n_steps, beta=beta, start=start, rng=rng, backend=backend,
+                         **options)
 
 
 def warmup() -> None:

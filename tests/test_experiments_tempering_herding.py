@@ -10,7 +10,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import oracle
-from rankedassign import lbp_marginals, sample_original
+from rankedassign import lbp_marginals, sample_original, sample_tempered
 from rankedassign.experiments import Config, child_seed, get_study, run_seed, run_study
 from rankedassign.experiments.config import TH_METHODS, TemperingHerdingConfig
 from rankedassign.experiments.studies import tempering_herding as TH
@@ -63,9 +63,15 @@ def test_every_applicable_method_at_every_budget(result):
                     assert r.obs_mean == r.budget  # one chain runs the budget
                 if "short" in m:
                     assert r.obs_mean <= r.budget  # the rules may stop short chains early
-    # Zanella-Roberts and LBP are single-sensor methods
-    assert TH.applies("zanella-roberts", TH.make_problem("random", run_seed(5, 0), TINY))
+    # Zanella-Roberts runs on every kind, LBP on single-sensor problems only
+    for fam in TINY.families:
+        assert TH.applies("zanella-roberts", TH.make_problem(fam, run_seed(5, 0), TINY)), fam
     assert not TH.applies("lbp", TH.make_problem("ms:A/random_coupled", run_seed(5, 0), TINY))
+    assert not TH.applies("lbp", TH.make_problem("birth:diagonal", run_seed(5, 0), TINY))
+    for fam in ("ms:A/random_coupled", "birth:diagonal"):
+        rows = [r for r in s.rows if r.family == fam and r.method == "zanella-roberts"]
+        assert [r.budget for r in rows] == list(TINY.budgets) and all(
+            r.obs_mean == r.budget for r in rows), fam
 
 
 def test_records_are_the_oracle_s_numbers_on_the_same_data(result):
@@ -90,6 +96,29 @@ def test_records_are_the_oracle_s_numbers_on_the_same_data(result):
     from rankedassign.experiments._synthetic import make_problem
 
     assert np.array_equal(make_problem("random", s, TINY).cost, problem.cost)
+
+
+def test_zanella_roberts_cells_of_the_other_kinds(result):
+    """A multi-sensor Zanella-Roberts cell recomputed: budget x P moves on the exact posterior,
+    graded by its importance-weighted marginals; the adaptive-birth one has no marginals."""
+    _, runs = result
+    s = run_seed(5, 0)
+    fam = "ms:A/random_coupled"
+    rec = next(r for r in runs if r["part"] == "synthetic" and r["family"] == fam
+               and r["run"] == 0)
+    problem = TH.make_problem(fam, s, TINY)
+    rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index(fam),
+                     TH_METHODS.index("zanella-roberts"), 200)
+    res = sample_tempered(problem, 200 * problem.n_rows, beta=TINY.zr_beta, rng=rng)
+    exact = oracle.marginals(problem)
+    cell = rec["methods"]["zanella-roberts"]["200"]
+    assert cell["n_unique"] == len(res.costs) and cell["n_obs"] == 200
+    l1 = (np.abs(res.marginals.dead - exact.dead).sum()
+          + np.abs(res.marginals.tuples - exact.tuples).sum()) / problem.n_rows
+    assert_allclose(cell["l1"], l1, rtol=1e-12)
+    birth = next(r for r in runs if r["part"] == "synthetic" and r["family"] == "birth:diagonal")
+    assert all(c["l1"] is None and c["n_unique"] >= 1
+               for c in birth["methods"]["zanella-roberts"].values())
 
 
 def test_the_same_seed_gives_the_same_numbers(result):

@@ -257,9 +257,11 @@ def test_signal_exception_unwraps_numba_return_path_errors():
             raise SystemError("something else")
 
 
-# Plain functions that are compiled as templates (rankedassign.engine._kernels), not called by Python.
+# Plain functions that are compiled as templates (rankedassign.engine._kernels and the tempered
+# loop of rankedassign.engine._tempered_kernels), not called by Python.
 _TEMPLATES = {("rankedassign.engine._kernels", n) for n in
-              ("_speculate", "_advance", "_new_run", "_run_slice", "_start")}
+              ("_speculate", "_advance", "_new_run", "_run_slice", "_start")} | {
+              ("rankedassign.engine._tempered_kernels", n) for n in ("_start", "_steps")}
 
 
 def _python_calls_of_kernels():

@@ -158,8 +158,15 @@ def test_bad_settings(kw, exc, msg):
 
 
 def test_negative_steps_and_other_kinds():
+    from rankedassign.single import tempered
+
     with pytest.raises(ValueError, match="n_steps"):
         sample_tempered(synthetic.random(rng=0), -1, beta=0.5)
+    # the other kinds have tempered samplers of their own (tests/test_tempered_kinds.py);
+    # this kind's refuses them
     with pytest.raises(TypeError, match="tempered Gibbs sampling is implemented for "
                                         "single-sensor problems"):
-        sample_tempered(ms_synthetic.random(rng=0), 10, beta=0.5)
+        tempered.sample_tempered(ms_synthetic.random(rng=0), 10, beta=0.5)
+    with pytest.raises(TypeError, match=r"unexpected option\(s\) \['method'\] for tempered "
+                                        r"Gibbs sampling \(AssignmentProblem\): it takes none"):
+        sample_tempered(synthetic.random(rng=0), 10, beta=0.5, method="exact")

@@ -8,7 +8,10 @@ constraint between tuples. Files in their roles, as in every kind's folder:
 * :mod:`~rankedassign.adaptive_birth.synthetic` — the study's families;
 * :mod:`~rankedassign.adaptive_birth.prepare` — a sampler call's shared inputs;
 * :mod:`~rankedassign.adaptive_birth.reference` — the pure-Python row update;
-* :mod:`~rankedassign.adaptive_birth._kernels` — its numba twin and the compiled driver.
+* :mod:`~rankedassign.adaptive_birth._kernels` — its numba twin and the compiled driver;
+* :mod:`~rankedassign.adaptive_birth.tempered` — tempered Gibbs sampling of Zanella & Roberts
+  (:func:`rankedassign.sample_tempered`), its kernel in
+  :mod:`~rankedassign.adaptive_birth._tempered_kernels`.
 
 :data:`KIND` is the record the samplers and the oracle dispatch on (:mod:`rankedassign.kinds`).
 
@@ -20,7 +23,7 @@ Examples
 """
 
 from ..engine.kind import DrawRule, Kind
-from . import _kernels, prepare, reference, synthetic
+from . import _kernels, prepare, reference, synthetic, tempered
 from .problem import SENSOR_ORDERS, AdaptiveBirthProblem, BirthLMB, birth_from_samples
 
 __all__ = ["AdaptiveBirthProblem", "BirthLMB", "birth_from_samples", "SENSOR_ORDERS",
@@ -38,4 +41,5 @@ KIND = Kind(
     temper=prepare.temper,
     draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
                               reference.herd_sweep, prepare.herd_inputs)},
+    tempered=tempered.sample_tempered,
 )

@@ -12,5 +12,8 @@ It imports no problem kind; each kind (:mod:`rankedassign.single`,
 * :mod:`~rankedassign.engine.reference` — the chains, stall and stale in pure Python (the
   specification of record);
 * :mod:`~rankedassign.engine._kernels` — the same compiled once per kind: speculation, replay,
-  slices, the unique set, and the numba twin of the random streams.
+  slices, the unique set, and the numba twin of the random streams;
+* :mod:`~rankedassign.engine.tempered` — the tempered Gibbs loop of Zanella & Roberts shared
+  by the multi-sensor and adaptive-birth kinds (pure Python) and its result record;
+  :mod:`~rankedassign.engine._tempered_kernels` compiles it once per kind.
 """

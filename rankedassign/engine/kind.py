@@ -79,6 +79,12 @@ class Kind:
     draws : mapping of str to DrawRule
         Row updates beside the Gibbs draw (``"herded"``: :func:`rankedassign.sample_herded`);
         empty where the kind has none yet.
+    tempered : callable or None
+        The kind's tempered Gibbs sampler of Zanella & Roberts
+        (:func:`rankedassign.sample_tempered` dispatches to it): ``tempered(problem, n_steps,
+        *, beta, start, rng, backend, **options) -> TemperedResult``
+        (:class:`rankedassign.engine.tempered.TemperedResult`), keyword options its own;
+        None where the kind has none.
 
     Examples
     --------
@@ -98,6 +104,7 @@ class Kind:
     options: Mapping[str, str] = field(default_factory=dict)
     temper: Callable | None = field(default=None, repr=False)
     draws: Mapping[str, DrawRule] = field(default_factory=dict, repr=False)
+    tempered: Callable | None = field(default=None, repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "drivers", MappingProxyType(dict(self.drivers)))

@@ -477,12 +477,13 @@ class TemperingHerdingConfig:
         Problem families (:data:`TH_FAMILIES`).
     methods : tuple of str
         Methods (:data:`TH_METHODS`); a method that does not apply to a family's problem kind
-        (Zanella–Roberts and LBP are single-sensor only) is reported as not applicable.
+        (LBP is single-sensor only) is reported as not applicable.
     budgets : tuple of int
         Sweeps per call, strictly increasing. One chain runs the budget; short chains run
         ``budget // L`` chains of ``L = min(chain_length, budget)`` sweeps (the stall and
         stale rules may stop them earlier); Zanella–Roberts runs ``budget * P`` moves (``P``
-        moves cost about one sweep).
+        moves update as many rows as one sweep; ``P = V`` sensors for the adaptive-birth
+        kind), on the exact posterior of every kind (``ms_method`` does not apply to it).
     chain_length, tau_stall, tau_stale : int
         The short chains' ``N_C``, ``τ_stall``, ``τ_stale`` (readings S3, T3), Gibbs and herded.
     zr_beta : float

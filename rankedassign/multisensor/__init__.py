@@ -14,7 +14,10 @@ Files in their roles, as in every kind's folder: :mod:`~rankedassign.multisensor
 :mod:`~rankedassign.multisensor.synthetic`, :mod:`~rankedassign.multisensor.prepare`,
 :mod:`~rankedassign.multisensor.reference` (pure Python) and
 :mod:`~rankedassign.multisensor._kernels` (numba). :data:`KIND` is the record the samplers and
-the oracle dispatch on (:mod:`rankedassign.kinds`). The adaptive-birth problem, whose state is
+the oracle dispatch on (:mod:`rankedassign.kinds`). Tempered Gibbs sampling of Zanella &
+Roberts on the exact posterior (:func:`rankedassign.sample_tempered`) is
+:mod:`~rankedassign.multisensor.tempered`, with its numba twin
+:mod:`~rankedassign.multisensor._tempered_kernels`. The adaptive-birth problem, whose state is
 one measurement tuple, is a kind of its own: :mod:`rankedassign.adaptive_birth`.
 
 Examples
@@ -26,7 +29,7 @@ Examples
 """
 
 from ..engine.kind import DrawRule, Kind
-from . import _kernels, prepare, reference, synthetic
+from . import _kernels, prepare, reference, synthetic, tempered
 from .prepare import METHODS
 from .problem import MultiSensorProblem, count_feasible_all_positive
 
@@ -48,4 +51,5 @@ KIND = Kind(
     temper=prepare.temper,
     draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
                               reference.herd_sweep, prepare.herd_inputs)},
+    tempered=tempered.sample_tempered,
 )

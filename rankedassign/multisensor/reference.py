@@ -48,8 +48,8 @@ from typing import NamedTuple
 
 from ..engine.reference import herd_choice
 
-__all__ = ["RefData", "pick", "draw", "new_work", "sweep", "HerdData", "new_herd_work",
-           "herd_key", "herd_sweep"]
+__all__ = ["RefData", "pick", "draw", "new_work", "sweep", "exact_candidates", "HerdData",
+           "new_herd_work", "herd_key", "herd_sweep"]
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
 NEG_INF = float("-inf")
@@ -215,20 +215,50 @@ def _available(data, occ, x, n):
     return out
 
 
-def _row_exact(data, avail, n, g):
-    """Spec eq. 2.1: ``p(u) ∝ eta_n(u)`` over dead and ``A_n^(1) x ... x A_n^(V)``."""
+def exact_candidates(data, avail):
+    """The alive candidates of an exact row update: ``A_n^(1) x ... x A_n^(V)`` in C order.
+
+    Parameters
+    ----------
+    data : RefData
+        Gives ``V`` and the tuple strides.
+    avail : list of list of int
+        ``A_n^(v)`` per sensor, increasing (:func:`_available`).
+
+    Returns
+    -------
+    tuples : list of list of int
+        The tuples, the last sensor varying fastest (so in increasing flat offset).
+    offsets : list of int
+        Their flat offsets ``Σ_v t_v strides_v`` into a row of ``Wa``/``la``.
+
+    Examples
+    --------
+    >>> d = type("D", (), {"V": 2, "strides": [3, 1]})()
+    >>> exact_candidates(d, [[0, 1], [0, 2]])
+    ([[0, 0], [0, 2], [1, 0], [1, 2]], [0, 2, 3, 5])
+    """
     V = data.V
     tuples = [[]]
     for v in range(V):  # C order: the last sensor varies fastest
         tuples = [t + [j] for t in tuples for j in avail[v]]
-    Wa, la, st = data.Wa[n], data.la[n], data.strides
-    weights, logs = [data.Wd[n]], [data.ld[n]]
+    st = data.strides
+    offsets = []
     for t in tuples:
         off = 0
         for v in range(V):
             off += t[v] * st[v]
-        weights.append(Wa[off])
-        logs.append(la[off])
+        offsets.append(off)
+    return tuples, offsets
+
+
+def _row_exact(data, avail, n, g):
+    """Spec eq. 2.1: ``p(u) ∝ eta_n(u)`` over dead and ``A_n^(1) x ... x A_n^(V)``."""
+    V = data.V
+    tuples, offsets = exact_candidates(data, avail)
+    Wa, la = data.Wa[n], data.la[n]
+    weights = [data.Wd[n]] + [Wa[off] for off in offsets]
+    logs = [data.ld[n]] + [la[off] for off in offsets]
     k = draw(weights, logs, g.uniform())
     if k < 0:
         return None
@@ -563,18 +593,11 @@ def _herd_row_exact(data: HerdData, work: HerdWork, x, n, avail, g):
     """Row ``n`` herded over its joint candidates: dead (0), tuple ``t`` (``1 + offset(t)``)."""
     base = data.base
     V = base.V
-    tuples = [[]]
-    for v in range(V):  # C order: the last sensor varies fastest
-        tuples = [t + [j] for t in tuples for j in avail[v]]
+    _, offsets = exact_candidates(base, avail)
     Wa, la, st = base.Wa[n], base.la[n], base.strides
-    weights, logs, cands = [base.Wd[n]], [base.ld[n]], [0]
-    for t in tuples:
-        off = 0
-        for v in range(V):
-            off += t[v] * st[v]
-        weights.append(Wa[off])
-        logs.append(la[off])
-        cands.append(1 + off)
+    weights = [base.Wd[n]] + [Wa[off] for off in offsets]
+    logs = [base.ld[n]] + [la[off] for off in offsets]
+    cands = [0] + [1 + off for off in offsets]
     key = herd_key(data, x, work.occ, n, 0, range(V))
     k = _herd_stage(data, work, key, cands, weights, logs, 1 + len(Wa), g)
     if k < 0:

@@ -7,7 +7,10 @@ Files in their roles, as in every kind's folder:
 * :mod:`~rankedassign.single.synthetic` — the paper's synthetic families;
 * :mod:`~rankedassign.single.prepare` — a sampler call's shared inputs;
 * :mod:`~rankedassign.single.reference` — the pure-Python row update (specification);
-* :mod:`~rankedassign.single._kernels` — its numba twin and the compiled chain drivers.
+* :mod:`~rankedassign.single._kernels` — its numba twin and the compiled chain drivers;
+* :mod:`~rankedassign.single.tempered` — tempered Gibbs sampling of Zanella & Roberts
+  (:func:`rankedassign.sample_tempered`), its kernel in
+  :mod:`~rankedassign.single._tempered_kernels`.
 
 :data:`KIND` is the record the samplers and the oracle dispatch on
 (:mod:`rankedassign.kinds`).
@@ -20,7 +23,7 @@ Examples
 """
 
 from ..engine.kind import DrawRule, Kind
-from . import _kernels, prepare, reference, synthetic
+from . import _kernels, prepare, reference, synthetic, tempered
 from .problem import AssignmentProblem
 
 __all__ = ["AssignmentProblem", "synthetic", "KIND"]
@@ -36,4 +39,5 @@ KIND = Kind(
     temper=prepare.temper,
     draws={"herded": DrawRule(_kernels.run_chains_herded, reference.new_herd_work,
                               reference.herd_sweep, prepare.herd_inputs)},
+    tempered=tempered.sample_tempered,
 )

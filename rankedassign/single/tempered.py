@@ -9,18 +9,21 @@ unique states serve a truncation as those of the other samplers do (each is re-w
 exact weight).
 
 :func:`tempered_reference` is the specification of record (plain Python); :func:`sample_tempered`
-runs the numba kernel of :mod:`._tempered_kernels`, bit for bit the same.
+runs the numba kernel of :mod:`._tempered_kernels`, bit for bit the same. The result record,
+:class:`~rankedassign.engine.tempered.TemperedResult`, is the one every kind's tempered sampler
+returns; :func:`rankedassign.sample_tempered` dispatches to this module for an
+:class:`AssignmentProblem` (:attr:`Kind.tempered <rankedassign.engine.kind.Kind>`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
 from ..engine._kernels import zobrist_keys
 from ..engine.rng import ZOBRIST_SEED, SplitMix64, base_key, chain_state
+from ..engine.tempered import TemperedResult, ess
 from ..numba_options import interruptible
 from ..validation import check_beta, check_choice, check_int, check_type
 from . import _tempered_kernels
@@ -28,36 +31,6 @@ from .prepare import CANCEL_GUARD, shifted_weights, start_columns, to_columns, t
 from .problem import AssignmentProblem
 
 __all__ = ["TemperedResult", "sample_tempered", "tempered_reference"]
-
-
-class TemperedResult(NamedTuple):
-    """Unique states and importance-weighted marginals of a tempered Gibbs run.
-
-    Attributes
-    ----------
-    assignments : ndarray, shape (n_unique, P), int64
-        Column indices of each unique assignment visited, in order of discovery (the start
-        state first).
-    costs : ndarray, shape (n_unique,)
-        Their costs ``-ln w`` (``problem.cost_of``).
-    counts : ndarray, shape (n_unique,), int64
-        Visits after each step (the start state's may be 0); sums to ``n_steps``.
-    marginals : ndarray, shape (P, M + 2)
-        The importance-weighted association marginals in the layout of
-        :func:`oracle.marginals`: ``Σ_t w_t 1[x_t,i = k] / Σ_t w_t`` over the states after
-        each step, ``w_t = 1 / Z(x_t)``.
-    n_steps : int
-        Moves made (each one row update).
-    ess : float
-        Kish's effective sample size of the weights, ``(Σ w)^2 / Σ w^2``.
-    """
-
-    assignments: np.ndarray
-    costs: np.ndarray
-    counts: np.ndarray
-    marginals: np.ndarray
-    n_steps: int
-    ess: float
 
 
 def _inputs(problem, n_steps, beta, start, rng):
@@ -120,8 +93,7 @@ def _result(problem, states, counts, acc, wsum, w2sum, n_steps):
     costs.setflags(write=False)
     cnt = np.asarray(counts, dtype=np.int64).copy()
     cnt.setflags(write=False)
-    ess = float(wsum * wsum / w2sum) if w2sum > 0 else 0.0
-    return TemperedResult(assignments, costs, cnt, m, int(n_steps), ess)
+    return TemperedResult(assignments, costs, cnt, m, int(n_steps), ess(wsum, w2sum))
 
 
 def tempered_reference(problem, n_steps, *, beta, start="all_missed", rng=None):
@@ -271,7 +243,8 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None,
     Parameters
     ----------
     problem : AssignmentProblem
-        A single-sensor problem (other kinds raise ``TypeError``).
+        A single-sensor problem (other kinds raise ``TypeError`` here;
+        :func:`rankedassign.sample_tempered` sends them to their own tempered samplers).
     n_steps : int
         Moves (each updates one row), >= 0. ``P`` moves cost about one Gibbs sweep.
     beta : float

@@ -44,6 +44,7 @@ from ... import (
     sample_tempered,
     tracking,
 )
+from ...adaptive_birth.problem import AdaptiveBirthProblem
 from ...adaptive_birth.synthetic import make_family
 from ...kinds import kind_of
 from ...multisensor import MultiSensorProblem
@@ -155,8 +156,9 @@ def applies(method: str, problem) -> bool:
     Returns
     -------
     bool
-        Herding where the kind has a herded draw, Zanella–Roberts and LBP on single-sensor
-        problems, the Gibbs methods everywhere.
+        Herding where the kind has a herded draw, Zanella–Roberts where the kind has a
+        tempered sampler (every kind), LBP on single-sensor problems, the Gibbs methods
+        everywhere.
 
     Examples
     --------
@@ -164,9 +166,10 @@ def applies(method: str, problem) -> bool:
     >>> applies("lbp", synthetic.diagonal()), applies("gibbs", synthetic.diagonal())
     (True, True)
     """
-    single = isinstance(problem, AssignmentProblem)
-    if method in ("zanella-roberts", "lbp"):
-        return single
+    if method == "zanella-roberts":
+        return kind_of(problem).tempered is not None
+    if method == "lbp":
+        return isinstance(problem, AssignmentProblem)
     if method.startswith("herded"):
         return "herded" in kind_of(problem).draws
     return True
@@ -198,7 +201,10 @@ def _call(method: str, problem, budget: int, cfg, rng):
     elif method.startswith("beta-"):
         res = sample_original(problem, budget, rng=rng, beta=float(method[5:]), **opts)
     elif method == "zanella-roberts":
-        res = sample_tempered(problem, budget * problem.n_rows, beta=cfg.zr_beta, rng=rng)
+        # budget x (row updates per sweep) moves; its target is the exact posterior, so the
+        # multi-sensor Gibbs method option does not apply to it
+        rows = problem.n_sensors if isinstance(problem, AdaptiveBirthProblem) else problem.n_rows
+        res = sample_tempered(problem, budget * rows, beta=cfg.zr_beta, rng=rng)
         return res, budget
     else:  # pragma: no cover - checked by the config
         raise ValueError(method)
@@ -213,7 +219,10 @@ def _l1(problem, exact, assignments=None, costs=None, marginals=None) -> float |
         m = marginals if marginals is not None else marginals_from_hypotheses(
             problem, assignments, costs)
         return float(np.abs(m - exact).sum() / problem.n_rows)
-    dead, tup = multisensor_marginals_from_hypotheses(problem, assignments, costs)
+    if marginals is not None:  # Zanella-Roberts: its importance-weighted marginals
+        dead, tup = marginals.dead, marginals.tuples
+    else:
+        dead, tup = multisensor_marginals_from_hypotheses(problem, assignments, costs)
     P = problem.n_rows
     return float((np.abs(dead - exact.dead).sum()
                   + np.abs(tup - exact.tuples).reshape(P, -1).sum()) / P)
@@ -355,7 +364,7 @@ class THRow:
         Sweeps per call (0 for LBP, which has no budget).
     n_runs : int
     obs_mean : float
-        Sweeps spent (Zanella–Roberts: moves / P).
+        Sweeps spent (Zanella–Roberts: moves / P, P = V for adaptive birth).
     error_pct_mean, error_pct_se : float or None
         Exact truncation error in percent (None for LBP).
     unique_mean : float or None
@@ -596,14 +605,16 @@ and loopy belief propagation, against the exact answer on the same problems: {fm
     cfg.n_mc, "Monte Carlo run")} per family, budgets of {", ".join(f"{b:,}" for b in
     cfg.budgets)} sweeps per call (short chains: {cfg.chain_length} sweeps each, τ_stall =
 {cfg.tau_stall}, τ_stale = {cfg.tau_stale}; herded short chains start from seeded uniform
-weights; Zanella–Roberts runs budget × P moves at β = {cfg.zr_beta:g}; the multi-sensor
-samplers use the `{cfg.ms_method}` conditional).
+weights; Zanella–Roberts runs budget × P moves (P = V sensors for adaptive birth) at
+β = {cfg.zr_beta:g}, on the exact posterior; the other multi-sensor samplers use the
+`{cfg.ms_method}` conditional).
 
 Each cell is **truncation error (%) ± SE · unique assignments · time per call**. "–" means
-the method does not apply to the problem kind (Zanella–Roberts and LBP are single-sensor;
-herding runs on the kinds that have a herded draw). The marginal error is the mean over rows
-of the L1 distance to `oracle.marginals` (0 exact, 2 disjoint); samplers' marginals are the
-ones the LMB filter forms from their unique sets.
+the method does not apply to the problem kind (LBP is single-sensor; herding and
+Zanella–Roberts run on the kinds that have a herded draw and a tempered sampler). The
+marginal error is the mean over rows of the L1 distance to `oracle.marginals` (0 exact, 2
+disjoint); samplers' marginals are the ones the LMB filter forms from their unique sets,
+Zanella–Roberts's its importance-weighted ones.
 
 ![Truncation error against observations, per family](tempering_herding_obs.png)
 

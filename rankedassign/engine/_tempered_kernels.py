@@ -1,0 +1,237 @@
+"""The tempered Gibbs loop of Zanella & Roberts, compiled once per problem kind (numba).
+
+The twin of :func:`rankedassign.engine.tempered.run_reference`, operation for operation. A kind
+supplies three compiled row functions and :func:`make_tempered` compiles the loop for them
+(as :func:`rankedassign.engine._kernels.make_driver` does for the chains):
+
+* ``row_weights(data, work, state, p) -> Z``: ``p[i] = g_i(x_i | x_-i) / π_i(x_i | x_-i)``
+  for every row ``i`` of the state ``state`` (and whatever the move needs into ``work``);
+  returns ``Z = Σ_i p[i]`` summed left to right, or ``-1.0`` if a ratio is not a finite
+  non-negative number in the kind's arithmetic;
+* ``move(data, work, zkeys, state, r, h, rs) -> (h, changed)``: draw row ``r``'s new value
+  from its tempered conditional ``g_r`` with uniforms of the stream ``rs``
+  (:func:`rankedassign.engine._kernels.next_uniform`), write it into ``state`` (and ``work``),
+  update the Zobrist hash ``h`` (``h ^= zkeys[l, a] ^ zkeys[l, c]`` for every position ``l``
+  whose value changes from ``a`` to ``c``); ``changed`` tells whether any position changed;
+* ``accumulate(data, work, state, acc, w)``: add the weight ``w`` to the kind's marginal
+  accumulator ``acc`` (a 2-D float64 array) at the values of ``state``.
+
+A run is the tuple ``(state, p, acc, states, hashes, counts, table, hu, fs)``: the state
+(``int32``), the ratios, the accumulator, the unique set (states in discovery order, their
+Zobrist hashes and visit counts, and an open-addressing table of ``index + 1``, twice the
+capacity, a power of two), ``hu = [hash of the state, unique states, stream state]``
+(``uint64``) and ``fs = [Σ w, Σ w², Z]``. The moves run in slices (:func:`make_tempered`'s
+``steps``), so a signal ends a long run within one slice; moves in several calls are the
+moves of one call, bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..numba_options import instantiate, jit
+from ._kernels import next_uniform
+
+__all__ = ["OK", "UNDERFLOW", "NEED_ROOM", "make_tempered", "visit", "rehash"]
+
+#: Status codes of a run's start and of its slices.
+OK, UNDERFLOW, NEED_ROOM = 0, 1, 2
+
+
+def row_weights(data, work, state, p):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def move(data, work, zkeys, state, r, h, rs):  # pragma: no cover - replaced
+    raise NotImplementedError
+
+
+def accumulate(data, work, state, acc, w):  # pragma: no cover - replaced
+    raise NotImplementedError
+
+
+@jit()
+def visit(states, hashes, counts, table, state, h, n_u):
+    """Count one visit of ``state`` (hash ``h``) in the unique set; return the new size.
+
+    A new state is appended (the caller keeps ``2 (n_u + 1) <= capacity``); a hash hit is
+    confirmed on the whole state.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> states, hashes = np.empty((4, 1), np.int32), np.empty(4, np.uint64)
+    >>> counts, table = np.zeros(4, np.int64), np.zeros(8, np.int64)
+    >>> x = np.array([3], np.int32)
+    >>> n = visit(states, hashes, counts, table, x, np.uint64(5), 0)
+    >>> n = visit(states, hashes, counts, table, x, np.uint64(5), n)
+    >>> int(n), counts[:1].tolist()
+    (1, [2])
+    """
+    L = state.shape[0]
+    mask = table.shape[0] - 1
+    slot = np.int64(h & np.uint64(mask))
+    while table[slot] != 0:
+        cand = table[slot] - 1
+        if hashes[cand] == h:
+            same = True
+            for i in range(L):
+                if states[cand, i] != state[i]:
+                    same = False
+                    break
+            if same:
+                counts[cand] += 1
+                return n_u
+        slot = (slot + 1) & mask
+    states[n_u] = state
+    hashes[n_u] = h
+    counts[n_u] = 1
+    table[slot] = n_u + 1
+    return n_u + 1
+
+
+@jit()
+def rehash(hashes, n_u, table):
+    """Insert unique states ``0..n_u-1`` by their ``hashes`` into the empty ``table``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> table = np.zeros(4, np.int64)
+    >>> rehash(np.array([1, 5], np.uint64), 2, table)
+    >>> table.tolist()
+    [0, 1, 2, 0]
+    """
+    mask = table.shape[0] - 1
+    for u in range(n_u):
+        t = np.int64(hashes[u] & np.uint64(mask))
+        while table[t] != 0:
+            t = (t + 1) & mask
+        table[t] = u + 1
+
+
+def _start(data, work, zkeys, run):
+    """The run at its start state: its hash, ``U = {x0}`` (count 0), the ratios and ``Z``.
+
+    Returns :data:`OK` or :data:`UNDERFLOW`.
+    """
+    state, p, _, states, hashes, counts, table, hu, fs = run
+    h = np.uint64(0)
+    for i in range(state.shape[0]):
+        h ^= zkeys[i, state[i]]
+    states[0] = state
+    hashes[0] = h
+    counts[0] = 0
+    table[np.int64(h & np.uint64(table.shape[0] - 1))] = 1
+    hu[0] = h
+    hu[1] = 1
+    Z = row_weights(data, work, state, p)
+    fs[0] = 0.0
+    fs[1] = 0.0
+    fs[2] = Z
+    return OK if Z > 0.0 else UNDERFLOW
+
+
+def _steps(data, work, zkeys, run, t0, t1):
+    """Moves ``t0 .. t1 - 1`` of a run (:func:`_start`), in place.
+
+    Returns ``(status, t)``: :data:`OK` with ``t = t1``; :data:`NEED_ROOM` with the move
+    ``t`` not yet made when the unique set may not hold one more state (grow it, then go on
+    from ``t``); :data:`UNDERFLOW` when a ratio is not representable.
+    """
+    state, p, acc, states, hashes, counts, table, hu, fs = run
+    R = p.shape[0]
+    rs = hu[2:3]
+    h = hu[0]
+    n_u = np.int64(hu[1])
+    wsum = fs[0]
+    w2sum = fs[1]
+    Z = fs[2]
+    status = OK
+    t = t0
+    while t < t1:
+        if 2 * (n_u + 1) > states.shape[0]:
+            status = NEED_ROOM
+            break
+        # the row: i with probability p_i / Z (the first whose running sum exceeds u Z)
+        target = next_uniform(rs) * Z
+        r = R - 1
+        acc_p = 0.0
+        for i in range(R):
+            acc_p += p[i]
+            if acc_p > target:
+                r = i
+                break
+        h, changed = move(data, work, zkeys, state, r, h, rs)
+        t += 1
+        if changed:
+            Z = row_weights(data, work, state, p)
+            if not Z > 0.0:
+                status = UNDERFLOW
+                break
+        # the state's importance weight 1 / Z(x)
+        w = 1.0 / Z
+        wsum += w
+        w2sum += w * w
+        accumulate(data, work, state, acc, w)
+        n_u = visit(states, hashes, counts, table, state, h, n_u)
+    hu[0] = h
+    hu[1] = np.uint64(n_u)
+    fs[0] = wsum
+    fs[1] = w2sum
+    fs[2] = Z
+    return status, t
+
+
+def make_tempered(name, row_weights, move, accumulate, *, cache=None):
+    """Compile the tempered loop for one problem kind's row functions.
+
+    Parameters
+    ----------
+    name : str
+        Unique name of the kind (names the compiled functions and their cache files).
+    row_weights, move, accumulate : compiled functions
+        The kind's row functions (module docstring).
+    cache : bool, optional
+        As in :func:`rankedassign.numba_options.jit`.
+
+    Returns
+    -------
+    start, steps : compiled functions
+        ``start(data, work, zkeys, run) -> status`` and ``steps(data, work, zkeys, run, t0,
+        t1) -> (status, t)`` (the run's layout in the module docstring).
+
+    Examples
+    --------
+    A toy kind: one row, two values, ``π`` uniform, so every ratio is 1:
+
+    >>> import numpy as np
+    >>> @jit(cache=False)
+    ... def weights(data, work, state, p):
+    ...     p[0] = 1.0
+    ...     return 1.0
+    >>> @jit(cache=False)
+    ... def flip(data, work, zkeys, state, r, h, rs):
+    ...     c = 1 if next_uniform(rs) < 0.5 else 0
+    ...     if c == state[0]:
+    ...         return h, False
+    ...     h ^= zkeys[0, state[0]] ^ zkeys[0, c]
+    ...     state[0] = c
+    ...     return h, True
+    >>> @jit(cache=False)
+    ... def add(data, work, state, acc, w):
+    ...     acc[0, state[0]] += w
+    >>> start, steps = make_tempered("coin", weights, flip, add, cache=False)
+    >>> run = (np.zeros(1, np.int32), np.zeros(1), np.zeros((1, 2)),
+    ...        np.empty((64, 1), np.int32), np.empty(64, np.uint64), np.zeros(64, np.int64),
+    ...        np.zeros(128, np.int64), np.array([0, 0, 7], np.uint64), np.zeros(3))
+    >>> zkeys = np.array([[1, 2]], np.uint64)
+    >>> int(start((0.0,), (0,), zkeys, run)), steps((0.0,), (0,), zkeys, run, 0, 100)
+    (0, (0, 100))
+    >>> float(run[2].sum()), int(run[5][:2].sum())
+    (100.0, 100)
+    """
+    bindings = {"row_weights": row_weights, "move": move, "accumulate": accumulate}
+    start = instantiate(_start, f"tempered_start_{name}", bindings, cache=cache)
+    steps = instantiate(_steps, f"tempered_steps_{name}", bindings, cache=cache)
+    return start, steps

@@ -1,0 +1,196 @@
+"""numba row functions of the multi-sensor tempered Gibbs sampler (clean inputs only).
+
+Twins, operation for operation, of :func:`rankedassign.multisensor.tempered.tempered_weights`,
+:func:`~rankedassign.multisensor.tempered.tempered_move` and
+:func:`~rankedassign.multisensor.tempered.tempered_accumulate`, compiled into the loop of
+:mod:`rankedassign.engine._tempered_kernels` (:data:`KERNELS`).
+
+``data`` (built by :func:`rankedassign.multisensor.tempered.sample_tempered`)::
+
+    n_meas, strides  int64[V]          M_v and the C-order strides of the tuple axes
+    Wd, Wbd, Rd      float64[P]        W, W^beta and W^(beta-1) of dead (shifted per row)
+    Wa, Wba, Ra      float64[P, T]     the same of every tuple, T = prod_v (M_v + 1)
+
+``work``::
+
+    occ     int64[V, K]   rows holding measurement j of sensor v (K = max M_v + 1)
+    avail   int64[V, K]   A_n^(v) of the row at hand (first navail entries)
+    navail  int64[V]
+    idx     int64[V]      odometer over the product of the A_n^(v)
+    Sb      float64[P]    each row's sum of W^beta over its available candidates
+    row     int64[V]      the moved row's new gamma
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..engine._kernels import next_uniform
+from ..engine._tempered_kernels import make_tempered
+from ..numba_options import jit
+
+__all__ = ["occupancy", "row_weights", "move", "accumulate", "KERNELS"]
+
+
+@jit()
+def occupancy(occ, x0):
+    """The occupancy table ``occ`` (V, K) of the state ``x0`` (``gamma + 1`` per row, sensor).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> occ = np.zeros((2, 3), np.int64)
+    >>> occupancy(occ, np.array([2, 3, 1, 1], np.int32))
+    >>> occ.tolist()
+    [[0, 1, 0], [0, 0, 1]]
+    """
+    V = occ.shape[0]
+    occ[:, :] = 0
+    for i in range(x0.shape[0]):
+        if x0[i] >= 2:
+            occ[i % V, x0[i] - 1] += 1
+
+
+@jit()
+def _available(n_meas, occ, state, n, avail, navail):
+    """``A_n^(v)`` for every sensor: missed, and the measurements free of the other rows."""
+    V = n_meas.shape[0]
+    for v in range(V):
+        own = state[n * V + v] - 1
+        avail[v, 0] = 0
+        c = 1
+        for j in range(1, n_meas[v] + 1):
+            if occ[v, j] == 0 or own == j:
+                avail[v, c] = j
+                c += 1
+        navail[v] = c
+
+
+@jit()
+def _code(strides, state, n, V):
+    """Candidate code of row ``n``: 0 dead, ``1 + offset`` of its tuple."""
+    if state[n * V] == 0:
+        return 0
+    off = 0
+    for v in range(V):
+        off += (state[n * V + v] - 1) * strides[v]
+    return 1 + off
+
+
+@jit()
+def _advance(idx, navail, V):
+    """Next digit vector of the odometer (last sensor fastest); False when it wrapped."""
+    v = V - 1
+    while v >= 0:
+        idx[v] += 1
+        if idx[v] < navail[v]:
+            return True
+        idx[v] = 0
+        v -= 1
+    return False
+
+
+@jit()
+def row_weights(data, work, state, p):
+    """``p[n] = (R(gamma_n) S_n) / Sb_n`` for every row; ``Z`` or -1.0 (not representable)."""
+    n_meas, strides, Wd, Wbd, Rd, Wa, Wba, Ra = data
+    occ, avail, navail, idx, Sb, _ = work
+    P = Wd.shape[0]
+    V = n_meas.shape[0]
+    Z = 0.0
+    for n in range(P):
+        _available(n_meas, occ, state, n, avail, navail)
+        s = Wd[n]
+        sb = Wbd[n]
+        for v in range(V):
+            idx[v] = 0
+        while True:  # the available tuples in C order
+            off = 0
+            for v in range(V):
+                off += avail[v, idx[v]] * strides[v]
+            s += Wa[n, off]
+            sb += Wba[n, off]
+            if not _advance(idx, navail, V):
+                break
+        if not (s > 0.0 and sb > 0.0):
+            return -1.0
+        k = _code(strides, state, n, V)
+        rr = Rd[n] if k == 0 else Ra[n, k - 1]
+        ratio = (rr * s) / sb
+        if not (ratio >= 0.0 and ratio < np.inf):
+            return -1.0
+        p[n] = ratio
+        Sb[n] = sb
+        Z += ratio
+    return Z
+
+
+@jit()
+def move(data, work, zkeys, state, r, h, rs):
+    """Row ``r`` drawn from its tempered conditional; ``(hash, changed)``."""
+    n_meas, strides, Wd, Wbd, Rd, Wa, Wba, Ra = data
+    occ, avail, navail, idx, Sb, row = work
+    V = n_meas.shape[0]
+    _available(n_meas, occ, state, r, avail, navail)
+    # the inverse CDF of reference.pick: dead (code 0), then the available tuples (1 + off)
+    target = next_uniform(rs) * Sb[r]
+    acc = 0.0
+    last = -1
+    code = -1
+    wk = Wbd[r]
+    if wk > 0.0:
+        acc += wk
+        last = 0
+        if acc > target:
+            code = 0
+    if code < 0:
+        for v in range(V):
+            idx[v] = 0
+        while True:
+            off = 0
+            for v in range(V):
+                off += avail[v, idx[v]] * strides[v]
+            wk = Wba[r, off]
+            if wk > 0.0:
+                acc += wk
+                last = 1 + off
+                if acc > target:
+                    code = 1 + off
+                    break
+            if not _advance(idx, navail, V):
+                break
+    if code < 0:
+        code = last
+    if code == 0:
+        for v in range(V):
+            row[v] = -1
+    else:
+        for v in range(V):
+            row[v] = ((code - 1) // strides[v]) % (n_meas[v] + 1)
+    changed = False
+    for v in range(V):
+        pos = r * V + v
+        old = state[pos]
+        new = row[v] + 1
+        if old != new:
+            if old >= 2:
+                occ[v, old - 1] -= 1
+            if new >= 2:
+                occ[v, new - 1] += 1
+            h ^= zkeys[pos, old] ^ zkeys[pos, new]
+            state[pos] = new
+            changed = True
+    return h, changed
+
+
+@jit()
+def accumulate(data, work, state, acc, w):
+    """``acc[n, code(gamma_n)] += w`` for every row."""
+    strides = data[1]
+    V = strides.shape[0]
+    for n in range(acc.shape[0]):
+        acc[n, _code(strides, state, n, V)] += w
+
+
+#: The tempered loop compiled for the multi-sensor row functions: ``(start, steps)``.
+KERNELS = make_tempered("multisensor", row_weights, move, accumulate)
