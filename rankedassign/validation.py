@@ -366,11 +366,12 @@ def check_type(value, name: str, types, hint: str = ""):
     >>> check_type("a", "problem", (int, float), "build one with from_eta")
     Traceback (most recent call last):
     ...
-    TypeError: problem must be a int or float, got str; build one with from_eta
+    TypeError: problem must be an int or float, got str; build one with from_eta
     """
     if not isinstance(value, types):
         names = " or ".join(t.__name__ for t in (types if isinstance(types, tuple) else (types,)))
-        raise TypeError(f"{name} must be a {names}, got {type(value).__name__}"
+        article = "an" if names[:1].lower() in "aeiou" else "a"
+        raise TypeError(f"{name} must be {article} {names}, got {type(value).__name__}"
                         + (f"; {hint}" if hint else ""))
     return value
 

@@ -247,7 +247,7 @@ def test_chain_inputs_sensor_order_error():
     p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3)))
     with pytest.raises(ValueError, match="unknown sensor_order 'rand'"):
         chain_inputs(p, "rand")
-    with pytest.raises(TypeError, match="problem must be a AdaptiveBirthProblem, got list"):
+    with pytest.raises(TypeError, match="problem must be an AdaptiveBirthProblem, got list"):
         chain_inputs([1], "random")
 
 
@@ -298,7 +298,7 @@ def test_birth_from_samples_errors(kw, exc, match):
 def test_birth_from_samples_needs_gaussian_and_problem():
     with pytest.raises(ValueError, match="birth_from_samples needs the linear-Gaussian model"):
         birth_from_samples(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 2))), [[1, 1]])
-    with pytest.raises(TypeError, match="problem must be a AdaptiveBirthProblem, got str"):
+    with pytest.raises(TypeError, match="problem must be an AdaptiveBirthProblem, got str"):
         birth_from_samples("p", [[1, 1]])
 
 

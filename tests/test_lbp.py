@@ -179,7 +179,7 @@ def test_bad_settings(kw, exc, msg):
 
 
 def test_other_kinds_refused_with_a_hint():
-    with pytest.raises(TypeError, match=r"problem must be a AssignmentProblem, got "
+    with pytest.raises(TypeError, match=r"problem must be an AssignmentProblem, got "
                        r"MultiSensorProblem; loopy belief propagation takes single-sensor"):
         lbp_marginals(ms_synthetic.random(rng=0))
 

@@ -318,7 +318,7 @@ def test_negative_steps_no_rows_and_other_types():
         sample_tempered([[1.0]], 10, beta=0.5)
     with pytest.raises(TypeError, match="problem must be a MultiSensorProblem"):
         ms_tempered.sample_tempered(AB, 10, beta=0.5)
-    with pytest.raises(TypeError, match="problem must be a AdaptiveBirthProblem"):
+    with pytest.raises(TypeError, match="problem must be an AdaptiveBirthProblem"):
         ab_tempered.sample_tempered(MS, 10, beta=0.5)
 
 

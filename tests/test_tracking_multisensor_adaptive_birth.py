@@ -64,7 +64,7 @@ def test_defaults_are_those_of_spec_7_2():
 
 
 def test_filter_and_runner_validate_birth():
-    with pytest.raises(TypeError, match=r"birth must be a AdaptiveBirth, got str; None for the "
+    with pytest.raises(TypeError, match=r"birth must be an AdaptiveBirth, got str; None for the "
                                         r"model's static birth or AdaptiveBirth\(\.\.\.\)"):
         MultiSensorLMBFilter(make_multisensor_model(), MultiSensorShortChainGibbs(10, 5),
                              birth="adaptive")

@@ -106,6 +106,11 @@ class Study:
 _REGISTRY: dict[str, Study] = {}
 
 
+def _a(noun: str) -> str:
+    """``noun`` with its indefinite article, for messages."""
+    return ("an " if noun[:1].lower() in "aeiou" else "a ") + noun
+
+
 def register_study(study: Study) -> Study:
     """Add ``study`` to the registry (run order: ``study.order``, then registration); returns it.
 
@@ -199,7 +204,7 @@ def study_config(config, study: Study):
         return config[study.name]
     if not isinstance(config, study.config_type):
         raise TypeError(
-            f"config must be a {study.config_type.__name__} or Config, "
+            f"config must be {_a(study.config_type.__name__)} or Config, "
             f"got {type(config).__name__}"
         )
     return config
@@ -343,7 +348,7 @@ class Config:
             if given is None:
                 given = st.full() if mode == "full" else st.quick()
             elif not isinstance(given, st.config_type):
-                raise TypeError(f"{name} settings must be a {st.config_type.__name__}, "
+                raise TypeError(f"{name} settings must be {_a(st.config_type.__name__)}, "
                                 f"got {type(given).__name__}")
             settings[name] = given
         if studies:
