@@ -570,3 +570,46 @@ def test_a_study_without_warm_up_warms_in_no_time():
 
     st = dataclasses.replace(get_study("table1"), warm=None)
     assert warm_study(st) == 0.0
+
+
+def test_warm_up_on_workers_runs_one_task_per_group_first_then_the_rest():
+    """With an executor, the first tiny task of every ``warm_group`` goes out first (the
+    workers compile disjoint kernel sets side by side), the others only once those are
+    done; every tiny task runs exactly once."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from rankedassign.experiments import get_study, warm_study
+
+    calls = []
+
+    def task(name, group):
+        calls.append(name)
+        return name
+
+    st = dataclasses.replace(
+        get_study("table1"), warm=lambda c: c,
+        tasks=lambda c, seed: [("a1", "a"), ("a2", "a"), ("b1", "b"), ("a3", "a"), ("c1", "c")],
+        task=task, warm_group=lambda t: t[1])
+    with ThreadPoolExecutor(max_workers=1) as ex:  # one thread: the submission order shows
+        assert warm_study(st, Table1Config(), executor=ex) >= 0.0
+    assert calls == ["a1", "b1", "c1", "a2", "a3"]
+    calls.clear()
+    assert warm_study(st, Table1Config()) >= 0.0  # in this process: the tasks in order
+    assert calls == ["a1", "a2", "b1", "a3", "c1"]
+
+
+def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments.registry import study_config
+
+    quick = Config.quick()
+    st = get_study("tempering_herding")
+    groups = [st.warm_group(t) for t in st.tasks(st.warm(study_config(quick, st)), 0)]
+    assert {"single", "multisensor", "adaptive_birth"} <= set(groups)
+    assert ("tracking", "herded") in groups
+    st = get_study("glmb_tracking")
+    tasks = st.tasks(st.warm(study_config(quick, st)), 0)
+    groups = {st.warm_group(t) for t in tasks}
+    # one group per method run (the same method on both presets compiles the same kernels)
+    assert groups <= set(study_config(quick, st).methods) and len(groups) >= 7
+    assert len(tasks) > len(groups)

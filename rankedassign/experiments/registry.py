@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Hashable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -74,10 +74,16 @@ class Study:
         ``config -> config``: the same settings made tiny (one run, a few observations), so
         that every task of them runs in about a second once compiled, yet takes the code
         paths the real settings take. Before a study's tasks go out, ``reproduce`` runs the
-        tiny tasks in its own process (:func:`warm_study`): numba compiles the study's kernels
-        there once, into its on-disk cache, and the workers load them instead of each
-        compiling them while the progress bar stands still; the study's time in the report
-        then excludes compiling. None: nothing runs ahead.
+        tiny tasks (:func:`warm_study`): numba compiles the study's kernels once, into its
+        on-disk cache, and the tasks load them instead of compiling them while the progress
+        bar stands still; the study's time in the report then excludes compiling. None:
+        nothing runs ahead.
+    warm_group : callable, optional
+        ``task arguments -> hashable``: tiny tasks of one group compile the same kernels
+        (e.g. the problem kind they run on). With worker processes, :func:`warm_study` runs
+        the first task of every group at once, each compiling its own kernels on its own
+        core, and only then the rest, which load them from the cache; so no two workers
+        compile the same kernels side by side. None: every task is a group of its own.
 
     Examples
     --------
@@ -101,6 +107,7 @@ class Study:
     paper: str = ""
     order: float = 100.0
     warm: Callable[[Any], Any] | None = None
+    warm_group: Callable[[tuple], Hashable] | None = None
 
 
 _REGISTRY: dict[str, Study] = {}
@@ -264,11 +271,11 @@ def run_study(
     return (summary, runs) if return_runs else summary
 
 
-def warm_study(study: str | Study, config=None) -> float:
-    """Run ``study``'s tasks at its tiny settings in this process; returns the seconds taken.
+def warm_study(study: str | Study, config=None, *, executor: Executor | None = None) -> float:
+    """Run ``study``'s tasks at its tiny settings; returns the seconds taken.
 
     This compiles the study's numba kernels (or loads them from numba's on-disk cache), so
-    that worker processes started before or after find them in the cache.
+    that the study's own tasks find them in the cache.
 
     Parameters
     ----------
@@ -278,6 +285,10 @@ def warm_study(study: str | Study, config=None) -> float:
         The settings the study will run with (its own, a :class:`Config` or None for the
         paper's); their tiny form (:attr:`Study.warm`) runs. A study without ``warm`` runs
         nothing.
+    executor : concurrent.futures.Executor, optional
+        Where to run the tiny tasks (default: one after the other in this process). With
+        several workers, the first task of each :attr:`Study.warm_group` runs first, side by
+        side, so that the workers compile disjoint sets of kernels at once; then the rest.
 
     Returns
     -------
@@ -294,9 +305,19 @@ def warm_study(study: str | Study, config=None) -> float:
     if st.warm is None:
         return 0.0
     t0 = time.perf_counter()
-    tiny = st.warm(study_config(config, st))
-    for args in st.tasks(tiny, 0):
-        st.task(*args)
+    tasks = list(st.tasks(st.warm(study_config(config, st)), 0))
+    if executor is None:
+        for args in tasks:
+            st.task(*args)
+        return time.perf_counter() - t0
+    group = st.warm_group or id
+    first: dict = {}
+    for i, args in enumerate(tasks):
+        first.setdefault(group(args), i)
+    leaders = sorted(first.values())
+    rest = [t for i, t in enumerate(tasks) if i not in set(leaders)]
+    run_tasks(st.task, [tasks[i] for i in leaders], executor=executor, progress=False)
+    run_tasks(st.task, rest, executor=executor, progress=False)
     return time.perf_counter() - t0
 
 

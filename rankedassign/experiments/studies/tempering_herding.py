@@ -347,6 +347,16 @@ def th_tasks(cfg: TemperingHerdingConfig, seed: int) -> list[tuple]:
     return out
 
 
+def _warm_group(task: tuple):
+    """Tiny tasks that compile the same kernels: a synthetic family's problem kind, a
+    tracking association (:attr:`rankedassign.experiments.Study.warm_group`)."""
+    if task[0] == "synthetic":
+        family = task[4]
+        return "multisensor" if family.startswith("ms:") else (
+            "adaptive_birth" if family.startswith("birth:") else "single")
+    return ("tracking", task[5])
+
+
 def th_task(part: str, *args) -> dict:
     """Run one task of :func:`th_tasks` (the registry's single task function)."""
     return synthetic_task(*args) if part == "synthetic" else tracking_task(*args)
@@ -738,4 +748,5 @@ TEMPERING_HERDING = register_study(Study(
     warm=lambda c: replace(c, n_mc=1, budgets=c.budgets[:1],
                                tracking_mc=min(c.tracking_mc, 1), n_scans=3,
                                tracking_obs=20, tracking_chains=2),
+    warm_group=_warm_group,
 ))
