@@ -23,7 +23,7 @@ from stonesoup.types.hypothesis import SingleProbabilityHypothesis
 from stonesoup.types.multihypothesis import MultipleHypothesis
 from stonesoup.types.numeric import Probability
 
-__all__ = ["PDAPairs", "VectorisedPDAHypothesiser", "pda_pairs"]
+__all__ = ["VectorisedPDAHypothesiser", "pda_pairs"]
 
 #: The modules whose cached Kalman-family methods the vectorised pass may call once for many
 #: (every predictor of ``stonesoup.predictor.kalman`` decorates ``predict`` with an LRU cache,
@@ -53,6 +53,8 @@ def _normalised_multiple_hypothesis(hypotheses: list) -> MultipleHypothesis:
 
 class PDAPairs:
     """A ``PDAHypothesiser``'s hypotheses of several tracks, as arrays (from :func:`pda_pairs`).
+
+    Made by :func:`pda_pairs` only; its constructor is not part of the API.
 
     Attributes
     ----------
@@ -102,7 +104,19 @@ class PDAPairs:
         return out
 
     def multiple_hypothesis(self, i: int) -> MultipleHypothesis:
-        """Track ``i``'s ``MultipleHypothesis``, as ``PDAHypothesiser.hypothesise`` returns it."""
+        """Track ``i``'s hypotheses, as ``PDAHypothesiser.hypothesise`` returns them.
+
+        Parameters
+        ----------
+        i : int
+            Index of the track in :attr:`tracks`.
+
+        Returns
+        -------
+        stonesoup.types.multihypothesis.MultipleHypothesis
+            The missed detection first, then the track's detections in :attr:`detections`
+            order, with the hypothesiser's probabilities (normalised if it normalises).
+        """
         row = self.log_eta[i]
         logs = [self.log_miss[i], *(row[j] for j in self._cols[i])]
         if self._normalised:
@@ -113,9 +127,20 @@ class PDAPairs:
         return MultipleHypothesis(self._hypotheses(i, probs[0], probs[1:]), normalise=False)
 
     def with_marginals(self, beta: np.ndarray) -> dict:
-        """Every track's hypotheses with the JPDA marginals ``beta`` (``(T, D + 1)``: the
-        detections, then the missed detection), normalised to 1 as Stone Soup's ``JPDA``
-        returns them: ``{track: MultipleHypothesis}`` in the order of :attr:`tracks`."""
+        """Every track's hypotheses with the given JPDA marginals instead of its weights.
+
+        Parameters
+        ----------
+        beta : numpy.ndarray of float64, shape (T, D + 1)
+            ``beta[i, j]``: marginal probability of track ``i`` with detection ``j``;
+            ``beta[i, D]``: of its missed detection. Zero where there is no hypothesis.
+
+        Returns
+        -------
+        dict of Track to stonesoup.types.multihypothesis.MultipleHypothesis
+            In the order of :attr:`tracks`, each track's hypotheses in the hypothesiser's
+            order with the marginals normalised to 1, as Stone Soup's ``JPDA`` returns them.
+        """
         D = self.hypothesis.shape[1]
         total = beta[:, D] + np.where(self.hypothesis, beta[:, :D], 0.0).sum(axis=1)
         with np.errstate(divide="ignore"):
