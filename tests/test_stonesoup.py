@@ -30,12 +30,21 @@ from stonesoup.models.transition.linear import (  # noqa: E402
     ConstantVelocity,
 )
 from stonesoup.models.transition.nonlinear import ConstantTurn  # noqa: E402
-from stonesoup.predictor.kalman import KalmanPredictor  # noqa: E402
+from stonesoup.predictor.kalman import (  # noqa: E402
+    ExtendedKalmanPredictor,
+    KalmanPredictor,
+    UnscentedKalmanPredictor,
+)
 from stonesoup.types.detection import Detection  # noqa: E402
 from stonesoup.types.groundtruth import GroundTruthPath, GroundTruthState  # noqa: E402
+from stonesoup.types.numeric import Probability  # noqa: E402
 from stonesoup.types.state import GaussianState, State, WeightedGaussianState  # noqa: E402
 from stonesoup.types.track import Track  # noqa: E402
-from stonesoup.updater.kalman import KalmanUpdater  # noqa: E402
+from stonesoup.updater.kalman import (  # noqa: E402
+    ExtendedKalmanUpdater,
+    KalmanUpdater,
+    UnscentedKalmanUpdater,
+)
 
 import oracle  # noqa: E402
 from rankedassign import AssignmentProblem  # noqa: E402
@@ -46,7 +55,9 @@ from rankedassign.stonesoup import (  # noqa: E402
     JPDAwithGibbs,
     LMBTracker,
     OSPA2Metric,
+    VectorisedPDAHypothesiser,
 )
+from rankedassign.stonesoup.hypothesisers import pda_pairs  # noqa: E402
 from rankedassign.tracking import (  # noqa: E402
     Exact,
     LMBFilter,
@@ -135,7 +146,10 @@ def test_rankedassign_does_not_import_stone_soup():
 def test_dp_equals_ehm2_on_every_marginal(n_tracks, n_dets, seed, groups, spacing):
     tracks, dets = scene(n_tracks, n_dets, seed, spacing=spacing, groups=groups)
     hyp = _hypothesiser()
-    assert_same(JPDAwithDP(hyp).associate(tracks, dets, T1),
+    ours = JPDAwithDP(hyp)
+    assert_same(ours.associate(tracks, dets, T1), JPDAwithEHM2(hyp).associate(tracks, dets, T1))
+    assert ours.vectorised  # the hypotheses came from the vectorised pass
+    assert_same(JPDAwithDP(hyp, vectorise=False).associate(tracks, dets, T1),
                 JPDAwithEHM2(hyp).associate(tracks, dets, T1))
 
 
@@ -143,8 +157,9 @@ def test_dp_equals_ehm2_on_every_marginal(n_tracks, n_dets, seed, groups, spacin
 def test_dp_equals_jpda_where_it_finishes(n_tracks, n_dets, seed):
     tracks, dets = scene(n_tracks, n_dets, seed, spacing=1.0)
     hyp = _hypothesiser()
-    assert_same(JPDAwithDP(hyp).associate(tracks, dets, T1),
-                JPDA(hyp).associate(tracks, dets, T1))
+    ours = JPDAwithDP(hyp)
+    assert_same(ours.associate(tracks, dets, T1), JPDA(hyp).associate(tracks, dets, T1))
+    assert ours.vectorised
 
 
 def test_clusters_equal_one_big_problem():
@@ -279,6 +294,188 @@ def test_gibbs_handles_a_cluster_beyond_the_dp():
 def test_gibbs_refuses_an_association_that_is_not_ours():
     with pytest.raises(TypeError, match=r"association must be one of our associations"):
         JPDAwithGibbs(_hypothesiser(), association="gibbs")
+
+
+# ------------------------------------------------------------------------------ vectorised hypotheses
+MM2 = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=np.diag([0.5, 2.0]))
+
+
+def _parts(predictor=KalmanPredictor, updater=KalmanUpdater, **options):
+    kw = dict(clutter_spatial_density=DENSITY, prob_detect=0.9)
+    kw.update(options)
+    return dict(predictor=predictor(CV), updater=updater(MM), **kw)
+
+
+def random_scene(seed, n_tracks=6, n_dets=10, models=(MM,), det_times=(T1,), far=0):
+    """Tracks with random means, covariances and last-update times; detections of ``models``
+    (None: the updater's) at ``det_times``; ``far`` of them 10 km away (their likelihood
+    underflows)."""
+    rng = np.random.default_rng(seed)
+    tracks = set()
+    for _ in range(n_tracks):
+        a = rng.normal(size=(4, 4))
+        x = rng.uniform(-5.0, 5.0, size=(4, 1)) * np.array([[1.0], [0.2], [1.0], [0.2]])
+        tracks.add(Track([GaussianState(x, 0.3 * a @ a.T + 0.5 * np.eye(4),
+                                        timestamp=T0 - datetime.timedelta(
+                                            seconds=int(rng.integers(0, 3))))]))
+    dets = set()
+    for j in range(n_dets):
+        z = rng.uniform(-6.0, 6.0, size=(2, 1)) + (1e4 if j < far else 0.0)
+        dets.add(Detection(z, timestamp=det_times[j % len(det_times)],
+                           measurement_model=models[j % len(models)]))
+    return tracks, dets
+
+
+def _same_state(a, b):
+    assert type(a) is type(b)
+    assert a.timestamp == b.timestamp
+    for x, y in ((a.state_vector, b.state_vector), (a.covar, b.covar)):  # angles as floats
+        np.testing.assert_allclose(np.asarray(x, dtype=np.float64),
+                                   np.asarray(y, dtype=np.float64), rtol=1e-12, atol=0)
+    if hasattr(b, "cross_covar"):
+        np.testing.assert_allclose(a.cross_covar, b.cross_covar, rtol=1e-12, atol=0)
+
+
+def assert_same_hypotheses(ours, theirs):
+    """Field by field: the container, then each hypothesis' type, measurement, prediction,
+    measurement prediction and probability (its log to 1e-12, i.e. 1e-12 relative)."""
+    assert type(ours) is type(theirs)
+    assert (ours.normalise, ours.total_weight) == (theirs.normalise, theirs.total_weight)
+    assert len(ours) == len(theirs)
+    for a, b in zip(ours, theirs, strict=True):
+        assert type(a) is type(b) and bool(a) == bool(b)
+        if b:
+            assert a.measurement is b.measurement
+        else:
+            assert type(a.measurement) is type(b.measurement)
+            assert a.measurement.timestamp == b.measurement.timestamp
+        _same_state(a.prediction, b.prediction)
+        if b.measurement_prediction is None:
+            assert a.measurement_prediction is None
+        else:
+            _same_state(a.measurement_prediction, b.measurement_prediction)
+        assert type(a.probability) is type(b.probability)
+        if isinstance(b.probability, Probability):
+            la, lb = a.probability.log_value, b.probability.log_value
+            assert la == lb or abs(la - lb) <= 1e-12, (la, lb)
+        else:  # Stone Soup's normalisation leaves a plain 0.0 where a probability underflows
+            assert a.probability == b.probability == 0.0
+
+
+#: hypothesiser options and scenes; every option of PDAHypothesiser's weights is exercised
+HYPOTHESISER_CASES = {
+    "default": ({}, {}),
+    "no clutter density": (dict(clutter_spatial_density=None, prob_gate=Probability(0.99)), {}),
+    "include_all, underflow": (dict(include_all=True), dict(far=3)),
+    "not normalised": (dict(normalise=False), {}),
+    "Probability types": (dict(prob_detect=Probability(0.75), prob_gate=0.9), {}),
+    "extended Kalman": (dict(predictor=ExtendedKalmanPredictor,
+                             updater=ExtendedKalmanUpdater), {}),
+    "unscented Kalman": (dict(predictor=UnscentedKalmanPredictor,
+                              updater=UnscentedKalmanUpdater), {}),
+    "models and times": (dict(clutter_spatial_density=None),
+                         dict(models=(MM, MM2, None),
+                              det_times=(T1, T1 + datetime.timedelta(seconds=0.5)))),
+    "no detections": ({}, dict(n_dets=0)),
+}
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("case", sorted(HYPOTHESISER_CASES))
+def test_vectorised_hypotheses_equal_the_hypothesisers(case, seed):
+    """Random scenes: VectorisedPDAHypothesiser and the all-tracks pass (pda_pairs) give
+    PDAHypothesiser's hypotheses, field by field."""
+    options, scene_kw = HYPOTHESISER_CASES[case]
+    tracks, dets = random_scene(seed, **scene_kw)
+    parts = _parts(**options)
+    theirs = PDAHypothesiser(**parts)
+    ours = VectorisedPDAHypothesiser(**parts)
+    stamp = T1 + datetime.timedelta(seconds=0.25) if "times" in case else T1
+    pairs = pda_pairs(theirs, tracks, dets, stamp)
+    assert pairs is not None and pairs.tracks == list(tracks)
+    for i, track in enumerate(pairs.tracks):
+        expected = theirs.hypothesise(track, dets, stamp)
+        assert_same_hypotheses(ours.hypothesise(track, dets, stamp), expected)
+        assert_same_hypotheses(pairs.multiple_hypothesis(i), expected)
+    if case == "include_all, underflow":
+        assert any(h.probability == 0.0 and not isinstance(h.probability, Probability)
+                   for track in tracks for h in theirs.hypothesise(track, dets, stamp))
+
+
+@pytest.mark.parametrize("case", sorted(HYPOTHESISER_CASES))
+def test_dp_with_vectorised_hypotheses_equals_the_hypothesiser_path_and_ehm2(case):
+    options, scene_kw = HYPOTHESISER_CASES[case]
+    tracks, dets = random_scene(3, **scene_kw)
+    hyp = PDAHypothesiser(**_parts(**options))
+    fast = JPDAwithDP(hyp)
+    slow = JPDAwithDP(hyp, vectorise=False)
+    a, b = fast.associate(tracks, dets, T1), slow.associate(tracks, dets, T1)
+    assert fast.vectorised and not slow.vectorised
+    assert_same(a, b, atol=1e-12)
+    for track in tracks:  # the same objects in the same order, as the hypothesiser's
+        for x, y in zip(a[track], b[track], strict=True):
+            assert x.measurement is y.measurement or not (x or y)
+            _same_state(x.prediction, y.prediction)
+    assert_same(a, JPDAwithEHM2(hyp).associate(tracks, dets, T1))
+    assert_same(JPDAwithGibbs(hyp, association=Exact()).associate(tracks, dets, T1), b)
+
+
+def test_ehm2_with_the_vectorised_hypothesiser_is_ehm2():
+    tracks, dets = scene(12, 20, 4, groups=2)
+    parts = _parts()
+    assert_same(JPDAwithEHM2(VectorisedPDAHypothesiser(**parts)).associate(tracks, dets, T1),
+                JPDAwithEHM2(PDAHypothesiser(**parts)).associate(tracks, dets, T1),
+                atol=1e-12)
+
+
+class CountingPDAHypothesiser(PDAHypothesiser):
+    """A subclass, which may change ``hypothesise``: the associators must call it."""
+
+    def hypothesise(self, track, detections, timestamp, **kwargs):
+        self.calls = getattr(self, "calls", 0) + 1
+        return super().hypothesise(track, detections, timestamp, **kwargs)
+
+
+class ShiftedPredictor(KalmanPredictor):
+    """A Kalman predictor whose ``predict`` is its own (not Stone Soup's cached one)."""
+
+    def predict(self, prior, timestamp=None, **kwargs):
+        return super().predict(prior, timestamp=timestamp, **kwargs)
+
+
+def test_what_the_vectorised_pass_leaves_to_the_hypothesiser():
+    tracks, dets = scene(5, 8, 2)
+    counting = CountingPDAHypothesiser(**_parts())
+    assoc = JPDAwithDP(counting)
+    out = assoc.associate(tracks, dets, T1)
+    assert not assoc.vectorised and counting.calls == len(tracks)
+    assert_same(out, JPDAwithEHM2(_hypothesiser()).associate(tracks, dets, T1))
+    # a predictor of its own, a non-linear measurement model, a detection with an angle
+    own = PDAHypothesiser(**_parts(predictor=ShiftedPredictor))
+    bearing = CartesianToBearingRange(ndim_state=4, mapping=(0, 2), noise_covar=np.eye(2))
+    polar = {Detection(bearing.function(t.state, noise=False), timestamp=T1,
+                       measurement_model=bearing) for t in tracks}
+    nonlinear = PDAHypothesiser(**_parts(updater=ExtendedKalmanUpdater))
+    for hyp, d in ((own, dets), (nonlinear, polar)):
+        assert pda_pairs(hyp, tracks, d, T1) is None
+        ours = VectorisedPDAHypothesiser(hyp.predictor, hyp.updater, DENSITY, 0.9)
+        for track in tracks:
+            assert_same_hypotheses(ours.hypothesise(track, d, T1),
+                                   hyp.hypothesise(track, d, T1))
+        assoc = JPDAwithDP(hyp)
+        assert_same(assoc.associate(tracks, d, T1), JPDAwithEHM2(hyp).associate(tracks, d, T1))
+        assert not assoc.vectorised
+    assert pda_pairs(DistanceHypothesiser(KalmanPredictor(CV), KalmanUpdater(MM), Mahalanobis(),
+                                          10.0), tracks, dets, T1) is None
+
+
+def test_vectorise_false_and_the_missed_detection_error_on_both_paths():
+    tracks, dets = scene(3, 4, 0)
+    for vectorise in (True, False):
+        hyp = PDAHypothesiser(**_parts(prob_detect=1.0, prob_gate=1.0))
+        with pytest.raises(ValueError, match=r"JPDAwithDP: track .* has a missed-detection "
+                                             r"probability of 0; JPDA needs it positive"):
+            JPDAwithDP(hyp, vectorise=vectorise).associate(tracks, dets, T1)
 
 
 # ------------------------------------------------------------------------------ OSPA2Metric

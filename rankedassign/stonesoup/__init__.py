@@ -9,6 +9,8 @@ loader makes this module available as ``stonesoup.plugins.rankedassign``::
 * :class:`JPDAwithDP` — Stone Soup's ``JPDA`` with the exact marginals of the oracle's DP
   (:func:`oracle.marginals`), cluster by cluster;
 * :class:`JPDAwithGibbs` — the same with marginals from one of our samplers;
+* :class:`VectorisedPDAHypothesiser` — Stone Soup's ``PDAHypothesiser`` with a track's
+  detections in one vectorised pass (the same hypotheses), for any associator;
 * :class:`OSPA2Metric` — OSPA(2) (:func:`rankedassign.metrics.ospa2`) as a Stone Soup
   ``MetricGenerator``;
 * :class:`LMBTracker`, :class:`GLMBTracker` — Stone Soup trackers around
@@ -22,7 +24,9 @@ Soup; :mod:`rankedassign` itself does not import this module.
 """
 
 from .associators import JPDAwithDP, JPDAwithGibbs
+from .hypothesisers import VectorisedPDAHypothesiser
 from .metrics import OSPA2Metric
 from .trackers import GLMBTracker, LMBTracker
 
-__all__ = ["GLMBTracker", "JPDAwithDP", "JPDAwithGibbs", "LMBTracker", "OSPA2Metric"]
+__all__ = ["GLMBTracker", "JPDAwithDP", "JPDAwithGibbs", "LMBTracker", "OSPA2Metric",
+           "VectorisedPDAHypothesiser"]
