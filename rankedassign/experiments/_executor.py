@@ -20,7 +20,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
 from typing import Any
 
@@ -133,6 +133,20 @@ def _die_with_parent() -> None:  # pragma: no cover - runs in child processes
 _PR_SET_PDEATHSIG = 1
 
 
+class _Dropped(Future):
+    """A cancelled future that ignores the result or exception a pool sets on it."""
+
+    def __init__(self):
+        super().__init__()
+        self.cancel()
+
+    def set_result(self, result):
+        pass
+
+    def set_exception(self, exception):
+        pass
+
+
 def _end_workers(ex: ProcessPoolExecutor) -> None:
     """End the pool's worker processes now (SIGTERM, then SIGKILL after a grace period).
 
@@ -144,13 +158,14 @@ def _end_workers(ex: ProcessPoolExecutor) -> None:
     procs = list((getattr(ex, "_processes", None) or {}).values())
     # CPython 3.11's pool sets BrokenProcessPool on every pending item when a worker dies,
     # cancelled ones included, which raises InvalidStateError in its management thread (a
-    # traceback on stderr): drop the cancelled items first (nobody waits for them).
+    # traceback on stderr). The cancelled items' futures (nobody waits for them) become ones
+    # that ignore it. They are not removed: the management thread may be about to look up
+    # an item by the id it has just taken from its queue (a KeyError traceback).
     pending = getattr(ex, "_pending_work_items", None)
     if isinstance(pending, dict):
-        for key in list(pending):
-            item = pending.get(key)
-            if item is not None and item.future.cancelled():
-                pending.pop(key, None)
+        for item in list(pending.values()):
+            if item.future.cancelled():
+                item.future = _Dropped()
     for p in procs:
         if p.is_alive():
             p.terminate()
