@@ -458,8 +458,7 @@ def test_sweep_checks_the_papers_chain_length_statement():
 
 
 def test_random_readings_study(tmp_path):
-    from rankedassign.experiments.config import ReadingsConfig
-    from rankedassign.experiments.studies.readings import reading_verdicts
+    from rankedassign.experiments.studies.readings import ReadingsConfig, reading_verdicts
 
     cfg = ReadingsConfig(n_mc=2, original_obs=1_000, n_chains=40)
     rows, runs = run_study("random_readings", cfg, seed=4, progress=False, return_runs=True)

@@ -12,8 +12,8 @@ from numpy.testing import assert_allclose
 import oracle
 from rankedassign import lbp_marginals, sample_original, sample_tempered
 from rankedassign.experiments import Config, child_seed, get_study, run_seed, run_study
-from rankedassign.experiments.config import TH_METHODS, TemperingHerdingConfig
 from rankedassign.experiments.studies import tempering_herding as TH
+from rankedassign.experiments.studies.tempering_herding import TH_METHODS, TemperingHerdingConfig
 
 TINY = TemperingHerdingConfig(
     n_mc=2, families=("uniform", "random", "ms:A/random_coupled", "birth:diagonal"),

@@ -43,11 +43,6 @@ from .config import (
     FAMILIES,
     STALE_READINGS,
     STALL_READINGS,
-    AblationConfig,
-    OptimumConfig,
-    SweepConfig,
-    Table1Config,
-    TrackingConfig,
 )
 from .paper import PAPER_TABLE1, PAPER_TOTALS
 from .registry import (
@@ -75,11 +70,12 @@ from .studies import (  # noqa: F401  (each module registers its study)
     tempering_herding,
     tracking,
 )
-from .studies.ablation import AblationRow
-from .studies.optimum import OptimumRow, best_error
+from .studies.ablation import AblationConfig, AblationRow
+from .studies.optimum import OptimumConfig, OptimumRow, best_error
 from .studies.readings import ReadingRow
-from .studies.sweep import ChainLengthCheck, SweepRow
-from .studies.tracking import TrackingSummary
+from .studies.sweep import ChainLengthCheck, SweepConfig, SweepRow
+from .studies.table1 import Table1Config
+from .studies.tracking import TrackingConfig, TrackingSummary
 
 #: The built-in studies, in run order (:func:`study_names` also lists studies registered later).
 STUDIES = study_names()

@@ -17,10 +17,71 @@ from .._synthetic import (
     run_proposed,
     with_paper,
 )
-from ..config import ALL_FAMILIES, CRITERIA, FAMILIES, AblationConfig
+from ..config import (
+    ALL_FAMILIES,
+    CRITERIA,
+    FAMILIES,
+    OTHER_RANDOM,
+    STALE_READINGS,
+    STALL_READINGS,
+    SyntheticConfig,
+)
 from ..paper import Z_LIMIT
 from ..registry import Study, as_rows, per_family_tasks, register_study
 from .table1 import disagreements, family_label
+
+
+@dataclass(frozen=True)
+class AblationConfig(SyntheticConfig):
+    """Table I under every pair of stall x stale readings (spec §3.2).
+
+    By default it adds the random family under the other reading of ``Pbar_D``
+    (:data:`OTHER_RANDOM`, spec A2) to the paper's three, so that reading is ablated too.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
+    families : tuple of str
+        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
+    original_obs : int
+        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
+        (Vo's code).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    diagonal_pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the diagonal family (spec A2).
+    stall_readings : tuple of str
+        Readings of the stall rule to run (a non-empty subset of :data:`STALL_READINGS`).
+    stale_readings : tuple of str
+        Readings of the stale rule to run (a non-empty subset of :data:`STALE_READINGS`);
+        every stall reading is paired with every stale reading.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import AblationConfig
+    >>> len(AblationConfig().stall_readings) * len(AblationConfig().stale_readings)
+    12
+    """
+
+    families: tuple[str, ...] = (*FAMILIES, OTHER_RANDOM)
+    stall_readings: tuple[str, ...] = STALL_READINGS
+    stale_readings: tuple[str, ...] = STALE_READINGS
+
+    def __post_init__(self):
+        super().__post_init__()
+        for name, given, allowed in (
+            ("stall_readings", self.stall_readings, STALL_READINGS),
+            ("stale_readings", self.stale_readings, STALE_READINGS),
+        ):
+            if not given or any(r not in allowed for r in given):
+                raise ValueError(f"{name} must be a non-empty subset of {allowed}, got {given!r}")
 
 __all__ = ["ABLATION", "AblationRow", "summarise_ablation", "consistency"]
 

@@ -20,8 +20,42 @@ from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure
 from .._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
-from ..config import STALE_READINGS, STALL_READINGS, OptimumConfig
+from ..config import STALE_READINGS, STALL_READINGS, SyntheticConfig
 from ..registry import Study, as_rows, per_family_tasks, register_study
+
+
+@dataclass(frozen=True)
+class OptimumConfig(SyntheticConfig):
+    """Sampled truncation error next to the best error with as many distinct solutions.
+
+    The short-chain sampler runs with both rules under the recommended readings (S3, T3).
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
+    families : tuple of str
+        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
+    original_obs : int
+        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
+        (Vo's code).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    diagonal_pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the diagonal family (spec A2).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import OptimumConfig
+    >>> OptimumConfig().tau_stale
+    25
+    """
 
 __all__ = ["OPTIMUM", "OptimumRow", "best_error", "summarise_optimum"]
 

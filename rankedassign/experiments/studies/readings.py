@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+from ...validation import check_fields
 from .. import _format as fmt
 from .._synthetic import Table1Row, paired_summary, paper_settings, with_paper
 from ..config import (
@@ -22,12 +23,74 @@ from ..config import (
     DEFAULT_GRANULARITY,
     DEFAULT_PBAR_D,
     FAMILIES,
-    ReadingsConfig,
-    Table1Config,
+    PBAR_D_READINGS,
+    check_positive,
 )
 from ..paper import Z_LIMIT
 from ..registry import Study, as_rows, register_study
-from .table1 import table1_task
+from .table1 import Table1Config, table1_task
+
+#: Readings of the random family the paper's text admits (spec A2, A5): ``(pbar_d,
+#: granularity)`` with ``Pbar_D`` = ``r P_d`` or ``P_d`` and ``P_s, P_d`` drawn per row or once
+#: per matrix (``q`` is per entry in every reading).
+RANDOM_READINGS = (("r_pd", "row"), ("pd", "row"), ("r_pd", "matrix"), ("pd", "matrix"))
+
+
+@dataclass(frozen=True)
+class ReadingsConfig:
+    """Table I (all nine cells) under each reading of the random family (spec A2, A5).
+
+    ``Pbar_D`` also enters the diagonal family: every random reading is combined with each
+    reading of the diagonal family's ``Pbar_D`` in ``diagonal_readings``, so each combination
+    is a complete Table I; the uniform family depends on neither choice and is run once.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family and reading.
+    readings : tuple of (str, str)
+        ``(pbar_d, granularity)`` readings of the random family, a non-empty subset of
+        :data:`RANDOM_READINGS` (lists are turned into tuples).
+    diagonal_readings : tuple of str
+        ``Pbar_D`` readings of the diagonal family, a non-empty subset of
+        ``("r_pd", "pd")``.
+    original_obs : int
+        Sweeps of the original sampler's single chain.
+    n_chains, chain_length : int
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler.
+    tau_stall, tau_stale : int
+        Thresholds of the stall and stale rules (readings S3, T3).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments.studies.readings import ReadingsConfig
+    >>> ReadingsConfig().readings[:2]
+    (('r_pd', 'row'), ('pd', 'row'))
+    """
+
+    n_mc: int = 100
+    readings: tuple[tuple[str, str], ...] = RANDOM_READINGS
+    diagonal_readings: tuple[str, ...] = PBAR_D_READINGS
+    original_obs: int = 250_000
+    n_chains: int = 10_000
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 25
+
+    def __post_init__(self):
+        check_fields(self)
+        for name in ("n_mc", "original_obs", "n_chains", "chain_length", "tau_stall", "tau_stale"):
+            check_positive(name, getattr(self, name))
+        readings = tuple(tuple(r) for r in self.readings)
+        if not readings or any(r not in RANDOM_READINGS for r in readings):
+            raise ValueError(
+                f"readings must be a non-empty subset of {RANDOM_READINGS}, got {self.readings!r}"
+            )
+        object.__setattr__(self, "readings", readings)
+        diag = self.diagonal_readings
+        if not diag or any(r not in PBAR_D_READINGS for r in diag):
+            raise ValueError(f"diagonal_readings must be a non-empty subset of "
+                             f"{PBAR_D_READINGS}, got {diag!r}")
 
 __all__ = ["READINGS", "ReadingRow", "summarise_readings", "reading_verdicts"]
 

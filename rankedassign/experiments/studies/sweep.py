@@ -9,12 +9,64 @@ from pathlib import Path
 import numpy as np
 
 from ... import sample_original, sample_short_chains
+from ...validation import check_fields
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._synthetic import KEY_SWEEP, family_index, make_problem, record
-from ..config import SweepConfig
+from ..config import DEFAULT_GRANULARITY, DEFAULT_PBAR_D, check_families, check_positive
 from ..paper import PAPER_SWEEP_TOLERANCE_PCT
 from ..registry import Study, as_rows, per_family_tasks, register_study
+
+
+@dataclass(frozen=True)
+class SweepConfig:
+    """Truncation error against the number of observations, no early stopping.
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per family.
+    families : tuple of str
+        Matrix families to run (:data:`ALL_FAMILIES`).
+    obs_grid : tuple of int
+        Observation budgets (sweeps), strictly increasing; at budget ``n`` the original
+        sampler runs ``n`` sweeps and the short-chain sampler ``n // L`` chains of ``L``.
+    chain_lengths : tuple of int
+        Chain lengths ``L`` of the short-chain sampler (a length above the budget is skipped).
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family, and of the diagonal family if it is run (spec A2).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import SweepConfig
+    >>> SweepConfig().chain_lengths
+    (5, 10, 25, 50, 100)
+    """
+
+    n_mc: int = 100
+    families: tuple[str, ...] = ("uniform", "random")
+    #: Observation budgets (sweeps); the short-chain sampler runs ``n // L`` chains of ``L``.
+    obs_grid: tuple[int, ...] = (
+        100, 200, 500, 1_000, 2_000, 5_000, 10_000, 20_000, 50_000, 100_000, 250_000,
+    )
+    chain_lengths: tuple[int, ...] = (5, 10, 25, 50, 100)
+    pbar_d: str = DEFAULT_PBAR_D
+    granularity: str = DEFAULT_GRANULARITY
+
+    def __post_init__(self):
+        check_fields(self)
+        check_positive("n_mc", self.n_mc)
+        check_families("families", self.families)
+        if not self.obs_grid or not self.chain_lengths:
+            raise ValueError("obs_grid and chain_lengths must not be empty")
+        for n in self.obs_grid:
+            check_positive("obs_grid entry", n)
+        for n in self.chain_lengths:
+            check_positive("chain_lengths entry", n)
+        if tuple(sorted(set(self.obs_grid))) != tuple(self.obs_grid):
+            raise ValueError(f"obs_grid must be strictly increasing, got {self.obs_grid}")
 
 __all__ = ["SWEEP", "SweepRow", "ChainLengthCheck", "summarise_sweep", "chain_length_checks"]
 

@@ -2,8 +2,7 @@
 
 The paper closes with "Future work is being conducted to investigate the effects of Gibbs
 tempering and herding on the various Gibbs samplers in the RFS literature". This study runs
-every method of :data:`~rankedassign.experiments.config.TH_METHODS` on the same problems at
-the same sweep budgets and records, against the oracle on the same data:
+every method of :data:`TH_METHODS` on the same problems at the same sweep budgets and records, against the oracle on the same data:
 
 * the exact truncation error (spec eq. 1.9) of the unique assignments found;
 * the unique count, the observations (sweeps) spent and the wall time of the call;
@@ -50,13 +49,148 @@ from ...kinds import kind_of
 from ...multisensor import MultiSensorProblem
 from ...multisensor import synthetic as ms_synthetic
 from ...single.problem import AssignmentProblem
+from ...tracking.models import PRESETS
 from ...tracking.multisensor.association import multisensor_marginals_from_hypotheses
 from ...tracking.single.association import marginals_from_hypotheses
+from ...validation import check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._synthetic import make_problem as make_single
-from ..config import TH_FAMILIES, TH_METHODS, TemperingHerdingConfig
+from ..config import (
+    DEFAULT_DIAGONAL_PBAR_D,
+    DEFAULT_GRANULARITY,
+    DEFAULT_PBAR_D,
+    FAMILIES,
+    PBAR_D_READINGS,
+    check_positive,
+)
 from ..registry import Study, register_study
+
+#: Problems of the ``tempering_herding`` study: the paper's three families, the multi-sensor
+#: cases A/B/C (``"ms:<size>/<family>"``, :mod:`rankedassign.multisensor.synthetic`) and the
+#: adaptive-birth families with four sensors (``"birth:<family>"``,
+#: :func:`rankedassign.adaptive_birth.synthetic.make_family`).
+TH_FAMILIES = (*FAMILIES, "ms:A/random_coupled", "ms:B/random", "ms:C/uniform",
+               "birth:diagonal", "birth:uniform", "birth:random")
+#: Methods of the ``tempering_herding`` study, in report order (``lbp``: marginals only).
+TH_METHODS = ("gibbs", "short", "herded-shared", "herded-full", "herded-short-shared",
+              "herded-short-full", "beta-0.5", "beta-0.7", "beta-0.9", "zanella-roberts", "lbp")
+#: LMB associations of the study's tracking part, in report order.
+TH_TRACKING_METHODS = ("exact", "gibbs", "short", "herded", "herded-short", "lbp")
+
+
+@dataclass(frozen=True)
+class TemperingHerdingConfig:
+    """Herded, tempered and LBP association graded by the exact oracle (the paper's future work).
+
+    Attributes
+    ----------
+    n_mc : int
+        Monte Carlo runs per problem family (random families re-drawn every run).
+    families : tuple of str
+        Problem families (:data:`TH_FAMILIES`).
+    methods : tuple of str
+        Methods (:data:`TH_METHODS`); a method that does not apply to a family's problem kind
+        (LBP is single-sensor only) is reported as not applicable.
+    budgets : tuple of int
+        Sweeps per call, strictly increasing. One chain runs the budget; short chains run
+        ``budget // L`` chains of ``L = min(chain_length, budget)`` sweeps (the stall and
+        stale rules may stop them earlier); Zanella–Roberts runs ``budget * P`` moves (``P``
+        moves update as many rows as one sweep; ``P = V`` sensors for the adaptive-birth
+        kind), on the exact posterior of every kind (``ms_method`` does not apply to it).
+    chain_length, tau_stall, tau_stale : int
+        The short chains' ``N_C``, ``τ_stall``, ``τ_stale`` (readings S3, T3), Gibbs and herded.
+    zr_beta : float
+        Inverse temperature of the Zanella–Roberts tempered conditionals, in ``(0, 1]``.
+    ms_method : str
+        Conditional of the multi-sensor samplers (``"exact"`` or ``"mm"``).
+    pbar_d, granularity, diagonal_pbar_d : str
+        Readings of the paper's families (as in :class:`Table1Config`).
+    tracking_mc : int
+        Monte Carlo runs of the tracking part per preset (0: no tracking part).
+    presets : tuple of str
+        Tracking presets (:data:`~rankedassign.tracking.models.PRESETS`).
+    tracking_methods : tuple of str
+        LMB associations (:data:`TH_TRACKING_METHODS`).
+    n_scans : int
+        Scans per tracking run.
+    tracking_obs : int
+        Sweeps per call of the one-chain associations (Gibbs, herded).
+    tracking_chains : int
+        Short chains per call of the short-chain associations (``chain_length`` sweeps each).
+    ospa_c, ospa_p : float
+        OSPA(2) cut-off (m) and order.
+    ospa_window : int
+        OSPA(2) window (scans).
+
+    Examples
+    --------
+    >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
+    >>> TemperingHerdingConfig().budgets
+    (100, 1000, 10000, 250000)
+    >>> TemperingHerdingConfig(methods=("tempered",))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown methods: method 'tempered'; expected one of (...)
+    """
+
+    n_mc: int = 20
+    families: tuple = TH_FAMILIES
+    methods: tuple = TH_METHODS
+    budgets: tuple = (100, 1_000, 10_000, 250_000)
+    chain_length: int = 25
+    tau_stall: int = 5
+    tau_stale: int = 25
+    zr_beta: float = 0.5
+    ms_method: str = "exact"
+    pbar_d: str = DEFAULT_PBAR_D
+    granularity: str = DEFAULT_GRANULARITY
+    diagonal_pbar_d: str = DEFAULT_DIAGONAL_PBAR_D
+    tracking_mc: int = 10
+    presets: tuple = ("paper", "vo")
+    tracking_methods: tuple = TH_TRACKING_METHODS
+    n_scans: int = 100
+    tracking_obs: int = 1_000
+    tracking_chains: int = 40
+    ospa_c: float = 200.0
+    ospa_p: float = 1.0
+    ospa_window: int = 5
+
+    def __post_init__(self):
+        for name in ("families", "methods", "budgets", "presets", "tracking_methods"):
+            value = getattr(self, name)
+            if isinstance(value, list):
+                object.__setattr__(self, name, tuple(value))
+        check_fields(self)
+        for name in ("n_mc", "chain_length", "tau_stall", "tau_stale", "n_scans",
+                     "tracking_obs", "tracking_chains", "ospa_window"):
+            check_positive(name, getattr(self, name))
+        if isinstance(self.tracking_mc, bool) or not isinstance(self.tracking_mc, int) \
+                or self.tracking_mc < 0:
+            raise ValueError(f"tracking_mc must be a non-negative integer, got "
+                             f"{self.tracking_mc!r}")
+        for name, one, allowed in (("families", "family", TH_FAMILIES),
+                                   ("methods", "method", TH_METHODS),
+                                   ("presets", "preset", PRESETS),
+                                   ("tracking_methods", "method", TH_TRACKING_METHODS)):
+            values = getattr(self, name)
+            if not isinstance(values, tuple) or (not values and name != "presets"):
+                raise ValueError(f"{name} must be a non-empty tuple, got {values!r}")
+            for v in values:
+                check_choice(v, f"{name}: {one}", allowed)
+        b = self.budgets
+        if not isinstance(b, tuple) or not b or any(
+                isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in b) or any(
+                x >= y for x, y in zip(b, b[1:], strict=False)):
+            raise ValueError(f"budgets must be a non-empty, strictly increasing tuple of "
+                             f"positive integers, got {b!r}")
+        check_real(self.zr_beta, "zr_beta", minimum=0.0, maximum=1.0, strict_minimum=True)
+        check_choice(self.ms_method, "ms_method", ("exact", "mm"))
+        for name in ("pbar_d", "diagonal_pbar_d"):
+            check_choice(getattr(self, name), name, PBAR_D_READINGS)
+        check_choice(self.granularity, "granularity", ("row", "matrix"))
+        for name in ("ospa_c", "ospa_p"):
+            check_real(getattr(self, name), name, minimum=0.0, strict_minimum=True)
 
 __all__ = ["TEMPERING_HERDING", "THRow", "THTrackingRow", "THSummary", "FUTURE_WORK",
            "summarise_tempering_herding", "make_problem", "applies"]
@@ -107,7 +241,7 @@ def kind_name(family: str) -> str:
 
 
 def make_problem(family: str, run_ss, cfg: TemperingHerdingConfig):
-    """The problem of ``family`` (:data:`~rankedassign.experiments.config.TH_FAMILIES`) in one run.
+    """The problem of ``family`` (:data:`TH_FAMILIES`) in one run.
 
     Parameters
     ----------
@@ -125,7 +259,7 @@ def make_problem(family: str, run_ss, cfg: TemperingHerdingConfig):
     Examples
     --------
     >>> from rankedassign.experiments import run_seed
-    >>> from rankedassign.experiments.config import TemperingHerdingConfig
+    >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
     >>> cfg = TemperingHerdingConfig()
     >>> make_problem("ms:B/random", run_seed(0, 0), cfg).n_meas
     (16, 16)
@@ -150,7 +284,7 @@ def applies(method: str, problem) -> bool:
     Parameters
     ----------
     method : str
-        One of :data:`~rankedassign.experiments.config.TH_METHODS`.
+        One of :data:`TH_METHODS`.
     problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
 
     Returns
@@ -259,7 +393,7 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str
 
     Examples
     --------
-    >>> from rankedassign.experiments.config import TemperingHerdingConfig
+    >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
     >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=("gibbs", "lbp"))
     >>> out = synthetic_task(cfg, 0, 0, "uniform")
     >>> out["methods"]["gibbs"]["50"]["n_obs"], out["methods"]["lbp"]["0"]["converged"]
@@ -406,7 +540,7 @@ class THTrackingRow:
     ----------
     preset, method : str
         Tracking preset and association
-        (:data:`~rankedassign.experiments.config.TH_TRACKING_METHODS`).
+        (:data:`TH_TRACKING_METHODS`).
     n_runs : int
     ospa2_mean, ospa2_se : float or None
         OSPA(2) averaged over scans (m), its mean over runs and standard error.
