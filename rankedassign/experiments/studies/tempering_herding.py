@@ -2,7 +2,8 @@
 
 The paper closes with "Future work is being conducted to investigate the effects of Gibbs
 tempering and herding on the various Gibbs samplers in the RFS literature". This study runs
-every method of :data:`TH_METHODS` on the same problems at the same sweep budgets and records, against the oracle on the same data:
+every method of :data:`TH_METHODS` on the same problems at the same sweep budgets and
+records, against the oracle on the same data:
 
 * the exact truncation error (spec eq. 1.9) of the unique assignments found;
 * the unique count, the observations (sweeps) spent and the wall time of the call;
