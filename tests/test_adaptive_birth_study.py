@@ -7,7 +7,7 @@ import pytest
 
 from rankedassign.experiments.studies import adaptive_birth as S
 
-TINY = S.StudyConfig(n_mc=2, sensors=(2,), original_obs=60, n_chains=6, chain_length=10,
+TINY = S.AdaptiveBirthStudyConfig(n_mc=2, sensors=(2,), original_obs=60, n_chains=6, chain_length=10,
                      tau_stall=3, tau_stale=2, curve_obs=(20, 60))
 
 

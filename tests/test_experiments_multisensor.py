@@ -25,7 +25,7 @@ TINY_MS = MS.MultiSensorConfig(n_mc=2, cases=("A/diagonal", "B/random"),
                                methods=("exact", "mm", "componentwise"),
                                original_obs=200, n_chains=8, chain_length=25,
                                tau_stall=5, tau_stale=25)
-TINY_AB = S.StudyConfig(n_mc=2, sensors=(2,), original_obs=60, n_chains=6, chain_length=10,
+TINY_AB = S.AdaptiveBirthStudyConfig(n_mc=2, sensors=(2,), original_obs=60, n_chains=6, chain_length=10,
                         tau_stall=3, tau_stale=2, curve_obs=(20, 60))
 
 

@@ -40,15 +40,15 @@ from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from ..registry import Study, register_study
 
-__all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary", "summarise_adaptive_birth",
-           "CRITERIA", "StudyConfig", "QUICK", "FULL", "run_task", "summarise", "curve",
-           "format_table", "plot"]
+__all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary",
+           "summarise_adaptive_birth", "CRITERIA", "AdaptiveBirthStudyConfig", "QUICK", "FULL",
+           "run_task", "summarise", "curve", "format_table", "plot"]
 
 CRITERIA = ("stall", "stale", "full")
 
 
 @dataclass(frozen=True)
-class StudyConfig:
+class AdaptiveBirthStudyConfig:
     """Settings of the adaptive-birth study.
 
     Attributes
@@ -98,9 +98,9 @@ class StudyConfig:
 
 
 #: The quick reproduction (a few seconds).
-QUICK = StudyConfig(n_mc=2, curve_obs=(100, 1000))
+QUICK = AdaptiveBirthStudyConfig(n_mc=2, curve_obs=(100, 1000))
 #: The full study.
-FULL = StudyConfig()
+FULL = AdaptiveBirthStudyConfig()
 
 
 def _seeds(seed: int, run: int, family: str, V: int) -> list:
@@ -117,12 +117,12 @@ def _record(problem, res) -> dict:
 _RULES = {"stall": (True, False), "stale": (False, True), "full": (True, True)}
 
 
-def run_task(cfg: StudyConfig, seed: int, run: int, family: str, V: int) -> dict:
+def run_task(cfg: AdaptiveBirthStudyConfig, seed: int, run: int, family: str, V: int) -> dict:
     """One Monte Carlo run: original chain and the three short-chain criteria on one problem.
 
     Parameters
     ----------
-    cfg : StudyConfig
+    cfg : AdaptiveBirthStudyConfig
         Settings: ``original_obs`` sweeps of the original chain, ``n_chains`` chains of
         ``chain_length`` sweeps and the thresholds ``tau_stall``, ``tau_stale`` of the short
         chains.
@@ -145,7 +145,7 @@ def run_task(cfg: StudyConfig, seed: int, run: int, family: str, V: int) -> dict
 
     Examples
     --------
-    >>> cfg = StudyConfig(n_mc=1, original_obs=100, n_chains=4)
+    >>> cfg = AdaptiveBirthStudyConfig(n_mc=1, original_obs=100, n_chains=4)
     >>> out = run_task(cfg, 0, 0, "diagonal", 4)
     >>> out["original"]["n_obs"], out["full"]["n_obs"] <= 100
     (100, True)
@@ -220,7 +220,7 @@ def summarise(runs: list) -> list:
     return rows
 
 
-def curve(cfg: StudyConfig, seed: int, family: str, V: int) -> list:
+def curve(cfg: AdaptiveBirthStudyConfig, seed: int, family: str, V: int) -> list:
     """Mean truncation error against the observation budget (original vs short chains).
 
     Short chains run without termination rules, ``N_C = cfg.chain_length`` and
@@ -228,7 +228,7 @@ def curve(cfg: StudyConfig, seed: int, family: str, V: int) -> list:
 
     Parameters
     ----------
-    cfg : StudyConfig
+    cfg : AdaptiveBirthStudyConfig
         Settings: ``n_mc`` problems, the budgets ``curve_obs`` (sweeps) and ``chain_length``.
     seed : int
         Base seed of the study; the problems are those of :func:`run_task` with runs
@@ -247,7 +247,7 @@ def curve(cfg: StudyConfig, seed: int, family: str, V: int) -> list:
 
     Examples
     --------
-    >>> cfg = StudyConfig(n_mc=1, curve_obs=(25, 50))
+    >>> cfg = AdaptiveBirthStudyConfig(n_mc=1, curve_obs=(25, 50))
     >>> [r["n_obs"] for r in curve(cfg, 0, "uniform", 4)]
     [25, 50]
     """
@@ -430,14 +430,14 @@ class AdaptiveBirthSummary:
     verdict: str
 
 
-def adaptive_birth_tasks(cfg: StudyConfig, seed: int) -> list[tuple]:
+def adaptive_birth_tasks(cfg: AdaptiveBirthStudyConfig, seed: int) -> list[tuple]:
     """Monte Carlo runs of the table, then one curve task per (family, V)."""
     cells = [(f, V) for f in cfg.families for V in cfg.sensors]
     return ([("run", cfg, seed, r, f, V) for f, V in cells for r in range(cfg.n_mc)]
             + [("curve", cfg, seed, 0, f, V) for f, V in cells])
 
 
-def adaptive_birth_task(kind: str, cfg: StudyConfig, seed: int, run: int, family: str,
+def adaptive_birth_task(kind: str, cfg: AdaptiveBirthStudyConfig, seed: int, run: int, family: str,
                         V: int) -> dict:
     """One task: a Monte Carlo run (:func:`~.run_task`) or a curve."""
     if kind == "run":
@@ -446,14 +446,15 @@ def adaptive_birth_task(kind: str, cfg: StudyConfig, seed: int, run: int, family
             "points": curve(cfg, seed, family, V)}
 
 
-def summarise_adaptive_birth(runs: list[dict], cfg: StudyConfig) -> AdaptiveBirthSummary:
+def summarise_adaptive_birth(runs: list[dict],
+                             cfg: AdaptiveBirthStudyConfig) -> AdaptiveBirthSummary:
     """Typed rows of :func:`~.summarise`, the curves and the verdict.
 
     Parameters
     ----------
     runs : list of dict
         Records of :func:`adaptive_birth_task` (Monte Carlo runs and curves).
-    cfg : StudyConfig
+    cfg : AdaptiveBirthStudyConfig
         The settings of the runs (not read: the records carry what the summary needs).
 
     Returns
@@ -475,7 +476,7 @@ def _raw(rows) -> list[dict]:
              else r.delta_error_se_pp} for r in rows]
 
 
-def render_adaptive_birth(summary: AdaptiveBirthSummary, cfg: StudyConfig) -> str:
+def render_adaptive_birth(summary: AdaptiveBirthSummary, cfg: AdaptiveBirthStudyConfig) -> str:
     """The report section: settings, the Table I layout, the curves and the verdict."""
     n = summary.rows[0].n_mc if summary.rows else 0
     budgets = list(cfg.curve_obs)
@@ -524,7 +525,7 @@ def _csv(summary: AdaptiveBirthSummary) -> list[dict]:
 ADAPTIVE_BIRTH = register_study(Study(
     name="adaptive_birth",
     title="adaptive-birth sampler: original vs short chains (Table I layout, error curves)",
-    config_type=StudyConfig,
+    config_type=AdaptiveBirthStudyConfig,
     full=lambda: FULL,
     quick=lambda: QUICK,
     tasks=adaptive_birth_tasks,
