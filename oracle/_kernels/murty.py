@@ -205,8 +205,9 @@ def _switch_off(cost, forb, head):
     """Forbid every pair of the list that starts at ``head``: its cost becomes ``+inf``."""
     g = head
     while g != NO_ENTRY:
-        cost[forb.row[g], forb.entry[g]] = np.inf
-        g = forb.next[g]
+        gu = np.uint64(g)
+        cost[np.uint64(forb.row[gu]), np.uint64(forb.entry[gu])] = np.inf
+        g = forb.next[gu]
 
 
 @jit(inline="always")
@@ -214,10 +215,11 @@ def _switch_on(cost, cost0, forb, head):
     """Allow the pairs of the list that starts at ``head`` again (their costs from ``cost0``)."""
     g = head
     while g != NO_ENTRY:
-        i = forb.row[g]
-        e = forb.entry[g]
+        gu = np.uint64(g)
+        i = np.uint64(forb.row[gu])
+        e = np.uint64(forb.entry[gu])
         cost[i, e] = cost0[i, e]
-        g = forb.next[g]
+        g = forb.next[gu]
 
 
 @jit(inline="always")
@@ -577,11 +579,14 @@ def _least_free_rc(cost, vf, free_meas, i, ci, ui, v_free):
     if free_meas:
         for j in range(M):
             ju = np.uint64(j)
-            best = min(best, cost[iu, ju] - ui - vf[ju])
+            rc = cost[iu, ju] - ui - vf[ju]
+            best = rc if rc < best else best
     if ci != M + i:
-        best = min(best, cost[iu, np.uint64(M)] - ui - v_free)
+        rc = cost[iu, np.uint64(M)] - ui - v_free
+        best = rc if rc < best else best
     if ci != M + P + i:
-        best = min(best, cost[iu, np.uint64(M + 1)] - ui - v_free)
+        rc = cost[iu, np.uint64(M + 1)] - ui - v_free
+        best = rc if rc < best else best
     return best
 
 
@@ -627,7 +632,7 @@ def _order_rows(cs, sr, sl, n_free, free_meas, v_free):
         best, best_row = _row_bound(cs.cost, cs.cost0, pw, op, 0, n_free, i, s_cols[sl, i],
                                     s_u[sl, i], free_meas, v_free)
         lb_row[i] = best_row
-        x = max(best, 0.0)
+        x = 0.0 if 0.0 > best else best  # (max(best, 0.0) without the call)
         lb[i] = x
         # insert row i, keeping decreasing bounds, ties in row order
         b = t - 1
@@ -664,24 +669,30 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
         forb.row[base + t] = r
         forb.entry[base + t] = entry_of[r]
         forb.next[base + t] = head
+        # the bound, step by step while the child may still be created (each step only
+        # raises it)
         bx = lb[r]
-        if t > 0 and bx < np.inf and cut < np.inf and lb_row[r] >= 0 and rank[lb_row[r]] < t:
+        if not (bx < np.inf and key + bx - slack <= cut):
+            continue
+        if t > 0 and cut < np.inf and lb_row[r] >= 0 and rank[lb_row[r]] < t:
             # Under a cut, child t's first step is lb[r] again, with the columns of the rows
             # fixed before it (order[:t]) inactive as well, that is the distance its solve
             # would pop first. (Unless the column that gave lb[r] is now inactive, that is
             # lb[r] itself.)
             bx, _ = _row_bound(cost, cs.cost0, sr.path, order, t, n_free, r, sols.cols[sl, r],
                                s_u[sl, r], free_meas, v_free)
-            bx = max(bx, 0.0)
-        if bx < np.inf and key + bx - slack <= cut:
-            f_off = np.uint64(off[np.uint64(r)])
-            vr = sols.v[slu, np.uint64(r)]
-            into = v_free - vr
-            for t2 in range(t + 1, n_free):
-                q = np.uint64(order[np.uint64(t2)])
-                into = min(into, cost[q, f_off] - s_u[slu, q] - vr)
-            bx = bx + max(into, 0.0)
-        if bx < np.inf and key + bx - slack <= cut:
+            bx = 0.0 if 0.0 > bx else bx
+            if not (bx < np.inf and key + bx - slack <= cut):
+                continue
+        f_off = np.uint64(off[np.uint64(r)])
+        vr = sols.v[slu, np.uint64(r)]
+        into = v_free - vr
+        for t2 in range(t + 1, n_free):
+            q = np.uint64(order[np.uint64(t2)])
+            rc = cost[q, f_off] - s_u[slu, q] - vr
+            into = rc if rc < into else into
+        bx = bx + (0.0 if 0.0 > into else into)
+        if key + bx - slack <= cut:
             tree.key[n_nodes] = key + bx - slack
             tree.slot[n_nodes] = NO_ENTRY
             tree.parent[n_nodes] = sl
@@ -905,39 +916,42 @@ def _root_lsap(cs, sols):
         i = root
         sink = -1
         while sink < 0:
-            # scan row i
-            rows[n_rows] = i
-            rows_d[n_rows] = min_val
+            # scan row i (unsigned indices: no negative-index wraparound)
+            iu = np.uint64(i)
+            rows[np.uint64(n_rows)] = i
+            rows_d[np.uint64(n_rows)] = min_val
             n_rows += 1
-            ui = u[i]
+            ui = u[iu]
             for o in range(M + 2):
-                cij = cost[i, o]
+                cij = cost[iu, np.uint64(o)]
                 if cij == np.inf:
                     continue
                 j = o if o < M else (M + i if o == M else M + P + i)
-                if row4col[j] < 0:  # a free column: the shared potential 0
+                ju = np.uint64(j)
+                if row4col[ju] < 0:  # a free column: the shared potential 0
                     dist = min_val + (cij - ui - 0.0)
                 else:
-                    dist = min_val + (cij - ui - v[j])
-                if dist < d[j]:  # (never for a scanned column, d = -inf)
-                    if d[j] == np.inf:
-                        cand[n_cand] = j
+                    dist = min_val + (cij - ui - v[ju])
+                if dist < d[ju]:  # (never for a scanned column, d = -inf)
+                    if d[ju] == np.inf:
+                        cand[np.uint64(n_cand)] = j
                         n_cand += 1
-                        touched[n_touched] = j
+                        touched[np.uint64(n_touched)] = j
                         n_touched += 1
-                    d[j] = dist
-                    path[j] = i
+                    d[ju] = dist
+                    path[ju] = i
             # the closest reached column; ties: a free one (it ends the path), the lowest index
             index = -1
             lowest = np.inf
             best_ends = False
             best_j = -1
             for it in range(n_cand):
-                j = cand[it]
-                dj = d[j]
+                j = cand[np.uint64(it)]
+                ju = np.uint64(j)
+                dj = d[ju]
                 if dj > lowest:
                     continue
-                ends = row4col[j] < 0
+                ends = row4col[ju] < 0
                 if dj < lowest or (ends and not best_ends) or (ends == best_ends and j < best_j):
                     lowest = dj
                     index = it
@@ -945,34 +959,38 @@ def _root_lsap(cs, sols):
                     best_j = j
             if index < 0:
                 return False
-            j = cand[index]
+            j = cand[np.uint64(index)]
+            ju = np.uint64(j)
             n_cand -= 1
-            cand[index] = cand[n_cand]
-            min_val = d[j]
-            done[n_done] = j
-            done_d[n_done] = min_val
+            cand[np.uint64(index)] = cand[np.uint64(n_cand)]
+            min_val = d[ju]
+            done[np.uint64(n_done)] = j
+            done_d[np.uint64(n_done)] = min_val
             n_done += 1
-            d[j] = -np.inf
-            if row4col[j] < 0:
-                v[j] = 0.0  # a free column about to be matched: its potential made explicit
+            d[ju] = -np.inf
+            if row4col[ju] < 0:
+                v[ju] = 0.0  # a free column about to be matched: its potential made explicit
                 sink = j
             else:
-                i = row4col[j]
+                i = row4col[ju]
         for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
-            u[rows[t]] += min_val - rows_d[t]
+            tu = np.uint64(t)
+            u[np.uint64(rows[tu])] += min_val - rows_d[tu]
         for t in range(n_done):
-            v[done[t]] -= min_val - done_d[t]
+            tu = np.uint64(t)
+            v[np.uint64(done[tu])] -= min_val - done_d[tu]
         j = sink
         while True:
-            r = path[j]
-            row4col[j] = r
-            prev = col4row[r]
-            col4row[r] = j
+            ju = np.uint64(j)
+            r = path[ju]
+            row4col[ju] = r
+            prev = col4row[np.uint64(r)]
+            col4row[np.uint64(r)] = j
             if r == root:
                 break
             j = prev
         for t in range(n_touched):
-            d[touched[t]] = np.inf
+            d[np.uint64(touched[np.uint64(t)])] = np.inf
     for i in range(P):
         c = col4row[i]
         sols.cols[0, i] = c
