@@ -82,6 +82,9 @@ _INITIAL_CAPACITY = 1024
 # Relative slack subtracted from a lower bound so that rounding can never lift it above the
 # exact cost it bounds (the order of the output then equals that of solving every child).
 _BOUND_SLACK = 1e-9
+#: Up to this many rows a partition keeps the reduced costs between its free rows (a
+#: ``P x P`` table) for its children's bounds; above, it computes them again.
+RC_ROWS = 128
 
 # ----------------------------------------------------------------------------- records
 #: The problem: ``cost0`` (P, M + 3) the compact costs ``[measurements | missed | dead]`` and
@@ -129,8 +132,11 @@ Ranking = namedtuple("Ranking", ["slot", "cost", "kbest"])
 
 #: Scratch of a partition, per row: ``entry_of`` the entry of its own column in ``cost``,
 #: ``order`` the free rows by decreasing bound, ``rank`` a row's position in it, ``lb`` its
-#: bound and ``lb_row`` the row whose column gives it (``-1``: a free column).
-PartitionWork = namedtuple("PartitionWork", ["entry_of", "order", "rank", "lb", "lb_row"])
+#: bound and ``lb_row`` the row whose column gives it (``-1``: a free column), ``free_rc`` its
+#: least reduced cost into a free column; ``rc`` (P, P) the reduced cost of row ``i`` in row
+#: ``r``'s column (kept for the children's bounds when ``P <= RC_ROWS``, else (1, 1) unused).
+PartitionWork = namedtuple("PartitionWork", ["entry_of", "order", "rank", "lb", "lb_row",
+                                             "free_rc", "rc"])
 
 #: The search's state between two calls of :func:`murty_slice`: the path workspace, the tree,
 #: the forbidden pairs, the solutions, the ranking, the partition's scratch and the counters
@@ -622,18 +628,42 @@ def _order_rows(cs, sr, sl, n_free, free_meas, v_free):
     """The bound ``lb[i]`` of each free row's child, the smallest reduced cost of an allowed,
     active alternative ``j != s[i]`` (and the row ``lb_row[i]`` whose column gives it), and
     ``order``: the free rows by decreasing bound, ties in row order (partition ordering), with
-    each one's ``rank`` in it."""
+    each one's ``rank`` in it. (As :func:`_row_bound` over the free rows, keeping ``rc`` and
+    ``free_rc``.)"""
+    cost, cost0 = cs.cost, cs.cost0
     pw, part, sols = sr.path, sr.part, sr.sols
-    order, rank, lb, lb_row = part.order, part.rank, part.lb, part.lb_row
-    op = pw.row
+    order, rank, lb, lb_row, free_rc, rcm = (part.order, part.rank, part.lb, part.lb_row,
+                                             part.free_rc, part.rc)
+    op, off, v = pw.row, pw.off, pw.v
     s_cols, s_u = sols.cols, sols.u
+    slu = np.uint64(sl)
+    keep = rcm.shape[0] == op.shape[0]
     for t in range(n_free):
-        i = op[t]
-        best, best_row = _row_bound(cs.cost, cs.cost0, pw, op, 0, n_free, i, s_cols[sl, i],
-                                    s_u[sl, i], free_meas, v_free)
-        lb_row[i] = best_row
+        i = op[np.uint64(t)]
+        iu = np.uint64(i)
+        ui = s_u[slu, iu]
+        oi = np.uint64(off[iu])
+        cost[iu, oi] = np.inf  # the row's own entry is no alternative
+        best = np.inf
+        best_row = -1
+        for t2 in range(n_free):
+            r = op[np.uint64(t2)]
+            ru = np.uint64(r)
+            rc = cost[iu, np.uint64(off[ru])] - ui - v[ru]
+            if keep:
+                rcm[iu, ru] = rc
+            if rc < best:
+                best = rc
+                best_row = r
+        cost[iu, oi] = cost0[iu, oi]
+        free = _least_free_rc(cost, pw.vf, free_meas, i, s_cols[slu, iu], ui, v_free)
+        free_rc[iu] = free
+        if free < best:
+            best = free
+            best_row = -1
+        lb_row[iu] = best_row
         x = 0.0 if 0.0 > best else best  # (max(best, 0.0) without the call)
-        lb[i] = x
+        lb[iu] = x
         # insert row i, keeping decreasing bounds, ties in row order
         b = t - 1
         while b >= 0 and (lb[order[b]] < x or (lb[order[b]] == x and order[b] > i)):
@@ -656,7 +686,8 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
     (``order[t + 1:]``) or from a dummy row (``v_free - v``). The path has both (its row's
     pair is forbidden) and every reduced cost is at least 0."""
     cost = cs.cost
-    entry_of, order, rank, lb, lb_row = sr.part
+    entry_of, order, rank, lb, lb_row, free_rc, rcm = sr.part
+    keep = rcm.shape[0] == order.shape[0]
     tree, forb, sols = sr.tree, sr.forb, sr.sols
     off = sr.path.off
     s_u = sols.u
@@ -679,18 +710,29 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
             # fixed before it (order[:t]) inactive as well, that is the distance its solve
             # would pop first. (Unless the column that gave lb[r] is now inactive, that is
             # lb[r] itself.)
-            bx, _ = _row_bound(cost, cs.cost0, sr.path, order, t, n_free, r, sols.cols[sl, r],
-                               s_u[sl, r], free_meas, v_free)
+            if keep:
+                bx = free_rc[np.uint64(r)]
+                for t2 in range(t, n_free):  # (rc[r, r] is +inf)
+                    x = rcm[np.uint64(r), np.uint64(order[np.uint64(t2)])]
+                    bx = x if x < bx else bx
+            else:
+                bx, _ = _row_bound(cost, cs.cost0, sr.path, order, t, n_free, r,
+                                   sols.cols[sl, r], s_u[sl, r], free_meas, v_free)
             bx = 0.0 if 0.0 > bx else bx
             if not (bx < np.inf and key + bx - slack <= cut):
                 continue
         f_off = np.uint64(off[np.uint64(r)])
         vr = sols.v[slu, np.uint64(r)]
         into = v_free - vr
-        for t2 in range(t + 1, n_free):
-            q = np.uint64(order[np.uint64(t2)])
-            rc = cost[q, f_off] - s_u[slu, q] - vr
-            into = rc if rc < into else into
+        if keep:
+            for t2 in range(t + 1, n_free):
+                x = rcm[np.uint64(order[np.uint64(t2)]), np.uint64(r)]
+                into = x if x < into else into
+        else:
+            for t2 in range(t + 1, n_free):
+                q = np.uint64(order[np.uint64(t2)])
+                rc = cost[q, f_off] - s_u[slu, q] - vr
+                into = rc if rc < into else into
         bx = bx + (0.0 if 0.0 > into else into)
         if key + bx - slack <= cut:
             tree.key[n_nodes] = key + bx - slack
@@ -1039,8 +1081,10 @@ def _new_solutions(n, P):
 @jit()
 def _new_partition_work(P):
     """A :data:`PartitionWork` for ``P`` rows."""
+    n = P if P <= RC_ROWS else 1
     return PartitionWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
-                         np.empty(P, dtype=np.int64), np.empty(P), np.empty(P, dtype=np.int64))
+                         np.empty(P, dtype=np.int64), np.empty(P), np.empty(P, dtype=np.int64),
+                         np.empty(P), np.empty((n, n)))
 
 
 @jit()
