@@ -245,11 +245,12 @@ def _free_duals(vf, cols, s, v_free):
     M = vf.shape[0]
     P = cols.shape[1]
     su = np.uint64(s)
-    n_taken = 0
-    for i in range(P):
-        n_taken += cols[su, np.uint64(i)] < M
-    if n_taken == M:
-        return False
+    if P >= M:  # (fewer rows than measurements: some measurement is always free)
+        n_taken = 0
+        for i in range(P):
+            n_taken += cols[su, np.uint64(i)] < M
+        if n_taken == M:
+            return False
     vf[:] = v_free
     for i in range(P):
         c = cols[su, np.uint64(i)]
@@ -321,9 +322,8 @@ def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
     freed column, then the lower column."""
     off, tie, v, d, via = pw.off, pw.tie, pw.v, pw.d, pw.via
     iu = np.uint64(i)
-    index = -1
-    lowest = np.inf
-    best_t = np.int64(-2)  # below every tie rank: an unreached column (d = inf) is never picked
+    index = 0
+    lowest = np.inf  # (an unreached column, d = inf, is never picked)
     for t in range(n_open):
         tu = np.uint64(t)  # (unsigned: no negative-index wraparound)
         dist = min_val + (cost[iu, np.uint64(off[tu])] - ui - v[tu])
@@ -332,12 +332,12 @@ def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
             dt = dist
             d[tu] = dist
             via[tu] = i
-        tt = tie[tu]
-        if dt < lowest or (dt == lowest and tt < best_t):
+        if dt < lowest:
             lowest = dt
-            best_t = tt
             index = t
-    return index
+        elif dt == lowest and tie[tu] < tie[np.uint64(index)]:
+            index = t
+    return index if lowest < np.inf else -1
 
 
 @jit(inline="always")
@@ -346,9 +346,8 @@ def _open_hub(pw, n_open, v_free, min_val):
     at reduced cost ``v_free - v``. Returns the position of the closest one afterwards
     (``-1``: none)."""
     tie, v, d, via = pw.tie, pw.v, pw.d, pw.via
-    index = -1
+    index = 0
     lowest = np.inf
-    best_t = np.int64(-2)
     for t in range(n_open):
         tu = np.uint64(t)
         dist = min_val + (v_free - v[tu])
@@ -357,12 +356,12 @@ def _open_hub(pw, n_open, v_free, min_val):
             dt = dist
             d[tu] = dist
             via[tu] = HUB
-        tt = tie[tu]
-        if dt < lowest or (dt == lowest and tt < best_t):
+        if dt < lowest:
             lowest = dt
-            best_t = tt
             index = t
-    return index
+        elif dt == lowest and tie[tu] < tie[np.uint64(index)]:
+            index = t
+    return index if lowest < np.inf else -1
 
 
 @jit(inline="always")
