@@ -123,12 +123,13 @@ Forbidden = namedtuple("Forbidden", ["row", "entry", "next"])
 
 #: Solved nodes: ``cols`` (n, P) the assignment, ``u`` (n, P) the row duals, ``v`` (n, P) the
 #: dual of each row's column, ``v_free`` the free columns' shared potential, ``cost`` the exact
-#: cost and ``scale`` the rounding scale of its children's solves (set when it is partitioned).
-Solutions = namedtuple("Solutions", ["cols", "u", "v", "v_free", "cost", "scale"])
+#: cost, ``scale`` the rounding scale of its children's solves (set when it is partitioned)
+#: and ``taken`` the number of measurements its rows take.
+Solutions = namedtuple("Solutions", ["cols", "u", "v", "v_free", "cost", "scale", "taken"])
 
-#: The output and the cut: ``slot``, ``cost`` the solution slot and cost of each reported node,
-#: ``kbest`` a max-heap of the least solved costs.
-Ranking = namedtuple("Ranking", ["slot", "cost", "kbest"])
+#: The output and the cut: ``slot`` the solution slot of each reported node, ``kbest`` a
+#: max-heap of the least solved costs.
+Ranking = namedtuple("Ranking", ["slot", "kbest"])
 
 #: Scratch of a partition, per row: ``entry_of`` the entry of its own column in ``cost``,
 #: ``order`` the free rows by decreasing bound, ``rank`` a row's position in it, ``lb`` its
@@ -239,20 +240,16 @@ def _is_full(sr, k, n_out, n_sols, n_nodes, n_forb, n_best):
 
 
 @jit(inline="always")
-def _free_duals(vf, cols, s, v_free):
+def _free_duals(vf, sols, s, v_free):
     """Fill ``vf`` for the free columns' pass of solution ``s``: ``v_free`` for a free
     measurement, ``-inf`` for one a row takes. Returns whether some measurement is free."""
     M = vf.shape[0]
-    P = cols.shape[1]
     su = np.uint64(s)
-    if P >= M:  # (fewer rows than measurements: some measurement is always free)
-        n_taken = 0
-        for i in range(P):
-            n_taken += cols[su, np.uint64(i)] < M
-        if n_taken == M:
-            return False
+    if sols.taken[su] == M:
+        return False
+    cols = sols.cols
     vf[:] = v_free
-    for i in range(P):
+    for i in range(cols.shape[1]):
         c = cols[su, np.uint64(i)]
         if c < M:
             vf[np.uint64(c)] = -np.inf
@@ -405,7 +402,7 @@ def _solve_node(cs, sr, node, cut, s):
     cut += _BOUND_SLACK * (sols.scale[ps] + abs(cut))  # (+inf stays +inf)
     v_free = sols.v_free[ps]
     n_open = _load_parent(pw, sols, forb, head, tree.end[node], ps)
-    free_meas = _free_duals(pw.vf, sols.cols, ps, v_free)
+    free_meas = _free_duals(pw.vf, sols, ps, v_free)
     _switch_off(cost, forb, head)
     # Dijkstra from the root's row. The free columns are one running minimum (free_d at
     # free_j, reached from free_row) until the first of them is scanned and opens the hub.
@@ -502,18 +499,22 @@ def _solve_node(cs, sr, node, cut, s):
 
 @jit(inline="always")
 def _store_cost(cs, sols, s, v_free):
-    """Set the free columns' potential and the cost of solution ``s`` (summed row by row
-    from ``0.0``); returns the cost."""
+    """Set the free columns' potential, the cost (summed row by row from ``0.0``) and the
+    number of measurements taken of solution ``s``; returns the cost."""
     cost0 = cs.cost0
     P = cost0.shape[0]
     M = cost0.shape[1] - 3
     s_cols = sols.cols
     su = np.uint64(s)
     key = 0.0
+    taken = 0
     for i in range(P):
-        key += cost0[np.uint64(i), np.uint64(_own_entry(i, s_cols[su, np.uint64(i)], M, P))]
-    sols.v_free[s] = v_free
-    sols.cost[s] = key
+        c = s_cols[su, np.uint64(i)]
+        key += cost0[np.uint64(i), np.uint64(_own_entry(i, c, M, P))]
+        taken += c < M
+    sols.v_free[su] = v_free
+    sols.cost[su] = key
+    sols.taken[su] = taken
     return key
 
 
@@ -756,7 +757,7 @@ def _partition(cs, sr, node, key, cut, n_nodes, n_forb):
     slack *= _BOUND_SLACK
     cut += slack + _BOUND_SLACK * abs(cut)  # the margin, as in a solve
     v_free = sols.v_free[sl]
-    free_meas = _free_duals(sr.path.vf, sols.cols, sl, v_free)
+    free_meas = _free_duals(sr.path.vf, sols, sl, v_free)
     _order_rows(cs, sr, sl, n_free, free_meas, v_free)
     n_nodes, n_forb = _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free,
                                      n_nodes, n_forb)
@@ -892,7 +893,6 @@ def _search(cs, sr, k, budget):
             # a solved node at the top: report it
             key = tree.key[node]
             sr.ranking.slot[n_out] = tree.slot[node]  # copied into the output at the end
-            sr.ranking.cost[n_out] = key
             n_out += 1
             n_stale += 1  # its cost, the least in kbest, stays there as a stale entry
             if n_out == k:
@@ -1074,7 +1074,7 @@ def _new_forbidden(n):
 def _new_solutions(n, P):
     """An empty :data:`Solutions` with room for ``n`` solutions of ``P`` rows."""
     return Solutions(np.empty((n, P), dtype=np.int64), np.empty((n, P)), np.empty((n, P)),
-                     np.empty(n), np.empty(n), np.empty(n))
+                     np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64))
 
 
 @jit()
@@ -1103,19 +1103,18 @@ def _grown_forbidden(f, n):
 def _grown_solutions(s, n):
     """:data:`Solutions` ``s`` copied into arrays with room for ``n`` solutions."""
     return Solutions(_grow(s.cols, n), _grow(s.u, n), _grow(s.v, n), _grow(s.v_free, n),
-                     _grow(s.cost, n), _grow(s.scale, n))
+                     _grow(s.cost, n), _grow(s.scale, n), _grow(s.taken, n))
 
 
 @jit()
 def _grown_ranking(r, n_out, n_best):
     """:data:`Ranking` ``r`` with room for ``n_out`` reported nodes and ``n_best`` costs."""
-    slot, cost, kbest = r
+    slot, kbest = r
     if n_out > slot.shape[0]:
         slot = _grow(slot, n_out)
-        cost = _grow(cost, n_out)
     if n_best > kbest.shape[0]:
         kbest = _grow(kbest, n_best)
-    return Ranking(slot, cost, kbest)
+    return Ranking(slot, kbest)
 
 
 # ----------------------------------------------------------------------------- entry points
@@ -1155,7 +1154,7 @@ def new_search(cs, k):
     out_cap = min(k, _INITIAL_CAPACITY)
     sr = Search(_new_path_work(P, M), _new_tree(cap, P), _new_forbidden(cap),
                 _new_solutions(_INITIAL_CAPACITY, P),
-                Ranking(np.empty(out_cap, dtype=np.int64), np.empty(out_cap), np.empty(out_cap)),
+                Ranking(np.empty(out_cap, dtype=np.int64), np.empty(out_cap)),
                 _new_partition_work(P), np.zeros(N_STATE, dtype=np.int64))
     if not _root_lsap(cs, sr.sols):
         return False, pack_search(sr)
@@ -1239,10 +1238,12 @@ def search_output(search):
     search, as documented in :func:`murty_compact_kernel`."""
     sr = unpack_search(search)
     P = sr.path.row.shape[0]
-    cols, out_slot, out_cost = sr.sols.cols, sr.ranking.slot, sr.ranking.cost
+    cols, cost, out_slot = sr.sols.cols, sr.sols.cost, sr.ranking.slot
     n_out = sr.state[S_OUT]
     out = np.empty((n_out, P), dtype=np.int64)
+    out_cost = np.empty(n_out)
     for t in range(n_out):
+        out_cost[t] = cost[out_slot[t]]
         for i in range(P):
             out[t, i] = cols[out_slot[t], i]
     # A stable insertion sort removes the rare last-bit inversion between a node and a child
@@ -1263,7 +1264,7 @@ def search_output(search):
         out_cost[b + 1] = x
         for i in range(P):
             out[b + 1, i] = row[i]
-    return out, out_cost[:n_out]
+    return out, out_cost
 
 
 @jit()
