@@ -921,122 +921,115 @@ def _search(cs, sr, k, budget):
 
 
 
-@jit()
-def _root_lsap(cs, sols):
+@jit(nrt=False)  # allocates nothing: no reference counts for the records it reads
+def _root_lsap(cs, pw, sols, free):
     """The root's LSAP, a cold shortest augmenting path from each row in turn, stored as
     solution 0 (``v_free = 0``); returns False when some row cannot be assigned.
 
     :func:`.lsap.sap_augment` with ``freed = COLD`` and ``v_free = 0`` (same arithmetic and
     tie-breaking: the least distance, then a free column, which ends the path, then the lower
-    column index), on the columns of the ``P x (M + 2P)`` layout, a scanned column marked by
-    ``d = -inf``. Row ``i`` has the entries ``cost[i, :M]`` (the measurements), ``cost[i, M]``
-    (column ``M + i``) and ``cost[i, M + 1]`` (column ``M + P + i``).
+    column index), by row as a solve is (module notes): the frontier is the columns of the
+    rows already assigned, and of the free columns (potential 0) only the closest matters,
+    since the first one scanned ends the path. ``free`` (M,) is scratch: the measurements no
+    row takes.
     """
     cost = cs.cost
     P = cost.shape[0]
     M = cost.shape[1] - 3
-    N = M + 2 * P
-    u = np.zeros(P)
-    v = np.zeros(N)
-    col4row = np.full(P, UNASSIGNED, dtype=np.int64)
-    row4col = np.full(N, UNASSIGNED, dtype=np.int64)
-    d = np.full(N, np.inf)
-    path = np.empty(N, dtype=np.int64)
-    cand = np.empty(N, dtype=np.int64)
-    touched = np.empty(N, dtype=np.int64)
-    done = np.empty(N, dtype=np.int64)
-    done_d = np.empty(N)
-    rows = np.empty(P, dtype=np.int64)
-    rows_d = np.empty(P)
+    row, off, tie, v, d = pw.row, pw.off, pw.tie, pw.v, pw.d
+    done, done_d, done_v, done_via, at = pw.done, pw.done_d, pw.done_v, pw.done_via, pw.at
+    cols, u, vs = sols.cols, sols.u, sols.v  # solution 0, built row by row
+    z = np.uint64(0)
+    for j in range(M):
+        free[np.uint64(j)] = j  # the measurements no row takes (potential 0)
+    n_free = M
     for root in range(P):
-        n_cand = 0
-        n_touched = 0
-        n_rows = 0
+        n_open = root  # the frontier: the columns of rows 0..root-1
+        for t in range(n_open):
+            tu = np.uint64(t)
+            c = cols[z, tu]
+            row[tu] = t
+            off[tu] = c if c < M else M + 2
+            tie[tu] = c
+            v[tu] = vs[z, tu]
+            d[tu] = np.inf
+        ru = np.uint64(root)
+        cols[z, ru] = UNASSIGNED
+        u[z, ru] = 0.0
         n_done = 0
         min_val = 0.0
         i = root
-        sink = -1
-        while sink < 0:
-            # scan row i (unsigned indices: no negative-index wraparound)
+        free_d = np.inf
+        free_j = -1
+        free_row = -1
+        while True:
             iu = np.uint64(i)
-            rows[np.uint64(n_rows)] = i
-            rows_d[np.uint64(n_rows)] = min_val
-            n_rows += 1
-            ui = u[iu]
-            for o in range(M + 2):
-                cij = cost[iu, np.uint64(o)]
-                if cij == np.inf:
-                    continue
-                j = o if o < M else (M + i if o == M else M + P + i)
-                ju = np.uint64(j)
-                if row4col[ju] < 0:  # a free column: the shared potential 0
-                    dist = min_val + (cij - ui - 0.0)
-                else:
-                    dist = min_val + (cij - ui - v[ju])
-                if dist < d[ju]:  # (never for a scanned column, d = -inf)
-                    if d[ju] == np.inf:
-                        cand[np.uint64(n_cand)] = j
-                        n_cand += 1
-                        touched[np.uint64(n_touched)] = j
-                        n_touched += 1
-                    d[ju] = dist
-                    path[ju] = i
-            # the closest reached column; ties: a free one (it ends the path), the lowest index
-            index = -1
-            lowest = np.inf
-            best_ends = False
-            best_j = -1
-            for it in range(n_cand):
-                j = cand[np.uint64(it)]
-                ju = np.uint64(j)
-                dj = d[ju]
-                if dj > lowest:
-                    continue
-                ends = row4col[ju] < 0
-                if dj < lowest or (ends and not best_ends) or (ends == best_ends and j < best_j):
-                    lowest = dj
-                    index = it
-                    best_ends = ends
-                    best_j = j
-            if index < 0:
+            ui = u[z, iu]
+            index = _relax_and_pick(cost, pw, n_open, i, ui, min_val)
+            # the free columns of row i: the measurements no row takes, its own missed and
+            # dead column unless it takes one (a row's column is never free: ci >= 0)
+            ci = cols[z, iu]
+            for t in range(n_free):
+                j = free[np.uint64(t)]
+                dist = min_val + (cost[iu, np.uint64(j)] - ui - 0.0)
+                if dist < free_d or (dist == free_d and j < free_j):
+                    free_d = dist
+                    free_j = j
+                    free_row = i
+            if ci != M + i:
+                dist = min_val + (cost[iu, np.uint64(M)] - ui - 0.0)
+                if dist < free_d or (dist == free_d and M + i < free_j):
+                    free_d = dist
+                    free_j = M + i
+                    free_row = i
+            if ci != M + P + i:
+                dist = min_val + (cost[iu, np.uint64(M + 1)] - ui - 0.0)
+                if dist < free_d or (dist == free_d and M + P + i < free_j):
+                    free_d = dist
+                    free_j = M + P + i
+                    free_row = i
+            # the closest column (ties: a free one, then the lower column)
+            if index >= 0 and d[np.uint64(index)] < free_d:
+                min_val = d[np.uint64(index)]
+                i = _scan(pw, index, n_open, n_done)
+                n_open -= 1
+                n_done += 1
+                continue
+            if free_d == np.inf:
                 return False
-            j = cand[np.uint64(index)]
-            ju = np.uint64(j)
-            n_cand -= 1
-            cand[np.uint64(index)] = cand[np.uint64(n_cand)]
-            min_val = d[ju]
-            done[np.uint64(n_done)] = j
-            done_d[np.uint64(n_done)] = min_val
-            n_done += 1
-            d[ju] = -np.inf
-            if row4col[ju] < 0:
-                v[ju] = 0.0  # a free column about to be matched: its potential made explicit
-                sink = j
-            else:
-                i = row4col[ju]
-        for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
-            tu = np.uint64(t)
-            u[np.uint64(rows[tu])] += min_val - rows_d[tu]
+            min_val = free_d
+            break
+        # duals (with the old matching), then the path flipped from the free column found
+        u[z, ru] += min_val - 0.0
         for t in range(n_done):
             tu = np.uint64(t)
-            v[np.uint64(done[tu])] -= min_val - done_d[tu]
-        j = sink
+            r = np.uint64(done[tu])
+            x = min_val - done_d[tu]
+            u[z, r] += x
+            done_v[tu] -= x
+            vs[z, r] = done_v[tu]
+        v_sink = 0.0
+        v_sink -= min_val - min_val
+        r = free_row
+        j = free_j
+        vj = v_sink
         while True:
-            ju = np.uint64(j)
-            r = path[ju]
-            row4col[ju] = r
-            prev = col4row[np.uint64(r)]
-            col4row[np.uint64(r)] = j
+            rq = np.uint64(r)
+            prev = cols[z, rq]
+            cols[z, rq] = j
+            vs[z, rq] = vj
             if r == root:
                 break
+            t = np.uint64(at[rq])  # the row's old column, scanned: reached from done_via
             j = prev
-        for t in range(n_touched):
-            d[np.uint64(touched[np.uint64(t)])] = np.inf
-    for i in range(P):
-        c = col4row[i]
-        sols.cols[0, i] = c
-        sols.u[0, i] = u[i]
-        sols.v[0, i] = v[c]
+            vj = done_v[t]
+            r = done_via[t]
+        if free_j < M:  # the measurement is taken now
+            t = 0
+            while free[np.uint64(t)] != free_j:
+                t += 1
+            n_free -= 1
+            free[np.uint64(t)] = free[np.uint64(n_free)]
     return True
 
 
@@ -1156,7 +1149,7 @@ def new_search(cs, k):
                 _new_solutions(_INITIAL_CAPACITY, P),
                 Ranking(np.empty(out_cap, dtype=np.int64), np.empty(out_cap)),
                 _new_partition_work(P), np.zeros(N_STATE, dtype=np.int64))
-    if not _root_lsap(cs, sr.sols):
+    if not _root_lsap(cs, sr.path, sr.sols, np.empty(M, dtype=np.int64)):
         return False, pack_search(sr)
     key0 = _store_cost(cs, sr.sols, 0, 0.0)
     sr.ranking.kbest[0] = key0
