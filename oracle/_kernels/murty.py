@@ -550,12 +550,15 @@ def _load_partition(cs, sr, node, sl, key):
     P = op.shape[0]
     M = pw.vf.shape[0]
     slu = np.uint64(sl)
-    slack = 1.0 + abs(key)
+    sum_c = 0.0  # (two sums: neither waits on the other; a margin needs no exact order)
+    sum_u = 0.0
     for i in range(P):
         iu = np.uint64(i)
         e = _own_entry(i, s_cols[slu, iu], M, P)
         entry_of[iu] = e
-        slack += abs(cost0[iu, np.uint64(e)]) + abs(s_u[slu, iu])
+        sum_c += abs(cost0[iu, np.uint64(e)])
+        sum_u += abs(s_u[slu, iu])
+    slack = 1.0 + abs(key) + sum_c + sum_u
     f = tree.forb[node]
     if f == NO_ENTRY:  # the root: every row is free
         n_free = P
