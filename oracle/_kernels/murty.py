@@ -78,6 +78,7 @@ __all__ = ["murty_compact_kernel", "murty_start", "murty_slice", "grow_search",
            "Solutions", "Ranking", "PartitionWork", "DONE", "PAUSED", "FULL"]
 
 NO_ENTRY = -1  # end of a forbidden-pair list; slot of a node that is not solved yet
+ESTIMATED = -2  # slot ESTIMATED - s: the node's solution is in slot s, its cost is estimated
 _INITIAL_CAPACITY = 1024
 # Relative slack subtracted from a lower bound so that rounding can never lift it above the
 # exact cost it bounds (the order of the output then equals that of solving every child).
@@ -388,8 +389,9 @@ def _scan(pw, t, n_open, n_done):
 def _solve_node(cs, sr, node, cut, s):
     """Solve the bounded ``node`` by one shortest augmenting path from its parent's duals
     and assignment minus ``(root, freed)`` (the algorithm of :func:`.lsap.sap_augment`, warm
-    start), unless the cut drops it; when solved, its solution is written into slot ``s``.
-    Returns ``(solved, v_free)``."""
+    start), unless the cut drops it; when solved, its solution (and ``v_free``) is written
+    into slot ``s``. Returns ``(solved, distance)``: the node costs its parent's cost plus the
+    distance, up to rounding."""
     cost = cs.cost
     pw, tree, forb, sols = sr.path, sr.tree, sr.forb, sr.sols
     done, done_d, done_v, done_via, at = pw.done, pw.done_d, pw.done_v, pw.done_via, pw.at
@@ -455,7 +457,7 @@ def _solve_node(cs, sr, node, cut, s):
         index = _relax_and_pick(cost, pw, n_open, i, s_u[ps, i], min_val)
     _switch_on(cost, cs.cost0, forb, head)
     if not solved:
-        return False, v_free
+        return False, min_val
     # The solution: the parent's; the duals of each scanned row and column moved by how far
     # it was passed (with the old matching); the path flipped from the freed column back to
     # the root.
@@ -494,13 +496,14 @@ def _solve_node(cs, sr, node, cut, s):
         if r == root:
             break
         e = r
-    return True, v_free
+    sols.v_free[su] = v_free
+    return True, min_val
 
 
 @jit(inline="always")
-def _store_cost(cs, sols, s, v_free):
-    """Set the free columns' potential, the cost (summed row by row from ``0.0``) and the
-    number of measurements taken of solution ``s``; returns the cost."""
+def _store_cost(cs, sols, s):
+    """Set the cost (summed row by row from ``0.0``) and the number of measurements taken of
+    solution ``s``; returns the cost."""
     cost0 = cs.cost0
     P = cost0.shape[0]
     M = cost0.shape[1] - 3
@@ -512,7 +515,6 @@ def _store_cost(cs, sols, s, v_free):
         c = s_cols[su, np.uint64(i)]
         key += cost0[np.uint64(i), np.uint64(_own_entry(i, c, M, P))]
         taken += c < M
-    sols.v_free[su] = v_free
     sols.cost[su] = key
     sols.taken[su] = taken
     return key
@@ -877,21 +879,34 @@ def _search(cs, sr, k, budget):
             cut = kbest[0]
         else:
             cut = np.inf
-        if tree.slot[node] == NO_ENTRY:
-            # a bounded node at the top: solve it and queue it again with its exact cost
-            solved, v_free = _solve_node(cs, sr, node, cut, n_sols)
+        sl = tree.slot[node]
+        if sl == NO_ENTRY:
+            # A bounded node at the top: solve it and queue it again with its cost up to
+            # rounding (its parent's cost plus the path's length, less the margin for rounding
+            # that the bounds use; and plus the margin in kbest): its exact cost, summed row by
+            # row, is only needed if it comes back to the top, and most solved nodes never do.
+            solved, dist = _solve_node(cs, sr, node, cut, n_sols)
             if solved:
-                key = _store_cost(cs, sr.sols, n_sols, v_free)
-                n_best = _keep_least(kbest, n_best, n_stale, k - n_out, key)
-                tree.slot[node] = n_sols
+                ps = tree.parent[node]
+                cost_ = sr.sols.cost[ps] + dist
+                margin = _BOUND_SLACK * (sr.sols.scale[ps] + abs(cost_))
+                n_best = _keep_least(kbest, n_best, n_stale, k - n_out, cost_ + margin)
+                tree.slot[node] = ESTIMATED - n_sols
                 n_sols += 1
-                tree.key[node] = key
-                kx = key  # back into the queue with its exact cost
+                kx = cost_ - margin
+                tree.key[node] = kx
                 x = node
             else:
                 n_heap -= 1  # the node leaves
                 kx = heap_key[n_heap]
                 x = heap_id[n_heap]
+        elif sl <= ESTIMATED:
+            # a solved node back at the top: its exact cost, and into the queue again with it
+            sl = ESTIMATED - sl
+            kx = _store_cost(cs, sr.sols, sl)
+            tree.slot[node] = sl
+            tree.key[node] = kx
+            x = node
         else:
             # a solved node at the top: report it
             key = tree.key[node]
@@ -1154,7 +1169,8 @@ def new_search(cs, k):
                 _new_partition_work(P), np.zeros(N_STATE, dtype=np.int64))
     if not _root_lsap(cs, sr.path, sr.sols, np.empty(M, dtype=np.int64)):
         return False, pack_search(sr)
-    key0 = _store_cost(cs, sr.sols, 0, 0.0)
+    sr.sols.v_free[0] = 0.0
+    key0 = _store_cost(cs, sr.sols, 0)
     sr.ranking.kbest[0] = key0
     tree = sr.tree
     tree.key[0] = key0
