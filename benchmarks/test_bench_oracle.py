@@ -17,11 +17,11 @@ The Murty targets are ratios against :func:`textbook_murty`, the plain algorithm
 written here (one :func:`scipy.optimize.linear_sum_assignment` per subproblem, every subproblem
 a cost matrix of its own, nothing shared between subproblems), on a dense ``20 x 20`` problem
 (``synthetic.random(R=20, M=20, rng=0)``: every pair allowed) for ``k = 100`` and on the GLMB
-layout ``P = 20, M = 50`` (``20 x 90``) for ``k = 1000``. A third group, without a target,
-times the square case of ``fastmurty``'s own benchmark (:func:`square_problem`). The three
-groups take Motro's C ``fastmurty`` (sparse and dense input) when a build of it is named in the
-environment (:mod:`_fastmurty`; skipped otherwise), so the C state of the art sits in the same
-table.
+layout ``P = 20, M = 50`` (``20 x 90``) for ``k = 1000``. A third case, without a target,
+times the square case of ``fastmurty``'s own benchmark (:func:`square_problem`). Each case is
+timed on seeds 0 (the targets' problem), 1 and 2, one group per case and seed. The groups take
+Motro's C ``fastmurty`` (sparse and dense input) when a build of it is named in the environment
+(:mod:`_fastmurty`; skipped otherwise), so the C state of the art sits in the same table.
 """
 
 import heapq
@@ -58,13 +58,16 @@ def square_problem(n=20, seed=0):
     return AssignmentProblem.from_cost(cost)
 
 
-# (group, problem, k) of the Murty targets against the textbook SciPy Murty, and the square
-# case of fastmurty's own benchmark (no target: the C library's home ground, for comparison)
+# (group, problem of a seed, k) of the Murty targets against the textbook SciPy Murty, and the
+# square case of fastmurty's own benchmark (no target: the C library's home ground, for
+# comparison); the targets are on seed 0, seeds 1 and 2 check that a comparison is not one
+# problem's
 TEXTBOOK_CASES = {
-    "dense 20x20 k=100": (lambda: synthetic.random(R=20, M=20, rng=0), 100),
-    "GLMB 20x50 k=1000": (lambda: synthetic.random(R=20, M=50, rng=0), 1000),
-    "square 20x20 k=100": (square_problem, 100),
+    "dense 20x20 k=100": (lambda seed: synthetic.random(R=20, M=20, rng=seed), 100),
+    "GLMB 20x50 k=1000": (lambda seed: synthetic.random(R=20, M=50, rng=seed), 1000),
+    "square 20x20 k=100": (lambda seed: square_problem(20, seed), 100),
 }
+SEEDS = [0, 1, 2]
 
 
 def textbook_murty(problem, k):
@@ -139,12 +142,14 @@ def test_bench_murty(benchmark, size, k, method):
 
 @pytest.mark.parametrize("method", ["oracle", "textbook-scipy", "fastmurty-sparse",
                                     "fastmurty-dense"])
+@pytest.mark.parametrize("seed", SEEDS)
 @pytest.mark.parametrize("group", sorted(TEXTBOOK_CASES))
-def test_bench_murty_vs_textbook(benchmark, group, method):
+def test_bench_murty_vs_textbook(benchmark, group, seed, method):
     make, k = TEXTBOOK_CASES[group]
-    problem = make()
-    benchmark.group = f"murty {group}"
-    benchmark.extra_info.update(P=problem.n_rows, M=problem.n_meas, k=k, method=method)
+    problem = make(seed)
+    benchmark.group = f"murty {group} seed={seed}"
+    benchmark.extra_info.update(P=problem.n_rows, M=problem.n_meas, k=k, seed=seed,
+                                method=method)
     if method == "oracle":
         costs = benchmark(murty, problem, k).costs
     elif method == "textbook-scipy":

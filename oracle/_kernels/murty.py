@@ -1,45 +1,60 @@
 """Compiled Murty k-best ranked assignment (spec §5.1) with the Miller–Stone–Cox improvements.
 
-The driver :func:`murty_kernel` takes the best open subproblem of the partition tree. A node
-that is only *bounded* is solved (one warm-started shortest augmenting path) and goes back
-into the queue with its exact cost; a *solved* node is reported and partitioned: its children
-enter the queue with a lower bound only, so most of them are never solved. Once ``k - n``
-solved nodes wait in the queue (``n`` reported), the largest of their costs (a max-heap of
-the least solved costs keeps it) is a cut: a solve stops as soon as its node is proven to
-cost more, and a child bounded above it is not created (under the cut a child's bound is its
-own first step: its row's least reduced cost with the columns of the rows fixed before it
-inactive too). Neither can ever be reported, so the output is unchanged. Forbidden pairs
-are switched on and off in the shared graph's ``cost`` array. Costs are accumulated row by
-row in the order ``0..P-1`` from ``0.0``, exactly as
-:meth:`rankedassign.AssignmentProblem.cost_of` does.
+The driver :func:`murty_compact_kernel` takes the best open subproblem of the partition tree.
+A node that is only *bounded* is solved (one warm-started shortest augmenting path) and goes
+back into the queue with its exact cost; a *solved* node is reported and partitioned: its
+children enter the queue with a lower bound only, so most of them are never solved. Once
+``k - n`` solved nodes wait in the queue (``n`` reported), the largest of their costs (a
+max-heap of the least solved costs keeps it) is a cut: a solve stops as soon as its node is
+proven to cost more, and a child bounded above it is not created (under the cut a child's
+bound is its own first step: its row's least reduced cost with the columns of the rows fixed
+before it inactive too). Neither can ever be reported, so the output is unchanged. Forbidden
+pairs are switched on and off in the shared cost matrix. Costs are accumulated row by row in
+the order ``0..P-1`` from ``0.0``, exactly as :meth:`rankedassign.AssignmentProblem.cost_of`
+does.
 
-Records. The search's state is a :data:`Search` of named records: the assignment state of the
-node at hand (:data:`.lsap.Matching`), the workspace of one augmenting path
-(:data:`PathWork`), the partition tree and its queue (:data:`Tree`), the forbidden-pair lists
-(:data:`Forbidden`), the solved nodes (:data:`Solutions`), the output and the cut
-(:data:`Ranking`), the partition's scratch (:data:`PartitionWork`) and the counters
-(``state``, indexed by ``S_*``); the problem is a :data:`.lsap.Graph`. A record crosses into
-Python as a plain tuple (:func:`pack_search`; see :mod:`rankedassign.numba_options`,
-"Signals").
+The residual problem, row by row. The problem is the compact ``(P, M + 2)`` matrix (the
+measurements, the row's own missed and dead column), held as :data:`CompactCosts`; columns
+are numbered as in the ``P x (M + 2P)`` layout (``M + i`` missed, ``M + P + i`` dead for row
+``i``). A subproblem's columns are of three kinds. Its *fixed* rows' columns are out of it.
+Each *open* row's column (the parent's solution; for the row whose pair the subproblem
+forbids, the *freed* column, where the augmenting path ends) has a dual of its own: so these
+columns are indexed by their row, and the shortest-path search keeps its distances, its
+frontier and its tree in arrays of ``P`` entries (:data:`PathWork`), scanning only the open
+rows' columns: ``O(P_open)`` per step however many measurements and fixed rows there are.
+The other columns are *free* (held by the zero-cost dummy rows that make the rectangular
+problem square): measurements no row takes, and every row's own missed or dead column that
+it does not take. They share one dual ``v_free``, and only the closest of them can ever be
+scanned (the first one scanned opens the dummy rows' hub, and then no free column is needed
+any more), so the search keeps one running minimum for all of them instead of a frontier.
+A row's own free columns are two entries; the free measurements are one pass over the row's
+measurements, made only when some measurement is free and only until the hub opens. The
+results are those of the column-indexed search of :func:`.lsap.sap_augment` (same arithmetic
+and tie-breaking: the least distance, then the freed column, then the lower column index),
+which the partition's bounds and the search's order depend on, bit for bit.
+
+Records. The search's state is a :data:`Search` of named records: the workspace of one
+augmenting path, indexed by row (:data:`PathWork`), the partition tree and its queue
+(:data:`Tree`), the forbidden-pair lists (:data:`Forbidden`), the solved nodes
+(:data:`Solutions`), the output and the cut (:data:`Ranking`), the partition's scratch
+(:data:`PartitionWork`) and the counters (``state``, indexed by ``S_*``); the problem is a
+:data:`CompactCosts`. A record crosses into Python as a plain tuple (:func:`pack_search`; see
+:mod:`rankedassign.numba_options`, "Signals").
 
 Layout for speed. The search (:func:`_search`) is one compiled loop on flat arrays that it
-never reallocates: the warm-started augmenting path (the algorithm of
-:func:`.lsap.sap_augment`, same arithmetic and tie-breaking) runs on the search's own arrays,
-and the tree, the solutions, the forbidden-pair lists and the heap are plain arrays indexed by
-integers. When an array is full the loop returns, the arrays are grown (:func:`grow_search`)
-and it is called again. At these sizes (tens of rows, about one augmenting path of one or two
-row scans per reported assignment) calls between compiled functions that each receive a dozen
-arrays, array views made per node and arrays rebound inside the loop (each costs atomic
-reference count updates) cost as much as the arithmetic. The loop's phases (solve a node:
-:func:`_solve_node`; partition one: :func:`_partition`; the heap's sift-down and push) are
-functions of their own, compiled with ``inline="always"``: numba writes each into its caller
-before typing, so the loop is still one function and nothing is called, allocated or
-reference-counted per node. Further savings that leave every result bit for bit unchanged:
-the partition's bounds read each column's dual from one array (``-inf`` for the columns of
-fixed rows) without branches; the top of the heap is replaced in one sift-down (by the node
-itself once solved, by its first child once partitioned); a scanned column is marked by
-``d = -inf``; and a warm start keeps only the closest free column of its first row when that
-column opens the dummy-row hub (the other free columns would leave the frontier unscanned).
+never reallocates: the tree, the solutions, the forbidden-pair lists and the heap are plain
+arrays indexed by integers. When an array is full the loop returns, the arrays are grown
+(:func:`grow_search`) and it is called again. At these sizes calls between compiled
+functions that each receive a dozen arrays, array views made per node and arrays rebound
+inside the loop (each costs atomic reference count updates) cost as much as the arithmetic.
+The loop's phases (solve a node: :func:`_solve_node`; partition one: :func:`_partition`; the
+heap's sift-down and push) are functions of their own, compiled with ``inline="always"``:
+numba writes each into its caller before typing, so the loop is still one function and
+nothing is called, allocated or reference-counted per node. Further savings that leave every
+result bit for bit unchanged: a step of the search relaxes the scanned row and picks the
+closest column in one pass over the open rows; a solve writes its solution straight into its
+slot (nothing shared to restore when the cut drops it); the top of the heap is replaced in
+one sift-down (by the node itself once solved, by its first child once partitioned).
 
 Slices. The loop also returns after a budget of iterations, so that :func:`oracle.murty`
 can run the search in slices (:func:`murty_compact_start`, then :func:`murty_slice` until
@@ -55,60 +70,80 @@ import numpy as np
 
 from rankedassign.numba_options import jit
 
-from .lsap import HUB, UNASSIGNED, Graph, Matching, new_matching
+from .lsap import HUB, UNASSIGNED
 
-__all__ = ["murty_kernel", "murty_compact_kernel", "murty_start", "murty_slice", "grow_search",
-           "search_output", "pack_search", "unpack_search", "compact_graph",
-           "murty_compact_start", "Search", "PathWork", "Tree", "Forbidden", "Solutions",
-           "Ranking", "PartitionWork", "DONE", "PAUSED", "FULL"]
+__all__ = ["murty_compact_kernel", "murty_start", "murty_slice", "grow_search",
+           "search_output", "pack_search", "unpack_search", "compact_costs",
+           "murty_compact_start", "CompactCosts", "Search", "PathWork", "Tree", "Forbidden",
+           "Solutions", "Ranking", "PartitionWork", "DONE", "PAUSED", "FULL"]
 
 NO_ENTRY = -1  # end of a forbidden-pair list; slot of a node that is not solved yet
+ESTIMATED = -2  # slot ESTIMATED - s: the node's solution is in slot s, its cost is estimated
 _INITIAL_CAPACITY = 1024
 # Relative slack subtracted from a lower bound so that rounding can never lift it above the
 # exact cost it bounds (the order of the output then equals that of solving every child).
 _BOUND_SLACK = 1e-9
+#: Up to this many rows a partition keeps the reduced costs between its free rows (a
+#: ``P x P`` table) for its children's bounds; above, it computes them again.
+RC_ROWS = 128
 
 # ----------------------------------------------------------------------------- records
-#: Workspace of one shortest augmenting path: ``d`` (N,) the distance of each column
-#: (``+inf`` unreached, ``-inf`` scanned), ``path`` (N,) the row it was reached from (or
-#: ``HUB``), ``cand`` (N,) the reached, unscanned columns, ``touched`` (N,) every column whose
-#: distance was set (to clean ``d``), ``done``, ``done_d`` (N,) the scanned columns and their
-#: distances, ``rows``, ``rows_d`` (P,) the scanned rows and their distances.
-PathWork = namedtuple("PathWork", ["d", "path", "cand", "touched", "done", "done_d", "rows",
-                                   "rows_d"])
+#: The problem: ``cost0`` (P, M + 3) the compact costs ``[measurements | missed | dead]`` and
+#: a last column of ``+inf`` (the entry of another row's own missed or dead column, which no
+#: row but its owner can take); ``cost`` a copy in which the forbidden pairs of the node at
+#: hand are switched to ``+inf`` for a while.
+CompactCosts = namedtuple("CompactCosts", ["cost", "cost0"])
+
+#: Workspace of one shortest augmenting path. Per position ``t`` of the frontier (the open
+#: rows whose columns are not scanned yet, ``n_open`` of them): ``row`` the row, ``off`` the
+#: entry of its column in another row of ``cost`` (``M + 2``, ``+inf``, for a row's own missed
+#: or dead column), ``tie`` the column's rank among columns at equal distance (the column,
+#: ``-1`` for the freed one), ``v`` its dual, ``d`` its distance and ``via`` the row it was
+#: reached from (``HUB``: through the dummy rows). Per scanned column, in order: ``done`` its
+#: row, ``done_d``, ``done_v``, ``done_via`` its distance, dual and the row it was reached
+#: from; ``at`` (per row) the position of the row's column in ``done``. ``vf`` (M,) the dual
+#: subtracted for each measurement by the free columns' pass (``v_free``, or ``-inf`` for a
+#: measurement some row takes). A partition uses ``off`` and ``v`` per row.
+PathWork = namedtuple("PathWork", ["row", "off", "tie", "v", "d", "via", "done", "done_d",
+                                   "done_v", "done_via", "at", "vf"])
 
 #: The partition tree and its queue, per node: ``key`` its heap key (exact cost once solved, a
 #: lower bound before), ``slot`` its solution (``NO_ENTRY`` until solved), ``parent`` the slot
 #: of its parent's solution, ``forb`` the head of its forbidden-pair list (its own pair first,
-#: then the ancestors'), ``fixed`` (n, ceil(P / 64)) the rows fixed to the parent's columns as
-#: bits, 64 to a word; ``heap_key``, ``heap_id`` the binary heap of ``(key, node id)``.
-Tree = namedtuple("Tree", ["key", "slot", "parent", "forb", "fixed", "heap_key", "heap_id"])
+#: then the ancestors'), ``end`` the end of its open rows: ``forb.row[forb:end]`` (its own
+#: row, then the rows its parent partitioned after it; every other row is fixed to the
+#: parent's column); ``heap_key``, ``heap_id`` the binary heap of ``(key, node id)``. The root
+#: has no forbidden pair (``forb = end = NO_ENTRY``) and every row open.
+Tree = namedtuple("Tree", ["key", "slot", "parent", "forb", "end", "heap_key", "heap_id"])
 
 #: The forbidden-pair lists (a node's list continues into its ancestors'): per entry the
-#: ``row``, the graph ``entry`` and the ``next`` entry (``NO_ENTRY`` ends a list).
+#: ``row``, its ``entry`` (the column of ``cost``) and the ``next`` entry (``NO_ENTRY`` ends a
+#: list). A partition writes one entry per free row, in its order, whether or not the child is
+#: created, so that ``row`` also lists each child's open rows.
 Forbidden = namedtuple("Forbidden", ["row", "entry", "next"])
 
 #: Solved nodes: ``cols`` (n, P) the assignment, ``u`` (n, P) the row duals, ``v`` (n, P) the
 #: dual of each row's column, ``v_free`` the free columns' shared potential, ``cost`` the exact
-#: cost and ``scale`` the rounding scale of its children's solves (set when it is partitioned).
-Solutions = namedtuple("Solutions", ["cols", "u", "v", "v_free", "cost", "scale"])
+#: cost, ``scale`` the rounding scale of its children's solves (set when it is partitioned)
+#: and ``taken`` the number of measurements its rows take.
+Solutions = namedtuple("Solutions", ["cols", "u", "v", "v_free", "cost", "scale", "taken"])
 
-#: The output and the cut: ``slot``, ``cost`` the solution slot and cost of each reported node,
-#: ``kbest`` a max-heap of the least solved costs.
-Ranking = namedtuple("Ranking", ["slot", "cost", "kbest"])
+#: The output and the cut: ``slot`` the solution slot of each reported node, ``kbest`` a
+#: max-heap of the least solved costs.
+Ranking = namedtuple("Ranking", ["slot", "kbest"])
 
-#: Scratch of a partition (``vx`` also of a solve), per row: ``entry_of`` the graph entry of
-#: its column, ``order`` the free rows by decreasing bound, ``lb`` its bound and ``lb_col`` the
-#: column that gives it; ``fix_now`` the rows fixed so far as bits; ``vx`` (N,) the dual
-#: subtracted for each column (``-inf``: inactive).
-PartitionWork = namedtuple("PartitionWork", ["entry_of", "order", "lb", "lb_col", "fix_now",
-                                             "vx"])
+#: Scratch of a partition, per row: ``entry_of`` the entry of its own column in ``cost``,
+#: ``order`` the free rows by decreasing bound, ``rank`` a row's position in it, ``lb`` its
+#: bound and ``lb_row`` the row whose column gives it (``-1``: a free column), ``free_rc`` its
+#: least reduced cost into a free column; ``rc`` (P, P) the reduced cost of row ``i`` in row
+#: ``r``'s column (kept for the children's bounds when ``P <= RC_ROWS``, else (1, 1) unused).
+PartitionWork = namedtuple("PartitionWork", ["entry_of", "order", "rank", "lb", "lb_row",
+                                             "free_rc", "rc"])
 
-#: The search's state between two calls of :func:`murty_slice`: the assignment state
-#: (:data:`.lsap.Matching`), the path workspace, the tree, the forbidden pairs, the solutions,
-#: the ranking, the partition's scratch and the counters ``state`` (int64, ``S_*``).
-Search = namedtuple("Search", ["match", "path", "tree", "forb", "sols", "ranking", "part",
-                               "state"])
+#: The search's state between two calls of :func:`murty_slice`: the path workspace, the tree,
+#: the forbidden pairs, the solutions, the ranking, the partition's scratch and the counters
+#: ``state`` (int64, ``S_*``).
+Search = namedtuple("Search", ["path", "tree", "forb", "sols", "ranking", "part", "state"])
 
 # entries of the ``state`` array that carries the search's counters across calls of _search
 S_HEAP = 0  # nodes in the heap
@@ -121,13 +156,6 @@ S_STALE = 6  # entries of kbest that belong to reported nodes
 S_ITER = 7  # iterations run (nodes taken from the top of the queue)
 N_STATE = 8
 
-#: The end of one shortest augmenting path (:func:`_shortest_path`): the column it reached
-#: (``-1``: none, or the node was dropped by the cut), its distance, the rows and columns
-#: scanned, the columns touched, and the dummy-held column that opened the hub (``-1``: the hub
-#: stayed closed) with its distance.
-PathEnd = namedtuple("PathEnd", ["sink", "min_val", "n_rows", "n_done", "n_touched", "hub_src",
-                                 "hub_dist"])
-
 
 @jit()
 def pack_search(sr):
@@ -137,15 +165,15 @@ def pack_search(sr):
     exception crashes numba's return path (a segmentation fault, not an error); a plain tuple
     is built in C and only ever raises. :func:`unpack_search` names it again in compiled code.
     """
-    return (sr.match[:], sr.path[:], sr.tree[:], sr.forb[:], sr.sols[:], sr.ranking[:],
-            sr.part[:], sr.state)
+    return (sr.path[:], sr.tree[:], sr.forb[:], sr.sols[:], sr.ranking[:], sr.part[:],
+            sr.state)
 
 
 @jit(inline="always")
 def unpack_search(t):
     """The :data:`Search` of a packed one (:func:`pack_search`)."""
-    return Search(Matching(*t[0]), PathWork(*t[1]), Tree(*t[2]), Forbidden(*t[3]),
-                  Solutions(*t[4]), Ranking(*t[5]), PartitionWork(*t[6]), t[7])
+    return Search(PathWork(*t[0]), Tree(*t[1]), Forbidden(*t[2]), Solutions(*t[3]),
+                  Ranking(*t[4]), PartitionWork(*t[5]), t[6])
 
 
 # ----------------------------------------------------------------------------- small helpers
@@ -175,12 +203,9 @@ def _sift_down_max(a, n, h, x):
 
 
 @jit(inline="always")
-def _least_reduced_cost(ptr, col, cost, vx, i, ui):
-    """The least ``cost - u_i - vx[j]`` over row ``i``'s entries (the partition's bounds)."""
-    best = np.inf
-    for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
-        best = min(best, cost[e] - ui - vx[np.uint64(col[e])])
-    return best
+def _own_entry(i, c, M, P):
+    """The entry of row ``i``'s column ``c`` in its row of the compact costs."""
+    return c if c < M else (M if c < M + P else M + 1)
 
 
 @jit(inline="always")
@@ -188,8 +213,9 @@ def _switch_off(cost, forb, head):
     """Forbid every pair of the list that starts at ``head``: its cost becomes ``+inf``."""
     g = head
     while g != NO_ENTRY:
-        cost[forb.entry[g]] = np.inf
-        g = forb.next[g]
+        gu = np.uint64(g)
+        cost[np.uint64(forb.row[gu]), np.uint64(forb.entry[gu])] = np.inf
+        g = forb.next[gu]
 
 
 @jit(inline="always")
@@ -197,333 +223,300 @@ def _switch_on(cost, cost0, forb, head):
     """Allow the pairs of the list that starts at ``head`` again (their costs from ``cost0``)."""
     g = head
     while g != NO_ENTRY:
-        e = forb.entry[g]
-        cost[e] = cost0[e]
-        g = forb.next[g]
+        gu = np.uint64(g)
+        i = np.uint64(forb.row[gu])
+        e = np.uint64(forb.entry[gu])
+        cost[i, e] = cost0[i, e]
+        g = forb.next[gu]
 
 
 @jit(inline="always")
 def _is_full(sr, k, n_out, n_sols, n_nodes, n_forb, n_best):
     """Whether some array of ``sr`` lacks room for the next iteration's worst case (``P``
     children; kbest never holds more than ``k``)."""
-    P = sr.match.col4row.shape[0]
+    P = sr.path.row.shape[0]
     return (n_out == sr.ranking.slot.shape[0] or n_sols == sr.sols.cols.shape[0]
             or n_nodes + P > sr.tree.key.shape[0] or n_forb + P > sr.forb.row.shape[0]
             or n_best == sr.ranking.kbest.shape[0] < k)
 
 
+@jit(inline="always")
+def _free_duals(vf, sols, s, v_free):
+    """Fill ``vf`` for the free columns' pass of solution ``s``: ``v_free`` for a free
+    measurement, ``-inf`` for one a row takes. Returns whether some measurement is free."""
+    M = vf.shape[0]
+    su = np.uint64(s)
+    if sols.taken[su] == M:
+        return False
+    cols = sols.cols
+    vf[:] = v_free
+    for i in range(cols.shape[1]):
+        c = cols[su, np.uint64(i)]
+        if c < M:
+            vf[np.uint64(c)] = -np.inf
+    return True
+
+
+@jit(inline="always")
+def _least_free(cost, vf, free_meas, i, ci, ui, v_free, min_val):
+    """The closest free column of row ``i`` (its column ``ci``, dual ``ui``) reached at
+    ``min_val``: ``(distance, column)``, the lower column among equal distances (``+inf, -1``:
+    none). The free measurements (``vf``, when ``free_meas``), then the row's own missed and
+    dead columns when it does not take them."""
+    M = vf.shape[0]
+    P = cost.shape[0]
+    iu = np.uint64(i)
+    best = np.inf
+    best_j = -1
+    if free_meas:
+        for j in range(M):
+            ju = np.uint64(j)
+            dist = min_val + (cost[iu, ju] - ui - vf[ju])
+            if dist < best:
+                best = dist
+                best_j = j
+    if ci != M + i:
+        dist = min_val + (cost[iu, np.uint64(M)] - ui - v_free)
+        if dist < best:
+            best = dist
+            best_j = M + i
+    if ci != M + P + i:
+        dist = min_val + (cost[iu, np.uint64(M + 1)] - ui - v_free)
+        if dist < best:
+            best = dist
+            best_j = M + P + i
+    return best, best_j
+
+
 # ----------------------------------------------------------------------------- solve a node
 @jit(inline="always")
-def _load_warm_start(g, m, vx, tree, forb, sols, node):
-    """Load the warm start of the bounded ``node`` into ``m``: its parent's duals and
-    assignment minus ``(root, freed)``, its fixed rows' columns inactive and its forbidden
-    pairs switched off; ``vx`` the dual of each column (``-inf`` if inactive), as in the
-    partition. Returns ``(root, freed, v_free)``."""
-    cost = g.cost
-    u, v, col4row, row4col, active = m
-    fixed = tree.fixed
-    s_cols, s_u, s_v = sols.cols, sols.u, sols.v
-    P = col4row.shape[0]
-    ps = tree.parent[node]
-    f = tree.forb[node]
-    root = forb.row[f]
-    v_free = sols.v_free[ps]
-    vx[:] = v_free
-    for i in range(P):
-        c = s_cols[ps, i]
-        col4row[i] = c
-        row4col[c] = i
-        vc = s_v[ps, i]
-        v[c] = vc  # free columns: the shared potential, never read
-        if (fixed[node, i >> 6] >> (i & 63)) & 1:
-            active[c] = False  # a fixed row's column is out of the residual problem
-            vx[c] = -np.inf
-        else:
-            vx[c] = vc
-        u[i] = s_u[ps, i]
-    freed = s_cols[ps, root]
-    col4row[root] = UNASSIGNED
-    row4col[freed] = UNASSIGNED
-    _switch_off(cost, forb, f)
-    return root, freed, v_free
+def _load_parent(pw, sols, forb, f, end, ps):
+    """Load the open rows of a node (``forb.row[f:end]``, the first one ``root``, whose pair
+    it forbids: its column is the freed one) and their columns in solution ``ps`` (its
+    parent) into the frontier of ``pw``. Returns the number of open rows."""
+    row, off, tie, v, d = pw.row, pw.off, pw.tie, pw.v, pw.d
+    s_cols, s_v = sols.cols, sols.v
+    M = pw.vf.shape[0]
+    rows = forb.row
+    n_open = end - f
+    pu = np.uint64(ps)
+    for t in range(n_open):
+        tu = np.uint64(t)
+        r = rows[np.uint64(f + t)]
+        row[tu] = r
+        c = s_cols[pu, np.uint64(r)]
+        off[tu] = c if c < M else M + 2
+        tie[tu] = c
+        v[tu] = s_v[pu, np.uint64(r)]
+        d[tu] = np.inf
+    tie[0] = -1  # the freed column ends the path: first among equal distances
+    return n_open
 
 
 @jit(inline="always")
-def _scan_root(g, m, pw, vx, root, freed):
-    """Scan the root's row first, when nothing is reached yet; returns ``(n_cand, index)``.
+def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
+    """Relax row ``i`` (dual ``ui``, reached at ``min_val``) into the frontier's columns and
+    return the position of the closest one (``-1``: none reached): ties by ``tie``, so the
+    freed column, then the lower column."""
+    off, tie, v, d, via = pw.off, pw.tie, pw.v, pw.d, pw.via
+    iu = np.uint64(i)
+    index = 0
+    lowest = np.inf  # (an unreached column, d = inf, is never picked)
+    for t in range(n_open):
+        tu = np.uint64(t)  # (unsigned: no negative-index wraparound)
+        dist = min_val + (cost[iu, np.uint64(off[tu])] - ui - v[tu])
+        dt = d[tu]
+        if dist < dt:
+            dt = dist
+            d[tu] = dist
+            via[tu] = i
+        if dt < lowest:
+            lowest = dt
+            index = t
+        elif dt == lowest and tie[tu] < tie[np.uint64(index)]:
+            index = t
+    return index if lowest < np.inf else -1
 
-    Every allowed, active entry is reached (``vx`` gives ``+inf`` for the others), and the
-    closest column is picked in the same pass. Of the dummy-held (free) columns only the
-    closest is kept at first: when it is the closest of all, the hub opens through it and the
-    other free columns would leave the frontier unscanned anyway; otherwise a second pass
-    reaches them too. The reached columns are the first ``n_cand`` touched ones.
-    """
-    ptr, col, cost = g.ptr, g.col, g.cost
-    row4col = m.row4col
-    d, path, cand, touched = pw.d, pw.path, pw.cand, pw.touched
-    n_cand = 0
-    min_val = 0.0
-    ui = m.u[root]
-    index = -1  # the closest matched (or the freed) column
+
+@jit(inline="always")
+def _open_hub(pw, n_open, v_free, min_val):
+    """A free column was scanned at ``min_val``: the dummy rows reach every frontier column
+    at reduced cost ``v_free - v``. Returns the position of the closest one afterwards
+    (``-1``: none)."""
+    tie, v, d, via = pw.tie, pw.v, pw.d, pw.via
+    index = 0
     lowest = np.inf
-    best_ends = False
-    best_j = -1
-    free_low = np.inf  # the closest free column
-    free_j = -1
-    for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
-        j = col[e]
-        ju = np.uint64(j)  # unsigned indices: no negative-index wraparound
-        dist = min_val + (cost[e] - ui - vx[ju])
-        if dist < np.inf:
-            if row4col[ju] < 0 and j != freed:
-                if dist < free_low or (dist == free_low and j < free_j):
-                    free_low = dist
-                    free_j = j
-                continue
-            cand[np.uint64(n_cand)] = j
-            d[ju] = dist
-            path[ju] = root
-            ends = j == freed
-            if dist < lowest or (dist == lowest and ((ends and not best_ends)
-                                                     or (ends == best_ends and j < best_j))):
-                lowest = dist
-                index = n_cand
-                best_ends = ends
-                best_j = j
-            n_cand += 1
-    if free_j >= 0:
-        if index < 0 or free_low < lowest or (free_low == lowest and not best_ends
-                                              and free_j < best_j):
-            cand[n_cand] = free_j  # the closest of all: the only free one needed
-            d[free_j] = free_low
-            path[free_j] = root
-            index = n_cand
-            n_cand += 1
-        else:
-            for e in range(np.uint64(ptr[root]), np.uint64(ptr[root + 1])):
-                j = col[e]
-                ju = np.uint64(j)
-                if row4col[ju] < 0 and j != freed:
-                    dist = min_val + (cost[e] - ui - vx[ju])
-                    if dist < np.inf:
-                        cand[np.uint64(n_cand)] = j
-                        d[ju] = dist
-                        path[ju] = root
-                        n_cand += 1
-    for t in range(n_cand):
-        touched[t] = cand[t]
-    return n_cand, index
+    for t in range(n_open):
+        tu = np.uint64(t)
+        dist = min_val + (v_free - v[tu])
+        dt = d[tu]
+        if dist < dt:
+            dt = dist
+            d[tu] = dist
+            via[tu] = HUB
+        if dt < lowest:
+            lowest = dt
+            index = t
+        elif dt == lowest and tie[tu] < tie[np.uint64(index)]:
+            index = t
+    return index if lowest < np.inf else -1
 
 
 @jit(inline="always")
-def _open_hub(m, pw, freed, v_free, min_val, n_cand, n_touched):
-    """A dummy-held column was scanned at ``min_val``: open the hub, every column reachable
-    through it (the dummy rows' edges, reduced cost ``v_free - v[k]``); the dummy-held columns
-    leave the frontier. Returns ``(n_cand, n_touched)``."""
-    v, col4row, row4col, active = m.v, m.col4row, m.row4col, m.active
-    d, path, cand, touched = pw.d, pw.path, pw.cand, pw.touched
-    P = col4row.shape[0]
-    it = 0
-    while it < n_cand:
-        q = cand[it]
-        if row4col[q] < 0 and q != freed:
-            n_cand -= 1
-            cand[it] = cand[n_cand]
-        else:
-            it += 1
-    for q in range(-1, P):
-        kk = freed if q < 0 else col4row[q]
-        if kk >= 0 and active[kk] and d[kk] != -np.inf:
-            dist = min_val + (v_free - v[kk])
-            if dist < d[kk]:
-                if d[kk] == np.inf:
-                    cand[n_cand] = kk
-                    n_cand += 1
-                    touched[n_touched] = kk
-                    n_touched += 1
-                d[kk] = dist
-                path[kk] = HUB
-    return n_cand, n_touched
+def _scan(pw, t, n_open, n_done):
+    """Move the frontier's column at position ``t`` to the scanned ones (``done``); returns
+    its row."""
+    row, off, tie, v, d, via = pw.row, pw.off, pw.tie, pw.v, pw.d, pw.via
+    t = np.uint64(t)
+    n = np.uint64(n_done)
+    r = row[t]
+    pw.done[n] = r
+    pw.done_d[n] = d[t]
+    pw.done_v[n] = v[t]
+    pw.done_via[n] = via[t]
+    pw.at[np.uint64(r)] = n_done
+    last = np.uint64(n_open - 1)
+    row[t] = row[last]
+    off[t] = off[last]
+    tie[t] = tie[last]
+    v[t] = v[last]
+    d[t] = d[last]
+    via[t] = via[last]
+    return r
 
 
 @jit(inline="always")
-def _scan_row(g, m, pw, i, freed, v_free, hub_open, min_val, n_cand, n_touched):
-    """Relax the entries of the matched row ``i``, reached at ``min_val``; returns
-    ``(n_cand, n_touched)``."""
-    ptr, col, cost = g.ptr, g.col, g.cost
-    v, row4col, active = m.v, m.row4col, m.active
-    d, path, cand, touched = pw.d, pw.path, pw.cand, pw.touched
-    ui = m.u[i]
-    for e in range(ptr[i], ptr[i + 1]):
-        cij = cost[e]
-        j = col[e]
-        if cij == np.inf or not active[j]:  # scanned: d[j] = -inf
-            continue
-        if row4col[j] < 0 and j != freed:  # dummy-held: the shared potential
-            if hub_open:
-                continue
-            dist = min_val + (cij - ui - v_free)
-        else:
-            dist = min_val + (cij - ui - v[j])
-        if dist < d[j]:
-            if d[j] == np.inf:
-                cand[n_cand] = j
-                n_cand += 1
-                touched[n_touched] = j
-                n_touched += 1
-            d[j] = dist
-            path[j] = i
-    return n_cand, n_touched
-
-
-@jit(inline="always")
-def _closest(pw, n_cand, freed):
-    """Index in ``cand`` of the closest reached column; ties: the freed column, then the
-    lowest index (``-1``: none)."""
-    cand, d = pw.cand, pw.d
-    index = -1
-    lowest = np.inf
-    best_ends = False
-    best_j = -1
-    for it in range(n_cand):
-        j = cand[it]
-        dj = d[j]
-        if dj > lowest:
-            continue
-        ends = j == freed
-        if dj < lowest or (ends and not best_ends) or (ends == best_ends and j < best_j):
-            lowest = dj
-            index = it
-            best_ends = ends
-            best_j = j
-    return index
-
-
-@jit(inline="always")
-def _shortest_path(g, m, pw, root, freed, v_free, base, cut, n_cand, index):
-    """Dijkstra from ``root`` (its row already scanned: :func:`_scan_root`) until ``freed`` is
-    scanned, or until the node, of cost ``base`` plus the distance, is proven dearer than
-    ``cut``; returns the :data:`PathEnd`."""
-    row4col = m.row4col
-    d, cand, done, done_d, rows, rows_d = pw.d, pw.cand, pw.done, pw.done_d, pw.rows, pw.rows_d
-    n_rows = 1
-    rows[0] = root
-    rows_d[0] = 0.0
-    n_done = 0
-    n_touched = n_cand
-    min_val = 0.0
-    sink = -1
-    hub_src = -1
-    hub_dist = 0.0
-    while index >= 0:
-        j = cand[index]
-        n_cand -= 1
-        cand[index] = cand[n_cand]
-        min_val = d[j]
-        done[n_done] = j  # scanned: its distance kept in done_d, d[j] = -inf
-        done_d[n_done] = min_val
-        n_done += 1
-        d[j] = -np.inf
-        if j == freed:
-            sink = j
-            break
-        elif base + min_val > cut:  # the node costs at least this much: drop it
-            break
-        elif row4col[j] < 0:
-            m.v[j] = v_free  # about to be matched: its potential made explicit
-            hub_src = j
-            hub_dist = min_val
-            n_cand, n_touched = _open_hub(m, pw, freed, v_free, min_val, n_cand, n_touched)
-        else:  # scan row i
-            i = row4col[j]
-            rows[n_rows] = i
-            rows_d[n_rows] = min_val
-            n_rows += 1
-            n_cand, n_touched = _scan_row(g, m, pw, i, freed, v_free, hub_src >= 0, min_val,
-                                          n_cand, n_touched)
-        index = _closest(pw, n_cand, freed)
-    return PathEnd(sink, min_val, n_rows, n_done, n_touched, hub_src, hub_dist)
-
-
-@jit(inline="always")
-def _augment(m, pw, root, end, v_free):
-    """Dual update (with the old matching), then flip the path of ``end``; returns the new
-    ``v_free``."""
-    u, v, col4row, row4col = m.u, m.v, m.col4row, m.row4col
-    rows, rows_d, done, done_d, path = pw.rows, pw.rows_d, pw.done, pw.done_d, pw.path
-    min_val = end.min_val
-    for t in range(end.n_rows):  # (min_val - 0.0 is min_val for the root)
-        u[rows[t]] += min_val - rows_d[t]
-    for t in range(end.n_done):
-        v[done[t]] -= min_val - done_d[t]
-    if end.hub_src >= 0:
-        v_free = v_free - (min_val - end.hub_dist)
-    j = end.sink
-    while True:
-        r = path[j]
-        if r == HUB:
-            row4col[j] = UNASSIGNED  # j is handed to a dummy row: free again
-            j = end.hub_src
-            continue
-        row4col[j] = r
-        prev = col4row[r]
-        col4row[r] = j
-        if r == root:
-            break
-        j = prev
-    return v_free
-
-
-@jit(inline="always")
-def _solve_node(g, sr, node, cut):
+def _solve_node(cs, sr, node, cut, s):
     """Solve the bounded ``node`` by one shortest augmenting path from its parent's duals
-    and assignment minus ``(root, freed)`` (:func:`.lsap.sap_augment`, warm start), unless
-    the cut drops it. Returns ``(solved, v_free)``: when solved its solution is in
-    ``sr.match`` (store it with :func:`_store_solution`), else the matching is cleared."""
-    m, pw, tree, forb, sols = sr.match, sr.path, sr.tree, sr.forb, sr.sols
+    and assignment minus ``(root, freed)`` (the algorithm of :func:`.lsap.sap_augment`, warm
+    start), unless the cut drops it; when solved, its solution (and ``v_free``) is written
+    into slot ``s``. Returns ``(solved, distance)``: the node costs its parent's cost plus the
+    distance, up to rounding."""
+    cost = cs.cost
+    pw, tree, forb, sols = sr.path, sr.tree, sr.forb, sr.sols
+    done, done_d, done_v, done_via, at = pw.done, pw.done_d, pw.done_v, pw.done_via, pw.at
+    s_cols, s_u, s_v = sols.cols, sols.u, sols.v
     ps = tree.parent[node]
+    head = tree.forb[node]
+    root = forb.row[head]
     base = sols.cost[ps]
     # the margin for rounding: the parent's, set when it was partitioned
     cut += _BOUND_SLACK * (sols.scale[ps] + abs(cut))  # (+inf stays +inf)
-    vx = sr.part.vx
-    root, freed, v_free = _load_warm_start(g, m, vx, tree, forb, sols, node)
-    n_cand, index = _scan_root(g, m, pw, vx, root, freed)
-    end = _shortest_path(g, m, pw, root, freed, v_free, base, cut, n_cand, index)
-    if end.sink >= 0:
-        v_free = _augment(m, pw, root, end, v_free)
-    d, touched = pw.d, pw.touched
-    for t in range(end.n_touched):  # clean workspace (path is only read where reached)
-        d[touched[t]] = np.inf
-    _switch_on(g.cost, g.cost0, forb, tree.forb[node])
-    if end.sink < 0:
-        col4row, row4col, active = m.col4row, m.row4col, m.active
-        col4row[root] = freed  # restore the loaded matching so that it can be cleared
-        row4col[freed] = root
-        for i in range(col4row.shape[0]):
-            c = col4row[i]
-            row4col[c] = UNASSIGNED
-            active[c] = True
-    return end.sink >= 0, v_free
+    v_free = sols.v_free[ps]
+    n_open = _load_parent(pw, sols, forb, head, tree.end[node], ps)
+    free_meas = _free_duals(pw.vf, sols, ps, v_free)
+    _switch_off(cost, forb, head)
+    # Dijkstra from the root's row. The free columns are one running minimum (free_d at
+    # free_j, reached from free_row) until the first of them is scanned and opens the hub.
+    n_done = 0
+    min_val = 0.0
+    i = root
+    free_d = np.inf
+    free_j = -1
+    free_row = -1
+    hub_src = -1  # the free column that opened the hub (-1: still closed)
+    hub_row = -1
+    hub_dist = 0.0
+    solved = False
+    index = _relax_and_pick(cost, pw, n_open, i, s_u[ps, i], min_val)
+    while True:
+        if hub_src < 0:
+            fd, fj = _least_free(cost, pw.vf, free_meas, i, s_cols[ps, i], s_u[ps, i], v_free,
+                                 min_val)
+            if fd < free_d or (fd == free_d and fj < free_j):
+                free_d = fd
+                free_j = fj
+                free_row = i
+        # the closest column: the best frontier one, or the closest free one
+        if index >= 0:
+            dt = pw.d[index]
+            if free_d < dt or (free_d == dt and free_j < pw.tie[index]):
+                index = -1
+        elif free_d == np.inf:
+            break  # nothing reachable: the node has no feasible assignment
+        if index < 0:  # a free column is scanned: the hub opens
+            min_val = free_d
+            if base + min_val > cut:  # the node costs at least this much: drop it
+                break
+            hub_src = free_j
+            hub_row = free_row
+            hub_dist = min_val
+            free_d = np.inf  # the free columns leave the frontier
+            index = _open_hub(pw, n_open, v_free, min_val)
+            continue
+        min_val = pw.d[index]
+        r = _scan(pw, index, n_open, n_done)
+        n_open -= 1
+        n_done += 1
+        if r == root:  # the freed column: the path ends
+            solved = True
+            break
+        if base + min_val > cut:
+            break
+        i = r  # scan the row that holds the column
+        index = _relax_and_pick(cost, pw, n_open, i, s_u[ps, i], min_val)
+    _switch_on(cost, cs.cost0, forb, head)
+    if not solved:
+        return False, min_val
+    # The solution: the parent's; the duals of each scanned row and column moved by how far
+    # it was passed (with the old matching); the path flipped from the freed column back to
+    # the root.
+    P = at.shape[0]
+    su = np.uint64(s)
+    pu = np.uint64(ps)
+    for q in range(P):
+        s_cols[su, np.uint64(q)] = s_cols[pu, np.uint64(q)]
+    for q in range(P):
+        s_u[su, np.uint64(q)] = s_u[pu, np.uint64(q)]
+    for q in range(P):
+        s_v[su, np.uint64(q)] = s_v[pu, np.uint64(q)]
+    for t in range(n_done):
+        tu = np.uint64(t)
+        ru = np.uint64(done[tu])
+        x = min_val - done_d[tu]
+        s_u[su, ru] = s_u[pu, ru] + x  # (the root's is set below: it was scanned at 0.0)
+        done_v[tu] -= x
+        s_v[su, ru] = done_v[tu]
+    s_u[su, np.uint64(root)] = s_u[pu, np.uint64(root)] + (min_val - 0.0)
+    v_hub = v_free
+    if hub_src >= 0:
+        v_hub -= min_val - hub_dist
+        v_free = v_free - (min_val - hub_dist)
+    e = root  # the row whose (old) column is taken next
+    while True:
+        t = np.uint64(at[np.uint64(e)])
+        r = done_via[t]
+        if r == HUB:  # that column goes to a dummy row; the path came through a free column
+            r = hub_row
+            s_cols[su, np.uint64(r)] = hub_src
+            s_v[su, np.uint64(r)] = v_hub
+        else:
+            s_cols[su, np.uint64(r)] = s_cols[pu, np.uint64(e)]
+            s_v[su, np.uint64(r)] = done_v[t]
+        if r == root:
+            break
+        e = r
+    sols.v_free[su] = v_free
+    return True, min_val
 
 
 @jit(inline="always")
-def _store_solution(g, m, sols, s, v_free):
-    """Store the assignment state ``m`` as solution ``s`` and clear the matching (every
-    column active again); returns its cost, summed row by row from ``0.0``."""
-    cost0, pos = g.cost0, g.pos
-    u, v, col4row, row4col, active = m
-    s_cols, s_u, s_v = sols.cols, sols.u, sols.v
+def _store_cost(cs, sols, s):
+    """Set the cost (summed row by row from ``0.0``) and the number of measurements taken of
+    solution ``s``; returns the cost."""
+    cost0 = cs.cost0
+    P = cost0.shape[0]
+    M = cost0.shape[1] - 3
+    s_cols = sols.cols
+    su = np.uint64(s)
     key = 0.0
-    for i in range(col4row.shape[0]):
-        c = col4row[i]
-        s_cols[s, i] = c
-        s_u[s, i] = u[i]
-        s_v[s, i] = v[c]
-        key += cost0[pos[i, c]]
-        row4col[c] = UNASSIGNED
-        active[c] = True
-    sols.v_free[s] = v_free
-    sols.cost[s] = key
+    taken = 0
+    for i in range(P):
+        c = s_cols[su, np.uint64(i)]
+        key += cost0[np.uint64(i), np.uint64(_own_entry(i, c, M, P))]
+        taken += c < M
+    sols.cost[su] = key
+    sols.taken[su] = taken
     return key
 
 
@@ -545,128 +538,235 @@ def _keep_least(kbest, n_best, n_stale, want, key):
 
 # ----------------------------------------------------------------------------- partition a node
 @jit(inline="always")
-def _load_partition(g, part, tree, sols, node, sl, key):
-    """Prepare the partition of the solved ``node`` (solution ``sl``, cost ``key``): the rows
-    it fixes (``fix_now``), the graph entry of each row's column and ``vx[j]``, the dual the
-    bounds subtract for column ``j``: the shared potential for a free column, ``v`` of its row
-    for a matched one, ``-inf`` for the column of a fixed row (inactive: its reduced cost is
-    ``+inf``), so the scan has no branch. Returns the rounding scale of its children's solves
-    (also stored in ``sols.scale[sl]``)."""
-    cost0, pos = g.cost0, g.pos
-    entry_of, fix_now, vx = part.entry_of, part.fix_now, part.vx
+def _load_partition(cs, sr, node, sl, key):
+    """Prepare the partition of the solved ``node`` (solution ``sl``, cost ``key``): the entry
+    of each row's own column, the free rows (the node's open rows) as ``open`` and the entries
+    and duals of their columns in the path workspace. Returns ``(scale, n_free)``: the
+    rounding scale of its children's solves (also stored in ``sols.scale[sl]``) and the number
+    of free rows."""
+    cost0 = cs.cost0
+    pw, part, sols, tree = sr.path, sr.part, sr.sols, sr.tree
+    off, v, op = pw.off, pw.v, pw.row
+    entry_of = part.entry_of
     s_cols, s_u, s_v = sols.cols, sols.u, sols.v
-    vx[:] = sols.v_free[sl]
-    slack = 1.0 + abs(key)
-    for w in range(fix_now.shape[0]):
-        fix_now[w] = tree.fixed[node, w]
-    for i in range(entry_of.shape[0]):
-        c = s_cols[sl, i]
-        e = pos[i, c]
-        entry_of[i] = e
-        slack += abs(cost0[e]) + abs(s_u[sl, i])
-        vx[c] = -np.inf if (fix_now[i >> 6] >> (i & 63)) & 1 else s_v[sl, i]
+    P = op.shape[0]
+    M = pw.vf.shape[0]
+    slu = np.uint64(sl)
+    sum_c = 0.0  # (two sums: neither waits on the other; a margin needs no exact order)
+    sum_u = 0.0
+    for i in range(P):
+        iu = np.uint64(i)
+        e = _own_entry(i, s_cols[slu, iu], M, P)
+        entry_of[iu] = e
+        sum_c += abs(cost0[iu, np.uint64(e)])
+        sum_u += abs(s_u[slu, iu])
+    slack = 1.0 + abs(key) + sum_c + sum_u
+    f = tree.forb[node]
+    if f == NO_ENTRY:  # the root: every row is free
+        n_free = P
+        for i in range(P):
+            op[np.uint64(i)] = i
+    else:
+        n_free = tree.end[node] - f
+        for t in range(n_free):
+            op[np.uint64(t)] = sr.forb.row[np.uint64(f + t)]
+    for t in range(n_free):
+        ru = np.uint64(op[np.uint64(t)])
+        c = s_cols[slu, ru]
+        off[ru] = c if c < M else M + 2
+        v[ru] = s_v[slu, ru]
     sols.scale[sl] = slack
-    return slack
+    return slack, n_free
 
 
 @jit(inline="always")
-def _order_rows(g, part, sols, sl, cut):
+def _least_free_rc(cost, vf, free_meas, i, ci, ui, v_free):
+    """The least reduced cost ``cost - ui - v_free`` of row ``i`` (column ``ci``) over its free
+    columns (as :func:`_least_free`, the value only)."""
+    M = vf.shape[0]
+    P = cost.shape[0]
+    iu = np.uint64(i)
+    best = np.inf
+    if free_meas:
+        for j in range(M):
+            ju = np.uint64(j)
+            rc = cost[iu, ju] - ui - vf[ju]
+            best = rc if rc < best else best
+    if ci != M + i:
+        rc = cost[iu, np.uint64(M)] - ui - v_free
+        best = rc if rc < best else best
+    if ci != M + P + i:
+        rc = cost[iu, np.uint64(M + 1)] - ui - v_free
+        best = rc if rc < best else best
+    return best
+
+
+@jit(inline="always")
+def _row_bound(cost, cost0, pw, rows, lo, hi, i, ci, ui, free_meas, v_free):
+    """The least reduced cost of an alternative for the free row ``i`` (its column ``ci``, dual
+    ``ui``): over the columns of the rows ``rows[lo:hi]`` but its own, and over the free
+    columns. Returns ``(bound, row)``, ``row`` the one whose column gives it (``-1``: a free
+    column)."""
+    off, v = pw.off, pw.v
+    iu = np.uint64(i)
+    oi = np.uint64(off[iu])
+    cost[iu, oi] = np.inf  # the row's own entry is no alternative
+    best = np.inf
+    best_row = -1
+    for t in range(lo, hi):
+        r = rows[np.uint64(t)]
+        ru = np.uint64(r)
+        rc = cost[iu, np.uint64(off[ru])] - ui - v[ru]
+        if rc < best:
+            best = rc
+            best_row = r
+    cost[iu, oi] = cost0[iu, oi]  # (M + 2 of a private column: +inf in both)
+    free = _least_free_rc(cost, pw.vf, free_meas, i, ci, ui, v_free)
+    if free < best:
+        best = free
+        best_row = -1
+    return best, best_row
+
+
+@jit(inline="always")
+def _order_rows(cs, sr, sl, n_free, free_meas, v_free):
     """The bound ``lb[i]`` of each free row's child, the smallest reduced cost of an allowed,
-    active alternative ``j != s[i]`` (and under a cut the column ``lb_col[i]`` that gives it),
-    and ``order``: the free rows by decreasing bound, ties in row order (partition ordering).
-    Returns the number of free rows."""
-    ptr, col, cost, cost0 = g.ptr, g.col, g.cost, g.cost0
-    entry_of, order, lb, lb_col, fix_now, vx = part
-    s_u = sols.u
-    n_free = 0
-    for i in range(entry_of.shape[0]):
-        if (fix_now[i >> 6] >> (i & 63)) & 1:
-            continue
-        ei = entry_of[i]
-        cost[ei] = np.inf  # the row's own entry is no alternative
+    active alternative ``j != s[i]`` (and the row ``lb_row[i]`` whose column gives it), and
+    ``order``: the free rows by decreasing bound, ties in row order (partition ordering), with
+    each one's ``rank`` in it. (As :func:`_row_bound` over the free rows, keeping ``rc`` and
+    ``free_rc``.)"""
+    cost, cost0 = cs.cost, cs.cost0
+    pw, part, sols = sr.path, sr.part, sr.sols
+    order, rank, lb, lb_row, free_rc, rcm = (part.order, part.rank, part.lb, part.lb_row,
+                                             part.free_rc, part.rc)
+    op, off, v = pw.row, pw.off, pw.v
+    s_cols, s_u = sols.cols, sols.u
+    slu = np.uint64(sl)
+    keep = rcm.shape[0] == op.shape[0]
+    for t in range(n_free):
+        i = op[np.uint64(t)]
+        iu = np.uint64(i)
+        ui = s_u[slu, iu]
+        oi = np.uint64(off[iu])
+        cost[iu, oi] = np.inf  # the row's own entry is no alternative
         best = np.inf
-        ui = s_u[sl, i]
-        if cut == np.inf:
-            best = _least_reduced_cost(ptr, col, cost, vx, i, ui)
-        else:  # the same, and which column gives it (for the children's bounds)
-            best_col = -1
-            for e in range(np.uint64(ptr[i]), np.uint64(ptr[i + 1])):
-                rc = cost[e] - ui - vx[np.uint64(col[e])]
-                if rc < best:
-                    best = rc
-                    best_col = col[e]
-            lb_col[i] = best_col
-        cost[ei] = cost0[ei]
-        x = max(best, 0.0)
-        lb[i] = x
-        # insert row i, keeping decreasing bounds (ties keep row order)
-        b = n_free - 1
-        while b >= 0 and lb[order[b]] < x:
+        best_row = -1
+        for t2 in range(n_free):
+            r = op[np.uint64(t2)]
+            ru = np.uint64(r)
+            rc = cost[iu, np.uint64(off[ru])] - ui - v[ru]
+            if keep:
+                rcm[iu, ru] = rc
+            if rc < best:
+                best = rc
+                best_row = r
+        cost[iu, oi] = cost0[iu, oi]
+        free = _least_free_rc(cost, pw.vf, free_meas, i, s_cols[slu, iu], ui, v_free)
+        free_rc[iu] = free
+        if free < best:
+            best = free
+            best_row = -1
+        lb_row[iu] = best_row
+        x = 0.0 if 0.0 > best else best  # (max(best, 0.0) without the call)
+        lb[iu] = x
+        # insert row i, keeping decreasing bounds, ties in row order
+        b = t - 1
+        while b >= 0 and (lb[order[b]] < x or (lb[order[b]] == x and order[b] > i)):
             order[b + 1] = order[b]
             b -= 1
         order[b + 1] = i
-        n_free += 1
-    return n_free
+    for t in range(n_free):
+        rank[order[t]] = t
 
 
 @jit(inline="always")
-def _make_children(g, sr, node, key, slack, cut, n_free, n_nodes, n_forb):
+def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_nodes, n_forb):
     """Create the children of the solved ``node`` (cost ``key``): child ``t`` forbids
     ``(order[t], s[order[t]])`` and fixes ``order[:t]``; a child whose bound (minus
     ``slack``, the rounding margin) exceeds ``cut`` is not created. Returns ``(n_nodes,
-    n_forb)``."""
-    ptr, col, cost, cost0 = g.ptr, g.col, g.cost, g.cost0
-    entry_of, order, lb, lb_col, fix_now, vx = sr.part
+    n_forb)``.
+
+    A child's bound is the least reduced cost of its row's first step (``lb``), plus that of
+    the last step of its path, into the freed column: from a row the child leaves open
+    (``order[t + 1:]``) or from a dummy row (``v_free - v``). The path has both (its row's
+    pair is forbidden) and every reduced cost is at least 0."""
+    cost = cs.cost
+    entry_of, order, rank, lb, lb_row, free_rc, rcm = sr.part
+    keep = rcm.shape[0] == order.shape[0]
     tree, forb, sols = sr.tree, sr.forb, sr.sols
+    off = sr.path.off
+    s_u = sols.u
     sl = tree.slot[node]
+    slu = np.uint64(sl)
     head = tree.forb[node]
+    base = n_forb
     for t in range(n_free):
         r = order[t]
+        forb.row[base + t] = r
+        forb.entry[base + t] = entry_of[r]
+        forb.next[base + t] = head
+        # the bound, step by step while the child may still be created (each step only
+        # raises it)
         bx = lb[r]
-        if t > 0 and bx < np.inf and cut < np.inf and vx[lb_col[r]] == -np.inf:
-            # Under a cut, child t's bound is its own first step: lb[r] again, with the
-            # columns of the rows fixed before it (order[:t]) inactive as well. It is the
-            # distance its solve would pop first, so a child that the solve would drop there
-            # is not created. (Unless the column that gave lb[r] is now inactive, that is
+        if not (bx < np.inf and key + bx - slack <= cut):
+            continue
+        if t > 0 and cut < np.inf and lb_row[r] >= 0 and rank[lb_row[r]] < t:
+            # Under a cut, child t's first step is lb[r] again, with the columns of the rows
+            # fixed before it (order[:t]) inactive as well, that is the distance its solve
+            # would pop first. (Unless the column that gave lb[r] is now inactive, that is
             # lb[r] itself.)
-            ei = entry_of[r]
-            cost[ei] = np.inf
-            bx = _least_reduced_cost(ptr, col, cost, vx, r, sols.u[sl, r])
-            cost[ei] = cost0[ei]
-            bx = max(bx, 0.0)
-        if bx < np.inf and key + bx - slack <= cut:
-            forb.row[n_forb] = r
-            forb.entry[n_forb] = entry_of[r]
-            forb.next[n_forb] = head
-            ck = key + bx - slack
-            tree.key[n_nodes] = ck
+            if keep:
+                bx = free_rc[np.uint64(r)]
+                for t2 in range(t, n_free):  # (rc[r, r] is +inf)
+                    x = rcm[np.uint64(r), np.uint64(order[np.uint64(t2)])]
+                    bx = x if x < bx else bx
+            else:
+                bx, _ = _row_bound(cost, cs.cost0, sr.path, order, t, n_free, r,
+                                   sols.cols[sl, r], s_u[sl, r], free_meas, v_free)
+            bx = 0.0 if 0.0 > bx else bx
+            if not (bx < np.inf and key + bx - slack <= cut):
+                continue
+        f_off = np.uint64(off[np.uint64(r)])
+        vr = sols.v[slu, np.uint64(r)]
+        into = v_free - vr
+        if keep:
+            for t2 in range(t + 1, n_free):
+                x = rcm[np.uint64(order[np.uint64(t2)]), np.uint64(r)]
+                into = x if x < into else into
+        else:
+            for t2 in range(t + 1, n_free):
+                q = np.uint64(order[np.uint64(t2)])
+                rc = cost[q, f_off] - s_u[slu, q] - vr
+                into = rc if rc < into else into
+        bx = bx + (0.0 if 0.0 > into else into)
+        if key + bx - slack <= cut:
+            tree.key[n_nodes] = key + bx - slack
             tree.slot[n_nodes] = NO_ENTRY
             tree.parent[n_nodes] = sl
-            tree.forb[n_nodes] = n_forb
-            for w in range(fix_now.shape[0]):
-                tree.fixed[n_nodes, w] = fix_now[w]
-            n_forb += 1
+            tree.forb[n_nodes] = base + t
+            tree.end[n_nodes] = base + n_free
             n_nodes += 1
-        fix_now[r >> 6] |= np.int64(1) << (r & 63)  # later children: row r stays
-        vx[sols.cols[sl, r]] = -np.inf  # (its column, for the bounds of the later ones)
-    return n_nodes, n_forb
+    return n_nodes, base + n_free
 
 
 @jit(inline="always")
-def _partition(g, sr, node, key, cut, n_nodes, n_forb):
+def _partition(cs, sr, node, key, cut, n_nodes, n_forb):
     """Partition the solved, reported ``node`` of cost ``key`` (lazily: its children enter
     the queue with a lower bound only), with the node's forbidden pairs switched off meanwhile.
     Returns ``(n_nodes, n_forb)``."""
-    tree = sr.tree
+    tree, sols = sr.tree, sr.sols
     sl = tree.slot[node]
     head = tree.forb[node]
-    _switch_off(g.cost, sr.forb, head)
-    slack = _load_partition(g, sr.part, tree, sr.sols, node, sl, key)
+    _switch_off(cs.cost, sr.forb, head)
+    slack, n_free = _load_partition(cs, sr, node, sl, key)
     slack *= _BOUND_SLACK
     cut += slack + _BOUND_SLACK * abs(cut)  # the margin, as in a solve
-    n_free = _order_rows(g, sr.part, sr.sols, sl, cut)
-    n_nodes, n_forb = _make_children(g, sr, node, key, slack, cut, n_free, n_nodes, n_forb)
-    _switch_on(g.cost, g.cost0, sr.forb, head)
+    v_free = sols.v_free[sl]
+    free_meas = _free_duals(sr.path.vf, sols, sl, v_free)
+    _order_rows(cs, sr, sl, n_free, free_meas, v_free)
+    n_nodes, n_forb = _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free,
+                                     n_nodes, n_forb)
+    _switch_on(cs.cost, cs.cost0, sr.forb, head)
     return n_nodes, n_forb
 
 
@@ -719,14 +819,14 @@ def _push(heap_key, heap_id, n_heap, ky, y):
 
 # ----------------------------------------------------------------------------- the search
 @jit(nrt=False)  # allocates nothing: no reference counts for the records its phases get
-def _search(g, sr, k, budget):
+def _search(cs, sr, k, budget):
     """Run the search until ``k`` assignments are reported, the queue is empty, an array is
     full or ``budget`` iterations are done.
 
     Parameters
     ----------
-    g : Graph
-        The problem (:data:`.lsap.Graph`); ``g.cost`` equals ``g.cost0`` between iterations.
+    cs : CompactCosts
+        The problem; ``cs.cost`` equals ``cs.cost0`` between iterations.
     sr : Search
         The search, updated in place: its counters live in ``sr.state`` between calls.
     k : int
@@ -779,31 +879,43 @@ def _search(g, sr, k, budget):
             cut = kbest[0]
         else:
             cut = np.inf
-        if tree.slot[node] == NO_ENTRY:
-            # a bounded node at the top: solve it and queue it again with its exact cost
-            solved, v_free = _solve_node(g, sr, node, cut)
+        sl = tree.slot[node]
+        if sl == NO_ENTRY:
+            # A bounded node at the top: solve it and queue it again with its cost up to
+            # rounding (its parent's cost plus the path's length, less the margin for rounding
+            # that the bounds use; and plus the margin in kbest): its exact cost, summed row by
+            # row, is only needed if it comes back to the top, and most solved nodes never do.
+            solved, dist = _solve_node(cs, sr, node, cut, n_sols)
             if solved:
-                key = _store_solution(g, sr.match, sr.sols, n_sols, v_free)
-                n_best = _keep_least(kbest, n_best, n_stale, k - n_out, key)
-                tree.slot[node] = n_sols
+                ps = tree.parent[node]
+                cost_ = sr.sols.cost[ps] + dist
+                margin = _BOUND_SLACK * (sr.sols.scale[ps] + abs(cost_))
+                n_best = _keep_least(kbest, n_best, n_stale, k - n_out, cost_ + margin)
+                tree.slot[node] = ESTIMATED - n_sols
                 n_sols += 1
-                tree.key[node] = key
-                kx = key  # back into the queue with its exact cost
+                kx = cost_ - margin
+                tree.key[node] = kx
                 x = node
             else:
                 n_heap -= 1  # the node leaves
                 kx = heap_key[n_heap]
                 x = heap_id[n_heap]
+        elif sl <= ESTIMATED:
+            # a solved node back at the top: its exact cost, and into the queue again with it
+            sl = ESTIMATED - sl
+            kx = _store_cost(cs, sr.sols, sl)
+            tree.slot[node] = sl
+            tree.key[node] = kx
+            x = node
         else:
             # a solved node at the top: report it
             key = tree.key[node]
             sr.ranking.slot[n_out] = tree.slot[node]  # copied into the output at the end
-            sr.ranking.cost[n_out] = key
             n_out += 1
             n_stale += 1  # its cost, the least in kbest, stays there as a stale entry
             if n_out == k:
                 break
-            n_nodes, n_forb = _partition(g, sr, node, key, cut, n_nodes, n_forb)
+            n_nodes, n_forb = _partition(cs, sr, node, key, cut, n_nodes, n_forb)
             if n_nodes == first:  # no child: the node leaves
                 n_heap -= 1
                 kx = heap_key[n_heap]
@@ -825,111 +937,117 @@ def _search(g, sr, k, budget):
     return finished
 
 
-@jit()
-def _root_lsap(g, m, pw):
-    """The root's LSAP: a cold shortest augmenting path from each row in turn.
+
+
+@jit(nrt=False)  # allocates nothing: no reference counts for the records it reads
+def _root_lsap(cs, pw, sols, free):
+    """The root's LSAP, a cold shortest augmenting path from each row in turn, stored as
+    solution 0 (``v_free = 0``); returns False when some row cannot be assigned.
 
     :func:`.lsap.sap_augment` with ``freed = COLD`` and ``v_free = 0`` (same arithmetic and
-    tie-breaking), on the search's arrays, a scanned column marked by ``d = -inf`` as in
-    :func:`_search`.
-
-    Parameters
-    ----------
-    g : Graph
-        The problem (:data:`.lsap.Graph`), nothing forbidden.
-    m : Matching
-        Empty (:func:`.lsap.new_matching`); the optimal assignment and duals on return.
-    pw : PathWork
-        ``d`` must be ``+inf`` everywhere on entry (and is on return).
-
-    Returns
-    -------
-    bool
-        False when some row cannot be assigned (the problem is infeasible).
+    tie-breaking: the least distance, then a free column, which ends the path, then the lower
+    column index), by row as a solve is (module notes): the frontier is the columns of the
+    rows already assigned, and of the free columns (potential 0) only the closest matters,
+    since the first one scanned ends the path. ``free`` (M,) is scratch: the measurements no
+    row takes.
     """
-    ptr, col, cost = g.ptr, g.col, g.cost
-    u, v, col4row, row4col = m.u, m.v, m.col4row, m.row4col
-    d, path, cand, touched, done, done_d, rows, rows_d = pw
-    P = col4row.shape[0]
+    cost = cs.cost
+    P = cost.shape[0]
+    M = cost.shape[1] - 3
+    row, off, tie, v, d = pw.row, pw.off, pw.tie, pw.v, pw.d
+    done, done_d, done_v, done_via, at = pw.done, pw.done_d, pw.done_v, pw.done_via, pw.at
+    cols, u, vs = sols.cols, sols.u, sols.v  # solution 0, built row by row
+    z = np.uint64(0)
+    for j in range(M):
+        free[np.uint64(j)] = j  # the measurements no row takes (potential 0)
+    n_free = M
     for root in range(P):
-        n_cand = 0
-        n_touched = 0
-        n_rows = 0
+        n_open = root  # the frontier: the columns of rows 0..root-1
+        for t in range(n_open):
+            tu = np.uint64(t)
+            c = cols[z, tu]
+            row[tu] = t
+            off[tu] = c if c < M else M + 2
+            tie[tu] = c
+            v[tu] = vs[z, tu]
+            d[tu] = np.inf
+        ru = np.uint64(root)
+        cols[z, ru] = UNASSIGNED
+        u[z, ru] = 0.0
         n_done = 0
         min_val = 0.0
         i = root
-        sink = -1
-        while sink < 0:
-            # scan row i
-            rows[n_rows] = i
-            rows_d[n_rows] = min_val
-            n_rows += 1
-            ui = u[i]
-            for e in range(ptr[i], ptr[i + 1]):
-                cij = cost[e]
-                j = col[e]
-                if cij == np.inf:
-                    continue
-                if row4col[j] < 0:  # a free column: the shared potential 0
-                    dist = min_val + (cij - ui - 0.0)
-                else:
-                    dist = min_val + (cij - ui - v[j])
-                if dist < d[j]:  # (never for a scanned column, d = -inf)
-                    if d[j] == np.inf:
-                        cand[n_cand] = j
-                        n_cand += 1
-                        touched[n_touched] = j
-                        n_touched += 1
-                    d[j] = dist
-                    path[j] = i
-            # the closest reached column; ties: a free one (it ends the path), the lowest index
-            index = -1
-            lowest = np.inf
-            best_ends = False
-            best_j = -1
-            for it in range(n_cand):
-                j = cand[it]
-                dj = d[j]
-                if dj > lowest:
-                    continue
-                ends = row4col[j] < 0
-                if dj < lowest or (ends and not best_ends) or (ends == best_ends and j < best_j):
-                    lowest = dj
-                    index = it
-                    best_ends = ends
-                    best_j = j
-            if index < 0:
-                for t in range(n_touched):
-                    d[touched[t]] = np.inf
-                return False
-            j = cand[index]
-            n_cand -= 1
-            cand[index] = cand[n_cand]
-            min_val = d[j]
-            done[n_done] = j
-            done_d[n_done] = min_val
-            n_done += 1
-            d[j] = -np.inf
-            if row4col[j] < 0:
-                v[j] = 0.0  # a free column about to be matched: its potential made explicit
-                sink = j
-            else:
-                i = row4col[j]
-        for t in range(n_rows):  # (min_val - 0.0 is min_val for the root)
-            u[rows[t]] += min_val - rows_d[t]
-        for t in range(n_done):
-            v[done[t]] -= min_val - done_d[t]
-        j = sink
+        free_d = np.inf
+        free_j = -1
+        free_row = -1
         while True:
-            r = path[j]
-            row4col[j] = r
-            prev = col4row[r]
-            col4row[r] = j
+            iu = np.uint64(i)
+            ui = u[z, iu]
+            index = _relax_and_pick(cost, pw, n_open, i, ui, min_val)
+            # the free columns of row i: the measurements no row takes, its own missed and
+            # dead column unless it takes one (a row's column is never free: ci >= 0)
+            ci = cols[z, iu]
+            for t in range(n_free):
+                j = free[np.uint64(t)]
+                dist = min_val + (cost[iu, np.uint64(j)] - ui - 0.0)
+                if dist < free_d or (dist == free_d and j < free_j):
+                    free_d = dist
+                    free_j = j
+                    free_row = i
+            if ci != M + i:
+                dist = min_val + (cost[iu, np.uint64(M)] - ui - 0.0)
+                if dist < free_d or (dist == free_d and M + i < free_j):
+                    free_d = dist
+                    free_j = M + i
+                    free_row = i
+            if ci != M + P + i:
+                dist = min_val + (cost[iu, np.uint64(M + 1)] - ui - 0.0)
+                if dist < free_d or (dist == free_d and M + P + i < free_j):
+                    free_d = dist
+                    free_j = M + P + i
+                    free_row = i
+            # the closest column (ties: a free one, then the lower column)
+            if index >= 0 and d[np.uint64(index)] < free_d:
+                min_val = d[np.uint64(index)]
+                i = _scan(pw, index, n_open, n_done)
+                n_open -= 1
+                n_done += 1
+                continue
+            if free_d == np.inf:
+                return False
+            min_val = free_d
+            break
+        # duals (with the old matching), then the path flipped from the free column found
+        u[z, ru] += min_val - 0.0
+        for t in range(n_done):
+            tu = np.uint64(t)
+            r = np.uint64(done[tu])
+            x = min_val - done_d[tu]
+            u[z, r] += x
+            done_v[tu] -= x
+            vs[z, r] = done_v[tu]
+        v_sink = 0.0
+        v_sink -= min_val - min_val
+        r = free_row
+        j = free_j
+        vj = v_sink
+        while True:
+            rq = np.uint64(r)
+            prev = cols[z, rq]
+            cols[z, rq] = j
+            vs[z, rq] = vj
             if r == root:
                 break
+            t = np.uint64(at[rq])  # the row's old column, scanned: reached from done_via
             j = prev
-        for t in range(n_touched):
-            d[touched[t]] = np.inf
+            vj = done_v[t]
+            r = done_via[t]
+        if free_j < M:  # the measurement is taken now
+            t = 0
+            while free[np.uint64(t)] != free_j:
+                t += 1
+            n_free -= 1
+            free[np.uint64(t)] = free[np.uint64(n_free)]
     return True
 
 
@@ -939,19 +1057,21 @@ DONE, PAUSED, FULL = 0, 1, 2
 
 # ----------------------------------------------------------------------------- the records' arrays
 @jit()
-def _new_path_work(P, N):
-    """A clean :data:`PathWork` (``d = +inf``)."""
-    return PathWork(np.full(N, np.inf), np.empty(N, dtype=np.int64), np.empty(N, dtype=np.int64),
-                    np.empty(N, dtype=np.int64), np.empty(N, dtype=np.int64), np.empty(N),
-                    np.empty(P, dtype=np.int64), np.empty(P))
+def _new_path_work(P, M):
+    """A :data:`PathWork` for ``P`` rows and ``M`` measurements."""
+    return PathWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
+                    np.empty(P, dtype=np.int64), np.empty(P), np.empty(P),
+                    np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64), np.empty(P),
+                    np.empty(P), np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
+                    np.empty(M))
 
 
 @jit()
 def _new_tree(n, P):
     """An empty :data:`Tree` with room for ``n`` nodes of ``P`` rows."""
     return Tree(np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
-                np.empty(n, dtype=np.int64), np.zeros((n, (P + 63) >> 6), dtype=np.int64),
-                np.empty(n), np.empty(n, dtype=np.int64))
+                np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
+                np.empty(n, dtype=np.int64))
 
 
 @jit()
@@ -965,22 +1085,23 @@ def _new_forbidden(n):
 def _new_solutions(n, P):
     """An empty :data:`Solutions` with room for ``n`` solutions of ``P`` rows."""
     return Solutions(np.empty((n, P), dtype=np.int64), np.empty((n, P)), np.empty((n, P)),
-                     np.empty(n), np.empty(n), np.empty(n))
+                     np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64))
 
 
 @jit()
-def _new_partition_work(P, N):
-    """A :data:`PartitionWork` for ``P`` rows and ``N`` columns."""
-    return PartitionWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64), np.empty(P),
-                         np.empty(P, dtype=np.int64), np.empty((P + 63) >> 6, dtype=np.int64),
-                         np.empty(N))
+def _new_partition_work(P):
+    """A :data:`PartitionWork` for ``P`` rows."""
+    n = P if P <= RC_ROWS else 1
+    return PartitionWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
+                         np.empty(P, dtype=np.int64), np.empty(P), np.empty(P, dtype=np.int64),
+                         np.empty(P), np.empty((n, n)))
 
 
 @jit()
 def _grown_tree(t, n):
     """:data:`Tree` ``t`` copied into arrays with room for ``n`` nodes."""
     return Tree(_grow(t.key, n), _grow(t.slot, n), _grow(t.parent, n), _grow(t.forb, n),
-                _grow(t.fixed, n), _grow(t.heap_key, n), _grow(t.heap_id, n))
+                _grow(t.end, n), _grow(t.heap_key, n), _grow(t.heap_id, n))
 
 
 @jit()
@@ -993,30 +1114,41 @@ def _grown_forbidden(f, n):
 def _grown_solutions(s, n):
     """:data:`Solutions` ``s`` copied into arrays with room for ``n`` solutions."""
     return Solutions(_grow(s.cols, n), _grow(s.u, n), _grow(s.v, n), _grow(s.v_free, n),
-                     _grow(s.cost, n), _grow(s.scale, n))
+                     _grow(s.cost, n), _grow(s.scale, n), _grow(s.taken, n))
 
 
 @jit()
 def _grown_ranking(r, n_out, n_best):
     """:data:`Ranking` ``r`` with room for ``n_out`` reported nodes and ``n_best`` costs."""
-    slot, cost, kbest = r
+    slot, kbest = r
     if n_out > slot.shape[0]:
         slot = _grow(slot, n_out)
-        cost = _grow(cost, n_out)
     if n_best > kbest.shape[0]:
         kbest = _grow(kbest, n_best)
-    return Ranking(slot, cost, kbest)
+    return Ranking(slot, kbest)
 
 
 # ----------------------------------------------------------------------------- entry points
 @jit()
-def new_search(g, k):
+def compact_costs(cc):
+    """The :data:`CompactCosts` of a problem's compact costs ``cc`` ``(P, M + 2)``."""
+    P, W = cc.shape
+    cost0 = np.empty((P, W + 1))
+    for i in range(P):
+        for o in range(W):
+            cost0[i, o] = cc[i, o]
+        cost0[i, W] = np.inf
+    return CompactCosts(cost0.copy(), cost0)
+
+
+@jit()
+def new_search(cs, k):
     """The root's LSAP and a :data:`Search` with the root in the queue.
 
     Parameters
     ----------
-    g : Graph
-        The problem (:data:`.lsap.Graph`), as in :func:`murty_kernel`.
+    cs : CompactCosts
+        The problem (:func:`compact_costs`), ``P >= 1`` rows.
     k : int
         Number of assignments wanted (>= 1).
 
@@ -1027,25 +1159,25 @@ def new_search(g, k):
     search : tuple
         The search, packed (:func:`pack_search`).
     """
-    P, N = g.pos.shape
-    m = new_matching(P, N)
-    pw = _new_path_work(P, N)
-    ok = _root_lsap(g, m, pw)
+    P = cs.cost.shape[0]
+    M = cs.cost.shape[1] - 3
     cap = max(_INITIAL_CAPACITY, 2 * P)
     out_cap = min(k, _INITIAL_CAPACITY)
-    sr = Search(m, pw, _new_tree(cap, P), _new_forbidden(cap),
+    sr = Search(_new_path_work(P, M), _new_tree(cap, P), _new_forbidden(cap),
                 _new_solutions(_INITIAL_CAPACITY, P),
-                Ranking(np.empty(out_cap, dtype=np.int64), np.empty(out_cap), np.empty(out_cap)),
-                _new_partition_work(P, N), np.zeros(N_STATE, dtype=np.int64))
-    if not ok:
+                Ranking(np.empty(out_cap, dtype=np.int64), np.empty(out_cap)),
+                _new_partition_work(P), np.zeros(N_STATE, dtype=np.int64))
+    if not _root_lsap(cs, sr.path, sr.sols, np.empty(M, dtype=np.int64)):
         return False, pack_search(sr)
-    key0 = _store_solution(g, m, sr.sols, 0, 0.0)
+    sr.sols.v_free[0] = 0.0
+    key0 = _store_cost(cs, sr.sols, 0)
     sr.ranking.kbest[0] = key0
     tree = sr.tree
     tree.key[0] = key0
     tree.slot[0] = 0
     tree.parent[0] = NO_ENTRY
     tree.forb[0] = NO_ENTRY
+    tree.end[0] = NO_ENTRY
     tree.heap_key[0] = key0
     tree.heap_id[0] = 0
     state = sr.state
@@ -1057,13 +1189,13 @@ def new_search(g, k):
 
 
 @jit()
-def murty_slice(graph, search, k, budget):
+def murty_slice(costs, search, k, budget):
     """At most ``budget`` iterations of ``search``, in place.
 
     Parameters
     ----------
-    graph : tuple
-        The fields of the problem's :data:`.lsap.Graph` (``ptr, col, cost, cost0, pos``).
+    costs : tuple
+        The fields of the problem's :data:`CompactCosts` (``cost, cost0``).
     search : tuple
         A packed :data:`Search` (:func:`pack_search`).
     k : int
@@ -1079,7 +1211,7 @@ def murty_slice(graph, search, k, budget):
         arrived during the call is raised by the caller as itself.
     """
     sr = unpack_search(search)
-    if _search(Graph(*graph), sr, k, budget):
+    if _search(CompactCosts(*costs), sr, k, budget):
         return DONE
     state = sr.state
     if _is_full(sr, k, state[S_OUT], state[S_SOLS], state[S_NODES], state[S_FORB],
@@ -1093,7 +1225,7 @@ def grow_search(search, k):
     """Packed ``search`` with every full array doubled (every array the next iteration may
     fill); ``k`` the number of assignments wanted (the output and kbest never need more)."""
     sr = unpack_search(search)
-    P = sr.match.col4row.shape[0]
+    P = sr.path.row.shape[0]
     state = sr.state
     tree, forb, sols, ranking = sr.tree, sr.forb, sr.sols, sr.ranking
     n_out = ranking.slot.shape[0]
@@ -1109,19 +1241,21 @@ def grow_search(search, k):
         tree = _grown_tree(tree, 2 * tree.key.shape[0])
     if state[S_FORB] + P > forb.row.shape[0]:
         forb = _grown_forbidden(forb, 2 * forb.row.shape[0])
-    return pack_search(Search(sr.match, sr.path, tree, forb, sols, ranking, sr.part, state))
+    return pack_search(Search(sr.path, tree, forb, sols, ranking, sr.part, state))
 
 
 @jit()
 def search_output(search):
     """The reported assignments ``(n, P)`` and their costs ``(n,)`` of a finished (packed)
-    search, as documented in :func:`murty_kernel`."""
+    search, as documented in :func:`murty_compact_kernel`."""
     sr = unpack_search(search)
-    P = sr.match.col4row.shape[0]
-    cols, out_slot, out_cost = sr.sols.cols, sr.ranking.slot, sr.ranking.cost
+    P = sr.path.row.shape[0]
+    cols, cost, out_slot = sr.sols.cols, sr.sols.cost, sr.ranking.slot
     n_out = sr.state[S_OUT]
     out = np.empty((n_out, P), dtype=np.int64)
+    out_cost = np.empty(n_out)
     for t in range(n_out):
+        out_cost[t] = cost[out_slot[t]]
         for i in range(P):
             out[t, i] = cols[out_slot[t], i]
     # A stable insertion sort removes the rare last-bit inversion between a node and a child
@@ -1142,63 +1276,77 @@ def search_output(search):
         out_cost[b + 1] = x
         for i in range(P):
             out[b + 1, i] = row[i]
-    return out, out_cost[:n_out]
+    return out, out_cost
 
 
 @jit()
-def murty_start(g, k, budget):
+def murty_start(cs, k, budget):
     """:func:`new_search` and its first ``budget`` iterations (:func:`murty_slice`).
 
     Parameters
     ----------
-    g : Graph
-        The problem (:data:`.lsap.Graph`), as in :func:`murty_kernel`.
+    cs : CompactCosts
+        The problem (:func:`compact_costs`), ``P >= 1`` rows.
     k, budget : int
         As in :func:`murty_slice`.
 
     Returns
     -------
     tuple
-        ``(assignments, costs, None)`` as documented in :func:`murty_kernel` when the search
-        ends within the budget (one call: small searches cost what they cost before), else
-        ``(empty, empty, search)`` with the packed :data:`Search` to continue.
+        ``(assignments, costs, None)`` as documented in :func:`murty_compact_kernel` when the
+        search ends within the budget (one call: small searches cost what they cost before),
+        else ``(empty, empty, search)`` with the packed :data:`Search` to continue.
     """
-    P = g.pos.shape[0]
-    ok, search = new_search(g, k)
+    P = cs.cost.shape[0]
+    ok, search = new_search(cs, k)
     if not ok:
         return np.empty((0, P), dtype=np.int64), np.empty(0), None
-    graph = g[:]
-    status = murty_slice(graph, search, k, budget)
+    costs = cs[:]
+    status = murty_slice(costs, search, k, budget)
     while status == FULL:
         search = grow_search(search, k)
         done = unpack_search(search).state[S_ITER]
-        status = murty_slice(graph, search, k, max(1, budget - done))
+        status = murty_slice(costs, search, k, max(1, budget - done))
     if status == DONE:
-        out, costs = search_output(search)
-        return out, costs, None
+        out, out_costs = search_output(search)
+        return out, out_costs, None
     return np.empty((0, P), dtype=np.int64), np.empty(0), search
 
 
 @jit()
-def murty_kernel(ptr, col, cost0, pos, k):
+def murty_compact_start(cc, k, budget):
+    """:func:`murty_start` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``.
+
+    Returns ``(assignments, costs, None)`` when done within the budget, else ``(empty,
+    empty, (costs, search))`` with the fields of the problem's :data:`CompactCosts` (from
+    :func:`compact_costs`) and the packed search to continue with :func:`murty_slice`.
+    """
+    cs = compact_costs(cc)
+    out, out_costs, search = murty_start(cs, k, budget)
+    if search is None:
+        return out, out_costs, None
+    return out, out_costs, (cs[:], search)
+
+
+@jit()
+def murty_compact_kernel(cc, k):
     """Murty's ranked assignment with the Miller–Stone–Cox improvements.
 
     Parameters
     ----------
-    ptr, col, cost0 : ndarray
-        The finite entries of a ``(P, N)`` cost matrix, ``1 <= P <= N``, row by row (CSR:
-        row ``i`` owns entries ``ptr[i]:ptr[i + 1]``, entry ``e`` is column ``col[e]`` at
-        cost ``cost0[e]``), with at least one feasible assignment.
-    pos : ndarray, int64, shape (P, N)
-        ``pos[i, j]``: the entry of ``(i, j)`` (-1: none).
+    cc : ndarray, float64, shape (P, M + 2)
+        A problem's compact costs (:attr:`rankedassign.AssignmentProblem.compact_cost`:
+        the measurements, the row's missed and its dead entry; ``+inf`` forbids a pair),
+        ``P >= 1``, with at least one feasible assignment.
     k : int
         Number of assignments wanted (>= 1).
 
     Returns
     -------
     assignments : ndarray, int64, shape (n, P)
-        The ``n = min(k, |Gamma|)`` best assignments, best first; among equal costs, in the
-        order of creation of their nodes.
+        The ``n = min(k, |Gamma|)`` best assignments as columns of the ``P x (M + 2P)``
+        layout (``M + i`` missed, ``M + P + i`` dead for row ``i``), best first; among equal
+        costs, in the order of creation of their nodes.
     costs : ndarray, float64, shape (n,)
         Their costs summed row by row from ``0.0`` (bit for bit
         ``AssignmentProblem.cost_of``), non-decreasing: a child's cost can come out one ulp
@@ -1223,8 +1371,10 @@ def murty_kernel(ptr, col, cost0, pos, k):
     Rectangular LSAP is the square problem in which every free column is held by a zero-cost
     dummy row; all free columns share one implicit potential ``v_free`` (see
     :mod:`.lsap`). A solution is stored with its row duals ``u``, the dual ``v`` of each
-    row's column and ``v_free``: ``O(P)`` numbers, not ``O(N)``. The root is a cold LSAP
-    (:func:`.lsap.sap_augment` from each row in turn).
+    row's column and ``v_free``: ``O(P)`` numbers, not ``O(M + P)``. A solve works on the
+    subproblem's open rows (module notes): a step relaxes one row into the open rows'
+    columns, ``O(P)``, and into the free columns, ``O(M)`` while the hub is closed and some
+    measurement is free, ``O(1)`` otherwise. The root is a cold LSAP (:func:`_root_lsap`).
 
     References
     ----------
@@ -1233,61 +1383,5 @@ def murty_kernel(ptr, col, cost0, pos, k):
     .. [2] M. L. Miller, H. S. Stone, I. J. Cox, "Optimizing Murty's Ranked Assignment
        Method", IEEE Trans. Aerosp. Electron. Syst. 33(3), 1997.
     """
-    # forbidden entries of the current node are set to +inf in the working copy for a while
-    out, costs, _ = murty_start(Graph(ptr, col, cost0.copy(), cost0, pos), k, 1 << 62)
+    out, costs, _ = murty_start(compact_costs(cc), k, 1 << 62)
     return out, costs
-
-
-@jit()
-def compact_graph(cc):
-    """CSR arrays of a problem's compact costs in the ``(P, M + 2P)`` layout.
-
-    Row ``i`` of ``cc = [meas 0..M-1 | missed | dead]`` has at most ``M + 2`` finite entries:
-    measurement ``j`` is column ``j``, missed is column ``M + i``, dead is column
-    ``M + P + i`` (increasing column order). Returns ``(ptr, col, cost, pos)`` as in
-    :func:`murty_kernel`.
-    """
-    P = cc.shape[0]
-    M = cc.shape[1] - 2
-    ptr = np.zeros(P + 1, dtype=np.int64)
-    for i in range(P):
-        n = 0
-        for o in range(M + 2):
-            if cc[i, o] < np.inf:
-                n += 1
-        ptr[i + 1] = ptr[i] + n
-    col = np.empty(ptr[P], dtype=np.int64)
-    cost = np.empty(ptr[P])
-    pos = np.full((P, M + 2 * P), -1, dtype=np.int64)
-    e = 0
-    for i in range(P):
-        for o in range(M + 2):
-            if cc[i, o] < np.inf:
-                col[e] = o if o < M else (M + i if o == M else M + P + i)
-                cost[e] = cc[i, o]
-                pos[i, col[e]] = e
-                e += 1
-    return ptr, col, cost, pos
-
-
-@jit()
-def murty_compact_start(cc, k, budget):
-    """:func:`murty_start` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``.
-
-    Returns ``(assignments, costs, None)`` when done within the budget, else ``(empty,
-    empty, (graph, search))`` with the fields of the problem's :data:`.lsap.Graph` (from
-    :func:`compact_graph`) and the packed search to continue with :func:`murty_slice`.
-    """
-    ptr, col, cost0, pos = compact_graph(cc)
-    g = Graph(ptr, col, cost0.copy(), cost0, pos)
-    out, costs, search = murty_start(g, k, budget)
-    if search is None:
-        return out, costs, None
-    return out, costs, (g[:], search)
-
-
-@jit()
-def murty_compact_kernel(cc, k):
-    """:func:`murty_kernel` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``."""
-    ptr, col, cost, pos = compact_graph(cc)
-    return murty_kernel(ptr, col, cost, pos, k)

@@ -36,7 +36,7 @@ def _k_cap(problem, k: int) -> int:
 def _bytes_per_assignment(P: int) -> int:
     """Bytes the compiled search keeps for each assignment it reports (a lower bound).
 
-    Per reported assignment :func:`._kernels.murty.murty_kernel` holds at least its solved
+    Per reported assignment :func:`._kernels.murty.murty_compact_kernel` holds at least its solved
     node's solution, row duals and column duals (``3 P`` numbers, and 3 more: the free-column
     potential, the cost and its rounding scale), the node itself (key, solution slot, parent,
     forbidden-pair list, heap key and id: 6, and the ``ceil(P / 64)`` words of its fixed rows),
@@ -242,9 +242,9 @@ def _murty_sliced(cc, k):
         out, costs, rest = murty_compact_start(cc, k, budget)
         if rest is None:
             return out, costs
-        graph, search = rest
+        costs, search = rest
         while True:  # later slices return an integer: a signal is raised here, between two
-            status = murty_slice(graph, search, k, budget)
+            status = murty_slice(costs, search, k, budget)
             if status == DONE:
                 return search_output(search)
             if status == FULL:
