@@ -31,11 +31,7 @@ MAX_PARAMS = 12
 #: did not land. Remove an entry when its function is within both limits (a test checks that
 #: every entry still needs to be here).
 KNOWN_OFFENDERS = frozenset({
-    ("rankedassign/engine/_kernels.py", "_speculate"),      # 15 parameters
-    ("rankedassign/engine/_kernels.py", "_advance"),        # 13 parameters
-    ("rankedassign/single/_kernels.py", "sweep_prefix"),    # 14 parameters
     ("rankedassign/multisensor/_kernels.py", "sweep"),      # 187 lines of code
-    ("rankedassign/tracking/single/_glmb_kernels.py", "sample_components"),  # 13 parameters
     # 14 keyword parameters of the public API (beta= and herding= are part of it, issue #25); the
     # rules and readings are named keywords that callers outside the project pass one by one
     ("rankedassign/samplers.py", "sample_short_chains"),

@@ -5,9 +5,10 @@ the global unique set ``U``, the stall and stale rules in every reading, specula
 chains replayed in chain order — does not depend on what a *row update* is. A problem type
 (single-sensor ranked assignment, multi-sensor, adaptive birth) supplies only
 
-* ``alloc_work(data, nb) -> work``: a tuple of arrays, each with leading dimension ``nb``, the
-  per-chain workspace of ``nb`` chains simulated at once (free-measurement masks, occupancy
-  counters, scratch rows);
+* ``alloc_work(data, nb) -> work``: a named tuple of arrays (the kind's workspace record,
+  passed to :func:`make_driver` as ``work``), each with leading dimension ``nb``, the per-chain
+  workspace of ``nb`` chains simulated at once (free-measurement masks, occupancy counters,
+  scratch rows);
 * ``reset_work(data, work, b, x0)``: put slab ``b`` of the workspace in the start state ``x0``;
 * ``sweep(data, work, b, zkeys, state, h, rs) -> h``: one sweep (one observation) in place on
   the ``int32`` state vector ``state``, returning its new Zobrist hash (for every position
@@ -17,12 +18,15 @@ chains replayed in chain order — does not depend on what a *row update* is. A 
 and, optionally, ``chain_done(data, work, b, j)`` (called in chain order when the chain of slab
 ``b`` ends at its observation ``j``, for a kind that keeps a tally per chain, such as the
 herded draw's key-table fall-backs); :func:`make_driver` compiles the driver for it.
-``data`` is the problem's tuple of read-only arrays and scalars. A state is a flat ``int32``
+``data`` is the problem's named tuple of read-only arrays and scalars (its kernel data record,
+built by the kind's ``prepare``; the scalars are named fields, never packed into an array).
+A state is a flat ``int32``
 vector of length ``L`` whose values index the columns of the Zobrist table ``zkeys`` of shape
 ``(L, K)``.
 
-How it is generic. :func:`_speculate`, :func:`_advance`, :func:`_new_run`, :func:`_run_slice`
-and :func:`_start` below are plain Python templates that call the three functions above (and
+How it is generic. :func:`_speculate`, :func:`_speculate_chain`, :func:`_advance`,
+:func:`_new_run`, :func:`_run_slice`, :func:`_start`, :func:`_unpack` and :func:`_grow_run`
+below are plain Python templates that call the three functions above (and
 each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
 copy of each template whose globals bind those names to the problem's compiled functions.
 numba freezes global functions at compile time, so an instantiation calls the row update
@@ -73,6 +77,7 @@ References
 from __future__ import annotations
 
 from collections import namedtuple
+from typing import NamedTuple
 
 import numpy as np
 from numba import prange
@@ -301,7 +306,7 @@ def herd_pick(w, p, K, new, init_mode, rs):
     w[best] = bw - 1.0
     return best
 
-__all__ = ["Rules", "UniqueSet", "Slab", "Run", "make_driver", "N_COUNTERS",
+__all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "make_driver", "N_COUNTERS",
            "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick"]
 
 # Slots of the run counter array ``ctr`` (returned by run_chains).
@@ -325,6 +330,55 @@ Slab = namedtuple("Slab", ["traj", "hashes", "states", "h", "rs"])
 #: workspace, the chain lengths seen (speculation), the run and chain counters and the
 #: positions ``pos`` (slots ``_C0`` ...: batch, chain, observation, sweeps simulated, ramp).
 Run = namedtuple("Run", ["U", "slab", "work", "used_hist", "ctr", "cctr", "pos"])
+
+
+class Step(NamedTuple):
+    """One speculation step (:func:`_speculate`): which sweeps of which chains to simulate.
+
+    Attributes
+    ----------
+    h0 : uint64
+        Zobrist hash of the start state ``x0``.
+    base : uint64
+        Base key of the run: chain ``c`` draws from ``chain_state(base, c)``.
+    c_first : int
+        First chain of the batch (slab row 0).
+    n_batch : int
+        Chains of the batch (slab rows ``0 .. n_batch - 1``).
+    j_from, j_to : int
+        The step simulates sweeps ``j_from + 1 .. j_to`` of every chain of the batch
+        (``j_from = 0``: the chains start from ``x0``).
+    """
+
+    h0: np.uint64
+    base: np.uint64
+    c_first: int
+    n_batch: int
+    j_from: int
+    j_to: int
+
+
+class Span(NamedTuple):
+    """The observations one call of :func:`_advance` makes of one chain.
+
+    Attributes
+    ----------
+    b : int
+        The chain's slab row.
+    c : int
+        The chain's index in the run.
+    j0, j1 : int
+        Observations ``j0 + 1 .. j1`` are made.
+    done : int
+        Sweeps of the chain simulated so far (ahead by the speculation, or here); those up to
+        ``done`` are read from the slab instead of simulated.
+    """
+
+    b: int
+    c: int
+    j0: int
+    j1: int
+    done: int
 
 # Slots of ``Run.pos``: first chain of the open batch, its size (0: no batch open), its prefix
 # length and the sweeps of the prefix speculated so far, the chain being replayed (index in
@@ -384,6 +438,26 @@ def _new_run_impl(*args):  # pragma: no cover - replaced in every instantiation
 
 
 def _run_slice_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _speculate_chain_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _unpack_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def grow_run(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+Work = tuple  # placeholder: make_driver binds the kind's workspace record class
+
+
+def as_work(fields):  # pragma: no cover - replaced in every instantiation
+    """The kind's workspace record of the plain tuple ``fields`` (:func:`_unpack`)."""
     raise NotImplementedError
 
 
@@ -487,24 +561,25 @@ def _pack(run):
 
     numba boxes a named tuple by calling its class, Python code, where a signal handler's
     exception crashes numba's return path (a segmentation fault, not an error); plain tuples
-    are built in C and only ever raise.
+    are built in C and only ever raise. The kind's workspace record becomes the plain tuple of
+    its fields (``work[:]``); :func:`_unpack` rebuilds it.
     """
     U, S = run.U, run.slab
     return ((U.states, U.hashes, U.counts, U.last_chain, U.table),
-            (S.traj, S.hashes, S.states, S.h, S.rs), run.work, run.used_hist, run.ctr, run.cctr,
-            run.pos)
+            (S.traj, S.hashes, S.states, S.h, S.rs), run.work[:], run.used_hist, run.ctr,
+            run.cctr, run.pos)
 
 
-@jit()
 def _unpack(run):
-    """The :class:`Run` of a packed run (:func:`_pack`)."""
-    return Run(UniqueSet(*run[0]), Slab(*run[1]), run[2], run[3], run[4], run[5], run[6])
+    """The :class:`Run` of a packed run (:func:`_pack`); ``as_work`` rebuilds the kind's
+    workspace record from its fields."""
+    return Run(UniqueSet(*run[0]), Slab(*run[1]), as_work(run[2]), run[3], run[4], run[5],
+               run[6])
 
 
-@jit()
-def grow_run(run):
+def _grow_run(run):
     """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
-    r = _unpack(run)
+    r = _unpack_impl(run)
     return _pack(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr, r.pos))
 
 
@@ -594,40 +669,52 @@ def _prefix_length(used_hist, chain_length, workers):
 
 
 # ------------------------------------------------------------------------ templates
-def _speculate(data, work, zkeys, traj, hashes, states, hs, rss, x0, h0, base, c_first, n_batch,
-               j_from, j_to):
-    """Sweeps ``j_from + 1 .. j_to`` of chains ``c_first .. c_first + n_batch - 1``.
+def _speculate(data, work, zkeys, slab, x0, step):
+    """Sweeps ``step.j_from + 1 .. step.j_to`` of the chains of a batch (a :class:`Step`).
 
-    The arrays are the fields of the :class:`Slab` (passed one by one: inside a parallel loop
-    numba loses writes to arrays reached through a tuple argument). Chain ``c_first + b``
-    writes its trajectory to ``traj[b, j_from:j_to]`` and the hash of each state to
-    ``hashes[b, j_from:j_to]``, and leaves its simulation state (``states[b]``, ``hs[b]``,
-    ``rss[b, 0]``, workspace slab ``b``) ready for the next call (``j_from = 0`` starts the
-    chains from ``x0``) or for the replay to continue it; a prefix simulated in several calls
-    is therefore the same trajectory as one simulated in one call. Chains are independent
-    (each has its own stream), so the loop over chains runs in parallel (``prange``); each
-    iteration writes only its own slab rows (``rs`` rows are padded to a cache line so that
-    neighbouring streams do not share one).
+    Chain ``step.c_first + b`` writes its trajectory to ``slab.traj[b, j_from:j_to]`` and
+    the hash of each state to ``slab.hashes[b, j_from:j_to]``, and leaves its simulation
+    state (``slab.states[b]``, ``slab.h[b]``, ``slab.rs[b, 0]``, workspace slab ``b``) ready
+    for the next call (``j_from = 0`` starts the chains from ``x0``) or for the replay to
+    continue it; a prefix simulated in several calls is therefore the same trajectory as one
+    simulated in one call. Chains are independent (each has its own stream), so the loop over
+    chains runs in parallel (``prange``); each iteration writes only its own slab rows (``rs``
+    rows are padded to a cache line so that neighbouring streams do not share one).
+
+    Each iteration is one call of :func:`_speculate_chain`, compiled apart: written into the
+    ``prange`` loop, numba's dead-code elimination of the loop's body drops writes to an array
+    read from an attribute of a named tuple (``work.occ[b, v] += 1``), because the body's
+    copy of the record is not known to alias the loop's arguments (numba issue #7135;
+    ``tests/test_engine.py`` keeps a reproducer). The call costs once per chain and step.
     """
+    n_batch = step.n_batch
     for b in prange(n_batch):
-        state = states[b]
-        rs = rss[b, 0:1]
-        if j_from == 0:
-            state[:] = x0
-            reset_work(data, work, b, x0)
-            rs[0] = chain_state(base, c_first + b)
-            h = h0
-        else:
-            h = hs[b]
-        for j in range(j_from, j_to):
-            h = sweep(data, work, b, zkeys, state, h, rs)
-            traj[b, j, :] = state
-            hashes[b, j] = h
-        hs[b] = h
+        _speculate_chain_impl(data, work, zkeys, slab, x0, step, b)
 
 
-def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
-    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``.
+def _speculate_chain(data, work, zkeys, slab, x0, step, b):
+    """The sweeps of ``step`` (a :class:`Step`) of the chain of slab row ``b``."""
+    state = slab.states[b]
+    rs = slab.rs[b, 0:1]
+    if step.j_from == 0:
+        state[:] = x0
+        reset_work(data, work, b, x0)
+        rs[0] = chain_state(step.base, step.c_first + b)
+        h = step.h0
+    else:
+        h = slab.h[b]
+    traj = slab.traj
+    hashes = slab.hashes
+    for j in range(step.j_from, step.j_to):
+        h = sweep(data, work, b, zkeys, state, h, rs)
+        traj[b, j, :] = state
+        hashes[b, j] = h
+    slab.h[b] = h
+
+
+def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
+    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``
+    (the fields of the :class:`Span` ``span``).
 
     Sweeps ``<= done`` were simulated ahead by the speculation and are read from the slab; later
     ones are simulated here from the saved state (``done = 0``: all of them, the sequential
@@ -643,6 +730,7 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
     (j, stalled, done) : (int, bool, int)
         The last observation made, whether the stall rule fired there, sweeps simulated.
     """
+    b, c, j0, j1, done = span
     L = U.states.shape[1]
     table = U.table
     mask = table.shape[0] - 1
@@ -777,7 +865,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
     (status, left) : (int, int)
         :data:`DONE` (the run is over: budget exhausted or stale), :data:`PAUSED` (budget
         spent; call again) or :data:`NEED_ROOM` (``U`` is full: grow it with
-        :func:`grow_run`, then call again); ``left`` is the budget not spent.
+        :func:`_grow_run`, then call again); ``left`` is the budget not spent.
 
     Notes
     -----
@@ -787,7 +875,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
     every position (batch, chain, observation, sweeps simulated, batch ramp) lives in
     ``run.pos``. So a run in slices gives the same bits as a run in one call.
     """
-    U, slab, work, used_hist, ctr, cctr, pos = _unpack(run)
+    U, slab, work, used_hist, ctr, cctr, pos = _unpack_impl(run)
     speculative = batch > 0
     nb = slab.states.shape[0]
     h0 = hash_of(zkeys, x0)
@@ -812,8 +900,9 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
             if left <= 0:
                 return PAUSED, left
             k = min(s - pos[_SPEC], max(1, left // n_b))
-            _speculate_impl(data, work, zkeys, slab.traj, slab.hashes, slab.states, slab.h,
-                            slab.rs, x0, h0, base, c0, n_b, pos[_SPEC], pos[_SPEC] + k)
+            _speculate_impl(data, work, zkeys, slab, x0,
+                            Step(h0=h0, base=base, c_first=c0, n_batch=n_b, j_from=pos[_SPEC],
+                                 j_to=pos[_SPEC] + k))
             pos[_SPEC] += k
             left -= k * n_b
         while pos[_B] < n_b:  # replay in chain order
@@ -841,7 +930,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
                 j1 = min(chain_length, j + min(room, left))
                 j_before = j
                 j, stalled, done = _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
-                                                 b, c, j, j1, done)
+                                                 Span(b=b, c=c, j0=j, j1=j1, done=done))
                 left -= j - j_before
             if speculative:
                 used_hist[j] += 1
@@ -873,7 +962,7 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
         run = grow_run(run)
         status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
                                        batch, workers, max(left, 1), run)
-    r = _unpack(run)
+    r = _unpack_impl(run)
     U = r.U
     if status == DONE:
         n = r.ctr[NU]
@@ -881,7 +970,20 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
     return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
 
 
-def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done, cache=None):
+def _as_record(fields):
+    """The workspace record ``Work`` of its fields (template of :func:`make_driver`'s
+    ``as_work``)."""
+    return Work(*fields)
+
+
+@jit()
+def _as_tuple(fields):
+    """A workspace that is a plain tuple, as it is (:func:`make_driver`'s ``as_work``)."""
+    return fields
+
+
+def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=no_chain_done,
+                cache=None):
     """Compile the chain driver for one problem type.
 
     Parameters
@@ -890,6 +992,10 @@ def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done
         Unique name of the problem type (names the compiled functions and their cache files).
     alloc_work, reset_work, sweep : compiled functions
         The problem type's workspace allocation, reset and sweep (see the module docstring).
+    work : type, optional
+        The named tuple class of the workspace ``alloc_work`` returns; None (default) for a
+        plain tuple. A run crosses into Python with its workspace as a plain tuple of the
+        same fields (:func:`_pack`), rebuilt as this record in the next slice.
     chain_done : compiled function, optional
         ``chain_done(data, work, b, j)``, called once per chain in the replay's (chain) order
         when the chain of slab ``b`` ends at its observation ``j``: where a kind keeps a tally
@@ -946,16 +1052,24 @@ def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done
     >>> all(bool((a == b).all()) for a, b in zip(sliced, (states, counts, ctr)))
     True
     """
-    spec = instantiate(_speculate, f"speculate_{name}",
-                       {"sweep": sweep, "reset_work": reset_work}, parallel=True, cache=cache)
+    as_work = (_as_tuple if work is None else
+               instantiate(_as_record, f"as_work_{name}", {"Work": work}, cache=cache))
+    unpack = instantiate(_unpack, f"unpack_{name}", {"as_work": as_work}, cache=cache)
+    grow = instantiate(_grow_run, f"grow_run_{name}", {"_unpack_impl": unpack}, cache=cache)
+    chain = instantiate(_speculate_chain, f"speculate_chain_{name}",
+                        {"sweep": sweep, "reset_work": reset_work}, cache=cache)
+    spec = instantiate(_speculate, f"speculate_{name}", {"_speculate_chain_impl": chain},
+                       parallel=True, cache=cache)
     adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache)
     new_run = instantiate(_new_run, f"new_run_{name}", {"alloc_work": alloc_work},
                           cache=cache)
     run_slice = instantiate(_run_slice, f"run_slice_{name}",
                             {"_speculate_impl": spec, "_advance_impl": adv,
-                             "reset_work": reset_work, "chain_done": chain_done}, cache=cache)
+                             "_unpack_impl": unpack, "reset_work": reset_work,
+                             "chain_done": chain_done}, cache=cache)
     start = instantiate(_start, f"start_{name}",
-                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice}, cache=cache)
+                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice,
+                         "_unpack_impl": unpack, "grow_run": grow}, cache=cache)
 
     def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
                    budget=DEFAULT_BUDGET):
@@ -973,7 +1087,7 @@ def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done
                 if status == DONE:
                     break
                 if status == NEED_ROOM:
-                    run = grow_run(run)
+                    run = grow(run)
         (states, _, counts, _, _), _, _, _, ctr, _, _ = run  # the packed Run
         n = ctr[NU]
         return states[:n].copy(), counts[:n].copy(), ctr

@@ -38,6 +38,8 @@ References
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_kernel
@@ -45,11 +47,12 @@ from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murt
 from ...engine._kernels import chain_state, hash_of, mix64
 from ...numba_options import jit
 from ...single._kernels import sweep, sweep_prefix
-from ...single.prepare import M_DIRECT, prefix_sums
+from ...single.prepare import M_DIRECT, DirectData, PrefixData, prefix_sums
 from .._kernels import _logaddexp
 
 __all__ = ["component_keys", "component_problem", "component_costs", "count_components",
-           "ranked_components", "sample_components", "merge_children", "mark_reachable"]
+           "ranked_components", "sample_components", "ChainRules", "merge_children",
+           "mark_reachable"]
 
 
 @jit()
@@ -348,9 +351,27 @@ def _table_size(n):
     return size
 
 
+class ChainRules(NamedTuple):
+    """How :func:`sample_components` runs the chains of every component.
+
+    Attributes
+    ----------
+    random_scan : bool
+        Random instead of systematic row order.
+    tau_stall : int
+        Threshold of the stall rule (global-consecutive reading), 0 = off.
+    tau_stale : int
+        Threshold of the stale rule (consecutive reading), 0 = off.
+    """
+
+    random_scan: bool
+    tau_stall: int
+    tau_stale: int
+
+
 @jit()
 def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains,
-                      chain_length, tau_stall, tau_stale, random_scan, base, zkeys):
+                      chain_length, rules, base, zkeys):
     """Run the Gibbs truncation of every component; return the children.
 
     Parameters
@@ -364,10 +385,8 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         a row's finite entries are all among its component's columns).
     n_chains, chain_length : ndarray of int64, shape (H,)
         Budget of every component: chains and sweeps per chain (0 chains: the start state only).
-    tau_stall, tau_stale : int
-        Thresholds of the stall (global-consecutive) and stale (consecutive) rules, 0 = off.
-    random_scan : bool
-        Random instead of systematic row order.
+    rules : ChainRules
+        Scan order and the thresholds of the stall and stale rules.
     base : ndarray of uint64, shape (H,)
         Base key of every component's streams (chain ``c``: ``chain_state(base, c)``).
     zkeys : ndarray of uint64, shape (P_max, M_max + 2)
@@ -397,6 +416,7 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     observations in a row that were not new, the run after ``tau_stale`` chains in a row that
     added nothing (spec §3.3).
     """
+    random_scan, tau_stall, tau_stale = rules
     H = comp_off.size - 1
     U = W_all.shape[1] - 2
     B = births.size
@@ -455,6 +475,8 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         else:
             S = np.zeros((P, 1))
             next_pos = np.zeros((P, 1), dtype=np.int64)
+        direct = DirectData(W=W, cc=cc, random_scan=random_scan)
+        by_prefix = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=random_scan)
         state = np.empty(P, dtype=np.int32)
         free = np.empty(M)
         perm = np.empty(P, dtype=np.int64)
@@ -474,10 +496,10 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
             new_in_chain = 0
             for _ in range(chain_length[h]):
                 if prefix:
-                    hx = sweep_prefix(W, cc, S, next_pos, zkeys, state, free, held, n_held, hx,
-                                      rs, perm, cum, random_scan)
+                    hx = sweep_prefix(by_prefix, zkeys, state, hx, rs, free, perm, cum, held,
+                                      n_held)
                 else:
-                    hx = sweep(W, cc, zkeys, state, free, hx, rs, perm, random_scan)
+                    hx = sweep(direct, zkeys, state, hx, rs, free, perm)
                 obs += 1
                 u, new = _find_or_insert(table, hashes, states, n_u, state, hx)
                 if new:
