@@ -30,13 +30,21 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..engine._kernels import herd_lookup, herd_pick, make_driver, next_uniform
+from ..engine._kernels import (
+    alloc_key_table,
+    herd_lookup,
+    herd_pick,
+    key_table_done,
+    key_table_sweep_done,
+    make_driver,
+    next_uniform,
+    reset_key_table,
+)
 from ..numba_options import jit
 
 __all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
            "run_chains", "sweep_herded", "alloc_work_herded", "reset_work_herded",
-           "chain_done_herded", "run_chains_herded", "AdaptiveBirthWork",
-           "AdaptiveBirthHerdedWork"]
+           "run_chains_herded", "AdaptiveBirthWork", "AdaptiveBirthHerdedWork"]
 
 
 class AdaptiveBirthWork(NamedTuple):
@@ -346,7 +354,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     ``work`` an :class:`AdaptiveBirthHerdedWork`: the Gibbs workspace followed by the
     conditional ``p``, the key vector ``keyv`` (``J`` with the redrawn sensor as -1; the key is
     the same for both key modes), the key table and the chain's tallies
-    (:func:`chain_done_herded`).
+    (:func:`rankedassign.engine._kernels.key_table_done`).
     """
     V = data.V
     strides = data.strides
@@ -399,43 +407,23 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
         if j != old:
             h ^= zkeys[s, old] ^ zkeys[s, j]
             state[s] = j
-    cnt[2] += 1
-    hist = work.hist
-    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
-        hist[b, cnt[2], 0] = cnt[0]
-        hist[b, cnt[2], 1] = cnt[1]
+    key_table_sweep_done(work, b)
     return h
 
 
 class AdaptiveBirthHerdedWork(NamedTuple):
     """Scratch of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
-    :class:`AdaptiveBirthWork`, then the herded draw's.
-
-    ``K`` as in :class:`AdaptiveBirthWork`, ``L = max(V, 1)``, ``cap`` keys per table and
-    ``T`` (a power of two, at least ``2 cap``) index slots.
+    :class:`AdaptiveBirthWork`, then those of a
+    :class:`~rankedassign.engine._kernels.KeyTable` (weights of width ``K``, key vectors of
+    length ``max(V, 1)``).
 
     Attributes
     ----------
     order, M, b, c, Mp, L, y, bj, lw
         As in :class:`AdaptiveBirthWork`.
-    p : ndarray, shape (nb, K), float64
-        The sensor's conditional.
-    keyv : ndarray, shape (nb, L), int32
-        The draw's key vector.
-    hw : ndarray, shape (nb, cap, K), float64
-        The key table's weights.
-    kst : ndarray, shape (nb, cap, L), int32
-        Stored key vectors.
-    krow : ndarray, shape (nb, cap), int32
-        Stored sensor ids.
-    tslot : ndarray, shape (nb, T), int64
-        Open-addressing index: slot + 1 (0 empty).
-    thash : ndarray, shape (nb, T), uint64
-        The key's hash at each index entry.
-    cnt : ndarray, shape (nb, 3), int64
-        The chain's ``[keys, fall-backs, sweeps]``.
-    hist : ndarray, shape (nb, chain_length + 1 or 1, 2), int64
-        The tallies after each sweep (speculation only).
+    p, keyv, hw, kst, krow, tslot, thash, cnt, hist
+        As in :class:`~rankedassign.engine._kernels.KeyTable`: the sensor's conditional and
+        key, the key table (row ids: the sensor) and the chain's tallies.
     """
 
     order: np.ndarray
@@ -475,44 +463,18 @@ def alloc_work_herded(data, nb):
     ((3, 4), (3, 8, 4))
     """
     g = alloc_work(data, nb)
-    V = data.V
-    K = g.lw.shape[1]
-    cap = data.capacity
-    T = 4
-    while T < 2 * cap:
-        T *= 2
-    L = max(V, 1)
-    return AdaptiveBirthHerdedWork(
-        order=g.order, M=g.M, b=g.b, c=g.c, Mp=g.Mp, L=g.L, y=g.y, bj=g.bj, lw=g.lw,
-        p=np.zeros((nb, K)), keyv=np.empty((nb, L), dtype=np.int32),
-        hw=np.empty((nb, cap, K)), kst=np.empty((nb, cap, L), dtype=np.int32),
-        krow=np.empty((nb, cap), dtype=np.int32), tslot=np.zeros((nb, T), dtype=np.int64),
-        thash=np.zeros((nb, T), dtype=np.uint64), cnt=np.zeros((nb, 3), dtype=np.int64),
-        hist=np.zeros((nb, data.chain_length + 1 if nb > 1 else 1, 2), dtype=np.int64))
+    table = alloc_key_table(nb, g.lw.shape[1], max(data.V, 1), data.capacity,
+                            data.chain_length)
+    return AdaptiveBirthHerdedWork(*(g[:] + table[:]))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain: an empty key table and zero tallies."""
-    work.tslot[b, :] = 0
-    work.cnt[b, :] = 0
-    work.hist[b, 0, :] = 0
-
-
-@jit()
-def chain_done_herded(data, work, b, j):
-    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data.tally
-    hist = work.hist
-    if hist.shape[1] > 1:
-        tally[0] += hist[b, j, 0]
-        tally[1] += hist[b, j, 1]
-    else:  # simulated up to j exactly
-        tally[0] += work.cnt[b, 0]
-        tally[1] += work.cnt[b, 1]
+    reset_key_table(work, b)
 
 
 #: The chain driver compiled for the adaptive-birth problem with the herded draw.
 run_chains_herded = make_driver("adaptive_birth_herded", alloc_work_herded, reset_work_herded,
                                 sweep_herded, work=AdaptiveBirthHerdedWork,
-                                chain_done=chain_done_herded)
+                                chain_done=key_table_done)

@@ -306,8 +306,109 @@ def herd_pick(w, p, K, new, init_mode, rs):
     w[best] = bw - 1.0
     return best
 
-__all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "make_driver", "N_COUNTERS",
-           "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick"]
+class KeyTable(NamedTuple):
+    """The key tables of ``nb`` herded chains and the scratch of their draws
+    (:func:`alloc_key_table`), leading dimension ``nb``.
+
+    A kind's herded workspace record is its Gibbs workspace's fields followed by these (one
+    flat record: numba's parallel loop takes no nested tuple); it builds it from the two
+    records, ``Work(*(gibbs[:] + ... + table[:]))``. ``K`` is the width of a draw's
+    weights, ``L`` the length of a key vector, ``cap`` the keys a table holds and ``T`` (a
+    power of two, at least ``2 cap``) its index slots.
+
+    Attributes
+    ----------
+    p : ndarray, shape (nb, K), float64
+        The draw's conditional.
+    keyv : ndarray, shape (nb, L), int32
+        The draw's key vector.
+    hw : ndarray, shape (nb, cap, K), float64
+        The herding weights of every key.
+    kst : ndarray, shape (nb, cap, L), int32
+        Stored key vectors.
+    krow : ndarray, shape (nb, cap), int32
+        Stored row (draw) ids.
+    tslot : ndarray, shape (nb, T), int64
+        Open-addressing index: slot + 1 (0 empty).
+    thash : ndarray, shape (nb, T), uint64
+        The key's hash at each index entry.
+    cnt : ndarray, shape (nb, 3), int64
+        The chain's ``[keys, fall-backs, sweeps]``.
+    hist : ndarray, shape (nb, chain_length + 1, 2) or (nb, 1, 2), int64
+        The tallies ``[keys, fall-backs]`` after each sweep, which speculation needs
+        (``nb > 1``: a chain may be simulated past its last observation); one chain at a time
+        reads ``cnt`` itself.
+    """
+
+    p: np.ndarray
+    keyv: np.ndarray
+    hw: np.ndarray
+    kst: np.ndarray
+    krow: np.ndarray
+    tslot: np.ndarray
+    thash: np.ndarray
+    cnt: np.ndarray
+    hist: np.ndarray
+
+
+@jit()
+def alloc_key_table(nb, K, L, cap, chain_length):
+    """Empty key tables of ``nb`` herded chains (a :class:`KeyTable`).
+
+    Examples
+    --------
+    >>> t = alloc_key_table(2, 5, 3, 10, 4)
+    >>> t.hw.shape, t.tslot.shape, t.hist.shape
+    ((2, 10, 5), (2, 32), (2, 5, 2))
+    """
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    return KeyTable(
+        p=np.zeros((nb, K)), keyv=np.empty((nb, L), dtype=np.int32),
+        hw=np.empty((nb, cap, K)), kst=np.empty((nb, cap, L), dtype=np.int32),
+        krow=np.empty((nb, cap), dtype=np.int32), tslot=np.zeros((nb, T), dtype=np.int64),
+        thash=np.zeros((nb, T), dtype=np.uint64), cnt=np.zeros((nb, 3), dtype=np.int64),
+        hist=np.zeros((nb, chain_length + 1 if nb > 1 else 1, 2), dtype=np.int64))
+
+
+@jit()
+def reset_key_table(work, b):
+    """Slab ``b``'s key table emptied and its tallies zeroed (``work`` holds the fields of a
+    :class:`KeyTable`)."""
+    work.tslot[b, :] = 0
+    work.cnt[b, :] = 0
+    work.hist[b, 0, :] = 0
+
+
+@jit()
+def key_table_done(data, work, b, j):
+    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to ``data.tally``
+    (a herded kind's ``chain_done``, :func:`make_driver`)."""
+    tally = data.tally
+    hist = work.hist
+    if hist.shape[1] > 1:
+        tally[0] += hist[b, j, 0]
+        tally[1] += hist[b, j, 1]
+    else:  # simulated up to j exactly
+        tally[0] += work.cnt[b, 0]
+        tally[1] += work.cnt[b, 1]
+
+
+@jit(inline="always")
+def key_table_sweep_done(work, b):
+    """Count a sweep of slab ``b`` and, when chains are speculated, record its tallies."""
+    cnt = work.cnt[b]
+    cnt[2] += 1
+    hist = work.hist
+    if hist.shape[1] > 1:
+        hist[b, cnt[2], 0] = cnt[0]
+        hist[b, cnt[2], 1] = cnt[1]
+
+
+__all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "KeyTable", "make_driver",
+           "N_COUNTERS", "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick",
+           "alloc_key_table", "reset_key_table", "key_table_done", "key_table_sweep_done"]
 
 # Slots of the run counter array ``ctr`` (returned by run_chains).
 NU, NOBS, NCHAINS, STALE_RUN, STALE_CUM, STALE_FIRED, DISCARDED = 0, 1, 2, 3, 4, 5, 6
@@ -697,7 +798,8 @@ def _speculate_chain(data, work, zkeys, slab, x0, step, b):
     state = slab.states[b]
     rs = slab.rs[b, 0:1]
     if step.j_from == 0:
-        state[:] = x0
+        for i in range(x0.shape[0]):  # (a slice assignment would need reference counting)
+            state[i] = x0[i]
         reset_work(data, work, b, x0)
         rs[0] = chain_state(step.base, step.c_first + b)
         h = step.h0
@@ -705,9 +807,11 @@ def _speculate_chain(data, work, zkeys, slab, x0, step, b):
         h = slab.h[b]
     traj = slab.traj
     hashes = slab.hashes
+    L = state.shape[0]
     for j in range(step.j_from, step.j_to):
         h = sweep(data, work, b, zkeys, state, h, rs)
-        traj[b, j, :] = state
+        for i in range(L):
+            traj[b, j, i] = state[i]
         hashes[b, j] = h
     slab.h[b] = h
 
@@ -724,6 +828,13 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     The caller guarantees room for ``j1 - j0`` new unique states (:func:`_room`), so this hot
     loop never reallocates; the look-up is written out here rather than called because a call
     passing the arrays of the unique set costs as much as the look-up itself.
+
+    :func:`make_driver` compiles it, and :func:`_speculate_chain`, without reference counting
+    (:func:`rankedassign.numba_options.jit`, ``nrt=False``): the sweep written into them
+    reads its arrays from the kind's records in each of its phases, and every such read
+    would otherwise cost an atomic reference-count update per array, row and sweep (the
+    multi-sensor sweep split into phases ran twice as slowly with them). Neither allocates,
+    and the run keeps every array they touch alive.
 
     Returns
     -------
@@ -768,7 +879,8 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
             u = ctr[NU]
             table[slot, 0] = hx
             table[slot, 1] = np.uint64(u + 1)
-            U.states[u, :] = x
+            for i in range(L):
+                U.states[u, i] = x[i]
             U.hashes[u] = hx
             U.counts[u] = 1
             U.last_chain[u] = c
@@ -1056,11 +1168,13 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=no
                instantiate(_as_record, f"as_work_{name}", {"Work": work}, cache=cache))
     unpack = instantiate(_unpack, f"unpack_{name}", {"as_work": as_work}, cache=cache)
     grow = instantiate(_grow_run, f"grow_run_{name}", {"_unpack_impl": unpack}, cache=cache)
+    # The two loops the sweep is written into run without reference counting (see
+    # :func:`_advance`): they allocate nothing, and their caller keeps every array alive.
     chain = instantiate(_speculate_chain, f"speculate_chain_{name}",
-                        {"sweep": sweep, "reset_work": reset_work}, cache=cache)
+                        {"sweep": sweep, "reset_work": reset_work}, cache=cache, nrt=False)
     spec = instantiate(_speculate, f"speculate_{name}", {"_speculate_chain_impl": chain},
                        parallel=True, cache=cache)
-    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache)
+    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache, nrt=False)
     new_run = instantiate(_new_run, f"new_run_{name}", {"alloc_work": alloc_work},
                           cache=cache)
     run_slice = instantiate(_run_slice, f"run_slice_{name}",

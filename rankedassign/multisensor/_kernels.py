@@ -23,7 +23,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..engine._kernels import herd_lookup, herd_pick, make_driver, next_uniform
+from ..engine._kernels import (
+    alloc_key_table,
+    herd_lookup,
+    herd_pick,
+    key_table_done,
+    key_table_sweep_done,
+    make_driver,
+    next_uniform,
+    reset_key_table,
+)
 from ..numba_options import jit
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
@@ -173,6 +182,236 @@ def _mm_log_alive(lth, las, avail, navail, b, n, V):
 
 
 @jit(inline="always")
+def _scan_order(data, work, b, rs):
+    """Slab ``b``'s row order ``perm[b]``: ``0..P-1``, for the random scan shuffled by
+    Fisher-Yates from the identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``)."""
+    perm = work.perm
+    P = data.P
+    for t in range(P):
+        perm[b, t] = t
+    if data.random_scan:
+        for t in range(P - 1, 0, -1):
+            j = np.int64(next_uniform(rs) * (t + 1))
+            if j > t:
+                j = t
+            tmp = perm[b, t]
+            perm[b, t] = perm[b, j]
+            perm[b, j] = tmp
+
+
+@jit(inline="always")
+def _available(data, work, b, state, n):
+    """``A_n^(v)`` of row ``n`` for every sensor into ``avail[b]``, ``navail[b]``: missed, and
+    the measurements free of the other rows."""
+    n_meas, occ, avail, navail = data.n_meas, work.occ, work.avail, work.navail
+    V = data.V
+    for v in range(V):
+        own = state[n * V + v] - 1
+        avail[b, v, 0] = 0
+        c = 1
+        for j in range(1, n_meas[v] + 1):
+            if occ[b, v, j] == 0 or own == j:
+                avail[b, v, c] = j
+                c += 1
+        navail[b, v] = c
+
+
+# The row updates below write the new row into row[b] and return False when no candidate has
+# weight (the row stays). Their draws are written out (sum, then the inverse-CDF loop of pick)
+# rather than called: a call per draw costs more than the draw on small problems; the rare
+# underflow fall-back is a call to draw.
+@jit(inline="always")
+def _row_exact(data, work, b, n, rs):
+    """Row ``n`` from its exact conditional (spec eq. 2.1): dead, then ``A_1 x ... x A_V`` in
+    C order (an odometer, the last sensor fastest)."""
+    V, strides, Wd, ld, Wa, la = data.V, data.strides, data.Wd, data.ld, data.Wa, data.la
+    avail, navail, idx, wbuf, lbuf, row = (work.avail, work.navail, work.idx, work.wbuf,
+                                           work.lbuf, work.row)
+    wbuf[b, 0] = Wd[n]
+    lbuf[b, 0] = ld[n]
+    nc = 1
+    for v in range(V):
+        idx[b, v] = 0
+    while True:
+        off = 0
+        for v in range(V):
+            off += avail[b, v, idx[b, v]] * strides[v]
+        wbuf[b, nc] = Wa[n, off]
+        lbuf[b, nc] = la[n, off]
+        nc += 1
+        v = V - 1
+        while v >= 0:
+            idx[b, v] += 1
+            if idx[b, v] < navail[b, v]:
+                break
+            idx[b, v] = 0
+            v -= 1
+        if v < 0:
+            break
+    total = 0.0
+    for k in range(nc):
+        total += wbuf[b, k]
+    u = next_uniform(rs)
+    k = -1
+    if total > 0.0:
+        target = u * total
+        acc = 0.0
+        for kk in range(nc):
+            wk = wbuf[b, kk]
+            if wk > 0.0:
+                acc += wk
+                k = kk
+                if acc > target:
+                    break
+    else:
+        k = draw(wbuf, lbuf, b, nc, u)
+    if k < 0:
+        return False
+    if k == 0:
+        for v in range(V):
+            row[b, v] = -1
+    else:
+        r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
+        for v in range(V - 1, -1, -1):
+            row[b, v] = avail[b, v, r % navail[b, v]]
+            r //= navail[b, v]
+    return True
+
+
+@jit(inline="always")
+def _row_componentwise(data, work, b, state, n, rs):
+    """Row ``n``'s components, each from its exact conditional under ``eta'`` in turn
+    (spec §2.4)."""
+    V, strides, Wa, la = data.V, data.strides, data.Wa, data.la
+    avail, navail, wbuf, lbuf, row = work.avail, work.navail, work.wbuf, work.lbuf, work.row
+    for v in range(V):
+        row[b, v] = state[n * V + v] - 1
+    for v in range(V):
+        base = 0
+        for w in range(V):
+            if w != v:
+                base += row[b, w] * strides[w]
+        na = navail[b, v]
+        sv = strides[v]
+        total = 0.0
+        for c in range(na):
+            total += Wa[n, base + avail[b, v, c] * sv]
+        u = next_uniform(rs)
+        k = -1
+        if total > 0.0:
+            target = u * total
+            acc = 0.0
+            for c in range(na):
+                wk = Wa[n, base + avail[b, v, c] * sv]
+                if wk > 0.0:
+                    acc += wk
+                    k = c
+                    if acc > target:
+                        break
+        else:
+            for c in range(na):
+                off = base + avail[b, v, c] * sv
+                wbuf[b, c] = Wa[n, off]
+                lbuf[b, c] = la[n, off]
+            k = draw(wbuf, lbuf, b, na, u)
+        if k >= 0:
+            row[b, v] = avail[b, v, k]
+    return True
+
+
+@jit(inline="always")
+def _row_mm(data, work, b, n, rs):
+    """Row ``n`` by MM (spec §3.2): dead with probability ``Q_n``, else independent
+    per-sensor draws ``j ~ theta_n^(v)(j) 1[j in A_n^(v)]``."""
+    V, ld, Th, lth, las = data.V, data.ld, data.Th, data.lth, data.las
+    avail, navail, wbuf, lbuf, row = work.avail, work.navail, work.wbuf, work.lbuf, work.row
+    u = next_uniform(rs)
+    if data.method == MM_FIXED:
+        dead = u < data.qdead[n]
+    else:
+        # alive mass s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j), shifted
+        alive = data.Ea[n]
+        for v in range(V):
+            sv = 0.0
+            for c in range(navail[b, v]):
+                sv += Th[n, v, avail[b, v, c]]
+            alive *= sv
+        wd = data.Ed[n]
+        target = u * (wd + alive)
+        k = -1
+        acc = 0.0
+        if wd > 0.0:
+            acc += wd
+            k = 0
+        if not (k == 0 and acc > target) and alive > 0.0:
+            acc += alive
+            k = 1
+        if k < 0:  # both underflowed: the same decision on exact log-weights
+            wbuf[b, 0] = 0.0
+            wbuf[b, 1] = 0.0
+            lbuf[b, 0] = ld[n]
+            lbuf[b, 1] = _mm_log_alive(lth, las, avail, navail, b, n, V)
+            k = draw(wbuf, lbuf, b, 2, u)
+            if k < 0:
+                return False
+        dead = k == 0
+    if dead:
+        for v in range(V):
+            row[b, v] = -1
+        return True
+    for v in range(V):  # one uniform each
+        na = navail[b, v]
+        total = 0.0
+        for c in range(na):
+            total += Th[n, v, avail[b, v, c]]
+        u = next_uniform(rs)
+        k = -1
+        if total > 0.0:
+            target = u * total
+            acc = 0.0
+            for c in range(na):
+                wk = Th[n, v, avail[b, v, c]]
+                if wk > 0.0:
+                    acc += wk
+                    k = c
+                    if acc > target:
+                        break
+        else:
+            for c in range(na):
+                wbuf[b, c] = Th[n, v, avail[b, v, c]]
+                lbuf[b, c] = lth[n, v, avail[b, v, c]]
+            k = draw(wbuf, lbuf, b, na, u)
+        if k < 0:  # mm-fixed only: the alive branch is infeasible here
+            if ld[n] > -np.inf:
+                for w in range(V):
+                    row[b, w] = -1
+                return True
+            return False
+        row[b, v] = avail[b, v, k]
+    return True
+
+
+@jit(inline="always")
+def _write_row(data, work, b, zkeys, state, n, h):
+    """Row ``n``'s new values ``row[b]`` into ``state``, the occupancy table and the hash;
+    return the hash."""
+    V = data.V
+    occ, row = work.occ, work.row
+    for v in range(V):
+        pos = n * V + v
+        old = np.int64(state[pos])
+        new = row[b, v] + 1
+        if old != new:
+            if old >= 2:
+                occ[b, v, old - 1] -= 1
+            if new >= 2:
+                occ[b, v, new - 1] += 1
+            state[pos] = new
+            h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
+    return h
+
+
+@jit(inline="always")
 def sweep(data, work, b, zkeys, state, h, rs):
     """One sweep over all rows of slab ``b``, in place on ``state``; return the new hash.
 
@@ -218,201 +457,19 @@ def sweep(data, work, b, zkeys, state, h, rs):
     >>> x.tolist()
     [2, 2]
     """
-    method, P, V = data.method, data.P, data.V
-    n_meas, strides, Wd, ld, Wa, la = (data.n_meas, data.strides, data.Wd, data.ld, data.Wa,
-                                       data.la)
-    Th, lth, las, Ea, Ed, qdead = data.Th, data.lth, data.las, data.Ea, data.Ed, data.qdead
-    occ, avail, navail, idx = work.occ, work.avail, work.navail, work.idx
-    wbuf, lbuf, perm, row = work.wbuf, work.lbuf, work.perm, work.row
-    for t in range(P):
-        perm[b, t] = t
-    if data.random_scan:  # random scan: Fisher-Yates from the identity
-        for t in range(P - 1, 0, -1):
-            j = np.int64(next_uniform(rs) * (t + 1))
-            if j > t:
-                j = t
-            tmp = perm[b, t]
-            perm[b, t] = perm[b, j]
-            perm[b, j] = tmp
-    for t in range(P):
-        n = perm[b, t]
-        for v in range(V):  # A_n^(v): missed, and measurements free of the other rows
-            own = state[n * V + v] - 1
-            avail[b, v, 0] = 0
-            c = 1
-            for j in range(1, n_meas[v] + 1):
-                if occ[b, v, j] == 0 or own == j:
-                    avail[b, v, c] = j
-                    c += 1
-            navail[b, v] = c
-        # Row update into row[b] (ok = False: no positive candidate, the row stays). The draws
-        # are written out (sum, then the inverse-CDF loop of pick) rather than called: a call
-        # per draw costs more than the draw on small problems. The rare underflow fall-back is
-        # a call to draw.
-        ok = True
+    method = data.method
+    _scan_order(data, work, b, rs)
+    for t in range(data.P):
+        n = work.perm[b, t]
+        _available(data, work, b, state, n)
         if method == EXACT:
-            # spec eq. 2.1: dead, then A_1 x ... x A_V in C order (odometer, last sensor fastest)
-            wbuf[b, 0] = Wd[n]
-            lbuf[b, 0] = ld[n]
-            nc = 1
-            for v in range(V):
-                idx[b, v] = 0
-            while True:
-                off = 0
-                for v in range(V):
-                    off += avail[b, v, idx[b, v]] * strides[v]
-                wbuf[b, nc] = Wa[n, off]
-                lbuf[b, nc] = la[n, off]
-                nc += 1
-                v = V - 1
-                while v >= 0:
-                    idx[b, v] += 1
-                    if idx[b, v] < navail[b, v]:
-                        break
-                    idx[b, v] = 0
-                    v -= 1
-                if v < 0:
-                    break
-            total = 0.0
-            for k in range(nc):
-                total += wbuf[b, k]
-            u = next_uniform(rs)
-            k = -1
-            if total > 0.0:
-                target = u * total
-                acc = 0.0
-                for kk in range(nc):
-                    wk = wbuf[b, kk]
-                    if wk > 0.0:
-                        acc += wk
-                        k = kk
-                        if acc > target:
-                            break
-            else:
-                k = draw(wbuf, lbuf, b, nc, u)
-            if k < 0:
-                ok = False
-            elif k == 0:
-                for v in range(V):
-                    row[b, v] = -1
-            else:
-                r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
-                for v in range(V - 1, -1, -1):
-                    row[b, v] = avail[b, v, r % navail[b, v]]
-                    r //= navail[b, v]
+            ok = _row_exact(data, work, b, n, rs)
         elif method == COMPONENTWISE:
-            # spec §2.4: each component from its exact conditional under eta', in turn
-            for v in range(V):
-                row[b, v] = state[n * V + v] - 1
-            for v in range(V):
-                base = 0
-                for w in range(V):
-                    if w != v:
-                        base += row[b, w] * strides[w]
-                na = navail[b, v]
-                sv = strides[v]
-                total = 0.0
-                for c in range(na):
-                    total += Wa[n, base + avail[b, v, c] * sv]
-                u = next_uniform(rs)
-                k = -1
-                if total > 0.0:
-                    target = u * total
-                    acc = 0.0
-                    for c in range(na):
-                        wk = Wa[n, base + avail[b, v, c] * sv]
-                        if wk > 0.0:
-                            acc += wk
-                            k = c
-                            if acc > target:
-                                break
-                else:
-                    for c in range(na):
-                        off = base + avail[b, v, c] * sv
-                        wbuf[b, c] = Wa[n, off]
-                        lbuf[b, c] = la[n, off]
-                    k = draw(wbuf, lbuf, b, na, u)
-                if k >= 0:
-                    row[b, v] = avail[b, v, k]
+            ok = _row_componentwise(data, work, b, state, n, rs)
         else:
-            # spec §3.2: dead with probability Q_n, else independent per-sensor draws
-            u = next_uniform(rs)
-            if method == MM_FIXED:
-                dead = u < qdead[n]
-            else:
-                # alive mass s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j), shifted
-                alive = Ea[n]
-                for v in range(V):
-                    sv = 0.0
-                    for c in range(navail[b, v]):
-                        sv += Th[n, v, avail[b, v, c]]
-                    alive *= sv
-                wd = Ed[n]
-                target = u * (wd + alive)
-                k = -1
-                acc = 0.0
-                if wd > 0.0:
-                    acc += wd
-                    k = 0
-                if not (k == 0 and acc > target) and alive > 0.0:
-                    acc += alive
-                    k = 1
-                if k < 0:  # both underflowed: the same decision on exact log-weights
-                    wbuf[b, 0] = 0.0
-                    wbuf[b, 1] = 0.0
-                    lbuf[b, 0] = ld[n]
-                    lbuf[b, 1] = _mm_log_alive(lth, las, avail, navail, b, n, V)
-                    k = draw(wbuf, lbuf, b, 2, u)
-                    if k < 0:
-                        ok = False
-                dead = k == 0
-            if ok and dead:
-                for v in range(V):
-                    row[b, v] = -1
-            elif ok:
-                for v in range(V):  # j ~ theta_n^(v)(j) 1[j in A_n^(v)], one uniform each
-                    na = navail[b, v]
-                    total = 0.0
-                    for c in range(na):
-                        total += Th[n, v, avail[b, v, c]]
-                    u = next_uniform(rs)
-                    k = -1
-                    if total > 0.0:
-                        target = u * total
-                        acc = 0.0
-                        for c in range(na):
-                            wk = Th[n, v, avail[b, v, c]]
-                            if wk > 0.0:
-                                acc += wk
-                                k = c
-                                if acc > target:
-                                    break
-                    else:
-                        for c in range(na):
-                            wbuf[b, c] = Th[n, v, avail[b, v, c]]
-                            lbuf[b, c] = lth[n, v, avail[b, v, c]]
-                        k = draw(wbuf, lbuf, b, na, u)
-                    if k < 0:  # mm-fixed only: the alive branch is infeasible here
-                        if ld[n] > -np.inf:
-                            for w in range(V):
-                                row[b, w] = -1
-                        else:
-                            ok = False
-                        break
-                    row[b, v] = avail[b, v, k]
-        if not ok:
-            continue
-        for v in range(V):
-            pos = n * V + v
-            old = np.int64(state[pos])
-            new = row[b, v] + 1
-            if old != new:
-                if old >= 2:
-                    occ[b, v, old - 1] -= 1
-                if new >= 2:
-                    occ[b, v, new - 1] += 1
-                state[pos] = new
-                h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
+            ok = _row_mm(data, work, b, n, rs)
+        if ok:
+            h = _write_row(data, work, b, zkeys, state, n, h)
     return h
 
 
@@ -454,9 +511,18 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
         h ^= zkeys[pos, state[pos]]
     rs = np.empty(1, dtype=np.uint64)
     rs[0] = seed
+    h = _sweeps(data, work, zkeys, state, h, rs, n_sweeps)
+    return state, h
+
+
+@jit(nrt=False)
+def _sweeps(data, work, zkeys, state, h, rs, n_sweeps):
+    """``n_sweeps`` sweeps of slab 0 (:func:`run_sweeps`); the loop the sweep is written into
+    runs without reference counting, as the chain driver's do
+    (:func:`rankedassign.engine._kernels.make_driver`)."""
     for _ in range(n_sweeps):
         h = sweep(data, work, 0, zkeys, state, h, rs)
-    return state, h
+    return h
 
 
 #: The chain driver compiled for the multi-sensor problem (:func:`.._chains.make_driver`).
@@ -701,67 +767,28 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     method, then the row is written back as in :func:`sweep`. The chain's tallies are
     ``cnt[b]`` (keys, fall-backs, sweeps) and, when chains are speculated, ``hist``.
     """
-    n_meas = data.n_meas
-    occ, avail, navail, perm, row = work.occ, work.avail, work.navail, work.perm, work.row
     method = data.method
-    P = data.P
-    V = data.V
-    for t in range(P):
-        perm[b, t] = t
-    if data.random_scan:  # random scan: Fisher-Yates from the identity
-        for t in range(P - 1, 0, -1):
-            j = np.int64(next_uniform(rs) * (t + 1))
-            if j > t:
-                j = t
-            tmp = perm[b, t]
-            perm[b, t] = perm[b, j]
-            perm[b, j] = tmp
-    for t in range(P):
-        n = perm[b, t]
-        for v in range(V):  # A_n^(v): missed, and measurements free of the other rows
-            own = state[n * V + v] - 1
-            avail[b, v, 0] = 0
-            c = 1
-            for j in range(1, n_meas[v] + 1):
-                if occ[b, v, j] == 0 or own == j:
-                    avail[b, v, c] = j
-                    c += 1
-            navail[b, v] = c
+    _scan_order(data, work, b, rs)
+    for t in range(data.P):
+        n = work.perm[b, t]
+        _available(data, work, b, state, n)
         if method == EXACT:
             ok = _herd_row_exact(data, work, b, state, n, rs)
         elif method == COMPONENTWISE:
             ok = _herd_row_componentwise(data, work, b, state, n, rs)
         else:
             ok = _herd_row_mm(data, work, b, state, n, rs)
-        if not ok:
-            continue
-        for v in range(V):
-            pos = n * V + v
-            old = np.int64(state[pos])
-            new = row[b, v] + 1
-            if old != new:
-                if old >= 2:
-                    occ[b, v, old - 1] -= 1
-                if new >= 2:
-                    occ[b, v, new - 1] += 1
-                state[pos] = new
-                h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
-    cnt = work.cnt[b]
-    cnt[2] += 1
-    hist = work.hist
-    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
-        hist[b, cnt[2], 0] = cnt[0]
-        hist[b, cnt[2], 1] = cnt[1]
+        if ok:
+            h = _write_row(data, work, b, zkeys, state, n, h)
+    key_table_sweep_done(work, b)
     return h
 
 
 class MultiSensorHerdedWork(NamedTuple):
     """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
-    :class:`MultiSensorWork`, then the herded draw's.
-
-    ``C`` as in :class:`MultiSensorWork`, ``Kw`` the width of a key's weights
-    (``MultiSensorHerdedData.width``), ``L = max(P V, 1)``, ``cap`` keys per table and ``T2``
-    (a power of two, at least ``2 cap``) index slots.
+    :class:`MultiSensorWork`, the candidates' full indices and those of a
+    :class:`~rankedassign.engine._kernels.KeyTable` (weights of width
+    ``MultiSensorHerdedData.width``, key vectors of length ``max(P V, 1)``).
 
     Attributes
     ----------
@@ -769,24 +796,10 @@ class MultiSensorHerdedWork(NamedTuple):
         As in :class:`MultiSensorWork`.
     cand : ndarray, shape (nb, C), int64
         Full candidate index of each compact candidate.
-    p : ndarray, shape (nb, Kw), float64
-        The draw's conditional over its full candidate range.
-    keyv : ndarray, shape (nb, L), int32
-        The draw's key vector, padded with -1.
-    hw : ndarray, shape (nb, cap, Kw), float64
-        The key table's weights.
-    kst : ndarray, shape (nb, cap, L), int32
-        Stored key vectors.
-    krow : ndarray, shape (nb, cap), int32
-        Stored draw ids ``n (V + 1) + stage``.
-    tslot : ndarray, shape (nb, T2), int64
-        Open-addressing index: slot + 1 (0 empty).
-    thash : ndarray, shape (nb, T2), uint64
-        The key's hash at each index entry.
-    cnt : ndarray, shape (nb, 3), int64
-        The chain's ``[keys, fall-backs, sweeps]``.
-    hist : ndarray, shape (nb, chain_length + 1 or 1, 2), int64
-        The tallies after each sweep (speculation only).
+    p, keyv, hw, kst, krow, tslot, thash, cnt, hist
+        As in :class:`~rankedassign.engine._kernels.KeyTable`: the draw's conditional over
+        its full candidate range and its key (padded with -1), the key table (row ids
+        ``n (V + 1) + stage``) and the chain's tallies.
     """
 
     occ: np.ndarray
@@ -813,46 +826,20 @@ class MultiSensorHerdedWork(NamedTuple):
 def alloc_work_herded(data, nb):
     """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables."""
     g = alloc_work(data, nb)
-    C = g.wbuf.shape[1]
-    L = max(data.P * data.V, 1)
-    Kw = data.width
-    cap = data.capacity
-    T = 4
-    while T < 2 * cap:
-        T *= 2
-    return MultiSensorHerdedWork(
-        occ=g.occ, avail=g.avail, navail=g.navail, idx=g.idx, wbuf=g.wbuf, lbuf=g.lbuf,
-        perm=g.perm, row=g.row, cand=np.zeros((nb, C), dtype=np.int64),
-        p=np.zeros((nb, Kw)), keyv=np.empty((nb, L), dtype=np.int32),
-        hw=np.empty((nb, cap, Kw)), kst=np.empty((nb, cap, L), dtype=np.int32),
-        krow=np.empty((nb, cap), dtype=np.int32), tslot=np.zeros((nb, T), dtype=np.int64),
-        thash=np.zeros((nb, T), dtype=np.uint64), cnt=np.zeros((nb, 3), dtype=np.int64),
-        hist=np.zeros((nb, data.chain_length + 1 if nb > 1 else 1, 2), dtype=np.int64))
+    cand = np.zeros((nb, g.wbuf.shape[1]), dtype=np.int64)
+    table = alloc_key_table(nb, data.width, max(data.P * data.V, 1), data.capacity,
+                            data.chain_length)
+    return MultiSensorHerdedWork(*(g[:] + (cand,) + table[:]))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies."""
     reset_work(data, work, b, x0)
-    work.tslot[b, :] = 0
-    work.cnt[b, :] = 0
-    work.hist[b, 0, :] = 0
-
-
-@jit()
-def chain_done_herded(data, work, b, j):
-    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data.tally
-    hist = work.hist
-    if hist.shape[1] > 1:
-        tally[0] += hist[b, j, 0]
-        tally[1] += hist[b, j, 1]
-    else:  # simulated up to j exactly
-        tally[0] += work.cnt[b, 0]
-        tally[1] += work.cnt[b, 1]
+    reset_key_table(work, b)
 
 
 #: The chain driver compiled for the multi-sensor problem with the herded draw.
 run_chains_herded = make_driver("multisensor_herded", alloc_work_herded, reset_work_herded,
                                 sweep_herded, work=MultiSensorHerdedWork,
-                                chain_done=chain_done_herded)
+                                chain_done=key_table_done)

@@ -50,8 +50,15 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..engine._kernels import (
+    alloc_key_table,
+    key_table_done,
+    key_table_sweep_done,
+    make_driver,
+    next_uniform,
+    reset_key_table,
+)
 from ..engine._kernels import key_hash as _key_hash
-from ..engine._kernels import make_driver, next_uniform
 from ..engine._kernels import table_find as _table_find
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
@@ -486,7 +493,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     (the fall-back draw's), ``keyv`` (the row's key, the reference's ``herd_key``: the state
     with row ``i`` as -1, or its gated measurements held by the other rows in increasing
     order, padded with -1), the key table, the chain's tallies ``cnt`` and ``hist`` (read by
-    :func:`chain_done_herded`).
+    :func:`rankedassign.engine._kernels.key_table_done`).
     """
     W, cc, random_scan = data.W, data.cc, data.random_scan
     key_mode, init_mode, capacity = data.key_mode, data.init_mode, data.capacity
@@ -605,51 +612,31 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
         if k_new != k_old:
             state[i] = k_new
             h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
-    cnt[2] += 1
-    hist = work.hist
-    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
-        hist[b, cnt[2], 0] = cnt[0]
-        hist[b, cnt[2], 1] = cnt[1]
+    key_table_sweep_done(work, b)
     return h
 
 
 class HerdedWork(NamedTuple):
-    """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`), one slab per chain.
-
-    ``K = M + 2`` candidates, ``cap`` keys per table, ``T`` (a power of two, at least
-    ``2 cap``) index slots.
+    """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
+    :class:`DirectWork`, the fall-back draw's scratch rows and those of a
+    :class:`~rankedassign.engine._kernels.KeyTable` (``K = M + 2`` candidates, key vectors of
+    length ``P``).
 
     Attributes
     ----------
     free, perm
         As in :class:`DirectWork`.
-    p : ndarray, shape (nb, K), float64
-        The row's conditional.
     cum : ndarray, shape (nb, K), float64
         Scratch row of the fall-back (Gibbs) draw.
-    keyv : ndarray, shape (nb, P), int32
-        The row's key vector.
-    hw : ndarray, shape (nb, cap, K), float64
-        The key table's herding weights.
-    kst : ndarray, shape (nb, cap, P), int32
-        Stored key vectors.
-    krow : ndarray, shape (nb, cap), int32
-        Stored row ids.
-    tslot : ndarray, shape (nb, T), int64
-        Open-addressing index: slot + 1 (0 empty).
-    thash : ndarray, shape (nb, T), uint64
-        The key's hash at each index entry.
-    cnt : ndarray, shape (nb, 3), int64
-        The chain's ``[keys, fall-backs, sweeps]``.
-    hist : ndarray, shape (nb, chain_length + 1 or 1, 2), int64
-        The tallies after each sweep, which speculation needs (``nb > 1``: a chain may be
-        simulated past its last observation); one chain at a time reads ``cnt`` itself.
+    p, keyv, hw, kst, krow, tslot, thash, cnt, hist
+        As in :class:`~rankedassign.engine._kernels.KeyTable`: the row's conditional and
+        key, the key table and the chain's tallies.
     """
 
     free: np.ndarray
     perm: np.ndarray
-    p: np.ndarray
     cum: np.ndarray
+    p: np.ndarray
     keyv: np.ndarray
     hw: np.ndarray
     kst: np.ndarray
@@ -662,44 +649,19 @@ class HerdedWork(NamedTuple):
 
 @jit()
 def alloc_work_herded(data, nb):
-    """Workspace of ``nb`` herded chains: the direct draw's, scratch rows and key tables."""
+    """Workspace of ``nb`` herded chains: the direct draw's, a scratch row and key tables."""
     W = data.W
     P = W.shape[0]
-    M = W.shape[1] - 2
-    K = M + 2
-    cap = data.capacity
-    T = 4
-    while T < 2 * cap:
-        T *= 2
-    return HerdedWork(
-        free=np.empty((nb, M)), perm=np.empty((nb, P), dtype=np.int64), p=np.empty((nb, K)),
-        cum=np.empty((nb, K)), keyv=np.empty((nb, P), dtype=np.int32),
-        hw=np.empty((nb, cap, K)), kst=np.empty((nb, cap, P), dtype=np.int32),
-        krow=np.empty((nb, cap), dtype=np.int32), tslot=np.zeros((nb, T), dtype=np.int64),
-        thash=np.zeros((nb, T), dtype=np.uint64), cnt=np.zeros((nb, 3), dtype=np.int64),
-        hist=np.zeros((nb, data.chain_length + 1 if nb > 1 else 1, 2), dtype=np.int64))
+    K = W.shape[1]
+    table = alloc_key_table(nb, K, P, data.capacity, data.chain_length)
+    return HerdedWork(*(alloc_work(data, nb)[:] + (np.empty((nb, K)),) + table[:]))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain from ``x0``: free mask, an empty key table, zero tallies."""
     _reset_free(work.free[b], x0)
-    work.tslot[b, :] = 0
-    work.cnt[b, :] = 0
-    work.hist[b, 0, :] = 0
-
-
-@jit()
-def chain_done_herded(data, work, b, j):
-    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data.tally
-    hist = work.hist
-    if hist.shape[1] > 1:
-        tally[0] += hist[b, j, 0]
-        tally[1] += hist[b, j, 1]
-    else:  # simulated up to j exactly
-        tally[0] += work.cnt[b, 0]
-        tally[1] += work.cnt[b, 1]
+    reset_key_table(work, b)
 
 
 #: The chain driver compiled for the single-sensor problem with the direct draw
@@ -710,4 +672,4 @@ run_chains_prefix = make_driver("single_prefix", alloc_work_prefix, reset_work_p
                                 row_sweep_prefix, work=PrefixWork)
 #: The chain driver compiled for the single-sensor problem with the herded draw.
 run_chains_herded = make_driver("single_herded", alloc_work_herded, reset_work_herded,
-                                sweep_herded, work=HerdedWork, chain_done=chain_done_herded)
+                                sweep_herded, work=HerdedWork, chain_done=key_table_done)

@@ -1,0 +1,114 @@
+"""The chain driver of :mod:`rankedassign.engine._kernels` with named kernel records.
+
+A kind hands the driver named tuples (its ``data`` and its workspace record); the parallel
+speculation must keep every write its sweep makes through them. numba's parfor pass drops a
+write to an array read from an attribute of a named tuple inside a ``prange`` body (the body's
+copy of the record is rebuilt by calling the record's class, which its alias analysis does
+not link to the loop's arguments, so the write looks dead; numba issue #7135). The driver
+therefore calls one compiled function per chain from its ``prange`` loop; these tests keep
+the reproducer and the driver's behaviour.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+from numba import config, prange
+from numpy.testing import assert_array_equal
+
+from rankedassign.engine._kernels import Rules, make_driver, next_uniform
+from rankedassign.numba_options import jit
+
+
+class _Work(NamedTuple):
+    count: np.ndarray
+    other: np.ndarray
+
+
+class _Data(NamedTuple):
+    p: float
+
+
+@jit(cache=False, inline="always")
+def _bump(work, b):
+    work.count[b, 0] += 1
+
+
+@jit(cache=False, parallel=True)
+def _bump_in_prange(work, n):
+    for b in prange(n):
+        _bump(work, b)
+
+
+@jit(cache=False)
+def _bump_called(work, b):
+    work.count[b, 0] += 1
+
+
+@jit(cache=False, parallel=True)
+def _bump_by_call_in_prange(work, n):
+    for b in prange(n):
+        _bump_called(work, b)
+
+
+def _work(nb):
+    return _Work(count=np.zeros((nb, 1), dtype=np.int64), other=np.zeros((nb, 1)))
+
+
+@pytest.mark.skipif(config.DISABLE_JIT, reason="numba's parfor pass only")
+@pytest.mark.xfail(strict=False, reason="numba #7135: a write through a named tuple's "
+                   "attribute in a prange body is dropped; if this passes, numba fixed it")
+def test_numba_keeps_a_write_through_a_named_tuple_attribute_in_a_prange_body():
+    work = _work(4)
+    _bump_in_prange(work, 4)
+    assert work.count[:, 0].tolist() == [1, 1, 1, 1]
+
+
+def test_a_function_called_from_the_prange_body_keeps_its_writes():
+    """The driver's workaround (:func:`rankedassign.engine._kernels._speculate`)."""
+    work = _work(4)
+    _bump_by_call_in_prange(work, 4)
+    assert work.count[:, 0].tolist() == [1, 1, 1, 1]
+
+
+# A toy kind whose sweep depends on a counter kept in its workspace record: the state is the
+# counter's parity, flipped only when a uniform says so. A speculation that lost the
+# workspace writes would give other states than the sequential run.
+@jit(cache=False)
+def _alloc(data, nb):
+    return _Work(count=np.zeros((nb, 1), dtype=np.int64), other=np.zeros((nb, 1)))
+
+
+@jit(cache=False)
+def _reset(data, work, b, x0):
+    work.count[b, 0] = x0[0]
+
+
+@jit(cache=False, inline="always")
+def _sweep(data, work, b, zkeys, state, h, rs):
+    if next_uniform(rs) < data.p:
+        work.count[b, 0] += 1
+    new = work.count[b, 0] % 2
+    if new != state[0]:
+        h ^= zkeys[0, state[0]] ^ zkeys[0, new]
+        state[0] = new
+    return h
+
+
+_RUN = make_driver("engine_test_counter", _alloc, _reset, _sweep, work=_Work, cache=False)
+
+
+@pytest.mark.parametrize("budget", [3, 1 << 16])
+def test_speculation_keeps_the_writes_of_a_kind_with_named_records(budget):
+    zkeys = np.array([[1, 2]], dtype=np.uint64)
+    args = (_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 200, 5,
+            Rules(0, 0, 0, 0))
+    states, counts, ctr = _RUN(*args, 0, 1, budget=budget)
+    assert states.shape == (2, 1) and int(counts.sum()) == 1000
+    for batch, workers in ((2, 2), (7, 2), (64, 3)):
+        s, c, k = _RUN(*args, batch, workers, budget=budget)
+        assert_array_equal(s, states)
+        assert_array_equal(c, counts)
+        assert_array_equal(k[:6], ctr[:6])  # (the last counter: sweeps speculated in vain)
