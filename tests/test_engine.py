@@ -112,3 +112,34 @@ def test_speculation_keeps_the_writes_of_a_kind_with_named_records(budget):
         assert_array_equal(s, states)
         assert_array_equal(c, counts)
         assert_array_equal(k[:6], ctr[:6])  # (the last counter: sweeps speculated in vain)
+
+
+def test_the_records_that_extend_others_keep_their_fields_in_order():
+    """A herded or tempered record is the Gibbs record's fields followed by its own (one flat
+    record, built by concatenating keyword-built records): the orders must agree."""
+    from rankedassign.adaptive_birth import _kernels as ab_kernels
+    from rankedassign.adaptive_birth import _tempered_kernels as ab_tempered
+    from rankedassign.adaptive_birth import prepare as ab_prepare
+    from rankedassign.adaptive_birth.reference import RefData
+    from rankedassign.engine._kernels import KeyTable
+    from rankedassign.multisensor import _kernels as ms_kernels
+    from rankedassign.multisensor import prepare as ms_prepare
+    from rankedassign.single import _kernels as single_kernels
+    from rankedassign.single import prepare as single_prepare
+
+    table = KeyTable._fields
+    assert single_kernels.HerdedWork._fields == (
+        single_kernels.DirectWork._fields + ("cum",) + table)
+    assert ms_kernels.MultiSensorHerdedWork._fields == (
+        ms_kernels.MultiSensorWork._fields + ("cand",) + table)
+    assert ab_kernels.AdaptiveBirthHerdedWork._fields == (
+        ab_kernels.AdaptiveBirthWork._fields + table)
+    gibbs = ms_prepare.MultiSensorData._fields
+    assert ms_prepare.MultiSensorHerdedData._fields[:len(gibbs)] == gibbs
+    gibbs = ab_prepare.AdaptiveBirthData._fields
+    assert RefData._fields == gibbs
+    assert ab_prepare.AdaptiveBirthHerdedData._fields[:len(gibbs)] == gibbs
+    assert ab_tempered.AdaptiveBirthTemperedData._fields == gibbs + ("beta",)
+    direct = single_prepare.DirectData._fields
+    assert set(direct) <= set(single_prepare.PrefixData._fields)
+    assert set(direct) <= set(single_prepare.HerdedData._fields)

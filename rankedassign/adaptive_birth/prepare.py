@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine.herding import INIT_CODES, KEY_CODES
+from ..engine.kind import DrawInputs
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice, check_type
@@ -309,7 +310,7 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
 
     Returns
     -------
-    data, tally, make_ref, chain_bytes
+    DrawInputs
         As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is an
         :class:`AdaptiveBirthHerdedData` (the Gibbs inputs of :func:`chain_inputs`, the key
         and init codes, the table capacity, ``chain_length`` and the tallies ``[keys created,
@@ -320,7 +321,7 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     >>> from rankedassign.engine.herding import Herding
     >>> p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3)))
     >>> prep = prepare(p, "all_missed", "systematic", 0, {})
-    >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
+    >>> data, tally, make_ref = herd_inputs(prep, Herding(), 10)[:3]
     >>> data.capacity, make_ref()[0].capacity       # 2 sensors x 10 sweeps
     (20, 20)
     """
@@ -341,4 +342,4 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     while T < 2 * cap:
         T *= 2
     chain_bytes = cap * (8 * K + 4 * V + 4) + 16 * T + 16 * (chain_length + 1) + 8 * K
-    return hdata, tally, make_ref, chain_bytes
+    return DrawInputs(data=hdata, tally=tally, make_ref=make_ref, chain_bytes=chain_bytes)

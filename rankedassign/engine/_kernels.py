@@ -19,15 +19,14 @@ and, optionally, ``chain_done(data, work, b, j)`` (called in chain order when th
 ``b`` ends at its observation ``j``, for a kind that keeps a tally per chain, such as the
 herded draw's key-table fall-backs); :func:`make_driver` compiles the driver for it.
 ``data`` is the problem's named tuple of read-only arrays and scalars (its kernel data record,
-built by the kind's ``prepare``; the scalars are named fields, never packed into an array).
-A state is a flat ``int32``
-vector of length ``L`` whose values index the columns of the Zobrist table ``zkeys`` of shape
-``(L, K)``.
+built by the kind's ``prepare``; the scalars are named fields, never packed into an array). A
+state is a flat ``int32`` vector of length ``L`` whose values index the columns of the
+Zobrist table ``zkeys`` of shape ``(L, K)``.
 
 How it is generic. :func:`_speculate`, :func:`_speculate_chain`, :func:`_advance`,
 :func:`_new_run`, :func:`_run_slice`, :func:`_start`, :func:`_unpack` and :func:`_grow_run`
-below are plain Python templates that call the three functions above (and
-each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
+below are plain Python templates that call the three functions above (and each other) by
+their global names; :func:`rankedassign.numba_options.instantiate` compiles a
 copy of each template whose globals bind those names to the problem's compiled functions.
 numba freezes global functions at compile time, so an instantiation calls the row update
 directly (as inlined as a hand-written kernel) and has its own cache file.
@@ -942,8 +941,9 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
 
     Parameters
     ----------
-    data : tuple
-        The problem type's arrays (passed to its ``alloc_work``, ``reset_work``, ``sweep``).
+    data : named tuple
+        The problem type's data record (passed to its ``alloc_work``, ``reset_work``,
+        ``sweep``).
     zkeys : ndarray, shape (L, K), uint64
         Zobrist keys.
     x0 : ndarray, shape (L,), int32

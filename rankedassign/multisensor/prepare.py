@@ -48,6 +48,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine.herding import INIT_CODES, KEY_CODES
+from ..engine.kind import DrawInputs
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice
@@ -640,7 +641,7 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
 
     Returns
     -------
-    data, tally, make_ref, chain_bytes
+    DrawInputs
         As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is a
         :class:`MultiSensorHerdedData` (the Gibbs inputs, the gate of :func:`herd_gate`, the
         width of a key's weights, the key and init codes, the table capacity,
@@ -662,7 +663,7 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     ...     log_eta_dead = np.zeros(2); log_eta_alive = np.zeros((2, 2, 3))
     ...     log_s = None; log_theta = None
     >>> prep = prepare(Stub(), "all_missed", "systematic", 0, {"method": "exact"})
-    >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
+    >>> data, tally, make_ref = herd_inputs(prep, Herding(), 10)[:3]
     >>> int(data.width), data.capacity, tally.tolist()   # 1 + 6 candidates, 2 rows x 10 sweeps
     (7, 20, [0, 0])
     """
@@ -693,4 +694,4 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     while T < 2 * cap:
         T *= 2
     chain_bytes = cap * (8 * width + 4 * L + 4) + 16 * T + 16 * (chain_length + 1) + 8 * width
-    return hdata, tally, make_ref, chain_bytes
+    return DrawInputs(data=hdata, tally=tally, make_ref=make_ref, chain_bytes=chain_bytes)

@@ -16,6 +16,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ..engine.herding import INIT_CODES, KEY_CODES
+from ..engine.kind import DrawInputs
 from ..engine.result import SCANS, Prepared
 from ..engine.rng import base_key
 from ..numba_options import interruptible, jit
@@ -518,7 +519,7 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
 
     Returns
     -------
-    data, tally, make_ref, chain_bytes
+    DrawInputs
         As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents; the tallies are
         ``[keys created, fall-back draws]``.
     """
@@ -539,4 +540,4 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     while T < 2 * cap:
         T *= 2
     chain_bytes = cap * (8 * K + 4 * P + 4) + 16 * T + 16 * (chain_length + 1) + 24 * K
-    return data, tally, make_ref, chain_bytes
+    return DrawInputs(data=data, tally=tally, make_ref=make_ref, chain_bytes=chain_bytes)
