@@ -840,7 +840,7 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     (j, stalled, done) : (int, bool, int)
         The last observation made, whether the stall rule fired there, sweeps simulated.
     """
-    b, c, j0, j1, done = span
+    b, c, j0, j1, done = span.b, span.c, span.j0, span.j1, span.done
     L = U.states.shape[1]
     table = U.table
     mask = table.shape[0] - 1

@@ -47,7 +47,7 @@ from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murt
 from ...engine._kernels import chain_state, hash_of, mix64
 from ...numba_options import jit
 from ...single._kernels import sweep, sweep_prefix
-from ...single.prepare import M_DIRECT, DirectData, PrefixData, prefix_sums
+from ...single.prepare import M_DIRECT, PrefixData, prefix_sums
 from .._kernels import _logaddexp
 
 __all__ = ["component_keys", "component_problem", "component_costs", "count_components",
@@ -369,6 +369,102 @@ class ChainRules(NamedTuple):
     tau_stale: int
 
 
+class ComponentChains(NamedTuple):
+    """The chains of one component (:func:`_component_chains`): start, scratch, unique set.
+
+    Attributes
+    ----------
+    x0 : ndarray, shape (P,), int32
+        The start state (every row missed where it can be, else dead).
+    h0 : uint64
+        Its Zobrist hash.
+    state : ndarray, shape (P,), int32
+        The chain's state.
+    free : ndarray, shape (M,), float64
+        Its free-measurement mask.
+    perm : ndarray, shape (P,), int64
+        Row order of the random scan.
+    cum : ndarray, shape (M + 2,), float64
+        Scratch row of the prefix-sum draw.
+    held : ndarray, shape (max(P, 1),), int64
+        The held measurements, sorted (prefix-sum draw).
+    n_held : ndarray, shape (1,), int64
+        Their number.
+    rs : ndarray, shape (1,), uint64
+        The chain's stream state.
+    table, hashes, states
+        The component's unique set (:func:`_find_or_insert`), ``x0`` its unique 0.
+    """
+
+    x0: np.ndarray
+    h0: np.uint64
+    state: np.ndarray
+    free: np.ndarray
+    perm: np.ndarray
+    cum: np.ndarray
+    held: np.ndarray
+    n_held: np.ndarray
+    rs: np.ndarray
+    table: np.ndarray
+    hashes: np.ndarray
+    states: np.ndarray
+
+
+@jit(nrt=False)
+def _component_chains(data, prefix, zkeys, chains, n_chains, chain_length, base, rules):
+    """The chains of one component (spec §3.3, the default readings of stall and stale).
+
+    ``data`` is the component's :class:`~rankedassign.single.prepare.PrefixData` (its prefix
+    sums placeholders unless ``prefix``: the rows draw from them, else by the direct sum);
+    ``chains`` a :class:`ComponentChains` whose unique set holds ``x0`` alone. Compiled without
+    reference counting, as the chain driver's loops are
+    (:func:`rankedassign.engine._kernels.make_driver`): the sweep written into the loop reads
+    its arrays from the records on every sweep.
+
+    Returns
+    -------
+    (n_unique, n_observations) : (int, int)
+    """
+    x0, state, free, perm, cum = chains.x0, chains.state, chains.free, chains.perm, chains.cum
+    held, n_held, rs = chains.held, chains.n_held, chains.rs
+    table, hashes, states = chains.table, chains.hashes, chains.states
+    P = x0.shape[0]
+    n_u = 1
+    obs = 0
+    stale_run = 0
+    for c in range(n_chains):
+        for i in range(P):
+            state[i] = x0[i]
+        free[:] = 1.0  # the start state holds no measurement
+        n_held[0] = 0
+        rs[0] = chain_state(base, c)
+        hx = chains.h0
+        stall_run = 0
+        new_in_chain = 0
+        for _ in range(chain_length):
+            if prefix:
+                hx = sweep_prefix(data, zkeys, state, hx, rs, free, perm, cum, held, n_held)
+            else:
+                hx = sweep(data, zkeys, state, hx, rs, free, perm)
+            obs += 1
+            u, new = _find_or_insert(table, hashes, states, n_u, state, hx)
+            if new:
+                n_u += 1
+                new_in_chain += 1
+                stall_run = 0
+            else:
+                stall_run += 1
+            if rules.tau_stall > 0 and stall_run >= rules.tau_stall:
+                break
+        if new_in_chain > 0:
+            stale_run = 0
+        else:
+            stale_run += 1
+        if rules.tau_stale > 0 and stale_run >= rules.tau_stale:
+            break
+    return n_u, obs
+
+
 @jit()
 def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains,
                       chain_length, rules, base, zkeys):
@@ -416,7 +512,6 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     observations in a row that were not new, the run after ``tau_stale`` chains in a row that
     added nothing (spec §3.3).
     """
-    random_scan, tau_stall, tau_stale = rules
     H = comp_off.size - 1
     U = W_all.shape[1] - 2
     B = births.size
@@ -468,54 +563,20 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         table = np.zeros(_table_size(cap), dtype=np.int64)
         h0 = hash_of(zkeys, x0)
         _find_or_insert(table, hashes, states, 0, x0, h0)
-        n_u = 1
         prefix = M > M_DIRECT and M > 2 * P
         if prefix:
             S, next_pos = prefix_sums(W)
         else:
             S = np.zeros((P, 1))
             next_pos = np.zeros((P, 1), dtype=np.int64)
-        direct = DirectData(W=W, cc=cc, random_scan=random_scan)
-        by_prefix = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=random_scan)
-        state = np.empty(P, dtype=np.int32)
-        free = np.empty(M)
-        perm = np.empty(P, dtype=np.int64)
-        held = np.empty(max(P, 1), dtype=np.int64)
-        n_held = np.zeros(1, dtype=np.int64)
-        cum = np.empty(K)
-        obs = 0
-        stale_run = 0
-        for c in range(n_chains[h]):
-            for i in range(P):
-                state[i] = x0[i]
-            free[:] = 1.0  # the start state holds no measurement
-            n_held[0] = 0
-            rs[0] = chain_state(base[h], c)
-            hx = h0
-            stall_run = 0
-            new_in_chain = 0
-            for _ in range(chain_length[h]):
-                if prefix:
-                    hx = sweep_prefix(by_prefix, zkeys, state, hx, rs, free, perm, cum, held,
-                                      n_held)
-                else:
-                    hx = sweep(direct, zkeys, state, hx, rs, free, perm)
-                obs += 1
-                u, new = _find_or_insert(table, hashes, states, n_u, state, hx)
-                if new:
-                    n_u += 1
-                    new_in_chain += 1
-                    stall_run = 0
-                else:
-                    stall_run += 1
-                if tau_stall > 0 and stall_run >= tau_stall:
-                    break
-            if new_in_chain > 0:
-                stale_run = 0
-            else:
-                stale_run += 1
-            if tau_stale > 0 and stale_run >= tau_stale:
-                break
+        data = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=rules.random_scan)
+        chains = ComponentChains(
+            x0=x0, h0=h0, state=np.empty(P, dtype=np.int32), free=np.empty(M),
+            perm=np.empty(P, dtype=np.int64), cum=np.empty(K),
+            held=np.empty(max(P, 1), dtype=np.int64), n_held=np.zeros(1, dtype=np.int64),
+            rs=rs, table=table, hashes=hashes, states=states)
+        n_u, obs = _component_chains(data, prefix, zkeys, chains, n_chains[h], chain_length[h],
+                                     base[h], rules)
         sweeps[h] = obs
         # the children: cost, and the (entry, measurement) of every row that exists
         for u in range(n_u):
