@@ -11,6 +11,10 @@ the reproducer and the driver's behaviour.
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -19,7 +23,7 @@ from numba import config, prange
 from numpy.testing import assert_array_equal
 
 from rankedassign.engine._kernels import Rules, make_driver, next_uniform
-from rankedassign.numba_options import jit
+from rankedassign.numba_options import CACHE, jit
 
 
 class _Work(NamedTuple):
@@ -112,6 +116,22 @@ def test_speculation_keeps_the_writes_of_a_kind_with_named_records(budget):
         assert_array_equal(s, states)
         assert_array_equal(c, counts)
         assert_array_equal(k[:6], ctr[:6])  # (the last counter: sweeps speculated in vain)
+
+
+@pytest.mark.skipif(config.DISABLE_JIT or not CACHE, reason="numba's on-disk cache only")
+def test_a_kind_defined_elsewhere_leaves_the_cache_of_the_engine_alone(tmp_path):
+    """Every engine function compiled for a kind's records is compiled for that kind, with its
+    cache setting: the toy kind above (its records live in this test module, cache off) must
+    not enter a cached index of the engine, which a process that cannot import this module
+    then fails to read (``ModuleNotFoundError: No module named 'test_engine'``)."""
+    test_speculation_keeps_the_writes_of_a_kind_with_named_records(3)
+    root = Path(__file__).resolve().parents[1]
+    code = ("from rankedassign import sample_original, sample_short_chains, synthetic\n"
+            "p = synthetic.random(rng=0)\n"
+            "sample_original(p, 3, rng=0)\n"
+            "sample_short_chains(p, 3, 2, tau_stall=1, rng=0, workers=2)\n")
+    subprocess.run([sys.executable, "-c", code], cwd=tmp_path, check=True, timeout=600,
+                   env={**os.environ, "PYTHONPATH": str(root)})
 
 
 def test_the_records_that_extend_others_keep_their_fields_in_order():

@@ -24,9 +24,9 @@ state is a flat ``int32`` vector of length ``L`` whose values index the columns 
 Zobrist table ``zkeys`` of shape ``(L, K)``.
 
 How it is generic. :func:`_speculate`, :func:`_speculate_chain`, :func:`_advance`,
-:func:`_new_run`, :func:`_run_slice`, :func:`_start`, :func:`_unpack` and :func:`_grow_run`
-below are plain Python templates that call the three functions above (and each other) by
-their global names; :func:`rankedassign.numba_options.instantiate` compiles a
+:func:`_new_run`, :func:`_run_slice`, :func:`_start`, :func:`_pack`, :func:`_unpack` and
+:func:`_grow_run` below are plain Python templates that call the three functions above (and
+each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
 copy of each template whose globals bind those names to the problem's compiled functions.
 numba freezes global functions at compile time, so an instantiation calls the row update
 directly (as inlined as a hand-written kernel) and has its own cache file.
@@ -519,9 +519,9 @@ def chain_done(data, work, b, j):  # pragma: no cover - replaced in every instan
     raise NotImplementedError
 
 
-@jit()
 def no_chain_done(data, work, b, j):
-    """The default :func:`make_driver` ``chain_done``: a kind that keeps no per-chain tally."""
+    """The default :func:`make_driver` ``chain_done``: a kind that keeps no per-chain tally
+    (compiled for each kind, as every function that takes the kind's records is)."""
     return None
 
 
@@ -542,6 +542,10 @@ def _run_slice_impl(*args):  # pragma: no cover - replaced in every instantiatio
 
 
 def _speculate_chain_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _pack_impl(*args):  # pragma: no cover - replaced in every instantiation
     raise NotImplementedError
 
 
@@ -655,7 +659,6 @@ def _grow(U, n_unique):
     return UniqueSet(states, hashes, counts, last_chain, table)
 
 
-@jit()
 def _pack(run):
     """A :class:`Run` as nested plain tuples, the form it crosses into Python in.
 
@@ -680,7 +683,8 @@ def _unpack(run):
 def _grow_run(run):
     """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
     r = _unpack_impl(run)
-    return _pack(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr, r.pos))
+    return _pack_impl(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr,
+                          r.pos))
 
 
 @jit()
@@ -932,7 +936,7 @@ def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
     # Batches start small (the first one learns the chain lengths for the prefix) and double
     # up to ``batch``: a run that stops early by stale then discards little.
     pos[_RAMP] = max(64, 16 * workers)
-    return _pack(Run(U, slab, work, used_hist, ctr, cctr, pos))
+    return _pack_impl(Run(U, slab, work, used_hist, ctr, cctr, pos))
 
 
 def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget,
@@ -1094,7 +1098,7 @@ def _as_tuple(fields):
     return fields
 
 
-def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=no_chain_done,
+def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=None,
                 cache=None):
     """Compile the chain driver for one problem type.
 
@@ -1112,7 +1116,8 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=no
         ``chain_done(data, work, b, j)``, called once per chain in the replay's (chain) order
         when the chain of slab ``b`` ends at its observation ``j``: where a kind keeps a tally
         of its chains (the herded draw counts its key-table fall-backs) it reads the slab's
-        state at ``j``, so sweeps speculated past ``j`` are not counted. Default: nothing.
+        state at ``j``, so sweeps speculated past ``j`` are not counted. Default (None):
+        nothing.
     cache : bool, optional
         As in :func:`rankedassign.numba_options.jit`; off for functions defined interactively.
 
@@ -1164,10 +1169,18 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=no
     >>> all(bool((a == b).all()) for a, b in zip(sliced, (states, counts, ctr)))
     True
     """
+    # Every function that takes the kind's records is compiled for the kind, with its cache
+    # setting: a cached function of the engine compiled for the records of a kind defined
+    # elsewhere would name their module in the engine's cache index, which every later
+    # process must then import.
     as_work = (_as_tuple if work is None else
                instantiate(_as_record, f"as_work_{name}", {"Work": work}, cache=cache))
+    if chain_done is None:
+        chain_done = instantiate(no_chain_done, f"no_chain_done_{name}", {}, cache=cache)
+    pack = instantiate(_pack, f"pack_{name}", {}, cache=cache)
     unpack = instantiate(_unpack, f"unpack_{name}", {"as_work": as_work}, cache=cache)
-    grow = instantiate(_grow_run, f"grow_run_{name}", {"_unpack_impl": unpack}, cache=cache)
+    grow = instantiate(_grow_run, f"grow_run_{name}",
+                       {"_unpack_impl": unpack, "_pack_impl": pack}, cache=cache)
     # The two loops the sweep is written into run without reference counting (see
     # :func:`_advance`): they allocate nothing, and their caller keeps every array alive.
     chain = instantiate(_speculate_chain, f"speculate_chain_{name}",
@@ -1175,8 +1188,8 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=no
     spec = instantiate(_speculate, f"speculate_{name}", {"_speculate_chain_impl": chain},
                        parallel=True, cache=cache)
     adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache, nrt=False)
-    new_run = instantiate(_new_run, f"new_run_{name}", {"alloc_work": alloc_work},
-                          cache=cache)
+    new_run = instantiate(_new_run, f"new_run_{name}",
+                          {"alloc_work": alloc_work, "_pack_impl": pack}, cache=cache)
     run_slice = instantiate(_run_slice, f"run_slice_{name}",
                             {"_speculate_impl": spec, "_advance_impl": adv,
                              "_unpack_impl": unpack, "reset_work": reset_work,
