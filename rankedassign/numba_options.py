@@ -171,7 +171,7 @@ def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "nev
 
 
 def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
-                cache: bool | None = None):
+                cache: bool | None = None, nrt: bool = True):
     """Compile a copy of the plain function ``template`` whose globals include ``bindings``.
 
     This is how one generic kernel (the chain driver of :mod:`rankedassign.engine._kernels`) is
@@ -189,7 +189,7 @@ def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
         The instantiation's qualified name (must be unique per binding).
     bindings : dict
         Global names to add or override for this instantiation.
-    parallel, cache : bool
+    parallel, cache, nrt : bool
         As in :func:`jit`.
 
     Returns
@@ -213,7 +213,7 @@ def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
     func.__module__ = template.__module__
     func.__qualname__ = name
     func.__kwdefaults__ = template.__kwdefaults__
-    return jit(parallel=parallel, cache=cache)(func)
+    return jit(parallel=parallel, cache=cache, nrt=nrt)(func)
 
 
 @contextmanager

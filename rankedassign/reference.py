@@ -27,8 +27,7 @@ def _run(prep, n_chains, chain_length, herding=None, **rules):
         sweep, new_work, data, tally = kind.sweep, kind.new_work, prep.ref_data, (0, 0)
     else:
         rule = herded_rule(kind)
-        _, _, make_ref, _ = rule.inputs(prep, herding, chain_length)
-        data, tally = make_ref()
+        data, tally = rule.inputs(prep, herding, chain_length).make_ref()
         sweep, new_work = rule.sweep, rule.new_work
     states, counts, n_obs, chains_run, stale = run_chains(
         sweep, new_work, data, prep.x0.tolist(), prep.base, n_chains, chain_length, **rules,

@@ -121,7 +121,8 @@ def _run(prep: Prepared, n_chains: int, chain_length: int, rules: Rules, workers
         run_chains, data = kind.drivers[prep.driver], prep.data
     else:
         rule = herded_rule(kind)
-        data, tally, _, chain_bytes = rule.inputs(prep, herding, chain_length)
+        inputs = rule.inputs(prep, herding, chain_length)
+        data, tally, chain_bytes = inputs.data, inputs.tally, inputs.chain_bytes
         run_chains = rule.driver
         if batch:  # every chain simulated at once has its own key table
             batch = min(batch, MAX_TABLE_BYTES // max(chain_bytes, 1))

@@ -266,7 +266,8 @@ def test_signal_exception_unwraps_numba_return_path_errors():
 # Plain functions that are compiled as templates (rankedassign.engine._kernels and the tempered
 # loop of rankedassign.engine._tempered_kernels), not called by Python.
 _TEMPLATES = {("rankedassign.engine._kernels", n) for n in
-              ("_speculate", "_advance", "_new_run", "_run_slice", "_start")} | {
+              ("_speculate", "_speculate_chain", "_advance", "_new_run", "_run_slice", "_start",
+               "_pack", "_unpack", "_grow_run", "_as_record", "no_chain_done")} | {
               ("rankedassign.engine._tempered_kernels", n) for n in ("_start", "_steps")}
 
 

@@ -24,18 +24,9 @@ PACKAGES = ("rankedassign", "oracle")
 MAX_LINES = 150
 MAX_PARAMS = 12
 
-#: The sampler kernels still over a limit. Splitting them into named tuples and inlined
-#: phases was tried and kept every digest, but ran 1.8-5x slower in the multi-sensor and
-#: adaptive-birth sweeps and in the parallel speculation (named tuples of slab arrays inlined
-#: into numba's parallel loop; benchmarks/README.md, "Named kernel contracts (samplers)"), so it
-#: did not land. Remove an entry when its function is within both limits (a test checks that
-#: every entry still needs to be here).
+#: The functions still over a limit, each with its reason. Remove an entry when its function
+#: is within both limits (a test checks that every entry still needs to be here).
 KNOWN_OFFENDERS = frozenset({
-    ("rankedassign/engine/_kernels.py", "_speculate"),      # 15 parameters
-    ("rankedassign/engine/_kernels.py", "_advance"),        # 13 parameters
-    ("rankedassign/single/_kernels.py", "sweep_prefix"),    # 14 parameters
-    ("rankedassign/multisensor/_kernels.py", "sweep"),      # 187 lines of code
-    ("rankedassign/tracking/single/_glmb_kernels.py", "sample_components"),  # 13 parameters
     # 14 keyword parameters of the public API (beta= and herding= are part of it, issue #25); the
     # rules and readings are named keywords that callers outside the project pass one by one
     ("rankedassign/samplers.py", "sample_short_chains"),

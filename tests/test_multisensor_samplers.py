@@ -58,7 +58,7 @@ def run_both(problem, method, scan, survival_power, n_sweeps, seed, start="all_m
         assert x == s.tolist()
         assert g.state == int(rs[0])
         assert h == _hash(zk, s)
-        assert occ == [work[0][2, v, : m + 1].tolist() for v, m in enumerate(problem.n_meas)]
+        assert occ == [work.occ[2, v, : m + 1].tolist() for v, m in enumerate(problem.n_meas)]
         trajectory.append(list(x))
     return trajectory
 
@@ -130,14 +130,15 @@ def test_exact_start_all_dead_and_explicit():
 # ------------------------------------------------------------------------------ preparation
 def test_shifted_weights_and_targets():
     problem = random_problem(2, (1, 2), 0, "coupled")
-    params, n_meas, strides, Wd, ld, Wa, la, *_ = prepare_data(problem, "exact", "random")
-    assert params.tolist() == [0, 1, 2, 2]
-    assert n_meas.tolist() == [1, 2] and strides.tolist() == [3, 1]
+    data = prepare_data(problem, "exact", "random")
+    Wd, ld, Wa, la = data.Wd, data.ld, data.Wa, data.la
+    assert (data.method, data.random_scan, data.P, data.V) == (0, True, 2, 2)
+    assert data.n_meas.tolist() == [1, 2] and data.strides.tolist() == [3, 1]
     full = np.concatenate([ld[:, None], la], axis=1)
     assert_allclose(np.concatenate([Wd[:, None], Wa], axis=1),
                     np.exp(full - full.max(axis=1, keepdims=True)), rtol=1e-15)
     # componentwise: dead merged into (0, ..., 0) (spec §1.6)
-    la_c = prepare_data(problem, "componentwise", "systematic")[6]
+    la_c = prepare_data(problem, "componentwise", "systematic").la
     assert_allclose(la_c[:, 0], np.logaddexp(problem.log_eta_dead,
                                              problem.log_eta_alive[:, 0, 0]), rtol=1e-15)
     assert_array_equal(la_c[:, 1:], problem.log_eta_alive.reshape(2, -1)[:, 1:])
@@ -147,14 +148,14 @@ def test_mm_dead_probabilities():
     problem = random_problem(3, (2, 1), 1, "separable")
     for power, alpha in ((1, 1), ("V", 2)):
         data = prepare_data(problem, "mm-fixed", "systematic", power)
-        qdead = data[12]
+        qdead = data.qdead
         full = alpha * problem.log_s + sum(np.logaddexp.reduce(t, axis=1)
                                            for t in problem.log_theta)
         expect = np.exp(problem.log_eta_dead) / (np.exp(problem.log_eta_dead) + np.exp(full))
         assert_allclose(qdead, expect, rtol=1e-12)
         # exclusion variant at the all-missed state of the other rows: Ed / (Ed + Ea prod sums)
         data = prepare_data(problem, "mm", "systematic", power)
-        Th, Ea, Ed = data[7], data[10], data[11]
+        Th, Ea, Ed = data.Th, data.Ea, data.Ed
         q_excl = Ed / (Ed + Ea * Th.sum(axis=2).prod(axis=1))
         assert_allclose(q_excl, expect, rtol=1e-12)
 

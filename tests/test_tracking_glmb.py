@@ -300,13 +300,14 @@ def test_compiled_components_are_the_public_samplers(assoc, meas):
     f, terms = _component_terms(z, gate_prob=None if meas == "many" else 0.9999999)
     budget = 300
     chains, length = _gibbs_budget(assoc, np.array([budget]))
-    rules = (assoc.options.get("scan") == "random", getattr(assoc, "tau_stall", 0) or 0,
-             getattr(assoc, "tau_stale", 0) or 0)
+    rules = _glmb_kernels.ChainRules(random_scan=assoc.options.get("scan") == "random",
+                                     tau_stall=getattr(assoc, "tau_stall", 0) or 0,
+                                     tau_stale=getattr(assoc, "tau_stale", 0) or 0)
     base = np.array([base_key(11)], dtype=np.uint64)
     U = terms.used.size
     comp, cost, off, entry, meas_, sweeps, n_rows = _glmb_kernels.sample_components(
         f.comp_off, f.comp_tracks, f._births, terms.W, terms.cc, terms.gated, chains, length,
-        rules[1], rules[2], rules[0], base, _zobrist(8, U + 2))
+        rules, base, _zobrist(8, U + 2))
     mark = np.zeros(U, bool)
     rows, cols = np.empty(8, np.int64), np.empty(U, np.int64)
     r, c, problem = f._problem(0, terms, mark, rows, cols)

@@ -6,15 +6,16 @@ plain-loop Cholesky and forward substitution, ``exp(lw - max)`` and the sequenti
 inverse-CDF loop), so both give bit-identical chains for the same stream. The three
 functions follow the generic chain driver's interface:
 
-* :func:`alloc_work` ``(data, nb) -> work``: a tuple of scratch arrays, leading dimension
-  ``nb`` (one slab per chain simulated at once);
+* :func:`alloc_work` ``(data, nb) -> work``: the scratch arrays, leading dimension ``nb`` (one
+  slab per chain simulated at once), an :class:`AdaptiveBirthWork`;
 * :func:`reset_work` ``(data, work, b, x0)``: nothing to reset (the information sums are
   recomputed from the state at the start of every sweep, so a sweep's transition depends on
   the state only);
 * :func:`sweep` ``(data, work, b, zkeys, state, h, rs) -> h``: one sweep in place on the
   ``int32`` tuple ``state``, keeping the Zobrist hash ``h``.
 
-``data`` is the tuple of :func:`rankedassign.adaptive_birth.prepare.chain_inputs`.
+``data`` is the :class:`~rankedassign.adaptive_birth.prepare.AdaptiveBirthData` of
+:func:`rankedassign.adaptive_birth.prepare.chain_inputs`.
 
 References
 ----------
@@ -25,37 +26,86 @@ References
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from ..engine._kernels import herd_lookup, herd_pick, make_driver, next_uniform
+from ..engine._kernels import (
+    alloc_key_table,
+    herd_lookup,
+    herd_pick,
+    key_table_done,
+    key_table_sweep_done,
+    make_driver,
+    next_uniform,
+    reset_key_table,
+)
 from ..numba_options import jit
 
 __all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
            "run_chains", "sweep_herded", "alloc_work_herded", "reset_work_herded",
-           "chain_done_herded", "run_chains_herded"]
+           "run_chains_herded", "AdaptiveBirthWork", "AdaptiveBirthHerdedWork"]
+
+
+class AdaptiveBirthWork(NamedTuple):
+    """Scratch of ``nb`` chains (:func:`alloc_work`), leading dimension ``nb``.
+
+    ``n`` is the state dimension, ``K = max_s (M_s + 1)``.
+
+    Attributes
+    ----------
+    order : ndarray, shape (nb, V), int64
+        The sweep's sensor order.
+    M : ndarray, shape (nb, n, n), float64
+        Running information matrix.
+    b : ndarray, shape (nb, n), float64
+        Running information vector.
+    c : ndarray, shape (nb, 1), float64
+        Running scalar term.
+    Mp : ndarray, shape (nb, n, n), float64
+        ``M+ = M- + A_s``.
+    L : ndarray, shape (nb, n, n), float64
+        Cholesky factors.
+    y : ndarray, shape (nb, n), float64
+        Forward-substitution scratch.
+    bj : ndarray, shape (nb, n), float64
+        ``b- + a_sj``.
+    lw : ndarray, shape (nb, K), float64
+        The sensor's log-weights.
+    """
+
+    order: np.ndarray
+    M: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    Mp: np.ndarray
+    L: np.ndarray
+    y: np.ndarray
+    bj: np.ndarray
+    lw: np.ndarray
 
 
 @jit()
 def alloc_work(data, nb):
-    """Scratch arrays for ``nb`` chains: ``(order, M, b, c, Mp, L, y, bj, lw)``.
+    """Scratch arrays for ``nb`` chains (an :class:`AdaptiveBirthWork`).
 
     Examples
     --------
     >>> import numpy as np
     >>> from rankedassign.adaptive_birth.prepare import AdaptiveBirthProblem, chain_inputs
     >>> work = alloc_work(chain_inputs(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 4)))), 3)
-    >>> work[0].shape, work[8].shape
+    >>> work.order.shape, work.lw.shape
     ((3, 2), (3, 4))
     """
-    V = data[1]
-    n = data[2]
+    V = data.V
+    n = data.n
     K = 1
     for v in range(V):
-        K = max(K, data[4][v])
-    return (np.zeros((nb, V), dtype=np.int64), np.zeros((nb, n, n)), np.zeros((nb, n)),
-            np.zeros((nb, 1)), np.zeros((nb, n, n)), np.zeros((nb, n, n)), np.zeros((nb, n)),
-            np.zeros((nb, n)), np.zeros((nb, K)))
+        K = max(K, data.shape[v])
+    return AdaptiveBirthWork(
+        order=np.zeros((nb, V), dtype=np.int64), M=np.zeros((nb, n, n)), b=np.zeros((nb, n)),
+        c=np.zeros((nb, 1)), Mp=np.zeros((nb, n, n)), L=np.zeros((nb, n, n)),
+        y=np.zeros((nb, n)), bj=np.zeros((nb, n)), lw=np.zeros((nb, K)))
 
 
 @jit()
@@ -168,14 +218,14 @@ def quad(L, b, y, n):
 @jit()
 def _sums(data, M, b, c, state):
     """``(M, b, c)`` = prior information plus the terms of the detecting sensors of ``state``."""
-    n = data[2]
-    off, M0, b0, A, a, cz = data[5], data[8], data[9], data[11], data[12], data[13]
+    n = data.n
+    off, M0, b0, A, a, cz = data.off, data.M0, data.b0, data.A, data.a, data.cz
     for i in range(n):
         for k in range(n):
             M[i, k] = M0[i, k]
         b[i] = b0[i]
-    c[0] = data[10]
-    for v in range(data[1]):
+    c[0] = data.c0
+    for v in range(data.V):
         if state[v] > 0:
             t = off[v] + state[v] - 1
             for i in range(n):
@@ -188,9 +238,9 @@ def _sums(data, M, b, c, state):
 @jit()
 def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
     """Sensor ``s``'s log-weights into ``lw`` (ratio form); leaves ``(M-, b-, c-)``, ``M+``."""
-    n = data[2]
-    off, A, a, cz, const = data[5], data[11], data[12], data[13], data[14]
-    Ms = data[4][s] - 1
+    n = data.n
+    off, A, a, cz, const = data.off, data.A, data.a, data.cz, data.const
+    Ms = data.shape[s] - 1
     if state[s] > 0:                                     # remove sensor s: (M-, b-, c-)
         t = off[s] + state[s] - 1
         for i in range(n):
@@ -199,7 +249,7 @@ def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
             b[i] -= a[t, i]
         c[0] -= cz[t]
     cholesky(M, L, n)
-    lw[0] = data[15][s] - half_logdet(L, n) - 0.5 * (c[0] - quad(L, b, y, n))   # missed by s
+    lw[0] = data.log_miss[s] - half_logdet(L, n) - 0.5 * (c[0] - quad(L, b, y, n))  # missed by s
     for i in range(n):
         for k in range(n):
             Mp[i, k] = M[i, k] + A[s, i, k]              # M+ = M- + A_s
@@ -229,26 +279,26 @@ def sweep(data, work, b, zkeys, state, h, rs):
     >>> state.tolist(), int(h) == int(keys[1, 0] ^ keys[1, 2])
     ([0, 2], True)
     """
-    V = data[1]
-    strides = data[6]
-    logw = data[7]
-    order = work[0][b]
-    M, bb, c, Mp, L, y, bj, lw = (work[1][b], work[2][b], work[3][b], work[4][b], work[5][b],
-                                  work[6][b], work[7][b], work[8][b])
+    V = data.V
+    strides = data.strides
+    logw = data.logw
+    order = work.order[b]
+    M, bb, c, Mp, L, y, bj, lw = (work.M[b], work.b[b], work.c[b], work.Mp[b], work.L[b],
+                                  work.y[b], work.bj[b], work.lw[b])
     for v in range(V):
         order[v] = v
-    if data[3]:                                          # Fisher-Yates, t = V-1..1
+    if data.random_order:                                # Fisher-Yates, t = V-1..1
         for t in range(V - 1, 0, -1):
             k = min(np.int64(next_uniform(rs) * (t + 1)), t)
             tmp = order[t]
             order[t] = order[k]
             order[k] = tmp
-    gaussian = data[0] == 1
+    gaussian = data.mode == 1
     if gaussian:
         _sums(data, M, bb, c, state)
     for r in range(V):
         s = order[r]
-        K = data[4][s]
+        K = data.shape[s]
         if gaussian:
             _gaussian_weights(data, M, bb, c, Mp, L, y, bj, lw, state, s)
         else:
@@ -260,13 +310,13 @@ def sweep(data, work, b, zkeys, state, h, rs):
                 lw[j] = logw[base + j * strides[s]]
         j = draw(lw, K, next_uniform(rs))
         if gaussian and j > 0:                           # (M, b, c) <- sums of the new tuple
-            t = data[5][s] + j - 1
-            n = data[2]
+            t = data.off[s] + j - 1
+            n = data.n
             for i in range(n):
                 for k in range(n):
                     M[i, k] = Mp[i, k]
-                bb[i] += data[12][t, i]
-            c[0] += data[13][t]
+                bb[i] += data.a[t, i]
+            c[0] += data.cz[t]
         old = state[s]
         if j != old:
             h ^= zkeys[s, old] ^ zkeys[s, j]
@@ -275,7 +325,8 @@ def sweep(data, work, b, zkeys, state, h, rs):
 
 
 #: The chain driver compiled for the adaptive-birth problem (:func:`.._chains.make_driver`).
-run_chains = make_driver("adaptive_birth", alloc_work, reset_work, sweep)
+run_chains = make_driver("adaptive_birth", alloc_work, reset_work, sweep,
+                         work=AdaptiveBirthWork)
 
 
 # ---------------------------------------------------------------------------- herded draw
@@ -299,38 +350,35 @@ def _conditional(lw, p, K):
 def sweep_herded(data, work, b, zkeys, state, h, rs):
     """One herded sweep of slab ``b`` (twin of the reference's ``herd_sweep``).
 
-    ``data`` is the Gibbs data (``data[0..15]``) followed by the key mode, the init mode, the
-    capacity, ``chain_length`` and the tally (one flat tuple: the parallel speculation takes
-    no nested tuple); ``work`` is
-    the Gibbs workspace (``work[0..8]``) followed by the conditional ``p``, the key vector
-    ``keyv`` (``J`` with the redrawn sensor as -1; the key is the same for both key modes),
-    the key table (weights ``hw``, keys ``kst``/``krow``, index ``tslot``/``thash``), the
-    chain's ``cnt = [keys, fall-backs, sweeps]`` and ``hist`` (:func:`chain_done_herded`).
+    ``data`` is an :class:`~rankedassign.adaptive_birth.prepare.AdaptiveBirthHerdedData`,
+    ``work`` an :class:`AdaptiveBirthHerdedWork`: the Gibbs workspace followed by the
+    conditional ``p``, the key vector ``keyv`` (``J`` with the redrawn sensor as -1; the key is
+    the same for both key modes), the key table and the chain's tallies
+    (:func:`rankedassign.engine._kernels.key_table_done`).
     """
-    gd = data
-    V = gd[1]
-    strides = gd[6]
-    logw = gd[7]
-    order = work[0][b]
-    M, bb, c, Mp, L, y, bj, lw = (work[1][b], work[2][b], work[3][b], work[4][b], work[5][b],
-                                  work[6][b], work[7][b], work[8][b])
-    p, keyv, cnt = work[9][b], work[10][b], work[16][b]
+    V = data.V
+    strides = data.strides
+    logw = data.logw
+    order = work.order[b]
+    M, bb, c, Mp, L, y, bj, lw = (work.M[b], work.b[b], work.c[b], work.Mp[b], work.L[b],
+                                  work.y[b], work.bj[b], work.lw[b])
+    p, keyv, cnt = work.p[b], work.keyv[b], work.cnt[b]
     for v in range(V):
         order[v] = v
-    if gd[3]:                                            # Fisher-Yates, t = V-1..1
+    if data.random_order:                                # Fisher-Yates, t = V-1..1
         for t in range(V - 1, 0, -1):
             k = min(np.int64(next_uniform(rs) * (t + 1)), t)
             tmp = order[t]
             order[t] = order[k]
             order[k] = tmp
-    gaussian = gd[0] == 1
+    gaussian = data.mode == 1
     if gaussian:
-        _sums(gd, M, bb, c, state)
+        _sums(data, M, bb, c, state)
     for r in range(V):
         s = order[r]
-        K = gd[4][s]
+        K = data.shape[s]
         if gaussian:
-            _gaussian_weights(gd, M, bb, c, Mp, L, y, bj, lw, state, s)
+            _gaussian_weights(data, M, bb, c, Mp, L, y, bj, lw, state, s)
         else:
             base = 0
             for v in range(V):
@@ -341,30 +389,61 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
         _conditional(lw, p, K)
         for v in range(V):
             keyv[v] = -1 if v == s else state[v]
-        slot, new = herd_lookup(s, keyv, cnt, data[18], work[13][b], work[12][b], work[14][b],
-                                work[15][b])
+        slot, new = herd_lookup(s, keyv, cnt, data.capacity, work.krow[b], work.kst[b],
+                                work.tslot[b], work.thash[b])
         if slot < 0:  # the table is full: an ordinary Gibbs draw
             j = draw(lw, K, next_uniform(rs))
         else:
-            j = herd_pick(work[11][b, slot], p, K, new, data[17], rs)
+            j = herd_pick(work.hw[b, slot], p, K, new, data.init_mode, rs)
         if gaussian and j > 0:                           # (M, b, c) <- sums of the new tuple
-            t = gd[5][s] + j - 1
-            n = gd[2]
+            t = data.off[s] + j - 1
+            n = data.n
             for i in range(n):
                 for k in range(n):
                     M[i, k] = Mp[i, k]
-                bb[i] += gd[12][t, i]
-            c[0] += gd[13][t]
+                bb[i] += data.a[t, i]
+            c[0] += data.cz[t]
         old = state[s]
         if j != old:
             h ^= zkeys[s, old] ^ zkeys[s, j]
             state[s] = j
-    cnt[2] += 1
-    hist = work[17]
-    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
-        hist[b, cnt[2], 0] = cnt[0]
-        hist[b, cnt[2], 1] = cnt[1]
+    key_table_sweep_done(work, b)
     return h
+
+
+class AdaptiveBirthHerdedWork(NamedTuple):
+    """Scratch of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
+    :class:`AdaptiveBirthWork`, then those of a
+    :class:`~rankedassign.engine._kernels.KeyTable` (weights of width ``K``, key vectors of
+    length ``max(V, 1)``).
+
+    Attributes
+    ----------
+    order, M, b, c, Mp, L, y, bj, lw
+        As in :class:`AdaptiveBirthWork`.
+    p, keyv, hw, kst, krow, tslot, thash, cnt, hist
+        As in :class:`~rankedassign.engine._kernels.KeyTable`: the sensor's conditional and
+        key, the key table (row ids: the sensor) and the chain's tallies.
+    """
+
+    order: np.ndarray
+    M: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    Mp: np.ndarray
+    L: np.ndarray
+    y: np.ndarray
+    bj: np.ndarray
+    lw: np.ndarray
+    p: np.ndarray
+    keyv: np.ndarray
+    hw: np.ndarray
+    kst: np.ndarray
+    krow: np.ndarray
+    tslot: np.ndarray
+    thash: np.ndarray
+    cnt: np.ndarray
+    hist: np.ndarray
 
 
 @jit()
@@ -374,49 +453,28 @@ def alloc_work_herded(data, nb):
     Examples
     --------
     >>> import numpy as np
-    >>> from rankedassign.adaptive_birth.prepare import AdaptiveBirthProblem, chain_inputs
-    >>> d = chain_inputs(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 4))))
-    >>> work = alloc_work_herded(d + (1, 0, 8, 5, np.zeros(2, dtype=np.int64)), 3)
-    >>> work[9].shape, work[11].shape
+    >>> from rankedassign.adaptive_birth.prepare import AdaptiveBirthProblem, herd_inputs, prepare
+    >>> from rankedassign.engine.herding import Herding
+    >>> prep = prepare(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 4))), "all_missed",
+    ...                "systematic", 0, {})
+    >>> data = herd_inputs(prep, Herding(max_keys=8), 5)[0]
+    >>> work = alloc_work_herded(data, 3)
+    >>> work.p.shape, work.hw.shape
     ((3, 4), (3, 8, 4))
     """
     g = alloc_work(data, nb)
-    V = data[1]
-    K = g[8].shape[1]
-    cap = data[18]
-    T = 4
-    while T < 2 * cap:
-        T *= 2
-    L = max(V, 1)
-    return (g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7], g[8], np.zeros((nb, K)),
-            np.empty((nb, L), dtype=np.int32), np.empty((nb, cap, K)),
-            np.empty((nb, cap, L), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
-            np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
-            np.zeros((nb, 3), dtype=np.int64),
-            np.zeros((nb, data[19] + 1 if nb > 1 else 1, 2), dtype=np.int64))
+    table = alloc_key_table(nb, g.lw.shape[1], max(data.V, 1), data.capacity,
+                            data.chain_length)
+    return AdaptiveBirthHerdedWork(*(g[:] + table[:]))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain: an empty key table and zero tallies."""
-    work[14][b, :] = 0
-    work[16][b, :] = 0
-    work[17][b, 0, :] = 0
-
-
-@jit()
-def chain_done_herded(data, work, b, j):
-    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data[20]
-    hist = work[17]
-    if hist.shape[1] > 1:
-        tally[0] += hist[b, j, 0]
-        tally[1] += hist[b, j, 1]
-    else:  # simulated up to j exactly
-        tally[0] += work[16][b, 0]
-        tally[1] += work[16][b, 1]
+    reset_key_table(work, b)
 
 
 #: The chain driver compiled for the adaptive-birth problem with the herded draw.
 run_chains_herded = make_driver("adaptive_birth_herded", alloc_work_herded, reset_work_herded,
-                                sweep_herded, chain_done=chain_done_herded)
+                                sweep_herded, work=AdaptiveBirthHerdedWork,
+                                chain_done=key_table_done)

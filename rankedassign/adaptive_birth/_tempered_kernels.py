@@ -8,15 +8,15 @@ Twins, operation for operation, of
 conditional are those of the Gibbs kernel (:mod:`rankedassign.adaptive_birth._kernels`: the
 tensor read, or its information sums and ratio form).
 
-``data`` is the Gibbs data tuple of :func:`rankedassign.adaptive_birth.prepare.chain_inputs`
-followed by ``beta``. ``work`` is ``(M, b, c, Mp, L, y, bj, lw, Wb, Sb)``: the Gibbs scratch
-of one chain (``M``, ``Mp``, ``L`` (n, n); ``b``, ``y``, ``bj`` (n,); ``c`` (1,); ``lw``
-(K,)), each sensor's tempered weights ``Wb`` (V, K) and their sums ``Sb`` (V,).
+``data`` is an :class:`AdaptiveBirthTemperedData` (the Gibbs inputs of
+:func:`rankedassign.adaptive_birth.prepare.chain_inputs` and ``beta``), ``work`` an
+:class:`AdaptiveBirthTemperedWork`.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -25,17 +25,86 @@ from ..engine._tempered_kernels import make_tempered
 from ..numba_options import jit
 from ._kernels import _gaussian_weights, _sums
 
-__all__ = ["row_weights", "move", "accumulate", "KERNELS"]
+__all__ = ["row_weights", "move", "accumulate", "KERNELS", "AdaptiveBirthTemperedData",
+           "AdaptiveBirthTemperedWork"]
+
+
+class AdaptiveBirthTemperedData(NamedTuple):
+    """The tempered kernels' inputs: the fields of
+    :class:`~rankedassign.adaptive_birth.prepare.AdaptiveBirthData`, then ``beta``.
+
+    One flat record, so that the Gibbs kernel's functions read it as they read the Gibbs
+    inputs.
+
+    Attributes
+    ----------
+    mode, V, n, random_order, shape, off, strides, logw, M0, b0, c0, A, a, cz, const, log_miss
+        As in :class:`~rankedassign.adaptive_birth.prepare.AdaptiveBirthData`.
+    beta : float
+        Inverse temperature.
+    """
+
+    mode: np.int64
+    V: np.int64
+    n: np.int64
+    random_order: np.int64
+    shape: np.ndarray
+    off: np.ndarray
+    strides: np.ndarray
+    logw: np.ndarray
+    M0: np.ndarray
+    b0: np.ndarray
+    c0: float
+    A: np.ndarray
+    a: np.ndarray
+    cz: np.ndarray
+    const: np.ndarray
+    log_miss: np.ndarray
+    beta: float
+
+
+class AdaptiveBirthTemperedWork(NamedTuple):
+    """The tempered kernels' workspace: the Gibbs scratch of one chain and the tempered
+    weights (``n`` the state dimension, ``K = max_s (M_s + 1)``).
+
+    Attributes
+    ----------
+    M, Mp, L : ndarray, shape (n, n), float64
+        Running information matrix, ``M+`` and Cholesky factors.
+    b, y, bj : ndarray, shape (n,), float64
+        Running information vector and scratch.
+    c : ndarray, shape (1,), float64
+        Running scalar term.
+    lw : ndarray, shape (K,), float64
+        A sensor's log-weights.
+    Wb : ndarray, shape (V, K), float64
+        Each sensor's tempered weights.
+    Sb : ndarray, shape (V,), float64
+        Their sums.
+    """
+
+    M: np.ndarray
+    b: np.ndarray
+    c: np.ndarray
+    Mp: np.ndarray
+    L: np.ndarray
+    y: np.ndarray
+    bj: np.ndarray
+    lw: np.ndarray
+    Wb: np.ndarray
+    Sb: np.ndarray
 
 
 @jit()
 def row_weights(data, work, state, p):
     """``p[s]`` for every sensor (and ``Wb``, ``Sb`` into ``work``); ``Z`` or -1.0."""
-    V = data[1]
-    shape, strides, logw = data[4], data[6], data[7]
-    beta = data[16]
-    M, b, c, Mp, L, y, bj, lw, Wb, Sb = work
-    gaussian = data[0] == 1
+    V = data.V
+    shape, strides, logw = data.shape, data.strides, data.logw
+    beta = data.beta
+    M, b, c, Mp, L, y, bj, lw = (work.M, work.b, work.c, work.Mp, work.L, work.y, work.bj,
+                                 work.lw)
+    Wb, Sb = work.Wb, work.Sb
+    gaussian = data.mode == 1
     Z = 0.0
     for s in range(V):
         K = shape[s]
@@ -73,8 +142,8 @@ def row_weights(data, work, state, p):
 @jit()
 def move(data, work, zkeys, state, r, h, rs):
     """Sensor ``r``'s entry drawn from its tempered conditional; ``(hash, changed)``."""
-    Wb, Sb = work[8], work[9]
-    K = data[4][r]
+    Wb, Sb = work.Wb, work.Sb
+    K = data.shape[r]
     target = next_uniform(rs) * Sb[r]
     acc = 0.0
     k = -1

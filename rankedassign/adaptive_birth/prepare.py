@@ -6,14 +6,127 @@ The state is one measurement tuple (``V`` entries, ``0`` missed); see
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..engine.herding import INIT_CODES, KEY_CODES
+from ..engine.kind import DrawInputs
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice, check_type
 from .problem import SENSOR_ORDERS, AdaptiveBirthProblem
 from .reference import HerdData, reference_data
+
+
+# ---------------------------------------------------------------------------- kernel records
+class AdaptiveBirthData(NamedTuple):
+    """The kernels' inputs of an adaptive-birth sampler call (:func:`chain_inputs`).
+
+    Read by :func:`rankedassign.adaptive_birth._kernels.sweep`; the reference reads the same
+    values as lists (:class:`~rankedassign.adaptive_birth.reference.RefData`, whose fields
+    these are). The arrays the other mode does not read are placeholders (one numba type for
+    both modes); integers are int64, reals float64, arrays C-contiguous.
+
+    Attributes
+    ----------
+    mode : int
+        0: ``ln rho`` read from the tensor ``logw``; 1: the linear-Gaussian closed form.
+    V : int
+        Sensors, the length of a tuple ``J``.
+    n : int
+        State dimension of the Gaussian model (1 in tensor mode).
+    random_order : int
+        1: a fresh random sensor order every sweep (``sensor_order="random"``), 0: ``0..V-1``.
+    shape : ndarray, shape (V,), int64
+        ``M_s + 1``, the candidates of each sensor.
+    off : ndarray, shape (V + 1,), int64
+        Offsets of each sensor's measurements in ``a``, ``cz``, ``const`` (zeros in tensor
+        mode).
+    strides : ndarray, shape (V,), int64
+        C-order strides of the tensor, in entries.
+    logw : ndarray, shape (prod(shape),), float64
+        Tensor mode: ``ln rho(J)`` of every tuple, flat in C order (length 1 in Gaussian mode).
+    M0 : ndarray, shape (n, n), float64
+        Prior information matrix.
+    b0 : ndarray, shape (n,), float64
+        Prior information vector.
+    c0 : float
+        Prior scalar term.
+    A : ndarray, shape (V, n, n), float64
+        ``H_s' R_s^-1 H_s`` per sensor.
+    a : ndarray, shape (T, n), float64
+        ``H_s' R_s^-1 z_sj`` per kept measurement, stacked over the sensors.
+    cz, const : ndarray, shape (T,), float64
+        ``z_sj' R_s^-1 z_sj`` and the measurement's constant term.
+    log_miss : ndarray, shape (V,), float64
+        ``ln(1 - P_D^(s))``.
+    """
+
+    mode: np.int64
+    V: np.int64
+    n: np.int64
+    random_order: np.int64
+    shape: np.ndarray
+    off: np.ndarray
+    strides: np.ndarray
+    logw: np.ndarray
+    M0: np.ndarray
+    b0: np.ndarray
+    c0: float
+    A: np.ndarray
+    a: np.ndarray
+    cz: np.ndarray
+    const: np.ndarray
+    log_miss: np.ndarray
+
+
+class AdaptiveBirthHerdedData(NamedTuple):
+    """The herded kernel's inputs (:func:`herd_inputs`): the fields of
+    :class:`AdaptiveBirthData`, then those of the herded draw.
+
+    Read by :func:`rankedassign.adaptive_birth._kernels.sweep_herded`; the reference's twin is
+    :class:`~rankedassign.adaptive_birth.reference.HerdData`. One flat record, so that the
+    Gibbs kernel's functions read it as they read :class:`AdaptiveBirthData`.
+
+    Attributes
+    ----------
+    mode, V, n, random_order, shape, off, strides, logw, M0, b0, c0, A, a, cz, const, log_miss
+        As in :class:`AdaptiveBirthData`.
+    key_mode : int
+        What a key is: ``KEY_CODES`` of :mod:`rankedassign.engine.herding` (both keys are the
+        other sensors' entries here).
+    init_mode : int
+        A new key's initial weights: ``INIT_CODES`` (0 conditional, 1 zero, 2 uniform).
+    capacity : int
+        Keys a chain's table may hold.
+    chain_length : int
+        Observations per chain (sizes the per-sweep tallies of speculated chains).
+    tally : ndarray, shape (2,), int64
+        ``[keys created, fall-back draws]`` over the run, updated in place.
+    """
+
+    mode: np.int64
+    V: np.int64
+    n: np.int64
+    random_order: np.int64
+    shape: np.ndarray
+    off: np.ndarray
+    strides: np.ndarray
+    logw: np.ndarray
+    M0: np.ndarray
+    b0: np.ndarray
+    c0: float
+    A: np.ndarray
+    a: np.ndarray
+    cz: np.ndarray
+    const: np.ndarray
+    log_miss: np.ndarray
+    key_mode: int
+    init_mode: int
+    capacity: int
+    chain_length: int
+    tally: np.ndarray
 
 
 # ---------------------------------------------------------------------------- sampler inputs
@@ -28,19 +141,18 @@ def chain_inputs(problem: AdaptiveBirthProblem, sensor_order: str = "random"):
 
     Returns
     -------
-    data : tuple
-        ``(mode, V, n, random_order, shape, off, strides, logw, M0, b0, c0, A, a, cz, const,
-        log_miss)``: ``mode`` 0 = tensor (``logw`` flat, C order, ``strides`` in entries),
-        1 = Gaussian (``M0, b0, c0`` prior information, ``A`` (V, n, n), ``a`` (T, n),
-        ``cz`` and ``const`` (T,) stacked over sensors at offsets ``off``, ``log_miss``
-        (V,)). Integers are int64 scalars or arrays, reals float64, arrays C-contiguous
-        (one numba type for both modes; unused arrays have length 1).
+    AdaptiveBirthData
+        Mode 0 = tensor (``logw`` flat, C order, ``strides`` in entries), 1 = Gaussian (``M0,
+        b0, c0`` prior information, ``A`` (V, n, n), ``a`` (T, n), ``cz`` and ``const`` (T,)
+        stacked over sensors at offsets ``off``, ``log_miss`` (V,)). Integers are int64
+        scalars or arrays, reals float64, arrays C-contiguous (one numba type for both modes;
+        unused arrays have length 1).
 
     Examples
     --------
     >>> import numpy as np
     >>> data = chain_inputs(AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3))))
-    >>> int(data[0]), data[4].tolist(), data[6].tolist()
+    >>> int(data.mode), data.shape.tolist(), data.strides.tolist()
     (0, [2, 3], [3, 1])
     """
     check_type(problem, "problem", AdaptiveBirthProblem)
@@ -52,21 +164,23 @@ def chain_inputs(problem: AdaptiveBirthProblem, sensor_order: str = "random"):
         strides[v] = strides[v + 1] * shape[v + 1]
     z1 = np.zeros(1)
     if problem._tensor is not None:
-        return (np.int64(0), np.int64(V), np.int64(1), np.int64(random_order), shape,
-                np.zeros(V + 1, dtype=np.int64), strides,
-                np.ascontiguousarray(problem._tensor.reshape(-1), dtype=np.float64),
-                np.zeros((1, 1)), z1, 0.0, np.zeros((V, 1, 1)), np.zeros((1, 1)), z1, z1,
-                np.zeros(V))
+        return AdaptiveBirthData(
+            mode=np.int64(0), V=np.int64(V), n=np.int64(1), random_order=np.int64(random_order),
+            shape=shape, off=np.zeros(V + 1, dtype=np.int64), strides=strides,
+            logw=np.ascontiguousarray(problem._tensor.reshape(-1), dtype=np.float64),
+            M0=np.zeros((1, 1)), b0=z1, c0=0.0, A=np.zeros((V, 1, 1)), a=np.zeros((1, 1)),
+            cz=z1, const=z1, log_miss=np.zeros(V))
     m = problem._model
     T = int(m["off"][-1])
     a = m["a"] if T else np.zeros((1, m["n"]))
     cz = m["cz"] if T else z1
     const = m["const"] if T else z1
-    return (np.int64(1), np.int64(V), np.int64(m["n"]), np.int64(random_order), shape,
-            m["off"].copy(), strides, z1, np.ascontiguousarray(m["M0"]),
-            np.ascontiguousarray(m["b0"]), float(m["c0"]), np.ascontiguousarray(m["A"]),
-            np.ascontiguousarray(a), np.ascontiguousarray(cz), np.ascontiguousarray(const),
-            np.ascontiguousarray(m["log_miss"]))
+    c = np.ascontiguousarray
+    return AdaptiveBirthData(
+        mode=np.int64(1), V=np.int64(V), n=np.int64(m["n"]), random_order=np.int64(random_order),
+        shape=shape, off=m["off"].copy(), strides=strides, logw=z1, M0=c(m["M0"]),
+        b0=c(m["b0"]), c0=float(m["c0"]), A=c(m["A"]), a=c(a), cz=c(cz), const=c(const),
+        log_miss=c(m["log_miss"]))
 
 
 def prepare(problem, start, scan, rng, options) -> Prepared:
@@ -131,7 +245,7 @@ def prepare(problem, start, scan, rng, options) -> Prepared:
             raise ValueError(f"start tuple {J[0].tolist()} has zero weight")
         x0 = J[0].astype(np.int32)
     data = chain_inputs(problem, sensor_order)
-    n = int(data[2])
+    n = int(data.n)
 
     def to_result(states):
         states = np.asarray(states, dtype=np.int64).reshape(-1, V)
@@ -196,26 +310,29 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
 
     Returns
     -------
-    data, tally, make_ref, chain_bytes
-        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is the Gibbs
-        data tuple (:func:`chain_inputs`) followed by the key and init codes, the table
-        capacity, ``chain_length`` and the tallies ``[keys created, fall-back draws]``.
+    DrawInputs
+        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is an
+        :class:`AdaptiveBirthHerdedData` (the Gibbs inputs of :func:`chain_inputs`, the key
+        and init codes, the table capacity, ``chain_length`` and the tallies ``[keys created,
+        fall-back draws]``).
 
     Examples
     --------
     >>> from rankedassign.engine.herding import Herding
     >>> p = AdaptiveBirthProblem.from_log_weights(np.zeros((2, 3)))
     >>> prep = prepare(p, "all_missed", "systematic", 0, {})
-    >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
-    >>> data[18], make_ref()[0].capacity       # 2 sensors x 10 sweeps
+    >>> data, tally, make_ref = herd_inputs(prep, Herding(), 10)[:3]
+    >>> data.capacity, make_ref()[0].capacity       # 2 sensors x 10 sweeps
     (20, 20)
     """
     data = prep.data
-    V = int(data[1])
-    K = int(max(data[4])) if V else 1
+    V = int(data.V)
+    K = int(max(data.shape)) if V else 1
     cap = herding.capacity(V, chain_length)
     tally = np.zeros(2, dtype=np.int64)
-    hdata = data + (KEY_CODES[herding.keys], INIT_CODES[herding.init], cap, chain_length, tally)
+    hdata = AdaptiveBirthHerdedData(
+        **data._asdict(), key_mode=KEY_CODES[herding.keys], init_mode=INIT_CODES[herding.init],
+        capacity=cap, chain_length=chain_length, tally=tally)
 
     def make_ref():
         ref_tally = [0, 0]
@@ -225,4 +342,4 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     while T < 2 * cap:
         T *= 2
     chain_bytes = cap * (8 * K + 4 * V + 4) + 16 * T + 16 * (chain_length + 1) + 8 * K
-    return hdata, tally, make_ref, chain_bytes
+    return DrawInputs(data=hdata, tally=tally, make_ref=make_ref, chain_bytes=chain_bytes)

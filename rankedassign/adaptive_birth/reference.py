@@ -113,13 +113,14 @@ class RefData(NamedTuple):
 
 
 def reference_data(data) -> RefData:
-    """Convert the kernel's data tuple into :class:`RefData` (lists of Python numbers).
+    """Convert the kernels' inputs into :class:`RefData` (lists of Python numbers).
 
     Parameters
     ----------
-    data : tuple
-        The 16 arrays and scalars of :func:`rankedassign.adaptive_birth.prepare.chain_inputs`,
-        in the order of the fields of :class:`RefData`.
+    data : AdaptiveBirthData
+        The arrays and scalars of :func:`rankedassign.adaptive_birth.prepare.chain_inputs`
+        (:class:`~rankedassign.adaptive_birth.prepare.AdaptiveBirthData`, whose fields are
+        those of :class:`RefData`).
 
     Returns
     -------
@@ -135,11 +136,11 @@ def reference_data(data) -> RefData:
     >>> d.mode, d.shape, d.strides
     (0, [2, 2], [2, 1])
     """
-    vals = [x.tolist() if hasattr(x, "tolist") else x for x in data]
-    vals[0], vals[1], vals[2] = int(vals[0]), int(vals[1]), int(vals[2])
-    vals[3] = bool(vals[3])
-    vals[10] = float(vals[10])
-    return RefData(*vals)
+    vals = {name: getattr(data, name) for name in RefData._fields}
+    vals = {k: x.tolist() if hasattr(x, "tolist") else x for k, x in vals.items()}
+    vals.update(mode=int(vals["mode"]), V=int(vals["V"]), n=int(vals["n"]),
+                random_order=bool(vals["random_order"]), c0=float(vals["c0"]))
+    return RefData(**vals)
 
 
 class Work(NamedTuple):

@@ -352,12 +352,14 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, bac
     if backend == "python":
         return tempered_reference(problem, n_steps, beta=beta, start=start, rng=rng)
     problem, n_steps, beta, prep = _inputs(problem, n_steps, beta, start, rng)
-    data = prep.data + (beta,)
+    data = _tempered_kernels.AdaptiveBirthTemperedData(**prep.data._asdict(), beta=beta)
     V = problem.n_sensors
-    n = int(prep.data[2])
+    n = int(prep.data.n)
     K = max(problem.shape)
-    work = (np.zeros((n, n)), np.zeros(n), np.zeros(1), np.zeros((n, n)), np.zeros((n, n)),
-            np.zeros(n), np.zeros(n), np.zeros(K), np.zeros((V, K)), np.zeros(V))
+    work = _tempered_kernels.AdaptiveBirthTemperedWork(
+        M=np.zeros((n, n)), b=np.zeros(n), c=np.zeros(1), Mp=np.zeros((n, n)),
+        L=np.zeros((n, n)), y=np.zeros(n), bj=np.zeros(n), lw=np.zeros(K), Wb=np.zeros((V, K)),
+        Sb=np.zeros(V))
     acc = np.zeros((V, K))
     moves = max(1, _SLICE_WORK // (prep.sweep_cost + V * V * n * n))
     out = run_compiled(_tempered_kernels.KERNELS, data, work, prep.x0, prep.n_values, V, acc,

@@ -5,9 +5,10 @@ the global unique set ``U``, the stall and stale rules in every reading, specula
 chains replayed in chain order — does not depend on what a *row update* is. A problem type
 (single-sensor ranked assignment, multi-sensor, adaptive birth) supplies only
 
-* ``alloc_work(data, nb) -> work``: a tuple of arrays, each with leading dimension ``nb``, the
-  per-chain workspace of ``nb`` chains simulated at once (free-measurement masks, occupancy
-  counters, scratch rows);
+* ``alloc_work(data, nb) -> work``: a named tuple of arrays (the kind's workspace record,
+  passed to :func:`make_driver` as ``work``), each with leading dimension ``nb``, the per-chain
+  workspace of ``nb`` chains simulated at once (free-measurement masks, occupancy counters,
+  scratch rows);
 * ``reset_work(data, work, b, x0)``: put slab ``b`` of the workspace in the start state ``x0``;
 * ``sweep(data, work, b, zkeys, state, h, rs) -> h``: one sweep (one observation) in place on
   the ``int32`` state vector ``state``, returning its new Zobrist hash (for every position
@@ -17,12 +18,14 @@ chains replayed in chain order — does not depend on what a *row update* is. A 
 and, optionally, ``chain_done(data, work, b, j)`` (called in chain order when the chain of slab
 ``b`` ends at its observation ``j``, for a kind that keeps a tally per chain, such as the
 herded draw's key-table fall-backs); :func:`make_driver` compiles the driver for it.
-``data`` is the problem's tuple of read-only arrays and scalars. A state is a flat ``int32``
-vector of length ``L`` whose values index the columns of the Zobrist table ``zkeys`` of shape
-``(L, K)``.
+``data`` is the problem's named tuple of read-only arrays and scalars (its kernel data record,
+built by the kind's ``prepare``; the scalars are named fields, never packed into an array). A
+state is a flat ``int32`` vector of length ``L`` whose values index the columns of the
+Zobrist table ``zkeys`` of shape ``(L, K)``.
 
-How it is generic. :func:`_speculate`, :func:`_advance`, :func:`_new_run`, :func:`_run_slice`
-and :func:`_start` below are plain Python templates that call the three functions above (and
+How it is generic. :func:`_speculate`, :func:`_speculate_chain`, :func:`_advance`,
+:func:`_new_run`, :func:`_run_slice`, :func:`_start`, :func:`_pack`, :func:`_unpack` and
+:func:`_grow_run` below are plain Python templates that call the three functions above (and
 each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
 copy of each template whose globals bind those names to the problem's compiled functions.
 numba freezes global functions at compile time, so an instantiation calls the row update
@@ -73,6 +76,7 @@ References
 from __future__ import annotations
 
 from collections import namedtuple
+from typing import NamedTuple
 
 import numpy as np
 from numba import prange
@@ -301,8 +305,109 @@ def herd_pick(w, p, K, new, init_mode, rs):
     w[best] = bw - 1.0
     return best
 
-__all__ = ["Rules", "UniqueSet", "Slab", "Run", "make_driver", "N_COUNTERS",
-           "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick"]
+class KeyTable(NamedTuple):
+    """The key tables of ``nb`` herded chains and the scratch of their draws
+    (:func:`alloc_key_table`), leading dimension ``nb``.
+
+    A kind's herded workspace record is its Gibbs workspace's fields followed by these (one
+    flat record: numba's parallel loop takes no nested tuple); it builds it from the two
+    records, ``Work(*(gibbs[:] + ... + table[:]))``. ``K`` is the width of a draw's
+    weights, ``L`` the length of a key vector, ``cap`` the keys a table holds and ``T`` (a
+    power of two, at least ``2 cap``) its index slots.
+
+    Attributes
+    ----------
+    p : ndarray, shape (nb, K), float64
+        The draw's conditional.
+    keyv : ndarray, shape (nb, L), int32
+        The draw's key vector.
+    hw : ndarray, shape (nb, cap, K), float64
+        The herding weights of every key.
+    kst : ndarray, shape (nb, cap, L), int32
+        Stored key vectors.
+    krow : ndarray, shape (nb, cap), int32
+        Stored row (draw) ids.
+    tslot : ndarray, shape (nb, T), int64
+        Open-addressing index: slot + 1 (0 empty).
+    thash : ndarray, shape (nb, T), uint64
+        The key's hash at each index entry.
+    cnt : ndarray, shape (nb, 3), int64
+        The chain's ``[keys, fall-backs, sweeps]``.
+    hist : ndarray, shape (nb, chain_length + 1, 2) or (nb, 1, 2), int64
+        The tallies ``[keys, fall-backs]`` after each sweep, which speculation needs
+        (``nb > 1``: a chain may be simulated past its last observation); one chain at a time
+        reads ``cnt`` itself.
+    """
+
+    p: np.ndarray
+    keyv: np.ndarray
+    hw: np.ndarray
+    kst: np.ndarray
+    krow: np.ndarray
+    tslot: np.ndarray
+    thash: np.ndarray
+    cnt: np.ndarray
+    hist: np.ndarray
+
+
+@jit()
+def alloc_key_table(nb, K, L, cap, chain_length):
+    """Empty key tables of ``nb`` herded chains (a :class:`KeyTable`).
+
+    Examples
+    --------
+    >>> t = alloc_key_table(2, 5, 3, 10, 4)
+    >>> t.hw.shape, t.tslot.shape, t.hist.shape
+    ((2, 10, 5), (2, 32), (2, 5, 2))
+    """
+    T = 4
+    while T < 2 * cap:
+        T *= 2
+    return KeyTable(
+        p=np.zeros((nb, K)), keyv=np.empty((nb, L), dtype=np.int32),
+        hw=np.empty((nb, cap, K)), kst=np.empty((nb, cap, L), dtype=np.int32),
+        krow=np.empty((nb, cap), dtype=np.int32), tslot=np.zeros((nb, T), dtype=np.int64),
+        thash=np.zeros((nb, T), dtype=np.uint64), cnt=np.zeros((nb, 3), dtype=np.int64),
+        hist=np.zeros((nb, chain_length + 1 if nb > 1 else 1, 2), dtype=np.int64))
+
+
+@jit()
+def reset_key_table(work, b):
+    """Slab ``b``'s key table emptied and its tallies zeroed (``work`` holds the fields of a
+    :class:`KeyTable`)."""
+    work.tslot[b, :] = 0
+    work.cnt[b, :] = 0
+    work.hist[b, 0, :] = 0
+
+
+@jit()
+def key_table_done(data, work, b, j):
+    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to ``data.tally``
+    (a herded kind's ``chain_done``, :func:`make_driver`)."""
+    tally = data.tally
+    hist = work.hist
+    if hist.shape[1] > 1:
+        tally[0] += hist[b, j, 0]
+        tally[1] += hist[b, j, 1]
+    else:  # simulated up to j exactly
+        tally[0] += work.cnt[b, 0]
+        tally[1] += work.cnt[b, 1]
+
+
+@jit(inline="always")
+def key_table_sweep_done(work, b):
+    """Count a sweep of slab ``b`` and, when chains are speculated, record its tallies."""
+    cnt = work.cnt[b]
+    cnt[2] += 1
+    hist = work.hist
+    if hist.shape[1] > 1:
+        hist[b, cnt[2], 0] = cnt[0]
+        hist[b, cnt[2], 1] = cnt[1]
+
+
+__all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "KeyTable", "make_driver",
+           "N_COUNTERS", "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick",
+           "alloc_key_table", "reset_key_table", "key_table_done", "key_table_sweep_done"]
 
 # Slots of the run counter array ``ctr`` (returned by run_chains).
 NU, NOBS, NCHAINS, STALE_RUN, STALE_CUM, STALE_FIRED, DISCARDED = 0, 1, 2, 3, 4, 5, 6
@@ -325,6 +430,55 @@ Slab = namedtuple("Slab", ["traj", "hashes", "states", "h", "rs"])
 #: workspace, the chain lengths seen (speculation), the run and chain counters and the
 #: positions ``pos`` (slots ``_C0`` ...: batch, chain, observation, sweeps simulated, ramp).
 Run = namedtuple("Run", ["U", "slab", "work", "used_hist", "ctr", "cctr", "pos"])
+
+
+class Step(NamedTuple):
+    """One speculation step (:func:`_speculate`): which sweeps of which chains to simulate.
+
+    Attributes
+    ----------
+    h0 : uint64
+        Zobrist hash of the start state ``x0``.
+    base : uint64
+        Base key of the run: chain ``c`` draws from ``chain_state(base, c)``.
+    c_first : int
+        First chain of the batch (slab row 0).
+    n_batch : int
+        Chains of the batch (slab rows ``0 .. n_batch - 1``).
+    j_from, j_to : int
+        The step simulates sweeps ``j_from + 1 .. j_to`` of every chain of the batch
+        (``j_from = 0``: the chains start from ``x0``).
+    """
+
+    h0: np.uint64
+    base: np.uint64
+    c_first: int
+    n_batch: int
+    j_from: int
+    j_to: int
+
+
+class Span(NamedTuple):
+    """The observations one call of :func:`_advance` makes of one chain.
+
+    Attributes
+    ----------
+    b : int
+        The chain's slab row.
+    c : int
+        The chain's index in the run.
+    j0, j1 : int
+        Observations ``j0 + 1 .. j1`` are made.
+    done : int
+        Sweeps of the chain simulated so far (ahead by the speculation, or here); those up to
+        ``done`` are read from the slab instead of simulated.
+    """
+
+    b: int
+    c: int
+    j0: int
+    j1: int
+    done: int
 
 # Slots of ``Run.pos``: first chain of the open batch, its size (0: no batch open), its prefix
 # length and the sweeps of the prefix speculated so far, the chain being replayed (index in
@@ -365,9 +519,9 @@ def chain_done(data, work, b, j):  # pragma: no cover - replaced in every instan
     raise NotImplementedError
 
 
-@jit()
 def no_chain_done(data, work, b, j):
-    """The default :func:`make_driver` ``chain_done``: a kind that keeps no per-chain tally."""
+    """The default :func:`make_driver` ``chain_done``: a kind that keeps no per-chain tally
+    (compiled for each kind, as every function that takes the kind's records is)."""
     return None
 
 
@@ -384,6 +538,30 @@ def _new_run_impl(*args):  # pragma: no cover - replaced in every instantiation
 
 
 def _run_slice_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _speculate_chain_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _pack_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _unpack_impl(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def grow_run(*args):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+Work = tuple  # placeholder: make_driver binds the kind's workspace record class
+
+
+def as_work(fields):  # pragma: no cover - replaced in every instantiation
+    """The kind's workspace record of the plain tuple ``fields`` (:func:`_unpack`)."""
     raise NotImplementedError
 
 
@@ -481,31 +659,32 @@ def _grow(U, n_unique):
     return UniqueSet(states, hashes, counts, last_chain, table)
 
 
-@jit()
 def _pack(run):
     """A :class:`Run` as nested plain tuples, the form it crosses into Python in.
 
     numba boxes a named tuple by calling its class, Python code, where a signal handler's
     exception crashes numba's return path (a segmentation fault, not an error); plain tuples
-    are built in C and only ever raise.
+    are built in C and only ever raise. The kind's workspace record becomes the plain tuple of
+    its fields (``work[:]``); :func:`_unpack` rebuilds it.
     """
     U, S = run.U, run.slab
     return ((U.states, U.hashes, U.counts, U.last_chain, U.table),
-            (S.traj, S.hashes, S.states, S.h, S.rs), run.work, run.used_hist, run.ctr, run.cctr,
-            run.pos)
+            (S.traj, S.hashes, S.states, S.h, S.rs), run.work[:], run.used_hist, run.ctr,
+            run.cctr, run.pos)
 
 
-@jit()
 def _unpack(run):
-    """The :class:`Run` of a packed run (:func:`_pack`)."""
-    return Run(UniqueSet(*run[0]), Slab(*run[1]), run[2], run[3], run[4], run[5], run[6])
+    """The :class:`Run` of a packed run (:func:`_pack`); ``as_work`` rebuilds the kind's
+    workspace record from its fields."""
+    return Run(UniqueSet(*run[0]), Slab(*run[1]), as_work(run[2]), run[3], run[4], run[5],
+               run[6])
 
 
-@jit()
-def grow_run(run):
+def _grow_run(run):
     """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
-    r = _unpack(run)
-    return _pack(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr, r.pos))
+    r = _unpack_impl(run)
+    return _pack_impl(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr,
+                          r.pos))
 
 
 @jit()
@@ -594,40 +773,55 @@ def _prefix_length(used_hist, chain_length, workers):
 
 
 # ------------------------------------------------------------------------ templates
-def _speculate(data, work, zkeys, traj, hashes, states, hs, rss, x0, h0, base, c_first, n_batch,
-               j_from, j_to):
-    """Sweeps ``j_from + 1 .. j_to`` of chains ``c_first .. c_first + n_batch - 1``.
+def _speculate(data, work, zkeys, slab, x0, step):
+    """Sweeps ``step.j_from + 1 .. step.j_to`` of the chains of a batch (a :class:`Step`).
 
-    The arrays are the fields of the :class:`Slab` (passed one by one: inside a parallel loop
-    numba loses writes to arrays reached through a tuple argument). Chain ``c_first + b``
-    writes its trajectory to ``traj[b, j_from:j_to]`` and the hash of each state to
-    ``hashes[b, j_from:j_to]``, and leaves its simulation state (``states[b]``, ``hs[b]``,
-    ``rss[b, 0]``, workspace slab ``b``) ready for the next call (``j_from = 0`` starts the
-    chains from ``x0``) or for the replay to continue it; a prefix simulated in several calls
-    is therefore the same trajectory as one simulated in one call. Chains are independent
-    (each has its own stream), so the loop over chains runs in parallel (``prange``); each
-    iteration writes only its own slab rows (``rs`` rows are padded to a cache line so that
-    neighbouring streams do not share one).
+    Chain ``step.c_first + b`` writes its trajectory to ``slab.traj[b, j_from:j_to]`` and
+    the hash of each state to ``slab.hashes[b, j_from:j_to]``, and leaves its simulation
+    state (``slab.states[b]``, ``slab.h[b]``, ``slab.rs[b, 0]``, workspace slab ``b``) ready
+    for the next call (``j_from = 0`` starts the chains from ``x0``) or for the replay to
+    continue it; a prefix simulated in several calls is therefore the same trajectory as one
+    simulated in one call. Chains are independent (each has its own stream), so the loop over
+    chains runs in parallel (``prange``); each iteration writes only its own slab rows (``rs``
+    rows are padded to a cache line so that neighbouring streams do not share one).
+
+    Each iteration is one call of :func:`_speculate_chain`, compiled apart: written into the
+    ``prange`` loop, numba's dead-code elimination of the loop's body drops writes to an array
+    read from an attribute of a named tuple (``work.occ[b, v] += 1``), because the body's
+    copy of the record is not known to alias the loop's arguments (numba issue #7135;
+    ``tests/test_engine.py`` keeps a reproducer). The call costs once per chain and step.
     """
+    n_batch = step.n_batch
     for b in prange(n_batch):
-        state = states[b]
-        rs = rss[b, 0:1]
-        if j_from == 0:
-            state[:] = x0
-            reset_work(data, work, b, x0)
-            rs[0] = chain_state(base, c_first + b)
-            h = h0
-        else:
-            h = hs[b]
-        for j in range(j_from, j_to):
-            h = sweep(data, work, b, zkeys, state, h, rs)
-            traj[b, j, :] = state
-            hashes[b, j] = h
-        hs[b] = h
+        _speculate_chain_impl(data, work, zkeys, slab, x0, step, b)
 
 
-def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
-    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``.
+def _speculate_chain(data, work, zkeys, slab, x0, step, b):
+    """The sweeps of ``step`` (a :class:`Step`) of the chain of slab row ``b``."""
+    state = slab.states[b]
+    rs = slab.rs[b, 0:1]
+    if step.j_from == 0:
+        for i in range(x0.shape[0]):  # (a slice assignment would need reference counting)
+            state[i] = x0[i]
+        reset_work(data, work, b, x0)
+        rs[0] = chain_state(step.base, step.c_first + b)
+        h = step.h0
+    else:
+        h = slab.h[b]
+    traj = slab.traj
+    hashes = slab.hashes
+    L = state.shape[0]
+    for j in range(step.j_from, step.j_to):
+        h = sweep(data, work, b, zkeys, state, h, rs)
+        for i in range(L):
+            traj[b, j, i] = state[i]
+        hashes[b, j] = h
+    slab.h[b] = h
+
+
+def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
+    """Observations ``j0 + 1 .. j1`` of chain ``c``, whose simulation state is slab row ``b``
+    (the fields of the :class:`Span` ``span``).
 
     Sweeps ``<= done`` were simulated ahead by the speculation and are read from the slab; later
     ones are simulated here from the saved state (``done = 0``: all of them, the sequential
@@ -638,11 +832,19 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
     loop never reallocates; the look-up is written out here rather than called because a call
     passing the arrays of the unique set costs as much as the look-up itself.
 
+    :func:`make_driver` compiles it, and :func:`_speculate_chain`, without reference counting
+    (:func:`rankedassign.numba_options.jit`, ``nrt=False``): the sweep written into them
+    reads its arrays from the kind's records in each of its phases, and every such read
+    would otherwise cost an atomic reference-count update per array, row and sweep (the
+    multi-sensor sweep split into phases ran twice as slowly with them). Neither allocates,
+    and the run keeps every array they touch alive.
+
     Returns
     -------
     (j, stalled, done) : (int, bool, int)
         The last observation made, whether the stall rule fired there, sweeps simulated.
     """
+    b, c, j0, j1, done = span.b, span.c, span.j0, span.j1, span.done
     L = U.states.shape[1]
     table = U.table
     mask = table.shape[0] - 1
@@ -680,7 +882,8 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, b, c, j0, j1, done):
             u = ctr[NU]
             table[slot, 0] = hx
             table[slot, 1] = np.uint64(u + 1)
-            U.states[u, :] = x
+            for i in range(L):
+                U.states[u, i] = x[i]
             U.hashes[u] = hx
             U.counts[u] = 1
             U.last_chain[u] = c
@@ -733,7 +936,7 @@ def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
     # Batches start small (the first one learns the chain lengths for the prefix) and double
     # up to ``batch``: a run that stops early by stale then discards little.
     pos[_RAMP] = max(64, 16 * workers)
-    return _pack(Run(U, slab, work, used_hist, ctr, cctr, pos))
+    return _pack_impl(Run(U, slab, work, used_hist, ctr, cctr, pos))
 
 
 def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget,
@@ -742,8 +945,9 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
 
     Parameters
     ----------
-    data : tuple
-        The problem type's arrays (passed to its ``alloc_work``, ``reset_work``, ``sweep``).
+    data : named tuple
+        The problem type's data record (passed to its ``alloc_work``, ``reset_work``,
+        ``sweep``).
     zkeys : ndarray, shape (L, K), uint64
         Zobrist keys.
     x0 : ndarray, shape (L,), int32
@@ -777,7 +981,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
     (status, left) : (int, int)
         :data:`DONE` (the run is over: budget exhausted or stale), :data:`PAUSED` (budget
         spent; call again) or :data:`NEED_ROOM` (``U`` is full: grow it with
-        :func:`grow_run`, then call again); ``left`` is the budget not spent.
+        :func:`_grow_run`, then call again); ``left`` is the budget not spent.
 
     Notes
     -----
@@ -787,7 +991,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
     every position (batch, chain, observation, sweeps simulated, batch ramp) lives in
     ``run.pos``. So a run in slices gives the same bits as a run in one call.
     """
-    U, slab, work, used_hist, ctr, cctr, pos = _unpack(run)
+    U, slab, work, used_hist, ctr, cctr, pos = _unpack_impl(run)
     speculative = batch > 0
     nb = slab.states.shape[0]
     h0 = hash_of(zkeys, x0)
@@ -812,8 +1016,9 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
             if left <= 0:
                 return PAUSED, left
             k = min(s - pos[_SPEC], max(1, left // n_b))
-            _speculate_impl(data, work, zkeys, slab.traj, slab.hashes, slab.states, slab.h,
-                            slab.rs, x0, h0, base, c0, n_b, pos[_SPEC], pos[_SPEC] + k)
+            _speculate_impl(data, work, zkeys, slab, x0,
+                            Step(h0=h0, base=base, c_first=c0, n_batch=n_b, j_from=pos[_SPEC],
+                                 j_to=pos[_SPEC] + k))
             pos[_SPEC] += k
             left -= k * n_b
         while pos[_B] < n_b:  # replay in chain order
@@ -841,7 +1046,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
                 j1 = min(chain_length, j + min(room, left))
                 j_before = j
                 j, stalled, done = _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
-                                                 b, c, j, j1, done)
+                                                 Span(b=b, c=c, j0=j, j1=j1, done=done))
                 left -= j - j_before
             if speculative:
                 used_hist[j] += 1
@@ -873,7 +1078,7 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
         run = grow_run(run)
         status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
                                        batch, workers, max(left, 1), run)
-    r = _unpack(run)
+    r = _unpack_impl(run)
     U = r.U
     if status == DONE:
         n = r.ctr[NU]
@@ -881,7 +1086,20 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
     return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
 
 
-def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done, cache=None):
+def _as_record(fields):
+    """The workspace record ``Work`` of its fields (template of :func:`make_driver`'s
+    ``as_work``)."""
+    return Work(*fields)
+
+
+@jit()
+def _as_tuple(fields):
+    """A workspace that is a plain tuple, as it is (:func:`make_driver`'s ``as_work``)."""
+    return fields
+
+
+def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=None,
+                cache=None):
     """Compile the chain driver for one problem type.
 
     Parameters
@@ -890,11 +1108,16 @@ def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done
         Unique name of the problem type (names the compiled functions and their cache files).
     alloc_work, reset_work, sweep : compiled functions
         The problem type's workspace allocation, reset and sweep (see the module docstring).
+    work : type, optional
+        The named tuple class of the workspace ``alloc_work`` returns; None (default) for a
+        plain tuple. A run crosses into Python with its workspace as a plain tuple of the
+        same fields (:func:`_pack`), rebuilt as this record in the next slice.
     chain_done : compiled function, optional
         ``chain_done(data, work, b, j)``, called once per chain in the replay's (chain) order
         when the chain of slab ``b`` ends at its observation ``j``: where a kind keeps a tally
         of its chains (the herded draw counts its key-table fall-backs) it reads the slab's
-        state at ``j``, so sweeps speculated past ``j`` are not counted. Default: nothing.
+        state at ``j``, so sweeps speculated past ``j`` are not counted. Default (None):
+        nothing.
     cache : bool, optional
         As in :func:`rankedassign.numba_options.jit`; off for functions defined interactively.
 
@@ -946,16 +1169,34 @@ def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done
     >>> all(bool((a == b).all()) for a, b in zip(sliced, (states, counts, ctr)))
     True
     """
-    spec = instantiate(_speculate, f"speculate_{name}",
-                       {"sweep": sweep, "reset_work": reset_work}, parallel=True, cache=cache)
-    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache)
-    new_run = instantiate(_new_run, f"new_run_{name}", {"alloc_work": alloc_work},
-                          cache=cache)
+    # Every function that takes the kind's records is compiled for the kind, with its cache
+    # setting: a cached function of the engine compiled for the records of a kind defined
+    # elsewhere would name their module in the engine's cache index, which every later
+    # process must then import.
+    as_work = (_as_tuple if work is None else
+               instantiate(_as_record, f"as_work_{name}", {"Work": work}, cache=cache))
+    if chain_done is None:
+        chain_done = instantiate(no_chain_done, f"no_chain_done_{name}", {}, cache=cache)
+    pack = instantiate(_pack, f"pack_{name}", {}, cache=cache)
+    unpack = instantiate(_unpack, f"unpack_{name}", {"as_work": as_work}, cache=cache)
+    grow = instantiate(_grow_run, f"grow_run_{name}",
+                       {"_unpack_impl": unpack, "_pack_impl": pack}, cache=cache)
+    # The two loops the sweep is written into run without reference counting (see
+    # :func:`_advance`): they allocate nothing, and their caller keeps every array alive.
+    chain = instantiate(_speculate_chain, f"speculate_chain_{name}",
+                        {"sweep": sweep, "reset_work": reset_work}, cache=cache, nrt=False)
+    spec = instantiate(_speculate, f"speculate_{name}", {"_speculate_chain_impl": chain},
+                       parallel=True, cache=cache)
+    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache, nrt=False)
+    new_run = instantiate(_new_run, f"new_run_{name}",
+                          {"alloc_work": alloc_work, "_pack_impl": pack}, cache=cache)
     run_slice = instantiate(_run_slice, f"run_slice_{name}",
                             {"_speculate_impl": spec, "_advance_impl": adv,
-                             "reset_work": reset_work, "chain_done": chain_done}, cache=cache)
+                             "_unpack_impl": unpack, "reset_work": reset_work,
+                             "chain_done": chain_done}, cache=cache)
     start = instantiate(_start, f"start_{name}",
-                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice}, cache=cache)
+                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice,
+                         "_unpack_impl": unpack, "grow_run": grow}, cache=cache)
 
     def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
                    budget=DEFAULT_BUDGET):
@@ -973,7 +1214,7 @@ def make_driver(name, alloc_work, reset_work, sweep, *, chain_done=no_chain_done
                 if status == DONE:
                     break
                 if status == NEED_ROOM:
-                    run = grow_run(run)
+                    run = grow(run)
         (states, _, counts, _, _), _, _, _, ctr, _, _ = run  # the packed Run
         n = ctr[NU]
         return states[:n].copy(), counts[:n].copy(), ctr

@@ -16,26 +16,62 @@ supplies three compiled row functions and :func:`make_tempered` compiles the loo
 * ``accumulate(data, work, state, acc, w)``: add the weight ``w`` to the kind's marginal
   accumulator ``acc`` (a 2-D float64 array) at the values of ``state``.
 
-A run is the tuple ``(state, p, acc, states, hashes, counts, table, hu, fs)``: the state
-(``int32``), the ratios, the accumulator, the unique set (states in discovery order, their
-Zobrist hashes and visit counts, and an open-addressing table of ``index + 1``, twice the
-capacity, a power of two), ``hu = [hash of the state, unique states, stream state]``
-(``uint64``) and ``fs = [Σ w, Σ w², Z]``. The moves run in slices (:func:`make_tempered`'s
-``steps``), so a signal ends a long run within one slice; moves in several calls are the
-moves of one call, bit for bit.
+A run is a :class:`TemperedRun`: the state, the ratios, the accumulator, the unique set and
+the running sums. The moves run in slices (:func:`make_tempered`'s ``steps``), so a signal
+ends a long run within one slice; moves in several calls are the moves of one call, bit for
+bit.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
 from ..numba_options import instantiate, jit
 from ._kernels import next_uniform
 
-__all__ = ["OK", "UNDERFLOW", "NEED_ROOM", "make_tempered", "visit", "rehash"]
+__all__ = ["OK", "UNDERFLOW", "NEED_ROOM", "TemperedRun", "make_tempered", "visit", "rehash"]
 
 #: Status codes of a run's start and of its slices.
 OK, UNDERFLOW, NEED_ROOM = 0, 1, 2
+
+
+class TemperedRun(NamedTuple):
+    """The state of a compiled tempered run between two slices (built and grown in Python).
+
+    Attributes
+    ----------
+    state : ndarray, shape (L,), int32
+        The chain's state.
+    p : ndarray, shape (R,), float64
+        Every row's ratio at ``state``.
+    acc : ndarray, 2-D, float64
+        The kind's marginal accumulator.
+    states : ndarray, shape (cap, L), int32
+        The unique states in discovery order.
+    hashes : ndarray, shape (cap,), uint64
+        Their Zobrist hashes.
+    counts : ndarray, shape (cap,), int64
+        Their visits.
+    table : ndarray, shape (2 cap,), int64
+        Open-addressing index of the unique states: ``index + 1`` (0 empty), a power of two
+        long.
+    hu : ndarray, shape (3,), uint64
+        ``[hash of the state, unique states, stream state]``.
+    fs : ndarray, shape (3,), float64
+        ``[Σ w, Σ w², Z]``.
+    """
+
+    state: np.ndarray
+    p: np.ndarray
+    acc: np.ndarray
+    states: np.ndarray
+    hashes: np.ndarray
+    counts: np.ndarray
+    table: np.ndarray
+    hu: np.ndarray
+    fs: np.ndarray
 
 
 def row_weights(data, work, state, p):  # pragma: no cover - replaced in every instantiation
@@ -111,11 +147,13 @@ def rehash(hashes, n_u, table):
 
 
 def _start(data, work, zkeys, run):
-    """The run at its start state: its hash, ``U = {x0}`` (count 0), the ratios and ``Z``.
+    """The run (a :class:`TemperedRun`) at its start state: its hash, ``U = {x0}`` (count 0),
+    the ratios and ``Z``.
 
     Returns :data:`OK` or :data:`UNDERFLOW`.
     """
-    state, p, _, states, hashes, counts, table, hu, fs = run
+    state, p, states, hashes = run.state, run.p, run.states, run.hashes
+    counts, table, hu, fs = run.counts, run.table, run.hu, run.fs
     h = np.uint64(0)
     for i in range(state.shape[0]):
         h ^= zkeys[i, state[i]]
@@ -139,7 +177,8 @@ def _steps(data, work, zkeys, run, t0, t1):
     ``t`` not yet made when the unique set may not hold one more state (grow it, then go on
     from ``t``); :data:`UNDERFLOW` when a ratio is not representable.
     """
-    state, p, acc, states, hashes, counts, table, hu, fs = run
+    state, p, acc, states, hashes = run.state, run.p, run.acc, run.states, run.hashes
+    counts, table, hu, fs = run.counts, run.table, run.hu, run.fs
     R = p.shape[0]
     rs = hu[2:3]
     h = hu[0]
@@ -199,7 +238,7 @@ def make_tempered(name, row_weights, move, accumulate, *, cache=None):
     -------
     start, steps : compiled functions
         ``start(data, work, zkeys, run) -> status`` and ``steps(data, work, zkeys, run, t0,
-        t1) -> (status, t)`` (the run's layout in the module docstring).
+        t1) -> (status, t)`` (``run`` a :class:`TemperedRun`).
 
     Examples
     --------
@@ -222,13 +261,15 @@ def make_tempered(name, row_weights, move, accumulate, *, cache=None):
     ... def add(data, work, state, acc, w):
     ...     acc[0, state[0]] += w
     >>> start, steps = make_tempered("coin", weights, flip, add, cache=False)
-    >>> run = (np.zeros(1, np.int32), np.zeros(1), np.zeros((1, 2)),
-    ...        np.empty((64, 1), np.int32), np.empty(64, np.uint64), np.zeros(64, np.int64),
-    ...        np.zeros(128, np.int64), np.array([0, 0, 7], np.uint64), np.zeros(3))
+    >>> run = TemperedRun(
+    ...     state=np.zeros(1, np.int32), p=np.zeros(1), acc=np.zeros((1, 2)),
+    ...     states=np.empty((64, 1), np.int32), hashes=np.empty(64, np.uint64),
+    ...     counts=np.zeros(64, np.int64), table=np.zeros(128, np.int64),
+    ...     hu=np.array([0, 0, 7], np.uint64), fs=np.zeros(3))
     >>> zkeys = np.array([[1, 2]], np.uint64)
     >>> int(start((0.0,), (0,), zkeys, run)), steps((0.0,), (0,), zkeys, run, 0, 100)
     (0, (0, 100))
-    >>> float(run[2].sum()), int(run[5][:2].sum())
+    >>> float(run.acc.sum()), int(run.counts[:2].sum())
     (100.0, 100)
     """
     bindings = {"row_weights": row_weights, "move": move, "accumulate": accumulate}

@@ -13,8 +13,33 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
+from typing import Any, NamedTuple
 
-__all__ = ["Kind", "DrawRule"]
+import numpy as np
+
+__all__ = ["Kind", "DrawRule", "DrawInputs"]
+
+
+class DrawInputs(NamedTuple):
+    """What a :class:`DrawRule`'s ``inputs`` returns for one sampler call.
+
+    Attributes
+    ----------
+    data : named tuple
+        The compiled driver's data record (the Gibbs inputs followed by the draw's own).
+    tally : ndarray, shape (2,), int64
+        The array the run's tallies ``[keys created, fall-back draws]`` accumulate in.
+    make_ref : callable
+        ``make_ref() -> (ref_data, ref_tally)``: the same for the reference (built only when
+        it runs).
+    chain_bytes : int
+        Bytes of one chain's workspace (bounds how many chains are simulated at once).
+    """
+
+    data: Any
+    tally: np.ndarray
+    make_ref: Callable
+    chain_bytes: int
 
 
 @dataclass(frozen=True)
@@ -28,11 +53,10 @@ class DrawRule:
     new_work, sweep : callable
         The reference row update, as :attr:`Kind.new_work` and :attr:`Kind.sweep`.
     inputs : callable
-        ``inputs(prep, settings, chain_length) -> (data, tally, make_ref, chain_bytes)``:
-        from the kind's :class:`~rankedassign.engine.result.Prepared` Gibbs inputs, the
-        driver's ``data``; the array its run's tallies accumulate in; ``make_ref() ->
-        (ref_data, ref_tally)``, the same for the reference (built only when it runs); and the
-        bytes of one chain's workspace (which bounds how many chains are simulated at once).
+        ``inputs(prep, settings, chain_length) -> DrawInputs``: from the kind's
+        :class:`~rankedassign.engine.result.Prepared` Gibbs inputs, the driver's data record,
+        the run's tally, the reference's inputs and the bytes of one chain's workspace
+        (:class:`DrawInputs`).
     """
 
     driver: Callable = field(repr=False)

@@ -110,8 +110,9 @@ class Prepared:
         Which of the kind's compiled drivers runs it (a key of ``Kind.drivers``).
     problem : object
         The problem.
-    data : tuple
-        The kernels' read-only arrays and scalars (a named tuple, one numba type per driver).
+    data : named tuple
+        The kernels' read-only arrays and scalars: the kind's data record (one numba type per
+        driver; ``docs/structure.md``, "Kernel records").
     make_ref_data : callable
         ``() -> ref_data``.
     ref_data : tuple

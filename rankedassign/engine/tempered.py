@@ -190,8 +190,8 @@ def run_reference(weights, move, accumulate, data, work, x, n_rows, acc, n_steps
 
 def _grow(run):
     """The run with its unique set doubled (states, hashes, counts, a fresh hash table)."""
-    state, p, acc, states, hashes, counts, table, hu, fs = run
-    n_u = int(hu[1])
+    states, hashes, counts = run.states, run.hashes, run.counts
+    n_u = int(run.hu[1])
     cap = 2 * states.shape[0]
     new_states = np.empty((cap, states.shape[1]), dtype=np.int32)
     new_states[:n_u] = states[:n_u]
@@ -202,7 +202,7 @@ def _grow(run):
     table = np.zeros(2 * cap, dtype=np.int64)
     with interruptible:
         _tempered_kernels.rehash(new_hashes, n_u, table)
-    return (state, p, acc, new_states, new_hashes, new_counts, table, hu, fs)
+    return run._replace(states=new_states, hashes=new_hashes, counts=new_counts, table=table)
 
 
 def run_compiled(kernels, data, work, x0, n_values, n_rows, acc, n_steps, base, moves):
@@ -215,7 +215,8 @@ def run_compiled(kernels, data, work, x0, n_values, n_rows, acc, n_steps, base, 
     kernels : tuple
         ``(start, steps)`` compiled for the kind.
     data, work : tuple
-        The kind's compiled inputs and workspace (``work`` in the start state ``x0``).
+        The kind's compiled inputs and workspace (``work`` in the start state ``x0``): named
+        tuples of the kind's kernel module.
     x0 : ndarray, shape (L,), int32
         Start state; every entry in ``0..n_values-1``.
     n_values : int
@@ -270,10 +271,11 @@ def run_compiled(kernels, data, work, x0, n_values, n_rows, acc, n_steps, base, 
     with interruptible:
         zkeys = zobrist_keys(L, n_values, np.uint64(ZOBRIST_SEED))
     cap = 64
-    run = (np.ascontiguousarray(x0, dtype=np.int32).copy(), np.zeros(n_rows), acc,
-           np.empty((cap, L), dtype=np.int32), np.empty(cap, dtype=np.uint64),
-           np.zeros(cap, dtype=np.int64), np.zeros(2 * cap, dtype=np.int64),
-           np.array([0, 0, chain_state(base, 0)], dtype=np.uint64), np.zeros(3))
+    run = _tempered_kernels.TemperedRun(
+        state=np.ascontiguousarray(x0, dtype=np.int32).copy(), p=np.zeros(n_rows), acc=acc,
+        states=np.empty((cap, L), dtype=np.int32), hashes=np.empty(cap, dtype=np.uint64),
+        counts=np.zeros(cap, dtype=np.int64), table=np.zeros(2 * cap, dtype=np.int64),
+        hu=np.array([0, 0, chain_state(base, 0)], dtype=np.uint64), fs=np.zeros(3))
     with interruptible:
         status = start(data, work, zkeys, run)
     t = 0
@@ -285,5 +287,5 @@ def run_compiled(kernels, data, work, x0, n_values, n_rows, acc, n_steps, base, 
             status = _tempered_kernels.OK
     if status != _tempered_kernels.OK:
         return None
-    n_u = int(run[7][1])
-    return run[3][:n_u], run[5][:n_u], float(run[8][0]), float(run[8][1])
+    n_u = int(run.hu[1])
+    return run.states[:n_u], run.counts[:n_u], float(run.fs[0]), float(run.fs[1])

@@ -6,29 +6,10 @@ and the edge cases). The three functions the generic chain driver needs are
 :func:`alloc_work`, :func:`reset_work` and :func:`sweep`; one sweep function serves every
 method (the method is a code in ``data``), so one driver is compiled for all of them.
 
-``data`` (built by :func:`rankedassign.multisensor.prepare.prepare_data`)::
-
-    params  int64[4]          method code, random scan (0/1), P, V
-    n_meas  int64[V]          M_v
-    strides int64[V]          C-order strides of the tuple axes (M_1+1, ..., M_V+1)
-    Wd, ld  float64[P]        shifted weight / log-weight of dead
-    Wa, la  float64[P, T]     shifted / log eta of every tuple (T = prod(M_v+1); exact and
-                              componentwise, the latter collapsed; (P, 0) for MM)
-    Th, lth float64[P, V, K]  shifted / log theta_n^(v)(j), K = max M_v + 1 (MM; padding 0/-inf)
-    las     float64[P]        alpha * log s_n
-    Ea, Ed  float64[P]        shifted alive prefactor and dead weight (MM exclusion)
-    qdead   float64[P]        Q_n of MM-fixed
-
-``work`` (one slab per chain simulated at once, leading dimension ``nb``)::
-
-    occ     int64[nb, V, K]   rows holding measurement j of sensor v
-    avail   int64[nb, V, K]   A_n^(v) of the row being updated (first navail entries)
-    navail  int64[nb, V]
-    idx     int64[nb, V]      odometer over the product of the A_n^(v)
-    wbuf    float64[nb, C]    candidate weights (C = max(1 + T, K, 2))
-    lbuf    float64[nb, C]    candidate log-weights (for the underflow fall-back)
-    perm    int64[nb, P]      row order of the sweep
-    row     int64[nb, V]      the updated row (gamma values)
+``data`` is the :class:`~rankedassign.multisensor.prepare.MultiSensorData` of
+:func:`rankedassign.multisensor.prepare.prepare_data` (the method, the scan order, ``P`` and
+``V`` are named fields of it); ``work`` is a :class:`MultiSensorWork`, one slab per chain
+simulated at once.
 
 References
 ----------
@@ -38,9 +19,20 @@ References
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from ..engine._kernels import herd_lookup, herd_pick, make_driver, next_uniform
+from ..engine._kernels import (
+    alloc_key_table,
+    herd_lookup,
+    herd_pick,
+    key_table_done,
+    key_table_sweep_done,
+    make_driver,
+    next_uniform,
+    reset_key_table,
+)
 from ..numba_options import jit
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
@@ -100,34 +92,68 @@ def draw(w, lw, b, n, u):
     return pick(w, b, n, total, u)
 
 
+class MultiSensorWork(NamedTuple):
+    """Workspace of ``nb`` chains (:func:`alloc_work`), leading dimension ``nb``.
+
+    ``K = max_v M_v + 1``, ``C = max(1 + T, K, 2)`` candidates of the widest draw.
+
+    Attributes
+    ----------
+    occ : ndarray, shape (nb, V, K), int64
+        Rows holding measurement ``j`` of sensor ``v``.
+    avail : ndarray, shape (nb, V, K), int64
+        ``A_n^(v)`` of the row being updated (the first ``navail`` entries).
+    navail : ndarray, shape (nb, V), int64
+        Their number.
+    idx : ndarray, shape (nb, V), int64
+        Odometer over the product of the ``A_n^(v)``.
+    wbuf, lbuf : ndarray, shape (nb, C), float64
+        Candidate weights and log-weights (the latter for the underflow fall-back).
+    perm : ndarray, shape (nb, max(P, 1)), int64
+        Row order of the sweep.
+    row : ndarray, shape (nb, V), int64
+        The updated row (``gamma`` values).
+    """
+
+    occ: np.ndarray
+    avail: np.ndarray
+    navail: np.ndarray
+    idx: np.ndarray
+    wbuf: np.ndarray
+    lbuf: np.ndarray
+    perm: np.ndarray
+    row: np.ndarray
+
+
 @jit()
-def alloc_work(data, nb):
-    """Work arrays for ``nb`` chains simulated at once (see the module docstring)."""
-    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
-    P = params[2]
-    V = params[3]
+def _widths(data):
+    """``K = max_v M_v + 1`` and ``C = max(1 + T, K, 2)`` of the workspace."""
+    n_meas = data.n_meas
     K = 1
-    for v in range(V):
+    for v in range(data.V):
         if n_meas[v] + 1 > K:
             K = n_meas[v] + 1
-    C = max(1 + Wa.shape[1], K, 2)  # MM's dead/alive draw has two candidates
-    return (
-        np.zeros((nb, V, K), dtype=np.int64),
-        np.zeros((nb, V, K), dtype=np.int64),
-        np.zeros((nb, V), dtype=np.int64),
-        np.zeros((nb, V), dtype=np.int64),
-        np.zeros((nb, C), dtype=np.float64),
-        np.zeros((nb, C), dtype=np.float64),
-        np.zeros((nb, max(P, 1)), dtype=np.int64),
-        np.zeros((nb, V), dtype=np.int64),
-    )
+    return K, max(1 + data.Wa.shape[1], K, 2)  # MM's dead/alive draw has two candidates
+
+
+@jit()
+def alloc_work(data, nb):
+    """Work arrays for ``nb`` chains simulated at once (a :class:`MultiSensorWork`)."""
+    V = data.V
+    K, C = _widths(data)
+    return MultiSensorWork(
+        occ=np.zeros((nb, V, K), dtype=np.int64), avail=np.zeros((nb, V, K), dtype=np.int64),
+        navail=np.zeros((nb, V), dtype=np.int64), idx=np.zeros((nb, V), dtype=np.int64),
+        wbuf=np.zeros((nb, C), dtype=np.float64), lbuf=np.zeros((nb, C), dtype=np.float64),
+        perm=np.zeros((nb, max(data.P, 1)), dtype=np.int64),
+        row=np.zeros((nb, V), dtype=np.int64))
 
 
 @jit()
 def reset_work(data, work, b, x0):
     """Slab ``b`` to the start state ``x0``: the occupancy table of ``x0``."""
-    V = data[0][3]
-    occ = work[0]
+    V = data.V
+    occ = work.occ
     occ[b, :, :] = 0
     for i in range(x0.shape[0]):
         val = x0[i]
@@ -156,14 +182,244 @@ def _mm_log_alive(lth, las, avail, navail, b, n, V):
 
 
 @jit(inline="always")
+def _scan_order(data, work, b, rs):
+    """Slab ``b``'s row order ``perm[b]``: ``0..P-1``, for the random scan shuffled by
+    Fisher-Yates from the identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``)."""
+    perm = work.perm
+    P = data.P
+    for t in range(P):
+        perm[b, t] = t
+    if data.random_scan:
+        for t in range(P - 1, 0, -1):
+            j = np.int64(next_uniform(rs) * (t + 1))
+            if j > t:
+                j = t
+            tmp = perm[b, t]
+            perm[b, t] = perm[b, j]
+            perm[b, j] = tmp
+
+
+@jit(inline="always")
+def _available(data, work, b, state, n):
+    """``A_n^(v)`` of row ``n`` for every sensor into ``avail[b]``, ``navail[b]``: missed, and
+    the measurements free of the other rows."""
+    n_meas, occ, avail, navail = data.n_meas, work.occ, work.avail, work.navail
+    V = data.V
+    for v in range(V):
+        own = state[n * V + v] - 1
+        avail[b, v, 0] = 0
+        c = 1
+        for j in range(1, n_meas[v] + 1):
+            if occ[b, v, j] == 0 or own == j:
+                avail[b, v, c] = j
+                c += 1
+        navail[b, v] = c
+
+
+# The row updates below write the new row into row[b] and return False when no candidate has
+# weight (the row stays). Their draws are written out (sum, then the inverse-CDF loop of pick)
+# rather than called: a call per draw costs more than the draw on small problems; the rare
+# underflow fall-back is a call to draw.
+@jit(inline="always")
+def _row_exact(data, work, b, n, rs):
+    """Row ``n`` from its exact conditional (spec eq. 2.1): dead, then ``A_1 x ... x A_V`` in
+    C order (an odometer, the last sensor fastest)."""
+    V, strides, Wd, ld, Wa, la = data.V, data.strides, data.Wd, data.ld, data.Wa, data.la
+    avail, navail, idx, wbuf, lbuf, row = (work.avail, work.navail, work.idx, work.wbuf,
+                                           work.lbuf, work.row)
+    wbuf[b, 0] = Wd[n]
+    lbuf[b, 0] = ld[n]
+    nc = 1
+    for v in range(V):
+        idx[b, v] = 0
+    while True:
+        off = 0
+        for v in range(V):
+            off += avail[b, v, idx[b, v]] * strides[v]
+        wbuf[b, nc] = Wa[n, off]
+        lbuf[b, nc] = la[n, off]
+        nc += 1
+        v = V - 1
+        while v >= 0:
+            idx[b, v] += 1
+            if idx[b, v] < navail[b, v]:
+                break
+            idx[b, v] = 0
+            v -= 1
+        if v < 0:
+            break
+    total = 0.0
+    for k in range(nc):
+        total += wbuf[b, k]
+    u = next_uniform(rs)
+    k = -1
+    if total > 0.0:
+        target = u * total
+        acc = 0.0
+        for kk in range(nc):
+            wk = wbuf[b, kk]
+            if wk > 0.0:
+                acc += wk
+                k = kk
+                if acc > target:
+                    break
+    else:
+        k = draw(wbuf, lbuf, b, nc, u)
+    if k < 0:
+        return False
+    if k == 0:
+        for v in range(V):
+            row[b, v] = -1
+    else:
+        r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
+        for v in range(V - 1, -1, -1):
+            row[b, v] = avail[b, v, r % navail[b, v]]
+            r //= navail[b, v]
+    return True
+
+
+@jit(inline="always")
+def _row_componentwise(data, work, b, state, n, rs):
+    """Row ``n``'s components, each from its exact conditional under ``eta'`` in turn
+    (spec §2.4)."""
+    V, strides, Wa, la = data.V, data.strides, data.Wa, data.la
+    avail, navail, wbuf, lbuf, row = work.avail, work.navail, work.wbuf, work.lbuf, work.row
+    for v in range(V):
+        row[b, v] = state[n * V + v] - 1
+    for v in range(V):
+        base = 0
+        for w in range(V):
+            if w != v:
+                base += row[b, w] * strides[w]
+        na = navail[b, v]
+        sv = strides[v]
+        total = 0.0
+        for c in range(na):
+            total += Wa[n, base + avail[b, v, c] * sv]
+        u = next_uniform(rs)
+        k = -1
+        if total > 0.0:
+            target = u * total
+            acc = 0.0
+            for c in range(na):
+                wk = Wa[n, base + avail[b, v, c] * sv]
+                if wk > 0.0:
+                    acc += wk
+                    k = c
+                    if acc > target:
+                        break
+        else:
+            for c in range(na):
+                off = base + avail[b, v, c] * sv
+                wbuf[b, c] = Wa[n, off]
+                lbuf[b, c] = la[n, off]
+            k = draw(wbuf, lbuf, b, na, u)
+        if k >= 0:
+            row[b, v] = avail[b, v, k]
+    return True
+
+
+@jit(inline="always")
+def _row_mm(data, work, b, n, rs):
+    """Row ``n`` by MM (spec §3.2): dead with probability ``Q_n``, else independent
+    per-sensor draws ``j ~ theta_n^(v)(j) 1[j in A_n^(v)]``."""
+    V, ld, Th, lth, las = data.V, data.ld, data.Th, data.lth, data.las
+    avail, navail, wbuf, lbuf, row = work.avail, work.navail, work.wbuf, work.lbuf, work.row
+    u = next_uniform(rs)
+    if data.method == MM_FIXED:
+        dead = u < data.qdead[n]
+    else:
+        # alive mass s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j), shifted
+        alive = data.Ea[n]
+        for v in range(V):
+            sv = 0.0
+            for c in range(navail[b, v]):
+                sv += Th[n, v, avail[b, v, c]]
+            alive *= sv
+        wd = data.Ed[n]
+        target = u * (wd + alive)
+        k = -1
+        acc = 0.0
+        if wd > 0.0:
+            acc += wd
+            k = 0
+        if not (k == 0 and acc > target) and alive > 0.0:
+            acc += alive
+            k = 1
+        if k < 0:  # both underflowed: the same decision on exact log-weights
+            wbuf[b, 0] = 0.0
+            wbuf[b, 1] = 0.0
+            lbuf[b, 0] = ld[n]
+            lbuf[b, 1] = _mm_log_alive(lth, las, avail, navail, b, n, V)
+            k = draw(wbuf, lbuf, b, 2, u)
+            if k < 0:
+                return False
+        dead = k == 0
+    if dead:
+        for v in range(V):
+            row[b, v] = -1
+        return True
+    for v in range(V):  # one uniform each
+        na = navail[b, v]
+        total = 0.0
+        for c in range(na):
+            total += Th[n, v, avail[b, v, c]]
+        u = next_uniform(rs)
+        k = -1
+        if total > 0.0:
+            target = u * total
+            acc = 0.0
+            for c in range(na):
+                wk = Th[n, v, avail[b, v, c]]
+                if wk > 0.0:
+                    acc += wk
+                    k = c
+                    if acc > target:
+                        break
+        else:
+            for c in range(na):
+                wbuf[b, c] = Th[n, v, avail[b, v, c]]
+                lbuf[b, c] = lth[n, v, avail[b, v, c]]
+            k = draw(wbuf, lbuf, b, na, u)
+        if k < 0:  # mm-fixed only: the alive branch is infeasible here
+            if ld[n] > -np.inf:
+                for w in range(V):
+                    row[b, w] = -1
+                return True
+            return False
+        row[b, v] = avail[b, v, k]
+    return True
+
+
+@jit(inline="always")
+def _write_row(data, work, b, zkeys, state, n, h):
+    """Row ``n``'s new values ``row[b]`` into ``state``, the occupancy table and the hash;
+    return the hash."""
+    V = data.V
+    occ, row = work.occ, work.row
+    for v in range(V):
+        pos = n * V + v
+        old = np.int64(state[pos])
+        new = row[b, v] + 1
+        if old != new:
+            if old >= 2:
+                occ[b, v, old - 1] -= 1
+            if new >= 2:
+                occ[b, v, new - 1] += 1
+            state[pos] = new
+            h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
+    return h
+
+
+@jit(inline="always")
 def sweep(data, work, b, zkeys, state, h, rs):
     """One sweep over all rows of slab ``b``, in place on ``state``; return the new hash.
 
     Parameters
     ----------
-    data : tuple
+    data : MultiSensorData
         Prepared arrays (module docstring).
-    work : tuple
+    work : MultiSensorWork
         Work arrays from :func:`alloc_work`; slab ``b`` is used and kept up to date.
     b : int
         Slab index.
@@ -201,200 +457,19 @@ def sweep(data, work, b, zkeys, state, h, rs):
     >>> x.tolist()
     [2, 2]
     """
-    params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = data
-    occ, avail, navail, idx, wbuf, lbuf, perm, row = work
-    method = params[0]
-    P = params[2]
-    V = params[3]
-    for t in range(P):
-        perm[b, t] = t
-    if params[1]:  # random scan: Fisher-Yates from the identity
-        for t in range(P - 1, 0, -1):
-            j = np.int64(next_uniform(rs) * (t + 1))
-            if j > t:
-                j = t
-            tmp = perm[b, t]
-            perm[b, t] = perm[b, j]
-            perm[b, j] = tmp
-    for t in range(P):
-        n = perm[b, t]
-        for v in range(V):  # A_n^(v): missed, and measurements free of the other rows
-            own = state[n * V + v] - 1
-            avail[b, v, 0] = 0
-            c = 1
-            for j in range(1, n_meas[v] + 1):
-                if occ[b, v, j] == 0 or own == j:
-                    avail[b, v, c] = j
-                    c += 1
-            navail[b, v] = c
-        # Row update into row[b] (ok = False: no positive candidate, the row stays). The draws
-        # are written out (sum, then the inverse-CDF loop of pick) rather than called: a call
-        # per draw costs more than the draw on small problems. The rare underflow fall-back is
-        # a call to draw.
-        ok = True
+    method = data.method
+    _scan_order(data, work, b, rs)
+    for t in range(data.P):
+        n = work.perm[b, t]
+        _available(data, work, b, state, n)
         if method == EXACT:
-            # spec eq. 2.1: dead, then A_1 x ... x A_V in C order (odometer, last sensor fastest)
-            wbuf[b, 0] = Wd[n]
-            lbuf[b, 0] = ld[n]
-            nc = 1
-            for v in range(V):
-                idx[b, v] = 0
-            while True:
-                off = 0
-                for v in range(V):
-                    off += avail[b, v, idx[b, v]] * strides[v]
-                wbuf[b, nc] = Wa[n, off]
-                lbuf[b, nc] = la[n, off]
-                nc += 1
-                v = V - 1
-                while v >= 0:
-                    idx[b, v] += 1
-                    if idx[b, v] < navail[b, v]:
-                        break
-                    idx[b, v] = 0
-                    v -= 1
-                if v < 0:
-                    break
-            total = 0.0
-            for k in range(nc):
-                total += wbuf[b, k]
-            u = next_uniform(rs)
-            k = -1
-            if total > 0.0:
-                target = u * total
-                acc = 0.0
-                for kk in range(nc):
-                    wk = wbuf[b, kk]
-                    if wk > 0.0:
-                        acc += wk
-                        k = kk
-                        if acc > target:
-                            break
-            else:
-                k = draw(wbuf, lbuf, b, nc, u)
-            if k < 0:
-                ok = False
-            elif k == 0:
-                for v in range(V):
-                    row[b, v] = -1
-            else:
-                r = k - 1  # mixed-radix digits of the candidate, last sensor fastest
-                for v in range(V - 1, -1, -1):
-                    row[b, v] = avail[b, v, r % navail[b, v]]
-                    r //= navail[b, v]
+            ok = _row_exact(data, work, b, n, rs)
         elif method == COMPONENTWISE:
-            # spec §2.4: each component from its exact conditional under eta', in turn
-            for v in range(V):
-                row[b, v] = state[n * V + v] - 1
-            for v in range(V):
-                base = 0
-                for w in range(V):
-                    if w != v:
-                        base += row[b, w] * strides[w]
-                na = navail[b, v]
-                sv = strides[v]
-                total = 0.0
-                for c in range(na):
-                    total += Wa[n, base + avail[b, v, c] * sv]
-                u = next_uniform(rs)
-                k = -1
-                if total > 0.0:
-                    target = u * total
-                    acc = 0.0
-                    for c in range(na):
-                        wk = Wa[n, base + avail[b, v, c] * sv]
-                        if wk > 0.0:
-                            acc += wk
-                            k = c
-                            if acc > target:
-                                break
-                else:
-                    for c in range(na):
-                        off = base + avail[b, v, c] * sv
-                        wbuf[b, c] = Wa[n, off]
-                        lbuf[b, c] = la[n, off]
-                    k = draw(wbuf, lbuf, b, na, u)
-                if k >= 0:
-                    row[b, v] = avail[b, v, k]
+            ok = _row_componentwise(data, work, b, state, n, rs)
         else:
-            # spec §3.2: dead with probability Q_n, else independent per-sensor draws
-            u = next_uniform(rs)
-            if method == MM_FIXED:
-                dead = u < qdead[n]
-            else:
-                # alive mass s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j), shifted
-                alive = Ea[n]
-                for v in range(V):
-                    sv = 0.0
-                    for c in range(navail[b, v]):
-                        sv += Th[n, v, avail[b, v, c]]
-                    alive *= sv
-                wd = Ed[n]
-                target = u * (wd + alive)
-                k = -1
-                acc = 0.0
-                if wd > 0.0:
-                    acc += wd
-                    k = 0
-                if not (k == 0 and acc > target) and alive > 0.0:
-                    acc += alive
-                    k = 1
-                if k < 0:  # both underflowed: the same decision on exact log-weights
-                    wbuf[b, 0] = 0.0
-                    wbuf[b, 1] = 0.0
-                    lbuf[b, 0] = ld[n]
-                    lbuf[b, 1] = _mm_log_alive(lth, las, avail, navail, b, n, V)
-                    k = draw(wbuf, lbuf, b, 2, u)
-                    if k < 0:
-                        ok = False
-                dead = k == 0
-            if ok and dead:
-                for v in range(V):
-                    row[b, v] = -1
-            elif ok:
-                for v in range(V):  # j ~ theta_n^(v)(j) 1[j in A_n^(v)], one uniform each
-                    na = navail[b, v]
-                    total = 0.0
-                    for c in range(na):
-                        total += Th[n, v, avail[b, v, c]]
-                    u = next_uniform(rs)
-                    k = -1
-                    if total > 0.0:
-                        target = u * total
-                        acc = 0.0
-                        for c in range(na):
-                            wk = Th[n, v, avail[b, v, c]]
-                            if wk > 0.0:
-                                acc += wk
-                                k = c
-                                if acc > target:
-                                    break
-                    else:
-                        for c in range(na):
-                            wbuf[b, c] = Th[n, v, avail[b, v, c]]
-                            lbuf[b, c] = lth[n, v, avail[b, v, c]]
-                        k = draw(wbuf, lbuf, b, na, u)
-                    if k < 0:  # mm-fixed only: the alive branch is infeasible here
-                        if ld[n] > -np.inf:
-                            for w in range(V):
-                                row[b, w] = -1
-                        else:
-                            ok = False
-                        break
-                    row[b, v] = avail[b, v, k]
-        if not ok:
-            continue
-        for v in range(V):
-            pos = n * V + v
-            old = np.int64(state[pos])
-            new = row[b, v] + 1
-            if old != new:
-                if old >= 2:
-                    occ[b, v, old - 1] -= 1
-                if new >= 2:
-                    occ[b, v, new - 1] += 1
-                state[pos] = new
-                h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
+            ok = _row_mm(data, work, b, n, rs)
+        if ok:
+            h = _write_row(data, work, b, zkeys, state, n, h)
     return h
 
 
@@ -436,32 +511,29 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
         h ^= zkeys[pos, state[pos]]
     rs = np.empty(1, dtype=np.uint64)
     rs[0] = seed
-    for _ in range(n_sweeps):
-        h = sweep(data, work, 0, zkeys, state, h, rs)
+    h = _sweeps(data, work, zkeys, state, h, rs, n_sweeps)
     return state, h
 
 
+@jit(nrt=False)
+def _sweeps(data, work, zkeys, state, h, rs, n_sweeps):
+    """``n_sweeps`` sweeps of slab 0 (:func:`run_sweeps`); the loop the sweep is written into
+    runs without reference counting, as the chain driver's do
+    (:func:`rankedassign.engine._kernels.make_driver`)."""
+    for _ in range(n_sweeps):
+        h = sweep(data, work, 0, zkeys, state, h, rs)
+    return h
+
+
 #: The chain driver compiled for the multi-sensor problem (:func:`.._chains.make_driver`).
-run_chains = make_driver("multisensor", alloc_work, reset_work, sweep)
+run_chains = make_driver("multisensor", alloc_work, reset_work, sweep, work=MultiSensorWork)
 
 
 # ---------------------------------------------------------------------------- herded draw
 # Twins of the herded row updates of rankedassign.multisensor.reference (herd_sweep). The
-# herded driver's data is the Gibbs data (data[0..12]) followed by the gate, the weights'
-# width, the key mode, the init mode, the capacity, chain_length and the tally (data[13..19],
-# rankedassign.multisensor.prepare.herd_inputs; one flat tuple: the parallel speculation
-# takes no nested tuple); its workspace is laid out as the Gibbs one (work[0..7]) followed by
-#
-#     cand   int64[nb, C]          full candidate index of each compact candidate
-#     p      float64[nb, Kw]       the draw's conditional over its full candidate range
-#     keyv   int32[nb, L]          the draw's key vector (L = max(P V, 1)), padded with -1
-#     hw     float64[nb, cap, Kw]  the key table's weights
-#     kst    int32[nb, cap, L]     stored key vectors
-#     krow   int32[nb, cap]        stored draw ids n (V + 1) + stage
-#     tslot  int64[nb, T2]         open-addressing index: slot + 1 (0 empty)
-#     thash  uint64[nb, T2]        and the key's hash
-#     cnt    int64[nb, 3]          keys, fall-backs, sweeps
-#     hist   int64[nb, N + 1, 2]   the tallies after each sweep (speculation only; else N = 0)
+# herded driver's data is a MultiSensorHerdedData (the Gibbs data's fields followed by the
+# herded draw's: rankedassign.multisensor.prepare.herd_inputs; one flat record, so that the
+# Gibbs phases read it as they read MultiSensorData), its workspace a MultiSensorHerdedWork.
 
 
 @jit(inline="always")
@@ -469,14 +541,14 @@ def _row_key(data, work, b, state, n, vlo, vhi):
     """Row ``n``'s key vector into ``keyv[b]`` (twin of the reference's ``herd_key``): the
     state with row ``n`` as -1 (full), or the codes ``v K + j`` of the gated measurements of
     sensors ``vlo..vhi-1`` that other rows hold (shared)."""
-    params, n_meas = data[0], data[1]
-    P = params[2]
-    V = params[3]
-    gate = data[13]
+    n_meas = data.n_meas
+    P = data.P
+    V = data.V
+    gate = data.gate
     Kc = gate.shape[2]
-    occ, keyv = work[0], work[10][b]
+    occ, keyv = work.occ, work.keyv[b]
     c = 0
-    if data[15] == 0:
+    if data.key_mode == 0:
         for r in range(P * V):
             keyv[r] = -1 if r // V == n else state[r]
         c = P * V
@@ -495,13 +567,13 @@ def _row_key(data, work, b, state, n, vlo, vhi):
 def _component_key(data, work, b, state, n, v, off):
     """Component ``v`` of row ``n``'s key vector (twin of the reference's
     ``_component_key``); ``off`` is the tuple offset of the row's other components."""
-    params, n_meas, strides, la = data[0], data[1], data[2], data[6]
-    P = params[2]
-    V = params[3]
-    Kc = data[13].shape[2]
-    occ, row, keyv = work[0], work[7], work[10][b]
+    n_meas, strides, la = data.n_meas, data.strides, data.la
+    P = data.P
+    V = data.V
+    Kc = data.gate.shape[2]
+    occ, row, keyv = work.occ, work.row, work.keyv[b]
     c = 0
-    if data[15] == 0:
+    if data.key_mode == 0:
         for r in range(P * V):
             keyv[r] = state[r]
         for w in range(V):
@@ -526,7 +598,7 @@ def _herd_stage(data, work, b, rid, nc, K, rs):
     """One herded draw (twin of the reference's ``_herd_stage``) over ``K`` candidates, the
     ``nc`` available ones in ``wbuf/lbuf/cand[b]``, key in ``keyv[b]``: the candidate, -1 if
     none has weight, or the Gibbs draw of the same lists when the table is full."""
-    wbuf, lbuf, cand, p, keyv = work[4], work[5], work[8], work[9][b], work[10][b]
+    wbuf, lbuf, cand, p, keyv = work.wbuf, work.lbuf, work.cand, work.p[b], work.keyv[b]
     for k in range(K):
         p[k] = 0.0
     total = 0.0
@@ -550,22 +622,22 @@ def _herd_stage(data, work, b, rid, nc, K, rs):
             tot += e
         for c in range(nc):
             p[cand[b, c]] = p[cand[b, c]] / tot
-    s, new = herd_lookup(rid, keyv, work[16][b], data[17], work[13][b], work[12][b],
-                         work[14][b], work[15][b])
+    s, new = herd_lookup(rid, keyv, work.cnt[b], data.capacity, work.krow[b], work.kst[b],
+                         work.tslot[b], work.thash[b])
     if s < 0:  # the table is full: an ordinary Gibbs draw
         c = draw(wbuf, lbuf, b, nc, next_uniform(rs))
         return -1 if c < 0 else cand[b, c]
-    return herd_pick(work[11][b, s], p, K, new, data[16], rs)
+    return herd_pick(work.hw[b, s], p, K, new, data.init_mode, rs)
 
 
 @jit(inline="always")
 def _herd_row_exact(data, work, b, state, n, rs):
     """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``."""
-    params, n_meas, strides, Wd, ld, Wa, la = (data[0], data[1], data[2], data[3],
-                                                data[4], data[5], data[6])
-    V = params[3]
-    avail, navail, idx, wbuf, lbuf, row, cand = (work[1], work[2], work[3], work[4], work[5],
-                                                 work[7], work[8])
+    n_meas, strides, Wd, ld, Wa, la = (data.n_meas, data.strides, data.Wd, data.ld, data.Wa,
+                                       data.la)
+    V = data.V
+    avail, navail, idx, wbuf, lbuf, row, cand = (work.avail, work.navail, work.idx, work.wbuf,
+                                                 work.lbuf, work.row, work.cand)
     wbuf[b, 0] = Wd[n]
     lbuf[b, 0] = ld[n]
     cand[b, 0] = 0
@@ -601,23 +673,22 @@ def _herd_row_exact(data, work, b, state, n, rs):
 @jit(inline="always")
 def _herd_row_mm(data, work, b, state, n, rs):
     """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``."""
-    params, n_meas, ld, Th, lth, las, Ea, Ed, qdead = (data[0], data[1], data[4],
-                                                       data[7], data[8], data[9],
-                                                       data[10], data[11], data[12])
-    V = params[3]
-    avail, navail, wbuf, lbuf, row, cand, p = (work[1], work[2], work[4], work[5], work[7],
-                                               work[8], work[9][b])
+    n_meas, ld, Th, lth, las = data.n_meas, data.ld, data.Th, data.lth, data.las
+    Ea, Ed, qdead = data.Ea, data.Ed, data.qdead
+    V = data.V
+    avail, navail, wbuf, lbuf, row, cand, p = (work.avail, work.navail, work.wbuf, work.lbuf,
+                                               work.row, work.cand, work.p[b])
     rid = n * (V + 1)
-    if params[0] == MM_FIXED:  # dead with probability Q_n, whatever the other rows hold
+    if data.method == MM_FIXED:  # dead with probability Q_n, whatever the other rows hold
         _row_key(data, work, b, state, n, 0, 0)
         p[0] = qdead[n]
         p[1] = 1.0 - qdead[n]
-        s, new = herd_lookup(rid, work[10][b], work[16][b], data[17], work[13][b], work[12][b],
-                             work[14][b], work[15][b])
+        s, new = herd_lookup(rid, work.keyv[b], work.cnt[b], data.capacity, work.krow[b],
+                             work.kst[b], work.tslot[b], work.thash[b])
         if s < 0:
             dead = next_uniform(rs) < qdead[n]
         else:
-            dead = herd_pick(work[11][b, s], p, 2, new, data[16], rs) == 0
+            dead = herd_pick(work.hw[b, s], p, 2, new, data.init_mode, rs) == 0
     else:
         alive = Ea[n]
         for v in range(V):
@@ -663,11 +734,10 @@ def _herd_row_mm(data, work, b, state, n, rs):
 @jit(inline="always")
 def _herd_row_componentwise(data, work, b, state, n, rs):
     """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``."""
-    params, n_meas, strides, Wa, la = (data[0], data[1], data[2], data[5],
-                                       data[6])
-    V = params[3]
-    avail, navail, wbuf, lbuf, row, cand = (work[1], work[2], work[4], work[5], work[7],
-                                            work[8])
+    n_meas, strides, Wa, la = data.n_meas, data.strides, data.Wa, data.la
+    V = data.V
+    avail, navail, wbuf, lbuf, row, cand = (work.avail, work.navail, work.wbuf, work.lbuf,
+                                            work.row, work.cand)
     for v in range(V):
         row[b, v] = state[n * V + v] - 1
     for v in range(V):
@@ -697,111 +767,79 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     method, then the row is written back as in :func:`sweep`. The chain's tallies are
     ``cnt[b]`` (keys, fall-backs, sweeps) and, when chains are speculated, ``hist``.
     """
-    params, n_meas = data[0], data[1]
-    occ, avail, navail, perm, row = work[0], work[1], work[2], work[6], work[7]
-    method = params[0]
-    P = params[2]
-    V = params[3]
-    for t in range(P):
-        perm[b, t] = t
-    if params[1]:  # random scan: Fisher-Yates from the identity
-        for t in range(P - 1, 0, -1):
-            j = np.int64(next_uniform(rs) * (t + 1))
-            if j > t:
-                j = t
-            tmp = perm[b, t]
-            perm[b, t] = perm[b, j]
-            perm[b, j] = tmp
-    for t in range(P):
-        n = perm[b, t]
-        for v in range(V):  # A_n^(v): missed, and measurements free of the other rows
-            own = state[n * V + v] - 1
-            avail[b, v, 0] = 0
-            c = 1
-            for j in range(1, n_meas[v] + 1):
-                if occ[b, v, j] == 0 or own == j:
-                    avail[b, v, c] = j
-                    c += 1
-            navail[b, v] = c
+    method = data.method
+    _scan_order(data, work, b, rs)
+    for t in range(data.P):
+        n = work.perm[b, t]
+        _available(data, work, b, state, n)
         if method == EXACT:
             ok = _herd_row_exact(data, work, b, state, n, rs)
         elif method == COMPONENTWISE:
             ok = _herd_row_componentwise(data, work, b, state, n, rs)
         else:
             ok = _herd_row_mm(data, work, b, state, n, rs)
-        if not ok:
-            continue
-        for v in range(V):
-            pos = n * V + v
-            old = np.int64(state[pos])
-            new = row[b, v] + 1
-            if old != new:
-                if old >= 2:
-                    occ[b, v, old - 1] -= 1
-                if new >= 2:
-                    occ[b, v, new - 1] += 1
-                state[pos] = new
-                h = h ^ zkeys[pos, old] ^ zkeys[pos, new]
-    cnt = work[16][b]
-    cnt[2] += 1
-    hist = work[17]
-    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
-        hist[b, cnt[2], 0] = cnt[0]
-        hist[b, cnt[2], 1] = cnt[1]
+        if ok:
+            h = _write_row(data, work, b, zkeys, state, n, h)
+    key_table_sweep_done(work, b)
     return h
+
+
+class MultiSensorHerdedWork(NamedTuple):
+    """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
+    :class:`MultiSensorWork`, the candidates' full indices and those of a
+    :class:`~rankedassign.engine._kernels.KeyTable` (weights of width
+    ``MultiSensorHerdedData.width``, key vectors of length ``max(P V, 1)``).
+
+    Attributes
+    ----------
+    occ, avail, navail, idx, wbuf, lbuf, perm, row
+        As in :class:`MultiSensorWork`.
+    cand : ndarray, shape (nb, C), int64
+        Full candidate index of each compact candidate.
+    p, keyv, hw, kst, krow, tslot, thash, cnt, hist
+        As in :class:`~rankedassign.engine._kernels.KeyTable`: the draw's conditional over
+        its full candidate range and its key (padded with -1), the key table (row ids
+        ``n (V + 1) + stage``) and the chain's tallies.
+    """
+
+    occ: np.ndarray
+    avail: np.ndarray
+    navail: np.ndarray
+    idx: np.ndarray
+    wbuf: np.ndarray
+    lbuf: np.ndarray
+    perm: np.ndarray
+    row: np.ndarray
+    cand: np.ndarray
+    p: np.ndarray
+    keyv: np.ndarray
+    hw: np.ndarray
+    kst: np.ndarray
+    krow: np.ndarray
+    tslot: np.ndarray
+    thash: np.ndarray
+    cnt: np.ndarray
+    hist: np.ndarray
 
 
 @jit()
 def alloc_work_herded(data, nb):
     """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables."""
-    params, n_meas, Wa = data[0], data[1], data[5]
-    P = params[2]
-    V = params[3]
-    K = 1
-    for v in range(V):
-        if n_meas[v] + 1 > K:
-            K = n_meas[v] + 1
-    C = max(1 + Wa.shape[1], K, 2)  # as alloc_work
-    L = max(P * V, 1)
-    Kw = data[14]
-    cap = data[17]
-    T = 4
-    while T < 2 * cap:
-        T *= 2
-    return (np.zeros((nb, V, K), dtype=np.int64), np.zeros((nb, V, K), dtype=np.int64),
-            np.zeros((nb, V), dtype=np.int64), np.zeros((nb, V), dtype=np.int64),
-            np.zeros((nb, C)), np.zeros((nb, C)), np.zeros((nb, max(P, 1)), dtype=np.int64),
-            np.zeros((nb, V), dtype=np.int64),
-            np.zeros((nb, C), dtype=np.int64), np.zeros((nb, Kw)),
-            np.empty((nb, L), dtype=np.int32), np.empty((nb, cap, Kw)),
-            np.empty((nb, cap, L), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
-            np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
-            np.zeros((nb, 3), dtype=np.int64),
-            np.zeros((nb, data[18] + 1 if nb > 1 else 1, 2), dtype=np.int64))
+    g = alloc_work(data, nb)
+    cand = np.zeros((nb, g.wbuf.shape[1]), dtype=np.int64)
+    table = alloc_key_table(nb, data.width, max(data.P * data.V, 1), data.capacity,
+                            data.chain_length)
+    return MultiSensorHerdedWork(*(g[:] + (cand,) + table[:]))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies."""
     reset_work(data, work, b, x0)
-    work[14][b, :] = 0
-    work[16][b, :] = 0
-    work[17][b, 0, :] = 0
-
-
-@jit()
-def chain_done_herded(data, work, b, j):
-    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data[19]
-    hist = work[17]
-    if hist.shape[1] > 1:
-        tally[0] += hist[b, j, 0]
-        tally[1] += hist[b, j, 1]
-    else:  # simulated up to j exactly
-        tally[0] += work[16][b, 0]
-        tally[1] += work[16][b, 1]
+    reset_key_table(work, b)
 
 
 #: The chain driver compiled for the multi-sensor problem with the herded draw.
 run_chains_herded = make_driver("multisensor_herded", alloc_work_herded, reset_work_herded,
-                                sweep_herded, chain_done=chain_done_herded)
+                                sweep_herded, work=MultiSensorHerdedWork,
+                                chain_done=key_table_done)

@@ -5,23 +5,13 @@ Twins, operation for operation, of :func:`rankedassign.multisensor.tempered.temp
 :func:`~rankedassign.multisensor.tempered.tempered_accumulate`, compiled into the loop of
 :mod:`rankedassign.engine._tempered_kernels` (:data:`KERNELS`).
 
-``data`` (built by :func:`rankedassign.multisensor.tempered.sample_tempered`)::
-
-    n_meas, strides  int64[V]          M_v and the C-order strides of the tuple axes
-    Wd, Wbd, Rd      float64[P]        W, W^beta and W^(beta-1) of dead (shifted per row)
-    Wa, Wba, Ra      float64[P, T]     the same of every tuple, T = prod_v (M_v + 1)
-
-``work``::
-
-    occ     int64[V, K]   rows holding measurement j of sensor v (K = max M_v + 1)
-    avail   int64[V, K]   A_n^(v) of the row at hand (first navail entries)
-    navail  int64[V]
-    idx     int64[V]      odometer over the product of the A_n^(v)
-    Sb      float64[P]    each row's sum of W^beta over its available candidates
-    row     int64[V]      the moved row's new gamma
+``data`` is a :class:`MultiSensorTemperedData`, ``work`` a :class:`MultiSensorTemperedWork`
+(both built by :func:`rankedassign.multisensor.tempered.sample_tempered`).
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -29,7 +19,58 @@ from ..engine._kernels import next_uniform
 from ..engine._tempered_kernels import make_tempered
 from ..numba_options import jit
 
-__all__ = ["occupancy", "row_weights", "move", "accumulate", "KERNELS"]
+__all__ = ["occupancy", "row_weights", "move", "accumulate", "KERNELS",
+           "MultiSensorTemperedData", "MultiSensorTemperedWork"]
+
+
+class MultiSensorTemperedData(NamedTuple):
+    """The tempered kernels' inputs (shifted per row; ``T = prod_v (M_v + 1)``).
+
+    Attributes
+    ----------
+    n_meas, strides : ndarray, shape (V,), int64
+        ``M_v`` and the C-order strides of the tuple axes.
+    Wd, Wbd, Rd : ndarray, shape (P,), float64
+        ``W``, ``W^beta`` and ``W^(beta - 1)`` of dead.
+    Wa, Wba, Ra : ndarray, shape (P, T), float64
+        The same of every tuple.
+    """
+
+    n_meas: np.ndarray
+    strides: np.ndarray
+    Wd: np.ndarray
+    Wbd: np.ndarray
+    Rd: np.ndarray
+    Wa: np.ndarray
+    Wba: np.ndarray
+    Ra: np.ndarray
+
+
+class MultiSensorTemperedWork(NamedTuple):
+    """The tempered kernels' workspace (``K = max_v M_v + 1``).
+
+    Attributes
+    ----------
+    occ : ndarray, shape (V, K), int64
+        Rows holding measurement ``j`` of sensor ``v``.
+    avail : ndarray, shape (V, K), int64
+        ``A_n^(v)`` of the row at hand (the first ``navail`` entries).
+    navail : ndarray, shape (V,), int64
+        Their number.
+    idx : ndarray, shape (V,), int64
+        Odometer over the product of the ``A_n^(v)``.
+    Sb : ndarray, shape (P,), float64
+        Each row's sum of ``W^beta`` over its available candidates.
+    row : ndarray, shape (V,), int64
+        The moved row's new ``gamma``.
+    """
+
+    occ: np.ndarray
+    avail: np.ndarray
+    navail: np.ndarray
+    idx: np.ndarray
+    Sb: np.ndarray
+    row: np.ndarray
 
 
 @jit()
@@ -93,8 +134,10 @@ def _advance(idx, navail, V):
 @jit()
 def row_weights(data, work, state, p):
     """``p[n] = (R(gamma_n) S_n) / Sb_n`` for every row; ``Z`` or -1.0 (not representable)."""
-    n_meas, strides, Wd, Wbd, Rd, Wa, Wba, Ra = data
-    occ, avail, navail, idx, Sb, _ = work
+    n_meas, strides, Wd, Wbd, Wa, Wba = (data.n_meas, data.strides, data.Wd, data.Wbd,
+                                         data.Wa, data.Wba)
+    Rd, Ra = data.Rd, data.Ra
+    occ, avail, navail, idx, Sb = work.occ, work.avail, work.navail, work.idx, work.Sb
     P = Wd.shape[0]
     V = n_meas.shape[0]
     Z = 0.0
@@ -128,8 +171,9 @@ def row_weights(data, work, state, p):
 @jit()
 def move(data, work, zkeys, state, r, h, rs):
     """Row ``r`` drawn from its tempered conditional; ``(hash, changed)``."""
-    n_meas, strides, Wd, Wbd, Rd, Wa, Wba, Ra = data
-    occ, avail, navail, idx, Sb, row = work
+    n_meas, strides, Wbd, Wba = data.n_meas, data.strides, data.Wbd, data.Wba
+    occ, avail, navail, idx, Sb, row = (work.occ, work.avail, work.navail, work.idx, work.Sb,
+                                        work.row)
     V = n_meas.shape[0]
     _available(n_meas, occ, state, r, avail, navail)
     # the inverse CDF of reference.pick: dead (code 0), then the available tuples (1 + off)
@@ -186,7 +230,7 @@ def move(data, work, zkeys, state, r, h, rs):
 @jit()
 def accumulate(data, work, state, acc, w):
     """``acc[n, code(gamma_n)] += w`` for every row."""
-    strides = data[1]
+    strides = data.strides
     V = strides.shape[0]
     for n in range(acc.shape[0]):
         acc[n, _code(strides, state, n, V)] += w

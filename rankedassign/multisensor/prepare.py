@@ -43,9 +43,12 @@ References
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..engine.herding import INIT_CODES, KEY_CODES
+from ..engine.kind import DrawInputs
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice
@@ -62,6 +65,8 @@ __all__ = [
     "assignment_costs",
     "herd_gate",
     "herd_inputs",
+    "MultiSensorData",
+    "MultiSensorHerdedData",
 ]
 
 METHODS = ("exact", "mm", "mm-fixed", "componentwise")
@@ -69,6 +74,114 @@ METHOD_CODES = {"exact": 0, "mm": 1, "mm-fixed": 2, "componentwise": 3}
 STARTS = ("all_missed", "all_dead")
 SCANS = ("systematic", "random")
 SURVIVAL_POWERS = (1, "V")
+
+
+class MultiSensorData(NamedTuple):
+    """The kernels' inputs of a multi-sensor sampler call (:func:`prepare_data`).
+
+    Read by :func:`rankedassign.multisensor._kernels.sweep`; the reference reads the same
+    values as lists (:class:`~rankedassign.multisensor.reference.RefData`). ``T = prod_v
+    (M_v + 1)`` tuples, ``K = max_v M_v + 1``. Every shifted weight is ``exp(log - max)`` over
+    the candidates of one row (0 where the log is ``-inf``); arrays a method does not read are
+    placeholders of the same dtype and dimensions.
+
+    Attributes
+    ----------
+    method : int
+        The row conditional, ``METHOD_CODES`` (0 exact, 1 mm, 2 mm-fixed, 3 componentwise).
+    random_scan : bool
+        A fresh random row order every sweep, else ``0..P-1``.
+    P, V : int
+        Rows and sensors.
+    n_meas : ndarray, shape (V,), int64
+        ``M_v``.
+    strides : ndarray, shape (V,), int64
+        C-order strides of the tuple axes ``(M_1 + 1, ..., M_V + 1)``.
+    Wd, ld : ndarray, shape (P,), float64
+        Shifted weight and log-weight of dead.
+    Wa, la : ndarray, shape (P, T), float64
+        Shifted weight and ``log eta`` of every tuple (exact; componentwise: the collapsed
+        weights); shape (P, 0) for the MM methods.
+    Th, lth : ndarray, shape (P, V, K), float64
+        Shifted and log ``theta_n^(v)(j)`` (MM methods; padding 0 and ``-inf``).
+    las : ndarray, shape (P,), float64
+        ``alpha log s_n`` (MM methods).
+    Ea, Ed : ndarray, shape (P,), float64
+        Shifted alive prefactor ``s_n^alpha prod_v max_j theta_n^(v)(j)`` and dead weight
+        (MM's exclusion variant).
+    qdead : ndarray, shape (P,), float64
+        ``Q_n`` of MM-fixed.
+    """
+
+    method: np.int64
+    random_scan: bool
+    P: np.int64
+    V: np.int64
+    n_meas: np.ndarray
+    strides: np.ndarray
+    Wd: np.ndarray
+    ld: np.ndarray
+    Wa: np.ndarray
+    la: np.ndarray
+    Th: np.ndarray
+    lth: np.ndarray
+    las: np.ndarray
+    Ea: np.ndarray
+    Ed: np.ndarray
+    qdead: np.ndarray
+
+
+class MultiSensorHerdedData(NamedTuple):
+    """The herded kernel's inputs (:func:`herd_inputs`): the fields of
+    :class:`MultiSensorData`, then those of the herded draw.
+
+    Read by :func:`rankedassign.multisensor._kernels.sweep_herded`; the reference's twin is
+    :class:`~rankedassign.multisensor.reference.HerdData`. One flat record, so that the Gibbs
+    kernel's phases read it as they read :class:`MultiSensorData`.
+
+    Attributes
+    ----------
+    method, random_scan, P, V, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead
+        As in :class:`MultiSensorData`.
+    gate : ndarray, shape (P, V, K), bool
+        Which measurements can carry weight for each row (:func:`herd_gate`).
+    width : int
+        Candidates of a key's weights (the widest herded draw).
+    key_mode : int
+        What a key is: ``KEY_CODES`` of :mod:`rankedassign.engine.herding` (0 full, 1 shared).
+    init_mode : int
+        A new key's initial weights: ``INIT_CODES`` (0 conditional, 1 zero, 2 uniform).
+    capacity : int
+        Keys a chain's table may hold.
+    chain_length : int
+        Observations per chain (sizes the per-sweep tallies of speculated chains).
+    tally : ndarray, shape (2,), int64
+        ``[keys created, fall-back draws]`` over the run, updated in place.
+    """
+
+    method: np.int64
+    random_scan: bool
+    P: np.int64
+    V: np.int64
+    n_meas: np.ndarray
+    strides: np.ndarray
+    Wd: np.ndarray
+    ld: np.ndarray
+    Wa: np.ndarray
+    la: np.ndarray
+    Th: np.ndarray
+    lth: np.ndarray
+    las: np.ndarray
+    Ea: np.ndarray
+    Ed: np.ndarray
+    qdead: np.ndarray
+    gate: np.ndarray
+    width: np.int64
+    key_mode: int
+    init_mode: int
+    capacity: int
+    chain_length: int
+    tally: np.ndarray
 
 
 def _shape(problem):
@@ -132,12 +245,10 @@ def prepare_data(problem, method, scan, survival_power=1):
 
     Returns
     -------
-    tuple
-        ``(params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead)``, float64 /
-        int64, C-contiguous (layout in :mod:`rankedassign.multisensor._kernels`). Every
-        shifted weight is ``exp(log - max)`` over the candidates of one row (``W = 0`` where
-        the log is ``-inf``), so ``0 <= W <= 1``; each conditional is a ratio of one row's
-        weights and does not change.
+    MultiSensorData
+        Arrays float64 / int64, C-contiguous. Every shifted weight is ``exp(log - max)`` over
+        the candidates of one row (``W = 0`` where the log is ``-inf``), so ``0 <= W <= 1``;
+        each conditional is a ratio of one row's weights and does not change.
 
     Raises
     ------
@@ -153,7 +264,7 @@ def prepare_data(problem, method, scan, survival_power=1):
     ...     log_eta_dead = np.log([0.5]); log_eta_alive = np.log([[0.25, 1.0]])
     ...     log_s = None; log_theta = None
     >>> data = prepare_data(Stub(), "exact", "systematic")
-    >>> data[3].tolist(), data[5].tolist()
+    >>> data.Wd.tolist(), data.Wa.tolist()
     ([0.5], [[0.25, 1.0]])
     """
     _check_method(method, problem, survival_power)
@@ -162,7 +273,6 @@ def prepare_data(problem, method, scan, survival_power=1):
     M, shape, strides = _shape(problem)
     K = max(M) + 1 if V else 1
     ld = np.array(problem.log_eta_dead, dtype=np.float64).reshape(P)
-    params = np.array([METHOD_CODES[method], scan == "random", P, V], dtype=np.int64)
     empty_p = np.zeros(P)
     Wd = empty_p
     Wa = la = np.zeros((P, 0))
@@ -191,9 +301,12 @@ def prepare_data(problem, method, scan, survival_power=1):
             with np.errstate(divide="ignore"):
                 full = las + np.log(Th.sum(axis=2)).sum(axis=1) + c.sum(axis=1)
             qdead = np.nan_to_num(np.exp(ld - np.logaddexp(ld, full)), nan=1.0)
-    arrays = (params, np.array(M, dtype=np.int64), np.array(strides, dtype=np.int64), Wd, ld,
-              Wa, la, Th, lth, las, Ea, Ed, qdead)
-    return tuple(np.ascontiguousarray(a) for a in arrays)
+    c = np.ascontiguousarray
+    return MultiSensorData(
+        method=np.int64(METHOD_CODES[method]), random_scan=scan == "random", P=np.int64(P),
+        V=np.int64(V), n_meas=np.array(M, dtype=np.int64),
+        strides=np.array(strides, dtype=np.int64), Wd=c(Wd), ld=c(ld), Wa=c(Wa), la=c(la),
+        Th=c(Th), lth=c(lth), las=c(las), Ea=c(Ea), Ed=c(Ed), qdead=c(qdead))
 
 
 def start_state(problem, start, method):
@@ -380,7 +493,8 @@ def prepare(problem, start, scan, rng, options) -> Prepared:
     Returns
     -------
     Prepared
-        Kind ``"multisensor"``, driver ``"chains"``; ``data`` is the kernels' tuple,
+        Kind ``"multisensor"``, driver ``"chains"``; ``data`` is the kernels'
+        :class:`MultiSensorData`,
         ``make_ref_data`` builds the reference's
         :class:`~rankedassign.multisensor.reference.RefData` on first use (so a compiled run
         does not convert the arrays to lists), ``x0`` is int32 of length ``P * V``,
@@ -476,8 +590,8 @@ def herd_gate(data):
 
     Parameters
     ----------
-    data : tuple
-        The kernels' data tuple (:func:`prepare_data`).
+    data : MultiSensorData
+        The kernels' inputs (:func:`prepare_data`).
 
     Returns
     -------
@@ -497,9 +611,9 @@ def herd_gate(data):
     >>> herd_gate(prepare_data(Stub(), "exact", "systematic")).astype(int).tolist()
     [[[0, 0], [0, 1]]]
     """
-    params, n_meas, lth, la = data[0], data[1], data[8], data[6]
-    method, P, V = int(params[0]), int(params[2]), int(params[3])
-    M = [int(m) for m in n_meas]
+    method, P, V = int(data.method), int(data.P), int(data.V)
+    M = [int(m) for m in data.n_meas]
+    lth, la = data.lth, data.la
     K = max(M) + 1 if V else 1
     gate = np.zeros((P, V, K), dtype=np.bool_)
     if method == METHOD_CODES["exact"]:
@@ -527,11 +641,11 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
 
     Returns
     -------
-    data, tally, make_ref, chain_bytes
-        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is the Gibbs
-        data tuple followed by the gate (:func:`herd_gate`), the width of a key's weights, the
-        key and init codes, the table capacity, ``chain_length`` and the tallies
-        ``[keys created, fall-back draws]``.
+    DrawInputs
+        As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents: ``data`` is a
+        :class:`MultiSensorHerdedData` (the Gibbs inputs, the gate of :func:`herd_gate`, the
+        width of a key's weights, the key and init codes, the table capacity,
+        ``chain_length`` and the tallies ``[keys created, fall-back draws]``).
 
     Notes
     -----
@@ -549,25 +663,26 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     ...     log_eta_dead = np.zeros(2); log_eta_alive = np.zeros((2, 2, 3))
     ...     log_s = None; log_theta = None
     >>> prep = prepare(Stub(), "all_missed", "systematic", 0, {"method": "exact"})
-    >>> data, tally, make_ref, _ = herd_inputs(prep, Herding(), 10)
-    >>> int(data[14]), data[17], tally.tolist()    # 1 + 6 candidates, 2 rows x 10 sweeps
+    >>> data, tally, make_ref = herd_inputs(prep, Herding(), 10)[:3]
+    >>> int(data.width), data.capacity, tally.tolist()   # 1 + 6 candidates, 2 rows x 10 sweeps
     (7, 20, [0, 0])
     """
     data = prep.data
-    params = data[0]
-    method, P, V = int(params[0]), int(params[2]), int(params[3])
+    method, P, V = int(data.method), int(data.P), int(data.V)
     gate = herd_gate(data)
     K = gate.shape[2]
     if method == METHOD_CODES["exact"]:
-        width, draws = 1 + data[5].shape[1], P
+        width, draws = 1 + data.Wa.shape[1], P
     elif method == METHOD_CODES["componentwise"]:
         width, draws = K, P * V
     else:
         width, draws = max(2, K), P * (V + 1)
     cap = herding.capacity(draws, chain_length)
     tally = np.zeros(2, dtype=np.int64)
-    hdata = data + (gate, np.int64(width), KEY_CODES[herding.keys], INIT_CODES[herding.init],
-                    cap, chain_length, tally)
+    hdata = MultiSensorHerdedData(
+        **data._asdict(), gate=gate, width=np.int64(width), key_mode=KEY_CODES[herding.keys],
+        init_mode=INIT_CODES[herding.init], capacity=cap, chain_length=chain_length,
+        tally=tally)
 
     def make_ref():
         ref_tally = [0, 0]
@@ -579,4 +694,4 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     while T < 2 * cap:
         T *= 2
     chain_bytes = cap * (8 * width + 4 * L + 4) + 16 * T + 16 * (chain_length + 1) + 8 * width
-    return hdata, tally, make_ref, chain_bytes
+    return DrawInputs(data=hdata, tally=tally, make_ref=make_ref, chain_bytes=chain_bytes)

@@ -60,9 +60,8 @@ class RefData:
 
     Parameters
     ----------
-    arrays : tuple
-        The numba ``data`` tuple ``(params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea,
-        Ed, qdead)`` (see :func:`rankedassign.multisensor.prepare.prepare`).
+    arrays : MultiSensorData
+        The kernels' inputs (:class:`rankedassign.multisensor.prepare.MultiSensorData`).
 
     Examples
     --------
@@ -78,15 +77,16 @@ class RefData:
     """
 
     def __init__(self, arrays):
-        params, n_meas, strides, Wd, ld, Wa, la, Th, lth, las, Ea, Ed, qdead = arrays
-        self.method, self.random_scan, self.P, self.V = (int(a) for a in params)
-        self.n_meas = [int(m) for m in n_meas]
-        self.strides = [int(s) for s in strides]
-        self.Wd, self.ld = Wd.tolist(), ld.tolist()
-        self.Wa, self.la = Wa.tolist(), la.tolist()
-        self.Th, self.lth = Th.tolist(), lth.tolist()
-        self.las, self.Ea, self.Ed, self.qdead = las.tolist(), Ea.tolist(), Ed.tolist(), \
-            qdead.tolist()
+        a = arrays
+        self.method, self.random_scan, self.P, self.V = (int(a.method), int(a.random_scan),
+                                                         int(a.P), int(a.V))
+        self.n_meas = [int(m) for m in a.n_meas]
+        self.strides = [int(s) for s in a.strides]
+        self.Wd, self.ld = a.Wd.tolist(), a.ld.tolist()
+        self.Wa, self.la = a.Wa.tolist(), a.la.tolist()
+        self.Th, self.lth = a.Th.tolist(), a.lth.tolist()
+        self.las, self.Ea, self.Ed, self.qdead = (a.las.tolist(), a.Ea.tolist(), a.Ed.tolist(),
+                                                  a.qdead.tolist())
 
 
 def pick(weights, total, u):

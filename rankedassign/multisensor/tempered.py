@@ -126,8 +126,7 @@ def _inputs(problem, n_steps, beta, start, rng, method):
         raise ValueError("tempered Gibbs sampling needs at least one row; this problem has "
                          "P = 0 (its one assignment, the empty one, is certain)")
     prep = prepare(problem, start, "systematic", rng, {"method": "exact"})
-    _, n_meas, strides, Wd, ld, Wa, la = prep.data[:7]
-    logs = np.concatenate([ld[:, None], la], axis=1)
+    logs = np.concatenate([prep.data.ld[:, None], prep.data.la], axis=1)
     # the Gibbs sampler's shift (prepare._shift): the largest log-weight of the row
     d = logs - np.max(logs, axis=1, keepdims=True)
     fin = np.isfinite(d)
@@ -137,7 +136,9 @@ def _inputs(problem, n_steps, beta, start, rng, method):
         R = np.where(fin, np.exp((1.0 - beta) * np.where(fin, -d, 0.0)), 0.0)
     Wbd, Wba = np.ascontiguousarray(Wb[:, 0]), np.ascontiguousarray(Wb[:, 1:])
     Rd, Ra = np.ascontiguousarray(R[:, 0]), np.ascontiguousarray(R[:, 1:])
-    data = (n_meas, strides, Wd, Wbd, Rd, Wa, Wba, Ra)
+    data = _tempered_kernels.MultiSensorTemperedData(
+        n_meas=prep.data.n_meas, strides=prep.data.strides, Wd=prep.data.Wd, Wbd=Wbd, Rd=Rd,
+        Wa=prep.data.Wa, Wba=Wba, Ra=Ra)
     return problem, n_steps, prep, data
 
 
@@ -272,8 +273,8 @@ def tempered_accumulate(data: TemperedData, work, x, acc, w) -> None:
 
 
 def _reference_data(prep, kdata) -> TemperedData:
-    _, _, _, Wbd, Rd, _, Wba, Ra = kdata
-    return TemperedData(prep.ref_data, Wbd.tolist(), Rd.tolist(), Wba.tolist(), Ra.tolist())
+    return TemperedData(prep.ref_data, kdata.Wbd.tolist(), kdata.Rd.tolist(),
+                        kdata.Wba.tolist(), kdata.Ra.tolist())
 
 
 def _marginals(problem, acc, wsum) -> TemperedMarginals:
@@ -346,7 +347,7 @@ def tempered_reference(problem, n_steps, *, beta, start="all_missed", rng=None,
     P = problem.n_rows
     x = prep.x0.tolist()
     work = (new_work(data.base, x), [0.0] * P)
-    acc = [[0.0] * (1 + kdata[5].shape[1]) for _ in range(P)]
+    acc = [[0.0] * (1 + kdata.Wa.shape[1]) for _ in range(P)]
     out = run_reference(tempered_weights, tempered_move, tempered_accumulate, data, work, x, P,
                         acc, n_steps, prep.base)
     if out is None:
@@ -437,12 +438,13 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, bac
     problem, n_steps, prep, data = _inputs(problem, n_steps, beta, start, rng, method)
     P, V = problem.n_rows, problem.n_sensors
     K = max(problem.n_meas) + 1
-    T = data[5].shape[1]
-    work = (np.zeros((V, K), dtype=np.int64), np.zeros((V, K), dtype=np.int64),
-            np.zeros(V, dtype=np.int64), np.zeros(V, dtype=np.int64), np.zeros(P),
-            np.zeros(V, dtype=np.int64))
+    T = data.Wa.shape[1]
+    work = _tempered_kernels.MultiSensorTemperedWork(
+        occ=np.zeros((V, K), dtype=np.int64), avail=np.zeros((V, K), dtype=np.int64),
+        navail=np.zeros(V, dtype=np.int64), idx=np.zeros(V, dtype=np.int64), Sb=np.zeros(P),
+        row=np.zeros(V, dtype=np.int64))
     with interruptible:
-        _tempered_kernels.occupancy(work[0], prep.x0)
+        _tempered_kernels.occupancy(work.occ, prep.x0)
     acc = np.zeros((P, 1 + T))
     moves = max(1, _SLICE_WORK // (P * (1 + T + sum(problem.n_meas))))
     out = run_compiled(_tempered_kernels.KERNELS, data, work, prep.x0, prep.n_values, P, acc,

@@ -22,13 +22,14 @@ Two drivers share the arithmetic: ``"direct"`` (rows draw with the direct sum,
 compiled driver with only the arrays it reads: every array passed to a call costs several
 machine words, and a direct-draw problem of the paper's size is fast enough for that to show.
 
-* ``"direct"``: ``data = (W, cc, random_scan)`` (shifted weights, compact costs, scan order);
-  the workspace of ``nb`` chains is ``(free, perm)``, the free-measurement masks ``(nb, M)``
-  and the row permutations ``(nb, P)``.
-* ``"prefix"``: ``data = (W, cc, S, next_pos, random_scan)`` (plus the prefix sums and
-  the next positive weight); the workspace is ``(free, perm, cum, held, n_held)``: also the
-  scratch rows ``(nb, M + 2)`` and the sorted held measurements ``(nb, P)`` with their count
-  ``(nb, 1)``.
+* ``"direct"``: ``data`` is a :class:`~rankedassign.single.prepare.DirectData` (shifted
+  weights, compact costs, scan order); the workspace of ``nb`` chains is a
+  :class:`DirectWork`, the free-measurement masks ``(nb, M)`` and the row permutations
+  ``(nb, P)``.
+* ``"prefix"``: ``data`` is a :class:`~rankedassign.single.prepare.PrefixData` (plus the
+  prefix sums and the next positive weight); the workspace is a :class:`PrefixWork`: also
+  the scratch rows ``(nb, M + 2)`` and the sorted held measurements ``(nb, P)`` with their
+  count ``(nb, 1)``.
 
 Both sweeps are compiled with ``inline="always"``: numba writes them into the driver's loop,
 which saves the call (its arguments are some 60 machine words) once per observation.
@@ -45,10 +46,19 @@ References
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
+from ..engine._kernels import (
+    alloc_key_table,
+    key_table_done,
+    key_table_sweep_done,
+    make_driver,
+    next_uniform,
+    reset_key_table,
+)
 from ..engine._kernels import key_hash as _key_hash
-from ..engine._kernels import make_driver, next_uniform
 from ..engine._kernels import table_find as _table_find
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
@@ -230,31 +240,30 @@ def _shuffle(perm, rs):
 
 
 @jit(inline="always")
-def sweep(W, cc, zkeys, state, free, h, rs, perm, random_scan):
+def sweep(data, zkeys, state, h, rs, free, perm):
     """One Gibbs sweep over all rows with the direct draw, in place (Gauss-Seidel, spec §2.2).
 
     Parameters
     ----------
-    W : ndarray, shape (P, M + 2), float64
-        ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``).
-    cc : ndarray, shape (P, M + 2), float64
-        Compact costs (used only by :func:`draw_exact`).
+    data : DirectData
+        The call's :class:`~rankedassign.single.prepare.DirectData` (or any record with its
+        fields): ``W[i, k] = exp(-(cc[i, k] - min_k cc[i, k]))`` (0 where ``cc`` is ``+inf``),
+        the compact costs ``cc`` (read only by :func:`draw_exact`) and ``random_scan``: the
+        systematic order ``0..P-1`` if False; otherwise a fresh uniformly random order drawn
+        first, by Fisher-Yates from the identity: for ``t = P-1..1``,
+        ``j = min(floor(u (t + 1)), t)``, swap ``perm[t], perm[j]``.
     zkeys : ndarray, shape (P, M + 2), uint64
         Zobrist keys.
     state : ndarray, shape (P,), int32
         Compact state, updated in place.
-    free : ndarray, shape (M,), float64
-        1.0 for a free measurement, 0.0 for a held one; updated in place.
     h : uint64
         Zobrist hash of ``state``.
     rs : ndarray, shape (1,), uint64
         Stream state.
+    free : ndarray, shape (M,), float64
+        1.0 for a free measurement, 0.0 for a held one; updated in place.
     perm : ndarray, shape (P,), int64
         Work space.
-    random_scan : bool
-        Systematic order ``0..P-1`` if False; otherwise a fresh uniformly random order drawn
-        first, by Fisher-Yates from the identity: for ``t = P-1..1``,
-        ``j = min(floor(u (t + 1)), t)``, swap ``perm[t], perm[j]``.
 
     Returns
     -------
@@ -270,6 +279,9 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, random_scan):
     order again and stops at the first running sum above ``target``. Storing every running
     sum, as :func:`draw_direct` does, costs more than adding half of them again at ``M = 24``.
     """
+    W = data.W
+    cc = data.cc
+    random_scan = data.random_scan
     P = state.shape[0]
     M = W.shape[1] - 2
     if random_scan:
@@ -315,23 +327,24 @@ def sweep(W, cc, zkeys, state, free, h, rs, perm, random_scan):
 
 
 @jit(inline="always")
-def sweep_prefix(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, perm, cum,
-                 random_scan):
+def sweep_prefix(data, zkeys, state, h, rs, free, perm, cum, held, n_held):
     """One Gibbs sweep whose rows draw from prefix sums (:func:`draw_prefix`), in place.
 
     Parameters
     ----------
-    W, cc, zkeys, state, free, h, rs, perm, random_scan
-        As in :func:`sweep`.
-    S, next_pos : ndarray, shapes (P, M + 1) float64 and (P, M) int64
-        Prefix sums of the measurement weights and the next positive weight
+    data : PrefixData
+        The call's :class:`~rankedassign.single.prepare.PrefixData`: the fields of
+        :class:`~rankedassign.single.prepare.DirectData` (see :func:`sweep`), the prefix sums
+        ``S`` of the measurement weights and the next positive weight ``next_pos``
         (:func:`rankedassign.single.prepare.prefix_sums`).
+    zkeys, state, h, rs, free, perm
+        As in :func:`sweep`.
+    cum : ndarray, shape (M + 2,), float64
+        Work space.
     held : ndarray, shape (P,), int64
         The held measurements in increasing order in ``held[:n_held[0]]``; updated in place.
     n_held : ndarray, shape (1,), int64
         Their number.
-    cum : ndarray, shape (M + 2,), float64
-        Work space.
 
     Returns
     -------
@@ -343,6 +356,11 @@ def sweep_prefix(W, cc, S, next_pos, zkeys, state, free, held, n_held, h, rs, pe
     The scan order and the bookkeeping are those of :func:`sweep`; each row's draw costs
     ``O(P + log M)`` instead of ``O(M)``.
     """
+    W = data.W
+    cc = data.cc
+    S = data.S
+    next_pos = data.next_pos
+    random_scan = data.random_scan
     P = state.shape[0]
     M = W.shape[1] - 2
     if random_scan:
@@ -375,53 +393,93 @@ def _reset_free(free, x0):
             free[x0[i]] = 0.0
 
 
+class DirectWork(NamedTuple):
+    """Workspace of ``nb`` chains of the direct draw (:func:`alloc_work`), one row per chain.
+
+    Attributes
+    ----------
+    free : ndarray, shape (nb, M), float64
+        Free-measurement masks (1.0 free, 0.0 held).
+    perm : ndarray, shape (nb, P), int64
+        Row orders of the random scan.
+    """
+
+    free: np.ndarray
+    perm: np.ndarray
+
+
+class PrefixWork(NamedTuple):
+    """Workspace of ``nb`` chains of the prefix-sum draw (:func:`alloc_work_prefix`).
+
+    Attributes
+    ----------
+    free, perm
+        As in :class:`DirectWork`.
+    cum : ndarray, shape (nb, M + 2), float64
+        Scratch rows of the draw.
+    held : ndarray, shape (nb, max(P, 1)), int64
+        The measurements the chain's rows hold, sorted, in ``held[b, :n_held[b, 0]]``.
+    n_held : ndarray, shape (nb, 1), int64
+        Their number.
+    """
+
+    free: np.ndarray
+    perm: np.ndarray
+    cum: np.ndarray
+    held: np.ndarray
+    n_held: np.ndarray
+
+
 @jit()
 def alloc_work(data, nb):
     """Workspace of ``nb`` chains of the direct draw: free masks and row permutations."""
-    W = data[0]
-    return np.empty((nb, W.shape[1] - 2)), np.empty((nb, W.shape[0]), dtype=np.int64)
+    W = data.W
+    return DirectWork(free=np.empty((nb, W.shape[1] - 2)),
+                      perm=np.empty((nb, W.shape[0]), dtype=np.int64))
 
 
 @jit()
 def reset_work(data, work, b, x0):
     """Slab ``b``'s free-measurement mask for the start state ``x0``."""
-    _reset_free(work[0][b], x0)
+    _reset_free(work.free[b], x0)
 
 
 @jit(inline="always")
 def row_sweep(data, work, b, zkeys, state, h, rs):
     """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
-    return sweep(data[0], data[1], zkeys, state, work[0][b], h, rs, work[1][b], data[2])
+    return sweep(data, zkeys, state, h, rs, work.free[b], work.perm[b])
 
 
 @jit()
 def alloc_work_prefix(data, nb):
     """Workspace of ``nb`` chains of the prefix draw: also running sums and held lists."""
-    W = data[0]
+    W = data.W
     P = W.shape[0]
     M = W.shape[1] - 2
-    return (np.empty((nb, M)), np.empty((nb, P), dtype=np.int64), np.empty((nb, M + 2)),
-            np.empty((nb, max(P, 1)), dtype=np.int64), np.empty((nb, 1), dtype=np.int64))
+    return PrefixWork(free=np.empty((nb, M)), perm=np.empty((nb, P), dtype=np.int64),
+                      cum=np.empty((nb, M + 2)),
+                      held=np.empty((nb, max(P, 1)), dtype=np.int64),
+                      n_held=np.empty((nb, 1), dtype=np.int64))
 
 
 @jit()
 def reset_work_prefix(data, work, b, x0):
     """Slab ``b``'s free-measurement mask and sorted held list for the start state ``x0``."""
-    _reset_free(work[0][b], x0)
-    held = work[3][b]
-    M = work[0].shape[1]
+    _reset_free(work.free[b], x0)
+    held = work.held[b]
+    M = work.free.shape[1]
     n = 0
     for i in range(x0.shape[0]):
         if x0[i] < M:
             n = _hold(held, n, x0[i])
-    work[4][b, 0] = n
+    work.n_held[b, 0] = n
 
 
 @jit(inline="always")
 def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
     """One sweep of chain slab ``b`` (:func:`sweep_prefix` on the slab's workspace)."""
-    return sweep_prefix(data[0], data[1], data[2], data[3], zkeys, state, work[0][b],
-                        work[3][b], work[4][b], h, rs, work[1][b], work[2][b], data[4])
+    return sweep_prefix(data, zkeys, state, h, rs, work.free[b], work.perm[b], work.cum[b],
+                        work.held[b], work.n_held[b])
 
 
 # ---------------------------------------------------------------------------- herded draw
@@ -429,21 +487,21 @@ def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
 def sweep_herded(data, work, b, zkeys, state, h, rs):
     """One herded sweep of chain slab ``b``, in place (twin of the reference's ``herd_sweep``).
 
-    ``data = (W, cc, random_scan, key_mode, init_mode, capacity, chain_length, tally)``; slab
-    ``b`` of ``work`` (:func:`alloc_work_herded`) holds the free mask, the row order, the
-    scratch rows ``p`` (each row's conditional: the reference's ``conditional``, operation for
-    operation) and ``cum`` (the fall-back draw's), ``keyv`` (the row's key, the reference's
-    ``herd_key``: the state with row ``i`` as -1, or its gated measurements held by the other
-    rows in increasing order, padded with -1), the key table (weights ``hw``, stored keys
-    ``kst``/``krow``, the open-addressing index ``tslot``/``thash`` of slot + 1 and key hash),
-    the chain's ``cnt = [keys, fall-backs, sweeps]`` and ``hist``, the tallies after each
-    sweep (read by :func:`chain_done_herded`).
+    ``data`` is a :class:`~rankedassign.single.prepare.HerdedData`; slab ``b`` of ``work``
+    (a :class:`HerdedWork`) holds the free mask, the row order, the scratch rows ``p`` (each
+    row's conditional: the reference's ``conditional``, operation for operation) and ``cum``
+    (the fall-back draw's), ``keyv`` (the row's key, the reference's ``herd_key``: the state
+    with row ``i`` as -1, or its gated measurements held by the other rows in increasing
+    order, padded with -1), the key table, the chain's tallies ``cnt`` and ``hist`` (read by
+    :func:`rankedassign.engine._kernels.key_table_done`).
     """
-    W, cc, random_scan, key_mode, init_mode, capacity = (data[0], data[1], data[2], data[3],
-                                                         data[4], data[5])
-    free, perm, p, cum, keyv = work[0][b], work[1][b], work[2][b], work[3][b], work[4][b]
-    hw, kst, krow, tslot, thash = work[5][b], work[6][b], work[7][b], work[8][b], work[9][b]
-    cnt = work[10][b]
+    W, cc, random_scan = data.W, data.cc, data.random_scan
+    key_mode, init_mode, capacity = data.key_mode, data.init_mode, data.capacity
+    free, perm, p, cum, keyv = (work.free[b], work.perm[b], work.p[b], work.cum[b],
+                                work.keyv[b])
+    hw, kst, krow, tslot, thash = (work.hw[b], work.kst[b], work.krow[b], work.tslot[b],
+                                   work.thash[b])
+    cnt = work.cnt[b]
     P = state.shape[0]
     M = W.shape[1] - 2
     K = M + 2
@@ -554,63 +612,64 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
         if k_new != k_old:
             state[i] = k_new
             h = h ^ zkeys[i, k_old] ^ zkeys[i, k_new]
-    cnt[2] += 1
-    hist = work[11]
-    if hist.shape[1] > 1:  # speculation: the tallies after every sweep
-        hist[b, cnt[2], 0] = cnt[0]
-        hist[b, cnt[2], 1] = cnt[1]
+    key_table_sweep_done(work, b)
     return h
+
+
+class HerdedWork(NamedTuple):
+    """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
+    :class:`DirectWork`, the fall-back draw's scratch rows and those of a
+    :class:`~rankedassign.engine._kernels.KeyTable` (``K = M + 2`` candidates, key vectors of
+    length ``P``).
+
+    Attributes
+    ----------
+    free, perm
+        As in :class:`DirectWork`.
+    cum : ndarray, shape (nb, K), float64
+        Scratch row of the fall-back (Gibbs) draw.
+    p, keyv, hw, kst, krow, tslot, thash, cnt, hist
+        As in :class:`~rankedassign.engine._kernels.KeyTable`: the row's conditional and
+        key, the key table and the chain's tallies.
+    """
+
+    free: np.ndarray
+    perm: np.ndarray
+    cum: np.ndarray
+    p: np.ndarray
+    keyv: np.ndarray
+    hw: np.ndarray
+    kst: np.ndarray
+    krow: np.ndarray
+    tslot: np.ndarray
+    thash: np.ndarray
+    cnt: np.ndarray
+    hist: np.ndarray
 
 
 @jit()
 def alloc_work_herded(data, nb):
-    """Workspace of ``nb`` herded chains: the direct draw's, scratch rows and key tables."""
-    W = data[0]
+    """Workspace of ``nb`` herded chains: the direct draw's, a scratch row and key tables."""
+    W = data.W
     P = W.shape[0]
-    M = W.shape[1] - 2
-    K = M + 2
-    cap = data[5]
-    T = 4
-    while T < 2 * cap:
-        T *= 2
-    return (np.empty((nb, M)), np.empty((nb, P), dtype=np.int64), np.empty((nb, K)),
-            np.empty((nb, K)), np.empty((nb, P), dtype=np.int32), np.empty((nb, cap, K)),
-            np.empty((nb, cap, P), dtype=np.int32), np.empty((nb, cap), dtype=np.int32),
-            np.zeros((nb, T), dtype=np.int64), np.zeros((nb, T), dtype=np.uint64),
-            np.zeros((nb, 3), dtype=np.int64),
-            # the tallies after each sweep, which speculation needs (nb > 1: the chain may be
-            # simulated past its last observation); one chain at a time reads cnt itself
-            np.zeros((nb, data[6] + 1 if nb > 1 else 1, 2), dtype=np.int64))
+    K = W.shape[1]
+    table = alloc_key_table(nb, K, P, data.capacity, data.chain_length)
+    return HerdedWork(*(alloc_work(data, nb)[:] + (np.empty((nb, K)),) + table[:]))
 
 
 @jit()
 def reset_work_herded(data, work, b, x0):
     """Slab ``b`` for a new chain from ``x0``: free mask, an empty key table, zero tallies."""
-    _reset_free(work[0][b], x0)
-    work[8][b, :] = 0
-    work[10][b, :] = 0
-    work[11][b, 0, :] = 0
-
-
-@jit()
-def chain_done_herded(data, work, b, j):
-    """Add the tallies of slab ``b``'s chain at its last observation ``j`` to the run's."""
-    tally = data[7]
-    hist = work[11]
-    if hist.shape[1] > 1:
-        tally[0] += hist[b, j, 0]
-        tally[1] += hist[b, j, 1]
-    else:  # simulated up to j exactly
-        tally[0] += work[10][b, 0]
-        tally[1] += work[10][b, 1]
+    _reset_free(work.free[b], x0)
+    reset_key_table(work, b)
 
 
 #: The chain driver compiled for the single-sensor problem with the direct draw
-#: (:func:`._chains.make_driver`).
-run_chains = make_driver("single", alloc_work, reset_work, row_sweep)
+#: (:func:`rankedassign.engine._kernels.make_driver`).
+run_chains = make_driver("single", alloc_work, reset_work, row_sweep, work=DirectWork)
 #: The chain driver compiled for the single-sensor problem with the prefix-sum draw.
 run_chains_prefix = make_driver("single_prefix", alloc_work_prefix, reset_work_prefix,
-                                row_sweep_prefix)
+                                row_sweep_prefix, work=PrefixWork)
 #: The chain driver compiled for the single-sensor problem with the herded draw.
 run_chains_herded = make_driver("single_herded", alloc_work_herded, reset_work_herded,
-                                sweep_herded, chain_done=chain_done_herded)
+                                sweep_herded, work=HerdedWork, chain_done=key_table_done)

@@ -10,6 +10,8 @@ signal ends a long run within one slice.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..engine._kernels import next_uniform
@@ -18,6 +20,70 @@ from .prepare import CANCEL_GUARD
 
 #: Status codes of :func:`tempered_steps`.
 OK, UNDERFLOW, NEED_ROOM = 0, 1, 2
+
+
+class SingleTemperedData(NamedTuple):
+    """The tempered kernel's inputs (:func:`rankedassign.single.tempered.sample_tempered`).
+
+    Attributes
+    ----------
+    W : ndarray, shape (P, M + 2), float64
+        Shifted weights (:func:`rankedassign.single.prepare.shifted_weights`).
+    Wb : ndarray, shape (P, M + 2), float64
+        ``W^beta`` (shifted per row).
+    R : ndarray, shape (P, M + 2), float64
+        ``W^(beta - 1)``, the ratio ``g / pi`` up to the row sums.
+    refresh : int
+        The row sums are formed again every ``refresh`` moves.
+    """
+
+    W: np.ndarray
+    Wb: np.ndarray
+    R: np.ndarray
+    refresh: int
+
+
+class SingleTemperedRun(NamedTuple):
+    """The state of a tempered run between two slices (built and grown in Python).
+
+    Attributes
+    ----------
+    state : ndarray, shape (P,), int32
+        The chain's compact state.
+    free : ndarray, shape (M,), float64
+        Free-measurement mask of ``state``.
+    S, Sb : ndarray, shape (P,), float64
+        Every row's sums of ``W`` and ``Wb`` over its available candidates.
+    p : ndarray, shape (P,), float64
+        Every row's ratio.
+    acc : ndarray, shape (P, M + 2), float64
+        The marginal accumulator.
+    states : ndarray, shape (cap, P), int32
+        The unique states in discovery order.
+    hashes : ndarray, shape (cap,), uint64
+        Their Zobrist hashes.
+    counts : ndarray, shape (cap,), int64
+        Their visits.
+    table : ndarray, shape (2 cap,), int64
+        Open-addressing index of the unique states: ``index + 1`` (0 empty).
+    hu : ndarray, shape (3,), uint64
+        ``[hash of the state, unique states, stream state]``.
+    fs : ndarray, shape (3,), float64
+        ``[Σ w, Σ w², Z]``.
+    """
+
+    state: np.ndarray
+    free: np.ndarray
+    S: np.ndarray
+    Sb: np.ndarray
+    p: np.ndarray
+    acc: np.ndarray
+    states: np.ndarray
+    hashes: np.ndarray
+    counts: np.ndarray
+    table: np.ndarray
+    hu: np.ndarray
+    fs: np.ndarray
 
 
 @jit()
@@ -53,14 +119,16 @@ def _weights(R, S, Sb, state, p):
 
 
 @jit()
-def tempered_start(W, Wb, R, zkeys, run):  # pragma: no cover (jit)
+def tempered_start(data, zkeys, run):  # pragma: no cover (jit)
     """The run's state at its start ``state``: masks, sums, ``p``, ``Z`` and ``U = {x0}``.
 
-    ``run = (state, free, S, Sb, p, acc, states, hashes, counts, table, hu, fs)`` with
-    ``hu = [hash of the state, unique states, stream state]`` (uint64) and
-    ``fs = [Σ w, Σ w², Z]``. Returns :data:`OK` or :data:`UNDERFLOW`.
+    ``data`` is a :class:`SingleTemperedData`, ``run`` a :class:`SingleTemperedRun`. Returns
+    :data:`OK` or :data:`UNDERFLOW`.
     """
-    state, free, S, Sb, p, _, states, hashes, counts, table, hu, fs = run
+    W, Wb, R = data.W, data.Wb, data.R
+    state, free, S, Sb, p = run.state, run.free, run.S, run.Sb, run.p
+    states, hashes, counts, table, hu, fs = (run.states, run.hashes, run.counts, run.table,
+                                             run.hu, run.fs)
     P = state.shape[0]
     M = W.shape[1] - 2
     free[:] = 1.0
@@ -86,14 +154,17 @@ def tempered_start(W, Wb, R, zkeys, run):  # pragma: no cover (jit)
 
 
 @jit()
-def tempered_steps(W, Wb, R, zkeys, run, t0, t1, refresh):  # pragma: no cover (jit)
+def tempered_steps(data, zkeys, run, t0, t1):  # pragma: no cover (jit)
     """Moves ``t0 .. t1 - 1`` of a run (:func:`tempered_start`), in place.
 
     Returns ``(status, t)``: :data:`OK` with ``t = t1``; :data:`NEED_ROOM` with the move ``t``
     not yet made when the unique set may not hold one more state (grow it, then continue from
     ``t``); :data:`UNDERFLOW`. Moves in several calls are the moves of one call, bit for bit.
     """
-    state, free, S, Sb, p, acc, states, hashes, counts, table, hu, fs = run
+    W, Wb, R, refresh = data.W, data.Wb, data.R, data.refresh
+    state, free, S, Sb, p, acc = run.state, run.free, run.S, run.Sb, run.p, run.acc
+    states, hashes, counts, table, hu, fs = (run.states, run.hashes, run.counts, run.table,
+                                             run.hu, run.fs)
     P = state.shape[0]
     M = W.shape[1] - 2
     K = M + 2
@@ -111,10 +182,10 @@ def tempered_steps(W, Wb, R, zkeys, run, t0, t1, refresh):  # pragma: no cover (
         # the row: i with probability p_i / Z
         target = next_uniform_of(hu) * Z
         r = P - 1
-        run = 0.0
+        csum = 0.0
         for i in range(P):
-            run += p[i]
-            if run > target:
+            csum += p[i]
+            if csum > target:
                 r = i
                 break
         # release its measurement: available again to the other rows
@@ -135,13 +206,13 @@ def tempered_steps(W, Wb, R, zkeys, run, t0, t1, refresh):  # pragma: no cover (
             break
         u = next_uniform_of(hu) * tot
         c = -1
-        run = 0.0
+        csum = 0.0
         for k in range(K):
             wk = Wb[r, k] * free[k] if k < M else Wb[r, k]
             if wk > 0.0:
-                run += wk
+                csum += wk
                 c = k
-                if run > u:
+                if csum > u:
                     break
         if c < M:
             free[c] = 0.0

@@ -16,13 +16,15 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ..engine.herding import INIT_CODES, KEY_CODES
+from ..engine.kind import DrawInputs
 from ..engine.result import SCANS, Prepared
 from ..engine.rng import base_key
 from ..numba_options import interruptible, jit
 from ..validation import check_choice
 from .problem import AssignmentProblem
 
-__all__ = ["prepare", "temper", "herd_inputs", "HerdData",
+__all__ = ["prepare", "temper", "herd_inputs", "HerdData", "DirectData", "PrefixData",
+           "HerdedData",
            "STARTS", "M_DIRECT", "CANCEL_GUARD", "SingleData",
            "uses_prefix_sums", "shifted_weights", "prefix_sums", "to_compact", "to_columns",
            "start_columns"]
@@ -130,6 +132,80 @@ class HerdData(NamedTuple):
     init: str
     capacity: int
     tally: list
+
+
+class DirectData(NamedTuple):
+    """The kernels' inputs of a call whose rows draw by the direct sum (driver ``"direct"``).
+
+    The compiled twin of :class:`SingleData` without the prefix sums, read by
+    :func:`rankedassign.single._kernels.sweep`.
+
+    Attributes
+    ----------
+    W : ndarray, shape (P, M + 2), float64
+        Shifted weights (:func:`shifted_weights`), columns in compact order.
+    cc : ndarray, shape (P, M + 2), float64
+        Compact costs (read only by the fall-back draw when every available ``W`` underflowed).
+    random_scan : bool
+        A fresh random row order every sweep, else ``0..P-1``.
+    """
+
+    W: np.ndarray
+    cc: np.ndarray
+    random_scan: bool
+
+
+class PrefixData(NamedTuple):
+    """The kernels' inputs of a call whose rows draw from prefix sums (driver ``"prefix"``).
+
+    Read by :func:`rankedassign.single._kernels.sweep_prefix`.
+
+    Attributes
+    ----------
+    W, cc, random_scan
+        As in :class:`DirectData`.
+    S : ndarray, shape (P, M + 1), float64
+        Per-row prefix sums of the measurement weights (:func:`prefix_sums`).
+    next_pos : ndarray, shape (P, M), int64
+        The first measurement at or after each one with a positive weight, or ``M``.
+    """
+
+    W: np.ndarray
+    cc: np.ndarray
+    S: np.ndarray
+    next_pos: np.ndarray
+    random_scan: bool
+
+
+class HerdedData(NamedTuple):
+    """The herded kernel's inputs (:func:`herd_inputs`; the compiled twin of :class:`HerdData`).
+
+    Read by :func:`rankedassign.single._kernels.sweep_herded`.
+
+    Attributes
+    ----------
+    W, cc, random_scan
+        As in :class:`DirectData`.
+    key_mode : int
+        What a key is: ``KEY_CODES`` of :mod:`rankedassign.engine.herding` (0 full, 1 shared).
+    init_mode : int
+        A new key's initial weights: ``INIT_CODES`` (0 conditional, 1 zero, 2 uniform).
+    capacity : int
+        Keys a chain's table may hold.
+    chain_length : int
+        Observations per chain (sizes the per-sweep tallies of speculated chains).
+    tally : ndarray, shape (2,), int64
+        ``[keys created, fall-back draws]`` over the run, updated in place.
+    """
+
+    W: np.ndarray
+    cc: np.ndarray
+    random_scan: bool
+    key_mode: int
+    init_mode: int
+    capacity: int
+    chain_length: int
+    tally: np.ndarray
 
 
 # ------------------------------------------------------------------------------ single sensor
@@ -380,10 +456,11 @@ def prepare(problem: AssignmentProblem, start, scan, rng, options) -> Prepared:
     if prefix:
         with interruptible:
             S, next_pos = prefix_sums(W)
-        driver, data = "prefix", (W, cc, S, next_pos, random_scan)
+        driver = "prefix"
+        data = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=random_scan)
     else:  # the direct draw's driver takes only what it reads
         S, next_pos = np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64)
-        driver, data = "direct", (W, cc, random_scan)
+        driver, data = "direct", DirectData(W=W, cc=cc, random_scan=random_scan)
 
     def to_result(states):
         assignments = to_columns(problem, states)
@@ -442,16 +519,17 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
 
     Returns
     -------
-    data, tally, make_ref, chain_bytes
+    DrawInputs
         As :attr:`rankedassign.engine.kind.DrawRule.inputs` documents; the tallies are
         ``[keys created, fall-back draws]``.
     """
-    W, cc, random_scan = prep.data[0], prep.data[1], prep.data[-1]
+    W, cc, random_scan = prep.data.W, prep.data.cc, prep.data.random_scan
     P, K = W.shape
     cap = herding.capacity(P, chain_length)
     tally = np.zeros(2, dtype=np.int64)
-    data = (W, cc, random_scan, KEY_CODES[herding.keys], INIT_CODES[herding.init], cap,
-            chain_length, tally)
+    data = HerdedData(W=W, cc=cc, random_scan=random_scan, key_mode=KEY_CODES[herding.keys],
+                      init_mode=INIT_CODES[herding.init], capacity=cap,
+                      chain_length=chain_length, tally=tally)
 
     def make_ref():
         ref_tally = [0, 0]
@@ -462,4 +540,4 @@ def herd_inputs(prep: Prepared, herding, chain_length: int):
     while T < 2 * cap:
         T *= 2
     chain_bytes = cap * (8 * K + 4 * P + 4) + 16 * T + 16 * (chain_length + 1) + 24 * K
-    return data, tally, make_ref, chain_bytes
+    return DrawInputs(data=data, tally=tally, make_ref=make_ref, chain_bytes=chain_bytes)

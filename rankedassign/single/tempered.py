@@ -59,9 +59,9 @@ _SLICE_WORK = 1 << 22
 
 
 def _grow(run):
-    """Double the unique set of ``run`` (states, hashes, counts and a fresh hash table)."""
-    states, hashes, counts = run[6], run[7], run[8]
-    n_u = int(run[10][1])
+    """``run`` with its unique set doubled (states, hashes, counts and a fresh hash table)."""
+    states, hashes, counts = run.states, run.hashes, run.counts
+    n_u = int(run.hu[1])
     cap = 2 * states.shape[0]
     new_states = np.empty((cap, states.shape[1]), dtype=np.int32)
     new_states[:n_u] = states[:n_u]
@@ -72,7 +72,7 @@ def _grow(run):
     table = np.zeros(2 * cap, dtype=np.int64)
     with interruptible:
         _tempered_kernels.rehash(new_hashes, n_u, table)
-    run[6], run[7], run[8], run[9] = new_states, new_hashes, new_counts, table
+    return run._replace(states=new_states, hashes=new_hashes, counts=new_counts, table=table)
 
 
 def _underflow(problem):
@@ -313,24 +313,27 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None,
     with interruptible:
         zkeys = zobrist_keys(P, K, np.uint64(ZOBRIST_SEED))
     cap = 64
-    run = [x0.copy(), np.ones(K - 2), np.empty(P), np.empty(P), np.empty(P), np.zeros((P, K)),
-           np.empty((cap, P), dtype=np.int32), np.empty(cap, dtype=np.uint64),
-           np.zeros(cap, dtype=np.int64), np.zeros(2 * cap, dtype=np.int64),
-           np.array([0, 0, chain_state(base, 0)], dtype=np.uint64), np.zeros(3)]
+    data = _tempered_kernels.SingleTemperedData(W=W, Wb=Wb, R=R, refresh=refresh)
+    run = _tempered_kernels.SingleTemperedRun(
+        state=x0.copy(), free=np.ones(K - 2), S=np.empty(P), Sb=np.empty(P), p=np.empty(P),
+        acc=np.zeros((P, K)), states=np.empty((cap, P), dtype=np.int32),
+        hashes=np.empty(cap, dtype=np.uint64), counts=np.zeros(cap, dtype=np.int64),
+        table=np.zeros(2 * cap, dtype=np.int64),
+        hu=np.array([0, 0, chain_state(base, 0)], dtype=np.uint64), fs=np.zeros(3))
     with interruptible:
-        status = _tempered_kernels.tempered_start(W, Wb, R, zkeys, tuple(run))
+        status = _tempered_kernels.tempered_start(data, zkeys, run)
     budget = max(1, _SLICE_WORK // (P + K))  # moves per slice: a few ms
     t = 0
     while status == _tempered_kernels.OK and t < n_steps:
         with interruptible:
-            status, t = _tempered_kernels.tempered_steps(W, Wb, R, zkeys, tuple(run), t,
-                                                         min(n_steps, t + budget), refresh)
+            status, t = _tempered_kernels.tempered_steps(data, zkeys, run, t,
+                                                         min(n_steps, t + budget))
         if status == _tempered_kernels.NEED_ROOM:
-            _grow(run)
+            run = _grow(run)
             status = _tempered_kernels.OK
     if status != _tempered_kernels.OK:
         _underflow(problem)
-    n_u = int(run[10][1])
-    wsum, w2sum = float(run[11][0]), float(run[11][1])
-    states, counts, acc = run[6][:n_u], run[8][:n_u], run[5]
+    n_u = int(run.hu[1])
+    wsum, w2sum = float(run.fs[0]), float(run.fs[1])
+    states, counts, acc = run.states[:n_u], run.counts[:n_u], run.acc
     return _result(problem, states, counts, acc, wsum, w2sum, n_steps)

@@ -38,6 +38,8 @@ References
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_kernel
@@ -45,11 +47,12 @@ from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murt
 from ...engine._kernels import chain_state, hash_of, mix64
 from ...numba_options import jit
 from ...single._kernels import sweep, sweep_prefix
-from ...single.prepare import M_DIRECT, prefix_sums
+from ...single.prepare import M_DIRECT, PrefixData, prefix_sums
 from .._kernels import _logaddexp
 
 __all__ = ["component_keys", "component_problem", "component_costs", "count_components",
-           "ranked_components", "sample_components", "merge_children", "mark_reachable"]
+           "ranked_components", "sample_components", "ChainRules", "merge_children",
+           "mark_reachable"]
 
 
 @jit()
@@ -348,9 +351,123 @@ def _table_size(n):
     return size
 
 
+class ChainRules(NamedTuple):
+    """How :func:`sample_components` runs the chains of every component.
+
+    Attributes
+    ----------
+    random_scan : bool
+        Random instead of systematic row order.
+    tau_stall : int
+        Threshold of the stall rule (global-consecutive reading), 0 = off.
+    tau_stale : int
+        Threshold of the stale rule (consecutive reading), 0 = off.
+    """
+
+    random_scan: bool
+    tau_stall: int
+    tau_stale: int
+
+
+class ComponentChains(NamedTuple):
+    """The chains of one component (:func:`_component_chains`): start, scratch, unique set.
+
+    Attributes
+    ----------
+    x0 : ndarray, shape (P,), int32
+        The start state (every row missed where it can be, else dead).
+    h0 : uint64
+        Its Zobrist hash.
+    state : ndarray, shape (P,), int32
+        The chain's state.
+    free : ndarray, shape (M,), float64
+        Its free-measurement mask.
+    perm : ndarray, shape (P,), int64
+        Row order of the random scan.
+    cum : ndarray, shape (M + 2,), float64
+        Scratch row of the prefix-sum draw.
+    held : ndarray, shape (max(P, 1),), int64
+        The held measurements, sorted (prefix-sum draw).
+    n_held : ndarray, shape (1,), int64
+        Their number.
+    rs : ndarray, shape (1,), uint64
+        The chain's stream state.
+    table, hashes, states
+        The component's unique set (:func:`_find_or_insert`), ``x0`` its unique 0.
+    """
+
+    x0: np.ndarray
+    h0: np.uint64
+    state: np.ndarray
+    free: np.ndarray
+    perm: np.ndarray
+    cum: np.ndarray
+    held: np.ndarray
+    n_held: np.ndarray
+    rs: np.ndarray
+    table: np.ndarray
+    hashes: np.ndarray
+    states: np.ndarray
+
+
+@jit(nrt=False)
+def _component_chains(data, prefix, zkeys, chains, n_chains, chain_length, base, rules):
+    """The chains of one component (spec §3.3, the default readings of stall and stale).
+
+    ``data`` is the component's :class:`~rankedassign.single.prepare.PrefixData` (its prefix
+    sums placeholders unless ``prefix``: the rows draw from them, else by the direct sum);
+    ``chains`` a :class:`ComponentChains` whose unique set holds ``x0`` alone. Compiled without
+    reference counting, as the chain driver's loops are
+    (:func:`rankedassign.engine._kernels.make_driver`): the sweep written into the loop reads
+    its arrays from the records on every sweep.
+
+    Returns
+    -------
+    (n_unique, n_observations) : (int, int)
+    """
+    x0, state, free, perm, cum = chains.x0, chains.state, chains.free, chains.perm, chains.cum
+    held, n_held, rs = chains.held, chains.n_held, chains.rs
+    table, hashes, states = chains.table, chains.hashes, chains.states
+    P = x0.shape[0]
+    n_u = 1
+    obs = 0
+    stale_run = 0
+    for c in range(n_chains):
+        for i in range(P):
+            state[i] = x0[i]
+        free[:] = 1.0  # the start state holds no measurement
+        n_held[0] = 0
+        rs[0] = chain_state(base, c)
+        hx = chains.h0
+        stall_run = 0
+        new_in_chain = 0
+        for _ in range(chain_length):
+            if prefix:
+                hx = sweep_prefix(data, zkeys, state, hx, rs, free, perm, cum, held, n_held)
+            else:
+                hx = sweep(data, zkeys, state, hx, rs, free, perm)
+            obs += 1
+            u, new = _find_or_insert(table, hashes, states, n_u, state, hx)
+            if new:
+                n_u += 1
+                new_in_chain += 1
+                stall_run = 0
+            else:
+                stall_run += 1
+            if rules.tau_stall > 0 and stall_run >= rules.tau_stall:
+                break
+        if new_in_chain > 0:
+            stale_run = 0
+        else:
+            stale_run += 1
+        if rules.tau_stale > 0 and stale_run >= rules.tau_stale:
+            break
+    return n_u, obs
+
+
 @jit()
 def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains,
-                      chain_length, tau_stall, tau_stale, random_scan, base, zkeys):
+                      chain_length, rules, base, zkeys):
     """Run the Gibbs truncation of every component; return the children.
 
     Parameters
@@ -364,10 +481,8 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         a row's finite entries are all among its component's columns).
     n_chains, chain_length : ndarray of int64, shape (H,)
         Budget of every component: chains and sweeps per chain (0 chains: the start state only).
-    tau_stall, tau_stale : int
-        Thresholds of the stall (global-consecutive) and stale (consecutive) rules, 0 = off.
-    random_scan : bool
-        Random instead of systematic row order.
+    rules : ChainRules
+        Scan order and the thresholds of the stall and stale rules.
     base : ndarray of uint64, shape (H,)
         Base key of every component's streams (chain ``c``: ``chain_state(base, c)``).
     zkeys : ndarray of uint64, shape (P_max, M_max + 2)
@@ -448,52 +563,20 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         table = np.zeros(_table_size(cap), dtype=np.int64)
         h0 = hash_of(zkeys, x0)
         _find_or_insert(table, hashes, states, 0, x0, h0)
-        n_u = 1
         prefix = M > M_DIRECT and M > 2 * P
         if prefix:
             S, next_pos = prefix_sums(W)
         else:
             S = np.zeros((P, 1))
             next_pos = np.zeros((P, 1), dtype=np.int64)
-        state = np.empty(P, dtype=np.int32)
-        free = np.empty(M)
-        perm = np.empty(P, dtype=np.int64)
-        held = np.empty(max(P, 1), dtype=np.int64)
-        n_held = np.zeros(1, dtype=np.int64)
-        cum = np.empty(K)
-        obs = 0
-        stale_run = 0
-        for c in range(n_chains[h]):
-            for i in range(P):
-                state[i] = x0[i]
-            free[:] = 1.0  # the start state holds no measurement
-            n_held[0] = 0
-            rs[0] = chain_state(base[h], c)
-            hx = h0
-            stall_run = 0
-            new_in_chain = 0
-            for _ in range(chain_length[h]):
-                if prefix:
-                    hx = sweep_prefix(W, cc, S, next_pos, zkeys, state, free, held, n_held, hx,
-                                      rs, perm, cum, random_scan)
-                else:
-                    hx = sweep(W, cc, zkeys, state, free, hx, rs, perm, random_scan)
-                obs += 1
-                u, new = _find_or_insert(table, hashes, states, n_u, state, hx)
-                if new:
-                    n_u += 1
-                    new_in_chain += 1
-                    stall_run = 0
-                else:
-                    stall_run += 1
-                if tau_stall > 0 and stall_run >= tau_stall:
-                    break
-            if new_in_chain > 0:
-                stale_run = 0
-            else:
-                stale_run += 1
-            if tau_stale > 0 and stale_run >= tau_stale:
-                break
+        data = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=rules.random_scan)
+        chains = ComponentChains(
+            x0=x0, h0=h0, state=np.empty(P, dtype=np.int32), free=np.empty(M),
+            perm=np.empty(P, dtype=np.int64), cum=np.empty(K),
+            held=np.empty(max(P, 1), dtype=np.int64), n_held=np.zeros(1, dtype=np.int64),
+            rs=rs, table=table, hashes=hashes, states=states)
+        n_u, obs = _component_chains(data, prefix, zkeys, chains, n_chains[h], chain_length[h],
+                                     base[h], rules)
         sweeps[h] = obs
         # the children: cost, and the (entry, measurement) of every row that exists
         for u in range(n_u):

@@ -159,7 +159,8 @@ def _check_threshold(value, name: str) -> float:
 
 
 def _kernel_rules(association):
-    """``(random_scan, tau_stall, tau_stale)`` if the compiled all-components path runs the
+    """The :class:`~rankedassign.tracking.single._glmb_kernels.ChainRules` if the compiled
+    all-components path runs the
     association exactly as its sampler would, else None (then it runs component by component).
     """
     if type(association) is OriginalGibbs:
@@ -179,7 +180,8 @@ def _kernel_rules(association):
     if (opts.pop("start", "all_missed") != "all_missed" or opts.pop("backend", "numba") != "numba"
             or scan not in ("systematic", "random") or opts):
         return None
-    return scan == "random", stall or 0, stale or 0
+    return _glmb_kernels.ChainRules(random_scan=scan == "random", tau_stall=stall or 0,
+                                    tau_stale=stale or 0)
 
 
 def _gibbs_budget(association, counts: np.ndarray):
@@ -785,15 +787,13 @@ class GLMBFilter:
         H = self.n_components
         U = terms.used.size
         if self._rules is not None:
-            random_scan, tau_stall, tau_stale = self._rules
             chains, length = _gibbs_budget(self.association, counts)
             sizes = np.diff(self.comp_off)
             P_max = int(self._births.size + (sizes.max() if H else 0))
             with interruptible:
                 comp, cost, off, entry, meas, sweeps, n_rows = _glmb_kernels.sample_components(
                     self.comp_off, self.comp_tracks, self._births, terms.W, terms.cc,
-                    terms.gated, chains, length, tau_stall, tau_stale, random_scan, base,
-                    _zobrist(P_max, U + 2))
+                    terms.gated, chains, length, self._rules, base, _zobrist(P_max, U + 2))
             return _Children(comp, cost, off, entry, meas, int(sweeps.sum()),
                              int((sweeps * n_rows).sum()))
         if type(self.association) in (Murty, Exact) and getattr(

@@ -1,0 +1,165 @@
+"""The chain driver of :mod:`rankedassign.engine._kernels` with named kernel records.
+
+A kind hands the driver named tuples (its ``data`` and its workspace record); the parallel
+speculation must keep every write its sweep makes through them. numba's parfor pass drops a
+write to an array read from an attribute of a named tuple inside a ``prange`` body (the body's
+copy of the record is rebuilt by calling the record's class, which its alias analysis does
+not link to the loop's arguments, so the write looks dead; numba issue #7135). The driver
+therefore calls one compiled function per chain from its ``prange`` loop; these tests keep
+the reproducer and the driver's behaviour.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+from numba import config, prange
+from numpy.testing import assert_array_equal
+
+from rankedassign.engine._kernels import Rules, make_driver, next_uniform
+from rankedassign.numba_options import CACHE, jit
+
+
+class _Work(NamedTuple):
+    count: np.ndarray
+    other: np.ndarray
+
+
+class _Data(NamedTuple):
+    p: float
+
+
+@jit(cache=False, inline="always")
+def _bump(work, b):
+    work.count[b, 0] += 1
+
+
+@jit(cache=False, parallel=True)
+def _bump_in_prange(work, n):
+    for b in prange(n):
+        _bump(work, b)
+
+
+@jit(cache=False)
+def _bump_called(work, b):
+    work.count[b, 0] += 1
+
+
+@jit(cache=False, parallel=True)
+def _bump_by_call_in_prange(work, n):
+    for b in prange(n):
+        _bump_called(work, b)
+
+
+def _work(nb):
+    return _Work(count=np.zeros((nb, 1), dtype=np.int64), other=np.zeros((nb, 1)))
+
+
+@pytest.mark.skipif(config.DISABLE_JIT, reason="numba's parfor pass only")
+@pytest.mark.xfail(strict=False, reason="numba #7135: a write through a named tuple's "
+                   "attribute in a prange body is dropped; if this passes, numba fixed it")
+def test_numba_keeps_a_write_through_a_named_tuple_attribute_in_a_prange_body():
+    work = _work(4)
+    _bump_in_prange(work, 4)
+    assert work.count[:, 0].tolist() == [1, 1, 1, 1]
+
+
+def test_a_function_called_from_the_prange_body_keeps_its_writes():
+    """The driver's workaround (:func:`rankedassign.engine._kernels._speculate`)."""
+    work = _work(4)
+    _bump_by_call_in_prange(work, 4)
+    assert work.count[:, 0].tolist() == [1, 1, 1, 1]
+
+
+# A toy kind whose sweep depends on a counter kept in its workspace record: the state is the
+# counter's parity, flipped only when a uniform says so. A speculation that lost the
+# workspace writes would give other states than the sequential run.
+@jit(cache=False)
+def _alloc(data, nb):
+    return _Work(count=np.zeros((nb, 1), dtype=np.int64), other=np.zeros((nb, 1)))
+
+
+@jit(cache=False)
+def _reset(data, work, b, x0):
+    work.count[b, 0] = x0[0]
+
+
+@jit(cache=False, inline="always")
+def _sweep(data, work, b, zkeys, state, h, rs):
+    if next_uniform(rs) < data.p:
+        work.count[b, 0] += 1
+    new = work.count[b, 0] % 2
+    if new != state[0]:
+        h ^= zkeys[0, state[0]] ^ zkeys[0, new]
+        state[0] = new
+    return h
+
+
+_RUN = make_driver("engine_test_counter", _alloc, _reset, _sweep, work=_Work, cache=False)
+
+
+@pytest.mark.parametrize("budget", [3, 1 << 16])
+def test_speculation_keeps_the_writes_of_a_kind_with_named_records(budget):
+    zkeys = np.array([[1, 2]], dtype=np.uint64)
+    args = (_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 200, 5,
+            Rules(0, 0, 0, 0))
+    states, counts, ctr = _RUN(*args, 0, 1, budget=budget)
+    assert states.shape == (2, 1) and int(counts.sum()) == 1000
+    for batch, workers in ((2, 2), (7, 2), (64, 3)):
+        s, c, k = _RUN(*args, batch, workers, budget=budget)
+        assert_array_equal(s, states)
+        assert_array_equal(c, counts)
+        assert_array_equal(k[:6], ctr[:6])  # (the last counter: sweeps speculated in vain)
+
+
+@pytest.mark.skipif(config.DISABLE_JIT or not CACHE, reason="numba's on-disk cache only")
+def test_a_kind_defined_elsewhere_leaves_the_cache_of_the_engine_alone(tmp_path):
+    """Every engine function compiled for a kind's records is compiled for that kind, with its
+    cache setting: the toy kind above (its records live in this test module, cache off) must
+    not enter a cached index of the engine, which a process that cannot import this module
+    then fails to read (``ModuleNotFoundError: No module named 'test_engine'``)."""
+    test_speculation_keeps_the_writes_of_a_kind_with_named_records(3)
+    root = Path(__file__).resolve().parents[1]
+    code = ("from rankedassign import sample_original, sample_short_chains, synthetic\n"
+            "p = synthetic.random(rng=0)\n"
+            "sample_original(p, 3, rng=0)\n"
+            "sample_short_chains(p, 3, 2, tau_stall=1, rng=0, workers=2)\n")
+    subprocess.run([sys.executable, "-c", code], cwd=tmp_path, check=True, timeout=600,
+                   env={**os.environ, "PYTHONPATH": str(root)})
+
+
+def test_the_records_that_extend_others_keep_their_fields_in_order():
+    """A herded or tempered record is the Gibbs record's fields followed by its own (one flat
+    record, built by concatenating keyword-built records): the orders must agree."""
+    from rankedassign.adaptive_birth import _kernels as ab_kernels
+    from rankedassign.adaptive_birth import _tempered_kernels as ab_tempered
+    from rankedassign.adaptive_birth import prepare as ab_prepare
+    from rankedassign.adaptive_birth.reference import RefData
+    from rankedassign.engine._kernels import KeyTable
+    from rankedassign.multisensor import _kernels as ms_kernels
+    from rankedassign.multisensor import prepare as ms_prepare
+    from rankedassign.single import _kernels as single_kernels
+    from rankedassign.single import prepare as single_prepare
+
+    table = KeyTable._fields
+    assert single_kernels.HerdedWork._fields == (
+        single_kernels.DirectWork._fields + ("cum",) + table)
+    assert ms_kernels.MultiSensorHerdedWork._fields == (
+        ms_kernels.MultiSensorWork._fields + ("cand",) + table)
+    assert ab_kernels.AdaptiveBirthHerdedWork._fields == (
+        ab_kernels.AdaptiveBirthWork._fields + table)
+    gibbs = ms_prepare.MultiSensorData._fields
+    assert ms_prepare.MultiSensorHerdedData._fields[:len(gibbs)] == gibbs
+    gibbs = ab_prepare.AdaptiveBirthData._fields
+    assert RefData._fields == gibbs
+    assert ab_prepare.AdaptiveBirthHerdedData._fields[:len(gibbs)] == gibbs
+    assert ab_tempered.AdaptiveBirthTemperedData._fields == gibbs + ("beta",)
+    direct = single_prepare.DirectData._fields
+    assert set(direct) <= set(single_prepare.PrefixData._fields)
+    assert set(direct) <= set(single_prepare.HerdedData._fields)
