@@ -1378,7 +1378,9 @@ def murty_compact_kernel(cc, k):
     ``(r, s[r])`` and fix the rows processed before it. Rows are processed in decreasing
     order of ``lb[r]``, the smallest reduced cost of an allowed alternative for row ``r``
     (partition ordering). A child enters the queue with the lower bound ``cost(s) + lb[r]``
-    (lazy evaluation, Miller, Stone & Cox 1997, spec §5.1 item 2) and is solved only if it
+    (lazy evaluation, Miller, Stone & Cox 1997, spec §5.1 item 2), raised by the least
+    reduced cost of the last step of its path and, where the partition's table of reduced
+    costs allows, by its second step (:func:`_make_children`), and is solved only if it
     reaches the top, by one shortest augmenting path from its parent's duals and assignment
     minus ``(r, s[r])`` (item 1), then re-enters with its exact cost. A bound never exceeds
     the cost it bounds, so the output is that of solving every child at once, in the same
