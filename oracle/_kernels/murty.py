@@ -689,7 +689,11 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
     A child's bound is the least reduced cost of its row's first step (``lb``), plus that of
     the last step of its path, into the freed column: from a row the child leaves open
     (``order[t + 1:]``) or from a dummy row (``v_free - v``). The path has both (its row's
-    pair is forbidden) and every reduced cost is at least 0."""
+    pair is forbidden) and every reduced cost is at least 0. With the reduced costs between
+    the free rows at hand (``rc``), the bound looks one step further: a first step into the
+    column of an open row ``q`` is followed either by ``q``'s step into the freed column or
+    by another step (at least ``lb[q]``) and the last one; a first step into a free column,
+    by the last one. The least of these sums is at least the two-step bound."""
     cost = cs.cost
     entry_of, order, rank, lb, lb_row, free_rc, rcm = sr.part
     keep = rcm.shape[0] == order.shape[0]
@@ -738,7 +742,20 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
                 q = np.uint64(order[np.uint64(t2)])
                 rc = cost[q, f_off] - s_u[slu, q] - vr
                 into = rc if rc < into else into
-        bx = bx + (0.0 if 0.0 > into else into)
+        into = 0.0 if 0.0 > into else into
+        bx = bx + into
+        if keep:  # the bound with the second step (each term is at least bx)
+            ru = np.uint64(r)
+            b2 = free_rc[ru] + into
+            for t2 in range(t + 1, n_free):
+                q = np.uint64(order[np.uint64(t2)])
+                x = rcm[ru, q]
+                if x < b2:
+                    rest = lb[q] + into  # q's step elsewhere, then the last step
+                    direct = rcm[q, ru]  # q's step into the freed column
+                    x += direct if direct < rest else rest
+                    b2 = x if x < b2 else b2
+            bx = b2 if b2 > bx else bx
         if key + bx - slack <= cut:
             tree.key[n_nodes] = key + bx - slack
             tree.slot[n_nodes] = NO_ENTRY
@@ -1361,7 +1378,9 @@ def murty_compact_kernel(cc, k):
     ``(r, s[r])`` and fix the rows processed before it. Rows are processed in decreasing
     order of ``lb[r]``, the smallest reduced cost of an allowed alternative for row ``r``
     (partition ordering). A child enters the queue with the lower bound ``cost(s) + lb[r]``
-    (lazy evaluation, Miller, Stone & Cox 1997, spec §5.1 item 2) and is solved only if it
+    (lazy evaluation, Miller, Stone & Cox 1997, spec §5.1 item 2), raised by the least
+    reduced cost of the last step of its path and, where the partition's table of reduced
+    costs allows, by its second step (:func:`_make_children`), and is solved only if it
     reaches the top, by one shortest augmenting path from its parent's duals and assignment
     minus ``(r, s[r])`` (item 1), then re-enters with its exact cost. A bound never exceeds
     the cost it bounds, so the output is that of solving every child at once, in the same
