@@ -790,10 +790,13 @@ def _speculate(data, work, zkeys, slab, x0, step):
     read from an attribute of a named tuple (``work.occ[b, v] += 1``), because the body's
     copy of the record is not known to alias the loop's arguments (numba issue #7135;
     ``tests/test_engine.py`` keeps a reproducer). The call costs once per chain and step.
+    The chain index is passed as ``int64``: numba's parallel lowering types a ``prange`` index
+    as ``uint64`` where the loop's typing saw ``int64``, and the call would otherwise compile
+    the chain's function (with the kind's whole sweep in it) a second time.
     """
     n_batch = step.n_batch
     for b in prange(n_batch):
-        _speculate_chain_impl(data, work, zkeys, slab, x0, step, b)
+        _speculate_chain_impl(data, work, zkeys, slab, x0, step, np.int64(b))
 
 
 def _speculate_chain(data, work, zkeys, slab, x0, step, b):
@@ -1220,5 +1223,7 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
         return states[:n].copy(), counts[:n].copy(), ctr
 
     run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
+    run_chains.kernels = {"start": start, "run_slice": run_slice, "speculate": spec,
+                          "speculate_chain": chain, "advance": adv}
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
     return run_chains
