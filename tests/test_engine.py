@@ -178,3 +178,30 @@ def test_the_records_that_extend_others_keep_their_fields_in_order():
     direct = single_prepare.DirectData._fields
     assert set(direct) <= set(single_prepare.PrefixData._fields)
     assert set(direct) <= set(single_prepare.HerdedData._fields)
+
+
+def test_a_record_names_each_field_once():
+    from rankedassign.engine.records import HerdedDraw, record
+
+    with pytest.raises(ValueError, match="a record's parts name these fields twice: tally"):
+        record(HerdedDraw, {"tally": np.ndarray})
+
+    class X(record(HerdedDraw, {"beta": float})):
+        """X."""
+
+    assert X._fields == HerdedDraw._fields + ("beta",) and X.__doc__ == "X."
+    assert repr(X(*range(6))).startswith("X(key_mode=0")
+
+
+@pytest.mark.skipif(config.DISABLE_JIT, reason="compiled records only")
+def test_numba_builds_and_reads_a_record_that_extends_another():
+    from rankedassign.engine.records import record
+
+    class X(record(_Data, {"q": float})):
+        """X."""
+
+    @jit(cache=False)
+    def make_and_read(x):
+        return X(p=x.p + 1.0, q=x.q * 2.0).q + x.p
+
+    assert make_and_read(X(p=1.0, q=3.0)) == 7.0

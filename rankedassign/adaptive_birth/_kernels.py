@@ -31,6 +31,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine._kernels import (
+    KeyTable,
     alloc_key_table,
     herd_lookup,
     herd_pick,
@@ -40,6 +41,7 @@ from ..engine._kernels import (
     next_uniform,
     reset_key_table,
 )
+from ..engine.records import record
 from ..numba_options import jit
 
 __all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
@@ -411,7 +413,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     return h
 
 
-class AdaptiveBirthHerdedWork(NamedTuple):
+class AdaptiveBirthHerdedWork(record(AdaptiveBirthWork, KeyTable)):
     """Scratch of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
     :class:`AdaptiveBirthWork`, then those of a
     :class:`~rankedassign.engine._kernels.KeyTable` (weights of width ``K``, key vectors of
@@ -425,25 +427,6 @@ class AdaptiveBirthHerdedWork(NamedTuple):
         As in :class:`~rankedassign.engine._kernels.KeyTable`: the sensor's conditional and
         key, the key table (row ids: the sensor) and the chain's tallies.
     """
-
-    order: np.ndarray
-    M: np.ndarray
-    b: np.ndarray
-    c: np.ndarray
-    Mp: np.ndarray
-    L: np.ndarray
-    y: np.ndarray
-    bj: np.ndarray
-    lw: np.ndarray
-    p: np.ndarray
-    keyv: np.ndarray
-    hw: np.ndarray
-    kst: np.ndarray
-    krow: np.ndarray
-    tslot: np.ndarray
-    thash: np.ndarray
-    cnt: np.ndarray
-    hist: np.ndarray
 
 
 @jit()

@@ -22,14 +22,16 @@ import numpy as np
 
 from ..engine._kernels import next_uniform
 from ..engine._tempered_kernels import make_tempered
+from ..engine.records import record
 from ..numba_options import jit
 from ._kernels import _gaussian_weights, _sums
+from .prepare import AdaptiveBirthData
 
 __all__ = ["row_weights", "move", "accumulate", "KERNELS", "AdaptiveBirthTemperedData",
            "AdaptiveBirthTemperedWork"]
 
 
-class AdaptiveBirthTemperedData(NamedTuple):
+class AdaptiveBirthTemperedData(record(AdaptiveBirthData, {"beta": float})):
     """The tempered kernels' inputs: the fields of
     :class:`~rankedassign.adaptive_birth.prepare.AdaptiveBirthData`, then ``beta``.
 
@@ -43,24 +45,6 @@ class AdaptiveBirthTemperedData(NamedTuple):
     beta : float
         Inverse temperature.
     """
-
-    mode: np.int64
-    V: np.int64
-    n: np.int64
-    random_order: np.int64
-    shape: np.ndarray
-    off: np.ndarray
-    strides: np.ndarray
-    logw: np.ndarray
-    M0: np.ndarray
-    b0: np.ndarray
-    c0: float
-    A: np.ndarray
-    a: np.ndarray
-    cz: np.ndarray
-    const: np.ndarray
-    log_miss: np.ndarray
-    beta: float
 
 
 class AdaptiveBirthTemperedWork(NamedTuple):

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.kind import DrawInputs
+from ..engine.records import HerdedDraw, record
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice, check_type
@@ -81,7 +82,7 @@ class AdaptiveBirthData(NamedTuple):
     log_miss: np.ndarray
 
 
-class AdaptiveBirthHerdedData(NamedTuple):
+class AdaptiveBirthHerdedData(record(AdaptiveBirthData, HerdedDraw)):
     """The herded kernel's inputs (:func:`herd_inputs`): the fields of
     :class:`AdaptiveBirthData`, then those of the herded draw.
 
@@ -93,40 +94,10 @@ class AdaptiveBirthHerdedData(NamedTuple):
     ----------
     mode, V, n, random_order, shape, off, strides, logw, M0, b0, c0, A, a, cz, const, log_miss
         As in :class:`AdaptiveBirthData`.
-    key_mode : int
-        What a key is: ``KEY_CODES`` of :mod:`rankedassign.engine.herding` (both keys are the
-        other sensors' entries here).
-    init_mode : int
-        A new key's initial weights: ``INIT_CODES`` (0 conditional, 1 zero, 2 uniform).
-    capacity : int
-        Keys a chain's table may hold.
-    chain_length : int
-        Observations per chain (sizes the per-sweep tallies of speculated chains).
-    tally : ndarray, shape (2,), int64
-        ``[keys created, fall-back draws]`` over the run, updated in place.
+    key_mode, init_mode, capacity, chain_length, tally
+        As in :class:`~rankedassign.engine.records.HerdedDraw` (both keys are the other
+        sensors' entries here).
     """
-
-    mode: np.int64
-    V: np.int64
-    n: np.int64
-    random_order: np.int64
-    shape: np.ndarray
-    off: np.ndarray
-    strides: np.ndarray
-    logw: np.ndarray
-    M0: np.ndarray
-    b0: np.ndarray
-    c0: float
-    A: np.ndarray
-    a: np.ndarray
-    cz: np.ndarray
-    const: np.ndarray
-    log_miss: np.ndarray
-    key_mode: int
-    init_mode: int
-    capacity: int
-    chain_length: int
-    tally: np.ndarray
 
 
 # ---------------------------------------------------------------------------- sampler inputs

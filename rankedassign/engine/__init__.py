@@ -7,6 +7,8 @@ It imports no problem kind; each kind (:mod:`rankedassign.single`,
   kind hands to the samplers and the oracle;
 * :mod:`~rankedassign.engine.result` — a run's prepared inputs, the stall/stale rule checks
   and the :class:`~rankedassign.engine.result.SamplerResult`;
+* :mod:`~rankedassign.engine.records` — kernel records declared from the records they
+  extend (:func:`~rankedassign.engine.records.record`, the herded draw's fields);
 * :mod:`~rankedassign.engine.rng` — the counter-based random streams (SplitMix64) and the
   handling of ``rng``;
 * :mod:`~rankedassign.engine.reference` — the chains, stall and stale in pure Python (the

@@ -24,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine._kernels import (
+    KeyTable,
     alloc_key_table,
     herd_lookup,
     herd_pick,
@@ -33,6 +34,7 @@ from ..engine._kernels import (
     next_uniform,
     reset_key_table,
 )
+from ..engine.records import record
 from ..numba_options import jit
 
 EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
@@ -784,7 +786,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     return h
 
 
-class MultiSensorHerdedWork(NamedTuple):
+class MultiSensorHerdedWork(record(MultiSensorWork, {"cand": np.ndarray}, KeyTable)):
     """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
     :class:`MultiSensorWork`, the candidates' full indices and those of a
     :class:`~rankedassign.engine._kernels.KeyTable` (weights of width
@@ -801,25 +803,6 @@ class MultiSensorHerdedWork(NamedTuple):
         its full candidate range and its key (padded with -1), the key table (row ids
         ``n (V + 1) + stage``) and the chain's tallies.
     """
-
-    occ: np.ndarray
-    avail: np.ndarray
-    navail: np.ndarray
-    idx: np.ndarray
-    wbuf: np.ndarray
-    lbuf: np.ndarray
-    perm: np.ndarray
-    row: np.ndarray
-    cand: np.ndarray
-    p: np.ndarray
-    keyv: np.ndarray
-    hw: np.ndarray
-    kst: np.ndarray
-    krow: np.ndarray
-    tslot: np.ndarray
-    thash: np.ndarray
-    cnt: np.ndarray
-    hist: np.ndarray
 
 
 @jit()

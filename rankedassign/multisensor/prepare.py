@@ -49,6 +49,7 @@ import numpy as np
 
 from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.kind import DrawInputs
+from ..engine.records import HerdedDraw, record
 from ..engine.result import Prepared
 from ..engine.rng import base_key
 from ..validation import check_choice
@@ -131,7 +132,8 @@ class MultiSensorData(NamedTuple):
     qdead: np.ndarray
 
 
-class MultiSensorHerdedData(NamedTuple):
+class MultiSensorHerdedData(record(MultiSensorData, {"gate": np.ndarray, "width": np.int64},
+                                   HerdedDraw)):
     """The herded kernel's inputs (:func:`herd_inputs`): the fields of
     :class:`MultiSensorData`, then those of the herded draw.
 
@@ -147,41 +149,9 @@ class MultiSensorHerdedData(NamedTuple):
         Which measurements can carry weight for each row (:func:`herd_gate`).
     width : int
         Candidates of a key's weights (the widest herded draw).
-    key_mode : int
-        What a key is: ``KEY_CODES`` of :mod:`rankedassign.engine.herding` (0 full, 1 shared).
-    init_mode : int
-        A new key's initial weights: ``INIT_CODES`` (0 conditional, 1 zero, 2 uniform).
-    capacity : int
-        Keys a chain's table may hold.
-    chain_length : int
-        Observations per chain (sizes the per-sweep tallies of speculated chains).
-    tally : ndarray, shape (2,), int64
-        ``[keys created, fall-back draws]`` over the run, updated in place.
+    key_mode, init_mode, capacity, chain_length, tally
+        As in :class:`~rankedassign.engine.records.HerdedDraw`.
     """
-
-    method: np.int64
-    random_scan: bool
-    P: np.int64
-    V: np.int64
-    n_meas: np.ndarray
-    strides: np.ndarray
-    Wd: np.ndarray
-    ld: np.ndarray
-    Wa: np.ndarray
-    la: np.ndarray
-    Th: np.ndarray
-    lth: np.ndarray
-    las: np.ndarray
-    Ea: np.ndarray
-    Ed: np.ndarray
-    qdead: np.ndarray
-    gate: np.ndarray
-    width: np.int64
-    key_mode: int
-    init_mode: int
-    capacity: int
-    chain_length: int
-    tally: np.ndarray
 
 
 def _shape(problem):

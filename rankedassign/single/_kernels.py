@@ -51,6 +51,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine._kernels import (
+    KeyTable,
     alloc_key_table,
     key_table_done,
     key_table_sweep_done,
@@ -60,6 +61,7 @@ from ..engine._kernels import (
 )
 from ..engine._kernels import key_hash as _key_hash
 from ..engine._kernels import table_find as _table_find
+from ..engine.records import record
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
 
@@ -616,7 +618,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     return h
 
 
-class HerdedWork(NamedTuple):
+class HerdedWork(record(DirectWork, {"cum": np.ndarray}, KeyTable)):
     """Workspace of ``nb`` herded chains (:func:`alloc_work_herded`): the fields of
     :class:`DirectWork`, the fall-back draw's scratch rows and those of a
     :class:`~rankedassign.engine._kernels.KeyTable` (``K = M + 2`` candidates, key vectors of
@@ -632,19 +634,6 @@ class HerdedWork(NamedTuple):
         As in :class:`~rankedassign.engine._kernels.KeyTable`: the row's conditional and
         key, the key table and the chain's tallies.
     """
-
-    free: np.ndarray
-    perm: np.ndarray
-    cum: np.ndarray
-    p: np.ndarray
-    keyv: np.ndarray
-    hw: np.ndarray
-    kst: np.ndarray
-    krow: np.ndarray
-    tslot: np.ndarray
-    thash: np.ndarray
-    cnt: np.ndarray
-    hist: np.ndarray
 
 
 @jit()

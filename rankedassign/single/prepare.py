@@ -17,6 +17,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.kind import DrawInputs
+from ..engine.records import HerdedDraw, record
 from ..engine.result import SCANS, Prepared
 from ..engine.rng import base_key
 from ..numba_options import interruptible, jit
@@ -177,7 +178,7 @@ class PrefixData(NamedTuple):
     random_scan: bool
 
 
-class HerdedData(NamedTuple):
+class HerdedData(record(DirectData, HerdedDraw)):
     """The herded kernel's inputs (:func:`herd_inputs`; the compiled twin of :class:`HerdData`).
 
     Read by :func:`rankedassign.single._kernels.sweep_herded`.
@@ -186,26 +187,9 @@ class HerdedData(NamedTuple):
     ----------
     W, cc, random_scan
         As in :class:`DirectData`.
-    key_mode : int
-        What a key is: ``KEY_CODES`` of :mod:`rankedassign.engine.herding` (0 full, 1 shared).
-    init_mode : int
-        A new key's initial weights: ``INIT_CODES`` (0 conditional, 1 zero, 2 uniform).
-    capacity : int
-        Keys a chain's table may hold.
-    chain_length : int
-        Observations per chain (sizes the per-sweep tallies of speculated chains).
-    tally : ndarray, shape (2,), int64
-        ``[keys created, fall-back draws]`` over the run, updated in place.
+    key_mode, init_mode, capacity, chain_length, tally
+        As in :class:`~rankedassign.engine.records.HerdedDraw`.
     """
-
-    W: np.ndarray
-    cc: np.ndarray
-    random_scan: bool
-    key_mode: int
-    init_mode: int
-    capacity: int
-    chain_length: int
-    tally: np.ndarray
 
 
 # ------------------------------------------------------------------------------ single sensor
