@@ -59,7 +59,7 @@ def record(*parts):
     Returns
     -------
     type
-        A :class:`typing.NamedTuple` class with the fields of every part.
+        A ``typing.NamedTuple`` class with the fields of every part.
 
     Raises
     ------
