@@ -1140,7 +1140,9 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
           n_chains_run, stale_run, stale_cumulative, stale_fired,
           n_speculative_discarded]``;
 
-        the same bits for every ``budget``.
+        the same bits for every ``budget``. Its attribute ``kernels`` maps ``"start"``,
+        ``"run_slice"``, ``"speculate"``, ``"speculate_chain"`` and ``"advance"`` to the
+        compiled functions behind it (to inspect their signatures).
 
     Examples
     --------
