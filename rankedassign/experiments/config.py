@@ -109,21 +109,21 @@ class SyntheticConfig:
     Attributes
     ----------
     n_mc : int
-        Monte Carlo runs.
+        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
     families : tuple of str
-        Matrix families (:data:`ALL_FAMILIES`).
+        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
     original_obs : int
-        Sweeps of the original sampler's single chain.
+        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
     n_chains, chain_length : int
-        The short-chain sampler's ``N_C`` chains of ``L`` sweeps.
+        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
     tau_stall, tau_stale : int
-        The thresholds of the stall and stale rules.
-    pbar_d : str
-        ``Pbar_D`` of the random family (spec A2): ``"r_pd"`` or ``"pd"``.
-    granularity : str
-        Whether the random family draws ``P_s, P_d`` per ``"row"`` or once per ``"matrix"``
-        (spec A5).
-    diagonal_pbar_d : str
+        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
+    pbar_d : {"r_pd", "pd"}
+        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
+        (Vo's code).
+    granularity : {"row", "matrix"}
+        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
+    diagonal_pbar_d : {"r_pd", "pd"}
         ``Pbar_D`` of the diagonal family (spec A2).
     """
 

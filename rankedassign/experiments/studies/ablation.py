@@ -40,23 +40,10 @@ class AblationConfig(SyntheticConfig):
 
     Attributes
     ----------
-    n_mc : int
-        Monte Carlo runs per family; the random family's matrix is re-drawn every run.
-    families : tuple of str
-        Matrix families to run, in report order (:data:`ALL_FAMILIES`).
-    original_obs : int
-        Sweeps of the original sampler's single chain (``sample_original(problem, 250_000)``).
-    n_chains, chain_length : int
-        ``N_S`` chains of ``N_C`` sweeps of the short-chain sampler (spec §3.4).
-    tau_stall, tau_stale : int
-        Thresholds of the stall and stale rules (spec §3.2), where a rule is on.
-    pbar_d : {"r_pd", "pd"}
-        ``Pbar_D`` of the random family (spec A2): ``r P_d`` (the paper's text) or ``P_d``
-        (Vo's code).
-    granularity : {"row", "matrix"}
-        Whether the random family draws ``P_s, P_d`` per row or once per matrix (spec A5).
-    diagonal_pbar_d : {"r_pd", "pd"}
-        ``Pbar_D`` of the diagonal family (spec A2).
+    n_mc, families, original_obs, n_chains, chain_length
+        As in :class:`~rankedassign.experiments.config.SyntheticConfig`.
+    tau_stall, tau_stale, pbar_d, granularity, diagonal_pbar_d
+        As in :class:`~rankedassign.experiments.config.SyntheticConfig`.
     stall_readings : tuple of str
         Readings of the stall rule to run (a non-empty subset of :data:`STALL_READINGS`).
     stale_readings : tuple of str
