@@ -139,6 +139,24 @@ def _cmd_reproduce(args) -> int:
     return 0
 
 
+def _cmd_precompile(args) -> int:
+    from .experiments.precompile import precompile
+
+    workers = args.workers
+    if workers is not None and workers > available_cpus():
+        workers = available_cpus()
+    try:
+        secs = precompile(workers, studies=args.studies or None, progress=not args.quiet)
+    except experiments.ReproduceError as exc:
+        print(f"rankedassign precompile: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("rankedassign precompile: interrupted", file=sys.stderr)
+        return 130
+    print(f"rankedassign precompile: kernels ready in {secs:.1f} s", file=sys.stderr)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``rankedassign`` command."""
     parser = argparse.ArgumentParser(
@@ -187,6 +205,22 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--force", action="store_true", help="replace an earlier report in DIR")
     rep.add_argument("--quiet", action="store_true", help="no progress bars")
     rep.set_defaults(func=_cmd_reproduce)
+
+    pre = sub.add_parser(
+        "precompile",
+        help="compile every kernel into numba's cache, on every core (first use)",
+        description=(
+            "Compile the kernels of every study and sampler side by side in worker processes "
+            "into numba's on-disk cache, so that later runs (reproduce, the tests, your own "
+            "scripts) load them instead of compiling them one by one."
+        ),
+    )
+    pre.add_argument("studies", nargs="*", metavar="STUDY",
+                     help=f"{', '.join(names)} (default: all)")
+    pre.add_argument("--workers", type=_positive_int, metavar="N",
+                     help="worker processes (default: the CPUs, at most 4)")
+    pre.add_argument("--quiet", action="store_true", help="no progress bar")
+    pre.set_defaults(func=_cmd_precompile)
     return parser
 
 
