@@ -19,6 +19,7 @@ import numpy as np
 
 from . import experiments
 from ._version import __version__
+from .experiments.precompile import precompile
 from .single import synthetic
 from .validation import MAX_MC
 
@@ -140,8 +141,6 @@ def _cmd_reproduce(args) -> int:
 
 
 def _cmd_precompile(args) -> int:
-    from .experiments.precompile import precompile
-
     workers = args.workers
     if workers is not None and workers > available_cpus():
         workers = available_cpus()
