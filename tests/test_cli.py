@@ -619,3 +619,132 @@ def test_a_failed_study_keeps_the_finished_studies(tmp_path, tiny_config, capsys
                  str(tmp_path / "r2"), "--workers", "1", "--quiet"]) == 1
     assert "no study finished, nothing was written" in capsys.readouterr().err
     assert not (tmp_path / "r2").exists() and _no_leftovers(tmp_path)
+
+
+# --------------------------------------------------------------------------- the lock's place
+def _lock_refusal(out, what):
+    lock = out.parent / f".{out.name}.lock"
+    return (f"rankedassign reproduce: error: cannot write the report to '{out}': '{lock}', "
+            f"where its lock goes, {what}, not a lock of rankedassign reproduce; it was left as "
+            "it is: move it away or choose another --out\n")
+
+
+def _make_at_lock(kind, lock, target):
+    """Put a user's ``kind`` of thing at the lock's place; returns what must stay unchanged."""
+    if kind == "file":
+        lock.write_text("notes\n")
+    elif kind == "empty file":
+        lock.write_text("")
+    elif kind == "foreign json":
+        lock.write_text(json.dumps({"pid": 1, "note": "mine"}))
+    elif kind == "big file":
+        lock.write_bytes(b"{" + b" " * (1 << 17) + b"}")
+    elif kind == "symlink to a file":
+        target.write_text("precious")
+        lock.symlink_to(target)
+    elif kind == "symlink to our lock record":
+        target.write_text(json.dumps({"pid": 4242, "host": "h", "command": "c",
+                                      "started": "s"}))
+        lock.symlink_to(target)
+    elif kind == "dangling symlink":
+        lock.symlink_to(target)
+    elif kind == "directory":
+        lock.mkdir()
+        (lock / "keep.txt").write_text("mine")
+    elif kind == "fifo":
+        os.mkfifo(lock)
+    return {"lock": (os.lstat(lock).st_ino, os.path.islink(lock) and os.readlink(lock)),
+            "target": target.read_bytes() if target.exists() else None,
+            "tree": _tree(lock.parent)}
+
+
+@pytest.mark.parametrize(("kind", "what"), [
+    ("file", "is a file that is not a lock record"),
+    ("empty file", "is a file that is not a lock record"),
+    ("foreign json", "is a file that is not a lock record"),
+    ("big file", "is a file that is not a lock record"),
+    ("symlink to a file", "is a symbolic link"),
+    ("symlink to our lock record", "is a symbolic link"),
+    ("dangling symlink", "is a symbolic link"),
+    ("directory", "is a directory"),
+    ("fifo", "is not a regular file"),
+])
+def test_a_users_thing_at_the_locks_place_is_refused_and_left_alone(tmp_path, capsys,
+                                                                     monkeypatch, kind, what):
+    # issue: a file at .<out>.lock was truncated, overwritten with the lock's record and
+    # deleted at the end (exit 0); a symbolic link there was written through
+    _never_run(monkeypatch)
+    home = tmp_path / "home"
+    home.mkdir()
+    out, lock, target = home / "r", home / ".r.lock", tmp_path / "target.txt"
+    before = _make_at_lock(kind, lock, target)
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == _lock_refusal(out, what)
+    after = {"lock": (os.lstat(lock).st_ino, os.path.islink(lock) and os.readlink(lock)),
+             "target": target.read_bytes() if target.exists() else None,
+             "tree": _tree(lock.parent)}
+    assert after == before
+    assert sorted(p.name for p in home.iterdir()) == [".r.lock"]  # no report, no partial
+
+
+def test_a_stale_lock_of_a_killed_run_is_replaced(tmp_path, tiny_config, capsys):
+    from rankedassign.experiments import _outdir
+
+    out = tmp_path / "report"
+    lock = _outdir.lock_path(out)
+    # the record of a run killed by SIGKILL (no process holds its flock): this version's and
+    # the one written before the record had a schema
+    for record in ({"schema": "rankedassign-lock/1", "pid": 4242, "host": "h", "command": "c",
+                    "started": "s", "token": "t"},
+                   {"pid": 4243, "host": "h", "command": "c", "started": "s"}):
+        lock.write_text(json.dumps(record))
+        assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out", str(out),
+                     "--workers", "1", "--quiet", "--force"]) == 0
+        assert capsys.readouterr().err == (
+            f"rankedassign reproduce: note: removed '{lock}', the lock of an earlier run into "
+            f"the same --out that was killed (pid {record['pid']})\n")
+        assert (out / "optimum.json").exists() and _no_leftovers(tmp_path)
+
+
+def test_a_live_lock_with_a_record_being_written_is_a_live_run(tmp_path, capsys, monkeypatch):
+    import fcntl
+
+    from rankedassign.experiments import _outdir
+
+    _never_run(monkeypatch)
+    out = tmp_path / "report"
+    lock = _outdir.lock_path(out)
+    lock.write_text("")  # created, flocked, record not yet written
+    with lock.open() as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: another run is writing the report to '{out}' (a run "
+        "whose details cannot be read); wait for it to finish or choose another --out\n")
+    assert lock.read_text() == ""
+
+
+@pytest.mark.parametrize("swap", ["file", "symlink"])
+def test_a_lock_replaced_during_the_run_is_not_removed(tmp_path, swap):
+    # the lock is removed at the end only if the file at its place is the one the run made
+    from rankedassign.experiments import _outdir
+
+    out = tmp_path / "report"
+    target = tmp_path / "target.txt"
+    target.write_text("precious")
+    with _outdir.run_lock(out, "c") as held:
+        record = json.loads(held.path.read_text())
+        assert record["schema"] == "rankedassign-lock/1" and record["pid"] == os.getpid()
+        assert len(record["token"]) == 32
+        held.path.unlink()
+        if swap == "file":
+            held.path.write_text("mine")
+        else:
+            held.path.symlink_to(target)
+    if swap == "file":
+        assert held.path.read_text() == "mine"
+    else:
+        assert os.readlink(held.path) == str(target)
+    assert target.read_text() == "precious"
+    held.release()  # idempotent
+    assert os.path.lexists(held.path)

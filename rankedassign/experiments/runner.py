@@ -250,9 +250,9 @@ def reproduce(
     check_output(out, force)  # the plain errors first; it also makes the parent directory
     # The lock is held from the authoritative check until the finished report is in place, so
     # a run that starts later into the same out is refused and told which run holds it.
-    with _outdir.run_lock(out, command):
+    with _outdir.run_lock(out, command) as lock:
         state = check_output(out, force)
-        for note in _outdir.remove_stale_partials(out):
+        for note in [*lock.notes, *_outdir.remove_stale_partials(out)]:
             print(f"rankedassign reproduce: note: {note}", file=sys.stderr, flush=True)
         results, failure = _run_studies(studies, cfg, out, seed=seed, workers=workers,
                                         dask_scheduler=dask_scheduler, progress=progress,
