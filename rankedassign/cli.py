@@ -13,7 +13,6 @@ import os
 import shlex
 import signal
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -67,6 +66,58 @@ def _seed(text: str) -> int:
     return v
 
 
+# A settings file is {study: {setting: value}}, values at most lists of lists: 4 levels.
+# Deeper is not a settings file; refused before anything walks it recursively.
+_MAX_CONFIG_DEPTH = 16
+# A settings file is a few kilobytes; this is not read whole beyond 16 MiB.
+_MAX_CONFIG_BYTES = 1 << 24
+
+
+def _depth(value) -> int:
+    """Nesting depth of JSON data (a scalar is 0), without recursion."""
+    deepest, stack = 0, [(value, 1)]
+    while stack:
+        v, d = stack.pop()
+        items = v.values() if isinstance(v, dict) else v if isinstance(v, list) else None
+        if items is None:
+            continue
+        deepest = max(deepest, d)
+        if d > _MAX_CONFIG_DEPTH:
+            break
+        stack.extend((x, d + 1) for x in items)
+    return deepest
+
+
+def _read_config(path: str) -> dict:
+    """The overrides in the ``--config`` file ``path``: a JSON object of studies."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read(_MAX_CONFIG_BYTES + 1)
+    except OSError as exc:
+        raise experiments.ReproduceError(f"cannot read --config {path!r}: {exc}") from None
+    if len(data) > _MAX_CONFIG_BYTES:
+        raise experiments.ReproduceError(
+            f"config file {path!r} is larger than {_MAX_CONFIG_BYTES >> 20} MiB; a settings "
+            "file is a JSON object of a few studies' settings")
+    try:
+        overrides = json.loads(data)
+    except RecursionError:
+        overrides = None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise experiments.ReproduceError(f"cannot read --config {path!r}: {exc}") from None
+    if overrides is None and data.strip() != b"null" or _depth(overrides) > _MAX_CONFIG_DEPTH:
+        raise experiments.ReproduceError(
+            f"config file {path!r} is nested too deeply (more than {_MAX_CONFIG_DEPTH} levels); "
+            'a settings file is a JSON object of studies, e.g. {"table1": {"n_mc": 5}}')
+    if not isinstance(overrides, dict):
+        kind = {list: "an array", str: "a string", bool: "a boolean", type(None): "null"}.get(
+            type(overrides), "a number")
+        raise experiments.ReproduceError(
+            f"config file {path!r} must hold a JSON object of studies, e.g. "
+            f'{{"table1": {{"n_mc": 5}}}}, not {kind}')
+    return overrides
+
+
 def _error(message: str) -> int:
     print(f"rankedassign reproduce: error: {message}", file=sys.stderr)
     return 2
@@ -104,11 +155,8 @@ def _cmd_reproduce(args) -> int:
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         if args.config is not None:
-            try:
-                overrides = json.loads(Path(args.config).read_text())
-            except (OSError, ValueError) as exc:
-                return _error(f"cannot read --config {args.config!r}: {exc}")
-            config = experiments.config_from_dict(experiments.Config(mode), overrides)
+            config = experiments.config_from_dict(experiments.Config(mode),
+                                                  _read_config(args.config))
         experiments.reproduce(
             args.studies,
             mode,

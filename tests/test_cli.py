@@ -262,13 +262,63 @@ def test_reproduce_unreachable_scheduler(tmp_path, capsys, monkeypatch):
     [
         ("{not json", "cannot read --config"),
         (json.dumps({"table1": {"nmc": 1}}), "unknown setting(s) ['nmc'] for study 'table1'"),
+        # issue: a deeply nested file ended in a RecursionError traceback
+        ("[" * 100_000, "config file '{cfg}' is nested too deeply (more than 16 levels); a "
+                        'settings file is a JSON object of studies, e.g. {{"table1": {{"n_mc": 5}}}}'),
+        ("{" + '"a": {' * 5_000 + "}" * 5_001, "config file '{cfg}' is nested too deeply"),
+        ("[" * 17 + "]" * 17, "config file '{cfg}' is nested too deeply"),
+        (json.dumps({"table1": {"families": [[[[[[[[[[[[[[[["x"]]]]]]]]]]]]]]]]}}),
+         "config file '{cfg}' is nested too deeply"),
+        # valid JSON of the wrong shape
+        ("[]", "config file '{cfg}' must hold a JSON object of studies, e.g. "
+               '{{"table1": {{"n_mc": 5}}}}, not an array'),
+        ("5", "must hold a JSON object of studies, e.g. {{\"table1\": {{\"n_mc\": 5}}}}, not a number"),
+        ("null", "not null"),
+        ('"table1"', "not a string"),
+        ("true", "not a boolean"),
+        ('{"table1": 5}', "config for 'table1' must be a mapping of its settings (e.g. "
+                          '{{"n_mc": 5}}), got int 5'),
+        ('{"table1": [' + "1, " * 100 + "1]}",
+         "config for 'table1' must be a mapping of its settings (e.g. {{\"n_mc\": 5}}), got "
+         "list [1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,...\n"),
+        ('{"table1": {"n_mc": NaN}}', "config for 'table1': n_mc must be an int, got float nan"),
+        ('{"glmb_tracking": {"ospa_c": -1}}',
+         "config for 'glmb_tracking': ospa_c must be > 0.0, got -1.0"),
+        ('{"tempering_herding": {"ospa_p": 0.5}}',
+         "config for 'tempering_herding': ospa_p must be >= 1.0, got 0.5"),
+        ('{"table1": {"n_mc": 1' + "0" * 5000 + "}}", "cannot read --config '{cfg}': Exceeds"),
+        (b'{"t": "\xff"}', "cannot read --config '{cfg}': 'utf-8' codec can't decode"),
     ],
 )
-def test_reproduce_bad_config_file(tmp_path, capsys, content, message):
+def test_reproduce_bad_config_file(tmp_path, capsys, monkeypatch, content, message):
+    _never_run(monkeypatch)
     cfg = tmp_path / "c.json"
-    cfg.write_text(content)
+    if isinstance(content, bytes):
+        cfg.write_bytes(content)
+    else:
+        cfg.write_text(content)
     assert main(["reproduce", "--config", str(cfg), "--out", str(tmp_path / "r")]) == 2
-    assert message in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert message.format(cfg=cfg) in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.json"]
+
+
+def test_reproduce_config_file_that_is_not_a_file(tmp_path, capsys, monkeypatch):
+    _never_run(monkeypatch)
+    for path, message in ((tmp_path, "Is a directory"),
+                          (tmp_path / "nosuch.json", "No such file or directory")):
+        assert main(["reproduce", "--config", str(path), "--out", str(tmp_path / "r")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"rankedassign reproduce: error: cannot read --config '{path}': ")
+        assert message in err
+    big = tmp_path / "big.json"
+    with big.open("wb") as f:
+        f.truncate((1 << 24) + 1)  # sparse: 16 MiB and one byte of zeros
+    assert main(["reproduce", "--config", str(big), "--out", str(tmp_path / "r")]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: config file '{big}' is larger than 16 MiB; a settings "
+        "file is a JSON object of a few studies' settings\n")
 
 
 def test_console_entry_point_exit_code(tmp_path):

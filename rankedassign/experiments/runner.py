@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import os
 import platform
@@ -19,7 +20,7 @@ from ._executor import SchedulerError, dask_executor, local_executor
 from .registry import Config, ReproduceError, get_study, run_study, study_names, warm_study
 from .report import render_report, write_csv, write_json
 
-__all__ = ["reproduce", "check_output", "StudyFailed"]
+__all__ = ["reproduce", "check_output", "check_settings", "StudyFailed"]
 
 _MANIFEST = _outdir.MANIFEST
 
@@ -122,6 +123,45 @@ class OutputState(NamedTuple):
 
     before: tuple | None
     names: set | None
+
+
+def check_settings(config: Config) -> None:
+    """Check the settings of every study in ``config`` again, before any study runs.
+
+    Each study's settings type checks its fields when it is made; this runs those checks
+    once more on the objects that will run, so that a record changed after it was made (or a
+    settings type registered by another package) fails here, naming the study, and not after
+    the studies before it have run for minutes.
+
+    Parameters
+    ----------
+    config : Config
+        The settings of the run.
+
+    Raises
+    ------
+    ReproduceError
+        ``"settings of study '<name>': <field> must ..., got <value>"`` for the first study
+        (in run order) whose settings are refused.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> from rankedassign.experiments import Config, ReproduceError
+    >>> from rankedassign.experiments.runner import check_settings
+    >>> cfg = Config.quick()
+    >>> object.__setattr__(cfg.tracking, "ospa_p", 0.5)  # bypasses the check on creation
+    >>> try:
+    ...     check_settings(cfg)
+    ... except ReproduceError as exc:
+    ...     print(exc)
+    settings of study 'tracking': ospa_p must be >= 1.0, got 0.5
+    """
+    for name in study_names():
+        try:
+            dataclasses.replace(config[name])  # runs the type's __post_init__ checks again
+        except (TypeError, ValueError) as exc:
+            raise ReproduceError(f"settings of study {name!r}: {exc}") from None
 
 
 def _study_list(studies) -> list[str]:
@@ -238,8 +278,11 @@ def reproduce(
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ReproduceError(f"seed must be a non-negative integer, got {seed!r}")
     cfg = config if config is not None else Config(mode)
+    if not isinstance(cfg, Config):
+        raise ReproduceError(f"config must be a Config, got {type(cfg).__name__}")
     if mc is not None:
         cfg = cfg.with_mc(mc)
+    check_settings(cfg)
     out = Path(out)
     command = command or "rankedassign.experiments.reproduce(...)"
 

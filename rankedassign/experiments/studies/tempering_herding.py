@@ -63,6 +63,7 @@ from ..config import (
     DEFAULT_PBAR_D,
     FAMILIES,
     PBAR_D_READINGS,
+    check_ospa,
     check_positive,
 )
 from ..registry import Study, register_study
@@ -190,8 +191,7 @@ class TemperingHerdingConfig:
         for name in ("pbar_d", "diagonal_pbar_d"):
             check_choice(getattr(self, name), name, PBAR_D_READINGS)
         check_choice(self.granularity, "granularity", ("row", "matrix"))
-        for name in ("ospa_c", "ospa_p"):
-            check_real(getattr(self, name), name, minimum=0.0, strict_minimum=True)
+        check_ospa(self.ospa_c, self.ospa_p)  # p >= 1, as the metric requires (spec §7)
 
 __all__ = ["TEMPERING_HERDING", "THRow", "THTrackingRow", "THSummary", "FUTURE_WORK",
            "summarise_tempering_herding", "make_problem", "applies"]
