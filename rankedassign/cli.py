@@ -2,7 +2,9 @@
 
 Every failure the user can cause ends with a one-line message on stderr and exit status 2, never
 a traceback; an interrupted ``reproduce`` (Ctrl-C or SIGTERM) ends with status 130 (143) and
-leaves no partial report behind.
+leaves no partial report behind. The signal is recorded and acted on at a safe point (see
+:mod:`rankedassign.experiments._interrupts`); a second one ends the process at once, after
+removing the run's lock and partial report.
 """
 
 from __future__ import annotations
@@ -13,11 +15,13 @@ import os
 import shlex
 import signal
 import sys
+from pathlib import Path
 
 import numpy as np
 
 from . import experiments
 from ._version import __version__
+from .experiments import _interrupts
 from .single import synthetic
 from .validation import MAX_MC
 
@@ -131,14 +135,6 @@ def available_cpus() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-class _Terminated(BaseException):
-    """Raised in the main thread when SIGTERM arrives: handled like Ctrl-C."""
-
-
-def _on_sigterm(signum, frame):
-    raise _Terminated
-
-
 def _cmd_reproduce(args) -> int:
     names = experiments.study_names()
     unknown = [s for s in args.studies if s not in names]
@@ -152,8 +148,13 @@ def _cmd_reproduce(args) -> int:
         workers = n
     mode = "full" if args.full else "quick"
     config = None
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    # SIGINT and SIGTERM are recorded and acted on at safe points (experiments._interrupts);
+    # a second one ends the process at once, after removing the lock and the partial report
+    guard = _interrupts.deferred_interrupts(
+        "rankedassign reproduce: {signal} again: stopped at once; the lock and the partial "
+        "report were removed, no report written\n")
     try:
+        guard.__enter__()
         if args.config is not None:
             config = experiments.config_from_dict(experiments.Config(mode),
                                                   _read_config(args.config))
@@ -178,12 +179,19 @@ def _cmd_reproduce(args) -> int:
     except KeyboardInterrupt:
         print("rankedassign reproduce: interrupted; no report written", file=sys.stderr)
         return 130
-    except _Terminated:
+    except _interrupts.Terminated:
         print("rankedassign reproduce: terminated (SIGTERM); no report written",
               file=sys.stderr)
         return 128 + signal.SIGTERM
+    else:
+        signum = _interrupts.pending()
+        if signum is not None:  # it came while the finished report was moved into place
+            print(f"rankedassign reproduce: {signal.Signals(signum).name} received while the "
+                  f"finished report was moved into place; it is complete in "
+                  f"{str(Path(args.out))!r}", file=sys.stderr)
+            return 128 + signum
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        guard.__exit__(None, None, None)
     return 0
 
 

@@ -28,6 +28,8 @@ import numba
 import numpy as np
 from tqdm.auto import tqdm
 
+from . import _interrupts
+
 __all__ = [
     "run_seed",
     "child_seed",
@@ -233,8 +235,17 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
         return
     ctx = multiprocessing.get_context("spawn")
     ex = ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_worker_init)
+
+    def kill_workers():  # a second signal: no waiting, no locks (see _interrupts)
+        for p in list((getattr(ex, "_processes", None) or {}).values()):
+            try:
+                os.kill(p.pid, signal.SIGKILL)
+            except (OSError, TypeError, AttributeError):
+                pass
+
     try:
-        yield ex
+        with _interrupts.on_hard_exit(kill_workers):
+            yield ex
     except BaseException:
         # an interrupt or an error: the workers' running tasks are not wanted any more
         _end_workers(ex)
@@ -390,19 +401,32 @@ def run_tasks(
     """
     bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr)
     try:
+        # _interrupts.check(): the safe points at which a recorded SIGINT/SIGTERM stops the
+        # run (between tasks, at each progress step, while waiting for the workers)
         if executor is None:
             out = []
             for t in tasks:
+                _interrupts.check()
                 out.append(fn(*t))
                 bar.update()
+            _interrupts.check()
             return out
         with _signals_held():
             futures = {executor.submit(fn, *t): i for i, t in enumerate(tasks)}
         results: list[Any] = [None] * len(tasks)
+        if not futures:
+            return results
         try:
-            for fut in as_completed(futures):
-                results[futures[fut]] = fut.result()
-                bar.update()
+            with _interrupts.stop_future() as stop:
+                waited = set(futures) if stop is None else {*futures, stop}
+                left = len(futures)
+                for fut in as_completed(waited):
+                    _interrupts.check()
+                    results[futures[fut]] = fut.result()
+                    bar.update()
+                    left -= 1
+                    if not left:
+                        break
         except BaseException:
             for fut in futures:
                 fut.cancel()

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import _interrupts
 from ._executor import run_tasks
 
 __all__ = [
@@ -308,6 +309,7 @@ def warm_study(study: str | Study, config=None, *, executor: Executor | None = N
     tasks = list(st.tasks(st.warm(study_config(config, st)), 0))
     if executor is None:
         for args in tasks:
+            _interrupts.check()  # a safe point between two tiny tasks
             st.task(*args)
         return time.perf_counter() - t0
     group = st.warm_group or id

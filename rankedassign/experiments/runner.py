@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
+import functools
 import os
 import platform
 import sys
@@ -15,7 +16,7 @@ from typing import NamedTuple
 
 from .._version import __version__
 from ..validation import MAX_MC
-from . import _outdir
+from . import _interrupts, _outdir
 from ._executor import SchedulerError, dask_executor, local_executor
 from .registry import Config, ReproduceError, get_study, run_study, study_names, warm_study
 from .report import render_report, write_csv, write_json
@@ -293,7 +294,8 @@ def reproduce(
     check_output(out, force)  # the plain errors first; it also makes the parent directory
     # The lock is held from the authoritative check until the finished report is in place, so
     # a run that starts later into the same out is refused and told which run holds it.
-    with _outdir.run_lock(out, command) as lock:
+    _interrupts.check()
+    with _outdir.run_lock(out, command) as lock, _interrupts.on_hard_exit(lock.release):
         state = check_output(out, force)
         for note in [*lock.notes, *_outdir.remove_stale_partials(out)]:
             print(f"rankedassign reproduce: note: {note}", file=sys.stderr, flush=True)
@@ -325,6 +327,10 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
     seconds: dict = {}
     failure = None
     tmp = _outdir.new_partial(out, command)
+    # a second signal ends the process at once: the partial report is removed first, until it
+    # is complete and about to be moved into place
+    cleanup = functools.partial(_outdir.remove_files, tmp)
+    _interrupts.add_cleanup(cleanup)
     try:
         with ExitStack() as stack:
             say("preparing each study's compiled kernels before it starts (numba compiles "
@@ -338,6 +344,7 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 where = "serial (in-process)" if executor is None else f"{n} local processes"
             for i, study in enumerate(studies, 1):
                 tag = f"[{i}/{len(studies)}] {study}"
+                _interrupts.check()  # a safe point between two studies
                 try:
                     # The tiny tasks on the workers, disjoint kernel sets side by side; the
                     # study's tasks then load the kernels from the cache.
@@ -351,11 +358,14 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 except (ReproduceError, SchedulerError):
                     raise
                 except Exception as exc:  # a study's own failure: keep what finished
+                    # unless a signal caused it (an interrupt that surfaced as another error)
+                    _interrupts.check()
                     failure = (study, f"{type(exc).__name__}: {exc}")
                     break
                 seconds[study] = time.perf_counter() - t0
                 results[study] = res
                 _write_study(tmp, study, res, runs)
+            _interrupts.check()
         meta = {
             "schema": _outdir.SCHEMA,
             "command": command,
@@ -381,9 +391,14 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
         if failure is not None and not results:
             raise StudyFailed(f"study {failure[0]!r} failed ({failure[1]}); no study finished, "
                               "nothing was written")
+        # the last safe point: from here the report is moved into place, which a signal
+        # does not cut short (it is recorded and acted on after the move)
+        _interrupts.check()
     except BaseException:
         _outdir.remove_files(tmp)
+        _interrupts.remove_cleanup(cleanup)
         raise
+    _interrupts.remove_cleanup(cleanup)
     if failure is not None and state.before is not None:
         # an incomplete report never replaces an earlier complete one: it goes beside it
         (tmp / _outdir.OWNER).unlink(missing_ok=True)
