@@ -33,14 +33,21 @@ partial report, the worker processes) and the process exits with ``128 + signal`
 
 from __future__ import annotations
 
+import concurrent.futures
+import logging
+import multiprocessing
 import os
+import queue
 import signal
 import sys
 import threading
+import weakref
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future
 from contextlib import contextmanager
 from pathlib import Path
+
+import oracle
 
 __all__ = ["Terminated", "deferred_interrupts", "check", "pending", "add_cleanup",
            "remove_cleanup", "on_hard_exit", "stop_future"]
@@ -77,23 +84,11 @@ def _root(module_file: str | None) -> str | None:
 
 
 def _safe_roots() -> tuple[str, ...]:
-    roots = [str(_PACKAGE)]
-    try:
-        import oracle
-        roots.append(_root(oracle.__file__))
-    except ImportError:  # pragma: no cover - oracle ships with rankedassign
-        pass
-    return tuple(r for r in roots if r)
+    return (str(_PACKAGE), _root(oracle.__file__))
 
 
 def _unsafe_files() -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Files and folders whose frames an exception must never be raised through."""
-    import concurrent.futures
-    import logging
-    import multiprocessing
-    import queue
-    import weakref
-
     files = [threading.__file__, weakref.__file__, queue.__file__]
     dirs = [_root(concurrent.futures.__file__), _root(multiprocessing.__file__),
             _root(logging.__file__)]
