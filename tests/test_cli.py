@@ -798,3 +798,68 @@ def test_a_lock_replaced_during_the_run_is_not_removed(tmp_path, swap):
     assert target.read_text() == "precious"
     held.release()  # idempotent
     assert os.path.lexists(held.path)
+
+
+def test_a_stale_lock_that_cannot_be_removed_is_refused(tmp_path, capsys, monkeypatch):
+    from rankedassign.experiments import _outdir
+
+    _never_run(monkeypatch)
+    out = tmp_path / "report"
+    lock = _outdir.lock_path(out)
+    lock.write_text(json.dumps({"pid": 4242, "host": "h", "command": "c", "started": "s"}))
+    real = os.unlink
+
+    def unlink(path, *args, **kwargs):  # another user's file in a sticky directory
+        if os.fspath(path) == os.fspath(lock):
+            raise PermissionError(1, "Operation not permitted")
+        return real(path, *args, **kwargs)
+
+    monkeypatch.setattr(_outdir.os, "unlink", unlink)
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: cannot write the report to '{out}': its lock '{lock}' "
+        "was left by a run that was killed (pid 4242), and it cannot be removed (Operation not "
+        "permitted); remove it or choose another --out\n")
+    assert lock.exists()
+
+
+def test_a_file_system_without_flock_leaves_no_lock_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    from rankedassign.experiments import _outdir
+
+    _never_run(monkeypatch)
+
+    def no_locks(fd, op):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(_outdir.fcntl, "flock", no_locks)
+    out = tmp_path / "report"
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: cannot write the report to '{out}': cannot create its "
+        f"lock file '{_outdir.lock_path(out)}' (No locks available)\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_signal_while_the_report_is_moved_into_place(tmp_path, tiny_config, capsys,
+                                                       monkeypatch):
+    # the move is not cut short; the run says the report is complete and exits as signalled
+    import signal as sig
+
+    from rankedassign.experiments import _outdir
+
+    real = _outdir.place
+
+    def place(*args, **kwargs):
+        sig.raise_signal(sig.SIGTERM)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(_outdir, "place", place)
+    out = tmp_path / "report"
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 128 + sig.SIGTERM
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: SIGTERM received while the finished report was moved into "
+        f"place; it is complete in '{out}'\n")
+    assert (out / "manifest.json").exists() and _no_leftovers(tmp_path)

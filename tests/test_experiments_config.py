@@ -213,3 +213,19 @@ def test_reproduce_checks_every_studys_settings_before_any_runs(tmp_path):
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(ReproduceError, match=r"^config must be a Config, got TrackingConfig$"):
         reproduce(["tracking"], out=tmp_path / "r", config=TrackingConfig(), progress=False)
+
+
+@pytest.mark.parametrize(("study", "name", "message"), [
+    ("sweep", "obs_grid", r"obs_grid entry must be a positive integer <= 2\*\*62, got "),
+    ("sweep", "chain_lengths",
+     r"chain_lengths entry must be a positive integer <= 2\*\*62, got "),
+    ("tempering_herding", "budgets", "budgets must be a non-empty, strictly increasing tuple of "
+                                     r"positive integers \(at most 2\*\*62\), got \("),
+])
+def test_count_lists_are_bounded_like_the_counts(study, name, message):
+    # an entry past the kernels' int64 counters was accepted and failed when the study ran
+    with pytest.raises(ReproduceError, match=rf"^config for '{study}': {message}"
+                                             rf"{2**70}"):
+        config_from_dict(Config.quick(), {study: {name: [2**70]}})
+    assert getattr(config_from_dict(Config.quick(), {study: {name: [2**62]}})[study],
+                   name) == (2**62,)

@@ -242,8 +242,13 @@ def _create_lock(path: Path) -> int | None:
         fd = os.open(path, flags, 0o644)
     except FileExistsError:
         return None
-    # O_EXCL made the file: no other run has it open yet, so this cannot block
-    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    try:
+        # O_EXCL made the file: no other run has it open yet, so this cannot block
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:  # a file system without flock (ENOLCK): the file made here goes again
+        os.unlink(path)
+        os.close(fd)
+        raise
     return fd
 
 
@@ -300,7 +305,13 @@ def _inspect_lock(out: Path, path: Path) -> str | None:
             return None
         if not same:
             return None
-        os.unlink(path)
+        try:
+            os.unlink(path)
+        except OSError as exc:  # another user's lock in a sticky directory
+            raise ReproduceError(
+                f"cannot write the report to {str(out)!r}: its lock {str(path)!r} was left by a "
+                f"run that was killed (pid {info.get('pid', '?')}), and it cannot be removed "
+                f"({exc.strerror or exc}); remove it or choose another --out") from None
         return (f"removed {str(path)!r}, the lock of an earlier run into the same --out that was "
                 f"killed (pid {info.get('pid', '?')})")
     finally:

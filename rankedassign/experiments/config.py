@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..validation import check_fields, check_real
+from ..validation import MAX_COUNT, check_fields, check_real
 
 __all__ = [
     "FAMILIES",
@@ -56,7 +56,7 @@ CRITERIA = ("stall", "stale", "full")
 
 
 def check_positive(name: str, value) -> None:
-    """Raise ``ValueError`` unless ``value`` is a positive ``int`` (not a bool).
+    """Raise ``ValueError`` unless ``value`` is a positive ``int`` (not a bool), at most 2**62.
 
     Parameters
     ----------
@@ -74,6 +74,8 @@ def check_positive(name: str, value) -> None:
     """
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    if value > MAX_COUNT:  # the kernels' counters are int64 (validation.MAX_COUNT)
+        raise ValueError(f"{name} must be a positive integer <= 2**62, got {value!r}")
 
 
 def check_families(name: str, fams, allowed=ALL_FAMILIES) -> None:

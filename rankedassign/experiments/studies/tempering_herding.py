@@ -53,7 +53,7 @@ from ...single.problem import AssignmentProblem
 from ...tracking.models import PRESETS
 from ...tracking.multisensor.association import multisensor_marginals_from_hypotheses
 from ...tracking.single.association import marginals_from_hypotheses
-from ...validation import check_choice, check_fields, check_real
+from ...validation import MAX_COUNT, check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._synthetic import make_problem as make_single
@@ -182,10 +182,11 @@ class TemperingHerdingConfig:
                 check_choice(v, f"{name}: {one}", allowed)
         b = self.budgets
         if not isinstance(b, tuple) or not b or any(
-                isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in b) or any(
+                isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_COUNT
+                for n in b) or any(
                 x >= y for x, y in zip(b, b[1:], strict=False)):
             raise ValueError(f"budgets must be a non-empty, strictly increasing tuple of "
-                             f"positive integers, got {b!r}")
+                             f"positive integers (at most 2**62), got {b!r}")
         check_real(self.zr_beta, "zr_beta", minimum=0.0, maximum=1.0, strict_minimum=True)
         check_choice(self.ms_method, "ms_method", ("exact", "mm"))
         for name in ("pbar_d", "diagonal_pbar_d"):
