@@ -185,7 +185,7 @@ def check() -> None:
 
 
 def _cancel_retry() -> None:
-    if _state.active:
+    if _state.active and threading.current_thread() is threading.main_thread():
         signal.setitimer(signal.ITIMER_REAL, 0)
 
 
@@ -218,8 +218,8 @@ def _on_signal(signum, frame):
 
 
 def _on_retry(signum, frame):
-    if _state.signum is None or _state.raised:
-        return
+    if not _state.active or _state.signum is None or _state.raised:
+        return  # (not active: the guard is ending; re-arming now would outlive its handler)
     if _may_raise_in(frame):
         _state.raised = True
         raise _exception(_state.signum)
@@ -254,6 +254,9 @@ def deferred_interrupts(message: str = "") -> Iterator[None]:
             signal.signal(s, _on_signal)
         yield
     finally:
+        # first stop re-arming, then cancel the timer, then give SIGALRM back: a retry that
+        # re-armed after the cancel would fire under the previous (default: fatal) handler
+        _state.active = False
         for s in _SIGNALS:
             signal.signal(s, signal.SIG_DFL if previous[s] is None else previous[s])
         signal.setitimer(signal.ITIMER_REAL, 0)
