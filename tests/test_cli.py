@@ -849,14 +849,15 @@ def test_a_signal_while_the_report_is_moved_into_place(tmp_path, tiny_config, ca
 
     from rankedassign.experiments import _outdir
 
-    real = _outdir.place
-
-    def place(*args, **kwargs):
-        sig.raise_signal(sig.SIGTERM)
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(_outdir, "place", place)
+    real = _outdir.renameat2
     out = tmp_path / "report"
+
+    def renameat2(src, dst, flags):  # called by _outdir.place for the final move
+        if os.fspath(dst) == os.fspath(out):
+            sig.raise_signal(sig.SIGTERM)
+        return real(src, dst, flags)
+
+    monkeypatch.setattr(_outdir, "renameat2", renameat2)
     assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--quiet"]) == 128 + sig.SIGTERM
     assert capsys.readouterr().err == (

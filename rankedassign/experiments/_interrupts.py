@@ -15,13 +15,18 @@ signal. The run then stops at the first safe point:
 * the checks the runner makes (:func:`check`): before and after each study, between two
   tasks and at each progress step of :func:`~rankedassign.experiments.run_tasks`, and while
   it waits for worker processes (a watcher thread completes a future the wait includes);
-* inside the library's own computations, where interrupts have always landed: between the
-  slices of a long compiled call and after each kernel (:mod:`rankedassign.numba_options`,
-  "Signals"). The handler raises the interrupt itself when the frame it runs in is code of
-  :mod:`rankedassign` (outside the experiments, which check explicitly) or :mod:`oracle`,
-  and no frame below it is a finaliser, a ``threading``/``concurrent``/``multiprocessing``
-  frame, an import or numba's own machinery. Elsewhere it only sets the flag and asks again
-  a little later (a one-shot ``SIGALRM``), until a safe frame or a check comes.
+* in the handler itself, at once, unless raising there is unsafe: when the frame it runs in
+  is the run's own machinery (the runner, the registry, the executor, the report folder and
+  its lock, the command line: they check explicitly, and a file made there must not be cut
+  off from its removal), or when any frame of the stack is a finaliser (``__del__``, a
+  ``weakref`` callback), ``threading``, ``queue``, ``concurrent.futures``,
+  ``multiprocessing`` or ``logging`` code, numba's or llvmlite's machinery (compiling,
+  disposing), tqdm, an import, or the lock's code. So the long computations of the library,
+  of numpy and of the plots are interrupted where they are, as before (between the slices of
+  a long compiled call and after each kernel: :mod:`rankedassign.numba_options`,
+  "Signals"), and nothing else is. Where it is unsafe the handler only records the signal
+  and asks again a little later (a one-shot ``SIGALRM`` after :data:`RETRY` seconds), until
+  a safe frame or a check comes.
 
 The exception is ``KeyboardInterrupt`` for SIGINT and :class:`Terminated` for SIGTERM; the
 run's ``finally`` blocks remove its partial report and its lock, and the command line exits
@@ -47,9 +52,7 @@ from concurrent.futures import Future
 from contextlib import contextmanager
 from pathlib import Path
 
-import oracle
-
-__all__ = ["Terminated", "deferred_interrupts", "check", "pending", "add_cleanup",
+__all__ = ["Terminated", "deferred_interrupts", "check", "pending", "critical", "add_cleanup",
            "remove_cleanup", "on_hard_exit", "stop_future"]
 
 #: Seconds between two attempts at raising a recorded interrupt when the handler ran in a
@@ -70,6 +73,7 @@ class _State:
         self.signum: int | None = None  # the first signal received
         self.raised = False  # its exception has been raised once
         self.message = ""  # printed on a hard exit
+        self.critical = 0  # inside critical(): never raise
         self.cleanups: list[Callable[[], object]] = []
 
 
@@ -83,13 +87,10 @@ def _root(module_file: str | None) -> str | None:
     return None if module_file is None else str(Path(module_file).resolve().parent)
 
 
-def _safe_roots() -> tuple[str, ...]:
-    return (str(_PACKAGE), _root(oracle.__file__))
-
-
 def _unsafe_files() -> tuple[tuple[str, ...], tuple[str, ...]]:
     """Files and folders whose frames an exception must never be raised through."""
-    files = [threading.__file__, weakref.__file__, queue.__file__]
+    files = [threading.__file__, weakref.__file__, queue.__file__, __file__,
+             str(_HERE / "_outdir.py")]
     dirs = [_root(concurrent.futures.__file__), _root(multiprocessing.__file__),
             _root(logging.__file__)]
     for name in ("numba", "llvmlite", "tqdm"):
@@ -100,11 +101,12 @@ def _unsafe_files() -> tuple[tuple[str, ...], tuple[str, ...]]:
             tuple(d for d in dirs if d))
 
 
-# Set when deferred_interrupts starts: where the innermost frame may be, where it may not be
-# (the experiments check explicitly, and must not be cut in the middle of a file operation),
-# and what no frame of the stack may be.
-_SAFE: tuple[str, ...] = ()
-_NOT_INNERMOST = (str(_HERE), str(_PACKAGE / "cli.py"))
+# The run's own machinery, which checks explicitly (check()) at its safe points: an exception
+# is never raised while it runs (between creating a file and recording it for removal, say).
+_CHECKS_ITSELF = tuple(str((_HERE / f).resolve()) for f in
+                       ("runner.py", "registry.py", "_executor.py", "_outdir.py",
+                        "_interrupts.py")) + (str((_PACKAGE / "cli.py").resolve()),)
+# Set when deferred_interrupts starts: what no frame of the stack may be.
 _UNSAFE: tuple[tuple[str, ...], tuple[str, ...]] = ((), ())
 _PATHS: dict[str, str] = {}
 
@@ -122,24 +124,18 @@ def _under(path: str, roots) -> bool:
     return any(path == r or path.startswith(r + os.sep) for r in roots)
 
 
-def _library(frame) -> bool:
-    """Whether ``frame`` runs library code (rankedassign outside the experiments, oracle)."""
-    p = _path(frame.f_code)
-    return _under(p, _SAFE) and not _under(p, _NOT_INNERMOST)
-
-
 def _may_raise_in(frame) -> bool:
     """Whether raising the interrupt in ``frame`` (the handler's) is safe (module docstring)."""
-    if frame is None:
+    if frame is None or _state.critical or _path(frame.f_code) in _CHECKS_ITSELF:
         return False
-    if not _library(frame):
-        # numba's boxing of a kernel's result, called straight from library code: the
-        # caller's ``with interruptible:`` turns the SystemError back into the interrupt
-        if not (frame.f_code.co_name == "_numba_unpickle" and frame.f_back is not None
-                and _library(frame.f_back)):
-            return False
-        frame = frame.f_back
     files, dirs = _UNSAFE
+    if (frame.f_code.co_name == "_numba_unpickle" and frame.f_back is not None
+            and _under(_path(frame.f_code), dirs)):
+        # numba boxing a kernel's result for the code that called the kernel: its
+        # ``with interruptible:`` turns the SystemError back into the interrupt
+        frame = frame.f_back
+        if _path(frame.f_code) in _CHECKS_ITSELF:
+            return False
     f = frame
     while f is not None:
         code = f.f_code
@@ -242,8 +238,8 @@ def deferred_interrupts(message: str = "") -> Iterator[None]:
     if _state.active or threading.current_thread() is not threading.main_thread():
         yield
         return
-    global _SAFE, _UNSAFE
-    _SAFE, _UNSAFE = _safe_roots(), _unsafe_files()
+    global _UNSAFE
+    _UNSAFE = _unsafe_files()
     _state.__init__()
     _state.message = message
     previous = {s: signal.getsignal(s) for s in (*_SIGNALS, signal.SIGALRM)}
@@ -264,6 +260,20 @@ def deferred_interrupts(message: str = "") -> Iterator[None]:
                       signal.SIG_DFL if previous[signal.SIGALRM] is None
                       else previous[signal.SIGALRM])
         _state.__init__()
+
+
+@contextmanager
+def critical() -> Iterator[None]:
+    """A block that a signal never cuts short (it is recorded and acted on after it).
+
+    For a file made and removed again within the block, where an exception in between would
+    leave it behind.
+    """
+    _state.critical += 1
+    try:
+        yield
+    finally:
+        _state.critical -= 1
 
 
 def add_cleanup(cleanup: Callable[[], object]) -> None:

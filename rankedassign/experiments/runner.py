@@ -101,12 +101,13 @@ def check_output(out, force: bool = False) -> OutputState:
             if not p.is_dir():
                 raise ReproduceError(f"{where}: a parent, {str(p)!r}, is a file, not a directory")
             break
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        probe = tempfile.mkdtemp(prefix=f".{out.name}.probe-", dir=parent)
-    except OSError as exc:
-        raise ReproduceError(f"{where}: {exc.strerror or exc}") from None
-    os.rmdir(probe)
+    with _interrupts.critical():  # the probe directory is never left behind
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            probe = tempfile.mkdtemp(prefix=f".{out.name}.probe-", dir=parent)
+        except OSError as exc:
+            raise ReproduceError(f"{where}: {exc.strerror or exc}") from None
+        os.rmdir(probe)
     return OutputState(before, names)
 
 
