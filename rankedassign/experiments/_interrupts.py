@@ -21,7 +21,8 @@ signal. The run then stops at the first safe point:
   off from its removal), or when any frame of the stack is a finaliser (``__del__``, a
   ``weakref`` callback), ``threading``, ``queue``, ``concurrent.futures``,
   ``multiprocessing`` or ``logging`` code, numba's or llvmlite's machinery (compiling,
-  disposing), tqdm, an import, or the lock's code. So the long computations of the library,
+  disposing), tqdm, or the lock's code, or when it is the import machinery itself (a module
+  being imported is interrupted like any code). So the long computations of the library,
   of numpy and of the plots are interrupted where they are, as before (between the slices of
   a long compiled call and after each kernel: :mod:`rankedassign.numba_options`,
   "Signals"), and nothing else is. Where it is unsafe the handler only records the signal
@@ -128,6 +129,10 @@ def _may_raise_in(frame) -> bool:
     """Whether raising the interrupt in ``frame`` (the handler's) is safe (module docstring)."""
     if frame is None or _state.critical or _path(frame.f_code) in _CHECKS_ITSELF:
         return False
+    if _path(frame.f_code).startswith("<frozen importlib"):
+        # the import machinery's own lock handling; an exception from a module's code being
+        # imported, which unwinds through it, is what imports are written for
+        return False
     files, dirs = _UNSAFE
     if (frame.f_code.co_name == "_numba_unpickle" and frame.f_back is not None
             and _under(_path(frame.f_code), dirs)):
@@ -140,8 +145,7 @@ def _may_raise_in(frame) -> bool:
     while f is not None:
         code = f.f_code
         p = _path(code)
-        if (code.co_name == "__del__" or p in files or _under(p, dirs)
-                or p.startswith("<frozen importlib")):
+        if code.co_name == "__del__" or p in files or _under(p, dirs):
             return False
         f = f.f_back
     return True
