@@ -1,4 +1,4 @@
-"""SIGINT and SIGTERM during a run: a flag checked at safe points, never an exception anywhere.
+"""SIGINT and SIGTERM during a run: recorded, and acted on only where stopping is safe.
 
 Python runs a signal handler in whatever frame the main thread is executing. A handler that
 raises (Python's own ``KeyboardInterrupt``, or a SIGTERM handler raising an exception) therefore
@@ -10,7 +10,7 @@ when interrupted at the wrong moment and fails with ``RuntimeError: release unlo
 when that thread ends in between).
 
 While :func:`deferred_interrupts` is active, a first SIGINT or SIGTERM only *records* the
-signal. The run then stops at the first safe point:
+signal. The run then stops at the first safe place:
 
 * the checks the runner makes (:func:`check`): before and after each study, between two
   tasks and at each progress step of :func:`~rankedassign.experiments.run_tasks`, and while
@@ -156,7 +156,7 @@ def _exception(signum: int) -> BaseException:
 
 
 def pending() -> int | None:
-    """The signal received and not yet acted on... or acted on: the first one, or None.
+    """The first signal received inside :func:`deferred_interrupts` (acted on or not).
 
     Returns
     -------
