@@ -211,6 +211,47 @@ def test_sigterm_is_handled_as_an_interrupt(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "stderr.txt"]
 
 
+def test_a_second_sigterm_ends_a_run_with_workers_at_once(tmp_path):
+    # the hard exit kills the workers and removes the lock and the partial report; the pool's
+    # semaphores are unlinked first, so the resource tracker reports none as leaked
+    cfg = tmp_path / "long.json"
+    cfg.write_text(json.dumps({"table1": {"n_mc": 400, "original_obs": 20_000}}))
+    out = tmp_path / "r"
+    err_path = tmp_path / "stderr.txt"
+    with err_path.open("w") as err:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "rankedassign", "reproduce", "table1", "--config", str(cfg),
+             "--out", str(out), "--workers", "2"],
+            stderr=err, stdout=subprocess.DEVNULL, text=True,
+        )
+        try:
+            deadline = time.monotonic() + 600
+            while "[1/1] table1" not in err_path.read_text():
+                assert proc.poll() is None, err_path.read_text()
+                assert time.monotonic() < deadline, "the study never started"
+                time.sleep(0.2)
+            # Two signals that arrive before Python runs the handler count as one (Python
+            # coalesces them), so SIGTERM is sent every 20 ms until the process ends: the first
+            # one handled starts the cleanup (ending the workers takes longer than that), a
+            # later one ends the process at once
+            sent = 0
+            while proc.poll() is None and sent < 500:
+                proc.send_signal(signal.SIGTERM)
+                sent += 1
+                time.sleep(0.02)
+            code = proc.wait(timeout=300)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+    time.sleep(1.0)  # the resource tracker (a separate process) has had its say
+    text = err_path.read_text()
+    assert code == 128 + signal.SIGTERM, text
+    assert ("SIGTERM again: stopped at once; the lock and the partial report were removed, no "
+            "report written\n") in text
+    assert "leaked semaphore" not in text and "Traceback" not in text, text
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "stderr.txt"]
+
+
 TOKENS = ["reproduce", "demo", "table1", "sweep", "nosuch", "--full", "--quick", "--mc",
           "--seed", "--out", "--workers", "--dask-scheduler", "--config", "--force", "--quiet",
           "--help", "--version", "-h", "0", "1", "-1", "2", "x", "", "--", "=", "--mc=3",

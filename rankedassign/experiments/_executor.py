@@ -9,6 +9,7 @@ runs serially, on ``N`` local processes or on a Dask cluster.
 
 from __future__ import annotations
 
+import _multiprocessing
 import ctypes
 import ctypes.util
 import multiprocessing
@@ -22,6 +23,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
+from multiprocessing import resource_tracker
 from typing import Any
 
 import numba
@@ -178,6 +180,32 @@ def _end_workers(ex: ProcessPoolExecutor) -> None:
             p.join(timeout=2.0)
 
 
+def _forget_semaphores(ex: ProcessPoolExecutor) -> None:
+    """Unlink the pool's named semaphores and strike them off the resource tracker's list.
+
+    For a process about to end by ``os._exit`` (a second signal): its finalisers, which do
+    this, do not run, and the resource tracker would report them as leaked (and unlink them
+    itself). Runs in a signal handler, so it writes the tracker's message directly instead
+    of through ``resource_tracker.unregister``, which takes a lock. CPython's private
+    attributes are read defensively; where they differ nothing is done.
+    """
+    fd = getattr(getattr(resource_tracker, "_resource_tracker", None), "_fd", None)
+    for q in (getattr(ex, "_call_queue", None), getattr(ex, "_result_queue", None)):
+        for attr in ("_rlock", "_wlock", "_sem"):
+            name = getattr(getattr(getattr(q, attr, None), "_semlock", None), "name", None)
+            if not isinstance(name, str):
+                continue
+            try:
+                _multiprocessing.sem_unlink(name)
+            except (OSError, AttributeError):
+                continue
+            if isinstance(fd, int):
+                try:
+                    os.write(fd, f"UNREGISTER:{name}:semaphore\n".encode("ascii"))
+                except OSError:
+                    pass
+
+
 @contextmanager
 def _signals_held() -> Iterator[None]:
     """Hold SIGINT and SIGTERM while worker processes start, and deliver them afterwards.
@@ -201,8 +229,9 @@ def _signals_held() -> Iterator[None]:
     finally:
         for s, handler in previous.items():
             signal.signal(s, signal.SIG_DFL if handler is None else handler)
-        if caught:
-            signal.raise_signal(caught[0])
+        # delivered again in order: a second one counts (it ends a run at once, _interrupts)
+        for signum in caught[:2]:
+            signal.raise_signal(signum)
 
 
 @contextmanager
@@ -242,6 +271,7 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
                 os.kill(p.pid, signal.SIGKILL)
             except (OSError, TypeError, AttributeError):
                 pass
+        _forget_semaphores(ex)
 
     try:
         with _interrupts.on_hard_exit(kill_workers):
