@@ -229,3 +229,24 @@ def test_count_lists_are_bounded_like_the_counts(study, name, message):
         config_from_dict(Config.quick(), {study: {name: [2**70]}})
     assert getattr(config_from_dict(Config.quick(), {study: {name: [2**62]}})[study],
                    name) == (2**62,)
+
+
+def _string_fields():
+    """``(study, field)`` of every string setting of every registered study."""
+    from rankedassign.experiments import get_study, study_names
+
+    return [(name, f.name) for name in study_names()
+            for f in dataclasses.fields(get_study(name).config_type)
+            if (f.type if isinstance(f.type, str) else f.type.__name__) in ("str", "str | None")]
+
+
+STRINGS = _string_fields()
+
+
+@pytest.mark.parametrize(("study", "name"), STRINGS, ids=[f"{s}.{f}" for s, f in STRINGS])
+def test_every_string_setting_of_every_study_is_checked(study, name):
+    # issue found on re-probing: sweep accepted any pbar_d and granularity
+    assert ("sweep", "pbar_d") in STRINGS and ("sweep", "granularity") in STRINGS
+    for value in ("", "nosuch", 5, True, ["x"]):
+        with pytest.raises(ReproduceError, match=rf"^config for '{study}': .*{name}"):
+            config_from_dict(Config.quick(), {study: {name: value}})
