@@ -186,9 +186,9 @@ def _cmd_reproduce(args) -> int:
     else:
         signum = _interrupts.pending()
         if signum is not None:  # it came while the finished report was moved into place
-            print(f"rankedassign reproduce: {signal.Signals(signum).name} received while the "
-                  f"finished report was moved into place; it is complete in "
-                  f"{str(Path(args.out))!r}", file=sys.stderr)
+            print(f"rankedassign reproduce: {signal.Signals(signum).name} received as the run "
+                  f"was finishing; the report is complete in {str(Path(args.out))!r}",
+                  file=sys.stderr)
             return 128 + signum
     finally:
         guard.__exit__(None, None, None)

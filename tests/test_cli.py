@@ -902,6 +902,6 @@ def test_a_signal_while_the_report_is_moved_into_place(tmp_path, tiny_config, ca
     assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--quiet"]) == 128 + sig.SIGTERM
     assert capsys.readouterr().err == (
-        f"rankedassign reproduce: SIGTERM received while the finished report was moved into "
-        f"place; it is complete in '{out}'\n")
+        f"rankedassign reproduce: SIGTERM received as the run was finishing; the report is "
+        f"complete in '{out}'\n")
     assert (out / "manifest.json").exists() and _no_leftovers(tmp_path)
