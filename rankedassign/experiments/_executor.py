@@ -273,15 +273,20 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
                 pass
         _forget_semaphores(ex)
 
+    # registered until the pool is shut down: a second signal during the first one's cleanup
+    # (ending the workers, the shutdown) must still find the pool's semaphores
+    _interrupts.add_cleanup(kill_workers)
     try:
-        with _interrupts.on_hard_exit(kill_workers):
-            yield ex
+        yield ex
     except BaseException:
         # an interrupt or an error: the workers' running tasks are not wanted any more
         _end_workers(ex)
         raise
     finally:
-        ex.shutdown(wait=True, cancel_futures=True)
+        try:
+            ex.shutdown(wait=True, cancel_futures=True)
+        finally:
+            _interrupts.remove_cleanup(kill_workers)
 
 
 @contextmanager
