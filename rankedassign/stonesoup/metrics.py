@@ -21,7 +21,13 @@ def _paths(objects, name: str) -> list[list]:
     out = []
     for obj in objects:
         if isinstance(obj, StateMutableSequence) and not isinstance(obj, State):
-            out.append(list(obj.last_timestamp_generator()))
+            # Stone Soup orders a path's states by timestamp: check them before it compares
+            _check_timestamps([obj.states], name)
+            try:
+                out.append(list(obj.last_timestamp_generator()))
+            except TypeError:
+                kinds = sorted({type(s.timestamp).__name__ for s in obj.states})
+                raise TypeError(_unordered(kinds)) from None
         elif isinstance(obj, State):
             out.append([obj])
         else:
@@ -55,7 +61,12 @@ def _check_mapping(mapping):
     return tuple(out)
 
 
-def _check_timestamps(paths, name: str) -> None:
+def _unordered(kinds) -> str:
+    return (f"OSPA2Metric: the states' timestamps cannot be ordered, they mix "
+            f"{', '.join(kinds)}; give every state a datetime timestamp")
+
+
+def _check_timestamps(paths, name: str) -> set:
     """Every state has a timestamp, and all are of one comparable kind (sorted into scans)."""
     kinds = set()
     for path in paths:
@@ -205,9 +216,7 @@ class OSPA2Metric(MetricGenerator):
         try:
             stamps = sorted({s.timestamp for path in tracks + truths for s in path})
         except TypeError:
-            raise TypeError(f"OSPA2Metric: the states' timestamps cannot be ordered, they mix "
-                            f"{', '.join(sorted(k.__name__ for k in kinds))}; give every "
-                            "state a datetime timestamp") from None
+            raise TypeError(_unordered(sorted(k.__name__ for k in kinds))) from None
         if not stamps:
             raise ValueError("OSPA2Metric: neither the tracks nor the truths have a state")
         times = {t: k for k, t in enumerate(stamps)}

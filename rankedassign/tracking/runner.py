@@ -172,8 +172,9 @@ def _check_record(rec, filt, k: int) -> None:
             raise TypeError(f"{who} {name} of dtype {a.dtype} at scan {k}, expected {what}")
         if a.ndim != len(shape) or any(w is not None and d != w
                                        for d, w in zip(a.shape, shape, strict=True)):
-            want = "(" + ", ".join(str(w) if w is not None else "n" if i == 0 else "d"
-                                   for i, w in enumerate(shape)) + ")"
+            want = ", ".join(str(w) if w is not None else "n" if i == 0 else "d"
+                             for i, w in enumerate(shape))
+            want = f"({want},)" if len(shape) == 1 else f"({want})"
             raise ValueError(f"{who} {name} of shape {a.shape} at scan {k}, expected {want}")
         return a
 
