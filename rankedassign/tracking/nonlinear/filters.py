@@ -522,7 +522,7 @@ class UnscentedKalmanFilter(_GaussianFilter):
                 bad = int(np.flatnonzero(low < tol)[0])
                 raise ValueError(f"{self.name} on {who}: the covariance of component {bad} "
                                  f"is not positive semi-definite (eigenvalue "
-                                 f"{low[bad] / scale!r})") from None
+                                 f"{float(low[bad] / scale)!r})") from None
             L = vecs * np.sqrt(np.clip(vals, 0.0, None))[:, None, :]
         cols = L.transpose(0, 2, 1)  # (n, N, N): row i is the i-th column of L
         X = np.concatenate([m[:, None, :], m[:, None, :] - cols, m[:, None, :] + cols], axis=1)
@@ -540,8 +540,9 @@ class UnscentedKalmanFilter(_GaussianFilter):
             bad = int(np.flatnonzero(~(low >= tol))[0])
             raise ValueError(
                 f"{self.name} on {who}: the sigma-point weights (alpha={self.alpha!r}, "
-                f"beta={self.beta!r}, kappa={self.kappa!r}: W0c = {wc[0]!r}) make the {what} "
-                f"of component {bad} non-positive-definite (eigenvalue {low[bad]!r}); use "
+                f"beta={self.beta!r}, kappa={self.kappa!r}: W0c = {float(wc[0])!r}) make the "
+                f"{what} "
+                f"of component {bad} non-positive-definite (eigenvalue {float(low[bad])!r}); use "
                 "alpha = 1 and kappa >= 0")
         return C
 
