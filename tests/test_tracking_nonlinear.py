@@ -483,3 +483,81 @@ def test_vo_measurements_are_reproducible_and_in_range():
         nu = scan.z[det] - zt
         nu[:, 0] = wrap_angle(nu[:, 0])
         assert (np.abs(nu) <= 6 * np.array([br.sigma_bearing, br.sigma_range])).all()
+
+
+# ------------------------------------------------------- one component at a time, Vo's way
+def _vo_ut(m, P, alpha, kappa):
+    """Sigma points (columns) and weights of the scaled unscented transform, one Gaussian."""
+    n = m.size
+    lam = alpha**2 * (n + kappa) - n
+    L = np.linalg.cholesky((n + lam) * P)
+    X = np.column_stack([m, m[:, None] - L, m[:, None] + L])
+    w = np.concatenate([[lam], np.full(2 * n, 0.5)]) / (n + lam)
+    return X, w
+
+
+def _vo_ukf_step(model, m, P, z, alpha=1.0, beta=2.0, kappa=2.0):
+    """Vo's UKF prediction and update of one component, loop by loop (his ukf_*_single)."""
+    ct, br = model.motion, model.sensor
+    G = np.array(ct.noise_gain)
+    Xa, u = _vo_ut(np.concatenate([m, np.zeros(3)]), np.block(
+        [[P, np.zeros((5, 3))], [np.zeros((3, 5)), np.eye(3)]]), alpha, kappa)
+    Xp = np.column_stack([ct.f(Xa[:5, i])[0] + G @ Xa[5:, i] for i in range(Xa.shape[1])])
+    mp = Xp @ u
+    uc = u.copy()
+    uc[0] += 1 - alpha**2 + beta
+    D = Xp - mp[:, None]
+    Pp = D @ np.diag(uc) @ D.T
+    R = np.array(br.R)
+    Xb, u = _vo_ut(np.concatenate([mp, np.zeros(2)]), np.block(
+        [[Pp, np.zeros((5, 2))], [np.zeros((2, 5)), R]]), alpha, kappa)
+    Z = np.column_stack([br.h(Xb[:5, i])[0] + Xb[5:, i] for i in range(Xb.shape[1])])
+    eta = Z @ u
+    uc = u.copy()
+    uc[0] += 1 - alpha**2 + beta
+    Sd = Z - eta[:, None]
+    S = Sd @ np.diag(uc) @ Sd.T
+    Gx = (Xb[:5] - mp[:, None]) @ np.diag(uc) @ Sd.T
+    K = Gx @ np.linalg.inv(S)
+    nu = z - eta
+    q = math.exp(-0.5 * 2 * math.log(2 * math.pi) - 0.5 * math.log(np.linalg.det(S))
+                 - 0.5 * nu @ np.linalg.solve(S, nu))
+    return mp, Pp, q, mp + K @ nu, Pp - Gx @ np.linalg.inv(S) @ Gx.T
+
+
+def _vo_ekf_step(model, m, P, z):
+    """Vo's EKF prediction and update of one component (his ekf_*_single)."""
+    ct, br = model.motion, model.sensor
+    F = ct.jacobian(m)[0]
+    mp = ct.f(m)[0]
+    Pp = np.array(ct.Q) + F @ P @ F.T
+    H = br.jacobian(mp)[0]
+    S = np.array(br.R) + H @ Pp @ H.T
+    K = Pp @ H.T @ np.linalg.inv(S)
+    nu = z - br.h(mp)[0]
+    q = math.exp(-math.log(2 * math.pi) - 0.5 * math.log(np.linalg.det(S))
+                 - 0.5 * nu @ np.linalg.solve(S, nu))
+    return mp, Pp, q, mp + K @ nu, (np.eye(5) - K @ H) @ Pp
+
+
+@pytest.mark.parametrize("preset", ["vo-ekf", "vo-ukf"])
+def test_preset_filter_is_vos_single_component_step(preset):
+    model = make_nonlinear_model(preset)
+    filt = model.filter
+    rng = np.random.default_rng(11)
+    birth = model.birth[2]
+    for _ in range(3):
+        m = birth.means[0] + rng.normal(0, [30, 10, 30, 10, 0.02])
+        P = birth.covs[0] * rng.uniform(0.2, 1.0)
+        truth = model.motion.f(m)[0]
+        z = model.sensor.h(truth)[0] + rng.normal(0, [0.03, 10.0])
+        step = _vo_ukf_step if preset == "vo-ukf" else _vo_ekf_step
+        mp_ref, Pp_ref, q_ref, mu_ref, Pu_ref = step(model, m, P, z)
+        mp, Pp = filt.predict(model.motion, m[None], P[None])
+        pred = filt.predict_measurement(model.sensor, mp, Pp)
+        mu, Pu = filt.update(pred, mp, Pp, z[None])
+        assert_allclose(mp[0], mp_ref, rtol=1e-12, atol=1e-9)
+        assert_allclose(Pp[0], Pp_ref, rtol=1e-10, atol=1e-9)
+        assert_allclose(np.exp(filt.log_likelihood(pred, z[None]))[0, 0], q_ref, rtol=1e-9)
+        assert_allclose(mu[0, 0], mu_ref, rtol=1e-10, atol=1e-8)
+        assert_allclose(Pu[0], Pu_ref, rtol=1e-8, atol=1e-8)
