@@ -137,7 +137,7 @@ class _GaussianFilter:
         Parameters
         ----------
         pred : MeasurementPrediction
-            From :meth:`predict_measurement`.
+            From the filter's ``predict_measurement``.
         z : array_like, shape (M, d_z)
             Measurements (finite; a bearing may lie outside ``(−π, π]``: only its wrapped
             difference is used).
@@ -164,7 +164,7 @@ class _GaussianFilter:
         Parameters
         ----------
         pred : MeasurementPrediction
-            From :meth:`predict_measurement`.
+            From the filter's ``predict_measurement``.
         z : array_like, shape (M, d_z)
             Measurements.
 
@@ -187,7 +187,7 @@ class _GaussianFilter:
         Parameters
         ----------
         pred : MeasurementPrediction
-            From :meth:`predict_measurement`.
+            From the filter's ``predict_measurement``.
         z : array_like, shape (M, d_z)
             Measurements.
 
@@ -207,7 +207,7 @@ class _GaussianFilter:
         Parameters
         ----------
         pred : MeasurementPrediction
-            From :meth:`predict_measurement`.
+            From the filter's ``predict_measurement``.
         z : array_like, shape (M, d_z)
             Measurements.
         threshold : float
@@ -233,7 +233,7 @@ class _GaussianFilter:
         Parameters
         ----------
         pred : MeasurementPrediction
-            From :meth:`predict_measurement` on ``(m, P)``.
+            From the filter's ``predict_measurement`` on ``(m, P)``.
         m : array_like, shape (n, d)
             Predicted means.
         P : array_like, shape (n, d, d)
