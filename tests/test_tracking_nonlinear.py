@@ -561,3 +561,28 @@ def test_preset_filter_is_vos_single_component_step(preset):
         assert_allclose(np.exp(filt.log_likelihood(pred, z[None]))[0, 0], q_ref, rtol=1e-9)
         assert_allclose(mu[0, 0], mu_ref, rtol=1e-10, atol=1e-8)
         assert_allclose(Pu[0], Pu_ref, rtol=1e-8, atol=1e-8)
+
+
+@pytest.mark.parametrize("filt", FILTERS, ids=repr)
+def test_two_bearing_range_sensors_far_apart_beat_either_one(filt):
+    # poor range (200 m), good bearing (1°): each sensor alone localises along a thin arc;
+    # two sensors 2 km apart cross their arcs. Sequential updates, each with its own model.
+    left = BearingRange(math.pi / 180, 200.0, sensor_position=(-1000.0, 0.0))
+    right = BearingRange(math.pi / 180, 200.0, sensor_position=(1000.0, 0.0))
+    truth = np.array([[0.0, 5.0, 1000.0, 0.0, 0.0]])
+    m = truth + [[150.0, 0.0, -120.0, 0.0, 0.0]]
+    P = np.diag([300.0**2, 10.0**2, 300.0**2, 10.0**2, 1e-4])[None]
+
+    def update(sensor, m, P):
+        pred = filt.predict_measurement(sensor, m, P)
+        mu, Pu = filt.update(pred, m, P, sensor.h(truth))
+        return mu[:, 0], Pu
+
+    pos = [0, 2]
+    area = {}
+    for name, sensors in (("left", [left]), ("right", [right]), ("both", [left, right])):
+        mm, PP = m, P
+        for s in sensors:
+            mm, PP = update(s, mm, PP)
+        area[name] = np.linalg.det(PP[0][np.ix_(pos, pos)])
+    assert area["both"] < 0.2 * min(area["left"], area["right"])
