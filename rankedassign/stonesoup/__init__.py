@@ -13,6 +13,8 @@ loader makes this module available as ``stonesoup.plugins.rankedassign``::
   detections in one vectorised pass (the same hypotheses), for any associator;
 * :class:`OSPA2Metric` — OSPA(2) (:func:`rankedassign.metrics.ospa2`) as a Stone Soup
   ``MetricGenerator``;
+* :class:`GOSPAMetric` — GOSPA (:func:`rankedassign.metrics.gospa`) as one, a float per
+  timestamp for the distance and each of its parts;
 * :class:`LMBTracker`, :class:`GLMBTracker` — Stone Soup trackers around
   :class:`rankedassign.tracking.LMBFilter` and :class:`rankedassign.tracking.GLMBFilter`, built
   from Stone Soup's linear-Gaussian models.
@@ -25,8 +27,8 @@ Soup; :mod:`rankedassign` itself does not import this module.
 
 from .associators import JPDAwithDP, JPDAwithGibbs
 from .hypothesisers import VectorisedPDAHypothesiser
-from .metrics import OSPA2Metric
+from .metrics import GOSPAMetric, OSPA2Metric
 from .trackers import GLMBTracker, LMBTracker
 
-__all__ = ["GLMBTracker", "JPDAwithDP", "JPDAwithGibbs", "LMBTracker", "OSPA2Metric",
-           "VectorisedPDAHypothesiser"]
+__all__ = ["GLMBTracker", "GOSPAMetric", "JPDAwithDP", "JPDAwithGibbs", "LMBTracker",
+           "OSPA2Metric", "VectorisedPDAHypothesiser"]

@@ -1,4 +1,4 @@
-"""OSPA(2) as a Stone Soup metric generator (:func:`rankedassign.metrics.ospa2`)."""
+"""OSPA(2) and GOSPA as Stone Soup metric generators (:mod:`rankedassign.metrics`)."""
 
 from __future__ import annotations
 
@@ -11,9 +11,9 @@ from stonesoup.types.metric import SingleTimeMetric, TimeRangeMetric
 from stonesoup.types.state import State, StateMutableSequence
 from stonesoup.types.time import TimeRange
 
-from ..metrics import ospa2
+from ..metrics import gospa, ospa2
 
-__all__ = ["OSPA2Metric"]
+__all__ = ["OSPA2Metric", "GOSPAMetric"]
 
 
 def _paths(objects, name: str) -> list[list]:
@@ -228,3 +228,124 @@ class OSPA2Metric(MetricGenerator):
                                     generator=self) for t, v in zip(stamps, value, strict=True)]
         return TimeRangeMetric(title="OSPA(2) distances", value=singles,
                                time_range=TimeRange(stamps[0], stamps[-1]), generator=self)
+
+
+class GOSPAMetric(MetricGenerator):
+    """GOSPA (``α = 2``) between the tracks and the truths at every timestamp, one number each.
+
+    The values of :func:`rankedassign.metrics.gospa` on each timestamp's states: the truths
+    are its ``X`` (their unassigned points are *missed*), the tracks its ``Y`` (*false*).
+    Stone Soup's own ``GOSPAMetric`` puts a dict in every ``SingleTimeMetric`` (Stone Soup
+    issue #999), which ``MetricPlotter`` and code written for ``OSPAMetric`` cannot read; here
+    every ``SingleTimeMetric`` holds a float, one time series per part.
+
+    Parameters
+    ----------
+    c : float
+        Cut-off distance, ``> 0``.
+    p : float
+        Order, ``>= 1``.
+    mapping : sequence of int, optional
+        State dimensions to compare, e.g. ``(0, 2)`` for the positions of ``[x, vx, y, vy]``;
+        None (default) compares every dimension.
+    generator_name : str, optional
+        Name of the generator in a ``MultiManager`` (default ``"gospa_generator"``).
+    tracks_key : str, optional
+        Key of the tracks in the manager's data (default ``"tracks"``).
+    truths_key : str, optional
+        Key of the truths (default ``"groundtruth_paths"``).
+
+    Notes
+    -----
+    A track or truth takes part at a timestamp where it has a state (its last of that
+    timestamp). The scans are the sorted union of the timestamps of both sets.
+
+    References
+    ----------
+    .. [1] A. S. Rahmathullah, Á. F. García-Fernández, L. Svensson, "Generalized optimal
+       sub-pattern assignment metric", 20th Int. Conf. on Information Fusion, 2017.
+
+    Examples
+    --------
+    >>> import datetime
+    >>> from stonesoup.metricgenerator.manager import MultiManager
+    >>> from stonesoup.types.groundtruth import GroundTruthPath, GroundTruthState
+    >>> from stonesoup.types.state import State
+    >>> from stonesoup.types.track import Track
+    >>> from rankedassign.stonesoup import GOSPAMetric
+    >>> t = [datetime.datetime(2025, 1, 1, 0, 0, k) for k in range(2)]
+    >>> truth = GroundTruthPath([GroundTruthState([[0.0], [0.0]], timestamp=s) for s in t])
+    >>> track = Track([State([[3.0], [4.0]], timestamp=t[1])])
+    >>> gen = GOSPAMetric(c=10.0, p=1)
+    >>> manager = MultiManager([gen])
+    >>> manager.add_data({"groundtruth_paths": {truth}, "tracks": {track}})
+    >>> distance, localisation, missed, false = gen.compute_metric(manager)
+    >>> [float(m.value) for m in distance.value], [float(m.value) for m in missed.value]
+    ([5.0, 5.0], [5.0, 0.0])
+    """
+
+    c: float = Property(doc="Cut-off distance, > 0.")
+    p: float = Property(doc="Order, >= 1.")
+    mapping: tuple = Property(default=None, doc="State dimensions to compare (None: all).")
+    generator_name: str = Property(default="gospa_generator",
+                                   doc="Unique identifier of the generator in a MultiManager.")
+    tracks_key: str = Property(default="tracks", doc="Key of the tracks in the manager.")
+    truths_key: str = Property(default="groundtruth_paths",
+                               doc="Key of the truths in the manager.")
+
+    #: Titles of the four time series, in the order of :meth:`compute_metric`'s list.
+    TITLES = ("GOSPA distances", "GOSPA localisation", "GOSPA missed", "GOSPA false")
+
+    def compute_metric(self, manager, **kwargs):
+        """GOSPA of the manager's tracks against its truths, as four time series.
+
+        Parameters
+        ----------
+        manager : stonesoup.metricgenerator.manager.MultiManager
+            Holds the tracks under :attr:`tracks_key` and the truths under
+            :attr:`truths_key`.
+        **kwargs
+            Unused (Stone Soup's signature).
+
+        Returns
+        -------
+        list of stonesoup.types.metric.TimeRangeMetric
+            Titled as :attr:`TITLES`: the distance, then its localisation, missed and false
+            parts (:class:`~rankedassign.metrics.GOSPAResult`); each ``value`` is a list of
+            ``SingleTimeMetric``, one per timestamp in increasing order, holding a float. A
+            ``MultiManager`` files them under their titles.
+
+        Raises
+        ------
+        TypeError
+            If the manager's data are not tracks or states.
+        ValueError
+            If neither set has a state, if states differ in dimension (without ``mapping``),
+            or on an invalid ``c`` or ``p``.
+        """
+        tracks = _paths(self._get_data(manager, self.tracks_key), "the tracks")
+        truths = _paths(self._get_data(manager, self.truths_key), "the truths")
+        stamps = sorted({s.timestamp for path in tracks + truths for s in path})
+        if not stamps:
+            raise ValueError("GOSPAMetric: neither the tracks nor the truths have a state")
+        times = {t: k for k, t in enumerate(stamps)}
+        X = _array(truths, times, self.mapping, "truths")
+        Y = _array(tracks, times, self.mapping, "tracks")
+        if X.shape[2] != Y.shape[2] and X.shape[1] and Y.shape[1]:
+            raise ValueError(f"GOSPAMetric: the truths have states of dimension {X.shape[2]} "
+                             f"and the tracks {Y.shape[2]}; set mapping to the dimensions to "
+                             "compare")
+        parts = []
+        for k in range(len(stamps)):
+            x = X[k][~np.isnan(X[k]).any(axis=1)]
+            y = Y[k][~np.isnan(Y[k]).any(axis=1)]
+            parts.append(gospa(x if x.size else [], y if y.size else [], c=self.c, p=self.p))
+        out = []
+        for field, title in enumerate(self.TITLES):
+            singles = [SingleTimeMetric(title=title[:-1] if field == 0 else title,
+                                        value=float(r[field]), timestamp=t, generator=self)
+                       for t, r in zip(stamps, parts, strict=True)]
+            out.append(TimeRangeMetric(title=title, value=singles,
+                                       time_range=TimeRange(stamps[0], stamps[-1]),
+                                       generator=self))
+        return out
