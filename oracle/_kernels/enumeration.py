@@ -102,19 +102,42 @@ def enumerate_kernel(cc, n_out):
 
 
 @jit()
-def _radix_argsort(x):
-    """Stable argsort of a float64 array without NaN (LSD radix sort on order-preserving keys).
+def _cost_keys(keys):
+    """Turn the float64 bits in ``keys`` (no NaN) into order-preserving keys, in place.
 
-    ``-0.0`` sorts as ``+0.0``, and equal values keep their input order, as
-    ``np.argsort(x, kind="stable")``.
+    Negative floats: every bit flipped (reverses their order); others: the sign bit set.
     """
-    n = x.shape[0]
-    keys = (x + 0.0).view(np.uint64)  # a copy (+ 0.0 maps -0.0 to +0.0), viewed as bits
-    for t in range(n):
-        # negative floats: flip every bit (reverses their order); others: set the sign bit
+    for t in range(keys.shape[0]):
         b = keys[t]
         keys[t] = ~b if b & _SIGN else b | _SIGN
-    idx = np.arange(n).astype(np.int32)  # n < 2**31: the caller's limit keeps it far below
+
+
+@jit()
+def _key_costs(keys):
+    """Undo :func:`_cost_keys` in place; returns the float64 view of ``keys``."""
+    for t in range(keys.shape[0]):
+        b = keys[t]
+        keys[t] = b & ~_SIGN if b & _SIGN else ~b
+    return keys.view(np.float64)
+
+
+@jit()
+def _radix_sort(keys):
+    """Stable LSD radix sort of ``keys`` (uint64, overwritten).
+
+    Returns
+    -------
+    idx : ndarray, int32
+        The stable argsort of the input keys.
+    sorted_keys : ndarray, uint64
+        The keys in that order (``keys`` itself or a buffer of the sort).
+    spare : ndarray, int32
+        A scratch array of the same length the caller may reuse.
+    """
+    n = keys.shape[0]
+    idx = np.empty(n, dtype=np.int32)  # n < 2**31: the caller's limit keeps it far below
+    for t in range(n):
+        idx[t] = t
     tmp = np.empty(n, dtype=np.int32)
     keys_tmp = np.empty(n, dtype=np.uint64)  # keys travel with their indices: sequential reads
     n_buckets = 1 << _RADIX_BITS
@@ -142,51 +165,93 @@ def _radix_argsort(x):
         idx, tmp = tmp, idx
         keys, keys_tmp = keys_tmp, keys
         shift += _RADIX_BITS
-    return idx
+    return idx, keys, tmp
 
 
 @jit()
-def _permute_rows(a, c, order):
-    """Reorder ``a`` (rows) and ``c`` in place so that new row ``t`` is old row ``order[t]``.
+def _radix_argsort(x):
+    """Stable argsort of a float64 array without NaN (LSD radix sort on order-preserving keys).
 
-    Follows the cycles of the permutation with one row of scratch, so no second copy of the
-    (possibly large) assignment array is made.
+    ``-0.0`` sorts as ``+0.0``, and equal values keep their input order, as
+    ``np.argsort(x, kind="stable")``.
     """
-    n = order.shape[0]
-    P = a.shape[1]
-    row = np.empty(P, dtype=a.dtype)
-    done = np.zeros(n, dtype=np.bool_)
-    for start in range(n):
-        if done[start] or order[start] == start:
+    keys = (x + 0.0).view(np.uint64)  # a copy (+ 0.0 maps -0.0 to +0.0), viewed as bits
+    _cost_keys(keys)
+    return _radix_sort(keys)[0]
+
+
+@jit()
+def _search(cc, n_out, costs, rank, out):
+    """The depth-first search of :func:`enumerate_kernel`, as one of two passes.
+
+    With ``rank`` empty, ``costs[n]`` gets the cost of the ``n``-th assignment (summed as
+    :func:`enumerate_kernel` sums it); otherwise the ``n``-th assignment is written to row
+    ``rank[n]`` of ``out``, its sorted position, and ``costs`` is not used.
+    """
+    P = cc.shape[0]
+    M = cc.shape[1] - 2
+    scoring = rank.shape[0] == 0
+    used = np.zeros(M, dtype=np.bool_)
+    opt = np.full(P, NO_OPTION, dtype=np.int64)
+    partial = np.zeros(P + 1)
+    row = 0
+    n = 0
+    while row >= 0:
+        o = opt[row]
+        if 0 <= o < M:
+            used[o] = False
+        o = _next_option(cc, row, o, used)
+        if o == M + 2:
+            opt[row] = NO_OPTION
+            row -= 1
             continue
-        for i in range(P):
-            row[i] = a[start, i]
-        c_start = c[start]
-        t = start
-        while True:
-            done[t] = True
-            src = order[t]
-            if src == start:
-                for i in range(P):
-                    a[t, i] = row[i]
-                c[t] = c_start
-                break
-            for i in range(P):
-                a[t, i] = a[src, i]
-            c[t] = c[src]
-            t = src
+        opt[row] = o
+        if o < M:
+            used[o] = True
+        if scoring:
+            partial[row + 1] = partial[row] + cc[row, o]
+        if row == P - 1:
+            if n < n_out:
+                if scoring:
+                    costs[n] = partial[P]
+                else:
+                    r = rank[n]
+                    for i in range(P):
+                        out[r, i] = _full_column(opt[i], i, P, M)
+            n += 1
+        else:
+            row += 1
 
 
 @jit()
 def enumerate_sorted_kernel(cc, n_out):
     """:func:`enumerate_kernel` followed by one stable sort by cost.
 
-    Returns ``(assignments, costs)`` as :func:`enumerate_kernel`, sorted by cost (in place);
-    equal costs stay in the search's (lexicographic) order.
+    Returns ``(assignments, costs)`` as :func:`enumerate_kernel`, sorted by cost; equal costs
+    stay in the search's (lexicographic) order.
+
+    Notes
+    -----
+    The search runs twice: first for the costs alone, whose order-preserving keys are sorted
+    (:func:`_radix_sort`), then for the assignments, each written straight to its sorted row.
+    That replaces permuting the finished rows in place and saves the temporaries a separate
+    copy of the costs and of their keys took: this call's time is mostly the first touch of
+    freshly allocated pages (the allocator returns a large freed block to the system, and
+    the next call faults it in again), so every array not allocated counts. The costs come
+    back from the sorted keys: a cost is never ``-0.0`` (a sum started from ``+0.0``), so
+    decoding the key gives back its exact bits.
     """
-    a, c = enumerate_kernel(cc, n_out)
-    _permute_rows(a, c, _radix_argsort(c))
-    return a, c
+    P = cc.shape[0]
+    keys = np.empty(n_out, dtype=np.uint64)
+    _search(cc, n_out, keys.view(np.float64), np.empty(0, dtype=np.int32),
+            np.empty((0, P), dtype=np.int64))
+    _cost_keys(keys)
+    idx, sorted_keys, rank = _radix_sort(keys)
+    for t in range(n_out):
+        rank[idx[t]] = t
+    out = np.empty((n_out, P), dtype=np.int64)
+    _search(cc, n_out, np.empty(0), rank, out)
+    return out, _key_costs(sorted_keys)
 
 
 @jit()

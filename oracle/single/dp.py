@@ -17,15 +17,10 @@ DPs is cheaper:
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components, reverse_cuthill_mckee, shortest_path
 
 from rankedassign.numba_options import interruptible
 
 from .._kernels.dp import (
-    ENTER,
-    RETIRE,
-    TRANS,
     FrontierDP,
     FrontierMarginals,
     FrontierWork,
@@ -41,7 +36,14 @@ from .._kernels.dp import (
     frontier_total_slice,
 )
 from .._kernels.lsap import lsap_kernel
+from .._kernels.plan import (
+    bipartite_components,
+    frontier_candidates,
+    frontier_ops,
+    frontier_profile,
+)
 from .._result import check_problem
+from . import _plan_reference
 
 __all__ = ["log_normalizer", "marginals", "MAX_SUBSET_BITS", "MAX_FRONTIER"]
 
@@ -68,22 +70,16 @@ def _components(finite: np.ndarray):
         ordered by their first row.
     isolated : ndarray, int64
         Rows without any finite measurement (they can only be missed or dead).
+
+    Notes
+    -----
+    The flood fill is :func:`oracle._kernels.plan.bipartite_components`; the same result as
+    :func:`oracle.single._plan_reference._components` (SciPy's ``connected_components``).
     """
-    P, M = finite.shape
-    i, j = np.nonzero(finite)
-    graph = coo_matrix((np.ones(i.size), (i, P + j)), shape=(P + M, P + M))
-    _, lab = connected_components(graph, directed=False)
-    has_meas = finite.any(axis=1)
-    isolated = np.flatnonzero(~has_meas)
-    comps = []
-    seen = set()
-    for r in np.flatnonzero(has_meas):
-        c = lab[r]
-        if c in seen:
-            continue
-        seen.add(c)
-        comps.append((np.flatnonzero(lab[:P] == c), np.flatnonzero(lab[P:] == c)))
-    return comps, isolated
+    with interruptible:
+        row_comp, meas_comp, n = bipartite_components(np.ascontiguousarray(finite, dtype=bool))
+    comps = [(np.flatnonzero(row_comp == c), np.flatnonzero(meas_comp == c)) for c in range(n)]
+    return comps, np.flatnonzero(row_comp < 0)
 
 
 def _scaled(cm: np.ndarray, c_un: np.ndarray):
@@ -206,91 +202,45 @@ def _profile(finite: np.ndarray, order: np.ndarray):
     at or before ``t`` and its last one at or after ``t``; a step with ``n`` active rows and
     ``d`` finite entries costs about ``(3 + d) 2^n``.
     """
-    fo = finite[:, order]
-    K = fo.shape[1]
-    first = np.argmax(fo, axis=1)
-    last = K - 1 - np.argmax(fo[:, ::-1], axis=1)
-    delta = np.zeros(K + 1, dtype=np.int64)
-    np.add.at(delta, first, 1)
-    np.add.at(delta, last + 1, -1)
-    active = np.cumsum(delta[:K])
-    work = float(np.sum((3.0 + fo.sum(axis=0)) * np.exp2(active)))
-    return int(active.max(initial=0)), work
+    finite = np.ascontiguousarray(finite, dtype=bool)
+    with interruptible:
+        width, work = frontier_profile(finite, np.ascontiguousarray(order, dtype=np.int64))
+    if work >= _EXACT_SUM:
+        # beyond 2^53 the kernel's sum in step order may round differently from NumPy's
+        # pairwise sum, which decided between orders before: take NumPy's
+        return _plan_reference._profile(finite, order)
+    return int(width), float(work)
 
 
-def _greedy_order(finite: np.ndarray, start: int) -> np.ndarray:
-    """Measurement order grown one measurement at a time from ``start``.
-
-    Next comes the measurement that brings in the fewest new rows, then the one that lets the
-    most rows retire (their last remaining measurement), then the one touching the most active
-    rows, then the lowest index — a min-degree-like heuristic for a narrow path decomposition.
-    """
-    P, K = finite.shape
-    done = np.zeros(K, dtype=bool)
-    entered = np.zeros(P, dtype=bool)
-    left = finite.sum(axis=1)
-    order = np.empty(K, dtype=np.int64)
-    j = int(start)
-    for t in range(K):
-        order[t] = j
-        done[j] = True
-        col = finite[:, j]
-        entered |= col
-        left = left - col
-        if t == K - 1:
-            break
-        cand = np.flatnonzero(~done)
-        sub = finite[:, cand]
-        new = (sub & ~entered[:, None]).sum(axis=0)
-        retire = (sub & (left == 1)[:, None]).sum(axis=0)
-        touch = (sub & entered[:, None]).sum(axis=0)
-        j = int(cand[np.lexsort((cand, -touch, -retire, new))[0]])
-    return order
-
-
-def _peripheral(graph, P: int, K: int) -> tuple[int, np.ndarray]:
-    """A pseudo-peripheral measurement (George & Liu) and the BFS distances from it.
-
-    Starting from a measurement of least degree, jump to the farthest measurement until the
-    eccentricity stops growing: a path-like graph is then walked from one of its ends.
-    """
-    deg = np.diff(graph.indptr)[P:]
-    start = int(np.argmin(deg))
-    dist = shortest_path(graph, unweighted=True, indices=P + start)[P:]
-    for _ in range(8):
-        far = int(np.argmax(dist))
-        d2 = shortest_path(graph, unweighted=True, indices=P + far)[P:]
-        if d2.max() <= dist.max():
-            break
-        start, dist = far, d2
-    return start, dist
+#: Below this, a sum of integer-valued float64 terms is exact in any order.
+_EXACT_SUM = 2.0**53
 
 
 def _frontier_order(finite: np.ndarray):
     """A measurement order with a small frontier: the cheapest of a few candidates.
 
     Candidates are the measurements in reverse Cuthill–McKee order of the bipartite graph, in
-    breadth-first order from a pseudo-peripheral measurement, and greedy orders
-    (:func:`_greedy_order`) started from that measurement, from a measurement of least degree
-    and from both ends of the RCM order. Returns ``(order, width, work)``.
+    breadth-first order from a pseudo-peripheral measurement, and greedy orders started from
+    that measurement, from a measurement of least degree and from both ends of the RCM order
+    (:func:`oracle._kernels.plan.frontier_candidates`, compiled; the pure-Python
+    specification is :func:`oracle.single._plan_reference._frontier_order`, with the same
+    result). Returns ``(order, width, work)``.
     """
+    finite = np.ascontiguousarray(finite, dtype=bool)
     P, K = finite.shape
     if finite.all():  # complete: every row is active at every step, whatever the order
         order = np.arange(K)
         return (order, *_profile(finite, order))
-    i, j = np.nonzero(finite)
-    graph = coo_matrix((np.ones(i.size), (i, P + j)), shape=(P + K, P + K)).tocsr()
-    graph = graph + graph.T
-    rcm = reverse_cuthill_mckee(graph, symmetric_mode=True)
-    rcm = rcm[rcm >= P] - P
-    far, dist = _peripheral(graph, P, K)
-    deg = finite.sum(axis=0)
-    cands = [rcm, np.lexsort((deg, dist))]
-    for s in dict.fromkeys([far, int(np.argmin(deg)), int(rcm[0]), int(rcm[-1])]):
-        cands.append(_greedy_order(finite, s))
+    degree = np.concatenate([finite.sum(axis=1), finite.sum(axis=0)])
+    # SciPy's reverse_cuthill_mckee starts from np.argsort of its int32 degrees; NumPy's
+    # sort breaks the ties, so the start is taken from the same call
+    inds = np.argsort(degree.astype(np.int32)).astype(np.int64)
+    with interruptible:
+        cands, widths, works = frontier_candidates(finite, inds, degree)
     best = None
-    for order in cands:
-        width, work = _profile(finite, order)
+    for order, width, work in zip(cands, widths.tolist(), works.tolist(), strict=True):
+        if work >= _EXACT_SUM:
+            width, work = _plan_reference._profile(finite, order)
         if best is None or (work, width) < (best[2], best[1]):
             best = (order, width, work)
     return best
@@ -308,31 +258,15 @@ def _frontier_ops(finite: np.ndarray, order: np.ndarray, width: int):
         highest slot, exactly as the kernel moves the bits.
     row_in_slot : ndarray, int64, shape (K, width)
         Row in slot ``e`` during the transition of step ``t`` (``-1``: free).
+
+    Notes
+    -----
+    Compiled as :func:`oracle._kernels.plan.frontier_ops`; ``width`` must be the order's
+    frontier width (:func:`_profile`).
     """
-    fo = finite[:, order]
-    P, K = fo.shape
-    first = np.argmax(fo, axis=1)
-    last = K - 1 - np.argmax(fo[:, ::-1], axis=1)
-    ops = []
-    row_in_slot = np.full((K, width), -1, dtype=np.int64)
-    slot_of = np.full(P, -1, dtype=np.int64)
-    slots: list[int] = []
-    for t in range(K):
-        for i in np.flatnonzero(first == t):
-            slot_of[i] = len(slots)
-            ops.append((ENTER, i, len(slots)))
-            slots.append(int(i))
-        row_in_slot[t, : len(slots)] = slots
-        ops.append((TRANS, t, 0))
-        for i in np.flatnonzero(last == t):
-            e = int(slot_of[i])
-            ops.append((RETIRE, i, e))
-            top = slots.pop()
-            if top != i:
-                slots[e] = top
-                slot_of[top] = e
-            slot_of[i] = -1
-    return np.array(ops, dtype=np.int64).reshape(-1, 3), row_in_slot
+    with interruptible:
+        return frontier_ops(np.ascontiguousarray(finite, dtype=bool),
+                            np.ascontiguousarray(order, dtype=np.int64), int(width))
 
 
 def _frontier_inputs(finite, order, width, scaled):

@@ -14,9 +14,11 @@ __all__ = ["enumerate_assignments"]
 
 
 def _bytes_per_assignment(P: int) -> int:
-    """Bytes :func:`enumerate_sorted_kernel` allocates per assignment: its row of column
-    indices and its cost (``8 P + 8``), the sort's keys and their copy (16), the ``arange``
-    its indices come from (8) and the two int32 index arrays (8)."""
+    """Bytes :func:`enumerate_sorted_kernel` may allocate per assignment, a bound: its row of
+    column indices (``8 P``), the sort's keys and their copy, one of which becomes the costs
+    (16), and the two int32 index arrays (8) make ``8 P + 24``; the bound keeps the 16 more
+    bytes of the earlier kernel (a separate costs array and an ``arange``), so that the sizes
+    refused stay the same."""
     return 8 * P + 40
 
 

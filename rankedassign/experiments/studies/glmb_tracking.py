@@ -83,8 +83,10 @@ class GLMBStudyConfig:
         existence is spread over many histories and reaches 0.9 scans late).
     retained_mass : tuple of str
         The presets on which the GLMB runs compute the retained posterior mass (an exact
-        normaliser per component: about 6 s a run on ``"vo"``, 3 min on ``"paper"``, whose
-        clutter makes large gate groups; default ``("vo",)``).
+        normaliser per gate group: about 6 s a run on ``"vo"``; on ``"paper"``, whose clutter
+        makes large gate groups, 3.6 s of CPU with short chains and 26.8 s with Murty, whose
+        thousand components give more groups (2026-12-06; the benchmarks page); default
+        ``("vo",)``).
     ospa_c, ospa_p, ospa_window : float, float, int
         OSPA(2) (spec §7: 200 m, 1, 5 scans); OSPA has the same ``c`` and ``p``.
 
