@@ -443,6 +443,26 @@ def _grouping(c: dict) -> str:
     return f"one sampler call per group of tracks that share gated measurements, {empty}"
 
 
+def _verdict(s: TrackingSummary) -> str:
+    """The savings beside the paper's, and whether the OSPA(2) cost is resolved."""
+    d, se = s.ospa2_difference_mean, s.ospa2_difference_se
+    text = (f"The short chains use {fmt.num(s.reduction_pct, 2)} % fewer sweeps than the "
+            f"original sampler (the paper: {fmt.num(s.paper_reduction_pct, 2)} %) and "
+            f"{fmt.num(s.reduction_row_updates_pct, 2)} % fewer row updates. Their mean OSPA(2) "
+            f"differs from the original's by {fmt.pm(d, se)} m (paired over "
+            f"{fmt.plural(s.n_mc, 'run')}, short-chain − original, > 0: worse)")
+    if se is None or not math.isfinite(se):
+        text += "; one run gives no standard error, so no difference is resolved."
+    elif abs(d) <= 2 * se:
+        text += ", within two standard errors of zero: no OSPA(2) cost is resolved."
+    else:
+        text += (f", {abs(d) / se:.1f} standard errors from zero: the short chains track "
+                 f"{'worse' if d > 0 else 'better'}.")
+    text += (f" Targets lost over the runs: {s.targets_lost_original} with the original sampler, "
+             f"{s.targets_lost_proposed} with the short chains.")
+    return text
+
+
 def render_tracking(s: TrackingSummary, cfg: TrackingConfig, study: str = "tracking") -> str:
     """The tracking section: our totals beside the paper's, OSPA(2), the plots."""
     c = s.config
@@ -497,6 +517,8 @@ Association marginals: {c.get("marginals", "truncated")}. On average
 and {fmt.num(s.mean_groups_per_scan, 2)} sampler calls per scan.
 
 {intro}
+
+**Verdict.** {_verdict(s)}
 
 {fmt.table(_TRACKING_HEADER, rows)}
 
