@@ -176,10 +176,11 @@ def figure_problems(fig, *, max_series: int = MAX_SERIES,
     """What a reader would trip over in ``fig``, measured with matplotlib's geometry.
 
     The figure is drawn on an Agg canvas and checked for: tick labels of one axis that
-    overlap; a visible axes without data (only text, or nothing); more than ``max_series``
-    series in one axes; two line series of one axes with the same line style and marker (they
-    would merge in greyscale), two bar groups with the same hatch; data outside the axes'
-    limits (clipped); a legend whose box covers more than ``legend_share`` of the data points
+    overlap, and axes titles that overlap each other; a visible axes without data (only
+    text, or nothing); more than ``max_series`` series in one axes; two line series of one
+    axes with the same line style and marker (they would merge in greyscale), two bar groups
+    with the same hatch; data outside the axes' limits (clipped); a legend whose box covers
+    more than ``legend_share`` of the data points
     of the axes it lies on.
 
     Parameters
@@ -248,6 +249,14 @@ def figure_problems(fig, *, max_series: int = MAX_SERIES,
         if outside.any():
             problems.append(f"{name}: {int(outside.sum())} of {len(pts)} data points outside "
                             "the axes")
+    titles = [(ax.title.get_text(), ax.title.get_window_extent(renderer)) for ax in axes
+              if ax.title.get_visible() and ax.title.get_text().strip()]
+    for a in range(len(titles)):
+        for b in range(a + 1, len(titles)):
+            (ta, ba), (tb, bb) = titles[a], titles[b]
+            if (min(ba.x1, bb.x1) - max(ba.x0, bb.x0) > 1
+                    and min(ba.y1, bb.y1) - max(ba.y0, bb.y0) > 1):
+                problems.append(f"titles {ta!r} and {tb!r} overlap")
     legends = [(ax.get_legend(), [ax]) for ax in axes if ax.get_legend() is not None]
     legends += [(leg, axes) for leg in fig.legends]
     for leg, where in legends:

@@ -837,7 +837,7 @@ def _overall_verdict(s: THSummary, cfg) -> str:
                       and r.method == "exact"), None)
         if exact is not None and worst is not exact:
             out += (f" In the tracking part ({fmt.plural(nt, 'run')} per preset) the largest "
-                    f"OSPA(2) is {label(worst.method)}'s on `{worst.preset}`, "
+                    f"OSPA(2) is that of the {label(worst.method)} on `{worst.preset}`, "
                     f"{fmt.pm(worst.ospa2_mean, worst.ospa2_se, 1)} m against the exact "
                     f"update's {fmt.pm(exact.ospa2_mean, exact.ospa2_se, 1)} m")
             out += ("; one run has no standard error, and " + FULL_TRACKING + "."
@@ -982,7 +982,7 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
             lo, hi = ax.get_ylim()
             ax.set_ylim(max(lo, 0.0), hi)  # errors are never negative
             ax.xaxis.set_minor_formatter(NullFormatter())
-            ax.set_title(f"{_family_title(fam)}: {group}", fontsize=9)
+            ax.set_title(f"{_family_title(fam)}\n{group}", fontsize=8)
             ax.set_xlabel("sweeps per call")
             ax.set_ylabel(ylabel if g == 0 else "")
             ax.grid(True, which="major", alpha=0.3)
@@ -994,14 +994,17 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
 
 def _cost_figure(s: THSummary, fams: list):
     """Wall time of one sweep relative to the Gibbs chain's, per method and family, at the
-    largest budget (each time the minimum over the runs)."""
+    largest budget (each time the minimum over the runs); horizontal bars, so that the
+    method names need no rotation."""
     from .._plots import figure
 
     styles = _styles()
+    methods = [m for m in TH_METHODS if m != "lbp"]
     ncol = min(3, len(fams))
     nrow = math.ceil(len(fams) / ncol)
-    fig, axes = figure(ncol, width=4.6, height=3.0, nrows=nrow, squeeze_row=False)
-    for ax, fam in zip(axes.ravel(), fams, strict=False):
+    fig, axes = figure(ncol, width=3.4, height=2.8, nrows=nrow, squeeze_row=False)
+    y = np.arange(len(methods))[::-1]  # the report's order from the top
+    for i, (ax, fam) in enumerate(zip(axes.ravel(), fams, strict=False)):
         top = max(r.budget for r in s.rows if r.family == fam)
         rows = {r.method: r for r in s.rows if r.family == fam and r.budget == top
                 and r.obs_mean > 0}
@@ -1010,16 +1013,15 @@ def _cost_figure(s: THSummary, fams: list):
             ax.set_visible(False)
             continue
         unit = _secs(gibbs) / gibbs.obs_mean
-        methods = [m for m in TH_METHODS if m in rows]
-        ratio = [_secs(rows[m]) / rows[m].obs_mean / unit for m in methods]
-        ax.bar(range(len(methods)), ratio, 0.7, color=[styles[m]["color"] for m in methods],
-               edgecolor="0.15", linewidth=0.5)
-        ax.axhline(1.0, color="0.3", lw=0.8)
-        ax.set_xticks(range(len(methods)), [label(m) for m in methods], rotation=40,
-                      ha="right", fontsize=7)
-        ax.set_title(f"{_family_title(fam)}, {top:,} sweeps", fontsize=9)
-        ax.set_ylabel("time per sweep / Gibbs's")
-        ax.grid(True, axis="y", alpha=0.3)
+        ratio = [_secs(rows[m]) / rows[m].obs_mean / unit if m in rows else np.nan
+                 for m in methods]
+        ax.barh(y, ratio, 0.7, color=[styles[m]["color"] for m in methods],
+                edgecolor="0.15", linewidth=0.5)
+        ax.axvline(1.0, color="0.3", lw=0.8)
+        ax.set_yticks(y, [label(m) for m in methods] if i % ncol == 0 else [], fontsize=7)
+        ax.set_title(f"{_family_title(fam)}\n{top:,} sweeps", fontsize=8)
+        ax.set_xlabel("time per sweep / Gibbs's")
+        ax.grid(True, axis="x", alpha=0.3)
     for ax in axes.ravel()[len(fams):]:
         ax.set_visible(False)
     fig.suptitle("Cost of a sweep relative to the Gibbs chain's (wall time, the minimum over "
