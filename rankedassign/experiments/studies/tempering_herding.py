@@ -977,10 +977,18 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
                 ax.set_visible(False)
                 continue
             ax.set_xscale("log")
-            ax.set_yscale("symlog", linthresh=1e-3 if y_of == "error_pct_mean" else 1e-4)
-            ax.margins(y=0.08)
-            lo, hi = ax.get_ylim()
-            ax.set_ylim(max(lo, 0.0), hi)  # errors are never negative
+            ys = np.concatenate([np.asarray(line.get_ydata(), dtype=float)
+                                 for line in ax.get_lines()])
+            ys = ys[np.isfinite(ys)]
+            # a logarithmic axis over less than a decade shows one labelled tick at most:
+            # such a panel is drawn on a linear axis
+            if ys.size and ys.min() > 0 and ys.max() / ys.min() < 10:
+                ax.margins(y=0.1)
+            else:
+                ax.set_yscale("symlog", linthresh=1e-3 if y_of == "error_pct_mean" else 1e-4)
+                ax.margins(y=0.08)
+                lo, hi = ax.get_ylim()
+                ax.set_ylim(max(lo, 0.0), hi)  # errors are never negative
             ax.xaxis.set_minor_formatter(NullFormatter())
             ax.set_title(f"{_family_title(fam)}\n{group}", fontsize=8)
             ax.set_xlabel("sweeps per call")
@@ -994,8 +1002,10 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
 
 def _cost_figure(s: THSummary, fams: list):
     """Wall time of one sweep relative to the Gibbs chain's, per method and family, at the
-    largest budget (each time the minimum over the runs); horizontal bars, so that the
-    method names need no rotation."""
+    largest budget (each time the minimum over the runs); one horizontal stem per method from
+    the Gibbs chain's 1, so that the method names need no rotation."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
     from .._plots import figure
 
     styles = _styles()
@@ -1015,13 +1025,24 @@ def _cost_figure(s: THSummary, fams: list):
         unit = _secs(gibbs) / gibbs.obs_mean
         ratio = [_secs(rows[m]) / rows[m].obs_mean / unit if m in rows else np.nan
                  for m in methods]
-        ax.barh(y, ratio, 0.7, color=[styles[m]["color"] for m in methods],
-                edgecolor="0.15", linewidth=0.5)
+        # from the Gibbs chain's cost (1) to each method's, on a log scale: a method whose
+        # rules stop it after a few sweeps pays its call's fixed cost over those few, which can
+        # be hundreds of Gibbs sweeps
+        colours = [styles[m]["color"] for m in methods]
+        ax.hlines(y, 1.0, ratio, colors=colours, lw=2.5)
+        ax.scatter(ratio, y, c=colours, s=22, zorder=3, edgecolors="0.15", linewidths=0.5)
         ax.axvline(1.0, color="0.3", lw=0.8)
+        ax.set_xscale("log")
+        ax.margins(x=0.15)
+        span = np.log10(np.nanmax([1.0, *ratio]) / np.nanmin([1.0, *ratio]))
+        # 1-2-5 ticks where the stems span a decade or two, decades beyond
+        ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0) if span < 2 else (1.0,)))
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_yticks(y, [label(m) for m in methods] if i % ncol == 0 else [], fontsize=7)
         ax.set_title(f"{_family_title(fam)}\n{top:,} sweeps", fontsize=8)
-        ax.set_xlabel("time per sweep / Gibbs's")
-        ax.grid(True, axis="x", alpha=0.3)
+        ax.set_xlabel("time per sweep / Gibbs's (log)")
+        ax.grid(True, axis="x", which="major", alpha=0.3)
     for ax in axes.ravel()[len(fams):]:
         ax.set_visible(False)
     fig.suptitle("Cost of a sweep relative to the Gibbs chain's (wall time, the minimum over "
