@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import _format as fmt
 from .._executor import run_seed
-from .._plots import figure
+from .._plots import bar_style, figure, legend_below
 from .._synthetic import (
     Table1Row,
     make_problem,
@@ -286,7 +286,8 @@ def plot_table1(rows: list[Table1Row], directory: Path) -> list[str]:
         for j, c in enumerate(CRITERIA):
             v = [getattr(by[f, c], key) for f in fams]
             e = [getattr(by[f, c], f"{key}_se") or 0.0 for f in fams]
-            ax.bar(x + (j - 1) * w, v, w, yerr=e, capsize=3, label=c)
+            ax.bar(x + (j - 1) * w, v, w, yerr=e, capsize=0, ecolor="0.3",
+                   label=f"short chains, {c}", **bar_style(j))
             paper = [getattr(by[f, c], f"paper_{key}") for f in fams]
             px = [x[i] + (j - 1) * w for i, p in enumerate(paper) if p is not None]
             py = [p for p in paper if p is not None]
@@ -295,7 +296,7 @@ def plot_table1(rows: list[Table1Row], directory: Path) -> list[str]:
         ax.set_xticks(x, fams, fontsize=8)
         ax.set_ylabel(label)
         ax.grid(True, axis="y", alpha=0.3)
-        ax.legend(fontsize=8)
+    legend_below(fig, axes[:1], ncol=4)
     fig.suptitle("Table I: ours (bars, ±1 SE) and the paper's (black marks)")
     fig.savefig(directory / "table1.png", dpi=110)
     return ["table1.png"]
