@@ -18,7 +18,7 @@ import oracle
 
 from .. import _format as fmt
 from .._executor import run_seed
-from .._plots import figure
+from .._plots import bar_style, figure, legend_below
 from .._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
 from ..config import STALE_READINGS, STALL_READINGS, SyntheticConfig
 from ..registry import Study, as_rows, per_family_tasks, register_study
@@ -291,13 +291,13 @@ def plot_optimum(rows: list[OptimumRow], directory: Path) -> list[str]:
     w = 0.8 / len(series)
     for j, (s, key, label) in enumerate(series):
         v = [max(getattr(by[f, s], key), 1e-12) for f in fams]
-        ax.bar(x + (j - 1.5) * w, v, w, label=label)
+        ax.bar(x + (j - 1.5) * w, v, w, label=label, **bar_style(j))
     ax.set_yscale("log")
     ax.set_xticks(x, fams)
     ax.set_ylabel("truncation error (%)")
     ax.set_title("Sampled error against the best error for as many solutions")
     ax.grid(True, axis="y", which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_below(fig, [ax], ncol=2)
     fig.savefig(directory / "optimum.png", dpi=110)
     return ["optimum.png"]
 

@@ -340,9 +340,9 @@ paired difference to the original sampler (same matrix, same budget, same run); 
 
 {fmt.runs_note(r.n_mc for r in rows)}
 
-**Verdict.** {_summary(checks)} The paper states that at a fixed observation budget the
-truncation error is unaffected (±{PAPER_SWEEP_TOLERANCE_PCT:g} %) by the chain length. Checked
-here at every budget run with at least two chain lengths (all of the short-chain means within
+**Verdict.** The paper states that at a fixed observation budget the truncation error is
+unaffected (±{PAPER_SWEEP_TOLERANCE_PCT:g} %) by the chain length. {_summary(checks)} Checked
+at every budget run with at least two chain lengths (all of the short-chain means within
 ±{PAPER_SWEEP_TOLERANCE_PCT:g} pp of their midpoint):
 
 {_verdict(checks)}
@@ -361,6 +361,8 @@ def plot_sweep(rows: list[SweepRow], directory: Path) -> list[str]:
     """
     from matplotlib.figure import Figure
 
+    from .._plots import legend_below, series_style
+
     fams = list(dict.fromkeys(r.family for r in rows))
     checks = chain_length_checks(rows)
     fig = Figure(figsize=(6.0 * len(fams), 7.0), layout="constrained")
@@ -368,16 +370,16 @@ def plot_sweep(rows: list[SweepRow], directory: Path) -> list[str]:
     for col, fam in enumerate(fams):
         top, bottom = axes[0, col], axes[1, col]
         samplers = list(dict.fromkeys(r.sampler for r in rows if r.family == fam))
-        for s in samplers:
+        for i, s in enumerate(samplers):
             rs = sorted((r for r in rows if r.family == fam and r.sampler == s),
                         key=lambda r: r.n_obs_mean)
             x = np.array([r.n_obs_mean for r in rs])
-            style = {"color": "k", "lw": 2} if s == "original" else {}
+            style = series_style(i)
             for ax, key in ((top, "error_pct"), (bottom, "diff_vs_original_pp")):
                 y = np.array([getattr(r, f"{key}_mean") for r in rs])
                 se = np.array([getattr(r, f"{key}_se") or 0.0 for r in rs])
-                (line,) = ax.plot(x, y, marker="o", ms=3, label=s, **style)
-                ax.fill_between(x, y - se, y + se, color=line.get_color(), alpha=0.2, lw=0)
+                ax.plot(x, y, label=s, **style)
+                ax.fill_between(x, y - se, y + se, color=style["color"], alpha=0.15, lw=0)
         cs = [c for c in checks if c.family == fam]
         verdict = ("" if not cs else "paper's ±0.1 % chain-length claim "
                    + ("holds" if all(c.holds for c in cs) else
@@ -389,7 +391,7 @@ def plot_sweep(rows: list[SweepRow], directory: Path) -> list[str]:
         for ax in (top, bottom):
             ax.set_xscale("log")
             ax.grid(True, which="both", alpha=0.3)
-        top.legend(fontsize=8)
+    legend_below(fig, axes[0, :1], ncol=6)
     fig.savefig(directory / "sweep.png", dpi=110)
     return ["sweep.png"]
 

@@ -21,7 +21,7 @@ from ...tracking.single.lmb import EXTRACTIONS
 from ...validation import check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import run_seed
-from .._plots import figure
+from .._plots import figure, legend_below, series_style
 from ..config import check_positive
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
@@ -546,21 +546,26 @@ def plot_tracking(summary: TrackingSummary, directory: Path, study: str = "track
     k = np.array(cur["scan"])
     which = _SHORT_TITLES.get(study, study)
     names = [f"{study}_ospa2.png", f"{study}_observations.png"]
+    every = max(1, len(k) // 10)
     fig, (ax,) = figure()
-    for m, label in (("original", "original Gibbs"), ("proposed", "short-chain Gibbs")):
-        ax.plot(k, cur[f"ospa2_{m}"], label=label)
+    for i, (m, label) in enumerate((("original", "original Gibbs"),
+                                    ("proposed", "short-chain Gibbs"))):
+        ax.plot(k, cur[f"ospa2_{m}"], label=label, markevery=every, **series_style(i))
     ax.set_xlabel("scan")
     ax.set_ylabel("OSPA(2) (m)")
     ax.set_title(f"OSPA(2), mean of {fmt.plural(summary.n_mc, 'run')}\n{which}", fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend()
+    legend_below(fig, [ax], ncol=2)
     fig.savefig(directory / names[0], dpi=110)
     fig, (ax,) = figure()
-    for m, label in (("original", "original Gibbs"), ("proposed", "short-chain Gibbs")):
-        ax.plot(k, cur[f"cumulative_obs_{m}"], label=f"{label}, sweeps")
-        ax.plot(k, cur[f"cumulative_row_updates_{m}"], ls="--", label=f"{label}, row updates")
+    for i, (m, label) in enumerate((("original", "original Gibbs"),
+                                    ("proposed", "short-chain Gibbs"))):
+        ax.plot(k, cur[f"cumulative_obs_{m}"], label=f"{label}, sweeps", markevery=every,
+                **series_style(2 * i))
+        ax.plot(k, cur[f"cumulative_row_updates_{m}"], label=f"{label}, row updates",
+                markevery=every, **series_style(2 * i + 1))
     for m, ls in (("original", ":"), ("proposed", "-.")):
-        ax.axhline(PAPER_TOTALS[m], color="k", ls=ls, lw=1,
+        ax.axhline(PAPER_TOTALS[m], color="0.4", ls=ls, lw=1,
                    label=f"paper's total, {m} ({PAPER_TOTALS[m]:,})")
     ax.set_yscale("log")
     ax.set_xlabel("scan")
@@ -568,7 +573,7 @@ def plot_tracking(summary: TrackingSummary, directory: Path, study: str = "track
     ax.set_title(f"Cumulative sampler cost, mean of {fmt.plural(summary.n_mc, 'run')}\n{which}",
                  fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    legend_below(fig, [ax], ncol=2, fontsize=7)
     fig.savefig(directory / names[1], dpi=110)
     return names
 
