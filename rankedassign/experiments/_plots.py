@@ -104,8 +104,8 @@ def _densify(xy: np.ndarray, step: float = 3.0) -> np.ndarray:
 
 def _data_points(ax, *, dense: bool = False) -> np.ndarray:
     """Display coordinates of the data an axes shows: line vertices (with ``dense``, points
-    every few pixels along the drawn lines), scatter offsets, bar tops (and bottoms) and
-    error-bar ends; shape (n, 2), finite rows only."""
+    every few pixels along the drawn lines), scatter offsets, bar ends and error-bar ends;
+    shape (n, 2), finite rows only."""
     from matplotlib.collections import LineCollection, PathCollection
     from matplotlib.container import BarContainer
     from matplotlib.patches import Rectangle
@@ -130,10 +130,13 @@ def _data_points(ax, *, dense: bool = False) -> np.ndarray:
                     pts.append(coll.get_transform().transform(np.asarray(seg, dtype=float)))
     for cont in ax.containers:
         if isinstance(cont, BarContainer):
+            # a bar's datum is its end (the base is the axis, or clipped on a log scale)
+            flat = getattr(cont, "orientation", "vertical") == "horizontal"
             for p in cont.patches:
                 if isinstance(p, Rectangle) and p.get_visible():
                     x, y, w, h = p.get_x(), p.get_y(), p.get_width(), p.get_height()
-                    pts.append(ax.transData.transform([[x + w / 2, y + h], [x + w / 2, y]]))
+                    end = [x + w, y + h / 2] if flat else [x + w / 2, y + h]
+                    pts.append(ax.transData.transform([end]))
     if not pts:
         return np.empty((0, 2))
     xy = np.concatenate(pts)

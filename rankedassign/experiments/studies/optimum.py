@@ -242,8 +242,8 @@ def _verdict(rows: list[OptimumRow]) -> str:
         cells = []
         for r in (r for r in rows if r.family == fam):
             who = "the short chains" if r.sampler == "proposed" else "the original chain"
-            cells.append(f"{who} {fmt.pm(r.excess_error_pp_mean, r.excess_error_pp_se)} pp "
-                         f"above the best error for their {fmt.integer(r.n_unique_mean)} "
+            cells.append(f"{who} {fmt.pm(r.excess_error_pp_mean, r.excess_error_pp_se, 4)} pp "
+                         f"above the best error for {fmt.integer(r.n_unique_mean)} "
                          f"solutions ({fmt.pm(r.error_pct_mean, r.error_pct_se)} % against "
                          f"{fmt.pm(r.best_error_pct_mean, r.best_error_pct_se)} %)")
         parts.append(f"{fam}: " + ", ".join(cells))
