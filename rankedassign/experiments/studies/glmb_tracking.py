@@ -596,8 +596,8 @@ def _verdict(s: GLMBPresetSummary) -> str:
     if unresolved:
         # a target is judged only when its 2-SE interval lies on one side of it
         parts.append(
-            f"With {fmt.plural(n, 'run')} the standard errors (about ± "
-            f"{_typical_se(s):.0f} % of the mean OSPA(2)) do not resolve "
+            f"With {fmt.plural(n, 'run')} the standard errors (up to ± "
+            f"{_typical_se(s):.0f} % of a method's mean OSPA(2)) do not resolve "
             + ", ".join(unresolved) + " against the targets"
             + (f"; {FULL_RESULTS[s.preset]}." if s.preset in FULL_RESULTS else "."))
     return " ".join(parts)

@@ -286,14 +286,15 @@ def _overall(combos, verdicts, by, cols, default) -> str:
                 "one run has no standard error.")
 
     def name(c):
-        return f"diagonal {_pbar(c[0])}; random {_pbar(c[1])}, {c[2]} P_s, P_d"
+        return f"diagonal {_pbar(c[0])}, random {_pbar(c[1])} with {c[2]} P_s, P_d"
 
     if not ok:
         return (f"None of the {len(judged)} readings agrees with all nine of the paper's cells "
                 f"within {Z_LIMIT:g} standard errors.")
     return (f"{len(ok)} of the {len(judged)} readings agree with all nine of the paper's cells "
             f"within {Z_LIMIT:g} standard errors: " + "; ".join(
-                name(c) + (" (the default)" if c == default else "") for c in ok) + ".")
+                f"({i}) {name(c)}" + (" (the default)" if c == default else "")
+                for i, c in enumerate(ok, 1)) + ".")
 
 
 def render_readings(rows: list[ReadingRow], cfg: ReadingsConfig) -> str:
