@@ -10,6 +10,7 @@ begins and nothing more: carriage-return updates would fill a log with hundreds 
 
 from __future__ import annotations
 
+import shutil
 import sys
 import threading
 import time
@@ -111,6 +112,10 @@ def compile_wait(tag: str, what: str, *, enabled: bool = True, stream=None,
         return
     stop = threading.Event()
     t0 = time.monotonic()
+    # a line longer than the terminal wraps, and "\r" then rewrites only its last part
+    room = max(20, shutil.get_terminal_size((100, 20)).columns - 12)
+    if len(text) > room:
+        text = text[:room - 1] + "…"
 
     def tick():
         i = 0
