@@ -2,7 +2,9 @@
 
 Every failure the user can cause ends with a one-line message on stderr and exit status 2, never
 a traceback; an interrupted ``reproduce`` (Ctrl-C or SIGTERM) ends with status 130 (143) and
-leaves no partial report behind.
+leaves no partial report behind. The signal is recorded and acted on at a safe point (see
+:mod:`rankedassign.experiments._interrupts`); a second one ends the process at once, after
+removing the run's lock and partial report.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import numpy as np
 
 from . import experiments
 from ._version import __version__
+from .experiments import _interrupts
+from .experiments.precompile import precompile
 from .single import synthetic
 from .validation import MAX_MC
 
@@ -67,6 +71,58 @@ def _seed(text: str) -> int:
     return v
 
 
+# A settings file is {study: {setting: value}}, values at most lists of lists: 4 levels.
+# Deeper is not a settings file; refused before anything walks it recursively.
+_MAX_CONFIG_DEPTH = 16
+# A settings file is a few kilobytes; this is not read whole beyond 16 MiB.
+_MAX_CONFIG_BYTES = 1 << 24
+
+
+def _depth(value) -> int:
+    """Nesting depth of JSON data (a scalar is 0), without recursion."""
+    deepest, stack = 0, [(value, 1)]
+    while stack:
+        v, d = stack.pop()
+        items = v.values() if isinstance(v, dict) else v if isinstance(v, list) else None
+        if items is None:
+            continue
+        deepest = max(deepest, d)
+        if d > _MAX_CONFIG_DEPTH:
+            break
+        stack.extend((x, d + 1) for x in items)
+    return deepest
+
+
+def _read_config(path: str) -> dict:
+    """The overrides in the ``--config`` file ``path``: a JSON object of studies."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read(_MAX_CONFIG_BYTES + 1)
+    except OSError as exc:
+        raise experiments.ReproduceError(f"cannot read --config {path!r}: {exc}") from None
+    if len(data) > _MAX_CONFIG_BYTES:
+        raise experiments.ReproduceError(
+            f"config file {path!r} is larger than {_MAX_CONFIG_BYTES >> 20} MiB; a settings "
+            "file is a JSON object of a few studies' settings")
+    try:
+        overrides = json.loads(data)
+    except RecursionError:
+        overrides = None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise experiments.ReproduceError(f"cannot read --config {path!r}: {exc}") from None
+    if overrides is None and data.strip() != b"null" or _depth(overrides) > _MAX_CONFIG_DEPTH:
+        raise experiments.ReproduceError(
+            f"config file {path!r} is nested too deeply (more than {_MAX_CONFIG_DEPTH} levels); "
+            'a settings file is a JSON object of studies, e.g. {"table1": {"n_mc": 5}}')
+    if not isinstance(overrides, dict):
+        kind = {list: "an array", str: "a string", bool: "a boolean", type(None): "null"}.get(
+            type(overrides), "a number")
+        raise experiments.ReproduceError(
+            f"config file {path!r} must hold a JSON object of studies, e.g. "
+            f'{{"table1": {{"n_mc": 5}}}}, not {kind}')
+    return overrides
+
+
 def _error(message: str) -> int:
     print(f"rankedassign reproduce: error: {message}", file=sys.stderr)
     return 2
@@ -78,14 +134,6 @@ def available_cpus() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except (AttributeError, OSError):  # pragma: no cover - platforms without affinity
         return max(1, os.cpu_count() or 1)
-
-
-class _Terminated(BaseException):
-    """Raised in the main thread when SIGTERM arrives: handled like Ctrl-C."""
-
-
-def _on_sigterm(signum, frame):
-    raise _Terminated
 
 
 def _cmd_reproduce(args) -> int:
@@ -101,14 +149,16 @@ def _cmd_reproduce(args) -> int:
         workers = n
     mode = "full" if args.full else "quick"
     config = None
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    # SIGINT and SIGTERM are recorded and acted on at safe points (experiments._interrupts);
+    # a second one ends the process at once, after removing the lock and the partial report
+    guard = _interrupts.deferred_interrupts(
+        "rankedassign reproduce: {signal} again: stopped at once; the lock and the partial "
+        "report were removed, no report written\n")
     try:
+        guard.__enter__()
         if args.config is not None:
-            try:
-                overrides = json.loads(Path(args.config).read_text())
-            except (OSError, ValueError) as exc:
-                return _error(f"cannot read --config {args.config!r}: {exc}")
-            config = experiments.config_from_dict(experiments.Config(mode), overrides)
+            config = experiments.config_from_dict(experiments.Config(mode),
+                                                  _read_config(args.config))
         experiments.reproduce(
             args.studies,
             mode,
@@ -130,12 +180,35 @@ def _cmd_reproduce(args) -> int:
     except KeyboardInterrupt:
         print("rankedassign reproduce: interrupted; no report written", file=sys.stderr)
         return 130
-    except _Terminated:
+    except _interrupts.Terminated:
         print("rankedassign reproduce: terminated (SIGTERM); no report written",
               file=sys.stderr)
         return 128 + signal.SIGTERM
+    else:
+        signum = _interrupts.pending()
+        if signum is not None:  # it came while the finished report was moved into place
+            print(f"rankedassign reproduce: {signal.Signals(signum).name} received as the run "
+                  f"was finishing; the report is complete in {str(Path(args.out))!r}",
+                  file=sys.stderr)
+            return 128 + signum
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        guard.__exit__(None, None, None)
+    return 0
+
+
+def _cmd_precompile(args) -> int:
+    workers = args.workers
+    if workers is not None and workers > available_cpus():
+        workers = available_cpus()
+    try:
+        secs = precompile(workers, studies=args.studies or None, progress=not args.quiet)
+    except experiments.ReproduceError as exc:
+        print(f"rankedassign precompile: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("rankedassign precompile: interrupted", file=sys.stderr)
+        return 130
+    print(f"rankedassign precompile: kernels ready in {secs:.1f} s", file=sys.stderr)
     return 0
 
 
@@ -187,6 +260,22 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--force", action="store_true", help="replace an earlier report in DIR")
     rep.add_argument("--quiet", action="store_true", help="no progress bars")
     rep.set_defaults(func=_cmd_reproduce)
+
+    pre = sub.add_parser(
+        "precompile",
+        help="compile every kernel into numba's cache, on every core (first use)",
+        description=(
+            "Compile the kernels of every study and sampler side by side in worker processes "
+            "into numba's on-disk cache, so that later runs (reproduce, the tests, your own "
+            "scripts) load them instead of compiling them one by one."
+        ),
+    )
+    pre.add_argument("studies", nargs="*", metavar="STUDY",
+                     help=f"{', '.join(names)} (default: all)")
+    pre.add_argument("--workers", type=_positive_int, metavar="N",
+                     help="worker processes (default: the CPUs, at most 4)")
+    pre.add_argument("--quiet", action="store_true", help="no progress bar")
+    pre.set_defaults(func=_cmd_precompile)
     return parser
 
 

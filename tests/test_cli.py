@@ -211,6 +211,47 @@ def test_sigterm_is_handled_as_an_interrupt(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "stderr.txt"]
 
 
+def test_a_second_sigterm_ends_a_run_with_workers_at_once(tmp_path):
+    # the hard exit kills the workers and removes the lock and the partial report; the pool's
+    # semaphores are unlinked first, so the resource tracker reports none as leaked
+    cfg = tmp_path / "long.json"
+    cfg.write_text(json.dumps({"table1": {"n_mc": 400, "original_obs": 20_000}}))
+    out = tmp_path / "r"
+    err_path = tmp_path / "stderr.txt"
+    with err_path.open("w") as err:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "rankedassign", "reproduce", "table1", "--config", str(cfg),
+             "--out", str(out), "--workers", "2"],
+            stderr=err, stdout=subprocess.DEVNULL, text=True,
+        )
+        try:
+            deadline = time.monotonic() + 600
+            while "[1/1] table1" not in err_path.read_text():
+                assert proc.poll() is None, err_path.read_text()
+                assert time.monotonic() < deadline, "the study never started"
+                time.sleep(0.2)
+            # Two signals that arrive before Python runs the handler count as one (Python
+            # coalesces them), so SIGTERM is sent every 20 ms until the process ends: the first
+            # one handled starts the cleanup (ending the workers takes longer than that), a
+            # later one ends the process at once
+            sent = 0
+            while proc.poll() is None and sent < 500:
+                proc.send_signal(signal.SIGTERM)
+                sent += 1
+                time.sleep(0.02)
+            code = proc.wait(timeout=300)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+    time.sleep(1.0)  # the resource tracker (a separate process) has had its say
+    text = err_path.read_text()
+    assert code == 128 + signal.SIGTERM, text
+    assert ("SIGTERM again: stopped at once; the lock and the partial report were removed, no "
+            "report written\n") in text
+    assert "leaked semaphore" not in text and "Traceback" not in text, text
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "stderr.txt"]
+
+
 TOKENS = ["reproduce", "demo", "table1", "sweep", "nosuch", "--full", "--quick", "--mc",
           "--seed", "--out", "--workers", "--dask-scheduler", "--config", "--force", "--quiet",
           "--help", "--version", "-h", "0", "1", "-1", "2", "x", "", "--", "=", "--mc=3",
@@ -262,13 +303,63 @@ def test_reproduce_unreachable_scheduler(tmp_path, capsys, monkeypatch):
     [
         ("{not json", "cannot read --config"),
         (json.dumps({"table1": {"nmc": 1}}), "unknown setting(s) ['nmc'] for study 'table1'"),
+        # issue: a deeply nested file ended in a RecursionError traceback
+        ("[" * 100_000, "config file '{cfg}' is nested too deeply (more than 16 levels); a "
+                        'settings file is a JSON object of studies, e.g. {{"table1": {{"n_mc": 5}}}}'),
+        ("{" + '"a": {' * 5_000 + "}" * 5_001, "config file '{cfg}' is nested too deeply"),
+        ("[" * 17 + "]" * 17, "config file '{cfg}' is nested too deeply"),
+        (json.dumps({"table1": {"families": [[[[[[[[[[[[[[[["x"]]]]]]]]]]]]]]]]}}),
+         "config file '{cfg}' is nested too deeply"),
+        # valid JSON of the wrong shape
+        ("[]", "config file '{cfg}' must hold a JSON object of studies, e.g. "
+               '{{"table1": {{"n_mc": 5}}}}, not an array'),
+        ("5", "must hold a JSON object of studies, e.g. {{\"table1\": {{\"n_mc\": 5}}}}, not a number"),
+        ("null", "not null"),
+        ('"table1"', "not a string"),
+        ("true", "not a boolean"),
+        ('{"table1": 5}', "config for 'table1' must be a mapping of its settings (e.g. "
+                          '{{"n_mc": 5}}), got int 5'),
+        ('{"table1": [' + "1, " * 100 + "1]}",
+         "config for 'table1' must be a mapping of its settings (e.g. {{\"n_mc\": 5}}), got "
+         "list [1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,...\n"),
+        ('{"table1": {"n_mc": NaN}}', "config for 'table1': n_mc must be an int, got float nan"),
+        ('{"glmb_tracking": {"ospa_c": -1}}',
+         "config for 'glmb_tracking': ospa_c must be > 0.0, got -1.0"),
+        ('{"tempering_herding": {"ospa_p": 0.5}}',
+         "config for 'tempering_herding': ospa_p must be >= 1.0, got 0.5"),
+        ('{"table1": {"n_mc": 1' + "0" * 5000 + "}}", "cannot read --config '{cfg}': Exceeds"),
+        (b'{"t": "\xff"}', "cannot read --config '{cfg}': 'utf-8' codec can't decode"),
     ],
 )
-def test_reproduce_bad_config_file(tmp_path, capsys, content, message):
+def test_reproduce_bad_config_file(tmp_path, capsys, monkeypatch, content, message):
+    _never_run(monkeypatch)
     cfg = tmp_path / "c.json"
-    cfg.write_text(content)
+    if isinstance(content, bytes):
+        cfg.write_bytes(content)
+    else:
+        cfg.write_text(content)
     assert main(["reproduce", "--config", str(cfg), "--out", str(tmp_path / "r")]) == 2
-    assert message in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert message.format(cfg=cfg) in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.json"]
+
+
+def test_reproduce_config_file_that_is_not_a_file(tmp_path, capsys, monkeypatch):
+    _never_run(monkeypatch)
+    for path, message in ((tmp_path, "Is a directory"),
+                          (tmp_path / "nosuch.json", "No such file or directory")):
+        assert main(["reproduce", "--config", str(path), "--out", str(tmp_path / "r")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"rankedassign reproduce: error: cannot read --config '{path}': ")
+        assert message in err
+    big = tmp_path / "big.json"
+    with big.open("wb") as f:
+        f.truncate((1 << 24) + 1)  # sparse: 16 MiB and one byte of zeros
+    assert main(["reproduce", "--config", str(big), "--out", str(tmp_path / "r")]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: config file '{big}' is larger than 16 MiB; a settings "
+        "file is a JSON object of a few studies' settings\n")
 
 
 def test_console_entry_point_exit_code(tmp_path):
@@ -619,3 +710,198 @@ def test_a_failed_study_keeps_the_finished_studies(tmp_path, tiny_config, capsys
                  str(tmp_path / "r2"), "--workers", "1", "--quiet"]) == 1
     assert "no study finished, nothing was written" in capsys.readouterr().err
     assert not (tmp_path / "r2").exists() and _no_leftovers(tmp_path)
+
+
+# --------------------------------------------------------------------------- the lock's place
+def _lock_refusal(out, what):
+    lock = out.parent / f".{out.name}.lock"
+    return (f"rankedassign reproduce: error: cannot write the report to '{out}': '{lock}', "
+            f"where its lock goes, {what}, not a lock of rankedassign reproduce; it was left as "
+            "it is: move it away or choose another --out\n")
+
+
+def _make_at_lock(kind, lock, target):
+    """Put a user's ``kind`` of thing at the lock's place; returns what must stay unchanged."""
+    if kind == "file":
+        lock.write_text("notes\n")
+    elif kind == "empty file":
+        lock.write_text("")
+    elif kind == "foreign json":
+        lock.write_text(json.dumps({"pid": 1, "note": "mine"}))
+    elif kind == "big file":
+        lock.write_bytes(b"{" + b" " * (1 << 17) + b"}")
+    elif kind == "symlink to a file":
+        target.write_text("precious")
+        lock.symlink_to(target)
+    elif kind == "symlink to our lock record":
+        target.write_text(json.dumps({"pid": 4242, "host": "h", "command": "c",
+                                      "started": "s"}))
+        lock.symlink_to(target)
+    elif kind == "dangling symlink":
+        lock.symlink_to(target)
+    elif kind == "directory":
+        lock.mkdir()
+        (lock / "keep.txt").write_text("mine")
+    elif kind == "fifo":
+        os.mkfifo(lock)
+    return {"lock": (os.lstat(lock).st_ino, os.path.islink(lock) and os.readlink(lock)),
+            "target": target.read_bytes() if target.exists() else None,
+            "tree": _tree(lock.parent)}
+
+
+@pytest.mark.parametrize(("kind", "what"), [
+    ("file", "is a file that is not a lock record"),
+    ("empty file", "is a file that is not a lock record"),
+    ("foreign json", "is a file that is not a lock record"),
+    ("big file", "is a file that is not a lock record"),
+    ("symlink to a file", "is a symbolic link"),
+    ("symlink to our lock record", "is a symbolic link"),
+    ("dangling symlink", "is a symbolic link"),
+    ("directory", "is a directory"),
+    ("fifo", "is not a regular file"),
+])
+def test_a_users_thing_at_the_locks_place_is_refused_and_left_alone(tmp_path, capsys,
+                                                                     monkeypatch, kind, what):
+    # issue: a file at .<out>.lock was truncated, overwritten with the lock's record and
+    # deleted at the end (exit 0); a symbolic link there was written through
+    _never_run(monkeypatch)
+    home = tmp_path / "home"
+    home.mkdir()
+    out, lock, target = home / "r", home / ".r.lock", tmp_path / "target.txt"
+    before = _make_at_lock(kind, lock, target)
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == _lock_refusal(out, what)
+    after = {"lock": (os.lstat(lock).st_ino, os.path.islink(lock) and os.readlink(lock)),
+             "target": target.read_bytes() if target.exists() else None,
+             "tree": _tree(lock.parent)}
+    assert after == before
+    assert sorted(p.name for p in home.iterdir()) == [".r.lock"]  # no report, no partial
+
+
+def test_a_stale_lock_of_a_killed_run_is_replaced(tmp_path, tiny_config, capsys):
+    from rankedassign.experiments import _outdir
+
+    out = tmp_path / "report"
+    lock = _outdir.lock_path(out)
+    # the record of a run killed by SIGKILL (no process holds its flock): this version's and
+    # the one written before the record had a schema
+    for record in ({"schema": "rankedassign-lock/1", "pid": 4242, "host": "h", "command": "c",
+                    "started": "s", "token": "t"},
+                   {"pid": 4243, "host": "h", "command": "c", "started": "s"}):
+        lock.write_text(json.dumps(record))
+        assert main(["reproduce", "optimum", "--config", str(tiny_config), "--out", str(out),
+                     "--workers", "1", "--quiet", "--force"]) == 0
+        assert capsys.readouterr().err == (
+            f"rankedassign reproduce: note: removed '{lock}', the lock of an earlier run into "
+            f"the same --out that was killed (pid {record['pid']})\n")
+        assert (out / "optimum.json").exists() and _no_leftovers(tmp_path)
+
+
+def test_a_live_lock_with_a_record_being_written_is_a_live_run(tmp_path, capsys, monkeypatch):
+    import fcntl
+
+    from rankedassign.experiments import _outdir
+
+    _never_run(monkeypatch)
+    out = tmp_path / "report"
+    lock = _outdir.lock_path(out)
+    lock.write_text("")  # created, flocked, record not yet written
+    with lock.open() as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: another run is writing the report to '{out}' (a run "
+        "whose details cannot be read); wait for it to finish or choose another --out\n")
+    assert lock.read_text() == ""
+
+
+@pytest.mark.parametrize("swap", ["file", "symlink"])
+def test_a_lock_replaced_during_the_run_is_not_removed(tmp_path, swap):
+    # the lock is removed at the end only if the file at its place is the one the run made
+    from rankedassign.experiments import _outdir
+
+    out = tmp_path / "report"
+    target = tmp_path / "target.txt"
+    target.write_text("precious")
+    with _outdir.run_lock(out, "c") as held:
+        record = json.loads(held.path.read_text())
+        assert record["schema"] == "rankedassign-lock/1" and record["pid"] == os.getpid()
+        assert len(record["token"]) == 32
+        held.path.unlink()
+        if swap == "file":
+            held.path.write_text("mine")
+        else:
+            held.path.symlink_to(target)
+    if swap == "file":
+        assert held.path.read_text() == "mine"
+    else:
+        assert os.readlink(held.path) == str(target)
+    assert target.read_text() == "precious"
+    held.release()  # idempotent
+    assert os.path.lexists(held.path)
+
+
+def test_a_stale_lock_that_cannot_be_removed_is_refused(tmp_path, capsys, monkeypatch):
+    from rankedassign.experiments import _outdir
+
+    _never_run(monkeypatch)
+    out = tmp_path / "report"
+    lock = _outdir.lock_path(out)
+    lock.write_text(json.dumps({"pid": 4242, "host": "h", "command": "c", "started": "s"}))
+    real = os.unlink
+
+    def unlink(path, *args, **kwargs):  # another user's file in a sticky directory
+        if os.fspath(path) == os.fspath(lock):
+            raise PermissionError(1, "Operation not permitted")
+        return real(path, *args, **kwargs)
+
+    monkeypatch.setattr(_outdir.os, "unlink", unlink)
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: cannot write the report to '{out}': its lock '{lock}' "
+        "was left by a run that was killed (pid 4242), and it cannot be removed (Operation not "
+        "permitted); remove it or choose another --out\n")
+    assert lock.exists()
+
+
+def test_a_file_system_without_flock_leaves_no_lock_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    from rankedassign.experiments import _outdir
+
+    _never_run(monkeypatch)
+
+    def no_locks(fd, op):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(_outdir.fcntl, "flock", no_locks)
+    out = tmp_path / "report"
+    assert main(["reproduce", "table1", "--out", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: error: cannot write the report to '{out}': cannot create its "
+        f"lock file '{_outdir.lock_path(out)}' (No locks available)\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_signal_while_the_report_is_moved_into_place(tmp_path, tiny_config, capsys,
+                                                       monkeypatch):
+    # the move is not cut short; the run says the report is complete and exits as signalled
+    import signal as sig
+
+    from rankedassign.experiments import _outdir
+
+    real = _outdir.renameat2
+    out = tmp_path / "report"
+
+    def renameat2(src, dst, flags):  # called by _outdir.place for the final move
+        if os.fspath(dst) == os.fspath(out):
+            sig.raise_signal(sig.SIGTERM)
+        return real(src, dst, flags)
+
+    monkeypatch.setattr(_outdir, "renameat2", renameat2)
+    assert main(["reproduce", "table1", "--config", str(tiny_config), "--out", str(out),
+                 "--workers", "1", "--quiet"]) == 128 + sig.SIGTERM
+    assert capsys.readouterr().err == (
+        f"rankedassign reproduce: SIGTERM received as the run was finishing; the report is "
+        f"complete in '{out}'\n")
+    assert (out / "manifest.json").exists() and _no_leftovers(tmp_path)

@@ -74,7 +74,7 @@ def _build(tmp_path: Path, extra: str = "") -> subprocess.CompletedProcess:
         """))
     return subprocess.run(
         [sys.executable, "-m", "mkdocs", "build", "--strict"],  # no --quiet: it hides warnings
-        cwd=tmp_path, capture_output=True, text=True, timeout=120,
+        cwd=tmp_path, capture_output=True, text=True,
         env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
     )
 

@@ -123,3 +123,130 @@ def test_config_is_read_from_the_registry():
 def test_config_errors(make, error, match):
     with pytest.raises(error, match=match):
         make()
+
+
+# ------------------------------------------------------------------ every numeric field
+def _numeric_fields():
+    """``(study, field, kind)`` of every int and float setting of every registered study."""
+    from rankedassign.experiments import get_study, study_names
+
+    out = []
+    for name in study_names():
+        for f in dataclasses.fields(get_study(name).config_type):
+            kind = f.type if isinstance(f.type, str) else f.type.__name__
+            if kind in ("int", "float"):
+                out.append((name, f.name, kind))
+    return out
+
+
+NUMERIC = _numeric_fields()
+# Counts that may be zero (a part of a study switched off) or are not counts (a seed).
+MAY_BE_ZERO = {("glmb_tracking", "murty_runs"), ("glmb_tracking", "glmb_exact_runs"),
+               ("tempering_herding", "tracking_mc"), ("multisensor_tracking", "seed")}
+BAD_INT = [-1, 1.5, 2.0, True, "3", None, 2**70]
+BAD_FLOAT = [float("nan"), float("inf"), -float("inf"), -1.0, 0.0, True, "1", None]
+
+
+def test_the_table_covers_every_study():
+    from rankedassign.experiments import study_names
+
+    assert {s for s, _, _ in NUMERIC} == set(study_names())
+    assert ("glmb_tracking", "ospa_c", "float") in NUMERIC
+    assert ("tempering_herding", "ospa_p", "float") in NUMERIC
+
+
+@pytest.mark.parametrize(("study", "name", "kind"), NUMERIC,
+                         ids=[f"{s}.{f}" for s, f, _ in NUMERIC])
+def test_every_numeric_setting_of_every_study_is_checked(study, name, kind):
+    # issue: a bad ospa_c of glmb_tracking (not checked) or ospa_p of tempering_herding
+    # (checked p > 0, not p >= 1) was found only when that study ran, after the earlier ones
+    bad = list(BAD_INT if kind == "int" else BAD_FLOAT)
+    if kind == "int" and (study, name) not in MAY_BE_ZERO:
+        bad.append(0)
+    if name == "ospa_p":
+        bad += [0.5, 0.999]
+    if name == "zr_beta":
+        bad.append(1.5)
+    for value in bad:
+        with pytest.raises(ReproduceError, match=rf"^config for '{study}': .*{name}") as info:
+            config_from_dict(Config.quick(), {study: {name: value}})
+        # the value is named too (floats as Python prints them; ints beyond the range exactly)
+        text = str(info.value)
+        assert (repr(value) in text or str(value) in text
+                or (isinstance(value, float) and str(float(value)) in text)), (value, text)
+
+
+@pytest.mark.parametrize(("study", "name", "kind"), NUMERIC,
+                         ids=[f"{s}.{f}" for s, f, _ in NUMERIC])
+def test_the_smallest_allowed_value_is_accepted(study, name, kind):
+    if kind == "float":
+        value = 1.0 if name in ("ospa_p", "zr_beta") else 1e-9
+    else:
+        value = 0 if (study, name) in MAY_BE_ZERO else 1
+    assert getattr(config_from_dict(Config.quick(), {study: {name: value}})[study], name) == value
+
+
+@pytest.mark.parametrize(("study", "name", "value", "message"), [
+    ("glmb_tracking", "ospa_c", -1.0, "ospa_c must be > 0.0, got -1.0"),
+    ("glmb_tracking", "ospa_p", 0.5, "ospa_p must be >= 1.0, got 0.5"),
+    ("tempering_herding", "ospa_p", 0.5, "ospa_p must be >= 1.0, got 0.5"),
+    ("tempering_herding", "ospa_c", float("inf"), "ospa_c must be a finite real number, got inf"),
+    ("tracking_var", "ospa_c", 0.0, "ospa_c must be > 0.0, got 0.0"),
+    ("glmb_tracking", "methods", [], "methods must name at least one method"),
+])
+def test_ospa_settings_messages(study, name, value, message):
+    with pytest.raises(ReproduceError, match=rf"^config for '{study}': {message}$"):
+        config_from_dict(Config.quick(), {study: {name: value}})
+
+
+def test_reproduce_checks_every_studys_settings_before_any_runs(tmp_path):
+    from rankedassign.experiments import reproduce
+    from rankedassign.experiments.runner import check_settings
+
+    cfg = Config.quick()
+    check_settings(cfg)  # the defaults pass
+    # a record changed after its checks (object.__setattr__ bypasses the frozen dataclass)
+    object.__setattr__(cfg.tempering_herding, "ospa_p", 0.5)
+    with pytest.raises(ReproduceError, match=r"^settings of study 'tempering_herding': ospa_p "
+                                             r"must be >= 1.0, got 0.5$"):
+        reproduce(["table1"], out=tmp_path / "r", config=cfg, workers=1, progress=False)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(ReproduceError, match=r"^config must be a Config, got TrackingConfig$"):
+        reproduce(["tracking"], out=tmp_path / "r", config=TrackingConfig(), progress=False)
+
+
+@pytest.mark.parametrize(("study", "name", "message"), [
+    ("sweep", "obs_grid", r"obs_grid entry must be a positive integer <= 2\*\*62, got "),
+    ("sweep", "chain_lengths",
+     r"chain_lengths entry must be a positive integer <= 2\*\*62, got "),
+    ("tempering_herding", "budgets", "budgets must be a non-empty, strictly increasing tuple of "
+                                     r"positive integers \(at most 2\*\*62\), got \("),
+])
+def test_count_lists_are_bounded_like_the_counts(study, name, message):
+    # an entry past the kernels' int64 counters was accepted and failed when the study ran
+    with pytest.raises(ReproduceError, match=rf"^config for '{study}': {message}"
+                                             rf"{2**70}"):
+        config_from_dict(Config.quick(), {study: {name: [2**70]}})
+    assert getattr(config_from_dict(Config.quick(), {study: {name: [2**62]}})[study],
+                   name) == (2**62,)
+
+
+def _string_fields():
+    """``(study, field)`` of every string setting of every registered study."""
+    from rankedassign.experiments import get_study, study_names
+
+    return [(name, f.name) for name in study_names()
+            for f in dataclasses.fields(get_study(name).config_type)
+            if (f.type if isinstance(f.type, str) else f.type.__name__) in ("str", "str | None")]
+
+
+STRINGS = _string_fields()
+
+
+@pytest.mark.parametrize(("study", "name"), STRINGS, ids=[f"{s}.{f}" for s, f in STRINGS])
+def test_every_string_setting_of_every_study_is_checked(study, name):
+    # issue found on re-probing: sweep accepted any pbar_d and granularity
+    assert ("sweep", "pbar_d") in STRINGS and ("sweep", "granularity") in STRINGS
+    for value in ("", "nosuch", 5, True, ["x"]):
+        with pytest.raises(ReproduceError, match=rf"^config for '{study}': .*{name}"):
+            config_from_dict(Config.quick(), {study: {name: value}})

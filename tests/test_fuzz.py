@@ -396,6 +396,58 @@ def test_fuzz_ospa2_window_one_is_ospa_at_any_scale(truth, est, c, p, window, r)
                     both.value, rtol=1e-10)
 
 
+# ------------------------------------------------------------------ measurement files, priors
+FILE_TOKENS = ["0", "1", "3.0", "7", "-1", "1_000", "+3", "1e3", "nan", "inf", "", " ", "x",
+               "\u0663", "0x10", "1000000000000", "9" * 30, "\x00", '"', "1.5", "-0.0", "5e-324"]
+
+
+@FUZZ
+@given(st.lists(st.lists(st.sampled_from(FILE_TOKENS), min_size=2, max_size=5), max_size=4),
+       st.sampled_from(["scan,x,y", "scan,sensor,x,y", "x,y", ""]),
+       st.sampled_from(["utf-8", "latin-1", "utf-16"]))
+def test_fuzz_read_measurements(rows, header, encoding):
+    import tempfile
+
+    from rankedassign.tracking import read_measurements
+
+    text = "\n".join([header, *(",".join(r) for r in rows)]) + "\n"
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "m.csv")
+        with open(path, "wb") as f:
+            f.write(text.encode(encoding, errors="replace"))
+        try:
+            scans = read_measurements(path)
+        except ValueError as err:
+            assert str(err).startswith(f"{path}, line "), err  # file and line, always
+            return
+    assert 1 <= len(scans) <= 10**6
+    for z in scans:
+        for a in (z if isinstance(z, tuple) else (z,)):
+            assert a.dtype == np.float64 and a.shape[1:] == (2,) and np.isfinite(a).all()
+
+
+@FUZZ
+@given(st.one_of(anything, st.lists(st.lists(ints_any, min_size=2, max_size=2), max_size=2),
+                 st.lists(st.lists(anything, min_size=2, max_size=2), min_size=2, max_size=2)),
+       st.one_of(anything, arrays_any()), st.one_of(anything, arrays_any()),
+       st.one_of(st.none(), anything, st.lists(st.lists(anything, max_size=2), max_size=2)))
+def test_fuzz_glmb_set_prior(labels, means, covs, components):
+    from rankedassign.tracking import GLMBFilter, Murty, make_model
+
+    f = GLMBFilter(make_model("vo"), Murty(3))
+    try:
+        f.set_prior(labels, means, covs, components)
+    except (TypeError, ValueError):
+        assert f.n_tracks == 0  # nothing was set
+        return
+    # accepted: distinct labels that no birth takes, finite means, SPD covariances
+    keys = [tuple(x) for x in f.labels.tolist()]
+    assert len(set(keys)) == len(keys)
+    assert all(0 <= a < 2**31 and 0 <= b < 2**32 and not (a >= 1 and 1 <= b <= 4)
+               for a, b in keys)
+    assert np.isfinite(f.m).all() and (np.linalg.eigvalsh(f.P) > 0).all()
+
+
 @FUZZ
 @given(st.data(), st.one_of(floats_any, anything), st.one_of(st.integers(0, 4), ints_any,
                                                             anything))

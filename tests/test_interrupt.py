@@ -26,6 +26,7 @@ import subprocess
 import sys
 import textwrap
 import time
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -498,3 +499,203 @@ def test_enumeration_and_counting_in_slices_are_bit_identical(monkeypatch):
     assert got[0] == want[0] > 100 and got[1] == want[1] == 101
     assert_array_equal(got[2][0], want[2][0])
     assert got[2][1] == want[2][1] == n == got[3][1] == want[3][1]
+
+
+# ------------------------------------------------------------------ the command line's handler
+# The CLI records SIGINT/SIGTERM and acts on them at safe points (experiments._interrupts). A
+# child process runs `rankedassign reproduce` with table1's tasks replaced by ones that
+# receive the signal where an exception raised by a handler would be lost or harmful.
+_CLI_CHILD = textwrap.dedent("""
+    import dataclasses, os, signal, sys, threading, time, weakref
+    from pathlib import Path
+    from rankedassign import sample_original
+    from rankedassign.cli import main
+    from rankedassign.experiments import _interrupts, get_study, registry
+    from rankedassign.single import synthetic
+
+    mode, out, marks = sys.argv[1], sys.argv[2], Path(sys.argv[3])
+    problem = synthetic.random(rng=0)
+    sample_original(problem, 10, rng=0)  # compiled or loaded before the run
+
+    class Thing:
+        pass
+
+    def in_finaliser():
+        # the signal arrives, and its handler runs, inside a finaliser (as numba's disposal
+        # callbacks are); an exception raised there is "ignored" by Python
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(1000):
+            pass
+
+    def task(i):
+        if not mode.startswith("second"):
+            print("start", i, flush=True)
+        if mode == "finaliser" and i == 0:
+            t = Thing()
+            weakref.finalize(t, in_finaliser)
+            del t
+            # a bounded amount of library work: the interrupt lands in it
+            for k in range(400):
+                sample_original(problem, 5000, rng=k)
+        elif mode.startswith("second"):
+            # a task that waits where the first signal cannot be acted on: in Thread.join
+            main = threading.main_thread().ident
+
+            def wait():
+                # "start" once the main thread waits in threading's code
+                while "threading" not in sys._current_frames()[main].f_code.co_filename:
+                    time.sleep(0.001)
+                print("start", i, flush=True)
+                for _ in range(3000):
+                    time.sleep(0.01)
+                    if _interrupts.pending() is not None and not (marks / "seen").exists():
+                        (marks / "seen").write_text("")
+                        print("seen", flush=True)
+            t = threading.Thread(target=wait)
+            t.start()
+            t.join()
+        (marks / f"finished-{i}").write_text("")
+        return i
+
+    study = get_study("table1")
+    registry._REGISTRY["table1"] = dataclasses.replace(
+        study, task=task, warm=None, tasks=lambda cfg, seed: [(i,) for i in range(4)])
+    sys.exit(main(["reproduce", "table1", "--out", out, "--workers", "1", "--quiet"]))
+""")
+
+
+def _cli_child(tmp_path, mode):
+    root = Path(rankedassign.__file__).resolve().parent.parent
+    env = dict(os.environ, PYTHONPATH=str(root))
+    marks = tmp_path / "marks"
+    marks.mkdir()
+    work = tmp_path / "work"
+    work.mkdir()
+    child = subprocess.Popen([sys.executable, "-c", _CLI_CHILD, mode, str(work / "r"),
+                              str(marks)], cwd=work, env=env, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True)
+    return child, work, marks
+
+
+def test_a_sigterm_handled_inside_a_finaliser_still_stops_the_run(tmp_path):
+    # issue: the handler raised in the finaliser, Python printed "Exception ignored in ..." and
+    # the run went on (exit 0); a later SIGKILL left .<out>.lock and .<out>.partial-*
+    child, work, marks = _cli_child(tmp_path, "finaliser")
+    with child:
+        try:
+            _, err = child.communicate(timeout=600)  # a safety net; the work is bounded
+        finally:
+            if child.poll() is None:
+                child.kill()
+    assert child.returncode == 128 + signal.SIGTERM, err
+    assert err == "rankedassign reproduce: terminated (SIGTERM); no report written\n"
+    # it landed inside the first task's library work, not after it
+    assert sorted(p.name for p in marks.iterdir()) == []
+    assert list(work.iterdir()) == []  # no report, no lock, no partial report
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_second_signal_ends_a_run_whose_first_cannot_be_acted_on(tmp_path, signum):
+    child, work, marks = _cli_child(tmp_path, "second")
+    with child:
+        try:
+            lines = _lines(child)
+            assert _readline(child, lines, 600.0) == ["start", "0"]
+            child.send_signal(signum)
+            assert _readline(child, lines) == ["seen"]  # recorded; the task goes on
+            child.send_signal(signum)
+            _, err = child.communicate(timeout=60)
+        finally:
+            if child.poll() is None:
+                child.kill()
+    assert child.returncode == 128 + signum, err
+    assert err == (f"rankedassign reproduce: {signal.Signals(signum).name} again: stopped at "
+                   "once; the lock and the partial report were removed, no report written\n")
+    assert sorted(p.name for p in marks.iterdir()) == ["seen"]  # the task did not finish
+    assert list(work.iterdir()) == []
+
+
+@pytest.fixture
+def tests_as_library(monkeypatch):
+    """The handler's decisions, recorded; no second attempt during the test."""
+    from rankedassign.experiments import _interrupts
+
+    monkeypatch.setattr(_interrupts, "RETRY", 3600.0)  # no second attempt during the test
+    seen = []
+    handler = _interrupts._on_signal
+
+    def spy(signum, frame):
+        seen.append((Path(frame.f_code.co_filename).name, frame.f_code.co_name,
+                     _interrupts._may_raise_in(frame)))
+        return handler(signum, frame)
+
+    monkeypatch.setattr(_interrupts, "_on_signal", spy)
+    return seen
+
+
+def _finalised_with(callback):
+    class Thing:
+        pass
+
+    t = Thing()
+    weakref.finalize(t, callback)
+    del t
+
+
+class _WithDel:
+    def __del__(self):
+        signal.raise_signal(signal.SIGINT)
+
+
+@pytest.mark.parametrize("where", ["finalize", "__del__", "library"])
+def test_the_handler_raises_only_where_it_is_safe(tests_as_library, where):
+    from rankedassign.experiments import _interrupts
+
+    unraisable = []
+    hook = sys.unraisablehook
+    sys.unraisablehook = unraisable.append
+    try:
+        with _interrupts.deferred_interrupts():
+            if where == "library":  # an ordinary frame of library code: raised at once
+                with pytest.raises(KeyboardInterrupt):
+                    signal.raise_signal(signal.SIGINT)
+            elif where == "finalize":
+                _finalised_with(lambda: signal.raise_signal(signal.SIGINT))
+            else:
+                _WithDel()
+            assert _interrupts.pending() == signal.SIGINT
+            with pytest.raises(KeyboardInterrupt):
+                _interrupts.check()  # the next safe point
+        assert _interrupts.pending() is None  # cleared with the handlers
+    finally:
+        sys.unraisablehook = hook
+    assert unraisable == []
+    assert [s[2] for s in tests_as_library] == [where == "library"]
+
+
+def test_the_handler_never_raises_in_threading_code(tests_as_library):
+    # the "release unlocked lock" traceback: a handler's exception in CPython 3.11's
+    # Thread.join releases the joined thread's lock, which fails when the thread ends in
+    # between. The handler only records the signal there.
+    import threading
+
+    from rankedassign.experiments import _interrupts
+
+    with _interrupts.deferred_interrupts():
+        release = threading.Event()
+        worker = threading.Thread(target=release.wait)
+        worker.start()
+
+        def signal_then_release():
+            os.kill(os.getpid(), signal.SIGTERM)
+            while _interrupts.pending() is None:
+                time.sleep(0.001)
+            release.set()
+
+        threading.Thread(target=signal_then_release).start()
+        worker.join()  # the handler runs in here
+        assert _interrupts.pending() == signal.SIGTERM
+        with pytest.raises(_interrupts.Terminated):
+            _interrupts.check()
+    # in Thread.start's or Thread.join's wait, whichever the signal finds the main thread in
+    assert [(f, ok) for f, _, ok in tests_as_library] == [("threading.py", False)]

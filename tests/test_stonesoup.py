@@ -773,3 +773,106 @@ def test_lmb_tracker_seed_and_intervals():
     two = datetime.timedelta(seconds=2)
     np.testing.assert_array_equal(tracker.filter.model.motion.F, CV.matrix(time_interval=two))
     np.testing.assert_array_equal(tracker.filter.model.motion.Q, CV.covar(time_interval=two))
+
+
+# ------------------------------------------------------------------------------ hostile input
+@pytest.mark.parametrize("cls", [LMBTracker, GLMBTracker])
+@pytest.mark.parametrize("time, detections, error, match", [
+    (T0, None, TypeError, r"{who}: detections must be a set \(or list\) of Detection, got "
+                          r"NoneType; an empty scan is set\(\)"),
+    (T0, np.zeros((2, 2)), TypeError, r"{who}: detections must be a set \(or list\) of "
+                                      r"Detection, got ndarray"),
+    (T0, "ab", TypeError, r"detections must be a set \(or list\) of Detection, got str"),
+    (T0, 3, TypeError, r"detections must be a set \(or list\) of Detection, got int"),
+    (T0, [(1.0, 2.0)], TypeError, r"{who}: detections must hold Detection objects \(with a "
+                                  r"state_vector and a measurement_model\), got tuple "
+                                  r"\(1.0, 2.0\) in a scan at 2025-01-01 00:00:00"),
+    (T0, [State([[0.0], [0.0]], timestamp=T0)], TypeError,
+     r"detections must hold Detection objects .* got State"),
+    (None, set(), TypeError, r"{who}: time must be a datetime.datetime, got NoneType None"),
+    (3, set(), TypeError, r"{who}: time must be a datetime.datetime, got int 3"),
+    (1.5, set(), TypeError, r"time must be a datetime.datetime, got float 1.5"),
+    (T0, {Detection(np.array([[1 + 1j], [0.0]]), timestamp=T0, measurement_model=MM)},
+     TypeError, r"{who}: the state_vector of a detection at 2025-01-01 00:00:00 must be real, "
+                r"got dtype complex128"),
+])
+def test_tracker_refuses_scans_it_cannot_read(cls, time, detections, error, match):
+    tracker = cls(None, CV, MM, association=Murty(5) if cls is GLMBTracker else Exact(), **KW)
+    with pytest.raises(error, match=match.format(who=cls.__name__)):
+        tracker.update_tracker(time, detections)
+    assert tracker.filter.k == 0  # nothing ran
+    # the accepted forms: a set, a list, a tuple, a frozenset of Detection; an empty set
+    det = Detection([[0.0], [0.0]], timestamp=T0, measurement_model=MM)
+    for k, dets in enumerate((set(), [det], (det,), frozenset({det}))):
+        tracker.update_tracker(T0 + datetime.timedelta(seconds=k), dets)
+
+
+@pytest.mark.parametrize("seed, error", [("x", TypeError), (1.5, TypeError), (-1, ValueError),
+                                         ([1, -2], ValueError)])
+def test_tracker_seed_is_named(seed, error):
+    with pytest.raises(error, match=r"LMBTracker: seed must be None, a non-negative int or "
+                                    r"anything numpy.random.default_rng accepts, got "):
+        LMBTracker(None, CV, MM, association=Exact(), seed=seed, **KW)
+    with pytest.raises(error, match=r"GLMBTracker: seed must be None"):
+        GLMBTracker(None, CV, MM, association=Murty(5), seed=seed, **KW)
+
+
+@pytest.mark.parametrize("mapping, error, match", [
+    ((), ValueError, r"OSPA2Metric: mapping is empty, so every distance would be 0; give the "
+                     r"dimensions to compare, e.g. \(0, 2\), or None for all"),
+    ([], ValueError, r"mapping is empty"),
+    ((-1,), ValueError, r"OSPA2Metric: mapping must hold non-negative state dimensions, got -1"),
+    ((0, -2), ValueError, r"non-negative state dimensions, got -2"),
+    ((0.0,), TypeError, r"OSPA2Metric: mapping must hold state dimensions \(ints\), got float "
+                        r"0.0"),
+    ((True,), TypeError, r"mapping must hold state dimensions \(ints\), got bool True"),
+    (3, TypeError, r"OSPA2Metric: mapping must be None or a sequence of state dimensions "
+                   r"\(ints\), got int 3"),
+    ("02", TypeError, r"mapping must be None or a sequence of state dimensions"),
+    ((0, 0), ValueError, r"OSPA2Metric: mapping repeats a dimension: \(0, 0\)"),
+])
+def test_ospa2_metric_checks_mapping_at_construction(mapping, error, match):
+    with pytest.raises(error, match=match):
+        OSPA2Metric(c=10.0, p=1, window=2, mapping=mapping)
+
+
+def _one_truth_one_track(truth_stamps=(0, 1, 2), track_stamps=(1, 2)):
+    """A truth and a track 3 m off; an int stamp is seconds after T0, anything else is used."""
+    def stamp(s):
+        return T0 + datetime.timedelta(seconds=s) if type(s) is int else s
+
+    truth = GroundTruthPath([GroundTruthState([[float(k)], [0.0]], timestamp=stamp(s))
+                             for k, s in enumerate(truth_stamps)])
+    track = Track([State([[1.0], [3.0]], timestamp=stamp(s)) for s in track_stamps])
+    return {"groundtruth_paths": {truth}, "tracks": {track}}
+
+
+def test_ospa2_metric_checks_mapping_against_the_states_and_names_timestamps():
+    def compute(gen, data):
+        manager = MultiManager([gen])
+        manager.add_data(data)
+        return [round(float(m.value), 6) for m in gen.compute_metric(manager).value]
+
+    data = _one_truth_one_track()
+    assert compute(OSPA2Metric(c=10.0, p=1, window=2, mapping=[0, 1]), data) == \
+        compute(OSPA2Metric(c=10.0, p=1, window=2), data)
+    assert OSPA2Metric(c=10.0, p=1, window=2, mapping=np.array([1])).mapping == (1,)
+    # mapping=() gave 0.0 at every time; (5,) an IndexError
+    with pytest.raises(ValueError, match=r"OSPA2Metric: mapping \(5,\) names dimension 5, and "
+                                         r"the truths have states of 2 dimensions"):
+        compute(OSPA2Metric(c=10.0, p=1, window=2, mapping=(5,)), data)
+    with pytest.raises(ValueError, match=r"mapping \(0, 2\) names dimension 2"):
+        compute(OSPA2Metric(c=10.0, p=1, window=2, mapping=(0, 2)), data)
+    # states without timestamps: a TypeError from sorting that did not name them
+    with pytest.raises(TypeError, match=r"OSPA2Metric: a state of the tracks has no timestamp "
+                                        r"\(None\); OSPA\(2\) orders the scans by the states' "
+                                        r"timestamps"):
+        compute(OSPA2Metric(c=10.0, p=1, window=2), _one_truth_one_track(track_stamps=(None,)))
+    with pytest.raises(TypeError, match=r"a state of the truths has no timestamp"):
+        compute(OSPA2Metric(c=10.0, p=1, window=2),
+                _one_truth_one_track(truth_stamps=(0, None), track_stamps=(1,)))
+    with pytest.raises(TypeError, match=r"OSPA2Metric: the states' timestamps cannot be "
+                                        r"ordered, they mix datetime, float; give every state a "
+                                        r"datetime timestamp"):
+        compute(OSPA2Metric(c=10.0, p=1, window=2),
+                _one_truth_one_track(truth_stamps=(0,), track_stamps=(2.5,)))

@@ -617,3 +617,188 @@ def test_short_chains_save_the_papers_share_of_sweeps_on_the_glmb_filter():
     long = run_scenario("vo", OriginalGibbs(10_000), filter="glmb", rng=0)
     saving = 1.0 - short.sweeps.sum() / long.sweeps.sum()
     assert saving >= 0.99, f"{100 * saving:.1f} % fewer sweeps"
+
+
+# ----------------------------------------------------------------------------- set_prior's input
+def _prior_filter():
+    return GLMBFilter(make_model("vo"), Murty(10))  # four births a scan: (k, 1..4)
+
+
+@pytest.mark.parametrize("labels, exc, match", [
+    # mangled by int64 packing: (0, -1) was reported as (-1, 4294967295)
+    ([[0, -1], [0, 2]], ValueError, re.escape(
+        "labels[0] = (0, -1): its index must be an int in [0, 2**32) (labels are packed into "
+        "64 bits), got -1")),
+    ([[-3, 1], [0, 2]], ValueError, re.escape("labels[0] = (-3, 1): its birth scan must be an int "
+                                              "in [0, 2**31)")),
+    # (0, 2**32) and (1, 0) packed into one key: merged, with r clipped to 1
+    ([[0, 2**32], [1, 0]], ValueError, re.escape("labels[0] = (0, 4294967296): its index must be "
+                                                 "an int in [0, 2**32)")),
+    ([[2**31, 0], [0, 2]], ValueError, re.escape("its birth scan must be an int in [0, 2**31)")),
+    ([[0, 1], [0, 2**64]], ValueError, re.escape("labels[1] = (0, 18446744073709551616)")),
+    ([[0, 1.5], [0, 2]], TypeError, re.escape("labels must be pairs of ints, got float 1.5 in "
+                                              "labels[0]")),
+    ([[0, 1], [0, 2.0]], TypeError, re.escape("got float 2.0 in labels[1]")),
+    (np.array([[0.0, 1.0], [0.0, 2.0]]), TypeError, re.escape("got float 0.0 in labels[0]")),
+    ([[0, True], [0, 2]], TypeError, re.escape("got bool True in labels[0]")),
+    ([[0, "1"], [0, 2]], TypeError, re.escape("got str '1' in labels[0]")),
+    ([[0, 1, 2], [0, 2, 3]], ValueError, re.escape("labels must have shape (T, 2), one pair (birth "
+                                                   "scan, index) per track, got shape (2, 3)")),
+    ([[0, 1], [0]], ValueError, "labels must be pairs .* got the ragged sequence"),
+    ([[0, 4], [0, 4]], ValueError, re.escape("labels must be distinct: labels[0] and labels[1] "
+                                             "are both (0, 4)")),
+    # the births of scan k are (k, 1..4): a prior label of that form merged with a birth
+    ([[0, 1], [3, 2]], ValueError, re.escape(
+        "labels[1] = (3, 2) is a label the filter gives a birth: the births of scan k are "
+        "labelled (k, 1..4) from scan 1 on; label a prior's tracks with birth scan 0 (as (0, 2)) "
+        "or an index above 4")),
+    ([[1, 4], [0, 2]], ValueError, re.escape("labels[0] = (1, 4) is a label the filter gives a "
+                                             "birth")),
+])
+def test_set_prior_refuses_labels_it_would_mangle_or_merge(labels, exc, match):
+    f = _prior_filter()
+    with pytest.raises(exc, match=match):
+        f.set_prior(labels, np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)))
+    assert f.n_tracks == 0 and f.k == 0  # nothing was set
+
+
+def test_set_prior_keeps_labels_that_cannot_collide():
+    f = _prior_filter()
+    labels = [[0, 2**32 - 1], [2**31 - 1, 0], [5, 5], [3, 0]]  # no birth is (k, 0) or (k, 5)
+    f.set_prior(np.array(labels, dtype=np.uint64), np.zeros((4, 4)), np.tile(np.eye(4), (4, 1, 1)))
+    assert f.labels.tolist() == labels
+    rec = f.step([], rng=0)
+    held = dict(zip(map(tuple, rec.track_labels.tolist()), rec.track_existence, strict=True))
+    assert {tuple(x) for x in labels} <= set(held)  # four labels, none merged into another
+    assert all(0.0 < r < 1.0 for r in held.values())  # no r clipped at 1 by a merge
+    f.set_prior([], np.zeros((0, 4)), np.zeros((0, 4, 4)))  # the empty prior
+    assert f.n_tracks == 0 and f.components() == [(1.0, ())]
+
+
+@pytest.mark.parametrize("means, covs, exc, match", [
+    ([[np.nan, 0, 0, 0], [0, 0, 0, 0]], None, ValueError, re.escape(
+        "means[0] (track 0, label (0, 1)) must be finite, got [nan, 0.0, 0.0, 0.0]")),
+    ([[0, 0, 0, 0], [0, -np.inf, 0, 0]], None, ValueError, re.escape(
+        "means[1] (track 1, label (0, 2)) must be finite, got [0.0, -inf, 0.0, 0.0]")),
+    ([["a"] * 4, [0] * 4], None, TypeError, "means must be a numeric array"),
+    (None, np.zeros((2, 4, 4)), ValueError, re.escape(
+        "covs[0] (track 0, label (0, 1)) must be a symmetric positive definite 4x4 matrix")),
+    (None, np.stack([np.eye(4), -np.eye(4)]), ValueError, re.escape(
+        "covs[1] (track 1, label (0, 2)) must be a symmetric positive definite 4x4 matrix")),
+    (None, np.stack([np.eye(4), np.eye(4) + np.triu(np.ones((4, 4)), 1)]), ValueError,
+     re.escape("covs[1] (track 1, label (0, 2)) must be a symmetric positive definite")),
+    (None, np.stack([np.eye(4), np.full((4, 4), np.nan)]), ValueError,
+     re.escape("covs[1] (track 1, label (0, 2)) must be a symmetric positive definite")),
+    (None, np.stack([np.eye(4), np.diag([1e300] * 4)]), ValueError,
+     re.escape("covs[1] (track 1, label (0, 2)) is too large: its determinant overflows")),
+    (np.zeros((2, 3)), None, ValueError, re.escape(
+        "means and covs must have shapes (2, 4) and (2, 4, 4), got (2, 3) and (2, 4, 4)")),
+])
+def test_set_prior_refuses_gaussians_naming_the_track(means, covs, exc, match):
+    f = _prior_filter()
+    means = np.zeros((2, 4)) if means is None else means
+    covs = np.tile(np.eye(4), (2, 1, 1)) if covs is None else covs
+    with pytest.raises(exc, match=match):
+        f.set_prior([[0, 1], [0, 2]], means, covs)
+
+
+@pytest.mark.parametrize("components, weights, exc, match", [
+    ([[0.0, 1]], None, TypeError, re.escape("components[0] must hold track indices (ints), got "
+                                            "float 0.0")),
+    ([[0], [1.5]], None, TypeError, re.escape("components[1] must hold track indices (ints), "
+                                              "got float 1.5")),
+    ([[True]], None, TypeError, re.escape("components[0] must hold track indices (ints), got "
+                                          "bool True")),
+    (["01"], None, TypeError, re.escape("components[0] must be a sequence of track indices "
+                                        "(ints), got str '01'")),
+    ([0, 1], None, TypeError, re.escape("components[0] must be a sequence of track indices "
+                                        "(ints), got int 0")),
+    ("01", None, TypeError, "components must be a sequence of sequences of track indices"),
+    ([], None, ValueError, re.escape("components must hold at least one component (the empty "
+                                     "set is [[]])")),
+    ([[0, 0]], None, ValueError, re.escape("component [0, 0] must hold distinct track indices "
+                                           "in [0, 2)")),
+    ([[2]], None, ValueError, re.escape("component [2] must hold distinct track indices")),
+    ([[0], [1]], ["1", "1"], TypeError, "weights must be a numeric array"),
+    ([[0], [1]], [1.0, np.nan], ValueError, "weights must be 2 finite non-negative numbers"),
+])
+def test_set_prior_refuses_components_that_are_not_track_indices(components, weights, exc,
+                                                                  match):
+    f = _prior_filter()
+    with pytest.raises(exc, match=match):
+        f.set_prior([[0, 1], [0, 2]], np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)),
+                    components=components, weights=weights)
+    f.set_prior([[0, 1], [0, 2]], np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)),
+                components=[np.array([1, 0]), [], (1,)], weights=np.array([1, 1, 2]))
+    assert f.comp_w.tolist() == [0.25, 0.25, 0.5]
+
+
+# ----------------------------------------------------------------------------- a custom
+# truncation's output: one check for both δ-GLMB filters (test_tracking_multisensor_glmb.py)
+class _Returns(_Best):
+    """A custom truncation whose output is ``make(best two hypotheses)``."""
+
+    def __init__(self, make):
+        self.make = make
+
+    def hypotheses(self, problem, budget, rng):
+        return self.make(oracle.murty(problem, 2))
+
+
+@pytest.mark.parametrize("make, exc, match", [
+    (lambda r: (r.assignments, r.costs), TypeError, re.escape(
+        "GLMBFilter: association _Returns returned a tuple from hypotheses(problem, budget, "
+        "rng), not hypotheses: return Hypotheses(assignments, costs) (an object with the "
+        "attributes assignments and costs)")),
+    (lambda r: 3, TypeError, "association _Returns returned an int from hypotheses"),
+    (lambda r: None, TypeError, "association _Returns returned a NoneType from hypotheses"),
+    (lambda r: Hypotheses(r.assignments + 0.5, r.costs), TypeError, re.escape(
+        "GLMBFilter: association _Returns returned assignments of dtype float64, expected "
+        "integer column indices")),
+    (lambda r: Hypotheses(r.assignments.astype(float), r.costs), TypeError,
+     "returned assignments of dtype float64"),
+    (lambda r: Hypotheses(r.assignments.astype(bool), r.costs), TypeError,
+     "returned assignments of dtype bool"),
+    (lambda r: Hypotheses(r.assignments.astype(str), r.costs), TypeError,
+     "returned assignments of dtype <U"),
+    (lambda r: Hypotheses(r.assignments[:, :1], r.costs), ValueError, re.escape(
+        "returned assignments of shape (2, 1), expected (n >= 1, 4)")),
+    (lambda r: Hypotheses(r.assignments[:0], r.costs[:0]), ValueError, re.escape(
+        "returned assignments of shape (0, 4), expected (n >= 1, 4)")),
+    (lambda r: Hypotheses(r.assignments + 100, r.costs), ValueError, re.escape(
+        "GLMBFilter: association _Returns returned an entry out of range: assignments[0, 0] = "
+        "100 (row 0), expected 0..8")),
+    (lambda r: Hypotheses(r.assignments - 100, r.costs), ValueError,
+     "out of range: assignments.* expected 0..8"),
+    (lambda r: Hypotheses(r.assignments, r.costs * np.nan), ValueError, re.escape(
+        "GLMBFilter: association _Returns returned a NaN cost (costs[0])")),
+    (lambda r: Hypotheses(r.assignments, ["a", "b"]), TypeError,
+     "returned costs of dtype <U1, expected real numbers"),
+    (lambda r: Hypotheses(r.assignments, r.costs[:1]), ValueError, re.escape(
+        "returned costs of shape (1,), expected (2,), one per assignment")),
+    (lambda r: Hypotheses(np.r_[r.assignments, r.assignments[:1]], np.r_[r.costs, r.costs[:1]]),
+     ValueError, "association _Returns returned duplicate assignments"),
+    (lambda r: Hypotheses(r.assignments, r.costs, "x"), TypeError,
+     "sweeps of association _Returns's hypotheses must be an int, got str 'x'"),
+    (lambda r: Hypotheses(r.assignments, r.costs, 0, 2.5), TypeError,
+     "row_updates of association _Returns's hypotheses must be an int"),
+    (lambda r: Hypotheses(r.assignments, r.costs + 1.0), ValueError,
+     "returned costs that are not those of its assignments"),
+])
+def test_custom_truncation_output_is_checked_naming_truncation_and_field(make, exc, match):
+    f = GLMBFilter(make_model("vo"), _Returns(make))
+    with pytest.raises(exc, match=match):
+        f.step([[0.0, 0.0]], rng=0)
+    # the same check when truncate is called directly
+    p = AssignmentProblem.from_eta([[3.0], [2.0]], [1.0, 1.0], [1.0, 1.0])
+    with pytest.raises(exc):
+        truncate(_Returns(make), p, 2)
+
+
+def test_custom_truncation_output_that_is_right_runs():
+    ok = _Returns(lambda r: Hypotheses(r.assignments.astype(np.int32), r.costs.tolist(), 3, 4))
+    a = _run(ok, n_scans=2)[1]
+    b = _run(Murty(2), n_scans=2)[1]
+    for x, y in zip(a, b, strict=True):
+        assert_array_equal(x.track_existence, y.track_existence)
+    assert sum(r.sweeps for r in a) > 0

@@ -219,3 +219,114 @@ def test_run_filter_on_a_multi_sensor_file_is_run_multisensor_scenario(tmp_path)
     assert run.existence == ref.existence
     assert_array_equal(run.sweeps, ref.sweeps)
     assert_array_equal(run.n_births, ref.n_births)
+
+
+# ------------------------------------------------------------------ hostile files and arguments
+@pytest.mark.parametrize(("text", "message"), [
+    # two rows make a million scans plus one: refused with the memory, before it is built
+    ("scan,x,y\n1,0,0\n1000001,0,0\n",
+     "{p}, line 3: scan 1000001 makes 1000001 scans from first_scan = 1, above MAX_SCANS = "
+     "1000000 (the bound of n_scans): the empty scans alone would need 129.7 MiB (136000136 "
+     "bytes), 136 bytes a scan and sensor"),
+    ("scan,x,y\n1000000000000,,\n1,0,0\n",
+     "{p}, line 2: scan 1000000000000 makes 1000000000000 scans from first_scan = 1, above "
+     "MAX_SCANS = 1000000"),
+    ("scan,sensor,x,y\n1,0,0,0\n1,1000000000,0,0\n",
+     "{p}, line 3: sensor 1000000000 makes 1000000001 sensors of 1 scan, 1000000001 "
+     "measurement sets, above MAX_MEASUREMENT_SETS = 4000000 (MAX_SCANS scans of 4 sensors): "
+     "the empty sets alone would need 126.7 GiB (136000000136 bytes), 136 bytes a set"),
+    # not plain decimal integers: Python's int() takes all of these
+    ("scan,x,y\n1_000,0,0\n", "{p}, line 2: scan must be a non-negative integer, got '1_000' "
+                              "(decimal digits, as 3 or 3.0)"),
+    ("scan,x,y\n+3,0,0\n", "{p}, line 2: scan must be a non-negative integer, got '+3'"),
+    ("scan,x,y\n\u0663,0,0\n", "{p}, line 2: scan must be a non-negative integer, got '\u0663'"),
+    ("scan,x,y\n1e3,0,0\n", "{p}, line 2: scan must be a non-negative integer, got '1e3'"),
+    ("scan,sensor,x,y\n1,0_1,0,0\n", "{p}, line 2: sensor must be a non-negative integer, got "
+                                     "'0_1'"),
+    ("scan,x,y\n" + "9" * 5000 + ",0,0\n",
+     "{p}, line 2: scan 999999999999999999... (5000 digits) is too large"),
+    ("scan,x,y\n1,1_0.5,0\n", "{p}, line 2: x must be a plain decimal number (digits, a point, "
+                              "an exponent), got '1_0.5'"),
+    ("scan,x,y\n1,0,\u0661\n", "{p}, line 2: y must be a plain decimal number"),
+    # the csv module's own errors name the file and the line
+    ("scan,x,y\n1,0,0\n2," + "1" * 140_000 + ",0\n",
+     "{p}, line 3: not a CSV row the reader can take: field larger than field limit (131072)"),
+])
+def test_hostile_files_are_refused_with_file_and_line(tmp_path, text, message):
+    path = write(tmp_path, text)
+    with pytest.raises(ValueError, match=re.escape(message.format(p=path))):
+        read_measurements(path)
+
+
+def test_the_bounds_are_the_scenario_runners_and_hold_for_n_sensors_and_first_scan(
+        tmp_path, monkeypatch):
+    from rankedassign.tracking import io, scenario
+
+    assert io.MAX_SCANS is scenario.MAX_SCANS == 10**6  # the bound of n_scans
+    assert io.MAX_MEASUREMENT_SETS == 4 * 10**6  # MAX_SCANS scans of the 4 'multi' sensors
+    path = write(tmp_path, "scan,sensor,x,y\n1,0,0,0\n")
+    with pytest.raises(ValueError, match=re.escape(
+            f"{path}, line 1: n_sensors = 10000000 of 1 scan, 10000000 measurement sets, above "
+            "MAX_MEASUREMENT_SETS = 4000000")):
+        read_measurements(path, n_sensors=10**7)
+    # the bounds are inclusive (smaller bounds, so that the test builds little)
+    monkeypatch.setattr(io, "MAX_SCANS", 5)
+    monkeypatch.setattr(io, "MAX_MEASUREMENT_SETS", 10)
+    path = write(tmp_path, "scan,x,y\n5,0,0\n")
+    assert len(read_measurements(path, first_scan=1)) == 5
+    with pytest.raises(ValueError, match=re.escape(
+            f"{path}, line 2: scan 5 makes 6 scans from first_scan = 0, above MAX_SCANS = 5")):
+        read_measurements(path, first_scan=0)
+    path = write(tmp_path, "scan,sensor,x,y\n1,1,0,0\n5,0,,\n")
+    assert [len(s) for s in read_measurements(path)] == [2] * 5
+    path = write(tmp_path, "scan,sensor,x,y\n1,2,0,0\n5,0,,\n")
+    with pytest.raises(ValueError, match=re.escape(
+            f"{path}, line 2: sensor 2 makes 3 sensors of 5 scans, 15 measurement sets, above "
+            "MAX_MEASUREMENT_SETS = 10")):
+        read_measurements(path)
+
+
+@pytest.mark.parametrize(("data", "line", "what"), [
+    ("scan,x,y\n1,0,0\n2,\xe9,0\n".encode("latin-1"), 3, "byte e9 at column 3"),
+    ("scan,x,y\n1,0,0\n".encode("utf-16"), 1, "byte ff at column 1"),  # the UTF-16 BOM
+    ("scan,x,y\n1,0,0\n".encode("utf-16-be"), 1, "the header holds NUL characters: the file "
+                                                  "is not UTF-8 text (UTF-16?)"),
+    (b"\xef\xbb\xbfscan,x,y\n1,0,0\n" + b"1,0,0\n" * 5000 + b"7,\xff,0\n", 5003, "byte ff"),
+])
+def test_files_that_are_not_utf8_name_file_and_line(tmp_path, data, line, what):
+    path = tmp_path / "meas.csv"
+    path.write_bytes(data)
+    if not what.startswith("the header"):
+        what = f"the file is not UTF-8 text ({what}"
+    with pytest.raises(ValueError, match=re.escape(f"{path}, line {line}: {what}")) as info:
+        read_measurements(path)
+    assert "save it as UTF-8" in str(info.value)
+
+
+def test_n_sensors_without_a_sensor_column_is_refused(tmp_path):
+    path = write(tmp_path, "scan,x,y\n1,0,0\n")
+    for n in (1, 3):
+        with pytest.raises(ValueError, match=re.escape(
+                f"{path}, line 1: n_sensors = {n} is for a file with a 'sensor' column, and "
+                "this one has none (its scans are one array each); leave n_sensors out")):
+            read_measurements(path, n_sensors=n)
+    assert [z.shape for z in read_measurements(path)] == [(1, 2)]
+
+
+@pytest.mark.parametrize("bad", [3, 0, True, 3.0, None, [b"m.csv"]])
+def test_a_path_that_is_no_path_is_refused(tmp_path, bad):
+    # an int is a file descriptor to open(): reading it would read (and close) that descriptor
+    kind = type(bad).__name__
+    with pytest.raises(TypeError, match=re.escape(
+            f"read_measurements: path must be a str or path-like (os.PathLike) naming a file, "
+            f"got {kind}")):
+        read_measurements(bad)
+    with pytest.raises(TypeError, match=re.escape(
+            f"write_measurements: path must be a str or path-like (os.PathLike) naming a file, "
+            f"got {kind}")):
+        write_measurements(bad, [[]])
+    with pytest.raises(TypeError, match="an int is a file descriptor, which is not accepted"):
+        read_measurements(3)
+    path = write(tmp_path, "scan,x,y\n1,0,0\n")
+    assert read_measurements(str(path))[0].shape == (1, 2)
+    assert read_measurements(bytes(path))[0].shape == (1, 2)

@@ -11,6 +11,7 @@ filter must give the same posterior.
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -419,3 +420,113 @@ def test_run_scenario_on_multi_runs_the_multisensor_glmb_filter():
     assert run.n_unique.tolist() == same.n_unique.tolist()
     with pytest.raises(ValueError, match="filter='glmb' runs without grouping"):
         run_scenario("multi", assoc, filter="glmb", grouping=True, n_scans=1)
+
+
+# ----------------------------------------------------------------------------- hostile input
+def test_a_scan_beyond_the_tuple_limit_is_refused_before_the_tuples_are_built(monkeypatch):
+    import rankedassign.tracking.multisensor.glmb as mod
+
+    # four sensors of 30 measurements without gates: 4 entries x 31**4 tuples (it took 25 s
+    # and 5.4 GB, and 36 measurements a MemoryError, before the guard)
+    model = make_multisensor_model((0, 1, 2, 3))
+    f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(50, 5, method="mm"),
+                              gate_prob=None)
+    z = np.random.default_rng(0).uniform(-900, 900, size=(30, 2))
+    monkeypatch.setattr(mod, "_stacked", lambda *a, **k: pytest.fail("built the tuples"))
+    with pytest.raises(ValueError, match=re.escape(
+            "MultiSensorGLMBFilter: the 4 entries of this scan allow 3694084 measurement "
+            "tuples (one gated measurement or missed per sensor; at most [30, 30, 30, 30] gated "
+            "measurements per sensor for one entry), above TUPLE_LIMIT = 1000000")):
+        f.step([z] * 4, rng=0)
+    assert 4 * 31**4 == 3694084
+    # uneven sensors: the count is per entry, over what each sensor gates for it
+    g = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(50, 5, method="mm"),
+                              gate_prob=None)
+    monkeypatch.setattr(mod, "TUPLE_LIMIT", 4 * 3 * 1 * 2 * 5 - 1)
+    zs = [z[:2], np.empty((0, 2)), z[:1], z[:4]]
+    with pytest.raises(ValueError, match=re.escape(
+            "the 4 entries of this scan allow 120 measurement tuples (one gated measurement or "
+            "missed per sensor; at most [2, 0, 1, 4] gated measurements per sensor for one "
+            "entry), above TUPLE_LIMIT = 119")):
+        g.step(zs, rng=0)
+
+
+def test_the_tuples_are_itertools_product_of_each_entrys_gated_lists():
+    model = _model(n_births=2)
+    labels, means, covs = _prior()
+    f = MultiSensorGLMBFilter(model, MultiSensorExact())
+    f.set_prior(labels, means, covs)
+    p_exist = f._predict()
+    zs = [np.array([[1.0, -1.0], [9.0, 2.0], [500.0, 500.0]]),
+          np.array([[0.5, 0.0], [30.0, 30.0], [8.0, 3.0]])]
+    terms = f._terms(zs, p_exist)
+    want = []
+    for t in range(f.n_tracks):
+        lists = [np.r_[0, np.flatnonzero(terms.gated[v][t]) + 1] for v in range(2)]
+        want += list(itertools.product(*lists))
+    assert terms.tup_g.tolist() == [list(x) for x in want]
+    assert terms.tup_g.dtype == np.int64
+    assert len(want) > f.n_tracks  # some entries gate measurements
+
+
+class _MSReturns:
+    """A custom multi-sensor truncation whose output is ``make(problem)``."""
+
+    sensors = "multi-sensor"
+
+    def __init__(self, make):
+        self.make = make
+
+    def __call__(self, problem, rng):  # pragma: no cover (not called by the GLMB filter)
+        raise AssertionError
+
+    def hypotheses(self, problem, budget, rng):
+        return self.make(problem)
+
+
+@pytest.mark.parametrize("make, exc, match", [
+    (lambda p: (p.all_missed()[None], np.zeros(1)), TypeError, re.escape(
+        "MultiSensorGLMBFilter: association _MSReturns returned a tuple from hypotheses(problem, "
+        "budget, rng), not hypotheses: return Hypotheses(assignments, costs)")),
+    (lambda p: 7, TypeError, "association _MSReturns returned an int from hypotheses"),
+    (lambda p: Hypotheses(p.all_missed()[None] + 0.25, np.zeros(1)), TypeError, re.escape(
+        "MultiSensorGLMBFilter: association _MSReturns returned assignments of dtype float64, "
+        "expected integer column indices")),
+    (lambda p: Hypotheses(p.all_missed()[None] + 9, np.zeros(1)), ValueError, re.escape(
+        "MultiSensorGLMBFilter: association _MSReturns returned an entry out of range: "
+        "assignments[0, 0, 0] = 9 (row 0, sensor 0), expected -1..2")),
+    (lambda p: Hypotheses(p.all_missed()[None] - 2, np.zeros(1)), ValueError,
+     re.escape("assignments[0, 0, 0] = -2 (row 0, sensor 0), expected -1..2")),
+    (lambda p: Hypotheses(p.all_missed()[None], [np.nan]), ValueError, re.escape(
+        "association _MSReturns returned a NaN cost (costs[0])")),
+    (lambda p: Hypotheses(p.all_missed()[None], np.zeros(2)), ValueError, re.escape(
+        "returned costs of shape (2,), expected (1,), one per assignment")),
+    (lambda p: Hypotheses(np.r_[p.all_missed()[None], p.all_missed()[None]], np.zeros(2)),
+     ValueError, "association _MSReturns returned duplicate assignments"),
+])
+def test_a_custom_multisensor_truncation_is_checked_by_the_same_function(make, exc, match):
+    f = MultiSensorGLMBFilter(_model(), _MSReturns(make))
+    with pytest.raises(exc, match=match):
+        f.step(ZS1, rng=0)
+
+
+def test_set_prior_refuses_labels_of_the_births_of_either_birth():
+    labels, means, covs = _prior()
+    f = _exact_filter(_model(n_births=2))
+    with pytest.raises(ValueError, match=re.escape(
+            "labels[1] = (2, 2) is a label the filter gives a birth: the births of scan k are "
+            "labelled (k, 1..2) from scan 1 on")):
+        f.set_prior([[0, 1], [2, 2]], means, covs)
+    f.set_prior([[0, 1], [2, 3]], means, covs)  # above the two births of every scan
+    # adaptive births are (k, 1..n), n changing from scan to scan: only birth scan 0 is safe
+    g = MultiSensorGLMBFilter(make_multisensor_model((0, 1), birth="adaptive"),
+                              MultiSensorShortChainGibbs(50, 5, method="mm"),
+                              birth=AdaptiveBirth())
+    with pytest.raises(ValueError, match=re.escape(
+            "labels[1] = (2, 9) is a label the filter gives a birth: the adaptive births of "
+            "scan k are labelled (k, 1..n) from scan 1 on; label a prior's tracks with birth "
+            "scan 0 (as (0, 2))")):
+        g.set_prior([[0, 1], [2, 9]], means, covs)
+    g.set_prior(labels, means, covs)
+    with pytest.raises(TypeError, match=re.escape("labels must be pairs of ints, got float 1.5")):
+        g.set_prior([[0, 1], [0, 1.5]], means, covs)

@@ -274,3 +274,60 @@ def test_model_extraction_errors():
                          base.survival, "best")
     with pytest.raises(ValueError, match=re.escape(msg)):
         LMBFilter(base, Exact(), extraction="best")
+
+
+# ------------------------------------------------------------------ what a filter's step returns
+class _Returns(_OneTrack):
+    """A filter whose step returns ``change(a good record)`` at the second scan."""
+
+    def __init__(self, change):
+        self.change = change
+
+    def step(self, z, rng=None):
+        rec = super().step(z, rng)
+        return self.change(rec) if self.k == 2 else rec
+
+
+@pytest.mark.parametrize("change, exc, match", [
+    (lambda r: None, TypeError, re.escape(
+        "run_filter: _Returns.step returned NoneType at scan 1, without labels, states, "
+        "track_labels, track_existence, timings, invocations, sweeps, row_updates, n_unique, "
+        "n_tracks, n_meas, n_meas_gated, n_groups; step must return a record with the fields "
+        "of ScanRecord (labels (n, 2), states (n, 4), track_labels (L, 2), track_existence "
+        "(L,), timings and invocations")),
+    (lambda r: (r.labels, r.states), TypeError, "_Returns.step returned tuple at scan 1, "
+                                                "without labels"),
+    (lambda r: r._asdict(), TypeError, "_Returns.step returned dict at scan 1"),
+    (lambda r: r._replace(labels=r.labels + 0.5), TypeError, re.escape(
+        "run_filter: _Returns.step returned labels of dtype float64 at scan 1, expected ints")),
+    (lambda r: r._replace(labels=[[1, 1, 1]]), ValueError, re.escape(
+        "_Returns.step returned labels of shape (1, 3) at scan 1, expected (n, 2)")),
+    (lambda r: r._replace(labels=[[1, 1], [2]]), ValueError, re.escape(
+        "_Returns.step returned a ragged labels at scan 1")),
+    (lambda r: r._replace(states=np.zeros((2, 4))), ValueError, re.escape(
+        "_Returns.step returned states of shape (2, 4) at scan 1, expected (1, d)")),
+    (lambda r: r._replace(states=np.zeros((1, 2))), ValueError, re.escape(
+        "_Returns.step returned states of shape (1, 2) at scan 1, expected (n, 4): the "
+        "positions are columns 0 and 2")),
+    (lambda r: r._replace(states=[["a"] * 4]), TypeError,
+     "_Returns.step returned states of dtype <U1 at scan 1, expected real numbers"),
+    (lambda r: r._replace(track_labels=np.zeros((1, 2))), TypeError,
+     "_Returns.step returned track_labels of dtype float64 at scan 1, expected ints"),
+    (lambda r: r._replace(track_existence=[0.5, 0.5]), ValueError, re.escape(
+        "_Returns.step returned track_existence of shape (2,) at scan 1, expected (1,)")),
+    (lambda r: r._replace(sweeps=1.5), TypeError, re.escape(
+        "_Returns.step returned sweeps = 1.5 at scan 1, expected an int")),
+    (lambda r: r._replace(n_meas=None), TypeError, "_Returns.step returned n_meas = None"),
+    (lambda r: r._replace(timings=None), TypeError, re.escape(
+        "_Returns.step returned timings = None at scan 1, expected a dict of phase names to "
+        "seconds")),
+    (lambda r: r._replace(timings={"update": "1 s"}), TypeError,
+     "_Returns.step returned timings = .* expected a dict of phase names to seconds"),
+])
+def test_run_filter_checks_what_step_returns_naming_the_filter(change, exc, match):
+    with pytest.raises(exc, match=match):
+        run_filter(_Returns(change), [[], [], []], rng=0)
+    # a record of numpy ints and lists is fine
+    run = run_filter(_Returns(lambda r: r._replace(sweeps=np.int64(4), labels=r.labels.tolist())),
+                     [[], [], []], rng=0)
+    assert_array_equal(run.sweeps, [0, 4, 0])

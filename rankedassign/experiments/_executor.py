@@ -9,6 +9,7 @@ runs serially, on ``N`` local processes or on a Dask cluster.
 
 from __future__ import annotations
 
+import _multiprocessing
 import ctypes
 import ctypes.util
 import multiprocessing
@@ -22,11 +23,14 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
 from contextlib import contextmanager
+from multiprocessing import resource_tracker
 from typing import Any
 
 import numba
 import numpy as np
 from tqdm.auto import tqdm
+
+from . import _interrupts
 
 __all__ = [
     "run_seed",
@@ -176,6 +180,32 @@ def _end_workers(ex: ProcessPoolExecutor) -> None:
             p.join(timeout=2.0)
 
 
+def _forget_semaphores(ex: ProcessPoolExecutor) -> None:
+    """Unlink the pool's named semaphores and strike them off the resource tracker's list.
+
+    For a process about to end by ``os._exit`` (a second signal): its finalisers, which do
+    this, do not run, and the resource tracker would report them as leaked (and unlink them
+    itself). Runs in a signal handler, so it writes the tracker's message directly instead
+    of through ``resource_tracker.unregister``, which takes a lock. CPython's private
+    attributes are read defensively; where they differ nothing is done.
+    """
+    fd = getattr(getattr(resource_tracker, "_resource_tracker", None), "_fd", None)
+    for q in (getattr(ex, "_call_queue", None), getattr(ex, "_result_queue", None)):
+        for attr in ("_rlock", "_wlock", "_sem"):
+            name = getattr(getattr(getattr(q, attr, None), "_semlock", None), "name", None)
+            if not isinstance(name, str):
+                continue
+            try:
+                _multiprocessing.sem_unlink(name)
+            except (OSError, AttributeError):
+                continue
+            if isinstance(fd, int):
+                try:
+                    os.write(fd, f"UNREGISTER:{name}:semaphore\n".encode("ascii"))
+                except OSError:
+                    pass
+
+
 @contextmanager
 def _signals_held() -> Iterator[None]:
     """Hold SIGINT and SIGTERM while worker processes start, and deliver them afterwards.
@@ -199,8 +229,9 @@ def _signals_held() -> Iterator[None]:
     finally:
         for s, handler in previous.items():
             signal.signal(s, signal.SIG_DFL if handler is None else handler)
-        if caught:
-            signal.raise_signal(caught[0])
+        # delivered again in order: a second one counts (it ends a run at once, _interrupts)
+        for signum in caught[:2]:
+            signal.raise_signal(signum)
 
 
 @contextmanager
@@ -233,6 +264,18 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
         return
     ctx = multiprocessing.get_context("spawn")
     ex = ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_worker_init)
+
+    def kill_workers():  # a second signal: no waiting, no locks (see _interrupts)
+        for p in list((getattr(ex, "_processes", None) or {}).values()):
+            try:
+                os.kill(p.pid, signal.SIGKILL)
+            except (OSError, TypeError, AttributeError):
+                pass
+        _forget_semaphores(ex)
+
+    # registered until the pool is shut down: a second signal during the first one's cleanup
+    # (ending the workers, the shutdown) must still find the pool's semaphores
+    _interrupts.add_cleanup(kill_workers)
     try:
         yield ex
     except BaseException:
@@ -240,7 +283,10 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
         _end_workers(ex)
         raise
     finally:
-        ex.shutdown(wait=True, cancel_futures=True)
+        try:
+            ex.shutdown(wait=True, cancel_futures=True)
+        finally:
+            _interrupts.remove_cleanup(kill_workers)
 
 
 @contextmanager
@@ -390,19 +436,32 @@ def run_tasks(
     """
     bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr)
     try:
+        # _interrupts.check(): the safe points at which a recorded SIGINT/SIGTERM stops the
+        # run (between tasks, at each progress step, while waiting for the workers)
         if executor is None:
             out = []
             for t in tasks:
+                _interrupts.check()
                 out.append(fn(*t))
                 bar.update()
+            _interrupts.check()
             return out
         with _signals_held():
             futures = {executor.submit(fn, *t): i for i, t in enumerate(tasks)}
         results: list[Any] = [None] * len(tasks)
+        if not futures:
+            return results
         try:
-            for fut in as_completed(futures):
-                results[futures[fut]] = fut.result()
-                bar.update()
+            with _interrupts.stop_future() as stop:
+                waited = set(futures) if stop is None else {*futures, stop}
+                left = len(futures)
+                for fut in as_completed(waited):
+                    _interrupts.check()
+                    results[futures[fut]] = fut.result()
+                    bar.update()
+                    left -= 1
+                    if not left:
+                        break
         except BaseException:
             for fut in futures:
                 fut.cancel()

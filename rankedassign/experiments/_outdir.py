@@ -6,9 +6,13 @@ A user's files are never at stake:
   has this module's schema (or the exact key set of the manifests written before the schema
   existed), and every entry of the directory is a regular file that report wrote. Anything else
   is refused, ``--force`` or not.
-* A run holds an exclusive lock (``fcntl.flock`` on ``.<out>.lock`` beside the report) from
-  its checks to its last move, so a second run into the same ``--out`` is refused and told
-  which run holds it.
+* A run holds an exclusive lock (``.<out>.lock`` beside the report, created with ``O_EXCL |
+  O_NOFOLLOW`` and held with ``fcntl.flock``) from its checks to its last move, so a second run
+  into the same ``--out`` is refused and told which run holds it. Whatever else is at the
+  lock's place (a user's file, a symbolic link, a directory) is refused and never written,
+  followed or removed; a lock record left by a killed run is recognised (its schema, no
+  process holding it) and replaced. A run removes its lock only if the file there is still
+  the one it created.
 * The finished report is moved into place by one atomic ``rename``: ``renameat2`` with
   ``RENAME_NOREPLACE`` when ``out`` did not exist, ``RENAME_EXCHANGE`` when it replaces an
   earlier report. The directory that was at ``out`` is checked again at that moment; if it
@@ -30,6 +34,7 @@ import errno
 import fcntl
 import json
 import os
+import secrets
 import socket
 import stat
 import tempfile
@@ -146,67 +151,233 @@ def not_a_report(d: Path) -> str | None:
 
 
 # --------------------------------------------------------------------------- the lock
+#: ``schema`` of the lock records this version writes.
+LOCK_SCHEMA = "rankedassign-lock/1"
+#: The keys of the lock records written before ``schema`` existed (exactly these).
+_LEGACY_LOCK_KEYS = frozenset({"pid", "host", "command", "started"})
+# A lock record is a few hundred bytes; a file at the lock's place that is larger is not one
+# (and is not read whole).
+_LOCK_MAX_BYTES = 1 << 16
+# Attempts at creating the lock when a stale one is removed between them (each attempt that
+# fails removes one stale lock or refuses, so two are enough unless other runs race).
+_LOCK_ATTEMPTS = 8
+
+
 def lock_path(out: Path) -> Path:
     """The lock file of report directory ``out``: ``.<name>.lock`` beside it."""
     return out.parent / f".{out.name}.lock"
 
 
-def _holder(path: Path) -> str:
+def _lock_record(data: bytes) -> dict | None:
+    """The lock record in ``data``, or None unless it is one this program writes (or wrote)."""
     try:
-        info = json.loads(path.read_text())
+        info = json.loads(data.decode())
+    except (UnicodeDecodeError, ValueError):
+        return None
+    if not isinstance(info, dict):
+        return None
+    if info.get("schema") == LOCK_SCHEMA and _LEGACY_LOCK_KEYS | {"schema", "token"} <= set(info):
+        return info
+    if set(info) == _LEGACY_LOCK_KEYS:  # written before the schema existed
+        return info
+    return None
+
+
+def _describe_holder(info: dict | None) -> str:
+    try:
         return (f"pid {info['pid']} on {info['host']}, started {info['started']}: "
                 f"{info['command']}")
-    except (OSError, ValueError, KeyError, TypeError):
+    except (KeyError, TypeError):
         return "a run whose details cannot be read"
+
+
+class RunLock:
+    """The lock of one run, created by :func:`run_lock`.
+
+    Attributes
+    ----------
+    path : Path
+        ``.<out>.lock`` beside the report directory.
+    notes : list of str
+        What was done on the way (a stale lock of a killed run removed), for the user.
+    """
+
+    def __init__(self, path: Path, fd: int, notes: list[str]):
+        self.path, self.notes = path, notes
+        self._fd = fd
+        self._stat = os.fstat(fd)
+
+    def release(self) -> None:
+        """Remove the lock file, if the file at its place is still the one this run made.
+
+        Idempotent, and safe to call from a signal handler: it only compares inodes, unlinks
+        and closes; a file or link that someone put at the lock's place meanwhile is left.
+        """
+        fd, self._fd = self._fd, None
+        if fd is None:
+            return
+        try:
+            st = os.lstat(self.path)
+            if stat.S_ISREG(st.st_mode) and os.path.samestat(st, self._stat):
+                os.unlink(self.path)
+        except OSError:  # pragma: no cover - gone already, or the parent made read-only
+            pass
+        finally:
+            os.close(fd)
+
+
+def _foreign(out: Path, path: Path, what: str) -> ReproduceError:
+    return ReproduceError(
+        f"cannot write the report to {str(out)!r}: {str(path)!r}, where its lock goes, {what}, "
+        "not a lock of rankedassign reproduce; it was left as it is: move it away or choose "
+        "another --out"
+    )
+
+
+def _create_lock(path: Path) -> int | None:
+    """The descriptor of a new lock file at ``path`` (locked), or None if something is there."""
+    flags = (os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0)
+             | getattr(os, "O_CLOEXEC", 0))
+    try:
+        fd = os.open(path, flags, 0o644)
+    except FileExistsError:
+        return None
+    try:
+        # O_EXCL made the file: no other run has it open yet, so this cannot block
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:  # a file system without flock (ENOLCK): the file made here goes again
+        os.unlink(path)
+        os.close(fd)
+        raise
+    return fd
+
+
+def _inspect_lock(out: Path, path: Path) -> str | None:
+    """Deal with what is at ``path`` when the lock cannot be created there.
+
+    Returns a note if it was a stale lock of a killed run, now removed (or None if the path
+    is free again); raises :class:`ReproduceError` for a live run's lock or anything that is
+    not a lock of this program, which is never touched.
+    """
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return None  # removed meanwhile: try again
+    if stat.S_ISLNK(st.st_mode):
+        raise _foreign(out, path, "is a symbolic link")
+    if stat.S_ISDIR(st.st_mode):
+        raise _foreign(out, path, "is a directory")
+    if not stat.S_ISREG(st.st_mode):
+        raise _foreign(out, path, "is not a regular file")
+    try:
+        # O_NOFOLLOW and O_NONBLOCK: whatever is swapped in after the lstat is neither followed
+        # nor waited for (a FIFO); the fstat below sees what was opened
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK
+                     | getattr(os, "O_CLOEXEC", 0))
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise _foreign(out, path, "is a symbolic link") from None
+        raise ReproduceError(f"cannot write the report to {str(out)!r}: cannot read what is at "
+                             f"its lock's place, {str(path)!r} ({exc.strerror or exc})") from None
+    try:
+        fst = os.fstat(fd)
+        if not stat.S_ISREG(fst.st_mode):
+            raise _foreign(out, path, "is not a regular file")
+        info = _lock_record(os.read(fd, _LOCK_MAX_BYTES)) if fst.st_size <= _LOCK_MAX_BYTES \
+            else None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            # a live run holds it (its record may still be being written)
+            raise ReproduceError(
+                f"another run is writing the report to {str(out)!r} ({_describe_holder(info)}); "
+                "wait for it to finish or choose another --out"
+            ) from None
+        if info is None:
+            raise _foreign(out, path, "is a file that is not a lock record")
+        # Our record, and no process holds it: the run that made it was killed (a flock goes
+        # with its process). Removed only if the path still names the file just read.
+        try:
+            same = os.path.samestat(os.lstat(path), fst)
+        except FileNotFoundError:
+            return None
+        if not same:
+            return None
+        try:
+            os.unlink(path)
+        except OSError as exc:  # another user's lock in a sticky directory
+            raise ReproduceError(
+                f"cannot write the report to {str(out)!r}: its lock {str(path)!r} was left by a "
+                f"run that was killed (pid {info.get('pid', '?')}), and it cannot be removed "
+                f"({exc.strerror or exc}); remove it or choose another --out") from None
+        return (f"removed {str(path)!r}, the lock of an earlier run into the same --out that was "
+                f"killed (pid {info.get('pid', '?')})")
+    finally:
+        os.close(fd)
 
 
 @contextmanager
 def run_lock(out: Path, command: str):
     """Hold the exclusive lock of ``out`` for the duration of the ``with`` block.
 
+    The lock is a file ``.<out>.lock`` beside ``out``, created exclusively (``O_CREAT |
+    O_EXCL | O_NOFOLLOW``: never through a link, never over an existing file) and locked with
+    ``flock``; it holds a record of the run (schema, pid, host, start, command and a random
+    token). At the end it is removed only if the file at its place is still the one this run
+    created (same inode). A lock record of a killed run (no process holds its ``flock``) is
+    removed and the lock is taken, with a note; anything else at the lock's place (a user's
+    file, a symbolic link, a directory) is refused and left as it is.
+
+    Parameters
+    ----------
+    out : Path
+        The report directory.
+    command : str
+        The command line recorded in the lock (shown to a run that is refused).
+
+    Yields
+    ------
+    RunLock
+        The lock held (its ``path`` and ``notes``).
+
     Raises
     ------
     ReproduceError
-        If another run holds it, naming that run (pid, host, start, command).
+        If another run holds it, naming that run (pid, host, start, command); if something
+        that is not a lock of this program is at its place, naming the path; if it cannot be
+        created.
     """
     path = lock_path(out)
-    while True:
+    notes: list[str] = []
+    for _ in range(_LOCK_ATTEMPTS):
         try:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o644)
+            fd = _create_lock(path)
         except OSError as exc:
+            if exc.errno == errno.ELOOP:  # pragma: no cover - O_EXCL reports EEXIST first
+                raise _foreign(out, path, "is a symbolic link") from None
             raise ReproduceError(
                 f"cannot write the report to {str(out)!r}: cannot create its lock file "
                 f"{str(path)!r} ({exc.strerror or exc})"
             ) from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(fd)
-            raise ReproduceError(
-                f"another run is writing the report to {str(out)!r} ({_holder(path)}); wait "
-                "for it to finish or choose another --out"
-            ) from None
-        # the file may have been unlinked by the run that held it just before: lock the file
-        # that is at the path, not an orphaned inode
-        try:
-            same = os.path.samestat(os.fstat(fd), os.stat(path))
-        except FileNotFoundError:
-            same = False
-        if same:
+        if fd is not None:
             break
-        os.close(fd)
+        note = _inspect_lock(out, path)
+        if note is not None:
+            notes.append(note)
+    else:  # pragma: no cover - other runs kept taking and dropping the lock
+        raise ReproduceError(f"cannot write the report to {str(out)!r}: could not take its lock "
+                             f"{str(path)!r}; try again")
+    lock = RunLock(path, fd, notes)
     try:
-        info = {"pid": os.getpid(), "host": socket.gethostname(), "command": command,
+        info = {"schema": LOCK_SCHEMA, "pid": os.getpid(), "host": socket.gethostname(),
+                "command": command, "token": secrets.token_hex(16),
                 "started": datetime.datetime.now().strftime("%Y-%m-%d %H:%M:%S")}
-        os.ftruncate(fd, 0)
         os.write(fd, json.dumps(info).encode())
-        yield path
+        yield lock
     finally:
-        try:
-            os.unlink(path)
-        except OSError:  # pragma: no cover - parent made read-only during the run
-            pass
-        os.close(fd)
+        lock.release()
 
 
 # --------------------------------------------------------------------------- partial reports

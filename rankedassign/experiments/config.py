@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..validation import check_fields
+from ..validation import MAX_COUNT, check_fields, check_real
 
 __all__ = [
     "FAMILIES",
@@ -30,6 +30,7 @@ __all__ = [
     "SyntheticConfig",
     "check_positive",
     "check_families",
+    "check_ospa",
 ]
 
 #: The paper's synthetic matrix families (spec §1.6), in report order.
@@ -55,7 +56,7 @@ CRITERIA = ("stall", "stale", "full")
 
 
 def check_positive(name: str, value) -> None:
-    """Raise ``ValueError`` unless ``value`` is a positive ``int`` (not a bool).
+    """Raise ``ValueError`` unless ``value`` is a positive ``int`` (not a bool), at most 2**62.
 
     Parameters
     ----------
@@ -73,6 +74,8 @@ def check_positive(name: str, value) -> None:
     """
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
         raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    if value > MAX_COUNT:  # the kernels' counters are int64 (validation.MAX_COUNT)
+        raise ValueError(f"{name} must be a positive integer <= 2**62, got {value!r}")
 
 
 def check_families(name: str, fams, allowed=ALL_FAMILIES) -> None:
@@ -99,6 +102,36 @@ def check_families(name: str, fams, allowed=ALL_FAMILIES) -> None:
     for f in fams:
         if f not in allowed:
             raise ValueError(f"{name}: unknown family {f!r}; choose from {allowed}")
+
+
+def check_ospa(c, p) -> None:
+    """Raise unless ``c`` and ``p`` are a valid OSPA cut-off and order of a study's settings.
+
+    The same bounds as :func:`rankedassign.metrics.ospa2` (``c > 0``, ``p >= 1``, both finite
+    real numbers), checked when the settings are made, so that a bad value is refused before
+    any study runs instead of when the study computes its first metric.
+
+    Parameters
+    ----------
+    c, p : float
+        The settings ``ospa_c`` and ``ospa_p``.
+
+    Raises
+    ------
+    TypeError
+        If either is not a real number.
+    ValueError
+        If either is NaN or infinite, ``c <= 0`` or ``p < 1``.
+
+    Examples
+    --------
+    >>> check_ospa(200.0, 0.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: ospa_p must be >= 1.0, got 0.5
+    """
+    check_real(c, "ospa_c", minimum=0.0, strict_minimum=True)
+    check_real(p, "ospa_p", minimum=1.0)
 
 
 @dataclass(frozen=True)

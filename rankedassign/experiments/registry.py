@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import _interrupts
 from ._executor import run_tasks
 
 __all__ = [
@@ -308,6 +309,7 @@ def warm_study(study: str | Study, config=None, *, executor: Executor | None = N
     tasks = list(st.tasks(st.warm(study_config(config, st)), 0))
     if executor is None:
         for args in tasks:
+            _interrupts.check()  # a safe point between two tiny tasks
             st.task(*args)
         return time.perf_counter() - t0
     group = st.warm_group or id
@@ -480,13 +482,17 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
     (5,)
     """
     if not isinstance(overrides, dict):
-        raise ReproduceError(f"config overrides must be a mapping of studies, got {overrides!r}")
+        raise ReproduceError(f"config overrides must be a mapping of studies, got "
+                             f"{_short(overrides)}")
     changes = {}
     for name, fields in overrides.items():
         if name not in study_names():
             raise ReproduceError(
                 f"config: unknown study {name!r}; choose from {study_names()}"
             )
+        if not isinstance(fields, dict):
+            raise ReproduceError(f"config for {name!r} must be a mapping of its settings "
+                                 f"(e.g. {{\"n_mc\": 5}}), got {_short(fields)}")
         sub = base[name]
         known = {f.name for f in dataclasses.fields(sub)}
         if not isinstance(fields, dict) or not set(fields) <= known:
@@ -498,6 +504,17 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
         except (TypeError, ValueError) as exc:
             raise ReproduceError(f"config for {name!r}: {exc}") from None
     return base.replace(**changes)
+
+
+def _short(value) -> str:
+    """``value``'s type and a bounded repr, for messages about what a user's file holds."""
+    try:
+        text = repr(value)
+    except RecursionError:  # pragma: no cover - a structure nested past Python's limit
+        text = "..."
+    if len(text) > 60:
+        text = text[:57] + "..."
+    return f"{type(value).__name__} {text}"
 
 
 def per_family_tasks(cfg, seed: int) -> list[tuple]:

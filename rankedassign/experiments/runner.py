@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
+import functools
 import os
 import platform
 import sys
@@ -14,13 +16,13 @@ from typing import NamedTuple
 
 from .._version import __version__
 from ..validation import MAX_MC
-from . import _outdir
+from . import _interrupts, _outdir
 from ._executor import SchedulerError, dask_executor, local_executor
 from ._progress import compile_wait, warm_description
 from .registry import Config, ReproduceError, get_study, run_study, study_names, warm_study
 from .report import render_report, write_csv, write_json
 
-__all__ = ["reproduce", "check_output", "StudyFailed"]
+__all__ = ["reproduce", "check_output", "check_settings", "StudyFailed"]
 
 _MANIFEST = _outdir.MANIFEST
 
@@ -100,12 +102,13 @@ def check_output(out, force: bool = False) -> OutputState:
             if not p.is_dir():
                 raise ReproduceError(f"{where}: a parent, {str(p)!r}, is a file, not a directory")
             break
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        probe = tempfile.mkdtemp(prefix=f".{out.name}.probe-", dir=parent)
-    except OSError as exc:
-        raise ReproduceError(f"{where}: {exc.strerror or exc}") from None
-    os.rmdir(probe)
+    with _interrupts.critical():  # the probe directory is never left behind
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            probe = tempfile.mkdtemp(prefix=f".{out.name}.probe-", dir=parent)
+        except OSError as exc:
+            raise ReproduceError(f"{where}: {exc.strerror or exc}") from None
+        os.rmdir(probe)
     return OutputState(before, names)
 
 
@@ -123,6 +126,45 @@ class OutputState(NamedTuple):
 
     before: tuple | None
     names: set | None
+
+
+def check_settings(config: Config) -> None:
+    """Check the settings of every study in ``config`` again, before any study runs.
+
+    Each study's settings type checks its fields when it is made; this runs those checks
+    once more on the objects that will run, so that a record changed after it was made (or a
+    settings type registered by another package) fails here, naming the study, and not after
+    the studies before it have run for minutes.
+
+    Parameters
+    ----------
+    config : Config
+        The settings of the run.
+
+    Raises
+    ------
+    ReproduceError
+        ``"settings of study '<name>': <field> must ..., got <value>"`` for the first study
+        (in run order) whose settings are refused.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> from rankedassign.experiments import Config, ReproduceError
+    >>> from rankedassign.experiments.runner import check_settings
+    >>> cfg = Config.quick()
+    >>> object.__setattr__(cfg.tracking, "ospa_p", 0.5)  # bypasses the check on creation
+    >>> try:
+    ...     check_settings(cfg)
+    ... except ReproduceError as exc:
+    ...     print(exc)
+    settings of study 'tracking': ospa_p must be >= 1.0, got 0.5
+    """
+    for name in study_names():
+        try:
+            dataclasses.replace(config[name])  # runs the type's __post_init__ checks again
+        except (TypeError, ValueError) as exc:
+            raise ReproduceError(f"settings of study {name!r}: {exc}") from None
 
 
 def _study_list(studies) -> list[str]:
@@ -239,8 +281,11 @@ def reproduce(
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ReproduceError(f"seed must be a non-negative integer, got {seed!r}")
     cfg = config if config is not None else Config(mode)
+    if not isinstance(cfg, Config):
+        raise ReproduceError(f"config must be a Config, got {type(cfg).__name__}")
     if mc is not None:
         cfg = cfg.with_mc(mc)
+    check_settings(cfg)
     out = Path(out)
     command = command or "rankedassign.experiments.reproduce(...)"
 
@@ -251,9 +296,10 @@ def reproduce(
     check_output(out, force)  # the plain errors first; it also makes the parent directory
     # The lock is held from the authoritative check until the finished report is in place, so
     # a run that starts later into the same out is refused and told which run holds it.
-    with _outdir.run_lock(out, command):
+    _interrupts.check()
+    with _outdir.run_lock(out, command) as lock, _interrupts.on_hard_exit(lock.release):
         state = check_output(out, force)
-        for note in _outdir.remove_stale_partials(out):
+        for note in [*lock.notes, *_outdir.remove_stale_partials(out)]:
             print(f"rankedassign reproduce: note: {note}", file=sys.stderr, flush=True)
         results, failure = _run_studies(studies, cfg, out, seed=seed, workers=workers,
                                         dask_scheduler=dask_scheduler, progress=progress,
@@ -283,6 +329,10 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
     seconds: dict = {}
     failure = None
     tmp = _outdir.new_partial(out, command)
+    # a second signal ends the process at once: the partial report is removed first, until it
+    # is complete and about to be moved into place
+    cleanup = functools.partial(_outdir.remove_files, tmp)
+    _interrupts.add_cleanup(cleanup)
     try:
         with ExitStack() as stack:
             say("preparing each study's compiled kernels before it starts (numba compiles "
@@ -296,6 +346,7 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 where = "serial (in-process)" if executor is None else f"{n} local processes"
             for i, study in enumerate(studies, 1):
                 tag = f"[{i}/{len(studies)}] {study}"
+                _interrupts.check()  # a safe point between two studies
                 try:
                     # The tiny tasks on the workers, disjoint kernel sets side by side; the
                     # study's tasks then load the kernels from the cache.
@@ -312,11 +363,14 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 except (ReproduceError, SchedulerError):
                     raise
                 except Exception as exc:  # a study's own failure: keep what finished
+                    # unless a signal caused it (an interrupt that surfaced as another error)
+                    _interrupts.check()
                     failure = (study, f"{type(exc).__name__}: {exc}")
                     break
                 seconds[study] = time.perf_counter() - t0
                 results[study] = res
                 _write_study(tmp, study, res, runs)
+            _interrupts.check()
         meta = {
             "schema": _outdir.SCHEMA,
             "command": command,
@@ -342,9 +396,14 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
         if failure is not None and not results:
             raise StudyFailed(f"study {failure[0]!r} failed ({failure[1]}); no study finished, "
                               "nothing was written")
+        # the last safe point: from here the report is moved into place, which a signal
+        # does not cut short (it is recorded and acted on after the move)
+        _interrupts.check()
     except BaseException:
         _outdir.remove_files(tmp)
+        _interrupts.remove_cleanup(cleanup)
         raise
+    _interrupts.remove_cleanup(cleanup)
     if failure is not None and state.before is not None:
         # an incomplete report never replaces an earlier complete one: it goes beside it
         (tmp / _outdir.OWNER).unlink(missing_ok=True)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 from stonesoup.base import Property
 from stonesoup.metricgenerator.base import MetricGenerator
@@ -19,7 +21,13 @@ def _paths(objects, name: str) -> list[list]:
     out = []
     for obj in objects:
         if isinstance(obj, StateMutableSequence) and not isinstance(obj, State):
-            out.append(list(obj.last_timestamp_generator()))
+            # Stone Soup orders a path's states by timestamp: check them before it compares
+            _check_timestamps([obj.states], name)
+            try:
+                out.append(list(obj.last_timestamp_generator()))
+            except TypeError:
+                kinds = sorted({type(s.timestamp).__name__ for s in obj.states})
+                raise TypeError(_unordered(kinds)) from None
         elif isinstance(obj, State):
             out.append([obj])
         else:
@@ -28,10 +36,55 @@ def _paths(objects, name: str) -> list[list]:
     return out
 
 
+def _check_mapping(mapping):
+    """``mapping`` as a tuple of distinct non-negative ints, or None."""
+    if mapping is None:
+        return None
+    if isinstance(mapping, (str, bytes)) or not hasattr(mapping, "__iter__"):
+        raise TypeError(f"OSPA2Metric: mapping must be None or a sequence of state dimensions "
+                        f"(ints), got {type(mapping).__name__} {mapping!r}")
+    out = []
+    for i in mapping:
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, numbers.Integral):
+            raise TypeError(f"OSPA2Metric: mapping must hold state dimensions (ints), got "
+                            f"{type(i).__name__} {i!r}")
+        if i < 0:
+            # -1 would count from the end of a state vector, which no mapping means
+            raise ValueError(f"OSPA2Metric: mapping must hold non-negative state dimensions, "
+                             f"got {i}")
+        out.append(int(i))
+    if not out:
+        raise ValueError("OSPA2Metric: mapping is empty, so every distance would be 0; give "
+                         "the dimensions to compare, e.g. (0, 2), or None for all")
+    if len(set(out)) != len(out):
+        raise ValueError(f"OSPA2Metric: mapping repeats a dimension: {tuple(out)}")
+    return tuple(out)
+
+
+def _unordered(kinds) -> str:
+    return (f"OSPA2Metric: the states' timestamps cannot be ordered, they mix "
+            f"{', '.join(kinds)}; give every state a datetime timestamp")
+
+
+def _check_timestamps(paths, name: str) -> set:
+    """Every state has a timestamp, and all are of one comparable kind (sorted into scans)."""
+    kinds = set()
+    for path in paths:
+        for s in path:
+            if s.timestamp is None:
+                raise TypeError(f"OSPA2Metric: a state of {name} has no timestamp (None); "
+                                "OSPA(2) orders the scans by the states' timestamps")
+            kinds.add(type(s.timestamp))
+    return kinds
+
+
 def _array(paths, times: dict, mapping, name: str) -> np.ndarray:
     """``(n_scans, n_paths, d)`` with NaN where a path has no state at a scan."""
-    dims = {len(mapping) if mapping is not None else np.asarray(s.state_vector).size
-            for p in paths for s in p}
+    sizes = {np.asarray(s.state_vector).size for p in paths for s in p}
+    if mapping is not None and sizes and max(mapping) >= min(sizes):
+        raise ValueError(f"OSPA2Metric: mapping {mapping} names dimension {max(mapping)}, and "
+                         f"the {name} have states of {min(sizes)} dimensions")
+    dims = {len(mapping) if mapping is not None else size for size in sizes}
     if len(dims) > 1:
         raise ValueError(f"OSPA2Metric: the {name} have states of different dimensions "
                          f"{sorted(dims)}; set mapping to the dimensions to compare")
@@ -67,8 +120,10 @@ class OSPA2Metric(MetricGenerator):
     weight_power : float, optional
         Power ``r`` of the window weights ``w_t = (t - k + N)^r`` (0, default: uniform).
     mapping : sequence of int, optional
-        State dimensions to compare, e.g. ``(0, 2)`` for the positions of ``[x, vx, y, vy]``;
-        None (default) compares every dimension.
+        State dimensions to compare, e.g. ``(0, 2)`` for the positions of ``[x, vx, y, vy]``:
+        distinct non-negative ints, at least one (checked at construction, and against the
+        states' dimension when the metric is computed); None (default) compares every
+        dimension.
     generator_name : str, optional
         Name of the generator in a ``MultiManager`` (default ``"ospa2_generator"``).
     tracks_key : str, optional
@@ -124,6 +179,10 @@ class OSPA2Metric(MetricGenerator):
     truths_key: str = Property(default="groundtruth_paths",
                                doc="Key of the truths in the manager.")
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.mapping = _check_mapping(self.mapping)
+
     def compute_metric(self, manager, **kwargs):
         """OSPA(2) of the manager's tracks against its truths.
 
@@ -144,14 +203,20 @@ class OSPA2Metric(MetricGenerator):
         Raises
         ------
         TypeError
-            If the manager's data are not tracks or states.
+            If the manager's data are not tracks or states, or a state has no timestamp or
+            the timestamps cannot be ordered (datetimes mixed with numbers).
         ValueError
-            If neither set has a state, or if states differ in dimension (without
-            ``mapping``), or on an invalid ``c``, ``p``, ``window`` or ``base``.
+            If neither set has a state, if states differ in dimension (without
+            ``mapping``), if ``mapping`` names a dimension the states do not have, or on an
+            invalid ``c``, ``p``, ``window`` or ``base``.
         """
         tracks = _paths(self._get_data(manager, self.tracks_key), "the tracks")
         truths = _paths(self._get_data(manager, self.truths_key), "the truths")
-        stamps = sorted({s.timestamp for path in tracks + truths for s in path})
+        kinds = _check_timestamps(tracks, "the tracks") | _check_timestamps(truths, "the truths")
+        try:
+            stamps = sorted({s.timestamp for path in tracks + truths for s in path})
+        except TypeError:
+            raise TypeError(_unordered(sorted(k.__name__ for k in kinds))) from None
         if not stamps:
             raise ValueError("OSPA2Metric: neither the tracks nor the truths have a state")
         times = {t: k for k, t in enumerate(stamps)}

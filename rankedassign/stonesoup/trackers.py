@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import datetime
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from stonesoup.base import Property
@@ -22,9 +22,11 @@ from stonesoup.models.measurement.linear import LinearGaussian
 from stonesoup.models.transition.base import TransitionModel
 from stonesoup.reader import DetectionReader
 from stonesoup.tracker.base import Tracker
+from stonesoup.types.detection import Detection
 from stonesoup.types.state import GaussianState, State
 from stonesoup.types.track import Track
 
+from ..engine.rng import check_rng
 from ..tracking import (
     Association,
     BirthComponent,
@@ -38,6 +40,7 @@ from ..tracking import (
     PositionSensor,
     ShortChainGibbs,
 )
+from ..validation import float_array
 
 __all__ = ["LMBTracker", "GLMBTracker"]
 
@@ -131,7 +134,12 @@ class _LabeledTracker(Tracker):
             ConstantSurvival(float(self.prob_survival)),
         )
         self.filter = self._make_filter(model)
-        self._rng = np.random.default_rng(self.seed)
+        try:
+            self._rng = check_rng(self.seed)
+        except (TypeError, ValueError) as exc:  # its message names rng, the argument is seed
+            raise type(exc)(f"{who}: seed must be None, a non-negative int or anything "
+                            f"numpy.random.default_rng accepts, got {type(self.seed).__name__} "
+                            f"{self.seed!r}") from None
         self._by_label = {}
         self._current = set()
         self._time = None
@@ -166,8 +174,17 @@ class _LabeledTracker(Tracker):
         """The detections as an ``(M, 2)`` array, checked against the measurement model."""
         who = type(self).__name__
         mm = self.measurement_model
+        if (isinstance(detections, (str, bytes, Mapping, np.ndarray))
+                or not hasattr(detections, "__iter__")):
+            raise TypeError(f"{who}: detections must be a set (or list) of Detection, got "
+                            f"{type(detections).__name__}"
+                            + ("; an empty scan is set()" if detections is None else ""))
         rows = []
         for det in detections:
+            if not isinstance(det, Detection):
+                raise TypeError(f"{who}: detections must hold Detection objects (with a "
+                                f"state_vector and a measurement_model), got "
+                                f"{type(det).__name__} {det!r} in a scan at {time}")
             own = det.measurement_model
             if own is not None and own is not mm and not (
                     isinstance(own, LinearGaussian) and own.ndim_state == mm.ndim_state
@@ -179,7 +196,8 @@ class _LabeledTracker(Tracker):
                     "not the tracker's measurement_model; the filter applies its own model "
                     "to every detection"
                 )
-            z = np.asarray(det.state_vector, dtype=np.float64).reshape(-1)
+            z = float_array(det.state_vector, f"{who}: the state_vector of a detection at "
+                            f"{time}").reshape(-1)
             if z.size != mm.ndim_meas:
                 raise ValueError(f"{who}: a detection at {time} has {z.size} dimensions, the "
                                  f"measurement model gives {mm.ndim_meas}")
@@ -211,10 +229,19 @@ class _LabeledTracker(Tracker):
 
         Raises
         ------
+        TypeError
+            If ``time`` is not a ``datetime.datetime`` (``None``, a number), ``detections`` is
+            not a collection of ``Detection`` (``None``, an array, a list of tuples), or a
+            detection's state vector is not real (complex, strings).
         ValueError
             If a detection has another measurement model or the wrong dimension, or if
             ``time`` is before the previous scan.
         """
+        if not isinstance(time, datetime.datetime):
+            # Stone Soup's times are datetimes; None or a number would give a zero or
+            # meaningless interval for the motion model
+            raise TypeError(f"{type(self).__name__}: time must be a datetime.datetime, got "
+                            f"{type(time).__name__} {time!r}")
         z = self._measurements(time, detections)
         interval = _ZERO if self._time is None else time - self._time
         if interval < _ZERO:
@@ -308,7 +335,9 @@ class LMBTracker(_LabeledTracker):
     ------
     TypeError
         If the transition or measurement model is not linear-Gaussian (the message names it),
-        or a birth component is not a ``GaussianState``.
+        a birth component is not a ``GaussianState``, or ``seed`` is of a kind numpy cannot
+        seed from (the message names ``seed``); from :meth:`update_tracker`, on a ``time``
+        that is not a datetime or detections that are not a collection of ``Detection``.
     ValueError
         If the measurement model is not a position measurement of a 4-D state, a birth
         component has no existence probability (its weight is not in ``(0, 1)``), or a

@@ -12,6 +12,7 @@ simulated measurements.
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
@@ -149,6 +150,53 @@ def _check_truth(truth, n_scans: int) -> np.ndarray | None:
     return np.array(a, dtype=np.float64)
 
 
+def _check_record(rec, filt, k: int) -> None:
+    """Refuse what ``filt.step`` returned if it is not a scan record run_filter can read."""
+    who = f"run_filter: {type(filt).__name__}.step returned"
+    fields = ("labels", "states", "track_labels", "track_existence", "timings", *COUNTER_KEYS)
+    missing = [name for name in fields if not hasattr(rec, name)]
+    if missing:
+        raise TypeError(
+            f"{who} {type(rec).__name__} at scan {k}, without {', '.join(missing)}; step must "
+            "return a record with the fields of ScanRecord (labels (n, 2), states (n, 4), "
+            f"track_labels (L, 2), track_existence (L,), timings and {', '.join(COUNTER_KEYS)})"
+        )
+
+    def array(name, kinds, shape):
+        try:
+            a = np.asarray(getattr(rec, name))
+        except ValueError:  # numpy: "inhomogeneous shape"
+            raise ValueError(f"{who} a ragged {name} at scan {k}") from None
+        if a.dtype.kind not in kinds:
+            what = "ints" if kinds == "iu" else "real numbers"
+            raise TypeError(f"{who} {name} of dtype {a.dtype} at scan {k}, expected {what}")
+        if a.ndim != len(shape) or any(w is not None and d != w
+                                       for d, w in zip(a.shape, shape, strict=True)):
+            want = ", ".join(str(w) if w is not None else "n" if i == 0 else "d"
+                             for i, w in enumerate(shape))
+            want = f"({want},)" if len(shape) == 1 else f"({want})"
+            raise ValueError(f"{who} {name} of shape {a.shape} at scan {k}, expected {want}")
+        return a
+
+    n = array("labels", "iu", (None, 2)).shape[0]
+    array("states", "iuf", (n, None))
+    if np.asarray(rec.states).shape[1] < 3:
+        raise ValueError(f"{who} states of shape {np.asarray(rec.states).shape} at scan {k}, "
+                         "expected (n, 4): the positions are columns 0 and 2")
+    L = array("track_labels", "iu", (None, 2)).shape[0]
+    array("track_existence", "iuf", (L,))
+    for name in COUNTER_KEYS:
+        value = getattr(rec, name)
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+            raise TypeError(f"{who} {name} = {value!r} at scan {k}, expected an int")
+    timings = rec.timings
+    if not isinstance(timings, Mapping) or not all(
+            isinstance(key, str) and isinstance(v, numbers.Real) and not isinstance(v, bool)
+            for key, v in timings.items()):
+        raise TypeError(f"{who} timings = {timings!r} at scan {k}, expected a dict of phase "
+                        "names to seconds")
+
+
 def _label_key(label) -> tuple:
     """A label row as a tuple of Python ints (a scalar label as a 1-tuple)."""
     return tuple(label) if isinstance(label, list) else (label,)
@@ -199,10 +247,13 @@ def run_filter(filter, scans, *, rng=None, truth=None) -> FilterRun:
     ------
     TypeError
         If ``filter`` has no ``step`` or ``reset`` method, ``scans`` is not a sequence,
-        ``truth`` does not hold real numbers, or ``rng`` is of a kind numpy cannot seed from.
+        ``truth`` does not hold real numbers, ``rng`` is of a kind numpy cannot seed from, or
+        ``filter.step`` returns something that is not a scan record (a missing field, labels
+        that are not ints, counters that are not ints; the message names the filter's class).
     ValueError
-        If ``scans`` is empty or a single array of fewer than three dimensions, or ``truth``
-        does not have one row per scan of 2-D positions. Errors of ``filter.step`` (a malformed
+        If ``scans`` is empty or a single array of fewer than three dimensions, ``truth``
+        does not have one row per scan of 2-D positions, or a field of ``filter.step``'s
+        record has the wrong shape. Errors of ``filter.step`` (a malformed
         scan, a wrong number of sensors) propagate unchanged, with a note naming the scan.
 
     Notes
@@ -252,6 +303,7 @@ def run_filter(filter, scans, *, rng=None, truth=None) -> FilterRun:
             if hasattr(exc, "add_note"):  # Python >= 3.11
                 exc.add_note(f"in scan {k} (scans[{k}]) of the {K} given to run_filter")
             raise
+        _check_record(rec, filter, k)
         # labels as tuples of Python ints, existence as Python floats
         labelled.append(dict(zip(map(_label_key, np.asarray(rec.labels).tolist()), rec.states,
                                  strict=True)))

@@ -27,6 +27,7 @@ from ...engine.rng import spawning_generator
 from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
+from ..config import check_ospa
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
 
@@ -142,6 +143,10 @@ class GLMBStudyConfig:
         for name in ("murty_runs", "glmb_exact_runs"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        if not self.methods:
+            raise ValueError("methods must name at least one method")
+        # checked here, not first by the metric at the end of the first run (spec §7)
+        check_ospa(self.ospa_c, self.ospa_p)
 
 
 def _association(cfg: GLMBStudyConfig, method: str):

@@ -13,7 +13,13 @@ from ...validation import check_fields
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._synthetic import KEY_SWEEP, family_index, make_problem, record
-from ..config import DEFAULT_GRANULARITY, DEFAULT_PBAR_D, check_families, check_positive
+from ..config import (
+    DEFAULT_GRANULARITY,
+    DEFAULT_PBAR_D,
+    PBAR_D_READINGS,
+    check_families,
+    check_positive,
+)
 from ..paper import PAPER_SWEEP_TOLERANCE_PCT
 from ..registry import Study, as_rows, per_family_tasks, register_study
 
@@ -67,6 +73,11 @@ class SweepConfig:
             check_positive("chain_lengths entry", n)
         if tuple(sorted(set(self.obs_grid))) != tuple(self.obs_grid):
             raise ValueError(f"obs_grid must be strictly increasing, got {self.obs_grid}")
+        # the same readings, and messages, as SyntheticConfig's (spec A2, A5)
+        if self.pbar_d not in PBAR_D_READINGS:
+            raise ValueError(f"pbar_d must be 'r_pd' or 'pd', got {self.pbar_d!r}")
+        if self.granularity not in ("row", "matrix"):
+            raise ValueError(f"granularity must be 'row' or 'matrix', got {self.granularity!r}")
 
 __all__ = ["SWEEP", "SweepRow", "ChainLengthCheck", "summarise_sweep", "chain_length_checks"]
 

@@ -53,7 +53,7 @@ from ...single.problem import AssignmentProblem
 from ...tracking.models import PRESETS
 from ...tracking.multisensor.association import multisensor_marginals_from_hypotheses
 from ...tracking.single.association import marginals_from_hypotheses
-from ...validation import check_choice, check_fields, check_real
+from ...validation import MAX_COUNT, check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._synthetic import make_problem as make_single
@@ -63,6 +63,7 @@ from ..config import (
     DEFAULT_PBAR_D,
     FAMILIES,
     PBAR_D_READINGS,
+    check_ospa,
     check_positive,
 )
 from ..registry import Study, register_study
@@ -181,17 +182,17 @@ class TemperingHerdingConfig:
                 check_choice(v, f"{name}: {one}", allowed)
         b = self.budgets
         if not isinstance(b, tuple) or not b or any(
-                isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in b) or any(
+                isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_COUNT
+                for n in b) or any(
                 x >= y for x, y in zip(b, b[1:], strict=False)):
             raise ValueError(f"budgets must be a non-empty, strictly increasing tuple of "
-                             f"positive integers, got {b!r}")
+                             f"positive integers (at most 2**62), got {b!r}")
         check_real(self.zr_beta, "zr_beta", minimum=0.0, maximum=1.0, strict_minimum=True)
         check_choice(self.ms_method, "ms_method", ("exact", "mm"))
         for name in ("pbar_d", "diagonal_pbar_d"):
             check_choice(getattr(self, name), name, PBAR_D_READINGS)
         check_choice(self.granularity, "granularity", ("row", "matrix"))
-        for name in ("ospa_c", "ospa_p"):
-            check_real(getattr(self, name), name, minimum=0.0, strict_minimum=True)
+        check_ospa(self.ospa_c, self.ospa_p)  # p >= 1, as the metric requires (spec §7)
 
 __all__ = ["TEMPERING_HERDING", "THRow", "THTrackingRow", "THSummary", "FUTURE_WORK",
            "summarise_tempering_herding", "make_problem", "applies"]

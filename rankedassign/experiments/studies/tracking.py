@@ -18,11 +18,11 @@ from ... import metrics, tracking
 from ...tracking.models import PRESETS
 from ...tracking.single.association import MARGINALS
 from ...tracking.single.lmb import EXTRACTIONS
-from ...validation import check_choice, check_fields, check_real
+from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
-from ..config import check_positive
+from ..config import check_ospa, check_positive
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
 
@@ -129,8 +129,7 @@ class TrackingConfig:
             check_positive(name, getattr(self, name))
         if self.extraction is not None:
             check_choice(self.extraction, "extraction", EXTRACTIONS)
-        check_real(self.ospa_c, "ospa_c", minimum=0.0, strict_minimum=True)
-        check_real(self.ospa_p, "ospa_p", minimum=1.0)
+        check_ospa(self.ospa_c, self.ospa_p)
         if self.preset not in PRESETS:
             raise ValueError(f"preset must be one of {sorted(PRESETS)}, got {self.preset!r}")
         if self.marginals not in MARGINALS:

@@ -51,6 +51,7 @@ from ...validation import (
     check_type,
 )
 from .. import _kernels
+from .._checks import check_hypotheses, check_prior
 from .._kernels import MERGE_RULES
 from ..models import ConstantVelocity, LinearMotion, Model
 from . import _glmb_kernels
@@ -274,23 +275,17 @@ def truncate(association, problem: AssignmentProblem, budget: int, rng=None) -> 
     method = getattr(association, "hypotheses", None)
     if method is None:
         raise TypeError(_no_hypotheses_message(association))
-    res = method(problem, budget, rng)
-    a = np.asarray(res.assignments, dtype=np.int64)
-    c = np.asarray(res.costs, dtype=np.float64)
     who = _association_name(association)
-    if a.ndim != 2 or a.shape[1] != P or a.shape[0] == 0 or c.shape != (a.shape[0],):
-        raise ValueError(f"association {who} returned hypotheses of shapes {a.shape} and "
-                         f"{c.shape}, expected (n >= 1, {P}) and (n,)")
+    # one check of a custom truncation's output for both δ-GLMB filters (type, shape, range,
+    # NaN costs, duplicates); feasibility and the costs are this problem's own
+    a, c, sweeps, row_updates = check_hypotheses(method(problem, budget, rng), who,
+                                                 "GLMBFilter", (P,), 0, problem.n_cols - 1)
     if not problem.is_feasible(a).all():
         raise ValueError(f"association {who} returned an infeasible assignment")
-    if np.unique(a, axis=0).shape[0] != a.shape[0]:
-        raise ValueError(f"association {who} returned duplicate assignments (a GLMB component "
-                         "is made of unique ones)")
     if not np.allclose(c, problem.cost_of(a), rtol=1e-9, atol=1e-9):
         raise ValueError(f"association {who} returned costs that are not those of its "
                          "assignments")
-    return Hypotheses(a, problem.cost_of(a), int(getattr(res, "sweeps", 0)),
-                      int(getattr(res, "row_updates", 0)))
+    return Hypotheses(a, problem.cost_of(a), sweeps, row_updates)
 
 
 def _no_hypotheses_message(association) -> str:
@@ -582,19 +577,28 @@ class GLMBFilter:
         Parameters
         ----------
         labels : array_like of int, shape (T, 2)
-            Distinct labels of the tracks.
+            Distinct labels ``(birth scan, index)`` of the tracks: non-negative ints, the scan
+            below ``2**31`` and the index below ``2**32`` (a label is packed into 64 bits). The
+            births of scan ``k >= 1`` are labelled ``(k, 1..B)``, so a prior label of that form
+            would merge with a birth and is refused: label the prior's tracks with birth scan
+            0 (or, with a static birth, an index above ``B``).
         means, covs : array_like, shapes (T, 4) and (T, 4, 4)
-            Their Gaussians.
+            Their Gaussians: finite means, symmetric positive definite covariances.
         components : sequence of sequences of int, optional
-            Track indices of every component (default: one component holding every track).
+            Track indices (ints) of every component (default: one component holding every
+            track).
         weights : array_like, shape (H,), optional
             Component weights (normalised here; default equal).
 
         Raises
         ------
+        TypeError
+            On labels, track indices or numbers of the wrong kind (``1.5``, ``True``, ``"0"``).
         ValueError
-            On shapes that disagree, repeated labels, a component with an index out of range
-            or repeated, or weights that are negative, not finite or all zero.
+            On shapes that disagree, labels out of range, repeated or a birth's, a mean that
+            is not finite or a covariance that is not SPD (the message names the track), a
+            component with an index out of range or repeated, or weights that are negative,
+            not finite or all zero.
 
         Examples
         --------
@@ -606,24 +610,9 @@ class GLMBFilter:
         >>> f.n_components, f.comp_w.tolist()
         (2, [0.25, 0.75])
         """
-        labels = np.asarray(labels, dtype=np.int64).reshape(-1, 2)
+        labels, means, covs, comps, w = check_prior(labels, means, covs, components, weights,
+                                                    max_birth_index=self._max_birth_index())
         T = labels.shape[0]
-        means = np.asarray(means, dtype=np.float64)
-        covs = np.asarray(covs, dtype=np.float64)
-        if means.shape != (T, 4) or covs.shape != (T, 4, 4):
-            raise ValueError(f"means and covs must have shapes ({T}, 4) and ({T}, 4, 4), got "
-                             f"{means.shape} and {covs.shape}")
-        if np.unique(labels, axis=0).shape[0] != T:
-            raise ValueError("labels must be distinct")
-        comps = [list(range(T))] if components is None else [list(c) for c in components]
-        for c in comps:
-            if len(set(c)) != len(c) or any(not 0 <= int(i) < T for i in c):
-                raise ValueError(f"component {c} must hold distinct track indices in [0, {T})")
-        w = np.ones(len(comps)) if weights is None else np.asarray(weights, dtype=np.float64)
-        if (w.shape != (len(comps),) or not np.isfinite(w).all() or (w < 0).any()
-                or w.sum() <= 0):
-            raise ValueError(f"weights must be {len(comps)} finite non-negative numbers, not "
-                             f"all zero, got {w.tolist()}")
         self.reset()
         self.labels = labels.copy()
         self.offsets = np.arange(T + 1, dtype=np.int64)
@@ -637,6 +626,10 @@ class GLMBFilter:
             np.int64)
         self.comp_tracks = np.array([i for c in comps for i in sorted(c)], dtype=np.int64)
         self.comp_w = w / w.sum()
+
+    def _max_birth_index(self):
+        """Births of every scan are labelled ``(k, 1..B)``: ``B`` (None if it varies)."""
+        return int(self._birth_r.size)
 
     @property
     def n_components(self) -> int:

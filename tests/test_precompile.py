@@ -1,0 +1,86 @@
+"""The on-disk kernel cache and ``rankedassign precompile``.
+
+A cache miss in a second process is a defect: a user's second run (or CI's later tiers) would
+compile again. The session's warm-up (``tests/conftest.py``) has filled numba's cache for the
+samplers; a fresh process that calls the same entry points must load every kernel from it.
+"""
+
+import json
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from rankedassign.cli import main
+from rankedassign.experiments.precompile import _queue
+from rankedassign.experiments.registry import Config, get_study, study_names
+
+ROOT = Path(__file__).resolve().parents[1]
+
+_LISTEN = textwrap.dedent("""
+    import json
+    from numba.core import event
+
+    compiled = []
+
+    class Listener(event.Listener):
+        def on_start(self, ev):
+            compiled.append(str(ev.data["dispatcher"].py_func.__qualname__))
+
+        def on_end(self, ev):
+            pass
+
+    event.register("numba:compile", Listener())
+""")
+
+
+def _compiles_in_a_new_process(body: str) -> list[str]:
+    code = _LISTEN + body + "\nprint(json.dumps(compiled))\n"
+    proc = subprocess.run([sys.executable, "-c", code],
+                          cwd=ROOT, capture_output=True, text=True, check=True)
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def test_a_second_process_compiles_no_sampler_kernel():
+    # the session fixture ran warmup() in this process: every kernel it needs is cached
+    assert _compiles_in_a_new_process("from rankedassign import warmup; warmup()") == []
+
+
+def test_the_queue_starts_with_the_longest_study_and_holds_every_warm_task():
+    cfg = Config.quick()
+    queue = _queue(study_names(), cfg)
+    assert queue[0][0] == "tempering_herding"
+    assert queue[1] == (None, ())  # the samplers' warm-up right after it
+    for name in study_names():
+        st = get_study(name)
+        if st.warm is None:
+            continue
+        n = len(list(st.tasks(st.warm(cfg[name]), 0)))
+        assert sum(1 for s, _ in queue if s == name) == n, name
+
+
+def test_precompile_one_study_in_process(capsys):
+    assert main(["precompile", "table1", "--workers", "1", "--quiet"]) == 0
+    assert capsys.readouterr().err.startswith("rankedassign precompile: kernels ready in ")
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["precompile", "nosuch"],
+     "rankedassign precompile: error: unknown study 'nosuch'; choose from table1, "),
+    (["precompile", "--workers", "0"], "argument --workers: must be a positive integer"),
+])
+def test_precompile_bad_arguments(argv, message, capsys):
+    assert main(argv) == 2
+    assert message in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_after_precompile_a_new_process_compiles_no_kernel_of_any_study():
+    # the first process fills the cache (the README's test command has already done it, so it
+    # only loads); the second, running every study's tiny tasks, must load every kernel
+    body = ("from rankedassign.experiments.precompile import precompile\n"
+            "precompile(1, progress=False)")
+    subprocess.run([sys.executable, "-c", body], cwd=ROOT, check=True)
+    assert _compiles_in_a_new_process(body) == []
