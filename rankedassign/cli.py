@@ -235,7 +235,7 @@ def build_parser() -> argparse.ArgumentParser:
             "Reproduce the studies of Trezza, Bucci & Varshney (2023): "
             + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, names))
             + ". Without --full every study runs the paper's per-run settings with fewer Monte "
-            "Carlo runs (a few minutes on two cores)."
+            "Carlo runs."
         ),
     )
     rep.add_argument(

@@ -195,7 +195,8 @@ def test_sigterm_is_handled_as_an_interrupt(tmp_path):
         )
         try:
             deadline = time.monotonic() + 600
-            while "[1/1] table1" not in err_path.read_text():
+            # inside the study proper: its kernels are ready and its tasks run on the workers
+            while "[1/1] table1: kernels ready" not in err_path.read_text():
                 assert proc.poll() is None, err_path.read_text()
                 assert time.monotonic() < deadline, "the study never started"
                 time.sleep(0.2)
@@ -226,7 +227,8 @@ def test_a_second_sigterm_ends_a_run_with_workers_at_once(tmp_path):
         )
         try:
             deadline = time.monotonic() + 600
-            while "[1/1] table1" not in err_path.read_text():
+            # inside the study proper: its kernels are ready and its tasks run on the workers
+            while "[1/1] table1: kernels ready" not in err_path.read_text():
                 assert proc.poll() is None, err_path.read_text()
                 assert time.monotonic() < deadline, "the study never started"
                 time.sleep(0.2)

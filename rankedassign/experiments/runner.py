@@ -199,7 +199,7 @@ def reproduce(
         ``"random_readings"``); default: all, in that order.
     mode : {"quick", "full"}
         ``"full"``: the paper's settings (100 Monte Carlo runs); ``"quick"``: the same per-run
-        settings with fewer runs and sweep points (a few minutes on two cores).
+        settings with fewer runs and sweep points (see the README for its measured time).
     out : str or path, optional
         Report directory. It is written in a hidden temporary directory beside it and renamed
         into place atomically at the end, so a failed or interrupted run never leaves a

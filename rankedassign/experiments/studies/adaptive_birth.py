@@ -38,6 +38,7 @@ from ...adaptive_birth.synthetic import FAMILIES, SIZES, make_family
 from ...samplers import sample_original, sample_short_chains
 from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
+from .._plots import MARKERS, PALETTE, figure, legend_below
 from ..registry import Study, register_study
 
 __all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary",
@@ -391,7 +392,6 @@ def plot(curves: dict, path) -> None:
     greyscale; one legend below the panels. A panel whose errors span less than a decade is
     drawn on a linear axis (a logarithmic one would have a single labelled tick).
     """
-    from .._plots import MARKERS, PALETTE, figure, legend_below
 
     fams = list(dict.fromkeys(f for f, _ in curves))
     vs = list(dict.fromkeys(v for _, v in curves))

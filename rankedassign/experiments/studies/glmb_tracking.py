@@ -27,6 +27,7 @@ from ...engine.rng import spawning_generator
 from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
+from .._plots import figure, legend_below, series_style
 from ..config import check_ospa
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
@@ -680,7 +681,6 @@ def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
 
     Every method keeps its colour, dashes and marker in every panel; one legend below.
     """
-    from .._plots import figure, legend_below, series_style
 
     styles = {m: {**series_style(i), "markevery": 10} for i, m in enumerate(GLMB_METHODS)}
     panels = (("ospa2", "OSPA(2) (m)", "LMB filter", ("lmb",)),

@@ -46,6 +46,7 @@ from ...tracking.multisensor.scenario import (
 from ...tracking.single.association import MARGINALS
 from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
+from .._plots import legend_below, series_style
 from ..registry import Study, register_study
 
 __all__ = [
@@ -587,7 +588,6 @@ def _tracking_figure(summaries, by: str):
     from matplotlib.figure import Figure  # optional dependency (the "plot" extra)
     from matplotlib.ticker import MaxNLocator
 
-    from .._plots import legend_below, series_style
 
     # The cells that pair a δ-GLMB filter with the LMB filter on the same birth get panels of
     # their own beside the LMB associations of the same sensors: together they made eight

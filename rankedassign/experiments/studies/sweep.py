@@ -12,6 +12,7 @@ from ... import sample_original, sample_short_chains
 from ...validation import check_fields
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
+from .._plots import legend_below, series_style
 from .._synthetic import KEY_SWEEP, family_index, make_problem, record
 from ..config import (
     DEFAULT_GRANULARITY,
@@ -372,7 +373,6 @@ def plot_sweep(rows: list[SweepRow], directory: Path) -> list[str]:
     """
     from matplotlib.figure import Figure
 
-    from .._plots import legend_below, series_style
 
     fams = list(dict.fromkeys(r.family for r in rows))
     checks = chain_length_checks(rows)

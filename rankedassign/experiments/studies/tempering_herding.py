@@ -56,6 +56,7 @@ from ...tracking.single.association import marginals_from_hypotheses
 from ...validation import MAX_COUNT, check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
+from .._plots import LINESTYLES, MARKERS, PALETTE, figure, legend_below
 from .._synthetic import make_problem as make_single
 from ..config import (
     DEFAULT_DIAGONAL_PBAR_D,
@@ -934,7 +935,6 @@ PLOT_GROUPS = (("tempering", ("gibbs", "short", "beta-0.5", "beta-0.7", "beta-0.
 def _styles() -> dict:
     """Colour, dashes and marker per method, the same in every panel; within a group the six
     methods differ in all three (greyscale too)."""
-    from .._plots import LINESTYLES, MARKERS, PALETTE
 
     extra = ("#8C564B", "#9E9A00")  # ten methods, eight palette colours
     colours = (*PALETTE, *extra)
@@ -952,7 +952,6 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
     has no budget, as a dotted horizontal line in the marginal plots."""
     from matplotlib.ticker import NullFormatter
 
-    from .._plots import figure, legend_below
 
     styles = _styles()
     ncol = min(3, len(fams))
@@ -1007,7 +1006,6 @@ def _cost_figure(s: THSummary, fams: list):
     the Gibbs chain's 1, so that the method names need no rotation."""
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-    from .._plots import figure
 
     styles = _styles()
     methods = [m for m in TH_METHODS if m != "lbp"]
