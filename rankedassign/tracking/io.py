@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..validation import check_int
-from .single.lmb import _check_measurements
+from .common import check_measurements as _check_measurements
 
 __all__ = ["COLUMNS", "SENSOR_COLUMN", "read_measurements", "write_measurements"]
 
