@@ -40,7 +40,7 @@ class ScanRecordFields(Protocol):
 
     Parameters
     ----------
-    *args, **kwargs
+    *args, **kwargs : object
         A protocol is not instantiated; the filters' own records follow it
         (:class:`~rankedassign.tracking.ScanRecord`,
         :class:`~rankedassign.tracking.GLMBScanRecord`).
@@ -72,7 +72,7 @@ class Filter(Protocol):
 
     Parameters
     ----------
-    *args, **kwargs
+    *args, **kwargs : object
         A protocol is not instantiated; ``isinstance(obj, Filter)`` checks the methods.
 
     Examples
