@@ -205,8 +205,11 @@ def test_the_runners_take_a_filter_name_class_or_object():
     lmb = run_scenario("vo", Exact(), rng=0, n_scans=2)
     assert_array_equal(by_name.estimates, by_class.estimates)
     assert_array_equal(by_object.estimates, lmb.estimates)
-    ms = run_multisensor_scenario(Exact(), filter=GLMBFilter, rng=0, n_scans=1, sensors=(0, 1))
-    assert ms.association == "Exact()"
+    chains = ShortChainGibbs(5, 3, method="exact")
+    # GLMBFilter stands for its row of the table: the multi-sensor δ-GLMB filter here
+    ms = run_multisensor_scenario(chains, filter=GLMBFilter, rng=0, n_scans=1, sensors=(0, 1))
+    ref = run_multisensor_scenario(chains, filter="glmb", rng=0, n_scans=1, sensors=(0, 1))
+    assert_array_equal(ms.estimates, ref.estimates)
     with pytest.raises(ValueError, match=re.escape(
             "unknown filter 'phd'; expected one of ('lmb', 'glmb'), a filter class or a filter "
             "object")):
