@@ -55,7 +55,9 @@ def test_single_run_has_no_standard_error():
              "stale": rec, "full": rec}]
     rows = S.summarise(runs)
     assert math.isnan(rows[0]["delta_error_se_pp"])
-    assert "| 0.00 | 50.00 |" in S.format_table(rows)
+    # every cell of a one-run row says so, instead of a "± nan"
+    assert "| 1 | 0.00 (1 run) | 0.00 (1 run) | 50.00 (1 run) | 50.00 (1 run) |" in (
+        S.format_table(rows))
 
 
 def _row(fam, V, saved, eo, es):

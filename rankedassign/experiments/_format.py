@@ -33,12 +33,66 @@ def num(x, digits: int | None = None) -> str:
     return f"{x:.{decimals_for(x) if digits is None else digits}f}"
 
 
-def pm(x, se, digits: int | None = None) -> str:
-    """``x ± se`` with the same decimals for both (chosen from ``se`` unless given)."""
+def pm(x, se, digits: int | None = None, *, n_runs: int | None = None) -> str:
+    """``x ± se`` with the same decimals for both (chosen from ``se`` unless given).
+
+    Without a finite ``se`` the cell says why when it can: ``n_runs == 1`` gives
+    ``"x (1 run)"``, never ``"x ± nan"``.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments._format import pm
+    >>> pm(21.43, 4.6), pm(21.43, float("nan"), 1, n_runs=1), pm(0.5, None)
+    ('21.4 ± 4.6', '21.4 (1 run)', '0.500')
+    """
     if not finite(x):
         return "–"
     d = decimals_for(x, se) if digits is None else digits
-    return f"{x:.{d}f}" if not finite(se) else f"{x:.{d}f} ± {se:.{d}f}"
+    if finite(se):
+        return f"{x:.{d}f} ± {se:.{d}f}"
+    return f"{x:.{d}f} (1 run)" if n_runs == 1 else f"{x:.{d}f}"
+
+
+def runs_note(counts) -> str:
+    """How many runs stand behind a table's means, and what its ``±`` is, in one sentence.
+
+    Parameters
+    ----------
+    counts : iterable of int
+        The number of runs of every row (or cell) of the table.
+
+    Returns
+    -------
+    str
+        ``"3 Monte Carlo runs per row; ± is one standard error over the runs."``, with the
+        range when the rows differ, and a warning for rows of fewer than 3 runs, whose
+        standard error is itself too uncertain to lean on.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments._format import runs_note
+    >>> print(runs_note([2, 2]))  # doctest: +NORMALIZE_WHITESPACE
+    2 Monte Carlo runs per row; ± is one standard error over the runs (with 2 runs a rough
+    one: the standard error itself is uncertain by about 71 %).
+    >>> runs_note([1, 3]).endswith('a row of one run has none ("1 run").')
+    True
+    """
+    counts = sorted({int(c) for c in counts if c is not None})
+    if not counts:
+        return ""
+    lo, hi = counts[0], counts[-1]
+    head = (plural(lo, "Monte Carlo run") if lo == hi
+            else f"{lo:,} to {plural(hi, 'Monte Carlo run')}")
+    text = f"{head} per row; ± is one standard error over the runs"
+    if lo == 1:
+        return text + '; a row of one run has none ("1 run").'
+    if lo < 3:
+        # the relative standard error of a standard deviation from n runs is about
+        # 1/sqrt(2 (n - 1)): 71 % at n = 2
+        rel = 100 / math.sqrt(2 * (lo - 1))
+        return text + (f" (with {lo} runs a rough one: the standard error itself is "
+                       f"uncertain by about {rel:.0f} %).")
+    return text + "."
 
 
 def integer(x) -> str:
@@ -78,4 +132,5 @@ def versus(ours: float, se, paper: float) -> str:
     return text
 
 
-__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "integer", "plural", "table", "versus"]
+__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "runs_note", "integer", "plural", "table",
+           "versus"]

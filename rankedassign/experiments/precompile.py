@@ -131,14 +131,16 @@ def _label(study: str | None) -> str:
 
 
 def _run_pool(executor, queue, bar, t0: float) -> None:
-    """Run the queue on the pool; once a second, the bar names what is compiling and for how
-    long, so a long compile shows that it is alive."""
+    """Run the queue on the pool; once a second (on a terminal), the bar names what is
+    compiling and for how long, so a long compile shows that it is alive."""
     with _signals_held():
         futures = {executor.submit(_task, *item): item for item in queue}
     pending = set(futures)
+    # a terminal gets a line that ticks every second; a log file (CI) one line in 30 s
+    tick = 1.0 if sys.stderr.isatty() else 30.0
     try:
         while pending:
-            done, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
+            done, pending = wait(pending, timeout=tick, return_when=FIRST_COMPLETED)
             for fut in done:
                 fut.result()  # a failing task fails the whole run, with its own traceback
             bar.update(len(done))

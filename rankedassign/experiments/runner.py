@@ -18,6 +18,7 @@ from .._version import __version__
 from ..validation import MAX_MC
 from . import _interrupts, _outdir
 from ._executor import SchedulerError, dask_executor, local_executor
+from ._progress import compile_wait, warm_description
 from .registry import Config, ReproduceError, get_study, run_study, study_names, warm_study
 from .report import render_report, write_csv, write_json
 
@@ -349,7 +350,10 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 try:
                     # The tiny tasks on the workers, disjoint kernel sets side by side; the
                     # study's tasks then load the kernels from the cache.
-                    secs = warm_study(study, cfg, executor=executor)
+                    # the wait says what compiles and that it is alive (minutes, first run)
+                    with compile_wait(tag, warm_description(get_study(study), cfg[study]),
+                                      enabled=progress):
+                        secs = warm_study(study, cfg, executor=executor)
                     say(f"{tag}: kernels ready in {secs:.1f} s")
                     t0 = time.perf_counter()
                     res, runs = run_study(

@@ -248,7 +248,8 @@ def render_ablation(rows: list[AblationRow], cfg: AblationConfig) -> str:
     body = []
     for a, b in pairs:
         pair_rows = [by[a, b, f, c] for f, c in cols]
-        cells = [f"{fmt.num(r.delta_obs_pct, 1)} / {fmt.num(r.delta_error_pp, 2)}"
+        cells = [f"{fmt.pm(r.delta_obs_pct, r.delta_obs_pct_se, 1, n_runs=r.n_mc)} / "
+                 f"{fmt.pm(r.delta_error_pp, r.delta_error_pp_se, 2, n_runs=r.n_mc)}"
                  for r in pair_rows]
         body.append([a, b, *cells, consistency(pair_rows, paper_fams)]
                     + [consistency([r for r in pair_rows if r.family == f], (f,))
@@ -275,13 +276,16 @@ def render_ablation(rows: list[AblationRow], cfg: AblationConfig) -> str:
     )
     return f"""## Ablation — every reading of stall × stale (spec §3.2), beside the paper's
 
-Each cell is **ΔObs (%) / ΔError (pp)** against the original sampler on the same matrices,
+**Verdict.** {first}
+
+Each cell is **ΔObs (%) / ΔError (pp)**, each ± one standard error, against the original
+sampler on the same matrices (ΔObs > 0: the short chains save; ΔError = |ε̄_s − ε̄_o|, 0: no
+accuracy lost),
 {fmt.plural(n, "Monte Carlo run")}, paper settings otherwise ({cfg.n_chains:,} ×
 {cfg.chain_length}, τ_stall = {cfg.tau_stall}, τ_stale = {cfg.tau_stale}; random family
 `pbar_d = {cfg.pbar_d!r}`, `granularity = {cfg.granularity!r}`). The stall-only columns depend
 only on the stall reading and the stale-only columns only on the stale reading (shared runs).
-{alt} The paper's Table I is the bold row. Standard errors are in `ablation.json` /
-`ablation.csv`.
+{alt} The paper's Table I is the bold row. {fmt.runs_note(r.n_mc for r in rows)}
 
 {fmt.table(header, body + ([paper_row] if paper_row else []))}
 
@@ -290,8 +294,6 @@ families: ΔObs and ΔError each within {Z_LIMIT:g} of our standard errors of th
 ± half a unit of its last printed digit; "no" lists the cells that are not. With
 {fmt.plural(n, "run")} the standard errors are wide, so "yes" means "not contradicted at this
 precision".
-
-{first}
 """
 
 

@@ -270,6 +270,33 @@ def _pbar(a: str) -> str:
     return "r·P_d" if a == "r_pd" else "P_d"
 
 
+def _cell(r) -> str:
+    return (f"{fmt.pm(r.delta_obs_pct, r.delta_obs_pct_se, 1, n_runs=r.n_mc)} / "
+            f"{fmt.pm(r.delta_error_pp, r.delta_error_pp_se, 2, n_runs=r.n_mc)}")
+
+
+def _overall(combos, verdicts, by, cols, default) -> str:
+    """The section's verdict: which complete readings agree with all nine cells."""
+    ok = [c for c in combos if not verdicts[c]
+          and any(by[c + (f, k)].agrees_with_paper is not None for f, k in cols)]
+    judged = [c for c in combos
+              if any(by[c + (f, k)].agrees_with_paper is not None for f, k in cols)]
+    if not judged:
+        return ("No reading is judged against the paper: the settings are not the paper's, or "
+                "one run has no standard error.")
+
+    def name(c):
+        return f"diagonal {_pbar(c[0])}, random {_pbar(c[1])} with {c[2]} P_s, P_d"
+
+    if not ok:
+        return (f"None of the {len(judged)} readings agrees with all nine of the paper's cells "
+                f"within {Z_LIMIT:g} standard errors.")
+    return (f"{len(ok)} of the {len(judged)} readings agree with all nine of the paper's cells "
+            f"within {Z_LIMIT:g} standard errors: " + "; ".join(
+                f"({i}) {name(c)}" + (" (the default)" if c == default else "")
+                for i, c in enumerate(ok, 1)) + ".")
+
+
 def render_readings(rows: list[ReadingRow], cfg: ReadingsConfig) -> str:
     """The section: one line per combination of readings with its nine cells and the verdict."""
     default = (DEFAULT_DIAGONAL_PBAR_D, DEFAULT_PBAR_D, DEFAULT_GRANULARITY)
@@ -281,8 +308,7 @@ def render_readings(rows: list[ReadingRow], cfg: ReadingsConfig) -> str:
     body = []
     for combo in combos:
         d, a, b = combo
-        cells = [f"{fmt.num(by[combo + (f, c)].delta_obs_pct, 1)} / "
-                 f"{fmt.num(by[combo + (f, c)].delta_error_pp, 2)}" for f, c in cols]
+        cells = [_cell(by[combo + (f, c)]) for f, c in cols]
         off = verdicts[combo]
         compared = any(by[combo + (f, c)].agrees_with_paper is not None for f, c in cols)
         verdict = "–" if not compared else ("yes" if not off else "no: " + ", ".join(off))
@@ -323,6 +349,10 @@ neither choice and is shared). Lines marked "mixed" read P̄_D differently in th
 lie within {Z_LIMIT:g} standard errors of the paper's (ΔObs and ΔError each). The line marked
 "default" is what the Table I study runs; the reasons are in the documentation's ambiguity
 list (A2, A5).
+
+{fmt.runs_note(r.n_mc for r in rows)}
+
+**Verdict.** {_overall(combos, verdicts, by, cols, default)}
 
 {fmt.table(["reading", *[f"{f} {c}" for f, c in cols], "consistent with all nine?"], body)}
 

@@ -21,7 +21,7 @@ from ...tracking.single.lmb import EXTRACTIONS
 from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
-from .._plots import figure
+from .._plots import figure, legend_below, series_style
 from ..config import check_ospa, check_positive
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
@@ -442,6 +442,26 @@ def _grouping(c: dict) -> str:
     return f"one sampler call per group of tracks that share gated measurements, {empty}"
 
 
+def _verdict(s: TrackingSummary) -> str:
+    """The savings beside the paper's, and whether the OSPA(2) cost is resolved."""
+    d, se = s.ospa2_difference_mean, s.ospa2_difference_se
+    text = (f"The short chains use {fmt.num(s.reduction_pct, 2)} % fewer sweeps than the "
+            f"original sampler (the paper: {fmt.num(s.paper_reduction_pct, 2)} %) and "
+            f"{fmt.num(s.reduction_row_updates_pct, 2)} % fewer row updates. Their mean OSPA(2) "
+            f"differs from the original's by {fmt.pm(d, se)} m (paired over "
+            f"{fmt.plural(s.n_mc, 'run')}, short-chain − original, > 0: worse)")
+    if se is None or not math.isfinite(se):
+        text += "; one run gives no standard error, so no difference is resolved."
+    elif abs(d) <= 2 * se:
+        text += ", within two standard errors of zero: no OSPA(2) cost is resolved."
+    else:
+        text += (f", {abs(d) / se:.1f} standard errors from zero: the short chains track "
+                 f"{'worse' if d > 0 else 'better'}.")
+    text += (f" Targets lost over the runs: {s.targets_lost_original} with the original sampler, "
+             f"{s.targets_lost_proposed} with the short chains.")
+    return text
+
+
 def render_tracking(s: TrackingSummary, cfg: TrackingConfig, study: str = "tracking") -> str:
     """The tracking section: our totals beside the paper's, OSPA(2), the plots."""
     c = s.config
@@ -497,6 +517,8 @@ and {fmt.num(s.mean_groups_per_scan, 2)} sampler calls per scan.
 
 {intro}
 
+**Verdict.** {_verdict(s)}
+
 {fmt.table(_TRACKING_HEADER, rows)}
 
 OSPA(2) (c = {c["ospa_c"]:g} m, p = {c["ospa_p"]:g}, window {c["ospa_window"]}), mean over scans
@@ -523,21 +545,26 @@ def plot_tracking(summary: TrackingSummary, directory: Path, study: str = "track
     k = np.array(cur["scan"])
     which = _SHORT_TITLES.get(study, study)
     names = [f"{study}_ospa2.png", f"{study}_observations.png"]
+    every = max(1, len(k) // 10)
     fig, (ax,) = figure()
-    for m, label in (("original", "original Gibbs"), ("proposed", "short-chain Gibbs")):
-        ax.plot(k, cur[f"ospa2_{m}"], label=label)
+    for i, (m, label) in enumerate((("original", "original Gibbs"),
+                                    ("proposed", "short-chain Gibbs"))):
+        ax.plot(k, cur[f"ospa2_{m}"], label=label, markevery=every, **series_style(i))
     ax.set_xlabel("scan")
     ax.set_ylabel("OSPA(2) (m)")
     ax.set_title(f"OSPA(2), mean of {fmt.plural(summary.n_mc, 'run')}\n{which}", fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend()
+    legend_below(fig, [ax], ncol=2)
     fig.savefig(directory / names[0], dpi=110)
     fig, (ax,) = figure()
-    for m, label in (("original", "original Gibbs"), ("proposed", "short-chain Gibbs")):
-        ax.plot(k, cur[f"cumulative_obs_{m}"], label=f"{label}, sweeps")
-        ax.plot(k, cur[f"cumulative_row_updates_{m}"], ls="--", label=f"{label}, row updates")
+    for i, (m, label) in enumerate((("original", "original Gibbs"),
+                                    ("proposed", "short-chain Gibbs"))):
+        ax.plot(k, cur[f"cumulative_obs_{m}"], label=f"{label}, sweeps", markevery=every,
+                **series_style(2 * i))
+        ax.plot(k, cur[f"cumulative_row_updates_{m}"], label=f"{label}, row updates",
+                markevery=every, **series_style(2 * i + 1))
     for m, ls in (("original", ":"), ("proposed", "-.")):
-        ax.axhline(PAPER_TOTALS[m], color="k", ls=ls, lw=1,
+        ax.axhline(PAPER_TOTALS[m], color="0.4", ls=ls, lw=1,
                    label=f"paper's total, {m} ({PAPER_TOTALS[m]:,})")
     ax.set_yscale("log")
     ax.set_xlabel("scan")
@@ -545,7 +572,7 @@ def plot_tracking(summary: TrackingSummary, directory: Path, study: str = "track
     ax.set_title(f"Cumulative sampler cost, mean of {fmt.plural(summary.n_mc, 'run')}\n{which}",
                  fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    legend_below(fig, [ax], ncol=2, fontsize=7)
     fig.savefig(directory / names[1], dpi=110)
     return names
 
