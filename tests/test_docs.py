@@ -242,7 +242,10 @@ def test_figure_script_runs(tmp_path):
         [sys.executable, str(DOCS / "scripts" / "make_figures.py"), "--out", str(tmp_path)],
         # no timeout: the script's work is bounded; a clock would fail it on a loaded machine
         cwd=ROOT, capture_output=True, text=True,
-        env={**os.environ, "MPLBACKEND": "Agg"},
+        # without the test runner's own variables (a parallel run's PYTEST_XDIST_*): the
+        # script runs a benchmark module under a pytest of its own
+        env={**{k: v for k, v in os.environ.items() if not k.startswith("PYTEST_")},
+             "MPLBACKEND": "Agg"},
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     made = sorted(p.stem for p in tmp_path.glob("*.png"))
