@@ -28,3 +28,22 @@ def _isolate_numpy_print_options():
     saved = np.get_printoptions()
     yield
     np.set_printoptions(**saved)
+
+
+import warnings  # noqa: E402
+
+#: Test modules that pin the numbers of the deprecated ``MultiSensor*`` association names on
+#: purpose (the digests were recorded with them and must not change), so their import may
+#: construct those names without the DeprecationWarning failing the run under ``-W error``.
+#: Everything else, the aliases' own tests included, sees the warning.
+PINNED_DEPRECATED = {"test_digest.py"}
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_make_collect_report(collector):
+    if isinstance(collector, pytest.Module) and collector.path.name in PINNED_DEPRECATED:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=r"MultiSensor\w+ is deprecated",
+                                    category=DeprecationWarning)
+            return (yield)
+    return (yield)

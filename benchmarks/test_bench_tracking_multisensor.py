@@ -15,18 +15,18 @@ import numpy as np
 import pytest
 
 from rankedassign.tracking import (
-    MultiSensorExact,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
+    Exact,
+    OriginalGibbs,
+    ShortChainGibbs,
     run_multisensor_scenario,
 )
 
 SENSORS = {"V1": (0,), "V2": (0, 1), "V3": (0, 1, 2)}
 METHODS = {
-    "short-400x25": lambda smoke=False: MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
-    "short-400x25-mm": lambda smoke=False: MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="mm"),
-    "short-400x25-mm-fixed": lambda smoke=False: MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="mm-fixed"),
-    "long-10000": lambda smoke=False: MultiSensorOriginalGibbs(1_000 if smoke else 10_000),
+    "short-400x25": lambda smoke=False: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact"),
+    "short-400x25-mm": lambda smoke=False: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="mm"),
+    "short-400x25-mm-fixed": lambda smoke=False: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="mm-fixed"),
+    "long-10000": lambda smoke=False: OriginalGibbs(1_000 if smoke else 10_000, method="exact"),
 }
 
 
@@ -58,7 +58,7 @@ def test_bench_multi_scenario(benchmark, method, sensors):
 @pytest.mark.parametrize("sensors", sorted(SENSORS))
 def test_bench_multi_narrow_birth_exact(benchmark, sensors):
     # the exact DP needs the narrow birth (the paper's birth tracks gate every measurement)
-    _run(benchmark, lambda smoke: MultiSensorExact(), SENSORS[sensors], birth="narrow")
+    _run(benchmark, lambda smoke: Exact(), SENSORS[sensors], birth="narrow")
 
 
 @pytest.mark.parametrize("sensors", sorted(SENSORS))

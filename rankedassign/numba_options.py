@@ -25,11 +25,13 @@ Setting ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the coverage 
 
 Cache invalidation across files. numba's cache notices when the file that defines a kernel
 changes, but not when a kernel it calls (and has compiled into itself) changes in another
-file. :func:`jit` therefore keys every cached kernel by a digest of all the Python sources of
-both packages, :data:`KERNEL_PACKAGES` (``__qualname__`` gets the digest as a suffix, which
-names the cache file): editing any kernel file recompiles everything, kernels can live in as
-many files as their algorithms need, and a kernel of one package may call the other's (the
-δ-GLMB filter's per-component loop runs the oracle's Murty search and enumeration).
+file. :func:`jit` therefore keys every cached kernel by a digest of the sources a kernel can
+depend on in both packages, :data:`KERNEL_PACKAGES` (:func:`kernel_sources`: the modules that
+define kernels and what they import; ``__qualname__`` gets the digest as a suffix, which names
+the cache file): editing any of them recompiles everything, kernels can live in as many files
+as their algorithms need, and a kernel of one package may call the other's (the δ-GLMB
+filter's per-component loop runs the oracle's Murty search and enumeration). Editing a module
+that no kernel imports (a filter, a model, a study) keeps the compiled kernels.
 
 Signals. A compiled kernel runs without looking at signals; Python runs the handler of a
 signal that arrived meanwhile (Ctrl-C's ``KeyboardInterrupt``, a SIGTERM handler) at the first
@@ -56,6 +58,7 @@ import functools
 import hashlib
 import importlib.util
 import os
+import re
 import sys
 import types
 from contextlib import contextmanager
@@ -64,6 +67,7 @@ from pathlib import Path
 import numba
 
 __all__ = ["CACHE", "KERNEL_PACKAGES", "jit", "threads", "instantiate", "source_digest",
+           "kernel_sources",
            "interruptible", "signal_exception"]
 
 CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
@@ -75,17 +79,107 @@ KERNEL_PACKAGES = ("rankedassign", "oracle")
 
 
 #: Parts of :mod:`rankedassign` that define no kernel and that no kernel module imports (the
-#: studies, the command line, the Stone Soup plug-in): left out of :func:`source_digest`, so
-#: editing a study does not recompile every kernel. ``tests/test_numba_options.py`` keeps
-#: both conditions.
+#: studies, the command line, the Stone Soup plug-in): never part of the key, whatever they
+#: import. ``tests/test_numba_options.py`` keeps both conditions.
 NO_KERNELS = ("experiments", "stonesoup", "cli.py", "__main__.py")
+
+# A module defines kernels when its text calls jit / instantiate / vectorize; read as text,
+# not parsed: this runs at import, and reading the ~130 files as text takes milliseconds where
+# parsing them takes most of a second. Broader than the truth is safe (a larger key).
+_KERNEL_TEXT = re.compile(r"\bjit\b|\binstantiate\(|\bvectorize\b")
+# ``from X import a, b`` / ``from X import (a,\n b)`` / ``import X.y``, at any indentation;
+# a doctest's ``>>> from ...`` does not match.
+_IMPORT_TEXT = re.compile(
+    r"^[ \t]*(?:from[ \t]+(?P<src>\.*[\w.]*)[ \t]+import[ \t]+"
+    r"(?P<names>\([^)]*\)|[^\n]*)|import[ \t]+(?P<mods>[\w. \t,]+))", re.M)
+
+
+def _package_files() -> dict[str, Path]:
+    """Every module of :data:`KERNEL_PACKAGES` by dotted name (a package by its own name)."""
+    files = {}
+    for package in KERNEL_PACKAGES:
+        module = sys.modules.get(package)
+        origin = (module.__file__ if module is not None
+                  else importlib.util.find_spec(package).origin)
+        root = Path(origin).parent
+        for path in sorted(root.rglob("*.py")):
+            rel = path.relative_to(root)
+            if package == "rankedassign" and rel.parts[0] in NO_KERNELS:
+                continue
+            parts = (package, *rel.with_suffix("").parts)
+            name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+            files[name] = path
+    return files
+
+
+def _imports(name: str, path: Path, text: str):
+    """``(module, names)`` for each import of the module (``names`` None for ``import X``)."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    for m in _IMPORT_TEXT.finditer(text):
+        if m["mods"] is not None:
+            for mod in m["mods"].split(","):
+                yield mod.split()[0] if mod.split() else "", None
+            continue
+        src = m["src"]
+        dots = len(src) - len(src.lstrip("."))
+        if dots:
+            base = package.split(".")
+            base = base[:len(base) - (dots - 1)]
+            src = ".".join(base + ([src[dots:]] if src[dots:] else []))
+        names = m["names"].split("#")[0].strip("() \t\\").replace("\n", " ")
+        yield src, [n.split()[0] for n in names.split(",") if n.split()]
+
+
+@functools.cache
+def kernel_sources() -> tuple[Path, ...]:
+    """The files a compiled kernel can depend on: the modules that define kernels, and what
+    they import, name by name, across :data:`KERNEL_PACKAGES`.
+
+    A kernel compiles into itself the kernels it calls and reads the globals of its module at
+    compile time, so these files are all the sources its machine code depends on. A module
+    imported as a whole (``from . import _kernels``) counts with everything it imports; a
+    name taken from a package's ``__init__`` counts only through the module it comes from,
+    so the pure-Python layers (the filters, their associations, the models) are outside, and
+    editing them does not recompile the kernels.
+
+    Returns
+    -------
+    tuple of pathlib.Path
+        Sorted.
+
+    Examples
+    --------
+    >>> names = {p.name for p in kernel_sources()}
+    >>> "_kernels.py" in names and "glmb.py" not in names
+    True
+    """
+    files = _package_files()
+    texts = {name: path.read_text(encoding="utf-8") for name, path in files.items()}
+    seen: set = set()
+    todo = [(name, None) for name, text in texts.items() if _KERNEL_TEXT.search(text)]
+    while todo:
+        name, names = todo.pop()
+        if name not in files or (name, names) in seen:
+            continue
+        seen.add((name, names))
+        whole = names is None or files[name].name != "__init__.py"
+        for src, taken in _imports(name, files[name], texts[name]):
+            if taken is None:
+                todo.append((src, None))
+                continue
+            for n in taken:
+                if not whole and n not in names and n != "*":
+                    continue
+                todo.append((f"{src}.{n}", None) if f"{src}.{n}" in files else (src, (n,)))
+    return tuple(sorted({files[name] for name, _ in seen}))
 
 
 @functools.cache
 def source_digest(package: str) -> str:
-    """Digest of every ``.py`` file of the installed ``package`` (first 10 hex digits).
+    """Digest of the files of ``package`` a kernel can depend on (first 10 hex digits).
 
-    The parts of :mod:`rankedassign` in :data:`NO_KERNELS` are left out.
+    The files are those of :func:`kernel_sources` within ``package``; the parts of
+    :mod:`rankedassign` in :data:`NO_KERNELS` are never among them.
 
     Parameters
     ----------
@@ -102,11 +196,10 @@ def source_digest(package: str) -> str:
     origin = module.__file__ if module is not None else importlib.util.find_spec(package).origin
     root = Path(origin).parent
     h = hashlib.sha1(numba.__version__.encode())
-    for path in sorted(root.rglob("*.py")):
-        rel = path.relative_to(root)
-        if package == "rankedassign" and rel.parts[0] in NO_KERNELS:
+    for path in kernel_sources():
+        if root not in path.parents:
             continue
-        h.update(str(rel).encode())
+        h.update(str(path.relative_to(root)).encode())
         h.update(path.read_bytes())
     return h.hexdigest()[:10]
 

@@ -350,7 +350,7 @@ def test_bad_input(problem, kw, exc, msg):
 # ------------------------------------------------------------------ LMB association
 def test_multisensor_herded_association_in_the_lmb_filter():
     from rankedassign.tracking import (
-        MultiSensorHerdedGibbs,
+        HerdedGibbs,
         MultiSensorLMBFilter,
         make_multisensor_model,
         make_multisensor_scenario,
@@ -360,8 +360,8 @@ def test_multisensor_herded_association_in_the_lmb_filter():
     sensors = (0, 2)
     sc = make_multisensor_scenario(rng=0, n_scans=8, sensors=sensors)
     scans = [tuple(s.z for s in scan) for scan in sc.scans]
-    for assoc in (MultiSensorHerdedGibbs(100),
-                  MultiSensorHerdedGibbs(10, n_chains=40, tau_stall=3, tau_stale=5,
+    for assoc in (HerdedGibbs(100, method="exact"),
+                  HerdedGibbs(10, n_chains=40, tau_stall=3, tau_stale=5,
                                          method="mm")):
         a, b = (run_filter(MultiSensorLMBFilter(make_multisensor_model(sensors), assoc), scans,
                            rng=1, truth=sc.truth) for _ in range(2))
@@ -373,17 +373,16 @@ def test_multisensor_herded_association_in_the_lmb_filter():
         assert_array_equal(a.estimates, b.estimates)            # reproducible
         assert a.existence == b.existence
     p = _ms(5)
-    out = MultiSensorHerdedGibbs(200)(p, 7)
+    out = HerdedGibbs(200, method="exact")(p, 7)
     res = sample_herded(p, 200, rng=7, method="exact")
     assert out.sweeps == 200 and out.n_unique == len(res)
     assert np.isfinite(out.dead).all() and np.isfinite(out.tuples).all()
-    short = MultiSensorHerdedGibbs(25, n_chains=100, tau_stall=5, tau_stale=10)
+    short = HerdedGibbs(25, n_chains=100, tau_stall=5, tau_stale=10, method="exact")
     assert short.herding.init == "uniform"
     got = short(p, 7)
     ref = sample_short_chains(p, 100, 25, tau_stall=5, tau_stale=10, rng=7, method="exact",
                               herding=Herding(init="uniform"))
     assert got.sweeps == ref.n_observations and got.n_unique == len(ref)
-    assert repr(MultiSensorHerdedGibbs(25, n_chains=400, tau_stall=5, tau_stale=10,
-                                       keys="full", method="mm")) == \
-        "MultiSensorHerdedGibbs(25, keys='full', n_chains=400, tau_stall=5, tau_stale=10, " \
-        "method='mm')"
+    assert repr(HerdedGibbs(25, n_chains=400, tau_stall=5, tau_stale=10,
+                            keys="full", method="exact")) == \
+        "HerdedGibbs(25, keys='full', n_chains=400, tau_stall=5, tau_stale=10, method='exact')"

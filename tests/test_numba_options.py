@@ -7,7 +7,7 @@ from pathlib import Path
 
 import rankedassign
 from rankedassign import numba_options
-from rankedassign.numba_options import NO_KERNELS, source_digest
+from rankedassign.numba_options import NO_KERNELS, kernel_sources, source_digest
 
 ROOT = Path(rankedassign.__file__).resolve().parent
 
@@ -72,14 +72,92 @@ def test_editing_a_study_keeps_the_key_and_editing_a_kernel_file_changes_it(tmp_
 
     def key():
         source_digest.cache_clear()
+        kernel_sources.cache_clear()
         return source_digest("rankedassign")
 
     before = key()
     study = copy / "experiments" / "studies" / "table1.py"
     study.write_text(study.read_text() + "\n# an edit\n")
     assert key() == before
+    # a filter, a model: pure Python that no kernel imports
+    for rel in (("tracking", "single", "glmb.py"), ("tracking", "models.py"),
+                ("tracking", "association.py")):
+        path = copy.joinpath(*rel)
+        path.write_text(path.read_text() + "\n# an edit\n")
+        assert key() == before, rel
+    # a module a kernel imports (the problem records it reads) and a kernel file
+    problem = copy / "single" / "problem.py"
+    problem.write_text(problem.read_text() + "\n# an edit\n")
+    assert key() != before
+    before = key()
     kernel = copy / "single" / "_kernels.py"
     kernel.write_text(kernel.read_text() + "\n# an edit\n")
     assert key() != before
     source_digest.cache_clear()
+    kernel_sources.cache_clear()
     assert numba_options.KERNEL_PACKAGES == ("rankedassign", "oracle")
+
+
+def _parsed_closure() -> set:
+    """The files a kernel can depend on, found by parsing (the key reads the files as text)."""
+    import oracle
+
+    files = {}
+    for pkg in (rankedassign, oracle):
+        root = Path(pkg.__file__).resolve().parent
+        for path in root.rglob("*.py"):
+            parts = (pkg.__name__, *path.relative_to(root).with_suffix("").parts)
+            if pkg is rankedassign and parts[1] in {p.removesuffix(".py") for p in NO_KERNELS}:
+                continue
+            files[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    trees = {name: ast.parse(path.read_text()) for name, path in files.items()}
+
+    def imports(name):
+        pkg = name if files[name].name == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(trees[name]):
+            if isinstance(node, ast.ImportFrom):
+                base = pkg.split(".")[:len(pkg.split(".")) - node.level + 1] if node.level else []
+                src = ".".join(base + ([node.module] if node.module else []))
+                yield src, [a.name for a in node.names]
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    yield a.name, None
+
+    def defines_kernel(name):
+        for node in ast.walk(trees[name]):
+            if isinstance(node, ast.FunctionDef) and any(
+                    "jit" in ast.unparse(d) for d in node.decorator_list):
+                return True
+            if isinstance(node, ast.Call) and any(
+                    w in ast.unparse(node.func) for w in ("jit", "instantiate", "vectorize")):
+                return True
+        return False
+
+    seen, todo = set(), [(n, None) for n in files if defines_kernel(n)]
+    while todo:
+        name, names = todo.pop()
+        if name not in files or (name, names) in seen:
+            continue
+        seen.add((name, names))
+        whole = names is None or files[name].name != "__init__.py"
+        for src, taken in imports(name):
+            for n in taken or [None]:
+                if n is None:
+                    todo.append((src, None))
+                elif whole or n in names:
+                    todo.append((f"{src}.{n}", None) if f"{src}.{n}" in files else (src, (n,)))
+    return {files[n] for n, _ in seen}
+
+
+def test_the_key_covers_every_file_a_kernel_can_depend_on():
+    """The key reads imports as text; parsing must not find a file it misses (a missed file
+    would keep a stale kernel after its edit)."""
+    parsed = _parsed_closure()
+    keyed = {p.resolve() for p in kernel_sources()}
+    assert parsed - keyed == set()
+    # what is outside: the pure-Python layers above the kernels
+    names = {str(p.relative_to(ROOT.parent)) for p in keyed}
+    for outside in ("rankedassign/tracking/single/glmb.py", "rankedassign/tracking/models.py",
+                    "rankedassign/samplers.py", "oracle/single/murty.py"):
+        assert outside not in names
+    assert "rankedassign/tracking/single/_glmb_kernels.py" in names

@@ -61,10 +61,10 @@ from rankedassign.stonesoup.hypothesisers import pda_pairs  # noqa: E402
 from rankedassign.tracking import (  # noqa: E402
     Exact,
     LMBFilter,
-    MultiSensorExact,
     Murty,
     ShortChainGibbs,
 )
+from rankedassign.tracking.association import MultiSensorAssociation  # noqa: E402
 from rankedassign.tracking.models import ConstantVelocity as OurCV  # noqa: E402
 from rankedassign.tracking.models import LinearMotion, Model, make_model  # noqa: E402
 
@@ -247,11 +247,21 @@ def test_the_fallback_is_used_and_recorded():
     assert assoc.fallback_tracks == set()
 
 
+class _MultiSensorOnly(MultiSensorAssociation):
+    def __call__(self, problem, rng):  # pragma: no cover (refused before it is called)
+        raise AssertionError
+
+
 @pytest.mark.parametrize("bad, match", [
     (object(), r"fallback must be one of our associations .*got object"),
-    (MultiSensorExact(), r"fallback must be a single-sensor association .*MultiSensorExact"),
+    (_MultiSensorOnly(), r"fallback cannot use _MultiSensorOnly: it solves multi-sensor problems "
+                         r"only"),
+    (Murty(5), None),  # the same truncation classes serve every sensor count: Murty is fine
 ])
 def test_a_fallback_that_is_not_ours(bad, match):
+    if match is None:
+        JPDAwithDP(_hypothesiser(), fallback=bad)
+        return
     with pytest.raises(TypeError, match=match):
         JPDAwithDP(_hypothesiser(), fallback=bad)
 

@@ -24,8 +24,6 @@ from rankedassign.tracking import (
     LMBBirth,
     LMBFilter,
     Model,
-    MultiSensorExact,
-    MultiSensorShortChainGibbs,
     PoissonClutter,
     PositionSensor,
     ShortChainGibbs,
@@ -38,6 +36,7 @@ from rankedassign.tracking import (
     run_scenario,
 )
 from rankedassign.tracking._kernels import MERGE_RULES, reduce_mixtures
+from rankedassign.tracking.association import MultiSensorAssociation
 
 BHATTA, VO_MA, HEAVIEST = (MERGE_RULES[k] for k in ("bhattacharyya", "vo-ma", "heaviest"))
 
@@ -383,6 +382,11 @@ class BadShape(Association):
         return AssociationResult(np.zeros((1, 1)), 1, 0, 0, 0)
 
 
+class _MultiSensorOnly(MultiSensorAssociation):
+    def __call__(self, problem, rng):  # pragma: no cover (refused before it is called)
+        raise AssertionError
+
+
 @pytest.mark.parametrize(
     ("kwargs", "exc", "match"),
     [
@@ -412,12 +416,9 @@ class BadShape(Association):
         ({"sample_empty_groups": "False"}, TypeError,
          "sample_empty_groups must be True or False, got str 'False'"),
         # a multi-sensor association failed at the first scan (AttributeError on 'dead')
-        ({"association": MultiSensorExact()}, TypeError,
-         re.escape("LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
-                   "MultiSensorExact (a multi-sensor association, for MultiSensorLMBFilter)")),
-        ({"association": MultiSensorShortChainGibbs(10, 5)}, TypeError,
-         "LMBFilter needs a single-sensor association such as ShortChainGibbs; got "
-         "MultiSensorShortChainGibbs"),
+        ({"association": _MultiSensorOnly()}, TypeError,
+         re.escape("LMBFilter cannot use _MultiSensorOnly: it solves multi-sensor problems only "
+                   "(its sensors attribute)")),
     ],
 )
 def test_filter_errors(kwargs, exc, match):
@@ -620,8 +621,9 @@ def test_run_scenario_argument_errors():
         run_scenario("vo", Enumerate(), n_scans=2, rng="seed")
     with pytest.raises(ValueError, match=r"rng must be None, .*; got -1"):
         run_scenario("vo", Enumerate(), n_scans=2, rng=-1)
-    with pytest.raises(TypeError, match="LMBFilter needs a single-sensor association"):
-        run_scenario("vo", MultiSensorExact(), n_scans=2)
+    with pytest.raises(TypeError, match="LMBFilter cannot use _MultiSensorOnly: it solves "
+                                        "multi-sensor problems only"):
+        run_scenario("vo", _MultiSensorOnly(), n_scans=2)
 
 
 def test_run_scenario_with_a_random_state():

@@ -27,7 +27,6 @@ from rankedassign.tracking import (
     LMBBirth,
     LMBFilter,
     Model,
-    MultiSensorShortChainGibbs,
     Murty,
     OriginalGibbs,
     PoissonClutter,
@@ -38,6 +37,7 @@ from rankedassign.tracking import (
     make_scenario,
     run_scenario,
 )
+from rankedassign.tracking.association import MultiSensorAssociation
 from rankedassign.tracking.single import _glmb_kernels
 from rankedassign.tracking.single.glmb import Hypotheses, _gibbs_budget, _zobrist, truncate
 
@@ -545,14 +545,20 @@ def test_bad_options_are_refused(kwargs, exc, match):
 
 
 def test_associations_without_hypotheses_are_refused():
-    msg = ("GLMBFilter needs an association that supplies hypotheses (unique assignments with "
-           "their costs): ShortChainGibbs, OriginalGibbs, Murty, Exact, or an object with a "
-           "method hypotheses(problem, budget, rng); LBP returns association marginals only, "
-           "which suit LMBFilter")
+    msg = ("GLMBFilter cannot use LBP: it returns association marginals only, which suit the "
+           "LMB filters: a δ-GLMB filter keeps each hypothesis as a component and cannot be "
+           "rebuilt from marginals (give it a method hypotheses(problem, budget, rng), or use "
+           "OriginalGibbs, ShortChainGibbs, HerdedGibbs, Murty or Exact)")
     with pytest.raises(TypeError, match=re.escape(msg)):
         GLMBFilter(make_model("vo"), LBP())
-    with pytest.raises(TypeError, match="GLMBFilter needs a single-sensor association"):
-        GLMBFilter(make_model("vo"), MultiSensorShortChainGibbs(10, 5))
+
+    class MultiOnly(MultiSensorAssociation):
+        def hypotheses(self, problem, budget, rng):  # pragma: no cover (refused first)
+            raise AssertionError
+
+    with pytest.raises(TypeError, match="GLMBFilter cannot use MultiOnly: it solves "
+                                        "multi-sensor problems only"):
+        GLMBFilter(make_model("vo"), MultiOnly())
     with pytest.raises(TypeError, match="association must be callable"):
         GLMBFilter(make_model("vo"), 3)
     with pytest.raises(TypeError, match="model must be"):
@@ -602,7 +608,7 @@ def test_custom_hypotheses_are_checked():
             return Hypotheses(np.repeat(r.assignments, 2, axis=0), np.repeat(r.costs, 2))
 
     f = GLMBFilter(make_model("vo"), Twice())
-    with pytest.raises(ValueError, match="association Twice returned duplicate assignments"):
+    with pytest.raises(ValueError, match="GLMBFilter: association Twice returned duplicate assignments"):
         f.step([[0.0, 0.0]])
 
 

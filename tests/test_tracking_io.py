@@ -11,7 +11,7 @@ from rankedassign.tracking import (
     Exact,
     LMBFilter,
     MultiSensorLMBFilter,
-    MultiSensorShortChainGibbs,
+    ShortChainGibbs,
     make_model,
     make_multisensor_model,
     make_multisensor_scenario,
@@ -207,7 +207,7 @@ def test_run_filter_on_a_file_is_run_scenario(tmp_path):
 
 def test_run_filter_on_a_multi_sensor_file_is_run_multisensor_scenario(tmp_path):
     seed, n, sensors = 1, 5, (0, 1)
-    assoc = MultiSensorShortChainGibbs(40, 10, tau_stall=5, tau_stale=10)
+    assoc = ShortChainGibbs(40, 10, tau_stall=5, tau_stale=10, method="exact")
     ref = run_multisensor_scenario(assoc, rng=seed, n_scans=n, sensors=sensors)
     meas_rng, filter_rng = np.random.default_rng(seed).spawn(2)
     sc = make_multisensor_scenario(rng=meas_rng, n_scans=n, sensors=sensors)

@@ -7,17 +7,19 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 import oracle
+from rankedassign import AssignmentProblem
 from rankedassign.engine.rng import base_key
 from rankedassign.metrics import ospa2
 from rankedassign.multisensor import MultiSensorProblem
 from rankedassign.tracking import (
+    LBP,
+    Association,
     Exact,
     LMBFilter,
-    MultiSensorExact,
     MultiSensorLMBFilter,
     MultiSensorModel,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
+    Murty,
+    OriginalGibbs,
     ShortChainGibbs,
     make_model,
     make_multisensor_model,
@@ -43,6 +45,13 @@ def small_problem():
     )
 
 
+class _SingleOnly(Association):
+    """An association of one's own for one sensor's problems (``sensors`` as the base's)."""
+
+    def __call__(self, problem, rng):  # pragma: no cover (refused before it is called)
+        raise AssertionError
+
+
 def two_sensor_model(base="vo"):
     m = make_model(base)
     return MultiSensorModel(m.motion, (m.sensor, m.sensor), (m.clutter, m.clutter), m.birth,
@@ -53,7 +62,7 @@ def two_sensor_model(base="vo"):
 def test_one_sensor_reproduces_single_sensor_filter():
     sc = make_scenario("vo", rng=3, n_scans=8)
     single = LMBFilter(sc.model, Exact(), grouping=True)
-    multi = MultiSensorLMBFilter(sc.model, MultiSensorExact(), grouping=True)
+    multi = MultiSensorLMBFilter(sc.model, Exact(), grouping=True)
     for k, scan in enumerate(sc.scans):
         a = single.step(scan.z, rng=k)
         b = multi.step([scan.z], rng=k)
@@ -74,7 +83,7 @@ def test_one_sensor_problem_is_the_single_sensor_problem():
 
     def capture(problem, rng):
         seen.append(problem)
-        return MultiSensorExact()(problem, rng)
+        return Exact()(problem, rng)
 
     multi = MultiSensorLMBFilter(sc.model, capture, grouping=False)
     for k, scan in enumerate(sc.scans):
@@ -103,8 +112,8 @@ def _last_single_problem(sc, n):
 
 # ------------------------------------------------------------------ filter behaviour
 def test_two_sensors_confirm_a_target_faster_than_one():
-    one = MultiSensorLMBFilter(make_model("vo"), MultiSensorExact())
-    two = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    one = MultiSensorLMBFilter(make_model("vo"), Exact())
+    two = MultiSensorLMBFilter(two_sensor_model(), Exact())
     z = [[400.0, -600.0]]
     r1 = one.step([z], rng=0).track_existence.max()
     r2 = two.step([z, z], rng=0).track_existence.max()
@@ -112,7 +121,7 @@ def test_two_sensors_confirm_a_target_faster_than_one():
 
 
 def test_scan_without_measurements_is_closed_form():
-    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    f = MultiSensorLMBFilter(two_sensor_model(), Exact())
     rec = f.step([[], np.empty((0, 2))], rng=0)
     # births: r = r_B (1 - P_D)^2 / (1 - r_B + r_B (1 - P_D)^2)
     q = 0.03 * 0.02**2
@@ -121,7 +130,7 @@ def test_scan_without_measurements_is_closed_form():
 
 
 def test_step_needs_one_array_per_sensor():
-    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    f = MultiSensorLMBFilter(two_sensor_model(), Exact())
     with pytest.raises(ValueError, match=r"one measurement array per sensor \(V = 2\), got 1"):
         f.step([[[0.0, 0.0]]])
     with pytest.raises(ValueError, match="got an array"):
@@ -150,7 +159,7 @@ def test_model_validation():
     with pytest.raises(ValueError, match=r"distinct indices in 0..1, got \[1, 1\]"):
         two_sensor_model().select([1, 1])
     with pytest.raises(TypeError, match="model"):
-        MultiSensorLMBFilter("paper", MultiSensorExact())
+        MultiSensorLMBFilter("paper", Exact())
     with pytest.raises(TypeError, match="motion must be a ConstantVelocity, got str"):
         MultiSensorModel("cv", (m.sensor,), (m.clutter,), m.birth, m.survival)
     with pytest.raises(TypeError, match="survival must be a ConstantSurvival, got float"):
@@ -165,12 +174,14 @@ def test_model_validation():
     ("association", "match"),
     [
         # a numba TypingError after half a minute before
-        (ShortChainGibbs(10, 5), re.escape(
-            "MultiSensorLMBFilter needs a multi-sensor association such as "
-            "MultiSensorShortChainGibbs; got ShortChainGibbs (a single-sensor association, for "
-            "LMBFilter)")),
-        # numpy's "inhomogeneous shape" before
-        (Exact(), "MultiSensorLMBFilter needs a multi-sensor association .*; got Exact"),
+        (Murty(5), re.escape(
+            "MultiSensorLMBFilter cannot use Murty: Murty's ranked search solves one sensor's "
+            "problem; there is no ranked multi-sensor search (use Exact or a sampler "
+            "truncation)")),
+        (LBP(), re.escape("MultiSensorLMBFilter cannot use LBP: loopy belief propagation is "
+                          "written for one sensor's problem")),
+        (_SingleOnly(), "MultiSensorLMBFilter cannot use _SingleOnly: it solves single-sensor "
+                        "problems only"),
         (3, "association must be callable as association\\(problem, rng\\), got int"),
     ],
 )
@@ -181,11 +192,12 @@ def test_filter_refuses_a_single_sensor_association(association, match):
         run_multisensor_scenario(association, n_scans=1)
 
 
-def test_exact_refuses_a_single_sensor_fallback():
-    with pytest.raises(TypeError, match=re.escape(
-            "fallback must be a multi-sensor association such as MultiSensorShortChainGibbs; got "
-            "Exact (a single-sensor association)")):
-        MultiSensorExact(fallback=Exact())
+def test_one_exact_class_serves_both_kinds_and_takes_any_fallback():
+    ex = Exact(fallback=Exact())
+    single = AssignmentProblem.from_eta([[3.0]], [1.0], [1.0])
+    assert_allclose(ex(single, None).beta, [[0.6, 0.2, 0.2]], rtol=1e-12)
+    multi = MultiSensorProblem.from_eta([1.0], [[[1.0, 2.0], [3.0, 0.0]]])
+    assert_allclose(7 * ex(multi, None).dead, [1.0], rtol=1e-12)
 
 
 @pytest.mark.parametrize(
@@ -213,7 +225,7 @@ def test_sensor_selection_errors(sensors, exc, match):
     with pytest.raises(exc, match=match):
         make_multisensor_scenario(n_scans=1, sensors=sensors)
     with pytest.raises(exc, match=match):
-        run_scenario("multi", MultiSensorExact(), n_scans=1, sensors=sensors)
+        run_scenario("multi", Exact(), n_scans=1, sensors=sensors)
 
 
 def test_sensor_selections_that_are_accepted():
@@ -242,14 +254,14 @@ def test_single_refuses_what_is_not_a_sensor_index():
 
 def test_filter_boolean_options():
     with pytest.raises(TypeError, match="grouping must be True or False, got str 'no'"):
-        MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact(), grouping="no")
+        MultiSensorLMBFilter(two_sensor_model(), Exact(), grouping="no")
     with pytest.raises(TypeError, match="sample_empty_groups must be True or False, got str"):
-        MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact(), sample_empty_groups="x")
+        MultiSensorLMBFilter(two_sensor_model(), Exact(), sample_empty_groups="x")
     with pytest.raises(TypeError, match="grouping must be True or False, got int 0"):
-        run_multisensor_scenario(MultiSensorExact(), n_scans=1, grouping=0)
+        run_multisensor_scenario(Exact(), n_scans=1, grouping=0)
     with pytest.raises(TypeError, match="grouping must be True or False, got str 'no'"):
-        run_scenario("multi", MultiSensorExact(), n_scans=1, grouping="no")
-    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact(), grouping=np.False_,
+        run_scenario("multi", Exact(), n_scans=1, grouping="no")
+    f = MultiSensorLMBFilter(two_sensor_model(), Exact(), grouping=np.False_,
                              sample_empty_groups=True)
     assert f.grouping is False
 
@@ -260,9 +272,9 @@ def test_n_scans_bound():
     with pytest.raises(ValueError, match=match):
         make_multisensor_scenario(n_scans=10**12)
     with pytest.raises(ValueError, match=match):
-        run_multisensor_scenario(MultiSensorExact(), n_scans=10**12)
+        run_multisensor_scenario(Exact(), n_scans=10**12)
     with pytest.raises(ValueError, match=match):
-        run_scenario("multi", MultiSensorExact(), n_scans=10**12)
+        run_scenario("multi", Exact(), n_scans=10**12)
 
 
 @pytest.mark.parametrize(
@@ -282,13 +294,13 @@ def test_n_scans_bound():
     ],
 )
 def test_step_measurement_errors(zs, exc, match):
-    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    f = MultiSensorLMBFilter(two_sensor_model(), Exact())
     with pytest.raises(exc, match=match):
         f.step(zs)
 
 
 def test_step_rng_errors_and_random_state():
-    f = MultiSensorLMBFilter(two_sensor_model(), MultiSensorExact())
+    f = MultiSensorLMBFilter(two_sensor_model(), Exact())
     with pytest.raises(TypeError, match=r"rng must be None, .*; got 1.5"):
         f.step([[], []], rng=1.5)
     with pytest.raises(TypeError, match=r"rng must be None, .*; got 'seed'"):
@@ -299,7 +311,7 @@ def test_step_rng_errors_and_random_state():
     # samplers take it
     z = [[[400.0, -600.0], [0.0, 0.0]], [[401.0, -602.0]]]
     rs, keys = np.random.RandomState(2), np.random.RandomState(2)
-    g, h = (MultiSensorLMBFilter(two_sensor_model(), MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10))
+    g, h = (MultiSensorLMBFilter(two_sensor_model(), ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="exact"))
             for _ in range(2))
     for _ in range(2):
         a, b = g.step(z, rng=rs), h.step(z, rng=base_key(keys))
@@ -388,8 +400,8 @@ def test_samplers_that_find_every_hypothesis_give_the_exact_marginals(method, ki
     # this seed; the marginals of the full set are exact whatever the kernel's own target.
     p = MultiSensorProblem.from_factors([0.3, 0.5], [0.7, 0.5], [[[0.5, 2.0], [0.3, 1.0]],
                                         [[0.4, 1.5], [0.2, 0.9]]], coupling=np.full((2, 2, 2), 1.3))
-    assoc = (MultiSensorOriginalGibbs(2000, method=method) if kind == "gibbs"
-             else MultiSensorShortChainGibbs(40, 50, method=method))
+    assoc = (OriginalGibbs(2000, method=method) if kind == "gibbs"
+             else ShortChainGibbs(40, 50, method=method))
     res = assoc(p, np.random.default_rng(11))
     assert res.n_unique == (9 if method == "componentwise" else 18) and res.invocations == 1
     ex = oracle.marginals(p)
@@ -398,24 +410,45 @@ def test_samplers_that_find_every_hypothesis_give_the_exact_marginals(method, ki
 
 
 def test_association_reprs_and_checks():
-    assert repr(MultiSensorOriginalGibbs(10, method="mm")) == "MultiSensorOriginalGibbs(10, method='mm')"
-    assert repr(MultiSensorShortChainGibbs(4, 5)) == (
-        "MultiSensorShortChainGibbs(4, 5, tau_stall=None, tau_stale=None)")
-    assert "fallback=MultiSensorOriginalGibbs(5)" in repr(MultiSensorExact(MultiSensorOriginalGibbs(5)))
+    assert repr(OriginalGibbs(10, method="mm")) == "OriginalGibbs(10)"
+    assert repr(ShortChainGibbs(4, 5, method="exact")) == (
+        "ShortChainGibbs(4, 5, tau_stall=None, tau_stale=None, method='exact')")
+    assert "fallback=OriginalGibbs(5, method='exact')" in repr(
+        Exact(OriginalGibbs(5, method="exact")))
     with pytest.raises(ValueError, match="unknown method 'fast'"):
-        MultiSensorOriginalGibbs(10, method="fast")
+        OriginalGibbs(10, method="fast")
     with pytest.raises(ValueError, match="n_obs"):
-        MultiSensorOriginalGibbs(0)
+        OriginalGibbs(0, method="exact")
     with pytest.raises(TypeError, match="fallback must be an association or None, got int"):
-        MultiSensorExact(3)
+        Exact(3)
+
+
+@pytest.mark.parametrize(("old", "new", "args"), [
+    ("MultiSensorOriginalGibbs", "OriginalGibbs", (10,)),
+    ("MultiSensorShortChainGibbs", "ShortChainGibbs", (4, 5)),
+    ("MultiSensorHerdedGibbs", "HerdedGibbs", (10,)),
+    ("MultiSensorExact", "Exact", ()),
+])
+def test_the_old_multisensor_names_are_deprecated_aliases(old, new, args):
+    import rankedassign.tracking as tracking
+    from rankedassign.tracking.multisensor import association as old_module
+
+    alias = getattr(tracking, old)
+    assert getattr(old_module, old) is alias
+    with pytest.warns(DeprecationWarning, match=f"{old} is deprecated .*; use {new} "):
+        a = alias(*args)
+    assert isinstance(a, getattr(tracking, new))
+    assert repr(a).startswith(f"{old}(")   # the repr the runs recorded
+    if new != "Exact":   # the old default row conditional, so that the numbers hold
+        assert a.method == "exact" and getattr(tracking, new)(*args).method == "mm"
 
 
 def test_exact_refuses_a_problem_beyond_the_dp_and_falls_back_when_asked():
     p = MultiSensorProblem.from_eta(np.full(3, 0.5), np.ones((3, 13, 13)))  # 24 bits, 3.1e6
-    with pytest.raises(ValueError, match=r"MultiSensorExact: a group of P = 3 tracks with "
+    with pytest.raises(ValueError, match=r"Exact: a group of P = 3 tracks with "
                                          r"M = \(12, 12\) gated measurements is beyond"):
-        MultiSensorExact()(p, None)
-    ex = MultiSensorExact(fallback=MultiSensorShortChainGibbs(2, 2))
+        Exact()(p, None)
+    ex = Exact(fallback=ShortChainGibbs(2, 2, method="exact"))
     res = ex(p, np.random.default_rng(0))
     assert ex.n_fallback == 1 and res.sweeps > 0
 
@@ -435,14 +468,14 @@ def test_sensor_measurements_do_not_depend_on_the_selection():
 
 
 def test_run_scenario_multi_feeds_ospa2():
-    run = run_scenario("multi", MultiSensorShortChainGibbs(30, 5, tau_stall=5, tau_stale=10), rng=2, n_scans=4,
+    run = run_scenario("multi", ShortChainGibbs(30, 5, tau_stall=5, tau_stale=10, method="exact"), rng=2, n_scans=4,
                        sensors=(0, 2))
     assert run.scenario.sensors == (0, 2) and run.truth.shape == (4, 12, 2)
     assert run.estimates.shape[:2] == (4, run.estimates.shape[1])[:2]
     assert (run.invocations >= 1).all() and (run.sweeps > 0).all()
     curve = ospa2(run.truth, run.estimates, c=200, p=1, window=5).value
     assert curve.shape == (4,) and np.isfinite(curve).all()
-    again = run_multisensor_scenario(MultiSensorShortChainGibbs(30, 5, tau_stall=5, tau_stale=10), rng=2, n_scans=4,
+    again = run_multisensor_scenario(ShortChainGibbs(30, 5, tau_stall=5, tau_stale=10, method="exact"), rng=2, n_scans=4,
                                      sensors=(0, 2))
     assert_array_equal(np.nan_to_num(again.estimates), np.nan_to_num(run.estimates))
 
@@ -459,7 +492,7 @@ def test_run_scenario_errors():
 @pytest.mark.parametrize("method", ["exact", "mm", "componentwise"])
 def test_filter_runs_with_rao_blackwellised_marginals(method):
     run = run_multisensor_scenario(
-        MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method=method, marginals="rao-blackwell"),
+        ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method=method, marginals="rao-blackwell"),
         rng=3, n_scans=3, sensors=(0, 1), birth="narrow")
     assert all(0 <= r <= 1 for scan in run.existence for r in scan.values())
     assert (run.sweeps > 0).any()

@@ -7,10 +7,10 @@ from numpy.testing import assert_allclose, assert_array_equal
 import oracle
 from rankedassign.tracking import (
     AdaptiveBirth,
-    MultiSensorExact,
+    Exact,
     MultiSensorLMBFilter,
     MultiSensorModel,
-    MultiSensorShortChainGibbs,
+    ShortChainGibbs,
     make_model,
     make_multisensor_model,
     make_multisensor_scenario,
@@ -66,11 +66,11 @@ def test_defaults_are_those_of_spec_7_2():
 def test_filter_and_runner_validate_birth():
     with pytest.raises(TypeError, match=r"birth must be an AdaptiveBirth, got str; None for the "
                                         r"model's static birth or AdaptiveBirth\(\.\.\.\)"):
-        MultiSensorLMBFilter(make_multisensor_model(), MultiSensorShortChainGibbs(10, 5),
+        MultiSensorLMBFilter(make_multisensor_model(), ShortChainGibbs(10, 5, method="exact"),
                              birth="adaptive")
     with pytest.raises(ValueError, match=r"unknown birth 'wide'; expected one of "
                                          r"\('paper', 'narrow', 'adaptive'\)"):
-        run_multisensor_scenario(MultiSensorShortChainGibbs(10, 5), rng=0, n_scans=1,
+        run_multisensor_scenario(ShortChainGibbs(10, 5, method="exact"), rng=0, n_scans=1,
                                  birth="wide")
     with pytest.raises(ValueError, match=r"n_sensors must be an int >= 1, got 0"):
         AdaptiveBirth().effective_n_min(0)
@@ -146,7 +146,7 @@ def test_r_A_sums_the_exact_marginals_of_the_joint_update():
 
     def exact(problem, rng):
         problems.append(problem)
-        return MultiSensorExact()(problem, rng)
+        return Exact()(problem, rng)
 
     f = MultiSensorLMBFilter(ms, exact, birth=AdaptiveBirth())
     near = np.array([[100.0, 100.0], [140.0, 100.0]])
@@ -175,12 +175,12 @@ def test_r_A_sums_the_exact_marginals_of_the_joint_update():
 # ------------------------------------------------------------------ the filter
 def test_adaptive_birth_replaces_the_static_birth():
     m = make_multisensor_model((0, 1))  # the paper's static birth, not used
-    f = MultiSensorLMBFilter(m, MultiSensorShortChainGibbs(10, 5), birth=AdaptiveBirth(**SMALL))
+    f = MultiSensorLMBFilter(m, ShortChainGibbs(10, 5, method="exact"), birth=AdaptiveBirth(**SMALL))
     rec = f.step([np.empty((0, 2)), np.empty((0, 2))], rng=0)
     assert rec.n_tracks == 0 and f.n_births == 0
     f.reset()
     assert f.n_births == 0 and f.r_U is None and f.k == 0
-    static = MultiSensorLMBFilter(m, MultiSensorShortChainGibbs(10, 5))
+    static = MultiSensorLMBFilter(m, ShortChainGibbs(10, 5, method="exact"))
     static.step([np.empty((0, 2)), np.empty((0, 2))], rng=0)
     assert static.n_births == 4 and static.r_U is None
     assert make_multisensor_model(birth="adaptive").birth.components == ()
@@ -189,7 +189,7 @@ def test_adaptive_birth_replaces_the_static_birth():
 def test_same_rng_same_run_and_backends_agree():
     def run(backend, seed):
         return run_multisensor_scenario(
-            MultiSensorShortChainGibbs(30, 8, tau_stall=3, tau_stale=5), rng=seed, n_scans=5, sensors=(0, 1),
+            ShortChainGibbs(30, 8, tau_stall=3, tau_stale=5, method="exact"), rng=seed, n_scans=5, sensors=(0, 1),
             birth=AdaptiveBirth(**SMALL, backend=backend))
 
     a, b, c = run("numba", 4), run("numba", 4), run("python", 4)
@@ -203,7 +203,7 @@ def test_same_rng_same_run_and_backends_agree():
 
 
 def test_short_run_starts_tracks_on_the_targets_without_static_birth():
-    run = run_multisensor_scenario(MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), rng=0, n_scans=15,
+    run = run_multisensor_scenario(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact"), rng=0, n_scans=15,
                                    sensors=(0, 1), birth="adaptive")
     assert run.scenario.model.birth.components == ()
     assert run.n_births[0] == 0 and run.n_births[1] >= 1  # from the targets of scan 1
@@ -225,7 +225,7 @@ def test_short_run_starts_tracks_on_the_targets_without_static_birth():
 
 
 def test_one_sensor_filter_runs_with_adaptive_birth():
-    run = run_multisensor_scenario(MultiSensorShortChainGibbs(50, 10, tau_stall=5, tau_stale=10), rng=0, n_scans=4,
+    run = run_multisensor_scenario(ShortChainGibbs(50, 10, tau_stall=5, tau_stale=10, method="exact"), rng=0, n_scans=4,
                                    sensors=(0,), birth=AdaptiveBirth(**SMALL))
     # every unexplained measurement of the single sensor is a candidate (n_min = min(2, 1))
     assert run.n_births[1] >= 10

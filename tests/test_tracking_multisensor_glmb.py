@@ -19,17 +19,17 @@ from numpy.testing import assert_allclose
 
 import oracle
 from rankedassign.tracking import (
+    LBP,
     AdaptiveBirth,
     BirthComponent,
     Exact,
     GLMBFilter,
     LMBBirth,
     Model,
-    MultiSensorExact,
     MultiSensorGLMBFilter,
     MultiSensorModel,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
+    Murty,
+    OriginalGibbs,
     PoissonClutter,
     PositionSensor,
     ShortChainGibbs,
@@ -132,7 +132,7 @@ ZS2 = [np.array([[2.0, -2.0]]), np.array([[9.5, 1.0], [1.5, -1.0]])]
 
 
 def _exact_filter(model, **kw):
-    return MultiSensorGLMBFilter(model, MultiSensorExact(), prune_hypothesis=0.0, h_max=10**6,
+    return MultiSensorGLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=10**6,
                                  keep_histories=True, **kw)
 
 
@@ -170,7 +170,7 @@ def test_one_sensor_gives_the_single_sensor_filter_to_1e_12():
     gen = np.random.default_rng(3)
     kw = dict(h_max=10**6, keep_histories=True)  # no cap: equal weights may rank either way
     fs = GLMBFilter(base, Exact(), **kw)
-    fm = MultiSensorGLMBFilter(base, MultiSensorExact(), **kw)
+    fm = MultiSensorGLMBFilter(base, Exact(), **kw)
     for k in range(3):
         z = np.r_[[[400.0 - 10 * k, -600.0 + 5 * k], [3.0 * k, 10.0]],
                   gen.uniform(-1000, 1000, (1, 2))]
@@ -193,7 +193,7 @@ def test_one_sensor_gives_the_single_sensor_filter_to_1e_12():
 def test_retained_mass_factorises_over_groups_as_the_whole_components_normaliser():
     model = _model(n_births=2)
     labels, means, covs = _prior()
-    f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(3, 2, method="exact"),
+    f = MultiSensorGLMBFilter(model, ShortChainGibbs(3, 2, method="exact"),
                               retained_mass=True, h_upd=40)
     f.set_prior(labels, means, covs, [[0, 1], [0]], [0.6, 0.4])
     prior_w = f.comp_w.copy()
@@ -201,7 +201,7 @@ def test_retained_mass_factorises_over_groups_as_the_whole_components_normaliser
     rec = f.step(ZS1, rng=5)
     assert 0.0 < rec.retained_mass < 1.0
     # recompute with one oracle call per whole component, on a twin filter at the same scan
-    g = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(3, 2, method="exact"),
+    g = MultiSensorGLMBFilter(model, ShortChainGibbs(3, 2, method="exact"),
                               h_upd=40)
     g.set_prior(labels, means, covs, [[0, 1], [0]], [0.6, 0.4])
     p_exist = g._predict()
@@ -219,7 +219,7 @@ def test_retained_mass_factorises_over_groups_as_the_whole_components_normaliser
 
 def test_a_count_of_one_keeps_the_all_missed_child_without_a_problem(monkeypatch):
     model = _model()
-    f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(5, 5, method="mm"), h_upd=1)
+    f = MultiSensorGLMBFilter(model, ShortChainGibbs(5, 5, method="mm"), h_upd=1)
     labels, means, covs = _prior()
     f.set_prior(labels, means, covs)
     monkeypatch.setattr(MultiSensorGLMBFilter, "_problem",
@@ -237,7 +237,7 @@ def test_the_chains_truncate_with_every_method_and_repeat_with_the_rng(method):
     scen_z = [[[400.0, -600.0], [0.0, 0.0]], [[402.0, -598.0]]]
     runs = []
     for _ in range(2):
-        f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(50, 5, tau_stall=5,
+        f = MultiSensorGLMBFilter(model, ShortChainGibbs(50, 5, tau_stall=5,
                                                                     tau_stale=10,
                                                                     method=method))
         recs = [f.step(scen_z, rng=k) for k in range(3)]
@@ -249,20 +249,20 @@ def test_the_chains_truncate_with_every_method_and_repeat_with_the_rng(method):
 def test_truncate_multisensor_gives_unique_feasible_hypotheses_with_exact_costs():
     model = _model()
     labels, means, covs = _prior()
-    f = MultiSensorGLMBFilter(model, MultiSensorExact())
+    f = MultiSensorGLMBFilter(model, Exact())
     f.set_prior(labels, means, covs)
     p_exist = f._predict()
     terms = f._terms([np.asarray(z) for z in ZS1], p_exist)
     _, problem = f._problem(f._rows(0), terms)
-    for assoc in [MultiSensorOriginalGibbs(50, method="exact"),
-                  MultiSensorShortChainGibbs(20, 5, method="mm"), MultiSensorExact()]:
+    for assoc in [OriginalGibbs(50, method="exact"),
+                  ShortChainGibbs(20, 5, method="mm"), Exact()]:
         hyp = truncate_multisensor(assoc, problem, 30, rng=1)
         a = hyp.assignments
         assert a.shape[1:] == (problem.n_rows, 2)
         assert problem.is_feasible(a).all()
         assert np.unique(a.reshape(a.shape[0], -1), axis=0).shape[0] == a.shape[0]
         assert_allclose(hyp.costs, -problem.log_weight_of(a), rtol=1e-12)
-    assert truncate_multisensor(MultiSensorExact(), problem, 0).assignments.shape[0] == \
+    assert truncate_multisensor(Exact(), problem, 0).assignments.shape[0] == \
         oracle.enumerate_assignments(problem).costs.size
 
 
@@ -276,7 +276,8 @@ def test_a_custom_association_supplies_hypotheses_and_is_checked():
             raise AssertionError
 
         def hypotheses(self, problem, budget, rng):
-            return Hypotheses(problem.all_missed()[None], np.zeros(1))
+            a = problem.all_missed()[None]
+            return Hypotheses(a, -problem.log_weight_of(a))
 
     f = MultiSensorGLMBFilter(model, AllMissed())
     f.step(ZS1, rng=0)
@@ -292,17 +293,17 @@ def test_a_custom_association_supplies_hypotheses_and_is_checked():
 
     class Flat(AllMissed):
         def hypotheses(self, problem, budget, rng):
-            return Hypotheses(np.zeros((1, problem.n_rows)), np.zeros(1))
+            return Hypotheses(np.zeros((1, problem.n_rows), dtype=np.int64), np.zeros(1))
 
-    with pytest.raises(ValueError, match=r"returned assignments of shape \(1, 1\), expected "
-                                         r"\(n >= 1, 1, 2\)"):
+    with pytest.raises(ValueError, match=r"MultiSensorGLMBFilter: association Flat returned assignments of shape "
+                                         r"\(1, 1\), expected \(n >= 1, 1, 2\)"):
         MultiSensorGLMBFilter(model, Flat()).step(ZS1, rng=0)
 
 
 # ----------------------------------------------------------------------------- births, runs
 def test_adaptive_birth_starts_tracks_from_unexplained_measurements():
     model = make_multisensor_model((0, 1), birth="adaptive")
-    f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(50, 5, tau_stall=5,
+    f = MultiSensorGLMBFilter(model, ShortChainGibbs(50, 5, tau_stall=5,
                                                                 tau_stale=10, method="mm"),
                               birth=AdaptiveBirth())
     recs, births = [], []
@@ -321,17 +322,17 @@ def test_adaptive_birth_starts_tracks_from_unexplained_measurements():
 
 def test_run_multisensor_scenario_runs_both_filters_on_the_same_measurements():
     kw = dict(rng=2, n_scans=3, sensors=(0, 2), birth="narrow")
-    assoc = MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="mm")
+    assoc = ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="mm")
     glmb = run_multisensor_scenario(assoc, filter="glmb", **kw)
     lmb = run_multisensor_scenario(assoc, **kw)
     assert glmb.n_meas.tolist() == lmb.n_meas.tolist()
     assert glmb.truth.shape == lmb.truth.shape == (3, 12, 2)
-    assert "MultiSensorShortChainGibbs" in glmb.association
+    assert glmb.association == repr(assoc) == lmb.association
 
 
 # ----------------------------------------------------------------------------- bad input
 def test_wrong_scans_and_bad_measurements_are_refused_with_the_sensor_named():
-    f = MultiSensorGLMBFilter(_model(), MultiSensorExact())
+    f = MultiSensorGLMBFilter(_model(), Exact())
     with pytest.raises(ValueError, match=r"one measurement array per sensor \(V = 2\), got "
                                          r"1 arrays"):
         f.step([ZS1[0]])
@@ -345,11 +346,13 @@ def test_wrong_scans_and_bad_measurements_are_refused_with_the_sensor_named():
 
 
 @pytest.mark.parametrize("assoc, exc, match", [
-    (ShortChainGibbs(10, 5), TypeError, "needs a multi-sensor association such as "
-                                        "MultiSensorShortChainGibbs"),
-    (MultiSensorShortChainGibbs(10, 5, method="componentwise"), ValueError,
+    (Murty(5), TypeError, "MultiSensorGLMBFilter cannot use Murty: Murty's ranked search solves "
+                          "one sensor's problem"),
+    (LBP(), TypeError, "MultiSensorGLMBFilter cannot use LBP: it returns association marginals "
+                       "only"),
+    (ShortChainGibbs(10, 5, method="componentwise"), ValueError,
      r"method in \('exact', 'mm', 'mm-fixed'\), got 'componentwise'"),
-    (MultiSensorExact(fallback=MultiSensorOriginalGibbs(10, method="componentwise")),
+    (Exact(fallback=OriginalGibbs(10, method="componentwise")),
      ValueError, "collapsed target"),
     (lambda problem, rng: None, TypeError, "returns association marginals only"),
     (5, TypeError, "association must be callable"),
@@ -369,16 +372,16 @@ def test_associations_that_cannot_truncate_are_refused(assoc, exc, match):
 ])
 def test_bad_options_are_refused_as_for_the_single_sensor_filter(kwargs, exc, match):
     with pytest.raises(exc, match=match):
-        MultiSensorGLMBFilter(_model(), MultiSensorExact(), **kwargs)
+        MultiSensorGLMBFilter(_model(), Exact(), **kwargs)
 
 
 def test_a_model_of_the_wrong_type_is_refused():
     with pytest.raises(TypeError, match="model"):
-        MultiSensorGLMBFilter("vo", MultiSensorExact())
+        MultiSensorGLMBFilter("vo", Exact())
 
 
 def test_the_scenario_runner_refuses_what_the_glmb_filter_cannot_do():
-    assoc = MultiSensorShortChainGibbs(5, 5)
+    assoc = ShortChainGibbs(5, 5, method="exact")
     with pytest.raises(ValueError, match="filter"):
         run_multisensor_scenario(assoc, n_scans=1, filter="phd")
     with pytest.raises(ValueError, match="grouping=False applies to the LMB filter only"):
@@ -389,19 +392,19 @@ def test_the_scenario_runner_refuses_what_the_glmb_filter_cannot_do():
 
 def test_exact_without_fallback_names_the_component_too_large():
     model = _model(clutter=2.0)
-    f = MultiSensorGLMBFilter(model, MultiSensorExact())
-    import rankedassign.tracking.multisensor.glmb as mod
+    f = MultiSensorGLMBFilter(model, Exact())
+    import rankedassign.tracking.association as mod
 
     labels, means, covs = _prior()
     f.set_prior(labels, means, covs)
     old = mod.EXACT_LIMIT
     try:
         mod.EXACT_LIMIT = 3
-        with pytest.raises(ValueError, match=r"MultiSensorExact\(\) cannot enumerate a "
+        with pytest.raises(ValueError, match=r"Exact\(\) cannot enumerate a "
                                              r"component's problem of 3 rows"):
             f.step(ZS1, rng=0)
-        g = MultiSensorGLMBFilter(model, MultiSensorExact(
-            fallback=MultiSensorShortChainGibbs(5, 5, method="exact")))
+        g = MultiSensorGLMBFilter(model, Exact(
+            fallback=ShortChainGibbs(5, 5, method="exact")))
         g.set_prior(labels, means, covs)
         g.step(ZS1, rng=0)
         assert g.association.n_fallback == 1
@@ -412,7 +415,7 @@ def test_exact_without_fallback_names_the_component_too_large():
 def test_run_scenario_on_multi_runs_the_multisensor_glmb_filter():
     from rankedassign.tracking import run_scenario
 
-    assoc = MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="mm")
+    assoc = ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="mm")
     run = run_scenario("multi", assoc, filter="glmb", rng=2, n_scans=2, sensors=(0, 2),
                        birth="narrow")
     same = run_multisensor_scenario(assoc, filter="glmb", rng=2, n_scans=2, sensors=(0, 2),
@@ -429,7 +432,7 @@ def test_a_scan_beyond_the_tuple_limit_is_refused_before_the_tuples_are_built(mo
     # four sensors of 30 measurements without gates: 4 entries x 31**4 tuples (it took 25 s
     # and 5.4 GB, and 36 measurements a MemoryError, before the guard)
     model = make_multisensor_model((0, 1, 2, 3))
-    f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(50, 5, method="mm"),
+    f = MultiSensorGLMBFilter(model, ShortChainGibbs(50, 5, method="mm"),
                               gate_prob=None)
     z = np.random.default_rng(0).uniform(-900, 900, size=(30, 2))
     monkeypatch.setattr(mod, "_stacked", lambda *a, **k: pytest.fail("built the tuples"))
@@ -440,7 +443,7 @@ def test_a_scan_beyond_the_tuple_limit_is_refused_before_the_tuples_are_built(mo
         f.step([z] * 4, rng=0)
     assert 4 * 31**4 == 3694084
     # uneven sensors: the count is per entry, over what each sensor gates for it
-    g = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(50, 5, method="mm"),
+    g = MultiSensorGLMBFilter(model, ShortChainGibbs(50, 5, method="mm"),
                               gate_prob=None)
     monkeypatch.setattr(mod, "TUPLE_LIMIT", 4 * 3 * 1 * 2 * 5 - 1)
     zs = [z[:2], np.empty((0, 2)), z[:1], z[:4]]
@@ -454,7 +457,7 @@ def test_a_scan_beyond_the_tuple_limit_is_refused_before_the_tuples_are_built(mo
 def test_the_tuples_are_itertools_product_of_each_entrys_gated_lists():
     model = _model(n_births=2)
     labels, means, covs = _prior()
-    f = MultiSensorGLMBFilter(model, MultiSensorExact())
+    f = MultiSensorGLMBFilter(model, Exact(method="exact"))
     f.set_prior(labels, means, covs)
     p_exist = f._predict()
     zs = [np.array([[1.0, -1.0], [9.0, 2.0], [500.0, 500.0]]),
@@ -520,7 +523,7 @@ def test_set_prior_refuses_labels_of_the_births_of_either_birth():
     f.set_prior([[0, 1], [2, 3]], means, covs)  # above the two births of every scan
     # adaptive births are (k, 1..n), n changing from scan to scan: only birth scan 0 is safe
     g = MultiSensorGLMBFilter(make_multisensor_model((0, 1), birth="adaptive"),
-                              MultiSensorShortChainGibbs(50, 5, method="mm"),
+                              ShortChainGibbs(50, 5, method="mm"),
                               birth=AdaptiveBirth())
     with pytest.raises(ValueError, match=re.escape(
             "labels[1] = (2, 9) is a label the filter gives a birth: the adaptive births of "

@@ -12,8 +12,8 @@ import pytest
 
 from rankedassign.metrics import ospa2
 from rankedassign.tracking import (
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
+    OriginalGibbs,
+    ShortChainGibbs,
     run_multisensor_scenario,
 )
 
@@ -31,8 +31,8 @@ def mean_ospa(run):
 def runs():
     """GLMB runs with the exact multi-sensor sampler: short chains on every sensor set, the long
     chain on the three sensors."""
-    short = MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact")
-    long = MultiSensorOriginalGibbs(10_000, method="exact")
+    short = ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact")
+    long = OriginalGibbs(10_000, method="exact")
     out = {}
     for seed in SEEDS:
         for sensors in SETS:

@@ -19,9 +19,9 @@ from rankedassign.experiments.studies.multisensor_tracking import (
 )
 from rankedassign.metrics import ospa2, track_coverage
 from rankedassign.tracking import (
-    MultiSensorExact,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
+    Exact,
+    OriginalGibbs,
+    ShortChainGibbs,
     run_multisensor_scenario,
 )
 
@@ -41,7 +41,7 @@ def paper_runs():
     for seed in range(3):
         for sensors in [(0,), (1,), (2,), (0, 1, 2)]:
             out[seed, sensors] = run_multisensor_scenario(
-                MultiSensorShortChainGibbs(**SHORT), rng=seed, sensors=sensors)
+                ShortChainGibbs(**SHORT), rng=seed, sensors=sensors)
     return out
 
 
@@ -68,7 +68,7 @@ def test_short_chains_use_95_percent_fewer_sweeps_on_the_paper_birth(paper_runs)
                           "every sensor: one group per scan with about 69 measurements over "
                           "V = 3 sensors, beyond the 22-bit exact DP")
 def test_exact_update_on_the_paper_birth():
-    run_multisensor_scenario(MultiSensorExact(), rng=0, n_scans=3, sensors=(0, 1, 2))
+    run_multisensor_scenario(Exact(), rng=0, n_scans=3, sensors=(0, 1, 2))
 
 
 @pytest.fixture(scope="module")
@@ -77,9 +77,9 @@ def narrow_runs():
     (narrow births, P_B = 100 I, keep the groups within the exact DP; same measurements)."""
     out = []
     for seed in range(10):
-        exact = run_multisensor_scenario(MultiSensorExact(), rng=seed, sensors=(0, 1, 2),
+        exact = run_multisensor_scenario(Exact(), rng=seed, sensors=(0, 1, 2),
                                          birth="narrow")
-        short = run_multisensor_scenario(MultiSensorShortChainGibbs(**SHORT), rng=seed,
+        short = run_multisensor_scenario(ShortChainGibbs(**SHORT), rng=seed,
                                          sensors=(0, 1, 2), birth="narrow")
         out.append((exact, short))
     return out
@@ -112,12 +112,12 @@ def test_many_sweep_gibbs_agrees_with_the_exact_marginals():
 
     def capture(problem, rng):
         problems.append(problem)
-        return MultiSensorExact()(problem, rng)
+        return Exact()(problem, rng)
 
     run_multisensor_scenario(capture, rng=0, n_scans=40, sensors=(0, 1, 2), birth="narrow")
     problems = [p for p in problems if p.n_rows > 1][:30]
     assert len(problems) >= 10
-    gibbs = MultiSensorOriginalGibbs(20_000)
+    gibbs = OriginalGibbs(20_000, method="exact")
     for i, p in enumerate(problems):
         ex = oracle.marginals(p)
         res = gibbs(p, np.random.default_rng(i))
@@ -131,7 +131,7 @@ def test_adaptive_birth_tracks_every_target(seed):
     # No birth positioned by hand: the model has no static birth, every track comes from the
     # adaptive-birth sampler (spec §7.2 variant). V = 3, the study's short chains, 100 scans;
     # the study's coverage rule decides whether a target is lost.
-    run = run_multisensor_scenario(MultiSensorShortChainGibbs(**SHORT), rng=seed,
+    run = run_multisensor_scenario(ShortChainGibbs(**SHORT), rng=seed,
                                    sensors=(0, 1, 2), birth="adaptive")
     assert run.scenario.model.birth.components == ()
     cov = track_coverage(run.truth, run.estimates, COVERAGE_RADIUS, settle=COVERAGE_SETTLE)

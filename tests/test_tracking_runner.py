@@ -20,7 +20,6 @@ from rankedassign.tracking import (
     Model,
     MultiSensorLMBFilter,
     MultiSensorModel,
-    MultiSensorShortChainGibbs,
     ScenarioRun,
     ShortChainGibbs,
     make_model,
@@ -83,7 +82,7 @@ def test_run_filter_is_run_scenario(preset, assoc, options):
 @pytest.mark.parametrize("birth", ["paper", "adaptive"])
 def test_run_filter_is_run_multisensor_scenario(birth):
     seed, n, sensors = 2, 6, (0, 2)
-    assoc = MultiSensorShortChainGibbs(40, 10, tau_stall=5, tau_stale=10)
+    assoc = ShortChainGibbs(40, 10, tau_stall=5, tau_stale=10, method="exact")
     ref = run_multisensor_scenario(assoc, rng=seed, n_scans=n, sensors=sensors, birth=birth)
     meas_rng, filter_rng = scenario_rngs(seed)
     sc = make_multisensor_scenario(rng=meas_rng, n_scans=n, sensors=sensors, birth=birth)
@@ -227,7 +226,7 @@ def test_a_bad_scan_is_named():
         run_filter(filt, [[[0.0, 0.0]], [], [1.0, 2.0, 3.0]])
     if sys.version_info >= (3, 11):
         assert info.value.__notes__ == ["in scan 2 (scans[2]) of the 3 given to run_filter"]
-    ms = MultiSensorLMBFilter(make_multisensor_model((0, 1)), MultiSensorShortChainGibbs(5, 5, tau_stall=5, tau_stale=5))
+    ms = MultiSensorLMBFilter(make_multisensor_model((0, 1)), ShortChainGibbs(5, 5, tau_stall=5, tau_stale=5, method="exact"))
     with pytest.raises(ValueError, match=re.escape(
             "step needs one measurement array per sensor (V = 2), got 1 arrays")):
         run_filter(ms, [([[0.0, 0.0]],)])
@@ -240,7 +239,7 @@ def test_preset_extraction_travels_with_the_model():
         assert model.extraction == rule
         assert LMBFilter(model, Exact()).extraction == rule
         assert MultiSensorModel.from_model(model).extraction == rule
-        assert MultiSensorLMBFilter(model, MultiSensorShortChainGibbs(5, 5, tau_stall=5, tau_stale=5)).extraction == rule
+        assert MultiSensorLMBFilter(model, ShortChainGibbs(5, 5, tau_stall=5, tau_stale=5, method="exact")).extraction == rule
         for other in ("hysteresis", "map"):  # an explicit argument wins
             assert LMBFilter(model, Exact(), extraction=other).extraction == other
     assert Model().extraction == "hysteresis"  # a model built by hand: the paper's rule

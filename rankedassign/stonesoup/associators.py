@@ -24,7 +24,7 @@ from stonesoup.types.numeric import Probability
 import oracle
 
 from ..single.problem import AssignmentProblem
-from ..tracking import Association, ShortChainGibbs, group_tracks
+from ..tracking import Association, ShortChainGibbs, check_truncation, group_tracks
 from .hypothesisers import _normalised_multiple_hypothesis, pda_pairs
 
 __all__ = ["JPDAwithDP", "JPDAwithGibbs"]
@@ -45,9 +45,7 @@ def _check_association(association, name: str) -> None:
         raise TypeError(f"{name} must be one of our associations (callable as "
                         f"association(problem, rng), e.g. ShortChainGibbs), got "
                         f"{type(association).__name__}")
-    if getattr(association, "sensors", "single-sensor") != "single-sensor":
-        raise TypeError(f"{name} must be a single-sensor association such as ShortChainGibbs, "
-                        f"got {type(association).__name__} (a multi-sensor association)")
+    check_truncation(association, name, "single-sensor", "marginals")
 
 
 class _GivenHypotheses:

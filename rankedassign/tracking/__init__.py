@@ -18,7 +18,32 @@ On one's own measurements (a CSV with columns ``scan, x, y``)::
 See spec §6 (filter), §7 (OSPA(2)) and §8 (truth).
 """
 
+from .association import (
+    LBP,
+    Association,
+    Exact,
+    HerdedGibbs,
+    LBPConvergenceWarning,
+    MultiSensorExact,
+    MultiSensorHerdedGibbs,
+    MultiSensorOriginalGibbs,
+    MultiSensorShortChainGibbs,
+    Murty,
+    OriginalGibbs,
+    ShortChainGibbs,
+    check_truncation,
+    truncate,
+)
+from .common import gate_threshold
+from .filters import FILTERS, make_filter
 from .io import read_measurements, write_measurements
+from .marginals import (
+    AssociationResult,
+    Hypotheses,
+    MultiSensorAssociationResult,
+    marginals_from_hypotheses,
+    multisensor_marginals_from_hypotheses,
+)
 from .models import (
     PRESET_EXTRACTION,
     BirthComponent,
@@ -32,13 +57,6 @@ from .models import (
     make_model,
 )
 from .multisensor.adaptive_birth import AdaptiveBirth
-from .multisensor.association import (
-    MultiSensorAssociationResult,
-    MultiSensorExact,
-    MultiSensorHerdedGibbs,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
-)
 from .multisensor.glmb import MultiSensorGLMBFilter
 from .multisensor.lmb import MultiSensorLMBFilter, MultiSensorModel
 from .multisensor.scenario import (
@@ -47,23 +65,12 @@ from .multisensor.scenario import (
     make_multisensor_scenario,
     run_multisensor_scenario,
 )
+from .protocol import Filter
 from .run import ScenarioRun, run_scenario
 from .runner import FilterRun, run_filter
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
-from .single.association import (
-    LBP,
-    Association,
-    AssociationResult,
-    Exact,
-    HerdedGibbs,
-    LBPConvergenceWarning,
-    Murty,
-    OriginalGibbs,
-    ShortChainGibbs,
-    marginals_from_hypotheses,
-)
-from .single.glmb import GLMB_EXTRACTIONS, GLMBFilter, GLMBScanRecord, Hypotheses
-from .single.lmb import LMBFilter, ScanRecord, gate_threshold, group_tracks, map_cardinality
+from .single.glmb import GLMB_EXTRACTIONS, GLMBFilter, GLMBScanRecord
+from .single.lmb import LMBFilter, ScanRecord, group_tracks, map_cardinality
 
 __all__ = [
     "AdaptiveBirth",
@@ -120,4 +127,10 @@ __all__ = [
     "run_multisensor_scenario",
     "run_scenario",
     "write_measurements",
+    "check_truncation",
+    "truncate",
+    "FILTERS",
+    "Filter",
+    "make_filter",
+    "multisensor_marginals_from_hypotheses",
 ]

@@ -1,9 +1,10 @@
-"""Checks at the boundaries of the δ-GLMB filters: what a custom truncation returns, a prior.
+"""Checks at the boundaries of the δ-GLMB filters: a prior.
 
 Both δ-GLMB filters (:class:`~rankedassign.tracking.GLMBFilter` and
-:class:`~rankedassign.tracking.MultiSensorGLMBFilter`) call :func:`check_hypotheses` on the
-output of a truncation that is not the library's own, and :func:`check_prior` on the arguments
-of ``set_prior``. The rule of :mod:`rankedassign.validation` holds: the wrong kind of value is a
+:class:`~rankedassign.tracking.MultiSensorGLMBFilter`) call :func:`check_prior` on the
+arguments of ``set_prior``; what a custom truncation returns is checked by
+:func:`rankedassign.tracking.association.check_hypotheses`.
+The rule of :mod:`rankedassign.validation` holds: the wrong kind of value is a
 ``TypeError``, a value of the right kind out of range a ``ValueError``, and every message names
 the truncation or the track and the field.
 """
@@ -14,111 +15,13 @@ import numbers
 
 import numpy as np
 
-from ..validation import check_int, float_array
+from ..validation import float_array
 from .models import _spd
 
 # Labels are packed as ``birth scan * 2**32 + index`` into an int64 key (the estimates, the
 # hysteresis memory): the index must fit 32 bits and the scan 31.
 LABEL_SCAN_LIMIT = 2**31
 LABEL_INDEX_LIMIT = 2**32
-
-
-def check_hypotheses(res, who: str, filter_name: str, shape: tuple, low, high):
-    """Validate what a custom truncation's ``hypotheses(problem, budget, rng)`` returned.
-
-    Parameters
-    ----------
-    res : object
-        The returned value: a :class:`~rankedassign.tracking.Hypotheses` or any object with
-        the attributes ``assignments`` and ``costs`` (and optionally ``sweeps`` and
-        ``row_updates``).
-    who : str
-        The truncation's name, for the messages.
-    filter_name : str
-        The filter that called it, for the messages.
-    shape : tuple of int
-        The shape of one assignment: ``(P,)`` (single sensor) or ``(P, V)``.
-    low, high : int or array_like of int
-        Inclusive bounds of an assignment's entries, broadcast against its last axis (per
-        sensor for ``(P, V)``).
-
-    Returns
-    -------
-    assignments : ndarray of int64, shape (n, *shape)
-    costs : ndarray of float64, shape (n,)
-    sweeps, row_updates : int
-
-    Raises
-    ------
-    TypeError
-        If ``res`` has no ``assignments`` and ``costs`` (a plain tuple, an int), the
-        assignments are not integers (floats, bools, strings), the costs not real numbers, or
-        ``sweeps`` / ``row_updates`` not ints.
-    ValueError
-        On a wrong shape, an entry outside ``[low, high]``, a NaN cost, or duplicate
-        assignments.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from rankedassign.tracking import Hypotheses
-    >>> a, c, _, _ = check_hypotheses(Hypotheses(np.array([[0], [1]]), np.zeros(2)), "Mine",
-    ...                               "GLMBFilter", (1,), 0, 2)
-    >>> a.tolist()
-    [[0], [1]]
-    >>> check_hypotheses((np.array([[0]]), np.zeros(1)), "Mine", "GLMBFilter", (1,), 0, 2)
-    Traceback (most recent call last):
-    ...
-    TypeError: GLMBFilter: association Mine returned a tuple from hypotheses(problem, budget, \
-rng), not hypotheses: return Hypotheses(assignments, costs) (an object with the attributes \
-assignments and costs)
-    """
-    head = f"{filter_name}: association {who} returned"
-    if not (hasattr(res, "assignments") and hasattr(res, "costs")):
-        kind = type(res).__name__
-        article = "an" if kind[:1].lower() in "aeiou" else "a"
-        raise TypeError(f"{head} {article} {kind} from hypotheses(problem, budget, rng), "
-                        "not hypotheses: return Hypotheses(assignments, costs) (an object with "
-                        "the attributes assignments and costs)")
-    try:
-        a = np.asarray(res.assignments)
-        c = np.asarray(res.costs)
-    except ValueError:  # numpy: "inhomogeneous shape"
-        raise ValueError(f"{head} ragged assignments or costs; expected an array of shape "
-                         f"(n, {', '.join(map(str, shape))}) and one of shape (n,)") from None
-    want = "(n >= 1, " + ", ".join(map(str, shape)) + ")"
-    if a.ndim != 1 + len(shape) or a.shape[1:] != tuple(shape) or a.shape[0] == 0:
-        raise ValueError(f"{head} assignments of shape {a.shape}, expected {want}")
-    if a.dtype.kind not in "iu":
-        # a float is refused even when integral: a truncation that computes its columns in
-        # floating point can round them anywhere
-        raise TypeError(f"{head} assignments of dtype {a.dtype}, expected integer column "
-                        f"indices (e.g. {a.reshape(-1)[:3].tolist()}...)")
-    if c.dtype.kind not in "iuf":
-        raise TypeError(f"{head} costs of dtype {c.dtype}, expected real numbers")
-    if c.shape != (a.shape[0],):
-        raise ValueError(f"{head} costs of shape {c.shape}, expected ({a.shape[0]},), one per "
-                         "assignment")
-    c = c.astype(np.float64)
-    if np.isnan(c).any():
-        raise ValueError(f"{head} a NaN cost (costs[{int(np.flatnonzero(np.isnan(c))[0])}])")
-    lo = np.broadcast_to(np.asarray(low), a.shape[-1:])
-    hi = np.broadcast_to(np.asarray(high), a.shape[-1:])
-    bad = (a < lo) | (a > hi)
-    if bad.any():
-        at = tuple(int(i) for i in np.argwhere(bad)[0])
-        v = at[-1]
-        where = f"row {at[1]}" + (f", sensor {v}" if len(shape) > 1 else "")
-        raise ValueError(f"{head} an entry out of range: assignments[{', '.join(map(str, at))}] "
-                         f"= {int(a[at])} ({where}), expected {int(lo[v])}..{int(hi[v])}")
-    a = a.astype(np.int64)
-    if np.unique(a.reshape(a.shape[0], -1), axis=0).shape[0] != a.shape[0]:
-        raise ValueError(f"{head} duplicate assignments (a GLMB component is made of unique "
-                         "ones)")
-    sweeps = check_int(getattr(res, "sweeps", 0), f"sweeps of association {who}'s hypotheses")
-    row_updates = check_int(getattr(res, "row_updates", 0),
-                            f"row_updates of association {who}'s hypotheses")
-    return a, c, sweeps, row_updates
 
 
 def _label_text(labels, t: int) -> str:

@@ -28,9 +28,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..validation import check_int, format_bytes
+from .common import check_measurements as _check_measurements
 from .multisensor.scenario import MULTI_SENSORS
 from .scenario import MAX_SCANS
-from .single.lmb import _check_measurements
 
 __all__ = ["COLUMNS", "MAX_MEASUREMENT_SETS", "SENSOR_COLUMN", "read_measurements",
            "write_measurements"]

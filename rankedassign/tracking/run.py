@@ -9,19 +9,20 @@ from __future__ import annotations
 import dataclasses
 
 from ..engine.rng import spawning_generator
-from ..validation import check_bool, check_choice
+from ..validation import check_bool
+from .association import Association
+from .filters import FILTERS as FILTER_TABLE
+from .filters import make_filter, takes_grouping
 from .multisensor.scenario import run_multisensor_scenario
 from .runner import TIMING_KEYS, run_filter
 from .scenario import ScenarioRun, check_n_scans, make_scenario
-from .single.association import Association
-from .single.glmb import GLMBFilter
-from .single.lmb import LMBFilter
 
 __all__ = ["ScenarioRun", "TIMING_KEYS", "run_scenario"]
 
 
-#: Filters :func:`run_scenario` runs (``filter``).
-FILTERS = ("lmb", "glmb")
+#: Names of the filters :func:`run_scenario` runs (the rows of
+#: :data:`rankedassign.tracking.filters.FILTERS`, the one table).
+FILTERS = tuple(FILTER_TABLE)
 def run_scenario(
     preset: str = "paper",
     association: Association | None = None,
@@ -31,7 +32,7 @@ def run_scenario(
     grouping: bool | None = None,
     extraction: str | None = None,
     sensors=None,
-    filter: str = "lmb",
+    filter="lmb",
     **filter_options,
 ) -> ScenarioRun:
     """Simulate a preset scenario and run the LMB filter on it.
@@ -69,11 +70,13 @@ def run_scenario(
     sensors : sequence of int or None
         ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
         measurements do not depend on which others are selected.
-    filter : {"lmb", "glmb"}, optional
+    filter : {"lmb", "glmb"}, filter class or filter object, optional
         The LMB filter (default) or the δ-GLMB filter
         (:class:`~rankedassign.tracking.GLMBFilter`; on ``"multi"``
-        :class:`~rankedassign.tracking.MultiSensorGLMBFilter`), which takes no grouping.
-        The measurements depend only on ``rng``, so both filters see the same data.
+        :class:`~rankedassign.tracking.MultiSensorGLMBFilter`), which takes no grouping, by
+        name or class; a class of one's own (``cls(model, association, **options)``); or a
+        filter object, run as it is (:func:`~rankedassign.tracking.filters.make_filter`).
+        The measurements depend only on ``rng``, so every filter sees the same data.
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.LMBFilter` (``gate_prob``,
         ``theta_upper``, ``prune_track``, ``max_components``, ...) or of
@@ -100,20 +103,21 @@ def run_scenario(
     >>> run.truth.shape, run.n_meas.shape, sorted(run.timings), run.extraction
     ((3, 12, 2), (3,), ['association', 'cost', 'prediction', 'update'], 'map')
     """
-    if association is None:
+    is_object = not isinstance(filter, (str, type))
+    if association is None and not is_object:
         raise TypeError("run_scenario needs an association, e.g. "
                         "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
-    check_choice(filter, "filter", FILTERS)
-    if filter == "glmb" and grouping:
-        raise ValueError("filter='glmb' runs without grouping (every component's problem is "
-                         f"truncated whole), got grouping={grouping!r}")
+    groups = takes_grouping(filter)
+    if not groups and grouping:
+        raise ValueError(f"filter={filter!r} runs without grouping (every component's problem "
+                         f"is truncated whole), got grouping={grouping!r}")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
     if preset == "multi":
         return run_multisensor_scenario(
             association, rng=rng, n_scans=n_scans,
             sensors=(0, 1, 2) if sensors is None else sensors,
-            grouping=True if grouping is None or filter == "glmb" else grouping,
+            grouping=True if grouping is None or not groups else grouping,
             extraction=extraction, filter=filter, **filter_options,
         )
     if sensors is not None:
@@ -124,11 +128,11 @@ def run_scenario(
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
     # extraction None: the model's, which make_model set to the preset's (PRESET_EXTRACTION)
-    if filter == "glmb":
-        filt = GLMBFilter(scenario.model, association, extraction=extraction, **filter_options)
-    else:
-        filt = LMBFilter(scenario.model, association, grouping=grouping, extraction=extraction,
-                         **filter_options)
+    if not is_object:
+        filter_options = {"extraction": extraction, **filter_options}
+        if groups:
+            filter_options["grouping"] = grouping
+    filt = make_filter(filter, scenario.model, association, multi=False, **filter_options)
     run = run_filter(filt, [scan.z for scan in scenario.scans], rng=filter_rng)
     return ScenarioRun(
         scenario=scenario,

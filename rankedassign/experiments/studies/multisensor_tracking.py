@@ -32,18 +32,14 @@ from pathlib import Path
 import numpy as np
 
 from ...metrics import ospa2, track_coverage
-from ...tracking.multisensor.association import (
-    MultiSensorExact,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
-)
+from ...tracking.association import Exact, OriginalGibbs, ShortChainGibbs
+from ...tracking.filters import FILTERS
+from ...tracking.marginals import MARGINALS
 from ...tracking.multisensor.scenario import (
     BIRTHS,
-    FILTERS,
     MULTI_SENSORS,
     run_multisensor_scenario,
 )
-from ...tracking.single.association import MARGINALS
 from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._plots import legend_below, series_style
@@ -71,8 +67,8 @@ __all__ = [
 STUDY_METHODS = ("long", "short", "short-mm", "short-mm-fixed", "exact")
 #: Sweeps per sampler call of the long chain the sweep reduction is measured against (spec §7.2).
 LONG_CHAIN_SWEEPS = 10_000
-#: Filters of the study's rows (:data:`~rankedassign.tracking.multisensor.scenario.FILTERS`).
-STUDY_FILTERS = FILTERS
+#: Filters of the study's rows (the names of :data:`~rankedassign.tracking.filters.FILTERS`).
+STUDY_FILTERS = tuple(FILTERS)
 #: Coverage rule of the single-sensor tracking study.
 COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW = 50.0, 10, 0.5
 
@@ -208,7 +204,7 @@ def make_association(cfg: MultiSensorStudyConfig, method: str):
 
     Returns
     -------
-    MultiSensorOriginalGibbs or MultiSensorShortChainGibbs or MultiSensorExact
+    OriginalGibbs or ShortChainGibbs or Exact
         A new association object (the exact DP's counts ``n_fallback`` from zero).
 
     Raises
@@ -221,18 +217,18 @@ def make_association(cfg: MultiSensorStudyConfig, method: str):
     >>> from rankedassign.experiments.studies.multisensor_tracking import (
     ...     MultiSensorStudyConfig, make_association)
     >>> make_association(MultiSensorStudyConfig(), "short-mm")
-    MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method='mm')
+    ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)
     """
     check_choice(method, "method", STUDY_METHODS)
-    long = MultiSensorOriginalGibbs(cfg.long_obs, marginals=cfg.marginals)
+    # the long chain with the Alg. 1 row kernel, as the study has always run it
+    long = OriginalGibbs(cfg.long_obs, method="exact", marginals=cfg.marginals)
     if method == "long":
         return long
     if method == "exact":
-        return MultiSensorExact(fallback=long)
+        return Exact(fallback=long)
     kernel = {"short": "exact", "short-mm": "mm", "short-mm-fixed": "mm-fixed"}[method]
-    return MultiSensorShortChainGibbs(cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall,
-                                      tau_stale=cfg.tau_stale, method=kernel,
-                                      marginals=cfg.marginals)
+    return ShortChainGibbs(cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall,
+                           tau_stale=cfg.tau_stale, method=kernel, marginals=cfg.marginals)
 
 
 @dataclass(frozen=True)

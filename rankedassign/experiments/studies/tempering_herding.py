@@ -50,9 +50,11 @@ from ...kinds import kind_of
 from ...multisensor import MultiSensorProblem
 from ...multisensor import synthetic as ms_synthetic
 from ...single.problem import AssignmentProblem
+from ...tracking.marginals import (
+    marginals_from_hypotheses,
+    multisensor_marginals_from_hypotheses,
+)
 from ...tracking.models import PRESETS
-from ...tracking.multisensor.association import multisensor_marginals_from_hypotheses
-from ...tracking.single.association import marginals_from_hypotheses
 from ...validation import MAX_COUNT, check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed

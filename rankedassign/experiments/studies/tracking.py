@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from ... import metrics, tracking
+from ...tracking.marginals import MARGINALS
 from ...tracking.models import PRESETS
-from ...tracking.single.association import MARGINALS
 from ...tracking.single.lmb import EXTRACTIONS
 from ...validation import check_choice, check_fields
 from .. import _format as fmt

@@ -2,17 +2,18 @@
 
 * :mod:`~rankedassign.tracking.multisensor.lmb` — :class:`MultiSensorLMBFilter` and
   :class:`MultiSensorModel`;
-* :mod:`~rankedassign.tracking.multisensor.association` — :class:`MultiSensorOriginalGibbs`,
-  :class:`MultiSensorShortChainGibbs`, :class:`MultiSensorHerdedGibbs`,
-  :class:`MultiSensorExact`;
+* :mod:`~rankedassign.tracking.multisensor.association` — the old path of the deprecated
+  ``MultiSensor*`` association names (the classes of :mod:`rankedassign.tracking.association`
+  serve every filter and sensor count);
 * :mod:`~rankedassign.tracking.multisensor.glmb` — :class:`MultiSensorGLMBFilter`, the
   multi-sensor δ-GLMB filter on the components of the single-sensor one;
 * :mod:`~rankedassign.tracking.multisensor.adaptive_birth` — :class:`AdaptiveBirth`, births
   from the adaptive-birth sampler;
 * :mod:`~rankedassign.tracking.multisensor.scenario` — the ``"multi"`` scenario and its runner.
 
-It builds on the single-sensor filter (:mod:`rankedassign.tracking.single`), never the other
-way round. Everything is re-exported by :mod:`rankedassign.tracking`.
+Its δ-GLMB filter extends the single-sensor one's public class
+(:class:`~rankedassign.tracking.GLMBFilter`); what both folders share otherwise lives in
+:mod:`rankedassign.tracking.common`. Everything is re-exported by :mod:`rankedassign.tracking`.
 """
 
 from .adaptive_birth import AdaptiveBirth

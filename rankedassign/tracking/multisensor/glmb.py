@@ -39,41 +39,21 @@ import oracle
 
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
-from ...samplers import sample_original, sample_short_chains
 from ...validation import check_real, check_type
 from .. import _kernels
-from .._checks import check_hypotheses
+from ..association import GLMB_METHODS, Hypotheses, truncate
+from ..common import Children as _Children
+from ..common import concat as _concat
+from ..common import logsumexp as _logsumexp
+from ..common import retained_ratio
 from ..models import Model
-from ..single.glmb import (
-    EXACT_LIMIT,
-    EXACT_SCAN_LIMIT,
-    GLMBFilter,
-    GLMBScanRecord,
-    Hypotheses,
-    _Children,
-    _concat,
-    _gibbs_budget,
-    _logsumexp,
-)
-from ..single.lmb import (
-    _association_name,
-    _check_association_kind,
-    group_tracks,
-)
+from ..single.glmb import EXACT_SCAN_LIMIT, GLMBFilter, GLMBScanRecord
+from ..single.lmb import group_tracks
 from .adaptive_birth import AdaptiveBirth, empty_birth
-from .association import (
-    MultiSensorExact,
-    MultiSensorOriginalGibbs,
-    MultiSensorShortChainGibbs,
-)
 from .lmb import MultiSensorModel, check_scans
 
 __all__ = ["GLMB_METHODS", "TUPLE_LIMIT", "MultiSensorGLMBFilter", "truncate_multisensor"]
 
-#: Row kernels of the multi-sensor chains that a GLMB component can be truncated with. The
-#: sensor-component-wise kernel samples the collapsed target, whose all-missed row stands for
-#: "dead or missed": it cannot tell a child's dead rows from its missed ones.
-GLMB_METHODS = ("exact", "mm", "mm-fixed")
 #: Most measurement tuples (over every entry of the predicted table) one scan of
 #: :class:`MultiSensorGLMBFilter` builds. Each tuple's likelihood stacks the Kalman matrices of
 #: the sensors that detect, for every Gaussian of the entry (about 1.5 KB a tuple with four
@@ -146,16 +126,17 @@ def truncate_multisensor(association, problem: MultiSensorProblem, budget: int,
 
     Parameters
     ----------
-    association : MultiSensorOriginalGibbs, MultiSensorShortChainGibbs, MultiSensorExact or
-        object
-        The library's multi-sensor associations (their ``method`` one of
-        :data:`GLMB_METHODS`), or any object with a method ``hypotheses(problem, budget, rng)``
-        returning assignments of shape ``(n, P, V)``.
+    association : OriginalGibbs, ShortChainGibbs, HerdedGibbs, Exact or object
+        The library's truncations (their ``method`` one of :data:`GLMB_METHODS`), or any
+        object with a method ``hypotheses(problem, budget, rng)`` returning assignments of
+        shape ``(n, P, V)``. The same as
+        :func:`~rankedassign.tracking.association.truncate`, kept under this name.
     problem : MultiSensorProblem
     budget : int
         The component's count ``T_h >= 0``: the chains get ``T_h − 1`` observations as in
-        :class:`~rankedassign.tracking.GLMBFilter`; :class:`MultiSensorExact` ignores it (its
-        ``fallback``, if any, gets it on a problem beyond :data:`EXACT_LIMIT`).
+        :class:`~rankedassign.tracking.GLMBFilter`; :class:`~rankedassign.tracking.Exact`
+        ignores it (its ``fallback``, if any, gets it on a problem beyond the enumeration's
+        limit, :data:`~rankedassign.tracking.association.EXACT_LIMIT`).
     rng : optional
         Anything :func:`numpy.random.default_rng` accepts.
 
@@ -167,58 +148,22 @@ def truncate_multisensor(association, problem: MultiSensorProblem, budget: int,
     Raises
     ------
     ValueError
-        If :class:`MultiSensorExact` without a fallback meets a problem of more than
-        :data:`EXACT_LIMIT` assignments, or a custom association returns duplicates,
+        If :class:`~rankedassign.tracking.Exact` without a fallback meets a problem of more than
+        :data:`~rankedassign.tracking.association.EXACT_LIMIT` assignments, or a custom
+        association returns duplicates,
         infeasible assignments or wrong shapes.
 
     Examples
     --------
     >>> import numpy as np
     >>> from rankedassign.multisensor import MultiSensorProblem
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorExact
+    >>> from rankedassign.tracking import Exact
     >>> from rankedassign.tracking.multisensor.glmb import truncate_multisensor
     >>> p = MultiSensorProblem.from_eta([1.0], np.ones((1, 2, 2)))
-    >>> truncate_multisensor(MultiSensorExact(), p, 0).assignments.shape
+    >>> truncate_multisensor(Exact(), p, 0).assignments.shape
     (5, 1, 2)
     """
-    P, V = problem.n_rows, problem.n_sensors
-    if isinstance(association, (MultiSensorOriginalGibbs, MultiSensorShortChainGibbs)):
-        chains, length = _gibbs_budget(association, np.array([budget]))
-        if isinstance(association, MultiSensorOriginalGibbs):
-            res = sample_original(problem, int(length[0]), rng=rng, method=association.method,
-                                  **association.options)
-        else:
-            res = sample_short_chains(problem, int(chains[0]), int(length[0]),
-                                      tau_stall=association.tau_stall,
-                                      tau_stale=association.tau_stale, rng=rng,
-                                      method=association.method, **association.options)
-        return Hypotheses(res.assignments, res.costs, int(res.n_observations),
-                          int(res.n_row_updates))
-    if isinstance(association, MultiSensorExact):
-        try:
-            ranked = oracle.enumerate_assignments(problem, limit=EXACT_LIMIT)
-        except ValueError as err:
-            if association.fallback is not None:
-                association.n_fallback += 1
-                return truncate_multisensor(association.fallback, problem, budget, rng)
-            raise ValueError(
-                f"MultiSensorExact() cannot enumerate a component's problem of {P} rows and "
-                f"M = {problem.n_meas} measurements within {EXACT_LIMIT} assignments "
-                f"(EXACT_LIMIT): {err}; pass fallback=<a multi-sensor sampler association> "
-                "or use the chains for problems of this size") from None
-        return Hypotheses(ranked.assignments, ranked.costs)
-    method = getattr(association, "hypotheses", None)
-    if method is None:
-        raise TypeError(_no_hypotheses_message(association))
-    who = _association_name(association)
-    # the one check of a custom truncation's output (the single-sensor filter's): per sensor
-    # -1 (dead), 0 (missed) or a measurement 1..M_v
-    a, _, sweeps, row_updates = check_hypotheses(
-        method(problem, budget, rng), who, "MultiSensorGLMBFilter", (P, V), -1,
-        np.asarray(problem.n_meas, dtype=np.int64))
-    if not problem.is_feasible(a).all():
-        raise ValueError(f"association {who} returned an infeasible assignment")
-    return Hypotheses(a, -problem.log_weight_of(a), sweeps, row_updates)
+    return truncate(association, problem, budget, rng, caller="MultiSensorGLMBFilter")
 
 
 def _check_tuple_count(gated, T: int, V: int) -> None:
@@ -245,15 +190,6 @@ def _check_tuple_count(gated, T: int, V: int) -> None:
     )
 
 
-def _no_hypotheses_message(association) -> str:
-    return (
-        "MultiSensorGLMBFilter needs an association that supplies hypotheses (unique "
-        "assignments with their costs): MultiSensorShortChainGibbs, MultiSensorOriginalGibbs, "
-        "MultiSensorExact, or an object with a method hypotheses(problem, budget, rng); "
-        f"{_association_name(association)} returns association marginals only, which suit "
-        "MultiSensorLMBFilter"
-    )
-
 
 class MultiSensorGLMBFilter(GLMBFilter):
     """δ-GLMB filter fusing ``V`` position sensors by the multi-sensor joint update.
@@ -262,17 +198,18 @@ class MultiSensorGLMBFilter(GLMBFilter):
     ----------
     model : MultiSensorModel or Model
         A single-sensor :class:`~rankedassign.tracking.Model` is taken as ``V = 1``.
-    association : MultiSensorShortChainGibbs, MultiSensorOriginalGibbs, MultiSensorExact or
-        object
+    association : ShortChainGibbs, OriginalGibbs, HerdedGibbs, Exact or object
         The truncation of every component's multi-sensor problem with its count ``T_h``, as
         in :class:`~rankedassign.tracking.GLMBFilter`: the long chain runs
         ``min(T_h − 1, n_obs)`` sweeps, the short chains ``L = min(N_C, T_h − 1)`` sweeps, at
         most ``min(N_S, ⌈(T_h − 1) / L⌉)`` of them, with the row kernel ``method`` of the
-        association (one of :data:`GLMB_METHODS`); :class:`MultiSensorExact` enumerates every
-        assignment (at most :data:`~rankedassign.tracking.single.glmb.EXACT_LIMIT` per
-        component, or its ``fallback`` runs). Any object with a method
-        ``hypotheses(problem, budget, rng)`` works too. Single-sensor associations and
-        association marginals are refused with ``TypeError``.
+        association (one of :data:`GLMB_METHODS`); :class:`~rankedassign.tracking.Exact`
+        enumerates every assignment (at most
+        :data:`~rankedassign.tracking.association.EXACT_LIMIT` per component, or its
+        ``fallback`` runs). Any object with a method
+        ``hypotheses(problem, budget, rng)`` works too. Murty, LBP and associations that give
+        marginals only are refused with ``TypeError``
+        (:func:`~rankedassign.tracking.check_truncation`).
     birth : AdaptiveBirth or None, optional
         None (default): the model's static birth at every scan. An
         :class:`~rankedassign.tracking.AdaptiveBirth`: the births of scan ``k + 1`` are made
@@ -317,10 +254,10 @@ class MultiSensorGLMBFilter(GLMBFilter):
     Examples
     --------
     >>> from rankedassign.tracking import make_multisensor_model
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChainGibbs
+    >>> from rankedassign.tracking import ShortChainGibbs
     >>> from rankedassign.tracking.multisensor.glmb import MultiSensorGLMBFilter
     >>> model = make_multisensor_model((0, 1), birth="narrow")
-    >>> f = MultiSensorGLMBFilter(model, MultiSensorShortChainGibbs(
+    >>> f = MultiSensorGLMBFilter(model, ShortChainGibbs(
     ...     400, 25, tau_stall=5, tau_stale=10, method="mm"))
     >>> for k in range(4):          # one target near birth location 2, seen by both sensors
     ...     z = [[400.0 - 10 * k, -600.0 + 5 * k]]
@@ -351,26 +288,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
             self._log_misses = np.log1p(-pds)
         self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
 
-    @staticmethod
-    def _check_truncation(association) -> None:
-        custom = callable(getattr(association, "hypotheses", None))
-        if not custom or getattr(association, "sensors", None) == "single-sensor":
-            _check_association_kind(association, "MultiSensorGLMBFilter", "multi-sensor",
-                                    "MultiSensorShortChainGibbs", "GLMBFilter")
-        if not (custom or isinstance(association, (MultiSensorOriginalGibbs,
-                                                   MultiSensorShortChainGibbs,
-                                                   MultiSensorExact))):
-            raise TypeError(_no_hypotheses_message(association))
-        chain = association.fallback if isinstance(association, MultiSensorExact) else \
-            association
-        method = getattr(chain, "method", None)
-        if isinstance(chain, (MultiSensorOriginalGibbs, MultiSensorShortChainGibbs)) and \
-                method not in GLMB_METHODS:
-            raise ValueError(
-                f"MultiSensorGLMBFilter truncates with method in {GLMB_METHODS}, got "
-                f"{method!r}: the component-wise kernel samples the collapsed target, whose "
-                "all-missed row stands for dead or missed, so a child's dead rows cannot be "
-                "told from its missed ones")
+    _sensors = "multi-sensor"
 
     def _max_birth_index(self):
         # adaptive births are labelled (k, 1..n) with n changing from scan to scan
@@ -500,8 +418,8 @@ class MultiSensorGLMBFilter(GLMBFilter):
     def _truncate(self, terms: _MSTerms, counts: np.ndarray, base: np.ndarray) -> _Children:
         """The children of every component (spec §2.3), component by component."""
         H = self.n_components
-        chains_ok = isinstance(self.association, (MultiSensorOriginalGibbs,
-                                                  MultiSensorShortChainGibbs))
+        # a chain truncation keeps its start state alone for a count of 0 or 1
+        chains_ok = self._plan is not None and self._plan.start_alone
         comp, cost, off, entry, meas = [], [], [0], [], []
         sweeps = row_updates = 0
         kept = 0
@@ -579,12 +497,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
                                 f"{err}")
                     cache[name] = value
                 log_Z[h] += value
-        log_K = np.full(H, -np.inf)
-        starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
-        log_K[children.comp[starts]] = np.array(
-            [_logsumexp(-x) for x in np.split(children.cost, starts[1:])])
-        log_w = np.log(self.comp_w)
-        return math.exp(_logsumexp(log_w + log_K) - _logsumexp(log_w + log_Z)), ""
+        return retained_ratio(self.comp_w, children, log_Z), ""
 
     # ----------------------------------------------------------------------- the update
     def _kalman(self, terms: _MSTerms, e_src: np.ndarray, j_src: np.ndarray) -> None:

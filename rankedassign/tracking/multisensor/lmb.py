@@ -43,6 +43,9 @@ from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
 from ...validation import check_bool, check_choice, check_int, check_type
 from .. import _kernels
+from ..common import check_distribution as _check_distribution
+from ..common import check_measurements as _check_measurements
+from ..marginals import MultiSensorAssociationResult
 from ..models import (
     EXTRACTIONS,
     ConstantSurvival,
@@ -52,16 +55,8 @@ from ..models import (
     PoissonClutter,
     PositionSensor,
 )
-from ..single.lmb import (
-    LMBFilter,
-    ScanRecord,
-    _check_association_kind,
-    _check_distribution,
-    _check_measurements,
-    group_tracks,
-)
+from ..single.lmb import LMBFilter, ScanRecord, group_tracks
 from .adaptive_birth import AdaptiveBirth, empty_birth
-from .association import MultiSensorAssociationResult
 
 __all__ = ["MultiSensorModel", "MultiSensorLMBFilter", "check_scans", "check_sensors"]
 
@@ -331,10 +326,11 @@ class MultiSensorLMBFilter(LMBFilter):
     association : callable
         ``association(problem, rng) -> MultiSensorAssociationResult`` on every
         :class:`~rankedassign.multisensor.MultiSensorProblem`
-        (:mod:`~rankedassign.tracking.multisensor.association`). The single-sensor
-        associations (:class:`~rankedassign.tracking.Association`) are refused.
-        The marginals must be finite and non-negative, ``dead[n] + tuples[n].sum() = 1``
-        within :data:`~rankedassign.tracking.single.lmb.BETA_TOL`.
+        (:mod:`~rankedassign.tracking.association`: the same classes as for one sensor).
+        Murty, LBP and associations that solve one sensor's problems only are refused
+        (:func:`~rankedassign.tracking.check_truncation`). The marginals must be finite and
+        non-negative, ``dead[n] + tuples[n].sum() = 1`` within
+        :data:`~rankedassign.tracking.common.BETA_TOL`.
     gate_prob : float or None, optional
         χ² gate probability per sensor (default ``0.9999999``); None disables gating.
     grouping : bool, optional
@@ -386,11 +382,11 @@ class MultiSensorLMBFilter(LMBFilter):
     >>> import numpy as np
     >>> from rankedassign.tracking import make_model
     >>> from rankedassign.tracking.multisensor.lmb import MultiSensorLMBFilter, MultiSensorModel
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorExact
+    >>> from rankedassign.tracking import Exact
     >>> base = make_model("vo")
     >>> ms = MultiSensorModel(base.motion, (base.sensor, base.sensor),
     ...                       (base.clutter, base.clutter), base.birth, base.survival)
-    >>> f = MultiSensorLMBFilter(ms, MultiSensorExact())
+    >>> f = MultiSensorLMBFilter(ms, Exact())
     >>> for k in range(3):      # one target near birth location 2, seen by both sensors
     ...     z = [[400.0 - 10 * k, -600.0 + 5 * k]]
     ...     rec = f.step([z, z], rng=k)
@@ -421,11 +417,7 @@ class MultiSensorLMBFilter(LMBFilter):
             self._log_misses = np.log1p(-pds)
         self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
 
-    @staticmethod
-    def _check_association(association) -> None:
-        """Refuse what is not a multi-sensor association (a single-sensor one included)."""
-        _check_association_kind(association, "MultiSensorLMBFilter", "multi-sensor",
-                                "MultiSensorShortChainGibbs", "LMBFilter")
+    _sensors = "multi-sensor"
 
     def reset(self) -> None:
         """Forget every track (and, with adaptive birth, the pending births); restart at scan 1.

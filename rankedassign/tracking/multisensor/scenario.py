@@ -27,6 +27,10 @@ import numpy as np
 
 from ...engine.rng import spawning_generator
 from ...validation import check_bool, check_choice
+
+# the module, not its names: the table imports this package's filters, and this runner is
+# read (at call time) after both have loaded, whichever was imported first
+from .. import filters
 from ..models import LMBBirth, PoissonClutter, PositionSensor, make_model
 from ..runner import run_filter
 from ..scenario import (
@@ -37,12 +41,11 @@ from ..scenario import (
     paper_truth,
 )
 from .adaptive_birth import AdaptiveBirth
-from .glmb import MultiSensorGLMBFilter
-from .lmb import MultiSensorLMBFilter, MultiSensorModel, check_sensors
+from .lmb import MultiSensorModel, check_sensors
 
 __all__ = [
     "BIRTHS",
-    "FILTERS",
+    "FILTERS",  # noqa: F822 (module __getattr__)
     "MULTI_SENSORS",
     "MultiSensorRun",
     "MultiSensorScenario",
@@ -63,8 +66,14 @@ MULTI_CLUTTER = 20.0
 #: (:class:`~rankedassign.tracking.AdaptiveBirth` with the defaults of spec §7.2;
 #: the model then has no static birth).
 BIRTHS = ("paper", "narrow", "adaptive")
-#: Filters :func:`run_multisensor_scenario` runs: the multi-sensor LMB and δ-GLMB filters.
-FILTERS = ("lmb", "glmb")
+
+
+def __getattr__(name: str):
+    # FILTERS: the names of the filters run_multisensor_scenario runs, the rows of the one
+    # table rankedassign.tracking.filters.FILTERS (read when asked, see the import above)
+    if name == "FILTERS":
+        return tuple(filters.FILTERS)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def make_multisensor_model(sensors=(0, 1, 2), *, birth: str = "paper") -> MultiSensorModel:
@@ -226,7 +235,7 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     ----------
     association : callable
         A multi-sensor association, e.g.
-        ``MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``. Required.
+        ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact")``. Required.
     rng : optional
         Two child streams are spawned: the first draws the measurements
         (:func:`make_multisensor_scenario`), the second drives the filter (one child per scan).
@@ -247,11 +256,14 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
         Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
         :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
-    filter : {"lmb", "glmb"}
+    filter : {"lmb", "glmb"}, filter class or filter object
         :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter` (default) or
-        :class:`~rankedassign.tracking.MultiSensorGLMBFilter` (:data:`FILTERS`); the
-        measurements are the same for both. The δ-GLMB filter takes no ``grouping`` (its
-        components are truncated whole): it must be left at its default.
+        :class:`~rankedassign.tracking.MultiSensorGLMBFilter`, by name or class (a class of
+        the table stands for its row, so ``GLMBFilter`` builds the multi-sensor one), a class
+        of one's own (``cls(model, association, **options)``), or a filter object, run as it
+        is (:func:`~rankedassign.tracking.filters.make_filter`); the measurements are the same
+        for all. The δ-GLMB filter takes no ``grouping`` (its components are truncated
+        whole): it must be left at its default.
     **filter_options
         Further options of the filter.
 
@@ -271,18 +283,18 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     Examples
     --------
     >>> from rankedassign.tracking.multisensor.scenario import run_multisensor_scenario
-    >>> from rankedassign.tracking.multisensor.association import MultiSensorShortChainGibbs
-    >>> assoc = MultiSensorShortChainGibbs(20, 5, tau_stall=5, tau_stale=10)
+    >>> from rankedassign.tracking import ShortChainGibbs
+    >>> assoc = ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="exact")
     >>> run = run_multisensor_scenario(assoc, rng=1, n_scans=3, sensors=(0, 2))
     >>> run.truth.shape, run.n_meas.shape
     ((3, 12, 2), (3,))
     """
     if association is None:
         raise TypeError("run_multisensor_scenario needs an association, e.g. "
-                        "MultiSensorShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
+                        "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
     grouping = check_bool(grouping, "grouping")
-    check_choice(filter, "filter", FILTERS)
-    if filter == "glmb" and not grouping:
+    groups = filters.takes_grouping(filter)
+    if not groups and not grouping:
         raise ValueError("grouping=False applies to the LMB filter only: the δ-GLMB filter "
                          "truncates every component's problem whole")
     n_scans = check_n_scans(n_scans)
@@ -294,12 +306,12 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     meas_rng, filter_rng = spawning_generator(rng).spawn(2)
     scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
                                          birth=birth)
-    if filter == "glmb":
-        filt = MultiSensorGLMBFilter(scenario.model, association, extraction=extraction,
-                                     birth=adaptive, **filter_options)
-    else:
-        filt = MultiSensorLMBFilter(scenario.model, association, grouping=grouping,
-                                    extraction=extraction, birth=adaptive, **filter_options)
+    if isinstance(filter, (str, type)):
+        filter_options = {"extraction": extraction, "birth": adaptive, **filter_options}
+        if groups:
+            filter_options["grouping"] = grouping
+    filt = filters.make_filter(filter, scenario.model, association, multi=True,
+                               **filter_options)
     run = run_filter(filt, [tuple(s.z for s in scans) for scans in scenario.scans],
                      rng=filter_rng)
     timings = dict(run.timings)

@@ -1,8 +1,9 @@
-"""The single-sensor LMB filter and its association methods.
+"""The single-sensor LMB and δ-GLMB filters.
 
 * :mod:`~rankedassign.tracking.single.lmb` — :class:`LMBFilter` (spec §6);
-* :mod:`~rankedassign.tracking.single.association` — the association methods it takes:
-  :class:`OriginalGibbs`, :class:`ShortChainGibbs`, :class:`Murty`, :class:`Exact`.
+* :mod:`~rankedassign.tracking.single.glmb` — :class:`GLMBFilter` (``glmb.md``);
+* :mod:`~rankedassign.tracking.single.association` — the old path of the association classes,
+  which now live in :mod:`rankedassign.tracking.association` and serve every filter.
 
 Everything is re-exported by :mod:`rankedassign.tracking`.
 """

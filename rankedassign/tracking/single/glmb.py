@@ -40,7 +40,6 @@ import oracle
 from ...engine._kernels import zobrist_keys
 from ...engine.rng import spawning_generator
 from ...numba_options import interruptible
-from ...samplers import sample_original, sample_short_chains
 from ...single.problem import AssignmentProblem
 from ...validation import (
     MAX_WORK_BYTES,
@@ -51,12 +50,16 @@ from ...validation import (
     check_type,
 )
 from .. import _kernels
-from .._checks import check_hypotheses, check_prior
+from .._checks import check_prior
 from .._kernels import MERGE_RULES
+from ..association import EXACT_LIMIT, Hypotheses, check_truncation, truncate
+from ..common import Children as _Children
+from ..common import check_measurements as _check_measurements
+from ..common import concat as _concat
+from ..common import gate_threshold, retained_ratio
+from ..common import logsumexp as _logsumexp
 from ..models import ConstantVelocity, LinearMotion, Model
 from . import _glmb_kernels
-from .association import Exact, Hypotheses, Murty, OriginalGibbs, ShortChainGibbs
-from .lmb import _association_name, _check_association_kind, _check_measurements, gate_threshold
 
 __all__ = [
     "GLMB_EXTRACTIONS",
@@ -68,8 +71,6 @@ __all__ = [
 
 #: State extraction rules of :class:`GLMBFilter` (``extraction``).
 GLMB_EXTRACTIONS = ("map", "trajectory", "hysteresis")
-#: Largest enumeration :class:`~rankedassign.tracking.Exact` runs on one component.
-EXACT_LIMIT = 200_000
 #: Largest number of assignments :class:`~rankedassign.tracking.Exact` keeps in one scan, over
 #: all components (their children must fit in memory before the merge and the cap).
 EXACT_SCAN_LIMIT = 5_000_000
@@ -159,143 +160,9 @@ def _check_threshold(value, name: str) -> float:
     return v
 
 
-def _kernel_rules(association):
-    """The :class:`~rankedassign.tracking.single._glmb_kernels.ChainRules` if the compiled
-    all-components path runs the
-    association exactly as its sampler would, else None (then it runs component by component).
-    """
-    if type(association) is OriginalGibbs:
-        opts = dict(association.options)
-        stall = stale = None
-    elif type(association) is ShortChainGibbs:
-        opts = dict(association.options)
-        if opts.pop("stall", "global-consecutive") != "global-consecutive":
-            return None
-        if opts.pop("stale", "consecutive") != "consecutive":
-            return None
-        opts.pop("workers", None)  # the result does not depend on the threads
-        stall, stale = association.tau_stall, association.tau_stale
-    else:
-        return None
-    scan = opts.pop("scan", "systematic")
-    if (opts.pop("start", "all_missed") != "all_missed" or opts.pop("backend", "numba") != "numba"
-            or scan not in ("systematic", "random") or opts):
-        return None
-    return _glmb_kernels.ChainRules(random_scan=scan == "random", tau_stall=stall or 0,
-                                    tau_stale=stale or 0)
-
-
 def _gibbs_budget(association, counts: np.ndarray):
-    """Chains and sweeps per chain of every component for its count ``T_h`` (shape (H,)).
-
-    ``T_h`` counts stored solutions with the start state (Vo's ``T``, spec A20), so a chain
-    sampler gets ``T_h − 1`` observations, at most the association's own budget:
-    :class:`~rankedassign.tracking.OriginalGibbs` one chain of ``min(T_h − 1, n_obs)`` sweeps;
-    :class:`~rankedassign.tracking.ShortChainGibbs` chains of ``L = min(N_C, T_h − 1)`` sweeps,
-    ``min(N_S, ⌈(T_h − 1) / L⌉)`` of them. A count of 0 or 1 gives the start state alone (the
-    all-missed solution).
-    """
-    n_obs = np.maximum(counts - 1, 0)
-    if hasattr(association, "n_obs"):  # one long chain (single- or multi-sensor)
-        length = np.minimum(n_obs, association.n_obs)
-        return (length > 0).astype(np.int64), length.astype(np.int64)
-    length = np.minimum(n_obs, association.chain_length)
-    safe = np.maximum(length, 1)
-    chains = np.where(length > 0, np.minimum(-(-n_obs // safe), association.n_chains), 0)
-    return chains.astype(np.int64), length.astype(np.int64)
-
-
-def truncate(association, problem: AssignmentProblem, budget: int, rng=None) -> Hypotheses:
-    """Truncate one component's problem with ``association`` and the count ``budget = T_h``.
-
-    Parameters
-    ----------
-    association : OriginalGibbs, ShortChainGibbs, Murty, Exact or object
-        The library's associations, or any object with a method
-        ``hypotheses(problem, budget, rng)`` returning :class:`Hypotheses` (or anything with
-        ``assignments`` and ``costs``).
-    problem : AssignmentProblem
-    budget : int
-        The component's count ``T_h >= 0`` (spec §2.2): the samplers get ``T_h − 1``
-        observations (see :class:`GLMBFilter`), Murty ``k = max(T_h, 1)``; :class:`Exact`
-        ignores it.
-    rng : optional
-        Anything :func:`numpy.random.default_rng` accepts.
-
-    Returns
-    -------
-    Hypotheses
-
-    Raises
-    ------
-    TypeError
-        If the association cannot supply hypotheses.
-    ValueError
-        If :class:`Exact` meets a problem with more than :data:`EXACT_LIMIT` assignments, or a
-        custom association returns duplicates, infeasible assignments or wrong shapes.
-
-    Examples
-    --------
-    >>> from rankedassign import AssignmentProblem
-    >>> from rankedassign.tracking import Exact, Murty
-    >>> from rankedassign.tracking.single.glmb import truncate
-    >>> p = AssignmentProblem.from_eta([[3.0]], [1.0], [1.0])
-    >>> truncate(Exact(), p, 0).assignments.tolist()
-    [[0], [1], [2]]
-    >>> truncate(Murty(5), p, 2).assignments.tolist()   # k = T_h = 2
-    [[0], [1]]
-    """
-    budget = check_int(budget, "budget")
-    P, M = problem.n_rows, problem.n_meas
-    if isinstance(association, (OriginalGibbs, ShortChainGibbs)):
-        chains, length = _gibbs_budget(association, np.array([budget]))
-        if isinstance(association, OriginalGibbs):
-            res = sample_original(problem, int(length[0]), rng=rng, **association.options)
-        else:
-            res = sample_short_chains(problem, int(chains[0]), int(length[0]),
-                                      tau_stall=association.tau_stall,
-                                      tau_stale=association.tau_stale, rng=rng,
-                                      **association.options)
-        return Hypotheses(res.assignments, res.costs, int(res.n_observations),
-                          int(res.n_row_updates))
-    if isinstance(association, Murty):
-        ranked = oracle.murty(problem, min(association.k, max(budget, 1)),
-                              backend=association.backend)
-        return Hypotheses(ranked.assignments, ranked.costs)
-    if isinstance(association, Exact):
-        try:
-            ranked = oracle.enumerate_assignments(problem, limit=EXACT_LIMIT)
-        except ValueError as err:
-            raise ValueError(
-                f"Exact() cannot enumerate a component's problem of {P} rows and {M} "
-                f"measurements within {EXACT_LIMIT} assignments (EXACT_LIMIT): {err}; use "
-                "Murty(k) or a sampler for problems of this size"
-            ) from None
-        return Hypotheses(ranked.assignments, ranked.costs)
-    method = getattr(association, "hypotheses", None)
-    if method is None:
-        raise TypeError(_no_hypotheses_message(association))
-    who = _association_name(association)
-    # one check of a custom truncation's output for both δ-GLMB filters (type, shape, range,
-    # NaN costs, duplicates); feasibility and the costs are this problem's own
-    a, c, sweeps, row_updates = check_hypotheses(method(problem, budget, rng), who,
-                                                 "GLMBFilter", (P,), 0, problem.n_cols - 1)
-    if not problem.is_feasible(a).all():
-        raise ValueError(f"association {who} returned an infeasible assignment")
-    if not np.allclose(c, problem.cost_of(a), rtol=1e-9, atol=1e-9):
-        raise ValueError(f"association {who} returned costs that are not those of its "
-                         "assignments")
-    return Hypotheses(a, problem.cost_of(a), sweeps, row_updates)
-
-
-def _no_hypotheses_message(association) -> str:
-    return (
-        f"GLMBFilter needs an association that supplies hypotheses (unique assignments with "
-        f"their costs): ShortChainGibbs, OriginalGibbs, Murty, Exact, or an object with a "
-        f"method hypotheses(problem, budget, rng); {_association_name(association)} returns "
-        "association marginals only, which suit LMBFilter: the δ-GLMB filter keeps each "
-        "hypothesis as a component and cannot be rebuilt from marginals"
-    )
+    """Chains and sweeps per chain of every component (the chain truncation's ``budget``)."""
+    return association.budget(counts)
 
 
 @functools.lru_cache(maxsize=32)
@@ -305,31 +172,6 @@ def _zobrist(L: int, K: int) -> np.ndarray:
         keys = zobrist_keys(max(L, 1), K, _ZOBRIST_SEED)
     keys.setflags(write=False)
     return keys
-
-
-def _concat(parts: list, dtype) -> np.ndarray:
-    return np.concatenate(parts).astype(dtype) if parts else np.empty(0, dtype)
-
-
-def _logsumexp(a: np.ndarray) -> float:
-    if a.size == 0:
-        return -math.inf
-    top = float(np.max(a))
-    if not np.isfinite(top):
-        return top
-    return top + math.log(float(np.sum(np.exp(a - top))))
-
-
-class _Children(NamedTuple):
-    """Every unique assignment of the scan as a child of its component (kernel layout)."""
-
-    comp: np.ndarray  # (N,) parent component
-    cost: np.ndarray  # (N,) Σ −ln η
-    off: np.ndarray  # (N + 1,) CSR offsets of the rows that exist after the scan
-    entry: np.ndarray  # their predicted entries
-    meas: np.ndarray  # their measurements (columns of the shared terms; −1 missed)
-    sweeps: int
-    row_updates: int
 
 
 class _Terms(NamedTuple):
@@ -489,7 +331,12 @@ class GLMBFilter:
             raise ValueError("extraction='trajectory' needs keep_histories=True (a trajectory "
                              "is read along the association history)")
         self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
-        self._rules = _kernel_rules(association)
+        plan = getattr(association, "batch_plan", None)
+        self._plan = plan(self._sensors) if callable(plan) else None
+        self._rules = None if self._plan is None or not self._plan.chains else \
+            _glmb_kernels.ChainRules(random_scan=self._plan.random_scan,
+                                     tau_stall=self._plan.tau_stall,
+                                     tau_stale=self._plan.tau_stale)
         self._F = np.array(model.motion.F)
         self._Q = np.array(model.motion.Q)
         self._R = np.array(model.sensor.R)
@@ -504,17 +351,12 @@ class GLMBFilter:
         self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
 
-    @staticmethod
-    def _check_truncation(association) -> None:
-        """Refuse an association that cannot truncate a single-sensor component's problem."""
-        custom = callable(getattr(association, "hypotheses", None))
-        if not custom or getattr(association, "sensors", None) == "multi-sensor":
-            # a truncation of its own need not be callable; anything else is an association
-            _check_association_kind(association, "GLMBFilter", "single-sensor", "ShortChainGibbs",
-                                    "MultiSensorLMBFilter")
-        if not (custom or isinstance(association, (OriginalGibbs, ShortChainGibbs, Murty,
-                                                   Exact))):
-            raise TypeError(_no_hypotheses_message(association))
+    #: The problems this filter truncates (:func:`~rankedassign.tracking.check_truncation`).
+    _sensors = "single-sensor"
+
+    def _check_truncation(self, association) -> None:
+        """Refuse what this filter cannot use, with the reason (one place for every filter)."""
+        check_truncation(association, type(self).__name__, self._sensors, "hypotheses")
 
     def set_motion(self, motion) -> None:
         """Predict with ``motion`` from the next scan on (the components are kept).
@@ -789,8 +631,7 @@ class GLMBFilter:
                     terms.gated, chains, length, self._rules, base, _zobrist(P_max, U + 2))
             return _Children(comp, cost, off, entry, meas, int(sweeps.sum()),
                              int((sweeps * n_rows).sum()))
-        if type(self.association) in (Murty, Exact) and getattr(
-                self.association, "backend", "numba") == "numba":
+        if self._plan is not None and self._plan.ranked:
             ranked = self._ranked(terms, counts)
             if ranked is not None:
                 return ranked
@@ -803,7 +644,8 @@ class GLMBFilter:
         sweeps = row_updates = 0
         for h in range(H):
             r, c, problem = self._problem(h, terms, mark, rows, cols)
-            hyp = truncate(self.association, problem, int(counts[h]), rng=int(base[h]))
+            hyp = truncate(self.association, problem, int(counts[h]), rng=int(base[h]),
+                           caller="GLMBFilter")
             a = np.asarray(hyp.assignments, dtype=np.int64)
             P, M = r.size, c.size
             exists = a < M + P  # a measurement or missed: the row is there after the scan
@@ -827,7 +669,7 @@ class GLMBFilter:
         None when a component is beyond :data:`EXACT_LIMIT` or the work arrays' limit: the
         component-by-component path then raises the error of :func:`truncate` for it.
         """
-        exact = isinstance(self.association, Exact)
+        exact = self._plan.k == 0  # every assignment, else Murty's k best
         args = (self.comp_off, self.comp_tracks, self._births, terms.cc, terms.gated)
         if exact:
             with interruptible:
@@ -842,7 +684,7 @@ class GLMBFilter:
                     f"has at most {int(n_want.max())}); use Murty(k) or a sampler for "
                     "problems of this size")
         else:
-            n_want = np.minimum(self.association.k, np.maximum(counts, 1)).astype(np.int64)
+            n_want = np.minimum(self._plan.k, np.maximum(counts, 1)).astype(np.int64)
         P_max = self._births.size + int(np.diff(self.comp_off).max(initial=0))
         if int(n_want.max(initial=0)) * (32 * P_max + 128) > MAX_WORK_BYTES:
             return None
@@ -909,13 +751,7 @@ class GLMBFilter:
                                 f"measurements beyond the oracle's DP: {err}")
                     cache[name] = value
                 log_Z[h] += value
-        # K_h = Σ over the children of h of Π η = exp(−cost); children are grouped by parent
-        log_K = np.full(H, -np.inf)
-        starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
-        log_K[children.comp[starts]] = np.array(
-            [_logsumexp(-x) for x in np.split(children.cost, starts[1:])])
-        log_w = np.log(self.comp_w)
-        return math.exp(_logsumexp(log_w + log_K) - _logsumexp(log_w + log_Z)), ""
+        return retained_ratio(self.comp_w, children, log_Z), ""
 
     # ----------------------------------------------------------------------- 5. children
     def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> int:
@@ -1152,7 +988,10 @@ class GLMBFilter:
                    "update": t4 - t3}
         timings.update(self._after_scan(z, gen))
         return GLMBScanRecord(
-            labels, states, ex, track_labels, track_r, T, self._n_meas(z),
-            self._n_gated(terms), H, H, children.sweeps, children.row_updates, n_children,
-            timings, rho, self.n_components, retained, reason, traj,
+            labels=labels, states=states, existence=ex, track_labels=track_labels,
+            track_existence=track_r, n_tracks=T, n_meas=self._n_meas(z),
+            n_meas_gated=self._n_gated(terms), n_groups=H, invocations=H,
+            sweeps=children.sweeps, row_updates=children.row_updates, n_unique=n_children,
+            timings=timings, cardinality=rho, n_components=self.n_components,
+            retained_mass=retained, retained_mass_reason=reason, trajectories=traj,
         )

@@ -33,13 +33,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
-import types
 from time import perf_counter
 from typing import NamedTuple
 
 import numpy as np
-from scipy.stats import chi2
 
 from ...engine.rng import spawning_generator
 from ...numba_options import interruptible
@@ -47,8 +44,11 @@ from ...single.problem import AssignmentProblem
 from ...validation import check_bool, check_choice, check_int, check_real, check_type
 from .. import _kernels
 from .._kernels import MERGE_RULES
+from ..association import Association, AssociationResult, check_truncation
+from ..common import BETA_TOL, gate_threshold
+from ..common import check_distribution as _check_distribution
+from ..common import check_measurements as _check_measurements
 from ..models import EXTRACTIONS, ConstantVelocity, LinearMotion, Model
-from .association import Association, AssociationResult
 
 __all__ = [
     "BETA_TOL",
@@ -64,45 +64,7 @@ __all__ = [
 
 #: State estimates of a reported track (``estimate``).
 ESTIMATES = ("max-weight", "mean")
-#: Largest ``|Σ_j β_ij − 1|`` the filters accept in the marginals an association returns
-#: (the rounding of a normalised sum is some 1e-15; anything larger is a wrong distribution).
-BETA_TOL = 1e-9
 
-def gate_threshold(gate_prob: float, dim: int = 2) -> float:
-    """χ² gate on the squared Mahalanobis distance for a ``dim``-dimensional measurement.
-
-    Parameters
-    ----------
-    gate_prob : float
-        Probability mass inside the gate, in ``(0, 1)``.
-    dim : int
-        Measurement dimension.
-
-    Returns
-    -------
-    float
-        ``χ²_dim⁻¹(gate_prob)``; for ``dim = 2`` exactly ``−2 ln(1 − gate_prob)``.
-
-    Raises
-    ------
-    TypeError
-        If ``gate_prob`` is not a real number or ``dim`` not an int.
-    ValueError
-        If ``gate_prob`` is outside ``(0, 1)`` or ``dim < 1``.
-
-    Examples
-    --------
-    >>> from rankedassign.tracking.single.lmb import gate_threshold
-    >>> round(gate_threshold(0.9999999), 3)
-    32.236
-    """
-    gate_prob = check_real(gate_prob, "gate_prob")
-    dim = check_int(dim, "dim", minimum=1)
-    if not (0 < gate_prob < 1):
-        raise ValueError(f"gate_prob must be in (0, 1), got {gate_prob}")
-    if dim == 2:
-        return -2.0 * math.log1p(-gate_prob)
-    return float(chi2.ppf(gate_prob, dim))
 
 
 def group_tracks(gated: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -213,27 +175,6 @@ class ScanRecord(NamedTuple):
 
 
 # ------------------------------------------------------------------------------- filter
-def _check_association_kind(association, filter_name: str, kind: str, example: str,
-                            other_filter: str) -> None:
-    """Refuse a non-callable, or one of the library's associations of the other kind.
-
-    ``kind`` is this filter's kind ("single-sensor" or "multi-sensor"), ``example`` one of its
-    association classes; an association whose ``sensors`` attribute names the other kind is
-    for ``other_filter``. Plain functions pass.
-    """
-    if not callable(association):
-        raise TypeError(
-            f"association must be callable as association(problem, rng), got "
-            f"{type(association).__name__}"
-        )
-    other = "multi-sensor" if kind == "single-sensor" else "single-sensor"
-    if getattr(association, "sensors", kind) == other:
-        raise TypeError(
-            f"{filter_name} needs a {kind} association such as {example}; got "
-            f"{type(association).__name__} (a {other} association, for {other_filter})"
-        )
-
-
 class LMBFilter:
     """Compact LMB filter with Gaussian-mixture tracks and pluggable association.
 
@@ -390,11 +331,12 @@ class LMBFilter:
         self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
 
-    @staticmethod
-    def _check_association(association) -> None:
-        """Refuse what is not an association of this filter (a multi-sensor one included)."""
-        _check_association_kind(association, "LMBFilter", "single-sensor", "ShortChainGibbs",
-                                "MultiSensorLMBFilter")
+    #: The problems this filter's association solves (:func:`check_truncation`).
+    _sensors = "single-sensor"
+
+    def _check_association(self, association) -> None:
+        """Refuse what this filter cannot use, with the reason (one place for every filter)."""
+        check_truncation(association, type(self).__name__, self._sensors, "marginals")
 
     def set_motion(self, motion) -> None:
         """Predict with ``motion`` from the next scan on (the tracks are kept).
@@ -769,70 +711,3 @@ class _Terms(NamedTuple):
         )
 
 
-def _check_measurements(z, name: str = "measurements") -> np.ndarray:
-    """One scan's measurements as a float64 (M, 2) array; ``[]`` and (0, 2) give (0, 2).
-
-    ``name`` says in the messages whose measurements they are (the multi-sensor filter names
-    the sensor).
-    """
-    try:
-        a = np.asarray(z)
-    except ValueError:  # numpy: "inhomogeneous shape"
-        raise ValueError(
-            f"{name} must be an (M, 2) array of real numbers, got a ragged sequence (rows of "
-            "different lengths)"
-        ) from None
-    if a.dtype.kind == "O" and all(isinstance(v, numbers.Real) and not isinstance(v, bool)
-                                   for v in a.reshape(-1)):
-        a = a.astype(np.float64)  # e.g. Python ints beyond int64
-    if a.dtype.kind not in "iuf":
-        kind = {"b": "booleans", "U": "strings", "S": "bytes", "c": "complex numbers"}.get(
-            a.dtype.kind, "objects")
-        raise TypeError(f"{name} must be real numbers, got {kind} (dtype {a.dtype}) in a scan "
-                        f"of shape {a.shape}")
-    if a.shape == (0,):  # [] : a scan without measurements
-        return np.empty((0, 2))
-    if a.ndim != 2 or a.shape[1] != 2:
-        empty = " (a scan without measurements is [] or shape (0, 2))" if a.size == 0 else ""
-        raise ValueError(f"{name} must have shape (M, 2), got shape {a.shape}{empty}")
-    if a.shape[0] == 0:
-        return np.empty((0, 2))
-    z = np.array(a, dtype=np.float64)  # a writable copy: one compiled variant of each kernel
-    if not np.isfinite(z).all():
-        i, j = np.argwhere(~np.isfinite(z))[0]
-        raise ValueError(f"{name} must be finite, got {z[i, j]} at [{i}, {j}] in a scan of "
-                         f"shape {z.shape}")
-    return np.ascontiguousarray(z)
-
-
-def _association_name(association) -> str:
-    """How messages name an association: a function by its name, an object by its class."""
-    if isinstance(association, (types.FunctionType, types.MethodType,
-                                types.BuiltinFunctionType)):
-        return association.__qualname__
-    return type(association).__name__
-
-
-def _check_distribution(association, arrays: dict, totals: np.ndarray, row: str) -> None:
-    """Refuse association marginals that are not a distribution over each row's options.
-
-    ``arrays`` maps a name to each returned array, ``totals`` is the total mass of every row
-    and ``row`` the expression of a row's mass in the messages (``"beta[{i}, :].sum()"``).
-    """
-    who = _association_name(association)
-    for what, a in arrays.items():
-        if not np.isfinite(a).all():
-            at = tuple(int(k) for k in np.argwhere(~np.isfinite(a))[0])
-            raise ValueError(f"association {who} returned a non-finite marginal: "
-                             f"{what}{list(at)} = {a[at]}")
-        if (a < 0).any():
-            at = tuple(int(k) for k in np.argwhere(a < 0)[0])
-            raise ValueError(f"association {who} returned a negative marginal: "
-                             f"{what}{list(at)} = {a[at]}")
-    off = np.abs(totals - 1.0)
-    if (off > BETA_TOL).any():
-        i = int(np.argmax(off > BETA_TOL))
-        raise ValueError(
-            f"association {who} returned marginals that are not a distribution: "
-            f"{row.format(i=i)} = {float(totals[i])!r}, not 1 (tolerance {BETA_TOL})"
-        )
