@@ -457,7 +457,7 @@ def test_a_scan_beyond_the_tuple_limit_is_refused_before_the_tuples_are_built(mo
 def test_the_tuples_are_itertools_product_of_each_entrys_gated_lists():
     model = _model(n_births=2)
     labels, means, covs = _prior()
-    f = MultiSensorGLMBFilter(model, Exact(method="exact"))
+    f = MultiSensorGLMBFilter(model, Exact())
     f.set_prior(labels, means, covs)
     p_exist = f._predict()
     zs = [np.array([[1.0, -1.0], [9.0, 2.0], [500.0, 500.0]]),
