@@ -23,6 +23,7 @@ from rankedassign.tracking import (
     Murty,
     OriginalGibbs,
     ShortChainGibbs,
+    TemperedGibbs,
     check_truncation,
     make_model,
     make_multisensor_model,
@@ -56,6 +57,8 @@ SERVES = [
     (Exact(), {"lmb", "glmb", "ms-lmb", "ms-glmb"}),
     (Murty(5), {"lmb", "glmb"}),
     (LBP(), {"lmb"}),
+    (TemperedGibbs(20, beta=0.5), {"lmb", "glmb", "ms-lmb", "ms-glmb"}),
+    (TemperedGibbs(20, beta=0.5, scheme="zanella-roberts"), {"lmb", "glmb", "ms-lmb", "ms-glmb"}),
 ]
 
 
@@ -221,3 +224,59 @@ def test_the_runners_take_a_filter_name_class_or_object():
         make_filter(3, make_model("vo"), Exact(), multi=False)
     with pytest.raises(TypeError, match="a filter object runs as it is"):
         run_scenario("vo", Exact(), filter=obj, n_scans=1)
+
+
+# ------------------------------------------------------------------ tempered Gibbs
+def test_tempered_gibbs_at_beta_one_is_the_original_chain():
+    for problem in (SINGLE, MULTI):
+        a = truncate(TemperedGibbs(30, beta=1.0, method="exact"), problem, 25, rng=3)
+        b = truncate(OriginalGibbs(30, method="exact"), problem, 25, rng=3)
+        assert_array_equal(a.assignments, b.assignments)
+        assert_array_equal(a.costs, b.costs)
+        assert a.sweeps == b.sweeps == 24
+
+
+@pytest.mark.parametrize("problem", [SINGLE, MULTI], ids=["single", "multi"])
+def test_zanella_roberts_marginals_are_the_exact_ones_in_the_limit(problem):
+    import oracle
+
+    zr = TemperedGibbs(4000, beta=0.5, scheme="zanella-roberts")
+    out = zr(problem, np.random.default_rng(0))
+    exact = oracle.marginals(problem)
+    if problem is SINGLE:
+        got, want = out.beta, exact
+    else:
+        got = np.concatenate([out.dead.ravel(), out.tuples.ravel()])
+        want = np.concatenate([np.ravel(exact.dead), np.ravel(exact.tuples)])
+    # 4000 sweeps' worth of moves on a 2-row problem: importance-weighted estimates to ~1e-2
+    assert np.abs(got - want).max() < 0.03
+    # the truncated construction from the same draw's unique states differs in general
+    assert out.row_updates == 4000 * problem.n_rows
+
+
+def test_tempered_gibbs_hypotheses_are_exact_and_unique():
+    import oracle
+
+    for scheme in TemperedGibbs.SCHEMES:
+        hyp = truncate(TemperedGibbs(1000, beta=0.3, scheme=scheme), SINGLE, 1001, rng=1)
+        assert_array_equal(hyp.costs, SINGLE.cost_of(hyp.assignments))
+        assert len({tuple(r) for r in hyp.assignments}) == len(hyp.costs)
+        # every assignment of this tiny problem is reached at a hot temperature
+        assert len(hyp.costs) == len(oracle.enumerate_assignments(SINGLE).costs)
+
+
+def test_tempered_gibbs_repr_and_refusals():
+    assert repr(TemperedGibbs(200, beta=0.5)) == "TemperedGibbs(200, beta=0.5)"
+    assert repr(TemperedGibbs(9, beta=1, scheme="zanella-roberts", marginals="truncated")) == (
+        "TemperedGibbs(9, beta=1.0, scheme='zanella-roberts', marginals='truncated')")
+    with pytest.raises(ValueError, match=re.escape("beta must be a number in (0, 1], got 0")):
+        TemperedGibbs(10, beta=0)
+    with pytest.raises(ValueError, match=re.escape("beta must be a number in (0, 1], got True")):
+        TemperedGibbs(10, beta=True)
+    with pytest.raises(ValueError, match=re.escape("unknown scheme 'parallel'; expected one of")):
+        TemperedGibbs(10, beta=0.5, scheme="parallel")
+    with pytest.raises(ValueError, match="marginals='importance' are the Zanella-Roberts "):
+        TemperedGibbs(10, beta=0.5, marginals="importance")
+    with pytest.raises(ValueError, match=re.escape(
+            "method='mm' does not apply to the Zanella-Roberts scheme")):
+        TemperedGibbs(10, beta=0.5, scheme="zanella-roberts", method="mm")

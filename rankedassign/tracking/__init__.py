@@ -31,6 +31,7 @@ from .association import (
     Murty,
     OriginalGibbs,
     ShortChainGibbs,
+    TemperedGibbs,
     check_truncation,
     truncate,
 )
@@ -82,6 +83,7 @@ __all__ = [
     "Exact",
     "FilterRun",
     "HerdedGibbs",
+    "TemperedGibbs",
     "LBP",
     "LBPConvergenceWarning",
     "GLMB_EXTRACTIONS",

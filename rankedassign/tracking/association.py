@@ -39,7 +39,7 @@ import oracle
 
 from ..engine.herding import DEFAULT_MAX_KEYS, Herding
 from ..kinds import kind_of
-from ..samplers import sample_herded, sample_original, sample_short_chains
+from ..samplers import sample_herded, sample_original, sample_short_chains, sample_tempered
 from ..single.lbp import LBP_MAX_ITER, LBP_TOL, check_lbp_settings, lbp_marginals
 from ..validation import check_choice, check_int, check_optional_int
 from .marginals import (
@@ -71,6 +71,7 @@ __all__ = [
     "MultiSensorShortChainGibbs",
     "OriginalGibbs",
     "ShortChainGibbs",
+    "TemperedGibbs",
     "association_name",
     "check_hypotheses",
     "check_truncation",
@@ -925,6 +926,175 @@ class HerdedGibbs(_Sampled):
         # draw (its own sums may differ in the last bits)
         costs = -problem.log_weight_of(a) if _is_multi(problem) else problem.cost_of(a)
         return Hypotheses(a, costs, int(res.n_observations), int(res.n_row_updates))
+
+
+class TemperedGibbs(_Sampled):
+    """Tempered Gibbs sampling as association: a chain at inverse temperature β, or the
+    importance tempering of Zanella & Roberts (2019).
+
+    Two samplers of the same idea, flattening the target so that a chain leaves the modes it
+    would stick in:
+
+    * ``scheme="beta"``: one long chain whose row conditionals are ``π_i^β``
+      (:func:`rankedassign.sample_original` with ``beta``); its unique assignments are kept
+      with their exact costs, as every Gibbs truncation's are;
+    * ``scheme="zanella-roberts"``: tempered Gibbs sampling (:func:`rankedassign.sample_tempered`),
+      ``n_obs`` times the rows' count of moves (one sweep's worth of row updates per
+      observation); its marginals are importance-weighted (weights ``1/Z(x)``), which makes them
+      consistent for the exact posterior ``π`` itself, and its target is ``π``, so on several
+      sensors its row conditional is always the exact one (``method="exact"``).
+
+    Parameters
+    ----------
+    n_obs : int
+        Observations (sweeps, or a sweep's worth of moves) per call.
+    beta : float
+        Inverse temperature in ``(0, 1]`` (``1``: plain Gibbs).
+    scheme : {"beta", "zanella-roberts"}
+        See above.
+    method : {"exact", "mm", "mm-fixed", "componentwise"}, optional
+        The multi-sensor row conditional of the β-chain (see :class:`OriginalGibbs`); the
+        Zanella–Roberts scheme takes ``"exact"`` only.
+    marginals : {"truncated", "rao-blackwell", "importance"}, optional
+        How the LMB filters get association marginals: from the unique hypotheses
+        (:func:`~rankedassign.tracking.marginals_from_hypotheses`), or the Zanella–Roberts
+        importance-weighted estimate (``"importance"``, that scheme's default and only there).
+    **sampler_options
+        Passed to the sampler (``start``; ``scan`` and ``backend`` for the β-chain).
+
+    Raises
+    ------
+    ValueError
+        If ``beta`` is outside ``(0, 1]``, ``scheme`` unknown, ``"importance"`` marginals
+        are asked of the β-chain, or the Zanella–Roberts scheme is given a ``method`` other
+        than ``"exact"``.
+
+    References
+    ----------
+    .. [1] G. Zanella, G. Roberts, "Scalable importance tempering and Bayesian variable
+       selection", J. R. Stat. Soc. B 81(3):489-517, 2019.
+
+    Examples
+    --------
+    >>> from rankedassign import synthetic
+    >>> from rankedassign.tracking import TemperedGibbs
+    >>> TemperedGibbs(200, beta=0.5)
+    TemperedGibbs(200, beta=0.5)
+    >>> zr = TemperedGibbs(50, beta=0.5, scheme="zanella-roberts")
+    >>> zr(synthetic.random(rng=0), 1).beta.shape
+    (4, 18)
+    >>> zr.hypotheses(synthetic.random(rng=0), 11, rng=0).sweeps   # T_h - 1 = 10 sweeps' worth
+    10
+    """
+
+    name = "tempered"
+    SCHEMES = ("beta", "zanella-roberts")
+
+    def __init__(self, n_obs: int, *, beta: float, scheme: str = "beta",
+                 method: str | None = None, marginals: str | None = None,
+                 **sampler_options):
+        self.n_obs = check_int(n_obs, "n_obs", minimum=1)
+        if isinstance(beta, bool) or not isinstance(beta, (int, float, np.floating)) \
+                or not 0.0 < float(beta) <= 1.0:
+            raise ValueError(f"beta must be a number in (0, 1], got {beta!r}")
+        self.beta = float(beta)
+        self.scheme = check_choice(scheme, "scheme", self.SCHEMES)
+        zr = self.scheme == "zanella-roberts"
+        if marginals is None:
+            marginals = "importance" if zr else "truncated"
+        if marginals == "importance":
+            if not zr:
+                raise ValueError("marginals='importance' are the Zanella-Roberts scheme's "
+                                 "(importance-weighted states); the beta-chain's marginals come "
+                                 "from its hypotheses: 'truncated' or 'rao-blackwell'")
+            self.importance = True
+            marginals = "truncated"
+        else:
+            self.importance = False
+        if zr and method not in (None, "exact"):
+            raise ValueError(f"method={method!r} does not apply to the Zanella-Roberts scheme: "
+                             "its target is the exact posterior, whose row conditional is "
+                             "method='exact'")
+        self._default_method = "exact" if zr else DEFAULT_METHOD
+        self._settings(marginals, method, sampler_options)
+
+    def __repr__(self):
+        parts = [str(self.n_obs), f"beta={self.beta!r}"]
+        if self.scheme != "beta":
+            parts.append(f"scheme={self.scheme!r}")
+        if self.method != self._default_method:
+            parts.append(f"method={self.method!r}")
+        shown = "importance" if self.importance else self.marginals
+        if shown != ("importance" if self.scheme == "zanella-roberts" else "truncated"):
+            parts.append(f"marginals={shown!r}")
+        parts += [f"{k}={v!r}" for k, v in self.options.items()]
+        return f"{type(self).__name__}({', '.join(parts)})"
+
+    def _sample(self, problem, n: int, rng):
+        opts = self._options(problem)
+        if self.scheme == "beta":
+            return sample_original(problem, n, beta=self.beta, rng=rng, **opts)
+        opts.pop("method", None)  # "exact": the tempered samplers' own conditional
+        res = sample_tempered(problem, n * problem.n_rows, beta=self.beta, rng=rng, **opts)
+        return res
+
+    def __call__(self, problem, rng):
+        res = self._sample(problem, self.n_obs, rng)
+        if not self.importance:
+            return self._result(problem, _as_sampled(res, self.n_obs))
+        n_unique = int(len(res.costs))
+        if _is_multi(problem):
+            dead, tup = res.marginals.dead, res.marginals.tuples
+            return MultiSensorAssociationResult(dead=dead, tuples=tup, invocations=1,
+                                                sweeps=self.n_obs, row_updates=int(res.n_steps),
+                                                n_unique=n_unique)
+        return AssociationResult(beta=res.marginals, invocations=1, sweeps=self.n_obs,
+                                 row_updates=int(res.n_steps), n_unique=n_unique)
+
+    def hypotheses(self, problem, budget: int, rng) -> Hypotheses:
+        """The δ-GLMB truncation of one component's problem with the count ``budget = T_h``.
+
+        As for the other chains (:class:`OriginalGibbs`): ``n = min(T_h − 1, n_obs)``
+        observations (sweeps, or a sweep's worth of moves), ``n = 0`` the start state alone;
+        the unique states are kept with their exact costs.
+
+        Parameters
+        ----------
+        problem : AssignmentProblem or MultiSensorProblem
+        budget : int
+            The component's count ``T_h >= 0``.
+        rng : optional
+            Anything :func:`numpy.random.default_rng` accepts.
+
+        Returns
+        -------
+        Hypotheses
+
+        Examples
+        --------
+        >>> from rankedassign import synthetic
+        >>> TemperedGibbs(1000, beta=0.7).hypotheses(synthetic.random(rng=0), 51, rng=0).sweeps
+        50
+        """
+        n = min(max(check_int(budget, "budget", minimum=0) - 1, 0), self.n_obs)
+        res = _as_sampled(self._sample(problem, n, rng), n)
+        a = np.asarray(res.assignments, dtype=np.int64)
+        costs = -problem.log_weight_of(a) if _is_multi(problem) else problem.cost_of(a)
+        return Hypotheses(a, costs, int(res.n_observations), int(res.n_row_updates))
+
+
+class _TemperedAsSampled(NamedTuple):
+    assignments: np.ndarray
+    costs: np.ndarray
+    n_observations: int
+    n_row_updates: int
+
+
+def _as_sampled(res, n_obs: int):
+    """A sampler's result, or a tempered one with ``n_obs`` observations of its moves."""
+    if hasattr(res, "n_observations"):
+        return res
+    return _TemperedAsSampled(res.assignments, res.costs, n_obs, int(res.n_steps))
 
 
 class Murty(Association):
