@@ -280,3 +280,20 @@ def test_tempered_gibbs_repr_and_refusals():
     with pytest.raises(ValueError, match=re.escape(
             "method='mm' does not apply to the Zanella-Roberts scheme")):
         TemperedGibbs(10, beta=0.5, scheme="zanella-roberts", method="mm")
+
+
+def test_the_multisensor_runner_moved_above_the_filters_with_deprecated_old_paths():
+    import rankedassign.tracking.multisensor as ms
+    import rankedassign.tracking.multisensor.scenario as old
+    from rankedassign.tracking import run_multisensor_scenario
+    from rankedassign.tracking.run import FILTERS
+
+    for module, name, new in ((old, "run_multisensor_scenario", run_multisensor_scenario),
+                              (ms, "run_multisensor_scenario", run_multisensor_scenario),
+                              (old, "FILTERS", FILTERS)):
+        with pytest.warns(DeprecationWarning, match=re.escape(
+                f"rankedassign.tracking.multisensor.scenario.{name} moved to "
+                f"rankedassign.tracking.run.{name}")):
+            assert getattr(module, name) is new
+    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
+        ms.nothing  # noqa: B018

@@ -64,10 +64,9 @@ from .multisensor.scenario import (
     MultiSensorRun,
     make_multisensor_model,
     make_multisensor_scenario,
-    run_multisensor_scenario,
 )
 from .protocol import Filter
-from .run import ScenarioRun, run_scenario
+from .run import ScenarioRun, run_multisensor_scenario, run_scenario
 from .runner import FilterRun, run_filter
 from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
 from .single.glmb import GLMB_EXTRACTIONS, GLMBFilter, GLMBScanRecord

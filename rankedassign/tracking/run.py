@@ -1,28 +1,37 @@
-"""Run the LMB filter on a preset scenario and collect everything the study needs.
+"""Run a filter on a preset scenario, of one sensor or several, and collect everything the
+studies need.
 
 The scan loop is :func:`~rankedassign.tracking.runner.run_filter`'s; this module simulates the
-measurements and builds the filter of a preset.
+measurements (:mod:`rankedassign.tracking.scenario`,
+:mod:`rankedassign.tracking.multisensor.scenario`) and builds the filter of the one table
+(:mod:`rankedassign.tracking.filters`): it stands above the filters it runs.
 """
 
 from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
+
 from ..engine.rng import spawning_generator
 from ..validation import check_bool
 from .association import Association
 from .filters import FILTERS as FILTER_TABLE
 from .filters import make_filter, takes_grouping
-from .multisensor.scenario import run_multisensor_scenario
+from .multisensor.adaptive_birth import AdaptiveBirth
+from .multisensor.lmb import check_sensors
+from .multisensor.scenario import MULTI_SENSORS, MultiSensorRun, make_multisensor_scenario
 from .runner import TIMING_KEYS, run_filter
 from .scenario import ScenarioRun, check_n_scans, make_scenario
 
-__all__ = ["ScenarioRun", "TIMING_KEYS", "run_scenario"]
+__all__ = ["FILTERS", "ScenarioRun", "TIMING_KEYS", "run_multisensor_scenario", "run_scenario"]
 
 
 #: Names of the filters :func:`run_scenario` runs (the rows of
 #: :data:`rankedassign.tracking.filters.FILTERS`, the one table).
 FILTERS = tuple(FILTER_TABLE)
+
+
 def run_scenario(
     preset: str = "paper",
     association: Association | None = None,
@@ -42,7 +51,7 @@ def run_scenario(
     preset : {"paper", "paper-var", "vo", "multi"}
         Model preset (:func:`~rankedassign.tracking.models.make_model`); ``"multi"`` is the
         multi-sensor scenario, run by
-        :func:`~rankedassign.tracking.multisensor.scenario.run_multisensor_scenario` (which
+        :func:`run_multisensor_scenario` (which
         returns a :class:`~rankedassign.tracking.multisensor.scenario.MultiSensorRun`).
     association : Association
         E.g. ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``,
@@ -140,3 +149,100 @@ def run_scenario(
         **{f.name: getattr(run, f.name) for f in dataclasses.fields(ScenarioRun)
            if f.name not in ("scenario", "truth")},
     )
+
+
+def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
+                             sensors=(0, 1, 2), grouping: bool = True,
+                             extraction: str | None = None, birth: str = "paper",
+                             filter: str = "lmb", **filter_options) -> MultiSensorRun:
+    """Simulate the ``"multi"`` scenario and run the multi-sensor LMB or δ-GLMB filter on it.
+
+    Parameters
+    ----------
+    association : callable
+        A multi-sensor association, e.g.
+        ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact")``. Required.
+    rng : optional
+        Two child streams are spawned: the first draws the measurements
+        (:func:`make_multisensor_scenario`), the second drives the filter (one child per scan).
+        The same ``rng`` gives the same measurements whatever the association and sensors.
+        A RandomState is replaced by the Generator seeded with one draw from it.
+    n_scans : int
+        Number of scans (default 100, at most
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
+    sensors : sequence of int
+        The sensors the filter fuses (distinct indices into :data:`MULTI_SENSORS`).
+    grouping : bool
+        One problem per group of tracks sharing gated measurements (default True); ``True``
+        or ``False`` only.
+    extraction : {"hysteresis", "map"} or None
+        State extraction (spec 6.5). None (default): the model's, hysteresis for this
+        preset (:attr:`MultiSensorModel.extraction
+        <rankedassign.tracking.multisensor.MultiSensorModel>`).
+    birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
+        Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
+        :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
+    filter : {"lmb", "glmb"}, filter class or filter object
+        :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter` (default) or
+        :class:`~rankedassign.tracking.MultiSensorGLMBFilter`, by name or class (a class of
+        the table stands for its row, so ``GLMBFilter`` builds the multi-sensor one), a class
+        of one's own (``cls(model, association, **options)``), or a filter object, run as it
+        is (:func:`~rankedassign.tracking.filters.make_filter`); the measurements are the same
+        for all. The δ-GLMB filter takes no ``grouping`` (its components are truncated
+        whole): it must be left at its default.
+    **filter_options
+        Further options of the filter.
+
+    Returns
+    -------
+    MultiSensorRun
+
+    Raises
+    ------
+    TypeError
+        If ``association`` is missing or single-sensor, or on an option of the wrong type
+        (``sensors=5``, ``grouping="no"``, ``rng=1.5``).
+    ValueError
+        On a bad option (an out-of-range sensor, ``n_scans`` above
+        :data:`~rankedassign.tracking.scenario.MAX_SCANS`, ...).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking import run_multisensor_scenario
+    >>> from rankedassign.tracking import ShortChainGibbs
+    >>> assoc = ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="exact")
+    >>> run = run_multisensor_scenario(assoc, rng=1, n_scans=3, sensors=(0, 2))
+    >>> run.truth.shape, run.n_meas.shape
+    ((3, 12, 2), (3,))
+    """
+    if association is None:
+        raise TypeError("run_multisensor_scenario needs an association, e.g. "
+                        "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
+    grouping = check_bool(grouping, "grouping")
+    groups = takes_grouping(filter)
+    if not groups and not grouping:
+        raise ValueError("grouping=False applies to the LMB filter only: the δ-GLMB filter "
+                         "truncates every component's problem whole")
+    n_scans = check_n_scans(n_scans)
+    sensors = check_sensors(sensors, len(MULTI_SENSORS))
+    adaptive = birth if isinstance(birth, AdaptiveBirth) else (
+        AdaptiveBirth() if birth == "adaptive" else None)
+    if adaptive is not None:
+        birth = "adaptive"
+    meas_rng, filter_rng = spawning_generator(rng).spawn(2)
+    scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
+                                         birth=birth)
+    if isinstance(filter, (str, type)):
+        filter_options = {"extraction": extraction, "birth": adaptive, **filter_options}
+        if groups:
+            filter_options["grouping"] = grouping
+    filt = make_filter(filter, scenario.model, association, multi=True,
+                               **filter_options)
+    run = run_filter(filt, [tuple(s.z for s in scans) for scans in scenario.scans],
+                     rng=filter_rng)
+    timings = dict(run.timings)
+    timings.setdefault("birth", np.zeros(run.n_scans))  # a static birth takes no time
+    fields = {f.name: getattr(run, f.name) for f in dataclasses.fields(MultiSensorRun)
+              if f.name not in ("scenario", "truth", "timings")}
+    return MultiSensorRun(scenario=scenario, truth=scenario.truth.positions, timings=timings,
+                          **fields)

@@ -6,7 +6,7 @@ one child random stream per scan, the labelled estimates and existence probabili
 scan, the per-scan counters and timings as arrays, the NaN-padded track array of the estimates
 and, given the truth, OSPA and OSPA(2). The scenario runners
 (:func:`~rankedassign.tracking.run.run_scenario`,
-:func:`~rankedassign.tracking.multisensor.scenario.run_multisensor_scenario`) are this loop on
+:func:`~rankedassign.tracking.run.run_multisensor_scenario`) are this loop on
 simulated measurements.
 """
 

@@ -35,11 +35,8 @@ from ...metrics import ospa2, track_coverage
 from ...tracking.association import Exact, OriginalGibbs, ShortChainGibbs
 from ...tracking.filters import FILTERS
 from ...tracking.marginals import MARGINALS
-from ...tracking.multisensor.scenario import (
-    BIRTHS,
-    MULTI_SENSORS,
-    run_multisensor_scenario,
-)
+from ...tracking.multisensor.scenario import BIRTHS, MULTI_SENSORS
+from ...tracking.run import run_multisensor_scenario
 from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._plots import legend_below, series_style

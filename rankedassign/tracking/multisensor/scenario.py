@@ -20,19 +20,15 @@ compare on the same data.
 
 from __future__ import annotations
 
-import dataclasses
+import sys
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...engine.rng import spawning_generator
-from ...validation import check_bool, check_choice
-
-# the module, not its names: the table imports this package's filters, and this runner is
-# read (at call time) after both have loaded, whichever was imported first
-from .. import filters
+from ...validation import check_choice
 from ..models import LMBBirth, PoissonClutter, PositionSensor, make_model
-from ..runner import run_filter
 from ..scenario import (
     ScenarioRun,
     Truth,
@@ -40,18 +36,15 @@ from ..scenario import (
     generate_measurements,
     paper_truth,
 )
-from .adaptive_birth import AdaptiveBirth
 from .lmb import MultiSensorModel, check_sensors
 
 __all__ = [
     "BIRTHS",
-    "FILTERS",  # noqa: F822 (module __getattr__)
     "MULTI_SENSORS",
     "MultiSensorRun",
     "MultiSensorScenario",
     "make_multisensor_model",
     "make_multisensor_scenario",
-    "run_multisensor_scenario",
 ]
 
 #: ``(σ_v, P_D^v)`` of the four sensors of the ``"multi"`` preset (multi-sensor spec §7.2).
@@ -69,10 +62,17 @@ BIRTHS = ("paper", "narrow", "adaptive")
 
 
 def __getattr__(name: str):
-    # FILTERS: the names of the filters run_multisensor_scenario runs, the rows of the one
-    # table rankedassign.tracking.filters.FILTERS (read when asked, see the import above)
-    if name == "FILTERS":
-        return tuple(filters.FILTERS)
+    # Moved up to rankedassign.tracking.run, above the filters it runs (this module is below
+    # them): the old path keeps working for one release, with a warning. The package
+    # rankedassign.tracking has loaded the runner before any of its modules can be asked, so
+    # it is taken from sys.modules: this module does not depend on the runner above it.
+    if name in ("run_multisensor_scenario", "FILTERS"):
+        run = sys.modules["rankedassign.tracking.run"]
+        warnings.warn(f"rankedassign.tracking.multisensor.scenario.{name} moved to "
+                      f"rankedassign.tracking.run.{name} (also rankedassign.tracking."
+                      f"{name}); the old path is removed in the next release",
+                      DeprecationWarning, stacklevel=2)
+        return getattr(run, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -223,100 +223,3 @@ class MultiSensorRun(ScenarioRun):
 
     scenario: MultiSensorScenario
     n_births: np.ndarray = None
-
-
-def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
-                             sensors=(0, 1, 2), grouping: bool = True,
-                             extraction: str | None = None, birth: str = "paper",
-                             filter: str = "lmb", **filter_options) -> MultiSensorRun:
-    """Simulate the ``"multi"`` scenario and run the multi-sensor LMB or δ-GLMB filter on it.
-
-    Parameters
-    ----------
-    association : callable
-        A multi-sensor association, e.g.
-        ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10, method="exact")``. Required.
-    rng : optional
-        Two child streams are spawned: the first draws the measurements
-        (:func:`make_multisensor_scenario`), the second drives the filter (one child per scan).
-        The same ``rng`` gives the same measurements whatever the association and sensors.
-        A RandomState is replaced by the Generator seeded with one draw from it.
-    n_scans : int
-        Number of scans (default 100, at most
-        :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
-    sensors : sequence of int
-        The sensors the filter fuses (distinct indices into :data:`MULTI_SENSORS`).
-    grouping : bool
-        One problem per group of tracks sharing gated measurements (default True); ``True``
-        or ``False`` only.
-    extraction : {"hysteresis", "map"} or None
-        State extraction (spec 6.5). None (default): the model's, hysteresis for this
-        preset (:attr:`MultiSensorModel.extraction
-        <rankedassign.tracking.multisensor.MultiSensorModel>`).
-    birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
-        Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
-        :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
-    filter : {"lmb", "glmb"}, filter class or filter object
-        :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter` (default) or
-        :class:`~rankedassign.tracking.MultiSensorGLMBFilter`, by name or class (a class of
-        the table stands for its row, so ``GLMBFilter`` builds the multi-sensor one), a class
-        of one's own (``cls(model, association, **options)``), or a filter object, run as it
-        is (:func:`~rankedassign.tracking.filters.make_filter`); the measurements are the same
-        for all. The δ-GLMB filter takes no ``grouping`` (its components are truncated
-        whole): it must be left at its default.
-    **filter_options
-        Further options of the filter.
-
-    Returns
-    -------
-    MultiSensorRun
-
-    Raises
-    ------
-    TypeError
-        If ``association`` is missing or single-sensor, or on an option of the wrong type
-        (``sensors=5``, ``grouping="no"``, ``rng=1.5``).
-    ValueError
-        On a bad option (an out-of-range sensor, ``n_scans`` above
-        :data:`~rankedassign.tracking.scenario.MAX_SCANS`, ...).
-
-    Examples
-    --------
-    >>> from rankedassign.tracking.multisensor.scenario import run_multisensor_scenario
-    >>> from rankedassign.tracking import ShortChainGibbs
-    >>> assoc = ShortChainGibbs(20, 5, tau_stall=5, tau_stale=10, method="exact")
-    >>> run = run_multisensor_scenario(assoc, rng=1, n_scans=3, sensors=(0, 2))
-    >>> run.truth.shape, run.n_meas.shape
-    ((3, 12, 2), (3,))
-    """
-    if association is None:
-        raise TypeError("run_multisensor_scenario needs an association, e.g. "
-                        "ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)")
-    grouping = check_bool(grouping, "grouping")
-    groups = filters.takes_grouping(filter)
-    if not groups and not grouping:
-        raise ValueError("grouping=False applies to the LMB filter only: the δ-GLMB filter "
-                         "truncates every component's problem whole")
-    n_scans = check_n_scans(n_scans)
-    sensors = check_sensors(sensors, len(MULTI_SENSORS))
-    adaptive = birth if isinstance(birth, AdaptiveBirth) else (
-        AdaptiveBirth() if birth == "adaptive" else None)
-    if adaptive is not None:
-        birth = "adaptive"
-    meas_rng, filter_rng = spawning_generator(rng).spawn(2)
-    scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
-                                         birth=birth)
-    if isinstance(filter, (str, type)):
-        filter_options = {"extraction": extraction, "birth": adaptive, **filter_options}
-        if groups:
-            filter_options["grouping"] = grouping
-    filt = filters.make_filter(filter, scenario.model, association, multi=True,
-                               **filter_options)
-    run = run_filter(filt, [tuple(s.z for s in scans) for scans in scenario.scans],
-                     rng=filter_rng)
-    timings = dict(run.timings)
-    timings.setdefault("birth", np.zeros(run.n_scans))  # a static birth takes no time
-    fields = {f.name: getattr(run, f.name) for f in dataclasses.fields(MultiSensorRun)
-              if f.name not in ("scenario", "truth", "timings")}
-    return MultiSensorRun(scenario=scenario, truth=scenario.truth.positions, timings=timings,
-                          **fields)
