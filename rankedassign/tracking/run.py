@@ -171,7 +171,8 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         Number of scans (default 100, at most
         :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
     sensors : sequence of int
-        The sensors the filter fuses (distinct indices into :data:`MULTI_SENSORS`).
+        The sensors the filter fuses (distinct indices into
+        :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`).
     grouping : bool
         One problem per group of tracks sharing gated measurements (default True); ``True``
         or ``False`` only.
@@ -180,7 +181,8 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         preset (:attr:`MultiSensorModel.extraction
         <rankedassign.tracking.multisensor.MultiSensorModel>`).
     birth : {"paper", "narrow", "adaptive"} or AdaptiveBirth
-        Birth model (:data:`BIRTHS`): ``"adaptive"`` is ``AdaptiveBirth()``; an
+        Birth model (:data:`~rankedassign.tracking.multisensor.scenario.BIRTHS`):
+        ``"adaptive"`` is ``AdaptiveBirth()``; an
         :class:`~rankedassign.tracking.AdaptiveBirth` sets its parameters.
     filter : {"lmb", "glmb"}, filter class or filter object
         :class:`~rankedassign.tracking.multisensor.lmb.MultiSensorLMBFilter` (default) or
