@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from rankedassign.kinds import KINDS
+
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("rankedassign", "oracle")
 # Optional dependencies that may be imported inside a function (import cost or availability).
@@ -140,7 +142,9 @@ def test_function_local_imports_only_for_optional_dependencies(module):
 RANKS = {
     "rankedassign._version": 0, "rankedassign.validation": 0, "rankedassign.numba_options": 0,
     "rankedassign.engine": 1,
-    "rankedassign.single": 2.0, "rankedassign.multisensor": 2.1, "rankedassign.adaptive_birth": 2.2,
+    # the kinds, in the order of KINDS: none imports a later one (the list is derived, so a new
+    # kind gets its layer without an edit here)
+    **{f"rankedassign.{k.name}": 2.0 + i / 10 for i, k in enumerate(KINDS)},
     "rankedassign.kinds": 3.0, "rankedassign.metrics": 3.0,
     "rankedassign.samplers": 3.1, "rankedassign.reference": 3.1,
     "rankedassign": 3.2,
@@ -154,8 +158,9 @@ RANKS = {
     "rankedassign.experiments": 6,
     "rankedassign.cli": 7, "rankedassign.__main__": 7,
 }
-LAYER_NAMES = {0: "utilities", 1: "engine", 2.0: "single-sensor kind", 2.1: "multi-sensor kind",
-               2.2: "adaptive-birth kind", 3.0: "kind registry and metrics",
+LAYER_NAMES = {0: "utilities", 1: "engine",
+               **{2.0 + i / 10: f"{k.name} kind" for i, k in enumerate(KINDS)},
+               3.0: "kind registry and metrics",
                3.1: "samplers", 3.2: "package API", 4: "oracle", 5.0: "tracking models",
                5.05: "the scan loop",
                5.1: "single-sensor filters", 5.2: "multi-sensor filters",
