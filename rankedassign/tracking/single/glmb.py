@@ -112,9 +112,16 @@ class GLMBScanRecord(NamedTuple):
     n_components : int
         Components kept after pruning and capping.
     retained_mass : float
-        ``Σ_h w_h K_h / Σ_h w_h Z_h`` (spec §4), NaN when not computed or not available.
+        ``Σ_h w_h K_h / Σ_h w_h Z_h`` (spec §4): the share of the exact posterior the
+        truncation keeps, *before* the scan's merge, prune and ``H_max`` cap; NaN when not
+        computed or not available.
+    carried_mass : float
+        The share of the exact posterior the filter carries into the next scan:
+        ``retained_mass`` times the normalised weight of the merged components that survive
+        the pruning and the cap (``<= retained_mass``, equal when nothing is pruned or
+        capped); NaN when ``retained_mass`` is.
     retained_mass_reason : str
-        Why ``retained_mass`` is NaN ("" when it is a number).
+        Why ``retained_mass`` (and ``carried_mass``) is NaN ("" when it is a number).
     trajectories : tuple
         With ``extraction="trajectory"``: per reported track ``(label, scans, states)``, the
         scans (1-based) since its birth and its filtered state at each; else empty.
@@ -137,6 +144,7 @@ class GLMBScanRecord(NamedTuple):
     cardinality: np.ndarray
     n_components: int
     retained_mass: float
+    carried_mass: float
     retained_mass_reason: str
     trajectories: tuple
 
@@ -234,8 +242,9 @@ class GLMBFilter:
         Mixture reduction of every entry, as :class:`LMBFilter` (``10⁻⁵``, 4, 10,
         ``"bhattacharyya"``).
     retained_mass : bool, optional
-        Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) with the oracle's DP (default
-        False: it costs one exact normaliser per component).
+        Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) and
+        :attr:`GLMBScanRecord.carried_mass` with the oracle's DP (default False: it costs one
+        exact normaliser per gate group of a component).
     keep_histories : bool or None, optional
         Keep every entry's whole association history: the trajectories of
         ``extraction="trajectory"`` and the histories of :meth:`components` read it, and it
@@ -754,8 +763,13 @@ class GLMBFilter:
         return retained_ratio(self.comp_w, children, log_Z), ""
 
     # ----------------------------------------------------------------------- 5. children
-    def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> int:
-        """Merge, prune, cap; the new track table with its Kalman update. Returns children."""
+    def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> tuple[int, float]:
+        """Merge, prune, cap; the new track table with its Kalman update.
+
+        Returns the number of children and the normalised weight (over every merged child)
+        of the components kept by the pruning and the cap, the factor that turns the
+        retained mass into the carried mass.
+        """
         U = self._radix(terms) - 1
         N = children.comp.size
         with np.errstate(divide="ignore"):
@@ -775,7 +789,8 @@ class GLMBFilter:
         if order.size == 0:  # everything below the threshold: keep the heaviest
             order = np.argsort(-w, kind="stable")[:1]
         w = w[order]
-        w = w / w.sum()
+        kept = float(w.sum())
+        w = w / kept
         starts = children.off[first[order]]
         sizes = children.off[first[order] + 1] - starts
         idx = np.repeat(starts - np.cumsum(np.r_[0, sizes[:-1]]), sizes) + np.arange(sizes.sum())
@@ -794,7 +809,7 @@ class GLMBFilter:
         self.labels = self.labels[e_src]
         self.hist = self._append_nodes(parents, meas, self.m[self.offsets[:-1]])
         self._compact_history()
-        return N
+        return N, kept
 
     @staticmethod
     def _radix(terms: _Terms) -> int:
@@ -944,6 +959,10 @@ class GLMBFilter:
         >>> rec = f.step([[0.0, 0.0], [400.0, -600.0]], rng=0)
         >>> rec.labels.tolist(), rec.n_components, round(rec.retained_mass, 6)
         ([[1, 1], [1, 2]], 36, 1.0)
+        >>> capped = GLMBFilter(make_model("vo"), Murty(100), h_max=5, retained_mass=True)
+        >>> rec = capped.step([[0.0, 0.0], [400.0, -600.0]], rng=0)
+        >>> rec.n_components, round(rec.retained_mass, 6), rec.carried_mass < 0.999
+        (5, 1.0, True)
         """
         return self._scan(_check_measurements(z), rng)
 
@@ -981,7 +1000,9 @@ class GLMBFilter:
         else:
             retained, reason = math.nan, "not computed (retained_mass=False)"
         t3 = perf_counter()
-        n_children = self._update(terms, children, z)
+        n_children, kept = self._update(terms, children, z)
+        # what survives the scan: the truncation's share times the capped components' share
+        carried = retained * min(kept, 1.0)
         labels, states, ex, track_labels, track_r, rho, traj = self._extract()
         t4 = perf_counter()
         timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
@@ -993,5 +1014,6 @@ class GLMBFilter:
             n_meas_gated=self._n_gated(terms), n_groups=H, invocations=H,
             sweeps=children.sweeps, row_updates=children.row_updates, n_unique=n_children,
             timings=timings, cardinality=rho, n_components=self.n_components,
-            retained_mass=retained, retained_mass_reason=reason, trajectories=traj,
+            retained_mass=retained, carried_mass=carried, retained_mass_reason=reason,
+            trajectories=traj,
         )
