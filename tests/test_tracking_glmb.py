@@ -469,6 +469,56 @@ def test_the_same_rng_gives_the_same_output():
                                                                                   strict=True))
 
 
+def _switching_run(extraction):
+    """Label (0, 1) leads the best hypothesis for four scans; at scan 5 a birth of scan 3,
+    seen at the other prior track's place, takes over (the best hypothesis switches)."""
+    model = Model(sensor=PositionSensor(0.9, 5.0),
+                  clutter=PoissonClutter(2.0, ((-100.0, 100.0), (-100.0, 100.0))),
+                  birth=LMBBirth((BirthComponent(0.01, [0.0, 0.0, 0.0, 0.0],
+                                                 np.diag([100.0, 4.0, 100.0, 4.0])),)))
+    f = GLMBFilter(model, Murty(50), extraction=extraction)
+    f.set_prior([[0, 1], [0, 2]], [[20.0, 0, 0, 0], [-20.0, 0, 0, 0]],
+                np.tile(np.diag([25.0, 4.0, 25.0, 4.0]), (2, 1, 1)), components=[[0], [1]],
+                weights=[0.6, 0.4])
+    zs = [[[20.0, 0.0]], [[20.5, 0.0]], [[-20.0, 0.5]], [[-20.0, 0.5]], [[-20.0, 0.3]]]
+    return f, [f.step(z, rng=k) for k, z in enumerate(zs)]
+
+
+def test_the_recursive_estimator_keeps_a_track_that_left_the_best_hypothesis():
+    ft, traj = _switching_run("trajectory")
+    fr, rec = _switching_run("recursive")
+    assert [r.labels.tolist() for r in rec] == [[[0, 1]]] * 4 + [[[3, 1]]]
+    for a, b in zip(traj, rec, strict=True):  # the same filter, the same current tracks
+        assert_array_equal(a.labels, b.labels)
+        assert_array_equal(a.states, b.states)
+    # "trajectory": the current best hypothesis only, (0, 1)'s past is gone at the switch
+    assert [lab for lab, _, _ in traj[-1].trajectories] == [(3, 1)]
+    # "recursive": (0, 1) keeps the trajectory it had at scan 4; (3, 1) comes with its past
+    got = {lab: (scans, states) for lab, scans, states in rec[-1].trajectories}
+    assert sorted(got) == [(0, 1), (3, 1)]
+    (lab4, scans4, states4), = traj[3].trajectories
+    assert lab4 == (0, 1)
+    assert_array_equal(got[(0, 1)][0], scans4)
+    assert_array_equal(got[(0, 1)][1], states4)
+    (_, scans5, states5), = traj[-1].trajectories
+    assert_array_equal(got[(3, 1)][0], scans5)
+    assert_array_equal(got[(3, 1)][1], states5)
+    assert scans5.tolist() == [3, 4, 5]
+    # every scan's estimate rewritten: scans 3 and 4 now hold the birth too, scan 5 not (0, 1)
+    est = fr.trajectory_estimates()
+    assert [sorted(e) for e in est] == [[(0, 1)], [(0, 1)], [(0, 1), (3, 1)],
+                                        [(0, 1), (3, 1)], [(3, 1)]]
+    assert_array_equal(est[3][(3, 1)], states5[1])
+    assert_array_equal(est[-1][(3, 1)], rec[-1].states[0])
+
+
+def test_trajectory_estimates_need_the_recursive_extraction():
+    f = GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory")
+    with pytest.raises(ValueError, match="trajectory_estimates\\(\\) needs "
+                                         "extraction='recursive', got extraction='trajectory'"):
+        f.trajectory_estimates()
+
+
 def test_vo_scenario_tracks_and_keeps_the_caps():
     f, recs = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=12, h_max=50,
                    keep_histories=True)
@@ -599,6 +649,7 @@ def test_memory_stays_bounded_by_the_caps():
     g, b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100)
     assert g.keep_histories is False
     assert GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory").keep_histories
+    assert GLMBFilter(make_model("vo"), Murty(3), extraction="recursive").keep_histories
     for x, y in zip(a, b, strict=True):
         assert_array_equal(x.track_existence, y.track_existence)
         assert_array_equal(x.states, y.states)
@@ -606,6 +657,8 @@ def test_memory_stays_bounded_by_the_caps():
     assert all(len(hist) == 1 for _, items in g.components() for _, hist in items)
     with pytest.raises(ValueError, match="extraction='trajectory' needs keep_histories=True"):
         GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory", keep_histories=False)
+    with pytest.raises(ValueError, match="extraction='recursive' needs keep_histories=True"):
+        GLMBFilter(make_model("vo"), Murty(3), extraction="recursive", keep_histories=False)
 
 
 # ----------------------------------------------------------------------------- bad input
