@@ -624,12 +624,19 @@ def test_glmb_study_paired_comparison_is_judged_by_its_95_percent_interval():
 
 
 def test_glmb_study_config_checks_the_tradeoff_values():
+    from rankedassign.experiments import get_study
     from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
 
     with pytest.raises(ValueError, match="tradeoff_h_upd must hold positive ints, got 0"):
         GLMBStudyConfig(tradeoff_h_upd=(100, 0))
     with pytest.raises(ValueError, match="tradeoff_runs must be >= 0, got -1"):
         GLMBStudyConfig(tradeoff_runs=-1)
+    with pytest.raises(ValueError, match="tradeoff method"):
+        GLMBStudyConfig(tradeoff_methods=("lmb-long",))
+    quick = GLMBStudyConfig.quick()
+    assert quick.tradeoff_methods == ("glmb-long", "glmb-short")
+    assert {t[3] for t in get_study("glmb_tracking").tasks(quick, 0) if t[5] != 1000} == {
+        "glmb-long", "glmb-short"}
 
 
 def test_every_study_has_a_tiny_warm_up_that_runs_one_task_set():

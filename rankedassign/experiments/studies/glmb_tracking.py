@@ -100,6 +100,10 @@ class GLMBStudyConfig:
     tradeoff_runs : int
         Runs of every trade-off point (0: no trade-off runs; the figure then has the
         ``h_upd`` points only).
+    tradeoff_methods : tuple of str
+        The truncations run at ``tradeoff_h_upd`` (of :data:`TRADEOFF_METHODS`; the quick
+        settings leave Murty out: it keeps ``Σ_h max(T_h, 1)``, about ``H_max`` components
+        at any ``H_upd``, and their exact masses cost some 30 s of CPU per ``"paper"`` run).
     ospa_c, ospa_p, ospa_window : float, float, int
         OSPA(2) (spec §7: 200 m, 1, 5 scans); OSPA and GOSPA have the same ``c`` and ``p``.
 
@@ -135,6 +139,7 @@ class GLMBStudyConfig:
     retained_mass: tuple = ("vo", "paper")
     tradeoff_h_upd: tuple = (100, 300, 3000, 10_000)
     tradeoff_runs: int = 2
+    tradeoff_methods: tuple = TRADEOFF_METHODS
     ospa_c: float = 200.0
     ospa_p: float = 1.0
     ospa_window: int = 5
@@ -142,13 +147,15 @@ class GLMBStudyConfig:
     @classmethod
     def quick(cls) -> GLMBStudyConfig:
         """Two runs of 100 scans per preset; Murty on the first, the GLMB enumeration not at
-        all; both masses on both presets; the trade-off at ``H_upd`` 100 and 300 on one run."""
+        all; both masses on both presets; the trade-off of the chains at ``H_upd`` 100 and 300
+        on one run."""
         return cls(n_mc=2, murty_runs=1, glmb_exact_runs=0, tradeoff_h_upd=(100, 300),
-                   tradeoff_runs=1)
+                   tradeoff_runs=1, tradeoff_methods=("glmb-long", "glmb-short"))
 
     def __post_init__(self):
         check_fields(self, where="glmb_tracking: ")
-        for name in ("methods", "presets", "retained_mass", "tradeoff_h_upd"):
+        for name in ("methods", "presets", "retained_mass", "tradeoff_h_upd",
+                     "tradeoff_methods"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
         for m in self.methods:
             check_choice(m, "method", GLMB_METHODS)
@@ -163,6 +170,8 @@ class GLMBStudyConfig:
         for name in ("murty_runs", "glmb_exact_runs", "tradeoff_runs"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        for m in self.tradeoff_methods:
+            check_choice(m, "tradeoff method", TRADEOFF_METHODS)
         for h in self.tradeoff_h_upd:
             if isinstance(h, bool) or not isinstance(h, int) or h < 1:
                 raise ValueError(f"tradeoff_h_upd must hold positive ints, got {h!r}")
@@ -362,8 +371,8 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
 def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
     """``(cfg, seed, run, method, preset, h_upd)``: every run of every method on every preset
     (the Murty methods: the first ``murty_runs``; ``"glmb-exact"``: the first
-    ``glmb_exact_runs``), then the trade-off points: the methods of :data:`TRADEOFF_METHODS`
-    at every ``tradeoff_h_upd`` on the first ``tradeoff_runs`` runs."""
+    ``glmb_exact_runs``), then the trade-off points: ``tradeoff_methods`` at every
+    ``tradeoff_h_upd`` on the first ``tradeoff_runs`` runs."""
     def runs(m):
         if "murty" in m:
             return min(cfg.n_mc, cfg.murty_runs)
@@ -372,7 +381,7 @@ def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
     main = [(cfg, seed, r, m, p, cfg.h_upd) for p in cfg.presets for m in cfg.methods
             for r in range(runs(m))]
     extra = [(cfg, seed, r, m, p, h) for p in cfg.presets for h in cfg.tradeoff_h_upd
-             if h != cfg.h_upd for m in TRADEOFF_METHODS if m in cfg.methods
+             if h != cfg.h_upd for m in cfg.tradeoff_methods if m in cfg.methods
              for r in range(min(runs(m), cfg.tradeoff_runs))]
     return main + extra
 
@@ -761,6 +770,7 @@ def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudy
                 "tau_stale": cfg.tau_stale, "murty_k": cfg.murty_k, "murty_runs": cfg.murty_runs,
                 "glmb_exact_runs": cfg.glmb_exact_runs, "retained_mass": list(cfg.retained_mass),
                 "tradeoff_h_upd": list(cfg.tradeoff_h_upd), "tradeoff_runs": cfg.tradeoff_runs,
+                "tradeoff_methods": list(cfg.tradeoff_methods),
                 "ospa_c": cfg.ospa_c, "ospa_p": cfg.ospa_p, "ospa_window": cfg.ospa_window},
         presets=tuple(out),
     )
