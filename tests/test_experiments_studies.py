@@ -548,7 +548,8 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
         assert all(c.n == 1 and math.isnan(c.lo_pct) for c in p.comparisons)
         # trade-off points: every GLMB chain truncation at both H_upd, the LMB points beside
         hs = {(q["method"], q["h_upd"]) for q in p.tradeoff}
-        assert {("glmb-long", 20), ("glmb-long", 40), ("glmb-murty", 20)} <= hs
+        assert {("glmb-long", 20), ("glmb-long", 40), ("glmb-murty", 20),
+                ("glmb-herded", 20)} <= hs
         assert ("lmb-long", None) in hs
     # the per-scan OSPA and OSPA(2) are run_scenario's on the same measurements and filter
     from rankedassign.experiments._executor import run_seed

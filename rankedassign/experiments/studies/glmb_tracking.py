@@ -42,16 +42,17 @@ __all__ = ["GLMB_METHODS", "GLMBStudyConfig", "GLMBMethodSummary", "GLMBPresetSu
            "glmb_tracking_task", "summarise_glmb_tracking", "GLMB_TRACKING"]
 
 #: Methods of the study: filter and truncation (``"glmb-murty-matched"``: Murty with, at every
-#: scan, as many hypotheses as the GLMB short chains found on the same measurements).
+#: scan, as many hypotheses as the GLMB short chains found on the same measurements;
+#: ``"glmb-herded"``: one herded chain of the long chain's budget, ``HerdedGibbs``).
 GLMB_METHODS = ("lmb-exact", "lmb-long", "lmb-short", "lmb-murty", "glmb-exact", "glmb-long",
-                "glmb-short", "glmb-murty", "glmb-murty-matched")
+                "glmb-short", "glmb-murty", "glmb-murty-matched", "glmb-herded")
 _LABELS = {"lmb-exact": "LMB, exact", "lmb-long": "LMB, long chain",
            "lmb-short": "LMB, short chains", "lmb-murty": "LMB, Murty",
            "glmb-exact": "GLMB, exact", "glmb-long": "GLMB, long chain",
            "glmb-short": "GLMB, short chains", "glmb-murty": "GLMB, Murty at H_upd",
-           "glmb-murty-matched": "GLMB, Murty matched"}
+           "glmb-murty-matched": "GLMB, Murty matched", "glmb-herded": "GLMB, herded chain"}
 #: The GLMB truncations drawn over several ``H_upd`` in the trade-off figure.
-TRADEOFF_METHODS = ("glmb-long", "glmb-short", "glmb-murty")
+TRADEOFF_METHODS = ("glmb-long", "glmb-short", "glmb-herded", "glmb-murty")
 #: Each filter's estimators: the first is MAP (the one every comparison uses), the second the
 #: filter's other estimator, reported beside it (LMB: the paper's hysteresis; GLMB: Vo's
 #: recursive trajectory estimator).
@@ -76,7 +77,7 @@ class GLMBStudyConfig:
         Single-sensor model presets (``"vo"``, Vo's example, and ``"paper"``, the paper's
         scenario; ``"paper-var"`` too).
     methods : tuple of str
-        Of :data:`GLMB_METHODS`.
+        Of :data:`GLMB_METHODS` (the quick settings leave ``"glmb-herded"`` out).
     murty_runs, glmb_exact_runs : int
         Runs (the first ones) of the Murty methods and of ``"glmb-exact"`` (which enumerates
         every assignment of every component until a component does not fit: some five minutes
@@ -150,7 +151,8 @@ class GLMBStudyConfig:
         all; both masses on both presets; the trade-off of the chains at ``H_upd`` 100 and 300
         on one run."""
         return cls(n_mc=2, murty_runs=1, glmb_exact_runs=0, tradeoff_h_upd=(100, 300),
-                   tradeoff_runs=1, tradeoff_methods=("glmb-long", "glmb-short"))
+                   tradeoff_runs=1, tradeoff_methods=("glmb-long", "glmb-short"),
+                   methods=tuple(m for m in GLMB_METHODS if m != "glmb-herded"))
 
     def __post_init__(self):
         check_fields(self, where="glmb_tracking: ")
@@ -190,6 +192,8 @@ def _association(cfg: GLMBStudyConfig, method: str):
     if kind == "short":
         return tracking.ShortChainGibbs(cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall,
                                         tau_stale=cfg.tau_stale)
+    if kind == "herded":  # the long chain's budget, min(T_h − 1, obs) sweeps, herded
+        return tracking.HerdedGibbs(cfg.original_obs)
     return tracking.Murty(cfg.murty_k)
 
 
@@ -953,13 +957,15 @@ def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
 
     Every method keeps its colour, dashes and marker in every panel; one legend below.
     """
-    glmb_shown = ("glmb-exact", "glmb-long", "glmb-short", "glmb-murty", "lmb-exact")
+    glmb_shown = ("glmb-exact", "glmb-long", "glmb-short", "glmb-murty", "glmb-herded",
+                  "lmb-exact")
     styles = {m: {**series_style(i), "markevery": 10} for i, m in enumerate(GLMB_METHODS)}
-    panels = (("ospa2", "OSPA(2) (m)", "LMB filter", ("lmb",)),
+    panels = (("ospa2", "OSPA(2) (m)", "LMB filter",
+               ("lmb-exact", "lmb-long", "lmb-short", "lmb-murty")),
               ("ospa2", "OSPA(2) (m)", "δ-GLMB filter", glmb_shown),
               ("cardinality_error", "abs. cardinality error", "δ-GLMB filter", glmb_shown),
-              ("components", "components kept", "δ-GLMB filter", glmb_shown[:4]),
-              ("carried_mass", "carried posterior mass", "δ-GLMB filter", glmb_shown[:4]))
+              ("components", "components kept", "δ-GLMB filter", glmb_shown[:5]),
+              ("carried_mass", "carried posterior mass", "δ-GLMB filter", glmb_shown[:5]))
     fig, axes = figure(len(panels), width=3.6, height=3.0, nrows=len(s.presets),
                        squeeze_row=False)
     for p, row in zip(s.presets, axes, strict=True):
@@ -969,7 +975,7 @@ def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
             drawn = 0
             for r in p.rows:
                 key = f"{what}_{r.method}"
-                if key in cur and r.method.startswith(who):
+                if key in cur and r.method in who:
                     ax.plot(k, cur[key], label=_LABELS[r.method], **styles[r.method])
                     drawn += 1
             if not drawn:  # e.g. the carried mass, not computed on this preset
@@ -996,14 +1002,14 @@ def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
 
 def plot_glmb_tradeoff(s: GLMBStudySummary, directory: Path) -> list[str]:
     """``glmb_tradeoff.png``: per preset, OSPA(2) and carried mass against the hypotheses per
-    scan, one line per GLMB truncation over ``H_upd`` (each point labelled by it), the LMB
-    filter's truncations as points beside in the OSPA(2) panel (its exact update has
-    marginals, no hypotheses: it is the per-scan figure's reference instead)."""
+    scan, one line per GLMB truncation over ``H_upd``, the LMB filter's long and short chains
+    as points beside in the OSPA(2) panel (its exact update has marginals, no hypotheses: it
+    is the per-scan figure's reference instead; six series a panel at most)."""
     from matplotlib.ticker import LogLocator, NullFormatter
 
     glmb_style = {m: series_style(i) for i, m in enumerate(TRADEOFF_METHODS)}
     lmb_style = {m: {**series_style(i + len(TRADEOFF_METHODS)), "ls": "none", "ms": 7}
-                 for i, m in enumerate(("lmb-long", "lmb-short", "lmb-murty"))}
+                 for i, m in enumerate(("lmb-long", "lmb-short"))}
     fig, axes = figure(2, width=4.6, height=3.4, nrows=len(s.presets), squeeze_row=False)
     for p, (ax_o, ax_m) in zip(s.presets, axes, strict=True):
         mass_drawn = 0
