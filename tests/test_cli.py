@@ -400,6 +400,7 @@ TINY_CONFIG = {
 PNGS = ["table1.png", "sweep.png", "tracking_ospa2.png", "tracking_observations.png",
         "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png",
         "multisensor.png", "adaptive_birth.png", "multisensor_tracking.png", "glmb_tracking.png",
+        "glmb_tradeoff.png",
         "tempering_herding_obs.png", "tempering_herding_time.png",
         "tempering_herding_marginals.png"]
 

@@ -142,6 +142,7 @@ def _numeric_fields():
 NUMERIC = _numeric_fields()
 # Counts that may be zero (a part of a study switched off) or are not counts (a seed).
 MAY_BE_ZERO = {("glmb_tracking", "murty_runs"), ("glmb_tracking", "glmb_exact_runs"),
+               ("glmb_tracking", "tradeoff_runs"),
                ("tempering_herding", "tracking_mc"), ("multisensor_tracking", "seed")}
 BAD_INT = [-1, 1.5, 2.0, True, "3", None, 2**70]
 BAD_FLOAT = [float("nan"), float("inf"), -float("inf"), -1.0, 0.0, True, "1", None]

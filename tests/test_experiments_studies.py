@@ -511,7 +511,8 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
         render_glmb_tracking,
     )
     cfg = GLMBStudyConfig(n_mc=1, n_scans=4, h_upd=40, h_max=20, n_chains=10, murty_k=20,
-                          original_obs=200, glmb_exact_runs=1, retained_mass=("vo",))
+                          original_obs=200, glmb_exact_runs=1, retained_mass=("vo",),
+                          tradeoff_h_upd=(20,), tradeoff_runs=1)
     s = run_study("glmb_tracking", cfg, seed=0, progress=False)
     assert [p.preset for p in s.presets] == ["vo", "paper"]
     for p in s.presets:
@@ -523,6 +524,15 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
                 assert len(p.curves[f"ospa_{m}"]) == cfg.n_scans
             assert math.isfinite(r.retained_mass_mean) == (
                 m.startswith("glmb") and p.preset == "vo" and r.n_runs > 0)
+            assert math.isfinite(r.carried_mass_mean) == math.isfinite(r.retained_mass_mean)
+            if math.isfinite(r.carried_mass_mean):
+                assert r.carried_mass_mean <= r.retained_mass_mean * (1 + 1e-12)
+            if r.n_runs:  # every row with its budget beside its accuracy
+                assert r.sweeps_per_scan >= 0
+                assert r.hypotheses_per_scan > 0 or m == "lmb-exact"  # marginals only
+                assert 0 <= r.gospa_mean and 0 <= r.alt_ospa2_mean <= cfg.ospa_c
+                assert r.alt_estimator == ("recursive" if m.startswith("glmb") else
+                                           "hysteresis")
     # the paper scenario's first scan has a component no enumeration reaches: stated, no crash
     exact = {r.method: r for r in s.presets[1].rows}["glmb-exact"]
     assert exact.n_runs == 0
@@ -530,7 +540,17 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
     text = render_glmb_tracking(s, cfg)
     assert "### Preset `vo`" in text and "### Preset `paper`" in text
     assert "GLMB, exact: 1 of 1 runs do not fit" in text and "does not fit" in text
-    assert plot_glmb_tracking(s, tmp_path) == ["glmb_tracking.png"]
+    assert plot_glmb_tracking(s, tmp_path) == ["glmb_tracking.png", "glmb_tradeoff.png"]
+    assert "T_h = 0" in text and "best (deviation)" in text and "95 %" in text
+    for p in s.presets:  # every comparison with its paired interval (one run: none)
+        assert {(c.a, c.b) for c in p.comparisons} >= {("glmb-short", "glmb-long"),
+                                                       ("glmb-murty-matched", "glmb-short")}
+        assert all(c.n == 1 and math.isnan(c.lo_pct) for c in p.comparisons)
+        # trade-off points: every GLMB chain truncation at both H_upd, the LMB points beside
+        hs = {(q["method"], q["h_upd"]) for q in p.tradeoff}
+        assert {("glmb-long", 20), ("glmb-long", 40), ("glmb-murty", 20),
+                ("glmb-herded", 20)} <= hs
+        assert ("lmb-long", None) in hs
     # the per-scan OSPA and OSPA(2) are run_scenario's on the same measurements and filter
     from rankedassign.experiments._executor import run_seed
     from rankedassign.experiments.studies.glmb_tracking import glmb_tracking_task
@@ -544,6 +564,80 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
         want = ospa2(run.truth, run.estimates, cfg.ospa_c, cfg.ospa_p, window).value
         assert_allclose(rec[key], want, rtol=1e-12)
     assert rec["ospa"] != rec["ospa2"]
+
+
+def test_glmb_study_scores_the_lmb_hysteresis_as_a_hysteresis_filter_would():
+    from rankedassign.experiments.studies.glmb_tracking import _lmb_hysteresis
+    from rankedassign.tracking import LMBFilter, ShortChainGibbs, make_scenario
+
+    sc = make_scenario("paper", rng=2, n_scans=12)
+    a = LMBFilter(sc.model, ShortChainGibbs(40, 25, tau_stall=5, tau_stale=10),
+                  extraction="map")
+    b = LMBFilter(sc.model, ShortChainGibbs(40, 25, tau_stall=5, tau_stale=10),
+                  extraction="hysteresis")
+    seen = 0
+    for k, scan in enumerate(sc.scans):
+        a.step(scan.z, rng=k)
+        rb = b.step(scan.z, rng=k)
+        got = _lmb_hysteresis(a)
+        assert a.extraction == "map"
+        assert sorted(got) == sorted(map(tuple, rb.labels.tolist()))
+        for lab, x in zip(map(tuple, rb.labels.tolist()), rb.states, strict=True):
+            assert_allclose(got[lab], x, rtol=0, atol=0)
+        seen += len(got)
+    assert seen > 0
+
+
+def test_glmb_study_matches_murtys_hypotheses_to_a_target():
+    from rankedassign.experiments.studies.glmb_tracking import _matched_h_upd
+
+    class F:
+        comp_w = np.array([0.5, 0.3, 0.1, 0.05, 0.05])
+
+    def kept(h, k):
+        s = np.sqrt(F.comp_w)
+        return int(np.minimum(k, np.maximum(np.floor(h * s / s.sum() + 0.5), 1)).sum())
+
+    for target in (5, 6, 17, 40, 333):
+        for k in (3, 1000):
+            h = _matched_h_upd(F, target, k)
+            assert kept(h, k) <= target or h == 1
+            if kept(h, k) < target and kept(10**6, k) > target:
+                assert kept(h + 1, k) > target  # the largest H_upd that fits
+    assert _matched_h_upd(F, 3, 1000) == 1  # five components keep one each: more than 3
+
+
+def test_glmb_study_paired_comparison_is_judged_by_its_95_percent_interval():
+    from rankedassign.experiments.studies.glmb_tracking import PairedComparison, _compare
+
+    c = _compare({0: 10.0, 1: 20.0, 2: 30.0}, {0: 10.0, 1: 20.0, 2: 30.0}, "a", "b",
+                 target=5.0, two_sided=True)
+    assert (c.mean_pct, c.lo_pct, c.hi_pct, c.n, c.status) == (0.0, 0.0, 0.0, 3, "met")
+    c = _compare({0: 11.0, 1: 10.0}, {0: 10.0, 1: 10.0}, "a", "b", target=5.0)
+    assert c.mean_pct == pytest.approx(5.0)
+    # t(0.975, 1) = 12.706: half width 12.706 * 5 / sqrt(2)... of the sd of (10, 0)
+    assert c.hi_pct - c.mean_pct == pytest.approx(12.7062 * math.sqrt(50) / math.sqrt(2),
+                                                  rel=1e-4)
+    assert c.status == "not resolved"
+    assert PairedComparison("a", "b", "map", 20.0, 15.0, 25.0, 9, 10.0).status == "not met"
+    assert PairedComparison("a", "b", "map", 2.0, -1.0, 4.0, 9, 5.0, True).status == "met"
+    assert PairedComparison("a", "b", "map", 2.0, 1.0, 3.0, 9).status == "not resolved"
+
+
+def test_glmb_study_config_checks_the_tradeoff_values():
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
+
+    with pytest.raises(ValueError, match="tradeoff_h_upd must hold positive ints, got 0"):
+        GLMBStudyConfig(tradeoff_h_upd=(100, 0))
+    with pytest.raises(ValueError, match="tradeoff_runs must be >= 0, got -1"):
+        GLMBStudyConfig(tradeoff_runs=-1)
+    with pytest.raises(ValueError, match="tradeoff method"):
+        GLMBStudyConfig(tradeoff_methods=("lmb-long",))
+    quick = GLMBStudyConfig.quick()
+    assert quick.tradeoff_methods == ("glmb-long", "glmb-short")
+    assert {t[3] for t in get_study("glmb_tracking").tasks(quick, 0) if t[5] != 1000} == {
+        "glmb-long", "glmb-short"}
 
 
 def test_every_study_has_a_tiny_warm_up_that_runs_one_task_set():

@@ -250,6 +250,100 @@ def test_retained_mass_is_nan_with_the_reason_when_the_oracle_cannot(monkeypatch
                         r"oracle's DP: too large for the DP", rec.retained_mass_reason)
 
 
+def _naive_children(model, prior, tracks, z, k, gate=GATE):
+    """Every child of one exact scan, unmerged and unnormalised: ``[(parent, cost, w, track
+    set)]`` with ``w = w_parent exp(−cost)``, each parent's children in increasing cost."""
+    F, Q = model.motion.F, model.motion.Q
+    H, R = model.sensor.H, model.sensor.R
+    pd, ps, kappa = model.sensor.p_d, model.survival.p_s, model.clutter.intensity
+    pred = {n: (F @ m, F @ P @ F.T + Q) for n, (m, P) in tracks.items()}
+    births = [(((k, b + 1), ()), c.mean, c.cov, c.r)
+              for b, c in enumerate(model.birth.components)]
+    out = []
+    for h, (comp, w) in enumerate(prior.items()):
+        rows = births + [(n, pred[n][0], pred[n][1], ps) for n in sorted(comp)]
+        P_, Mz = len(rows), len(z)
+        cost = np.full((P_, Mz + 2 * P_), np.inf)
+        for i, (_, m, P, p) in enumerate(rows):
+            S = H @ P @ H.T + R
+            for j in range(Mz):
+                nu = z[j] - H @ m
+                d2 = nu @ np.linalg.solve(S, nu)
+                if d2 <= gate:
+                    q = math.exp(-0.5 * d2) / (2 * math.pi * math.sqrt(np.linalg.det(S)))
+                    cost[i, j] = -math.log(p * pd * q / kappa)
+            cost[i, Mz + i] = -math.log(p * (1 - pd))
+            cost[i, Mz + P_ + i] = -math.log1p(-p) if p < 1 else math.inf
+        ranked = oracle.enumerate_assignments(AssignmentProblem(cost))
+        order = np.argsort(ranked.costs, kind="stable")
+        for a, c in zip(np.asarray(ranked.assignments)[order], np.asarray(ranked.costs)[order],
+                        strict=True):
+            child = frozenset((rows[i][0][0], rows[i][0][1] + (int(col) if col < Mz else -1,))
+                              for i, col in enumerate(a) if col < Mz + P_)
+            out.append((h, float(c), w * math.exp(-c), child))
+    return out
+
+
+def _naive_masses(children, k_best, h_max):
+    """Retained and carried mass by brute force: each parent keeps its ``k_best`` cheapest
+    children; the kept children merge by track set; the ``h_max`` heaviest survive."""
+    total = sum(w for _, _, w, _ in children)
+    seen, merged = {}, {}
+    for h, _, w, child in children:
+        seen[h] = seen.get(h, 0) + 1
+        if seen[h] <= k_best:
+            merged[child] = merged.get(child, 0.0) + w
+    kept = sorted(merged.values(), reverse=True)
+    return sum(kept) / total, sum(kept[:h_max]) / total
+
+
+@pytest.mark.parametrize("k_best, h_max", [(1, 10**6), (3, 10**6), (3, 4), (10**6, 5)])
+def test_retained_and_carried_mass_are_the_brute_force_to_1e_12(k_best, h_max):
+    model = _small_model(n_births=1)
+    labels, means, covs = _prior_tracks()
+    comps, weights = [[0, 1, 2], [1], [0, 2]], [0.5, 0.3, 0.2]
+    assoc = Exact() if k_best == 10**6 else Murty(k_best)
+    f = GLMBFilter(model, assoc, prune_hypothesis=0.0, h_max=h_max, h_upd=10**6,
+                   retained_mass=True)
+    f.set_prior(labels, means, covs, comps, weights)
+    rec = f.step(Z1, rng=0)
+    prior, tracks = _naive_prior(labels, means, covs, comps, weights)
+    retained, carried = _naive_masses(_naive_children(model, prior, tracks, Z1, 1), k_best,
+                                      h_max)
+    assert rec.retained_mass == pytest.approx(retained, abs=1e-12)
+    assert rec.carried_mass == pytest.approx(carried, abs=1e-12)
+    assert rec.carried_mass <= rec.retained_mass
+    if h_max == 10**6:  # nothing pruned or capped: the two masses are one
+        assert rec.carried_mass == pytest.approx(rec.retained_mass, abs=1e-15)
+        assert retained < 1.0 or k_best == 10**6
+    else:
+        assert rec.n_components == h_max
+        assert carried < retained - 1e-3  # the cap's drop shows
+
+
+def test_a_cap_of_five_drops_carried_mass_that_the_retained_mass_does_not_show():
+    z = [[0.0, 0.0], [400.0, -600.0], [-800.0, -200.0]]
+    free = GLMBFilter(make_model("vo"), Murty(40), h_upd=40, retained_mass=True).step(z, rng=0)
+    capped = GLMBFilter(make_model("vo"), Murty(40), h_upd=40, h_max=5,
+                        retained_mass=True).step(z, rng=0)
+    assert free.n_components == capped.n_unique >= 35
+    assert capped.n_components == 5
+    assert capped.retained_mass == free.retained_mass > 0.9999
+    assert free.carried_mass == pytest.approx(free.retained_mass, abs=1e-15)
+    assert capped.carried_mass < 0.95 * capped.retained_mass
+
+
+def test_carried_mass_never_exceeds_the_retained_mass_over_a_run():
+    sc = make_scenario("vo", rng=4, n_scans=12)
+    f = GLMBFilter(sc.model, Murty(50), h_upd=100, h_max=8, retained_mass=True)
+    gaps = []
+    for k, scan in enumerate(sc.scans):
+        rec = f.step(scan.z, rng=k)
+        assert rec.carried_mass <= rec.retained_mass * (1 + 1e-12)
+        gaps.append(rec.retained_mass - rec.carried_mass)
+    assert max(gaps) > 0  # the cap of 8 bit on some scan
+
+
 def _cardinality(post, n_max):
     card = np.zeros(n_max + 1)
     for s, w in post.items():
@@ -373,6 +467,56 @@ def test_the_same_rng_gives_the_same_output():
         assert (x.sweeps, x.n_unique, x.n_components) == (y.sweeps, y.n_unique, y.n_components)
     assert any(x.sweeps != y.sweeps or x.n_unique != y.n_unique for x, y in zip(a, c,
                                                                                   strict=True))
+
+
+def _switching_run(extraction):
+    """Label (0, 1) leads the best hypothesis for four scans; at scan 5 a birth of scan 3,
+    seen at the other prior track's place, takes over (the best hypothesis switches)."""
+    model = Model(sensor=PositionSensor(0.9, 5.0),
+                  clutter=PoissonClutter(2.0, ((-100.0, 100.0), (-100.0, 100.0))),
+                  birth=LMBBirth((BirthComponent(0.01, [0.0, 0.0, 0.0, 0.0],
+                                                 np.diag([100.0, 4.0, 100.0, 4.0])),)))
+    f = GLMBFilter(model, Murty(50), extraction=extraction)
+    f.set_prior([[0, 1], [0, 2]], [[20.0, 0, 0, 0], [-20.0, 0, 0, 0]],
+                np.tile(np.diag([25.0, 4.0, 25.0, 4.0]), (2, 1, 1)), components=[[0], [1]],
+                weights=[0.6, 0.4])
+    zs = [[[20.0, 0.0]], [[20.5, 0.0]], [[-20.0, 0.5]], [[-20.0, 0.5]], [[-20.0, 0.3]]]
+    return f, [f.step(z, rng=k) for k, z in enumerate(zs)]
+
+
+def test_the_recursive_estimator_keeps_a_track_that_left_the_best_hypothesis():
+    ft, traj = _switching_run("trajectory")
+    fr, rec = _switching_run("recursive")
+    assert [r.labels.tolist() for r in rec] == [[[0, 1]]] * 4 + [[[3, 1]]]
+    for a, b in zip(traj, rec, strict=True):  # the same filter, the same current tracks
+        assert_array_equal(a.labels, b.labels)
+        assert_array_equal(a.states, b.states)
+    # "trajectory": the current best hypothesis only, (0, 1)'s past is gone at the switch
+    assert [lab for lab, _, _ in traj[-1].trajectories] == [(3, 1)]
+    # "recursive": (0, 1) keeps the trajectory it had at scan 4; (3, 1) comes with its past
+    got = {lab: (scans, states) for lab, scans, states in rec[-1].trajectories}
+    assert sorted(got) == [(0, 1), (3, 1)]
+    (lab4, scans4, states4), = traj[3].trajectories
+    assert lab4 == (0, 1)
+    assert_array_equal(got[(0, 1)][0], scans4)
+    assert_array_equal(got[(0, 1)][1], states4)
+    (_, scans5, states5), = traj[-1].trajectories
+    assert_array_equal(got[(3, 1)][0], scans5)
+    assert_array_equal(got[(3, 1)][1], states5)
+    assert scans5.tolist() == [3, 4, 5]
+    # every scan's estimate rewritten: scans 3 and 4 now hold the birth too, scan 5 not (0, 1)
+    est = fr.trajectory_estimates()
+    assert [sorted(e) for e in est] == [[(0, 1)], [(0, 1)], [(0, 1), (3, 1)],
+                                        [(0, 1), (3, 1)], [(3, 1)]]
+    assert_array_equal(est[3][(3, 1)], states5[1])
+    assert_array_equal(est[-1][(3, 1)], rec[-1].states[0])
+
+
+def test_trajectory_estimates_need_the_recursive_extraction():
+    f = GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory")
+    with pytest.raises(ValueError, match="trajectory_estimates\\(\\) needs "
+                                         "extraction='recursive', got extraction='trajectory'"):
+        f.trajectory_estimates()
 
 
 def test_vo_scenario_tracks_and_keeps_the_caps():
@@ -505,6 +649,7 @@ def test_memory_stays_bounded_by_the_caps():
     g, b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10), n_scans=30, h_max=20, h_upd=100)
     assert g.keep_histories is False
     assert GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory").keep_histories
+    assert GLMBFilter(make_model("vo"), Murty(3), extraction="recursive").keep_histories
     for x, y in zip(a, b, strict=True):
         assert_array_equal(x.track_existence, y.track_existence)
         assert_array_equal(x.states, y.states)
@@ -512,6 +657,8 @@ def test_memory_stays_bounded_by_the_caps():
     assert all(len(hist) == 1 for _, items in g.components() for _, hist in items)
     with pytest.raises(ValueError, match="extraction='trajectory' needs keep_histories=True"):
         GLMBFilter(make_model("vo"), Murty(3), extraction="trajectory", keep_histories=False)
+    with pytest.raises(ValueError, match="extraction='recursive' needs keep_histories=True"):
+        GLMBFilter(make_model("vo"), Murty(3), extraction="recursive", keep_histories=False)
 
 
 # ----------------------------------------------------------------------------- bad input

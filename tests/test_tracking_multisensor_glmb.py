@@ -217,6 +217,44 @@ def test_retained_mass_factorises_over_groups_as_the_whole_components_normaliser
     assert [c.tolist() for c in comps] == [[0, 1], [0]]
 
 
+@pytest.mark.parametrize("h_max", [10**6, 6])
+def test_carried_mass_is_the_share_of_the_exact_posterior_the_cap_keeps(h_max):
+    model = _model()
+    labels, means, covs = _prior()
+    comps, weights = [[0, 1], [1], []], [0.5, 0.3, 0.2]
+    f = MultiSensorGLMBFilter(model, Exact(), prune_hypothesis=0.0, h_max=h_max,
+                              retained_mass=True)
+    f.set_prior(labels, means, covs, comps, weights)
+    rec = f.step(ZS1, rng=1)
+    names = [((a, b), ()) for a, b in map(tuple, labels)]
+    prior = {frozenset(names[i] for i in c): w for c, w in zip(comps, weights, strict=True)}
+    tracks = {n: (m, P) for n, m, P in zip(names, means, covs, strict=True)}
+    post, _ = naive_step(model, prior, tracks, ZS1, 1)  # every child, merged, normalised
+    heaviest = sorted(post.values(), reverse=True)[:h_max]
+    assert rec.retained_mass == pytest.approx(1.0, abs=1e-12)
+    assert rec.carried_mass == pytest.approx(sum(heaviest), abs=1e-12)
+    if h_max < len(post):
+        assert rec.n_components == h_max
+        assert rec.carried_mass < rec.retained_mass - 1e-3
+    else:
+        assert rec.carried_mass == pytest.approx(rec.retained_mass, abs=1e-15)
+
+
+def test_carried_mass_of_a_sampled_truncation_is_at_most_its_retained_mass():
+    model = _model(n_births=2)
+    labels, means, covs = _prior()
+    for h_max in (10**6, 3):
+        f = MultiSensorGLMBFilter(model, ShortChainGibbs(3, 2, method="exact"), h_upd=40,
+                                  h_max=h_max, prune_hypothesis=0.0, retained_mass=True)
+        f.set_prior(labels, means, covs, [[0, 1], [0]], [0.6, 0.4])
+        for k, zs in enumerate([ZS1, ZS2], start=1):
+            rec = f.step(zs, rng=k)
+            assert 0.0 < rec.carried_mass <= rec.retained_mass * (1 + 1e-12)
+            if h_max == 10**6:
+                assert rec.carried_mass == pytest.approx(rec.retained_mass, abs=1e-15)
+    assert rec.carried_mass < rec.retained_mass  # the cap of 3 bit
+
+
 def test_a_count_of_one_keeps_the_all_missed_child_without_a_problem(monkeypatch):
     model = _model()
     f = MultiSensorGLMBFilter(model, ShortChainGibbs(5, 5, method="mm"), h_upd=1)

@@ -437,7 +437,7 @@ class GLMBTracker(_LabeledTracker):
     association : rankedassign.tracking.Association, optional
         ``OriginalGibbs``, ``ShortChainGibbs``, ``Murty`` or ``Exact`` (default
         ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``).
-    extraction : {"map", "trajectory", "hysteresis"}, optional
+    extraction : {"map", "trajectory", "recursive", "hysteresis"}, optional
         State extraction of the filter (default ``"map"``, Vo's).
 
     Attributes
@@ -498,7 +498,8 @@ class GLMBTracker(_LabeledTracker):
         default_factory=lambda: ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
         doc="Our truncation of every GLMB component's problem.")
     extraction: str = Property(default="map",
-                               doc='State extraction: "map", "trajectory" or "hysteresis".')
+                               doc='State extraction: "map", "trajectory", "recursive" or '
+                                   '"hysteresis".')
 
     def _make_filter(self, model):
         return GLMBFilter(model, self.association, gate_prob=self.gate_prob,

@@ -18,7 +18,8 @@ One scan of :class:`GLMBFilter` (``../shared/spec/glmb.md`` §2) runs these phas
    children with the same track set merged; pruning, the ``H_max`` cap, the new track table
    (unused entries dropped) and the Kalman update of the entries kept;
 6. estimation (:meth:`GLMBFilter._extract`): MAP cardinality and the heaviest component, the
-   trajectories along the histories, or hysteresis on ``r(ℓ)`` (spec §3).
+   trajectories along the histories (of the best hypothesis, or Vo's recursive estimator),
+   or hysteresis on ``r(ℓ)`` (spec §3).
 
 The per-(track, measurement) algebra is that of the LMB filter
 (:mod:`rankedassign.tracking._kernels`), so both filters see the same numbers.
@@ -70,7 +71,7 @@ __all__ = [
 ]
 
 #: State extraction rules of :class:`GLMBFilter` (``extraction``).
-GLMB_EXTRACTIONS = ("map", "trajectory", "hysteresis")
+GLMB_EXTRACTIONS = ("map", "trajectory", "recursive", "hysteresis")
 #: Largest number of assignments :class:`~rankedassign.tracking.Exact` keeps in one scan, over
 #: all components (their children must fit in memory before the merge and the cap).
 EXACT_SCAN_LIMIT = 5_000_000
@@ -112,12 +113,22 @@ class GLMBScanRecord(NamedTuple):
     n_components : int
         Components kept after pruning and capping.
     retained_mass : float
-        ``Σ_h w_h K_h / Σ_h w_h Z_h`` (spec §4), NaN when not computed or not available.
+        ``Σ_h w_h K_h / Σ_h w_h Z_h`` (spec §4): the share of the exact posterior the
+        truncation keeps, *before* the scan's merge, prune and ``H_max`` cap; NaN when not
+        computed or not available.
+    carried_mass : float
+        The share of the exact posterior the filter carries into the next scan:
+        ``retained_mass`` times the normalised weight of the merged components that survive
+        the pruning and the cap (``<= retained_mass``, equal when nothing is pruned or
+        capped); NaN when ``retained_mass`` is.
     retained_mass_reason : str
-        Why ``retained_mass`` is NaN ("" when it is a number).
+        Why ``retained_mass`` (and ``carried_mass``) is NaN ("" when it is a number).
     trajectories : tuple
         With ``extraction="trajectory"``: per reported track ``(label, scans, states)``, the
-        scans (1-based) since its birth and its filtered state at each; else empty.
+        scans (1-based) since its birth and its filtered state at each. With
+        ``extraction="recursive"``: the same for every label the estimator has reported so
+        far, in increasing label order, a label that left the best hypothesis with the
+        trajectory it had when it was last in it. Else empty.
     """
 
     labels: np.ndarray
@@ -137,6 +148,7 @@ class GLMBScanRecord(NamedTuple):
     cardinality: np.ndarray
     n_components: int
     retained_mass: float
+    carried_mass: float
     retained_mass_reason: str
     trajectories: tuple
 
@@ -219,13 +231,19 @@ class GLMBFilter:
         Drop components with ``w < prune_hypothesis`` (default ``10⁻¹⁵``), in ``[0, 1)``.
     gate_prob : float or None, optional
         χ² gate probability (default ``1 − 10⁻⁷``, Vo's); None disables gating.
-    extraction : {"map", "trajectory", "hysteresis"} or None, optional
+    extraction : {"map", "trajectory", "recursive", "hysteresis"} or None, optional
         None (default): the model's :attr:`~rankedassign.tracking.Model.extraction` (its
         preset's: ``"map"`` for ``"vo"``, ``"hysteresis"`` for ``"paper"``). ``"map"`` (Vo's):
         the MAP cardinality ``n̂ = argmax ρ``, the heaviest component
         with ``n̂`` tracks, the mean of each track's heaviest Gaussian. ``"trajectory"``: the
         same tracks, and each one's filtered states along its association history
-        (:attr:`GLMBScanRecord.trajectories`). ``"hysteresis"``: labels with
+        (:attr:`GLMBScanRecord.trajectories`): the trajectories of the current best
+        hypothesis only, so a label that leaves it loses its past. ``"recursive"`` (Vo's
+        ``extract_estimates_recursive``): the same tracks and, besides, the trajectory of every
+        label that was ever in the best hypothesis; a label still in it has its past rewritten
+        to its current association history, a label that left keeps the trajectory it had
+        (:meth:`trajectory_estimates` gives every scan's rewritten estimate, the one to
+        score with OSPA(2)). ``"hysteresis"``: labels with
         ``r(ℓ) >= theta_upper``, kept while ``r(ℓ) >= theta_lower`` (the paper's rule, spec
         6.5), each with its heaviest entry.
     theta_upper, theta_lower : float, optional
@@ -234,8 +252,9 @@ class GLMBFilter:
         Mixture reduction of every entry, as :class:`LMBFilter` (``10⁻⁵``, 4, 10,
         ``"bhattacharyya"``).
     retained_mass : bool, optional
-        Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) with the oracle's DP (default
-        False: it costs one exact normaliser per component).
+        Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) and
+        :attr:`GLMBScanRecord.carried_mass` with the oracle's DP (default False: it costs one
+        exact normaliser per gate group of a component).
     keep_histories : bool or None, optional
         Keep every entry's whole association history: the trajectories of
         ``extraction="trajectory"`` and the histories of :meth:`components` read it, and it
@@ -243,7 +262,7 @@ class GLMBFilter:
         False keeps only the last scan's node, so the state stays bounded by the caps however
         long the run (an entry is told apart by its table index, never by its history, so the
         filter's numbers do not change). None (default): True for
-        ``extraction="trajectory"``, else False.
+        ``extraction="trajectory"`` and ``"recursive"``, else False.
 
     Notes
     -----
@@ -324,12 +343,13 @@ class GLMBFilter:
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
         self.max_components = check_int(max_components, "max_components", minimum=1)
         self.retained_mass = check_bool(retained_mass, "retained_mass")
+        reads_histories = self.extraction in ("trajectory", "recursive")
         if keep_histories is None:
-            keep_histories = self.extraction == "trajectory"
+            keep_histories = reads_histories
         self.keep_histories = check_bool(keep_histories, "keep_histories")
-        if self.extraction == "trajectory" and not self.keep_histories:
-            raise ValueError("extraction='trajectory' needs keep_histories=True (a trajectory "
-                             "is read along the association history)")
+        if reads_histories and not self.keep_histories:
+            raise ValueError(f"extraction={self.extraction!r} needs keep_histories=True (a "
+                             "trajectory is read along the association history)")
         self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
         plan = getattr(association, "batch_plan", None)
         self._plan = plan(self._sensors) if callable(plan) else None
@@ -412,6 +432,7 @@ class GLMBFilter:
         self._node_state = np.empty((0, 4))
         self._live_nodes = 0
         self._confirmed = np.empty(0, dtype=np.int64)  # label keys (hysteresis)
+        self._tracks_seen: dict = {}  # label -> (scans, states) (extraction="recursive")
 
     def set_prior(self, labels, means, covs, components=None, weights=None) -> None:
         """Start from a δ-GLMB prior over single-Gaussian tracks (instead of the empty one).
@@ -754,8 +775,13 @@ class GLMBFilter:
         return retained_ratio(self.comp_w, children, log_Z), ""
 
     # ----------------------------------------------------------------------- 5. children
-    def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> int:
-        """Merge, prune, cap; the new track table with its Kalman update. Returns children."""
+    def _update(self, terms: _Terms, children: _Children, z: np.ndarray) -> tuple[int, float]:
+        """Merge, prune, cap; the new track table with its Kalman update.
+
+        Returns the number of children and the normalised weight (over every merged child)
+        of the components kept by the pruning and the cap, the factor that turns the
+        retained mass into the carried mass.
+        """
         U = self._radix(terms) - 1
         N = children.comp.size
         with np.errstate(divide="ignore"):
@@ -775,7 +801,8 @@ class GLMBFilter:
         if order.size == 0:  # everything below the threshold: keep the heaviest
             order = np.argsort(-w, kind="stable")[:1]
         w = w[order]
-        w = w / w.sum()
+        kept = float(w.sum())
+        w = w / kept
         starts = children.off[first[order]]
         sizes = children.off[first[order] + 1] - starts
         idx = np.repeat(starts - np.cumsum(np.r_[0, sizes[:-1]]), sizes) + np.arange(sizes.sum())
@@ -794,7 +821,7 @@ class GLMBFilter:
         self.labels = self.labels[e_src]
         self.hist = self._append_nodes(parents, meas, self.m[self.offsets[:-1]])
         self._compact_history()
-        return N
+        return N, kept
 
     @staticmethod
     def _radix(terms: _Terms) -> int:
@@ -910,9 +937,57 @@ class GLMBFilter:
             if self.extraction == "trajectory":
                 trajectories = tuple((tuple(self.labels[e].tolist()), *self._trajectory(e))
                                      for e in entries)
+            elif self.extraction == "recursive":
+                # Vo's recursive estimator: the labels of the best hypothesis take their
+                # current history (their past is rewritten), the labels that left it keep
+                # the trajectory they had, so a track stays continuous when the best
+                # hypothesis switches
+                for e in entries:
+                    self._tracks_seen[tuple(self.labels[e].tolist())] = self._trajectory(e)
+                trajectories = tuple((lab, *self._tracks_seen[lab])
+                                     for lab in sorted(self._tracks_seen))
         states = self.m[self.offsets[entries]].reshape(-1, 4)
         return (self.labels[entries], states, r_label[linv[entries]], track_labels, r_label,
                 rho, trajectories)
+
+    def trajectory_estimates(self) -> list[dict]:
+        """Every scan's estimate so far by Vo's recursive estimator (``extraction="recursive"``).
+
+        The estimate of scan ``k`` is read from the stored trajectories *now*, so it changes
+        when a later scan rewrites a label's past: it holds every label whose trajectory
+        reaches scan ``k``, with its filtered state there (Vo's ``extract_estimates_recursive``
+        writes its ``est.X`` the same way after each scan). Score these, not the per-scan
+        records, to measure the estimator.
+
+        Returns
+        -------
+        list of dict
+            One per scan ``1..k``: ``{label: state}``, ``label`` a tuple ``(birth scan,
+            index)``, ``state`` an ndarray of shape (4,).
+
+        Raises
+        ------
+        ValueError
+            If the filter's extraction is not ``"recursive"``.
+
+        Examples
+        --------
+        >>> from rankedassign.tracking import GLMBFilter, Murty, make_model
+        >>> f = GLMBFilter(make_model("vo"), Murty(20), extraction="recursive")
+        >>> for k in range(3):
+        ...     rec = f.step([[400.0 - 10 * k, -600.0 + 5 * k]], rng=k)
+        >>> [sorted(est) for est in f.trajectory_estimates()]
+        [[(1, 2)], [(1, 2)], [(1, 2)]]
+        """
+        if self.extraction != "recursive":
+            raise ValueError("trajectory_estimates() needs extraction='recursive', got "
+                             f"extraction={self.extraction!r}")
+        out = [{} for _ in range(self.k)]
+        for lab in sorted(self._tracks_seen):
+            scans, states = self._tracks_seen[lab]
+            for k, x in zip(scans, states, strict=True):
+                out[k - 1][lab] = x
+        return out
 
     # ----------------------------------------------------------------------- the scan
     def step(self, z, rng=None) -> GLMBScanRecord:
@@ -944,6 +1019,10 @@ class GLMBFilter:
         >>> rec = f.step([[0.0, 0.0], [400.0, -600.0]], rng=0)
         >>> rec.labels.tolist(), rec.n_components, round(rec.retained_mass, 6)
         ([[1, 1], [1, 2]], 36, 1.0)
+        >>> capped = GLMBFilter(make_model("vo"), Murty(100), h_max=5, retained_mass=True)
+        >>> rec = capped.step([[0.0, 0.0], [400.0, -600.0]], rng=0)
+        >>> rec.n_components, round(rec.retained_mass, 6), rec.carried_mass < 0.999
+        (5, 1.0, True)
         """
         return self._scan(_check_measurements(z), rng)
 
@@ -981,7 +1060,9 @@ class GLMBFilter:
         else:
             retained, reason = math.nan, "not computed (retained_mass=False)"
         t3 = perf_counter()
-        n_children = self._update(terms, children, z)
+        n_children, kept = self._update(terms, children, z)
+        # what survives the scan: the truncation's share times the capped components' share
+        carried = retained * min(kept, 1.0)
         labels, states, ex, track_labels, track_r, rho, traj = self._extract()
         t4 = perf_counter()
         timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
@@ -993,5 +1074,6 @@ class GLMBFilter:
             n_meas_gated=self._n_gated(terms), n_groups=H, invocations=H,
             sweeps=children.sweeps, row_updates=children.row_updates, n_unique=n_children,
             timings=timings, cardinality=rho, n_components=self.n_components,
-            retained_mass=retained, retained_mass_reason=reason, trajectories=traj,
+            retained_mass=retained, carried_mass=carried, retained_mass_reason=reason,
+            trajectories=traj,
         )
