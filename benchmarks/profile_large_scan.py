@@ -14,8 +14,8 @@ The LMB filter runs with ``grouping=True`` (it then takes the spatial cluster pa
 from __future__ import annotations
 
 import argparse
-import cProfile
 import contextlib
+import cProfile
 import io
 import pstats
 import time

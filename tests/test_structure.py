@@ -146,7 +146,7 @@ RANKS = {
     "rankedassign": 3.2,
     "oracle": 4,
     "rankedassign.tracking.": 5.0, "rankedassign.tracking.single": 5.1,
-    "rankedassign.tracking.runner": 5.05,
+    "rankedassign.tracking.runner": 5.05, "rankedassign.tracking.clustered": 5.15,
     "rankedassign.tracking.multisensor": 5.2, "rankedassign.tracking.filters": 5.2,
     "rankedassign.tracking.run": 5.3,
     "rankedassign.tracking.io": 5.3, "rankedassign.tracking": 5.4,
@@ -158,7 +158,8 @@ LAYER_NAMES = {0: "utilities", 1: "engine", 2.0: "single-sensor kind", 2.1: "mul
                2.2: "adaptive-birth kind", 3.0: "kind registry and metrics",
                3.1: "samplers", 3.2: "package API", 4: "oracle", 5.0: "tracking models",
                5.05: "the scan loop",
-               5.1: "single-sensor filters", 5.2: "multi-sensor filters",
+               5.1: "single-sensor filters", 5.15: "clustered δ-GLMB filter",
+               5.2: "multi-sensor filters",
                5.3: "scenario runners and files", 5.4: "tracking API",
                5.6: "Stone Soup plug-in", 6: "experiments", 7: "CLI"}
 KIND_FILES = ("__init__.py", "problem.py", "synthetic.py", "prepare.py", "reference.py",
