@@ -94,18 +94,20 @@ def test_empty_inputs():
     assert_array_equal(cl.meas_cluster, [-1, -1, -1])
 
 
-def _run(monkeypatch, threshold, association, scenario, **kw):
+def _run(monkeypatch, threshold, association, scenario, batch=4096, **kw):
     monkeypatch.setattr(lmb_module, "SPATIAL_MIN_PAIRS", threshold)
+    monkeypatch.setattr(lmb_module, "SPATIAL_BATCH_PAIRS", batch)
     f = LMBFilter(scenario.model, association, grouping=True, **kw)
     return [f.step(s.z, rng=k) for k, s in enumerate(scenario.scans)]
 
 
+@pytest.mark.parametrize("batch", [0, 4096], ids=["cluster-by-cluster", "batched"])
 @pytest.mark.parametrize("association", [Murty(20), ShortChainGibbs(50, 5, tau_stall=5,
                                                                       tau_stale=10)])
-def test_lmb_spatial_scan_equals_the_dense_scan(monkeypatch, association):
+def test_lmb_spatial_scan_equals_the_dense_scan(monkeypatch, association, batch):
     sc = make_scenario("vo", rng=3, n_scans=15)
     dense = _run(monkeypatch, 1 << 62, association, sc)
-    spatial = _run(monkeypatch, 0, association, sc)
+    spatial = _run(monkeypatch, 0, association, sc, batch=batch)
     for a, b in zip(dense, spatial, strict=True):
         assert_array_equal(a.track_labels, b.track_labels)
         assert_array_equal(a.labels, b.labels)

@@ -59,6 +59,7 @@ __all__ = [
     "ESTIMATES",
     "MERGE_RULES",
     "LMBFilter",
+    "SPATIAL_BATCH_PAIRS",
     "SPATIAL_MIN_PAIRS",
     "ScanRecord",
     "gate_threshold",
@@ -75,10 +76,14 @@ ESTIMATES = ("max-weight", "mean")
 #: gate, clusters, problems and random streams; a track's posterior existence
 #: ``Σ_j β_ij`` is summed over its cluster's columns rather than over every gated column, so the
 #: two agree to rounding (about 1e-16), not bit for bit. Smaller scans, which the recorded
-#: digests cover, keep the dense path. The bound (``2**23``, about 2 900 tracks against as many
-#: measurements) is where the dense terms' ``O(T M)`` cost overtakes the cluster path's Python
-#: work per cluster (measured on the ``large`` scenario, ``benchmarks/README.md``).
-SPATIAL_MIN_PAIRS = 1 << 23
+#: digests cover, keep the dense path. The bound (``2**20``, about 900 tracks against 1 200
+#: measurements) is about where the dense terms' ``O(T M)`` cost overtakes the cluster path's
+#: Python work per batch of clusters (both paths took 0.36-0.63 s a scan at N = 1 000 on the
+#: ``large`` scenario, the cluster path 0.8-1.4 s against 1.3-3.5 s at N = 3 000).
+SPATIAL_MIN_PAIRS = 1 << 20
+#: The cluster path computes the terms and the posterior of consecutive clusters together, in
+#: batches of at most this many (tracks x measurements) pairs.
+SPATIAL_BATCH_PAIRS = 4096
 
 
 
@@ -557,6 +562,14 @@ class LMBFilter:
         n_problems = sum(1 for _, cols in groups if cols.size or sample_empty)
         children = iter(gen.spawn(n_problems)) if n_problems else iter(())
         counts = np.zeros(4, dtype=np.int64)  # invocations, sweeps, row updates, unique
+        beta = self._fill_marginals(beta, terms, groups, children, counts)
+        return beta, n_problems, counts
+
+    def _fill_marginals(self, beta, terms: _Terms, groups, children, counts) -> np.ndarray:
+        """Write the marginals of every group into ``beta`` (T, U + 2), one child stream per
+        problem from ``children``; returns ``beta`` (a new array for one whole problem)."""
+        T, U = terms.gated.shape
+        sample_empty = self.sample_empty_groups
         for rows, cols in groups:
             if cols.size == 0 and not sample_empty:
                 beta[rows, -2:] = self._closed_form(terms, rows)
@@ -568,7 +581,7 @@ class LMBFilter:
                 beta[np.ix_(rows, cols)] = b[:, :-2]
                 beta[rows, -2] = b[:, -2]
                 beta[rows, -1] = b[:, -1]
-        return beta, n_problems, counts
+        return beta
 
     @staticmethod
     def _closed_form(terms: _Terms, rows: np.ndarray) -> np.ndarray:
@@ -653,19 +666,24 @@ class LMBFilter:
             beta[:, -2:] = sub._closed_form(terms, np.arange(rows.size))
             parts.append((rows, *self._part_posterior(sub, np.empty((0, 2)), beta, terms)))
         t_cost = perf_counter() - t0
-        for rows, cols in groups:
-            if cols.size == 0 and not sample_empty:
-                continue
+        for batch in self._batches([g for g in groups if g[1].size or sample_empty]):
             ta = perf_counter()
+            rows = np.concatenate([r for r, _ in batch])
+            cols = np.unique(np.concatenate([c for _, c in batch]))
             sub = self._subset(rows)
             zc = z[cols]
             terms = sub._measurement_terms(zc)
-            every = np.arange(rows.size)
+            # each cluster's rows and columns within the batch's terms
+            local, start = [], 0
+            for r, c in batch:
+                pos = np.searchsorted(terms.used, np.searchsorted(cols, c))
+                local.append((np.arange(start, start + r.size), pos))
+                start += r.size
             tb = perf_counter()
-            b = sub._group_marginals(terms, every, np.arange(terms.used.size), next(children),
-                                     counts)
+            beta = np.zeros((rows.size, terms.used.size + 2))
+            beta = sub._fill_marginals(beta, terms, local, children, counts)
             tc = perf_counter()
-            parts.append((rows, *self._part_posterior(sub, zc[terms.used], b, terms)))
+            parts.append((rows, *self._part_posterior(sub, zc[terms.used], beta, terms)))
             t_cost += tb - ta
             t_assoc += tc - tb
             t_update += perf_counter() - tc
@@ -686,6 +704,23 @@ class LMBFilter:
         t_update += perf_counter() - td
         return (n_used, n_problems, counts, r_new, (offsets, w, m, P),
                 {"cost": t_cost, "association": t_assoc, "update": t_update})
+
+    @staticmethod
+    def _batches(groups):
+        """Consecutive clusters in batches of at most ``SPATIAL_BATCH_PAIRS`` (rows x columns)
+        pairs: one call of the terms and of the posterior per batch, not per cluster (the
+        Python work per call is what a scan of many small clusters costs); a larger cluster
+        is a batch of its own."""
+        batch, n_rows, n_cols = [], 0, 0
+        for rows, cols in groups:
+            if batch and (n_rows + rows.size) * (n_cols + cols.size) > SPATIAL_BATCH_PAIRS:
+                yield batch
+                batch, n_rows, n_cols = [], 0, 0
+            batch.append((rows, cols))
+            n_rows += rows.size
+            n_cols += cols.size
+        if batch:
+            yield batch
 
     @staticmethod
     def _part_posterior(sub: LMBFilter, z, b, terms):
