@@ -167,17 +167,34 @@ def _label_keys(labels: np.ndarray) -> np.ndarray:
     return labels[:, 0] * (1 << 32) + labels[:, 1]
 
 
-def _sorted_components(c: _Cluster, sets: list, weights: np.ndarray) -> None:
-    """Store components ``sets`` (lists of entry indices) with ``weights``, heaviest first,
-    normalised (the δ-GLMB filter reads its components heaviest first)."""
+def _segments(off: np.ndarray, vals: np.ndarray, sel: np.ndarray):
+    """The CSR segments ``sel`` of ``(off, vals)``, concatenated, and their lengths."""
+    n = off[sel + 1] - off[sel]
+    start = np.cumsum(n) - n
+    idx = np.repeat(off[sel] - start, n) + np.arange(int(n.sum()))
+    return vals[idx], n
+
+
+def _store_components(c: _Cluster, off: np.ndarray, tracks: np.ndarray,
+                      weights: np.ndarray) -> None:
+    """Store the components ``(off, tracks)`` (CSR) with ``weights`` in ``c``, heaviest first
+    (ties in the given order) and normalised: the δ-GLMB filter reads its components heaviest
+    first."""
     order = np.argsort(-weights, kind="stable")
-    weights = weights[order]
-    sets = [sets[i] for i in order]
-    sizes = np.array([len(s) for s in sets], dtype=np.int64)
-    c.comp_off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-    c.comp_tracks = (np.concatenate([np.asarray(s, dtype=np.int64) for s in sets])
-                     if sizes.sum() else np.empty(0, dtype=np.int64))
-    c.comp_w = weights / weights.sum()
+    vals, n = _segments(off, tracks, order)
+    c.comp_off = np.concatenate([[0], np.cumsum(n)]).astype(np.int64)
+    c.comp_tracks = vals.astype(np.int64)
+    w = weights[order]
+    c.comp_w = w / w.sum()
+
+
+def _sorted_components(c: _Cluster, sets: list, weights: np.ndarray) -> None:
+    """:func:`_store_components` of components given as lists of entry indices."""
+    sizes = np.array([len(x) for x in sets], dtype=np.int64)
+    tracks = (np.concatenate([np.asarray(x, dtype=np.int64) for x in sets])
+              if sizes.sum() else np.empty(0, dtype=np.int64))
+    _store_components(c, np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64), tracks,
+                      weights)
 
 
 def _keep_entries(c: _Cluster, keep: np.ndarray) -> np.ndarray:
@@ -239,18 +256,22 @@ def _product(a: _Cluster, b: _Cluster, cap: int) -> tuple[_Cluster, float]:
     # w_(i, j) = w_i w_j; the cap keeps the heaviest pairs
     w = np.outer(a.comp_w, b.comp_w).reshape(-1)
     if w.size > cap:
-        top = np.argpartition(-w, cap - 1)[:cap]
+        # the pairs kept in their own order: ties at the cap do not depend on the partition
+        top = np.sort(np.argpartition(-w, cap - 1)[:cap])
         dropped = float(1.0 - w[top].sum())
     else:
         top = np.arange(w.size)
         dropped = 0.0
-    Hb = b.n_components
-    sets = []
-    for p in top.tolist():
-        i, j = divmod(p, Hb)
-        sets.append(np.concatenate([a.comp_tracks[a.comp_off[i]:a.comp_off[i + 1]],
-                                    b.comp_tracks[b.comp_off[j]:b.comp_off[j + 1]] + Ta]))
-    _sorted_components(out, sets, w[top])
+    i, j = np.divmod(top, b.n_components)
+    # the set of pair (i, j): I_i, then I_j with b's entries after a's
+    va, na = _segments(a.comp_off, a.comp_tracks, i)
+    vb, nb = _segments(b.comp_off, b.comp_tracks + Ta, j)
+    n = na + nb
+    start = np.cumsum(n) - n
+    tracks = np.empty(int(n.sum()), dtype=np.int64)
+    tracks[np.repeat(start, na) + np.arange(va.size) - np.repeat(np.cumsum(na) - na, na)] = va
+    tracks[np.repeat(start + na, nb) + np.arange(vb.size) - np.repeat(np.cumsum(nb) - nb, nb)] = vb
+    _store_components(out, np.concatenate([[0], np.cumsum(n)]).astype(np.int64), tracks, w[top])
     return out, max(dropped, 0.0)
 
 
