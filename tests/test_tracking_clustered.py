@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
+import rankedassign.tracking.clustered as clustered_module
 from rankedassign.tracking import (
     BirthComponent,
     ConstantSurvival,
@@ -145,3 +146,17 @@ def test_refused_options():
         ClusteredGLMBFilter(make_model("vo"), SHORT, keep_histories=True)
     with pytest.raises(ValueError, match="h_max must be a positive integer"):
         ClusteredGLMBFilter(make_model("vo"), SHORT, h_max=0)
+
+
+def test_a_cluster_beyond_the_work_bound_is_refused_before_its_scan(monkeypatch):
+    # every track gated to every measurement: one cluster of the 36 tracks, the birth at the
+    # origin and 12 measurements, 37 * 12 * 64 = 28 416 bytes against a bound of 10 000
+    monkeypatch.setattr(clustered_module, "CLUSTER_WORK_BYTES", 10_000)
+    n = 36
+    f = ClusteredGLMBFilter(make_model("vo"), SHORT)
+    f.set_prior(np.column_stack([np.zeros(n, np.int64), np.arange(1, n + 1)]),
+                np.zeros((n, 4)), np.tile(1e6 * np.eye(4), (n, 1, 1)))
+    with pytest.raises(ValueError, match=r"a cluster of 37 labels \(37 Gaussian components\) "
+                                         r"gates 12 measurements: its scan would need 27\.8 KiB "
+                                         r"for its terms, above 9\.8 KiB \(CLUSTER_WORK_BYTES\)"):
+        f.step(np.linspace(-500, 500, 24).reshape(12, 2), rng=0)

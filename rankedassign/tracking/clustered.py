@@ -46,15 +46,31 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine.rng import spawning_generator
-from ..validation import check_type
+from ..validation import MAX_WORK_BYTES, check_type
 from .common import check_measurements as _check_measurements
 from .gating import GatedPairs, clusters, gate_pairs
 from .models import Model
 from .single.glmb import GLMBFilter
 
-__all__ = ["ClusteredGLMBFilter", "ClusteredScanRecord"]
+__all__ = ["CLUSTER_WORK_BYTES", "PAIR_BYTES", "ClusteredGLMBFilter", "ClusteredScanRecord"]
 
 _TWO63 = 2**63
+#: Bytes a cluster's scan holds per (Gaussian component, measurement) pair of its dense terms
+#: (innovations 16, distances 8, log-weights 8, and the per-track cost, weight and gate arrays
+#: of the δ-GLMB scan), rounded up.
+PAIR_BYTES = 64
+#: Largest work a cluster's terms may take: a scene whose gates join so many labels and
+#: measurements into one cluster is refused before the allocation, with the size it would need.
+CLUSTER_WORK_BYTES = MAX_WORK_BYTES
+
+
+def _size(n_bytes: float) -> str:
+    """``n_bytes`` in binary units, e.g. ``'3.5 GiB'``."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if n_bytes < 1024 or unit == "TiB":
+            return f"{n_bytes:.1f} {unit}" if unit != "B" else f"{int(n_bytes)} B"
+        n_bytes /= 1024
+    raise AssertionError  # pragma: no cover
 
 
 class ClusteredScanRecord(NamedTuple):
@@ -435,7 +451,9 @@ class ClusteredGLMBFilter:
         ------
         TypeError, ValueError
             On measurements as :meth:`GLMBFilter.step
-            <rankedassign.tracking.GLMBFilter.step>`.
+            <rankedassign.tracking.GLMBFilter.step>`; ``ValueError`` before a cluster whose
+            terms would take more than :data:`CLUSTER_WORK_BYTES` (every track gated to every
+            measurement in a large scene), with the size.
         """
         z = _check_measurements(z)
         gen = spawning_generator(rng)
@@ -512,13 +530,22 @@ class ClusteredGLMBFilter:
                         dropped = max(dropped, d)
             sel = np.array(births_of[g], dtype=np.int64)
             c._birth_sel = sel
+            cols = cols_of[g][1]
+            need = (c.w.size + sel.size) * cols.size * PAIR_BYTES
+            if need > CLUSTER_WORK_BYTES:
+                raise ValueError(
+                    f"a cluster of {np.unique(_label_keys(c.labels)).size + sel.size} labels "
+                    f"({c.w.size + sel.size} Gaussian components) gates {cols.size} "
+                    f"measurements: its scan would need {_size(need)} for its terms, above "
+                    f"{_size(CLUSTER_WORK_BYTES)} (CLUSTER_WORK_BYTES); the gates join too "
+                    "much of the scene into one cluster: narrow them (gate_prob) or split the "
+                    "scene")
             labs = _label_keys(c.labels)
             first = int(labs.min()) if labs.size else None
             if sel.size:
                 bkey = (self.k + 1) * (1 << 32) + int(sel[0]) + 1
                 first = bkey if first is None else min(first, bkey)
             child = np.random.default_rng([key, first])
-            cols = cols_of[g][1]
             rec = c._scan(np.ascontiguousarray(z[cols]), child)
             for name in timings:
                 timings[name] += rec.timings[name]
