@@ -18,6 +18,8 @@ from rankedassign.tracking import (
     ShortChainGibbs,
     make_model,
     make_scenario,
+    run_filter,
+    run_scenario,
 )
 from rankedassign.tracking.clustered import (
     ClusteredGLMBFilter,
@@ -160,3 +162,15 @@ def test_a_cluster_beyond_the_work_bound_is_refused_before_its_scan(monkeypatch)
                                          r"gates 12 measurements: its scan would need 27\.8 KiB "
                                          r"for its terms, above 9\.8 KiB \(CLUSTER_WORK_BYTES\)"):
         f.step(np.linspace(-500, 500, 24).reshape(12, 2), rng=0)
+
+
+def test_the_runners_run_it():
+    run = run_scenario("vo", Murty(10), rng=0, n_scans=4, filter=ClusteredGLMBFilter)
+    assert run.n_estimated.tolist()[-1] >= 2
+    with pytest.raises(ValueError, match="runs without grouping"):
+        run_scenario("vo", Murty(10), rng=0, n_scans=2, filter=ClusteredGLMBFilter,
+                     grouping=True)
+    sc = make_scenario("vo", rng=0, n_scans=4)
+    f = ClusteredGLMBFilter(sc.model, Murty(10))
+    assert run_filter(f, [s.z for s in sc.scans], rng=0).n_estimated.tolist() == \
+        run.n_estimated.tolist()

@@ -365,6 +365,9 @@ class ClusteredGLMBFilter:
     (10, 3)
     """
 
+    #: The runners pass no ``grouping=`` (every cluster's components are truncated whole).
+    takes_grouping = False
+
     def __init__(self, model: Model, association, *, gate_prob: float = 0.9999999,
                  h_upd: int = 1000, h_max: int = 1000, extraction: str | None = None,
                  retained_mass: bool = False, **options):
