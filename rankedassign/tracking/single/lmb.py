@@ -641,9 +641,10 @@ class LMBFilter:
         The gate is :func:`~rankedassign.tracking.gating.gate_pairs` (a k-d tree of the
         measurements, the exact χ² test on its candidates), the groups
         :func:`~rankedassign.tracking.gating.clusters`: the same groups, in the same order and
-        with the same child streams as the dense path. Each cluster's terms are computed on its
-        own tracks and measurements; the tracks that gate nothing are updated together in
-        closed form. Returns the gated measurements' count, the problems, the counts, the
+        with the same child streams as the dense path. The terms and the posterior are computed
+        for batches of consecutive clusters (:meth:`_batches`) on their own tracks and
+        measurements, each cluster's problem on its rows and columns of the batch; the tracks
+        that gate nothing are updated together in closed form. Returns the gated measurements' count, the problems, the counts, the
         posterior existence and mixtures (as :meth:`_posterior`) and the phase timings.
         """
         t0 = perf_counter()
