@@ -174,3 +174,18 @@ def test_the_runners_run_it():
     f = ClusteredGLMBFilter(sc.model, Murty(10))
     assert run_filter(f, [s.z for s in sc.scans], rng=0).n_estimated.tolist() == \
         run.n_estimated.tolist()
+
+
+def test_small_cap_and_hysteresis_on_a_scene_with_merges():
+    # h_max = 5: products of merging clusters are capped (the dropped mass is recorded) and no
+    # cluster holds more than h_max components; hysteresis carries its memory across merges
+    sc = make_scenario("vo", rng=3, n_scans=12)
+    f = ClusteredGLMBFilter(sc.model, Murty(10), h_upd=5, h_max=5, extraction="hysteresis")
+    recs = [f.step(s.z, rng=k) for k, s in enumerate(sc.scans)]
+    assert all(c.n_components <= 5 for c in f.clusters)
+    assert max(r.merge_dropped_mass for r in recs) > 0
+    assert all(0 <= r.merge_dropped_mass < 1 for r in recs)
+    assert {tuple(x) for x in recs[-1].labels.tolist()} >= {(1, 1), (1, 2), (1, 3)}
+    for c in f.clusters:
+        assert_allclose(c.comp_w.sum(), 1.0, rtol=1e-12)
+        assert np.all(np.diff(c.comp_w) <= 0)  # heaviest first

@@ -644,8 +644,9 @@ class LMBFilter:
         with the same child streams as the dense path. The terms and the posterior are computed
         for batches of consecutive clusters (:meth:`_batches`) on their own tracks and
         measurements, each cluster's problem on its rows and columns of the batch; the tracks
-        that gate nothing are updated together in closed form. Returns the gated measurements' count, the problems, the counts, the
-        posterior existence and mixtures (as :meth:`_posterior`) and the phase timings.
+        that gate nothing are updated together in closed form. Returns the gated measurements'
+        count, the problems, the counts, the posterior existence and mixtures (as
+        :meth:`_posterior`) and the phase timings.
         """
         t0 = perf_counter()
         T = self.n_tracks
