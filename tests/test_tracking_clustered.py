@@ -189,3 +189,24 @@ def test_small_cap_and_hysteresis_on_a_scene_with_merges():
     for c in f.clusters:
         assert_allclose(c.comp_w.sum(), 1.0, rtol=1e-12)
         assert np.all(np.diff(c.comp_w) <= 0)  # heaviest first
+
+
+def test_one_and_two_workers_give_the_same_numbers():
+    sc = make_scenario("vo", rng=5, n_scans=6)
+    one = ClusteredGLMBFilter(sc.model, SHORT, retained_mass=True)
+    two = ClusteredGLMBFilter(sc.model, SHORT, retained_mass=True, workers=2)
+    try:
+        for k, s in enumerate(sc.scans):
+            a = one.step(s.z, rng=k)
+            b = two.step(s.z, rng=k)
+            for name in ("labels", "states", "existence", "track_labels", "track_existence",
+                         "cardinality", "cluster_sizes", "cluster_retained_mass"):
+                assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+            assert (a.sweeps, a.n_unique, a.retained_mass) == (b.sweeps, b.n_unique,
+                                                               b.retained_mass)
+    finally:
+        two.close()
+    with pytest.raises(ValueError, match="workers must be an int >= 1, got 0"):
+        ClusteredGLMBFilter(sc.model, SHORT, workers=0)
+    with pytest.raises(TypeError, match="workers must be an int, got float 1.5"):
+        ClusteredGLMBFilter(sc.model, SHORT, workers=1.5)

@@ -40,13 +40,15 @@ from __future__ import annotations
 
 import copy
 import math
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
 from time import perf_counter
 from typing import NamedTuple
 
 import numpy as np
 
 from ..engine.rng import spawning_generator
-from ..validation import MAX_WORK_BYTES, check_type
+from ..validation import MAX_WORK_BYTES, check_int, check_type
 from .common import check_measurements as _check_measurements
 from .gating import GatedPairs, clusters, gate_pairs
 from .models import Model
@@ -291,6 +293,11 @@ def _product(a: _Cluster, b: _Cluster, cap: int) -> tuple[_Cluster, float]:
     return out, max(dropped, 0.0)
 
 
+def _scan_clusters(tasks: list) -> list:
+    """One scan of every ``(cluster, measurements, stream key)`` task: ``(cluster, record)``."""
+    return [(c, c._scan(z, np.random.default_rng(key))) for c, z, key in tasks]
+
+
 def _convolve_all(dists: list[np.ndarray]) -> np.ndarray:
     """The distribution of a sum of independent counts: a pairwise tree of convolutions."""
     if not dists:
@@ -323,6 +330,12 @@ class ClusteredGLMBFilter:
         clusters keep no whole histories across merges).
     retained_mass : bool, optional
         Compute each cluster's retained mass with the oracle's DP and the scene's product.
+    workers : int, optional
+        Processes that run the clusters' scans (default 1: in this process). Each cluster's
+        scan depends only on its own state, measurements and stream, so the numbers are the
+        same for any ``workers``; the states travel to the workers and back by pickling, so
+        it pays only when the clusters' scans dominate. The pool starts at the first scan
+        (forked, so with this process's compiled kernels) and stops with :meth:`close`.
     **options
         Further options of :class:`~rankedassign.tracking.GLMBFilter`
         (``prune_hypothesis``, ``theta_upper``, ``theta_lower``, ``prune_component``,
@@ -332,7 +345,7 @@ class ClusteredGLMBFilter:
     ------
     TypeError, ValueError
         As :class:`~rankedassign.tracking.GLMBFilter`; ``ValueError`` for ``gate_prob=None``,
-        ``extraction="trajectory"`` or ``keep_histories``.
+        ``extraction="trajectory"`` or ``keep_histories``; ``workers`` not an int ``>= 1``.
 
     Notes
     -----
@@ -370,8 +383,10 @@ class ClusteredGLMBFilter:
 
     def __init__(self, model: Model, association, *, gate_prob: float = 0.9999999,
                  h_upd: int = 1000, h_max: int = 1000, extraction: str | None = None,
-                 retained_mass: bool = False, **options):
+                 retained_mass: bool = False, workers: int = 1, **options):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+        self.workers = check_int(workers, "workers", minimum=1)
+        self._executor = None
         if gate_prob is None:
             raise ValueError("ClusteredGLMBFilter needs a gate (gate_prob=None would put every "
                              "label in one cluster): use GLMBFilter without gating")
@@ -516,7 +531,7 @@ class ClusteredGLMBFilter:
         # 4.-5. merge the parts of each group, add its births, run its scan
         t1 = perf_counter()
         timings = {"prediction": t1 - t0, "cost": 0.0, "association": 0.0, "update": 0.0}
-        new_clusters, recs, scanned_sizes = [], [], []
+        new_clusters, recs, scanned_sizes, tasks = [], [], [], []
         n_merges, dropped = 0, 0.0
         for g in range(groups.n_clusters):
             # the parts in increasing order of their smallest label: the product's table (and
@@ -548,12 +563,14 @@ class ClusteredGLMBFilter:
             if sel.size:
                 bkey = (self.k + 1) * (1 << 32) + int(sel[0]) + 1
                 first = bkey if first is None else min(first, bkey)
-            child = np.random.default_rng([key, first])
-            rec = c._scan(np.ascontiguousarray(z[cols]), child)
+            tasks.append((c, np.ascontiguousarray(z[cols]), [key, first]))
+            scanned_sizes.append(int(np.unique(labs).size + sel.size))
+        # 5. the clusters' scans: each depends on its own state, measurements and stream only,
+        # so any split of them over processes gives the same numbers
+        for c, rec in self._run(tasks):
             for name in timings:
                 timings[name] += rec.timings[name]
             recs.append(rec)
-            scanned_sizes.append(int(np.unique(labs).size + sel.size))
             if c.comp_tracks.size:  # a cluster without any track carries nothing
                 new_clusters.append(c)
         self.k += 1
@@ -563,6 +580,33 @@ class ClusteredGLMBFilter:
         self.clusters = [new_clusters[i] for i in order]
         return self._record(recs, scanned_sizes, M, n_gated, timings, n_merges, n_splits,
                             dropped)
+
+    def _run(self, tasks: list) -> list:
+        """``(cluster, record)`` of every task, in task order: here, or in ``workers``
+        processes in contiguous chunks."""
+        if self.workers == 1 or len(tasks) < 2:
+            return _scan_clusters(tasks)
+        if self._executor is None:
+            # fork: the workers start with the compiled kernels of this process
+            self._executor = ProcessPoolExecutor(self.workers,
+                                                 mp_context=multiprocessing.get_context("fork"))
+        n_chunks = min(len(tasks), 4 * self.workers)
+        bounds = np.linspace(0, len(tasks), n_chunks + 1).round().astype(int)
+        chunks = [tasks[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+        return [r for part in self._executor.map(_scan_clusters, chunks) for r in part]
+
+    def close(self) -> None:
+        """Stop the worker processes (``workers > 1``); the next scan starts new ones.
+
+        Examples
+        --------
+        >>> from rankedassign.tracking import Murty, make_model
+        >>> from rankedassign.tracking.clustered import ClusteredGLMBFilter
+        >>> ClusteredGLMBFilter(make_model("vo"), Murty(5), workers=2).close()
+        """
+        if self._executor is not None:
+            self._executor.shutdown()
+            self._executor = None
 
     def _record(self, recs, scanned_sizes, M, n_gated, timings, n_merges, n_splits, dropped):
         def cat(name, shape):
