@@ -35,6 +35,7 @@ from .association import (
     check_truncation,
     truncate,
 )
+from .clustered import ClusteredGLMBFilter, ClusteredScanRecord
 from .common import gate_threshold
 from .filters import FILTERS, make_filter
 from .io import read_measurements, write_measurements
@@ -77,6 +78,8 @@ __all__ = [
     "Association",
     "AssociationResult",
     "BirthComponent",
+    "ClusteredGLMBFilter",
+    "ClusteredScanRecord",
     "ConstantSurvival",
     "ConstantVelocity",
     "Exact",

@@ -140,11 +140,12 @@ an index above 4
     if means.shape != (T, 4) or covs.shape != (T, 4, 4):
         raise ValueError(f"means and covs must have shapes ({T}, 4) and ({T}, 4, 4), got "
                          f"{means.shape} and {covs.shape}")
+    lab = labels.tolist()  # once: formatting each track's name from the array was O(T²)
     for t in range(T):
         if not np.isfinite(means[t]).all():
-            raise ValueError(f"means[{t}] ({_label_text(labels.tolist(), t)}) must be finite, "
+            raise ValueError(f"means[{t}] ({_label_text(lab, t)}) must be finite, "
                              f"got {means[t].tolist()}")
-        _spd(covs[t], 4, f"covs[{t}] ({_label_text(labels.tolist(), t)})")
+        _spd(covs[t], 4, f"covs[{t}] ({_label_text(lab, t)})")
     comps = _check_components(components, T)
     if weights is None:
         w = np.ones(len(comps))

@@ -69,7 +69,8 @@ def takes_grouping(filter) -> bool:
     Returns
     -------
     bool
-        True for the LMB filters and for a class or object of one's own.
+        True for the LMB filters; for a class or object of one's own, its class attribute
+        ``takes_grouping`` (True when it has none).
 
     Examples
     --------
@@ -77,7 +78,9 @@ def takes_grouping(filter) -> bool:
     (False, True)
     """
     entry = _entry(filter if isinstance(filter, (str, type)) else type(filter))
-    return True if entry is None else entry.grouping
+    if entry is None:
+        return bool(getattr(filter, "takes_grouping", True))
+    return entry.grouping
 
 
 def make_filter(filter, model, association, *, multi: bool, **options):

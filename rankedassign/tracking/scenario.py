@@ -2,17 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..engine.rng import check_rng
-from ..validation import check_int, check_type
-from .models import Model, make_model
+from ..validation import MAX_WORK_BYTES, check_int, check_type
+from .models import Model, PoissonClutter, make_model
 
 __all__ = ["MAX_SCANS", "TARGETS", "Truth", "Scan", "paper_truth", "generate_measurements",
-           "Scenario", "make_scenario", "check_n_scans"]
+           "Scenario", "make_scenario", "check_n_scans", "check_n_targets", "large_model",
+           "large_truth", "LARGE_CELL", "LARGE_SPEED", "LARGE_BYTES"]
 
 # Spec §8 (Vo's public gen_truth.m): x_start [p_x, v_x, p_y, v_y], t_birth, t_death (1-based,
 # inclusive; t_death = 101 means the target survives to the end of the run).
@@ -266,8 +269,8 @@ class Scenario:
     Attributes
     ----------
     preset : str
-        Name of the model's preset (``"paper"``, ``"paper-var"`` or ``"vo"``,
-        :data:`~rankedassign.tracking.models.PRESETS`).
+        Name of the preset: ``"paper"``, ``"paper-var"`` or ``"vo"``
+        (:data:`~rankedassign.tracking.models.PRESETS`), or ``"large"``.
     model : Model
         The preset's model, which drew the measurements.
     truth : Truth
@@ -283,20 +286,165 @@ class Scenario:
     scans: list
 
 
-def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Scenario:
+#: Side of the square each target of the ``"large"`` scenario has to itself: one target per
+#: 200 m x 200 m.
+LARGE_CELL = 200.0
+#: Standard deviation (m/s) of each velocity component of a ``"large"`` scenario's targets.
+LARGE_SPEED = 3.0
+#: Bytes a ``"large"`` scenario holds per target and scan: its truth (4 float64) and about 1.3
+#: measurements (a detection and 0.3 clutter points, position, origin and their share of the
+#: arrays), rounded up.
+LARGE_BYTES = 64
+
+
+def check_n_targets(n_targets, n_scans: int) -> int:
+    """``n_targets`` of the ``"large"`` scenario as an int ``>= 0`` that fits in memory.
+
+    Parameters
+    ----------
+    n_targets : int
+        Number of targets (a Python or numpy integer, not ``bool``).
+    n_scans : int
+        Number of scans (already checked).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    TypeError
+        If ``n_targets`` is not an int.
+    ValueError
+        If it is negative, or if the scenario would need more than
+        :data:`~rankedassign.validation.MAX_WORK_BYTES` (the message says how much).
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.scenario import check_n_targets
+    >>> check_n_targets(1000, 100)
+    1000
+    >>> check_n_targets(10**7, 100)
+    Traceback (most recent call last):
+    ...
+    ValueError: n_targets = 10000000 with n_scans = 100 would need 59.6 GiB (64 bytes a target
+    and scan), above MAX_WORK_BYTES = 4.0 GiB; use fewer targets or scans
+    """
+    if isinstance(n_targets, bool) or not isinstance(n_targets, numbers.Integral):
+        raise TypeError(f"n_targets must be an int, got {type(n_targets).__name__} "
+                        f"{n_targets!r}")
+    n_targets = int(n_targets)
+    if n_targets < 0:
+        raise ValueError(f"n_targets must be >= 0, got {n_targets}")
+    need = n_targets * n_scans * LARGE_BYTES
+    if need > MAX_WORK_BYTES:
+        raise ValueError(
+            f"n_targets = {n_targets} with n_scans = {n_scans} would need {_size(need)} "
+            f"({LARGE_BYTES} bytes a target and scan), above MAX_WORK_BYTES = "
+            f"{_size(MAX_WORK_BYTES)}; use fewer targets or scans")
+    return n_targets
+
+
+def large_model(n_targets: int) -> Model:
+    """The model of the ``"large"`` scenario with ``n_targets`` targets.
+
+    Vo's model (``make_model("vo")``: constant velocity, position sensor with
+    ``σ_v = 10`` m, ``P_D = 0.98``, ``P_S = 0.99``, the four birth places) with the clutter
+    density of Vo's example, ``κ = 30 / 2000² = 7.5·10⁻⁶`` m⁻², over the scenario's square of
+    side ``LARGE_CELL √max(n_targets, 1)`` centred on the origin (so ``0.3 n_targets`` clutter
+    points a scan on average).
+
+    Parameters
+    ----------
+    n_targets : int
+        Number of targets (checked by the caller).
+
+    Returns
+    -------
+    Model
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.scenario import large_model
+    >>> large_model(100).clutter.region, large_model(100).clutter.rate
+    (((-1000.0, 1000.0), (-1000.0, 1000.0)), 30.0)
+    """
+    base = make_model("vo")
+    half = 0.5 * LARGE_CELL * math.sqrt(max(n_targets, 1))
+    rate = base.clutter.intensity * (2 * half) ** 2
+    return dataclasses.replace(base, clutter=PoissonClutter(rate, ((-half, half), (-half, half))))
+
+
+def large_truth(n_targets: int, n_scans: int, F: np.ndarray, rng=None) -> Truth:
+    """``n_targets`` targets at constant density that live through every scan.
+
+    Positions uniform over the square of :func:`large_model` at scan 1, velocities
+    ``N(0, LARGE_SPEED²)`` per axis, then ``x ← F x`` without process noise (as
+    :func:`paper_truth`); no target is born or dies during the run, so the density stays one
+    target per ``LARGE_CELL²`` (targets near the edge may drift out of the square).
+
+    Parameters
+    ----------
+    n_targets, n_scans : int
+        Checked by the caller.
+    F : ndarray, shape (4, 4)
+        Transition matrix.
+    rng : optional
+        Randomness (anything :func:`numpy.random.default_rng` accepts).
+
+    Returns
+    -------
+    Truth
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.scenario import large_truth
+    >>> t = large_truth(3, 2, np.eye(4), rng=0)
+    >>> t.states.shape, t.birth.tolist(), t.death.tolist()
+    ((2, 3, 4), [1, 1, 1], [2, 2, 2])
+    """
+    gen = check_rng(rng)
+    half = 0.5 * LARGE_CELL * math.sqrt(max(n_targets, 1))
+    x = np.empty((n_targets, 4))
+    x[:, [0, 2]] = gen.uniform(-half, half, (n_targets, 2))
+    x[:, [1, 3]] = gen.normal(0.0, LARGE_SPEED, (n_targets, 2))
+    states = np.empty((n_scans, n_targets, 4))
+    states[0] = x
+    for k in range(1, n_scans):
+        states[k] = states[k - 1] @ F.T  # x <- F x
+    return Truth(states, np.ones(n_targets, dtype=np.int64),
+                 np.full(n_targets, n_scans, dtype=np.int64))
+
+
+def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100,
+                  n_targets: int | None = None) -> Scenario:
     """Build a preset's model, the truth of spec §8 and simulated measurements.
 
     Parameters
     ----------
-    preset : {"paper", "paper-var", "vo"}
+    preset : {"paper", "paper-var", "vo", "large"}
+        A model preset with the 12-target truth of spec §8, or ``"large"``: ``n_targets``
+        targets at one per 200 m x 200 m, alive through the run (:func:`large_truth`), with
+        Vo's model and clutter density over their square (:func:`large_model`).
     rng : optional
-        Randomness of the measurements.
+        Randomness of the measurements (and of the ``"large"`` truth: the truth draws first).
     n_scans : int
         Number of scans (default 100, at most :data:`MAX_SCANS`).
+    n_targets : int, optional
+        Targets of the ``"large"`` scenario (default 100); refused for the other presets.
 
     Returns
     -------
     Scenario
+
+    Raises
+    ------
+    TypeError
+        If ``n_targets`` is not an int.
+    ValueError
+        On an unknown preset, ``n_targets`` negative, given with another preset, or beyond
+        memory (the message says the bytes it would need, :func:`check_n_targets`).
 
     Examples
     --------
@@ -304,7 +452,20 @@ def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Sce
     >>> sc = make_scenario("vo", rng=0, n_scans=3)
     >>> sc.model.clutter.rate, len(sc.scans)
     (30.0, 3)
+    >>> sc = make_scenario("large", n_targets=400, rng=0, n_scans=2)
+    >>> sc.truth.states.shape, sc.model.clutter.rate
+    ((2, 400, 4), 120.0)
     """
+    if preset == "large":
+        n_scans = check_n_scans(n_scans)
+        n_targets = check_n_targets(100 if n_targets is None else n_targets, n_scans)
+        model = large_model(n_targets)
+        gen = check_rng(rng)
+        truth = large_truth(n_targets, n_scans, model.motion.F, gen)
+        return Scenario(preset, model, truth, generate_measurements(truth, model, rng=gen))
+    if n_targets is not None:
+        raise ValueError(f"n_targets is an option of the 'large' scenario only (preset "
+                         f"{preset!r} has the 12 targets of spec §8)")
     model = make_model(preset)
     truth = paper_truth(n_scans, model.motion.F)
     return Scenario(preset, model, truth, generate_measurements(truth, model, rng=rng))

@@ -59,6 +59,7 @@ from ..common import check_measurements as _check_measurements
 from ..common import concat as _concat
 from ..common import gate_threshold, retained_ratio
 from ..common import logsumexp as _logsumexp
+from ..gating import GatedPairs, clusters
 from ..models import ConstantVelocity, LinearMotion, Model
 from . import _glmb_kernels
 
@@ -748,14 +749,17 @@ class GLMBFilter:
                     h, self.comp_off, self.comp_tracks, self._births, terms.gated, mark, rows,
                     cols)
                 r, c = rows[:P].copy(), cols[:M].copy()
-                groups, meas_groups, n = _kernels.connected_groups(
-                    np.ascontiguousarray(terms.gated[np.ix_(r, c)]))
-            for g in range(n):
-                rr = r[groups == g]
+            # the groups by sparse connected components (the dense kernel's partition and
+            # order, without its rows x columns x rows scan)
+            tr, me = np.nonzero(terms.gated[np.ix_(r, c)])
+            groups = clusters(GatedPairs(tr.astype(np.int64), me.astype(np.int64), P, M,
+                                         int(tr.size))).groups()
+            for g_rows, g_cols in groups:
+                rr = r[g_rows]
                 name = tuple(rr.tolist())
                 value = cache.get(name)
                 if value is None:
-                    cg = c[meas_groups == g]
+                    cg = c[g_cols]
                     if rr.size == 1:
                         t = rr[0]
                         value = _logsumexp(np.r_[terms.log_det[t, cg], terms.log_miss[t],

@@ -1,0 +1,151 @@
+"""Tests of the spatial gate and the clusters (rankedassign.tracking.gating) and of the LMB
+filter's cluster-by-cluster scan that uses them."""
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+import rankedassign.tracking.single.lmb as lmb_module
+from rankedassign.tracking import (
+    LMBFilter,
+    Murty,
+    ShortChainGibbs,
+    _kernels,
+    gate_threshold,
+    group_tracks,
+    make_model,
+    make_scenario,
+)
+from rankedassign.tracking.gating import (
+    GatedPairs,
+    candidate_pairs,
+    clusters,
+    dense_gate,
+    gate_pairs,
+    gate_radii,
+)
+
+GATE = gate_threshold(0.9999999)
+
+
+def _random_scene(rng, T, M, spread=500.0):
+    """Tracks of 1-3 components with random SPD covariances; half the measurements near a
+    component (so many pairs sit near the gate's edge), the rest uniform."""
+    nc = rng.integers(1, 4, T)
+    offsets = np.r_[0, np.cumsum(nc)].astype(np.int64)
+    C = int(offsets[-1])
+    m = rng.uniform(-spread, spread, (C, 4))
+    A = rng.normal(0, 30, (C, 4, 4))
+    P = np.ascontiguousarray(A @ A.transpose(0, 2, 1) + np.eye(4))
+    R = np.diag([100.0, 100.0])
+    z = rng.uniform(-spread, spread, (M, 2))
+    k = min(M // 2, C)
+    if k:
+        z[:k] = m[:k][:, [0, 2]] + rng.normal(0, 40, (k, 2))
+    return m, P, R, np.ascontiguousarray(z), offsets
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_gate_pairs_equal_the_dense_gate(seed):
+    rng = np.random.default_rng(seed)
+    T, M = int(rng.integers(0, 25)), int(rng.integers(0, 40))
+    m, P, R, z, offsets = _random_scene(rng, T, M)
+    gate = float(rng.choice([GATE, 9.21, 1000.0]))
+    dense = _kernels.gate_and_distances(m, P, R, z, offsets, gate, True)[4]
+    pairs = gate_pairs(m, P, R, z, offsets, gate)
+    assert_array_equal(dense_gate(pairs), dense)
+    assert pairs.n_candidates >= pairs.track.size
+    # clusters: the partition and numbering of the dense kernel
+    tg, mg, n = _kernels.connected_groups(dense)
+    cl = clusters(pairs)
+    assert cl.n_clusters == n
+    assert_array_equal(cl.track_cluster, tg)
+    assert_array_equal(cl.meas_cluster, mg)
+    expected = [(np.flatnonzero(tg == g), np.flatnonzero(mg == g)) for g in range(n)]
+    got = group_tracks(dense)
+    assert len(got) == len(expected)
+    for (r, c), (r2, c2) in zip(got, expected, strict=True):
+        assert_array_equal(r, r2)
+        assert_array_equal(c, c2)
+
+
+def test_gate_radius_bounds_the_ellipse():
+    # S = diag(4, 1) + R = 0: the gate's ellipse has semi-axes sqrt(9 * 4) and sqrt(9 * 1)
+    P = np.zeros((1, 4, 4))
+    P[0, 0, 0], P[0, 2, 2] = 4.0, 1.0
+    r = gate_radii(P, np.zeros((2, 2)), 9.0)
+    assert_allclose(r, [6.0], rtol=1e-5)
+    # a covariance that is not positive definite: every measurement is a candidate
+    bad = np.zeros((1, 4, 4))
+    bad[0, 0, 0] = -1.0
+    assert gate_radii(bad, np.zeros((2, 2)), 9.0)[0] == np.inf
+    c, j = candidate_pairs(np.zeros((1, 2)), np.array([np.inf]), np.ones((3, 2)))
+    assert_array_equal(j, [0, 1, 2])
+
+
+def test_empty_inputs():
+    pairs = gate_pairs(np.empty((0, 4)), np.empty((0, 4, 4)), np.eye(2), np.empty((0, 2)),
+                       np.zeros(1, np.int64), GATE)
+    assert pairs.track.size == 0 and pairs.n_tracks == 0
+    cl = clusters(pairs)
+    assert cl.n_clusters == 0 and cl.groups() == []
+    cl = clusters(GatedPairs(np.empty(0, np.int64), np.empty(0, np.int64), 2, 3, 0))
+    assert_array_equal(cl.track_cluster, [0, 1])
+    assert_array_equal(cl.meas_cluster, [-1, -1, -1])
+
+
+def _run(monkeypatch, threshold, association, scenario, batch=4096, **kw):
+    monkeypatch.setattr(lmb_module, "SPATIAL_MIN_PAIRS", threshold)
+    monkeypatch.setattr(lmb_module, "SPATIAL_BATCH_PAIRS", batch)
+    f = LMBFilter(scenario.model, association, grouping=True, **kw)
+    return [f.step(s.z, rng=k) for k, s in enumerate(scenario.scans)]
+
+
+@pytest.mark.parametrize("batch", [0, 4096], ids=["cluster-by-cluster", "batched"])
+@pytest.mark.parametrize("association", [Murty(20), ShortChainGibbs(50, 5, tau_stall=5,
+                                                                      tau_stale=10)])
+def test_lmb_spatial_scan_equals_the_dense_scan(monkeypatch, association, batch):
+    sc = make_scenario("vo", rng=3, n_scans=15)
+    dense = _run(monkeypatch, 1 << 62, association, sc)
+    spatial = _run(monkeypatch, 0, association, sc, batch=batch)
+    for a, b in zip(dense, spatial, strict=True):
+        assert_array_equal(a.track_labels, b.track_labels)
+        assert_array_equal(a.labels, b.labels)
+        # the same problems and streams: the same counts
+        assert (a.n_groups, a.n_meas_gated, a.sweeps, a.row_updates, a.n_unique) == \
+            (b.n_groups, b.n_meas_gated, b.sweeps, b.row_updates, b.n_unique)
+        # r = Σ_j β_ij over the cluster's columns instead of every gated column: rounding only
+        assert_allclose(b.track_existence, a.track_existence, rtol=1e-12, atol=1e-15)
+        assert_allclose(b.states, a.states, rtol=1e-12, atol=1e-9)
+
+
+def test_lmb_spatial_scan_with_sample_empty_groups(monkeypatch):
+    sc = make_scenario("vo", rng=4, n_scans=6)
+    dense = _run(monkeypatch, 1 << 62, Murty(10), sc, sample_empty_groups=True)
+    spatial = _run(monkeypatch, 0, Murty(10), sc, sample_empty_groups=True)
+    for a, b in zip(dense, spatial, strict=True):
+        assert_array_equal(a.track_labels, b.track_labels)
+        assert a.invocations == b.invocations
+        assert_allclose(b.track_existence, a.track_existence, rtol=1e-12, atol=1e-15)
+
+
+def test_lmb_spatial_scan_without_measurements(monkeypatch):
+    monkeypatch.setattr(lmb_module, "SPATIAL_MIN_PAIRS", 0)
+    f = LMBFilter(make_model("vo"), Murty(5), grouping=True)
+    rec = f.step([], rng=0)
+    assert rec.n_meas == 0 and rec.n_groups == 0 and rec.n_tracks == 4
+
+
+def test_lmb_set_prior():
+    f = LMBFilter(make_model("vo"), Murty(5))
+    f.set_prior([[0, 1], [0, 2]], np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)),
+                existence=[0.95, 0.5])
+    assert f.n_tracks == 2
+    assert_array_equal(f.confirmed, [True, False])
+    with pytest.raises(ValueError, match=r"existence must be 2 probabilities in \(0, 1\], "
+                                         r"got \[0.5, 1.5\]"):
+        f.set_prior([[0, 1], [0, 2]], np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)),
+                    existence=[0.5, 1.5])
+    with pytest.raises(ValueError, match="existence must be 2 probabilities"):
+        f.set_prior([[0, 1], [0, 2]], np.zeros((2, 4)), np.tile(np.eye(4), (2, 1, 1)),
+                    existence=[0.5])
