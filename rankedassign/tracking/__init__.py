@@ -35,6 +35,7 @@ from .association import (
     check_truncation,
     truncate,
 )
+from .birth import MeasurementBirth
 from .common import gate_threshold
 from .filters import FILTERS, make_filter
 from .io import read_measurements, write_measurements
@@ -92,6 +93,7 @@ __all__ = [
     "LMBBirth",
     "LinearMotion",
     "LMBFilter",
+    "MeasurementBirth",
     "Model",
     "Murty",
     "MultiSensorAssociationResult",
