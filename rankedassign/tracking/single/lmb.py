@@ -302,6 +302,8 @@ class LMBFilter:
         if birth is not None:
             check_type(birth, "birth", MeasurementBirth,
                        "None for the model's static birth or MeasurementBirth(...)")
+            # a prior of the wrong dimension is refused now, not at the first scan
+            birth.births(np.empty((0, 2)), np.empty(0), H=model.sensor.H, R=model.sensor.R)
         #: The measurement-driven birth in use, or None for the model's static birth.
         self.birth = birth
         #: The state extraction in use: ``extraction``, or the model's when that is None.
