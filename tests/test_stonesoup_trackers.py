@@ -191,3 +191,12 @@ def test_missing_and_disagreeing_parts():
     with pytest.raises(ValueError, match=r"the transition model has a 4-D state, the "
                                          r"measurement model a 6-D one"):
         LMBTracker(None, CV, six, **KW)
+
+
+@pytest.mark.parametrize("cls", [LMBTracker, GLMBTracker])
+def test_detections_with_nan_are_refused_with_the_time(cls):
+    tracker = cls(None, CV, MM, association=Exact() if cls is LMBTracker else Murty(5), **KW)
+    with pytest.raises(ValueError, match=rf"{cls.__name__}: a detection at 2025-01-01 00:00:00 "
+                                         r"has a non-finite state vector \[nan, 0.0\]"):
+        tracker.update_tracker(T0, {Detection([[np.nan], [0.0]], timestamp=T0,
+                                              measurement_model=MM)})

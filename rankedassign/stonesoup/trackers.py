@@ -315,6 +315,9 @@ class _LabeledTracker(Tracker):
             if z.size != mm.ndim_meas:
                 raise ValueError(f"{who}: a detection at {time} has {z.size} dimensions, the "
                                  f"measurement model gives {mm.ndim_meas}")
+            if not np.isfinite(z).all():
+                raise ValueError(f"{who}: a detection at {time} has a non-finite state "
+                                 f"vector {z.tolist()}")
             rows.append(z)
         # sorted, so that a seed gives the same result whatever the set's order
         rows.sort(key=tuple)
@@ -348,8 +351,8 @@ class _LabeledTracker(Tracker):
             not a collection of ``Detection`` (``None``, an array, a list of tuples), or a
             detection's state vector is not real (complex, strings).
         ValueError
-            If a detection has another measurement model or the wrong dimension, or if
-            ``time`` is before the previous scan.
+            If a detection has another measurement model, the wrong dimension or a NaN or
+            infinite state vector, or if ``time`` is before the previous scan.
         """
         if not isinstance(time, datetime.datetime):
             # Stone Soup's times are datetimes; None or a number would give a zero or
