@@ -253,3 +253,14 @@ def test_vo_targets_born_anywhere_are_tracked(cls):
     assert out["right", "measurement"] < out["right", "static"] + 8.0
     assert out["moved", "measurement"] < 25.0
     assert out["moved", "static"] > 3 * out["moved", "measurement"]
+
+
+@pytest.mark.parametrize("filt", ["lmb", "glmb"])
+def test_run_scenario_takes_the_measurement_birth(filt):
+    from rankedassign.tracking import run_scenario
+
+    run = run_scenario("vo", Murty(20), rng=3, n_scans=6, filter=filt,
+                       birth=MeasurementBirth())
+    assert run.n_tracks[0] == 0            # no static birth on scan 1
+    assert (run.n_tracks[1:] > 0).all()    # births from the measurements after it
+    assert "birth" in run.timings and run.timings["birth"].shape == (6,)
