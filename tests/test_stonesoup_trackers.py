@@ -200,3 +200,32 @@ def test_detections_with_nan_are_refused_with_the_time(cls):
                                          r"has a non-finite state vector \[nan, 0.0\]"):
         tracker.update_tracker(T0, {Detection([[np.nan], [0.0]], timestamp=T0,
                                               measurement_model=MM)})
+
+
+# ----------------------------------------------------------------------------- the scripts
+def _script(name):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"_bench_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_jpda_comparison_script_runs(capsys):
+    """benchmarks/stonesoup_trackers.py on one short seed (a smoke test; the numbers of
+    benchmarks/README.md come from its default 3 seeds x 100 scans)."""
+    out = _script("stonesoup_trackers").main(["--seeds", "1", "--scans", "6"])
+    assert set(out) == {"LMB", "GLMB", "JPDA"}
+    for runs in out.values():
+        (ospa, seconds), = runs
+        assert 0.0 <= ospa <= 10.0 and seconds > 0
+    assert "best JPDA cell" in capsys.readouterr().out
+
+
+def test_the_measurement_birth_script_runs():
+    out = _script("measurement_birth").main(["--presets", "vo", "--seeds", "1",
+                                             "--scans", "5"])
+    assert len(out) == 8 and all(0.0 <= v[0] <= 100.0 for v in out.values())
