@@ -229,3 +229,20 @@ def test_the_measurement_birth_script_runs():
     out = _script("measurement_birth").main(["--presets", "vo", "--seeds", "1",
                                              "--scans", "5"])
     assert len(out) == 8 and all(0.0 <= v[0] <= 100.0 for v in out.values())
+
+
+def test_more_bad_models():
+    three = LinearGaussian(ndim_state=4, mapping=(0, 2, 3), noise_covar=np.eye(3))
+    with pytest.raises(ValueError, match=r"LMBTracker: the filters track a 2-D position and its "
+                                         r"velocity: .*; got mapping \(0, 2, 3\) of a 4-D "
+                                         r"state"):
+        LMBTracker(None, CV, three, **KW)
+    with pytest.raises(ValueError, match=r"LMBTracker: transition_model is not the predictor's "
+                                         r"transition_model; give one of them"):
+        LMBTracker(None, CombinedLinearGaussianTransitionModel([ConstantVelocity(1.0)] * 2), MM,
+                   predictor=KalmanPredictor(CV), **KW)
+    small = WeightedGaussianState([[0], [0]], np.eye(2), weight=0.1)
+    with pytest.raises(ValueError, match=r"LMBTracker: birth component 0 has a state of shape "
+                                         r"\(2,\) and covariance \(2, 2\), the tracker's state "
+                                         r"is 4-D"):
+        LMBTracker(None, CV, MM, birth_components=[small], **KW)

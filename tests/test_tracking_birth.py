@@ -264,3 +264,17 @@ def test_run_scenario_takes_the_measurement_birth(filt):
     assert run.n_tracks[0] == 0            # no static birth on scan 1
     assert (run.n_tracks[1:] > 0).all()    # births from the measurements after it
     assert "birth" in run.timings and run.timings["birth"].shape == (6,)
+
+
+def test_more_bad_input_of_the_birth():
+    with pytest.raises(ValueError, match=r"r_A must be 1-D, got shape \(1, 2\)"):
+        birth_existence([[0.0, 0.5]], 1.0, 1.0)
+    with pytest.raises(ValueError, match=r"H must be a \(d, n\) matrix with d <= n, got shape "
+                                         r"\(4, 2\)"):
+        MeasurementBirth().births([[0.0, 0.0, 0.0, 0.0]], [0.0], H=H.T, R=np.eye(4))
+    with pytest.raises(ValueError, match=r"measurement birth needs a position sensor: every "
+                                         r"row of H picks one distinct state component"):
+        MeasurementBirth().births([[0.0, 0.0]], [0.0], H=H[[0, 0]], R=np.eye(2))
+    with pytest.raises(TypeError, match=r"velocity_mean must be a number or a numeric array, "
+                                        r"got True"):
+        MeasurementBirth(velocity_mean=True)
