@@ -8,7 +8,7 @@ NaN-padded array :func:`ospa2` takes. :func:`track_coverage` tells, per true tra
 its life some estimate was near it: the diagnostic that shows a target lost for good, which a
 mean OSPA(2) only averages in. :func:`gospa` is the generalised OSPA of Rahmathullah,
 García-Fernández & Svensson (2017) with ``α = 2``, split into localisation, missed and false
-parts.
+parts; :func:`gospa_series` gives it at every scan of a run (the tracking studies' column).
 
 Track arrays have shape ``(n_scans, n_tracks, d)``: entry ``[k, f]`` is the state of track ``f``
 at scan ``k``, all-NaN where the track does not exist.
@@ -28,7 +28,7 @@ from scipy.sparse.csgraph import maximum_bipartite_matching
 from .validation import check_choice, check_int, check_real, float_array
 
 __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "track_coverage",
-           "GOSPAResult", "gospa"]
+           "GOSPAResult", "gospa", "GOSPASeries", "gospa_series"]
 
 
 class OSPAResult(NamedTuple):
@@ -729,3 +729,74 @@ def gospa(X, Y, c: float, p: float) -> GOSPAResult:
 
     return GOSPAResult(root(loc + 0.5 * (n_missed + n_false)), root(loc), root(0.5 * n_missed),
                        root(0.5 * n_false), n_missed, n_false)
+
+
+class GOSPASeries(NamedTuple):
+    """GOSPA (``α = 2``) at every scan of a run: :func:`gospa` per scan, as arrays.
+
+    Attributes
+    ----------
+    value, localisation, missed, false : ndarray of float64, shape (n_scans,)
+        The distance and its parts at each scan (:class:`GOSPAResult`).
+    n_missed, n_false : ndarray of int64, shape (n_scans,)
+        The unassigned true and estimated points at each scan.
+    """
+
+    value: np.ndarray
+    localisation: np.ndarray
+    missed: np.ndarray
+    false: np.ndarray
+    n_missed: np.ndarray
+    n_false: np.ndarray
+
+
+def gospa_series(truth, estimates, c: float, p: float) -> GOSPASeries:
+    """GOSPA (``α = 2``) between the truth and the estimates at every scan of a run.
+
+    Parameters
+    ----------
+    truth : array_like, shape (n_scans, n_true, d)
+        True states per scan, all-NaN where a target does not exist (the layout of
+        :func:`ospa2` and ``ScenarioRun.truth``).
+    estimates : array_like, shape (n_scans, n_est, d)
+        Estimated states, all-NaN where a track is not reported.
+    c : float
+        Cut-off, ``> 0``.
+    p : float
+        Order, ``>= 1``.
+
+    Returns
+    -------
+    GOSPASeries
+        :func:`gospa` of each scan's existing points.
+
+    Raises
+    ------
+    ValueError
+        On arrays that are not 3-D with the same number of scans and dimension, on a point
+        that is partly NaN or infinite, or on an invalid ``c`` or ``p``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.metrics import gospa_series
+    >>> X = np.array([[[0.0, 0.0]], [[1.0, 0.0]]])
+    >>> Y = np.array([[[np.nan, np.nan]], [[1.0, 4.0]]])
+    >>> gospa_series(X, Y, c=10.0, p=1).value.tolist()
+    [5.0, 4.0]
+    """
+    c, p = _check_cp(c, p)
+    A = float_array(truth, "truth", allow_nan=True)
+    B = float_array(estimates, "estimates", allow_nan=True)
+    if A.ndim != 3 or B.ndim != 3 or A.shape[0] != B.shape[0] or (
+            A.shape[2] != B.shape[2] and A.shape[1] and B.shape[1]):
+        raise ValueError(f"truth and estimates must be (n_scans, n, d) arrays with the same "
+                         f"n_scans and d, got shapes {A.shape} and {B.shape}")
+    out = []
+    for k in range(A.shape[0]):
+        x = A[k][~np.isnan(A[k]).all(axis=1)] if A.shape[1] else A[k]
+        y = B[k][~np.isnan(B[k]).all(axis=1)] if B.shape[1] else B[k]
+        out.append(gospa(x if x.size else [], y if y.size else [], c, p))
+    cols = list(zip(*out, strict=True)) if out else [()] * 6
+    return GOSPASeries(*(np.asarray(col, dtype=np.float64) for col in cols[:4]),
+                       *(np.asarray(col, dtype=np.int64) for col in cols[4:]))

@@ -276,6 +276,35 @@ def test_tracking_tiny():
     assert out.targets_lost_original == out.targets_lost_proposed == 0
 
 
+def test_tracking_reports_gospa_beside_ospa2():
+    from rankedassign.experiments.studies.tracking import render_tracking
+    from rankedassign.metrics import gospa_series
+    from rankedassign.tracking import run_scenario
+
+    cfg = TrackingConfig(n_mc=2, n_scans=6, original_obs=50, n_chains=5)
+    out, runs = run_study("tracking", cfg, seed=0, progress=False, return_runs=True)
+    for rec in runs:
+        g = np.array(rec["gospa"])
+        parts = np.array([rec[f"gospa_{k}"] for k in ("localisation", "missed", "false")])
+        assert g.shape == (6,)
+        # value^p = localisation^p + missed^p + false^p (p = 1 here)
+        assert_allclose(g, parts.sum(axis=0), rtol=1e-12)
+    for m in ("original", "proposed"):
+        per_run = [np.mean(r["gospa"]) for r in runs if r["method"] == m]
+        assert_allclose(getattr(out, f"gospa_mean_{m}"), np.mean(per_run), rtol=1e-12)
+        assert len(out.curves[f"gospa_{m}"]) == len(out.curves[f"gospa_missed_{m}"]) == 6
+    text = render_tracking(out, cfg)
+    assert "mean GOSPA (m; c = 200, p = 1)" in text and "GOSPA (α = 2" in text
+    # the task's GOSPA is gospa_series of the run's arrays
+    from rankedassign.experiments.studies.tracking import _association, run_seed
+
+    rec = next(r for r in runs if r["run"] == 0 and r["method"] == "original")
+    sr = run_scenario(cfg.preset, _association(cfg, "original"), rng=run_seed(0, 0),
+                      n_scans=6, grouping=cfg.grouping, extraction=cfg.extraction)
+    assert_allclose(rec["gospa"], gospa_series(sr.truth, sr.estimates, 200.0, 1.0).value,
+                    rtol=1e-12)
+
+
 def test_tracking_lost_targets_counted_by_hand():
     cfg = TrackingConfig(n_mc=2, n_scans=4, original_obs=50, n_chains=5)
     _, runs = run_study("tracking", cfg, seed=0, progress=False, return_runs=True)

@@ -172,6 +172,15 @@ def test_tracking_part_runs_every_association_on_the_same_measurements(result):
 
     want = ospa2(sr.truth, sr.estimates, TINY.ospa_c, TINY.ospa_p, TINY.ospa_window).value
     assert_allclose(rec["ospa2"], np.mean(want), rtol=1e-12)
+    # GOSPA beside it, per scan with the same c and p, averaged over the scans
+    from rankedassign.metrics import gospa
+
+    g = [gospa(x[~np.isnan(x).any(axis=1)], y[~np.isnan(y).any(axis=1)], TINY.ospa_c,
+               TINY.ospa_p).value for x, y in zip(sr.truth, sr.estimates, strict=True)]
+    assert_allclose(rec["gospa"], np.mean(g), rtol=1e-12)
+    exact = got["exact"]
+    assert exact.gospa_mean == rec["gospa"] and exact.gospa_se is None
+    assert "GOSPA (m)" in TH.render_tempering_herding(s, TINY)
 
 
 def test_report_plots_and_csv(result, tmp_path):

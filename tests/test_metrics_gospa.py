@@ -90,3 +90,36 @@ def test_gospa_bad_input():
     with pytest.raises(ValueError, match="X and Y must have the same point dimension, got 2 "
                                          "and 3"):
         gospa([[0.0, 1.0]], [[1.0, 2.0, 3.0]], c=1.0, p=1)
+
+
+# ----------------------------------------------------------------------------- gospa_series
+def test_gospa_series_is_gospa_per_scan():
+    from rankedassign.metrics import gospa_series
+
+    rng = np.random.default_rng(4)
+    X = rng.uniform(0, 50, size=(7, 5, 2))
+    Y = rng.uniform(0, 50, size=(7, 6, 2))
+    X[rng.random((7, 5)) < 0.3] = np.nan
+    Y[rng.random((7, 6)) < 0.4] = np.nan
+    s = gospa_series(X, Y, c=20.0, p=2.0)
+    for k in range(7):
+        r = gospa(X[k][~np.isnan(X[k]).any(axis=1)], Y[k][~np.isnan(Y[k]).any(axis=1)],
+                  c=20.0, p=2.0)
+        assert (s.value[k], s.localisation[k], s.missed[k], s.false[k], s.n_missed[k],
+                s.n_false[k]) == tuple(r)
+    assert s.value.dtype == np.float64 and s.n_missed.dtype == np.int64
+
+
+def test_gospa_series_bad_input():
+    from rankedassign.metrics import gospa_series
+
+    with pytest.raises(ValueError, match=r"truth and estimates must be \(n_scans, n, d\) arrays "
+                                         r"with the same n_scans and d, got shapes \(2, 1, 2\) "
+                                         r"and \(3, 1, 2\)"):
+        gospa_series(np.zeros((2, 1, 2)), np.zeros((3, 1, 2)), 1.0, 1.0)
+    with pytest.raises(ValueError, match=r"c must be"):
+        gospa_series(np.zeros((2, 1, 2)), np.zeros((2, 1, 2)), 0.0, 1.0)
+    bad = np.zeros((1, 1, 2))
+    bad[0, 0, 1] = np.nan        # a point half NaN is an error, not an absent target
+    with pytest.raises(ValueError):
+        gospa_series(bad, np.zeros((1, 1, 2)), 1.0, 1.0)

@@ -661,7 +661,10 @@ def test_tracker_update_by_hand_and_time_steps():
     ({"measurement_model": CartesianToBearingRange(4, (0, 2), np.eye(2))}, TypeError,
      r"the measurement model CartesianToBearingRange is not linear-Gaussian"),
     ({"measurement_model": LinearGaussian(ndim_state=4, mapping=(0, 1), noise_covar=np.eye(2))},
-     ValueError, r"must map dimensions \(0, 2\) of a 4-D state, got mapping \(0, 1\)"),
+     ValueError, r"mapping must name the two position components of a 4-D state, each moved "
+     r"by its own velocity component in the transition model \(e.g. mapping \(0, 2\) of "
+     r"\[x, vx, y, vy\]\); got mapping \(0, 1\), and the transition model moves position "
+     r"component 0 by components \(1,\)"),
     ({"birth_components": [GaussianState([[0], [0], [0], [0]], np.eye(4))]}, ValueError,
      r"birth component 0 has no weight, and its weight is the existence probability r_B"),
     ({"birth_components": [WeightedGaussianState([[0], [0], [0], [0]], np.eye(4))]},

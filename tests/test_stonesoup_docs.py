@@ -58,6 +58,13 @@ def test_the_example_gives_the_pages_numbers(tmp_path, monkeypatch):
     ns = _run(tmp_path, monkeypatch, 60)
     means = _means(ns)
     np.testing.assert_allclose(means["LMB"], (1.81, 3.10), atol=0.005)
+    # the GOSPA block's means (distance, localisation, missed, false), as the page says
+    from stonesoup.plugins.rankedassign import GOSPAMetric
+
+    gospa = {key: [np.mean([float(m.value) for m in ns["gospa_metrics"][f"GOSPA {key}"][t].value])
+                   for t in GOSPAMetric.TITLES] for key in ("LMB", "JPDA")}
+    np.testing.assert_allclose(gospa["LMB"], (9.28, 6.11, 2.83, 0.33), atol=0.005)
+    np.testing.assert_allclose(gospa["JPDA"], (23.26, 7.26, 0.33, 15.67), atol=0.005)
     np.testing.assert_allclose(means["JPDA"], (3.57, 4.68), atol=0.005)
     assert (len(ns["truths"]), len(ns["lmb_tracks"]), len(ns["jpda_tracks"])) == (12, 11, 31)
     assert sum(len(d) for _, d in ns["scans"]) == 653

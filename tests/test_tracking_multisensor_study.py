@@ -39,6 +39,11 @@ def test_methods_share_the_measurements_and_are_recorded():
     assert math.isnan(summ[0].ospa2_se)  # one run
     table = multisensor_tracking_table(summ)
     assert table.count("\n") == 4 and "| 0,2 | 2 | short | paper |" in table
+    # GOSPA per scan beside OSPA(2), summarised and in the table
+    for r in recs:
+        assert r.gospa.shape == r.ospa2.shape and (r.gospa >= 0).all()
+    assert summ[0].gospa_mean == recs[0].gospa.mean() and math.isnan(summ[0].gospa_se)
+    assert "GOSPA mean ± se (m)" in table and table.splitlines()[1].count("---") == 15
     assert all(r.birth == "paper" and r.births_per_scan == 4.0 and r.birth_seconds == 0.0
                for r in recs)
 

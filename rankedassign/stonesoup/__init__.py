@@ -17,7 +17,11 @@ loader makes this module available as ``stonesoup.plugins.rankedassign``::
   timestamp for the distance and each of its parts;
 * :class:`LMBTracker`, :class:`GLMBTracker` — Stone Soup trackers around
   :class:`rankedassign.tracking.LMBFilter` and :class:`rankedassign.tracking.GLMBFilter`, built
-  from Stone Soup's linear-Gaussian models.
+  from Stone Soup's linear-Gaussian models or a Kalman predictor and updater, with births
+  placed by hand or made from the measurements;
+* :mod:`rankedassign.stonesoup.models` — Stone Soup's measurement and transition models and
+  Kalman-family predictors/updaters as the array models and filters of
+  :mod:`rankedassign.tracking.nonlinear` (the same predictions and updates).
 
 The classes follow Stone Soup's conventions: declarative ``Property`` attributes, a ``seed``
 property where there is randomness (mapped onto our ``rng`` by

@@ -1,12 +1,16 @@
 """Stone Soup trackers around our LMB and δ-GLMB filters, built from Stone Soup's models.
 
-The filters of :mod:`rankedassign.tracking` track ``[x, vx, y, vy]`` from position
-measurements with linear-Gaussian motion. The trackers here take Stone Soup's
+The filters of :mod:`rankedassign.tracking` track a 2-D position and its velocity from
+position measurements with linear-Gaussian motion. The trackers here take Stone Soup's
 ``CombinedLinearGaussianTransitionModel`` (its ``F`` and ``Q`` for each interval between
 scans, :class:`~rankedassign.tracking.models.LinearMotion`) and ``LinearGaussian``
-measurement model (mapping ``(0, 2)``, its ``R``), the detection and survival probabilities,
-the clutter rate and spatial density (``κ``), and the birth components as
-``WeightedGaussianState`` whose ``weight`` is the existence probability ``r_B``.
+measurement model (whose ``mapping`` names the two position components of the 4-D state, its
+``R``), directly or from a Stone Soup ``KalmanPredictor`` and ``KalmanUpdater`` (or their
+extended and unscented forms, which on linear-Gaussian models are the Kalman filter), the
+detection and survival probabilities, the clutter rate and spatial density (``κ``), and
+either the birth components as ``WeightedGaussianState`` whose ``weight`` is the existence
+probability ``r_B`` or, with ``birth_components=None``, births made from the measurements
+(:class:`~rankedassign.tracking.birth.MeasurementBirth`, ``birth_options``).
 """
 
 from __future__ import annotations
@@ -20,11 +24,15 @@ from stonesoup.base import Property
 from stonesoup.models.base import GaussianModel, LinearModel
 from stonesoup.models.measurement.linear import LinearGaussian
 from stonesoup.models.transition.base import TransitionModel
+from stonesoup.predictor.base import Predictor
+from stonesoup.predictor.kalman import KalmanPredictor
 from stonesoup.reader import DetectionReader
 from stonesoup.tracker.base import Tracker
 from stonesoup.types.detection import Detection
 from stonesoup.types.state import GaussianState, State
 from stonesoup.types.track import Track
+from stonesoup.updater.base import Updater
+from stonesoup.updater.kalman import KalmanUpdater
 
 from ..engine.rng import check_rng
 from ..tracking import (
@@ -35,6 +43,7 @@ from ..tracking import (
     LinearMotion,
     LMBBirth,
     LMBFilter,
+    MeasurementBirth,
     Model,
     PoissonClutter,
     PositionSensor,
@@ -46,6 +55,9 @@ __all__ = ["LMBTracker", "GLMBTracker"]
 
 _ZERO = datetime.timedelta(0)
 
+#: The parameters a tracker cannot do without (given by keyword, None means missing).
+_REQUIRED = ("prob_detection", "clutter_rate", "clutter_spatial_density")
+
 
 def _check_linear(model, role: str, who: str) -> None:
     """Refuse a model that is not linear-Gaussian (with its name in the message)."""
@@ -55,13 +67,54 @@ def _check_linear(model, role: str, who: str) -> None:
             raise TypeError(
                 f"{who} supports only linear-Gaussian models: the {role} model "
                 f"{type(part).__name__} is not linear-Gaussian (use e.g. "
-                + ("CombinedLinearGaussianTransitionModel of ConstantVelocity models)"
-                   if role == "transition" else "LinearGaussian)")
+                + ("CombinedLinearGaussianTransitionModel of ConstantVelocity models"
+                   if role == "transition" else "LinearGaussian")
+                + "); the filters' non-linear path (EKF and UKF on our arrays, "
+                "rankedassign.tracking.nonlinear) is coming and will take it then"
             )
 
 
-def _birth(components, who: str) -> LMBBirth:
-    """The birth components as our :class:`~rankedassign.tracking.LMBBirth`."""
+def _component(obj, role: str, family: type, model_attr: str, who: str):
+    """The model a Stone Soup predictor or updater holds, after checking its family."""
+    if not isinstance(obj, family):
+        kind = "Predictor" if role == "predictor" else "Updater"
+        raise TypeError(
+            f"{who}: the {role} must be a Kalman-family Stone Soup {kind} (Kalman{kind}, "
+            f"ExtendedKalman{kind}, UnscentedKalman{kind}), got {type(obj).__name__}; "
+            "our filters hold Gaussian mixtures, so particle and other "
+            f"{role}s have no counterpart")
+    return getattr(obj, model_attr, None)
+
+
+def _position_layout(mm, tm, who: str) -> np.ndarray:
+    """``perm`` with ``x[perm] = [p_1, v_1, p_2, v_2]``, our filters' state layout.
+
+    The measurement model's ``mapping`` names the two position components; the velocity of
+    each is the component the transition model moves it by (``F[p, v] != 0``, ``v`` not a
+    position), read off ``F`` of a one-second interval.
+    """
+    mapping = tuple(int(i) for i in getattr(mm, "mapping", ()))
+    n = int(mm.ndim_state)
+    hint = ("the filters track a 2-D position and its velocity: the measurement model's "
+            "mapping must name the two position components of a 4-D state, each moved by "
+            "its own velocity component in the transition model (e.g. mapping (0, 2) of "
+            "[x, vx, y, vy])")
+    if n != 4 or len(mapping) != 2 or len(set(mapping)) != 2:
+        raise ValueError(f"{who}: {hint}; got mapping {mapping} of a {n}-D state")
+    F = np.asarray(tm.matrix(time_interval=datetime.timedelta(seconds=1)), float)
+    velocity = []
+    for p in mapping:
+        cand = [v for v in range(4) if v not in mapping and v not in velocity and F[p, v] != 0]
+        if len(cand) != 1:
+            raise ValueError(f"{who}: {hint}; got mapping {mapping}, and the transition "
+                             f"model moves position component {p} by components "
+                             f"{tuple(v for v in range(4) if v != p and F[p, v] != 0)}")
+        velocity.append(cand[0])
+    return np.array([mapping[0], velocity[0], mapping[1], velocity[1]], dtype=np.int64)
+
+
+def _birth(components, who: str, perm) -> LMBBirth:
+    """The birth components as our :class:`~rankedassign.tracking.LMBBirth` (``x[perm]``)."""
     out = []
     for b, comp in enumerate(components):
         if not isinstance(comp, GaussianState):
@@ -75,8 +128,12 @@ def _birth(components, who: str) -> LMBBirth:
                 "probability r_B of the birth track: give a WeightedGaussianState with "
                 "weight in (0, 1)"
             )
-        out.append(BirthComponent(float(weight), np.asarray(comp.state_vector, float).ravel(),
-                                  np.asarray(comp.covar, float)))
+        m = np.asarray(comp.state_vector, float).ravel()
+        P = np.asarray(comp.covar, float)
+        if m.shape != (4,) or P.shape != (4, 4):
+            raise ValueError(f"{who}: birth component {b} has a state of shape {m.shape} and "
+                             f"covariance {P.shape}, the tracker's state is 4-D")
+        out.append(BirthComponent(float(weight), m[perm], P[np.ix_(perm, perm)]))
     return LMBBirth(tuple(out))
 
 
@@ -86,15 +143,22 @@ class _LabeledTracker(Tracker):
     detector: DetectionReader = Property(
         doc="Source of (time, detections) pairs, e.g. a detection simulator.")
     transition_model: TransitionModel = Property(
-        doc="Linear-Gaussian motion of [x, vx, y, vy].")
+        default=None,
+        doc="Linear-Gaussian motion of a 4-D position-velocity state (or the predictor's).")
     measurement_model: LinearGaussian = Property(
-        doc="Linear-Gaussian position measurement, mapping (0, 2).")
-    prob_detection: float = Property(doc="Detection probability P_D in (0, 1].")
-    clutter_rate: float = Property(doc="Mean number of clutter detections per scan.")
+        default=None,
+        doc="Linear-Gaussian position measurement whose mapping names the position (or the "
+            "updater's).")
+    prob_detection: float = Property(default=None, doc="Detection probability P_D in (0, 1].")
+    clutter_rate: float = Property(default=None,
+                                   doc="Mean number of clutter detections per scan.")
     clutter_spatial_density: float = Property(
+        default=None,
         doc="Clutter intensity kappa = rate / area (per unit measurement volume).")
     birth_components: Sequence = Property(
-        doc="WeightedGaussianState per birth track; weight = existence probability r_B.")
+        default=None,
+        doc="WeightedGaussianState per birth track; weight = existence probability r_B. None: "
+            "births from the measurements (birth_options).")
     prob_survival: float = Property(default=0.99, doc="Survival probability P_S in (0, 1].")
     seed: int = Property(
         default=None,
@@ -102,22 +166,37 @@ class _LabeledTracker(Tracker):
     gate_prob: float = Property(default=0.9999999, doc="Chi-square gate probability.")
     filter_options: dict = Property(
         default_factory=dict, doc="Further keyword arguments of the filter.")
+    predictor: Predictor = Property(
+        default=None,
+        doc="A Stone Soup KalmanPredictor (or Extended/Unscented) whose transition model the "
+            "filter uses.")
+    updater: Updater = Property(
+        default=None,
+        doc="A Stone Soup KalmanUpdater (or Extended/Unscented) whose measurement model the "
+            "filter uses.")
+    birth_options: dict = Property(
+        default_factory=dict,
+        doc="Keyword arguments of MeasurementBirth (birth_components=None).")
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         who = type(self).__name__
+        missing = [name for name in _REQUIRED if getattr(self, name) is None]
+        if missing:
+            raise TypeError(f"{who} needs {', '.join(missing)}")
+        self.transition_model = self._model("transition", self.transition_model,
+                                            self.predictor, KalmanPredictor, who)
+        self.measurement_model = self._model("measurement", self.measurement_model,
+                                             self.updater, KalmanUpdater, who)
         _check_linear(self.transition_model, "transition", who)
         _check_linear(self.measurement_model, "measurement", who)
         mm = self.measurement_model
-        if mm.ndim_state != 4 or tuple(mm.mapping) != (0, 2):
-            raise ValueError(
-                f"{who} tracks [x, vx, y, vy] from positions: the measurement model must map "
-                f"dimensions (0, 2) of a 4-D state, got mapping {tuple(mm.mapping)} of a "
-                f"{mm.ndim_state}-D state"
-            )
-        if self.transition_model.ndim_state != 4:
-            raise ValueError(f"{who} tracks [x, vx, y, vy]: the transition model must have a "
-                             f"4-D state, got {self.transition_model.ndim_state}-D")
+        if self.transition_model.ndim_state != mm.ndim_state:
+            raise ValueError(f"{who}: the transition model has a "
+                             f"{self.transition_model.ndim_state}-D state, the measurement "
+                             f"model a {mm.ndim_state}-D one")
+        #: ``x[_perm]`` is a Stone Soup state in our layout ``[p_1, v_1, p_2, v_2]``.
+        self._perm = _position_layout(mm, self.transition_model, who)
         density = float(self.clutter_spatial_density)
         if not (math.isfinite(density) and density > 0):
             raise ValueError(f"{who}: clutter_spatial_density must be a positive finite "
@@ -126,14 +205,26 @@ class _LabeledTracker(Tracker):
         # our clutter model is a rate on a region; a square of area rate / density has the
         # tracker's intensity (the filters use nothing else of the region)
         side = math.sqrt(rate / density) if rate > 0 else 1.0
+        if self.birth_components is None:
+            if not isinstance(self.birth_options, Mapping):
+                raise TypeError(f"{who}: birth_options must be a dict of MeasurementBirth's "
+                                f"keyword arguments, got {type(self.birth_options).__name__}")
+            birth, measurement_birth = LMBBirth(()), MeasurementBirth(**self.birth_options)
+        else:
+            birth, measurement_birth = _birth(self.birth_components, who, self._perm), None
         model = Model(
             self._motion(_ZERO),
             PositionSensor(float(self.prob_detection), noise_cov=np.asarray(mm.covar(), float)),
             PoissonClutter(rate, ((0.0, side), (0.0, side))),
-            _birth(self.birth_components, who),
+            birth,
             ConstantSurvival(float(self.prob_survival)),
         )
-        self.filter = self._make_filter(model)
+        #: The measurement-driven birth in use (birth_components=None), or None.
+        self.measurement_birth = measurement_birth
+        options = dict(self.filter_options)
+        if measurement_birth is not None:
+            options["birth"] = measurement_birth
+        self.filter = self._make_filter(model, options)
         try:
             self._rng = check_rng(self.seed)
         except (TypeError, ValueError) as exc:  # its message names rng, the argument is seed
@@ -146,13 +237,36 @@ class _LabeledTracker(Tracker):
         self._interval = _ZERO
         self.detector_iter = None
 
-    def _make_filter(self, model):  # pragma: no cover (abstract)
+    @staticmethod
+    def _model(role: str, model, component, family: type, who: str):
+        """The transition or measurement model: given, or read from the predictor/updater."""
+        if component is None:
+            if model is None:
+                raise TypeError(f"{who} needs a {role}_model or "
+                                + ("a predictor" if role == "transition" else "an updater")
+                                + " that holds one")
+            return model
+        name = "predictor" if role == "transition" else "updater"
+        held = _component(component, name, family, f"{role}_model", who)
+        if model is None:
+            if held is None:
+                raise TypeError(f"{who}: the {name} {type(component).__name__} holds no "
+                                f"{role}_model; give {role}_model")
+            return held
+        if held is not None and held is not model:
+            raise ValueError(f"{who}: {role}_model is not the {name}'s {role}_model; give "
+                             "one of them")
+        return model
+
+    def _make_filter(self, model, options):  # pragma: no cover (abstract)
         raise NotImplementedError
 
     def _motion(self, interval: datetime.timedelta) -> LinearMotion:
         tm = self.transition_model
-        return LinearMotion(np.asarray(tm.matrix(time_interval=interval), float),
-                            np.asarray(tm.covar(time_interval=interval), float))
+        p = self._perm
+        F = np.asarray(tm.matrix(time_interval=interval), float)
+        Q = np.asarray(tm.covar(time_interval=interval), float)
+        return LinearMotion(F[np.ix_(p, p)], Q[np.ix_(p, p)])
 
     @property
     def tracks(self) -> set:
@@ -201,6 +315,9 @@ class _LabeledTracker(Tracker):
             if z.size != mm.ndim_meas:
                 raise ValueError(f"{who}: a detection at {time} has {z.size} dimensions, the "
                                  f"measurement model gives {mm.ndim_meas}")
+            if not np.isfinite(z).all():
+                raise ValueError(f"{who}: a detection at {time} has a non-finite state "
+                                 f"vector {z.tolist()}")
             rows.append(z)
         # sorted, so that a seed gives the same result whatever the set's order
         rows.sort(key=tuple)
@@ -234,8 +351,8 @@ class _LabeledTracker(Tracker):
             not a collection of ``Detection`` (``None``, an array, a list of tuples), or a
             detection's state vector is not real (complex, strings).
         ValueError
-            If a detection has another measurement model or the wrong dimension, or if
-            ``time`` is before the previous scan.
+            If a detection has another measurement model, the wrong dimension or a NaN or
+            infinite state vector, or if ``time`` is before the previous scan.
         """
         if not isinstance(time, datetime.datetime):
             # Stone Soup's times are datetimes; None or a number would give a zero or
@@ -259,7 +376,15 @@ class _LabeledTracker(Tracker):
             if track is None:
                 track = self._by_label[key] = Track(id=f"{key[0]}:{key[1]}")
             P = self._covariance(key, x)
-            sv = np.asarray(x, dtype=np.float64).reshape(-1, 1)
+            # back from our layout [p_1, v_1, p_2, v_2] to the state's own order
+            p = self._perm
+            ours = np.asarray(x, dtype=np.float64)
+            x = np.empty(4)
+            x[p] = ours
+            if P is not None:
+                P_ours, P = P, np.empty((4, 4))
+                P[np.ix_(p, p)] = P_ours
+            sv = x.reshape(-1, 1)
             state = (State(sv, timestamp=time) if P is None
                      else GaussianState(sv, P, timestamp=time))
             track.append(state)
@@ -292,20 +417,25 @@ class LMBTracker(_LabeledTracker):
         Source of ``(time, detections)`` pairs (a detection simulator, a reader, or any
         iterable of such pairs).
     transition_model : stonesoup.models.transition.linear.CombinedLinearGaussianTransitionModel
-        Linear-Gaussian motion of ``[x, vx, y, vy]`` (e.g. two ``ConstantVelocity``); ``F``
-        and ``Q`` are taken for each interval between scans.
+        Linear-Gaussian motion of a 4-D position-velocity state (e.g. two
+        ``ConstantVelocity``); ``F`` and ``Q`` are taken for each interval between scans.
+        Optional with a ``predictor`` (its ``transition_model`` is used).
     measurement_model : stonesoup.models.measurement.linear.LinearGaussian
-        Position measurement: ``ndim_state=4``, ``mapping=(0, 2)``, noise covariance ``R``.
+        Position measurement: ``ndim_state=4``, a ``mapping`` that names the two position
+        components (``(0, 2)`` of ``[x, vx, y, vy]``; ``(0, 1)`` of ``[x, y, vx, vy]``),
+        noise covariance ``R``. Optional with an ``updater`` (its ``measurement_model``).
     prob_detection : float
-        Detection probability ``P_D`` in ``(0, 1]``.
+        Detection probability ``P_D`` in ``(0, 1]`` (required).
     clutter_rate : float
-        Mean number of clutter detections per scan, ``> 0``.
+        Mean number of clutter detections per scan, ``> 0`` (required).
     clutter_spatial_density : float
         Clutter intensity ``κ`` per unit measurement area, ``> 0`` (a detection simulator's
-        ``clutter_spatial_density``).
-    birth_components : sequence of stonesoup.types.state.WeightedGaussianState
+        ``clutter_spatial_density``; required).
+    birth_components : sequence of stonesoup.types.state.WeightedGaussianState or None
         One per birth track of every scan; ``weight`` is its existence probability ``r_B`` in
-        ``(0, 1)``.
+        ``(0, 1)``. None (default): no births placed by hand; every detection of a scan that
+        the tracks do not explain starts a birth track of the next scan
+        (:class:`~rankedassign.tracking.birth.MeasurementBirth` with ``birth_options``).
     prob_survival : float, optional
         Survival probability ``P_S`` in ``(0, 1]`` (default 0.99).
     seed : int, optional
@@ -316,6 +446,18 @@ class LMBTracker(_LabeledTracker):
         χ² gate probability (default ``1 - 1e-7``); None disables gating.
     filter_options : dict, optional
         Further keyword arguments of the filter (e.g. ``max_components``).
+    predictor : stonesoup.predictor.kalman.KalmanPredictor, optional
+        A Stone Soup ``KalmanPredictor``, ``ExtendedKalmanPredictor`` or
+        ``UnscentedKalmanPredictor``: the filter predicts with its ``transition_model`` (on a
+        linear-Gaussian model the three are the Kalman prediction, which ours computes).
+    updater : stonesoup.updater.kalman.KalmanUpdater, optional
+        A Stone Soup ``KalmanUpdater``, ``ExtendedKalmanUpdater`` or
+        ``UnscentedKalmanUpdater``: the filter updates with its ``measurement_model``.
+    birth_options : dict, optional
+        Keyword arguments of :class:`~rankedassign.tracking.birth.MeasurementBirth`
+        (``lambda_b``, ``r_max``, ``velocity_mean``, ``velocity_cov``, ...) when
+        ``birth_components`` is None; the velocity prior is in the order of the state's
+        unmeasured components.
     association : rankedassign.tracking.Association, optional
         Any of our single-sensor associations (default ``ShortChainGibbs(400, 25,
         tau_stall=5, tau_stale=10, marginals="rao-blackwell")``; ``Exact()`` for the exact
@@ -334,15 +476,19 @@ class LMBTracker(_LabeledTracker):
     Raises
     ------
     TypeError
-        If the transition or measurement model is not linear-Gaussian (the message names it),
-        a birth component is not a ``GaussianState``, or ``seed`` is of a kind numpy cannot
-        seed from (the message names ``seed``); from :meth:`update_tracker`, on a ``time``
-        that is not a datetime or detections that are not a collection of ``Detection``.
+        If the transition or measurement model is not linear-Gaussian (the message names it;
+        the filters' non-linear path is not wired yet), the predictor or updater is not of
+        the Kalman family (a particle predictor or updater: the message names its class), a
+        required parameter or model is missing, a birth component is not a
+        ``GaussianState``, or ``seed`` is of a kind numpy cannot seed from (the message names
+        ``seed``); from :meth:`update_tracker`, on a ``time`` that is not a datetime or
+        detections that are not a collection of ``Detection``.
     ValueError
-        If the measurement model is not a position measurement of a 4-D state, a birth
-        component has no existence probability (its weight is not in ``(0, 1)``), or a
-        probability, rate or density is out of range; from :meth:`update_tracker`, on
-        detections of another measurement model or dimension.
+        If the measurement model is not a position measurement of a 4-D state (its mapping
+        names no position with a velocity), a model given is not the predictor's or
+        updater's, a birth component has no existence probability (its weight is not in
+        ``(0, 1)``), a birth option or a probability, rate or density is out of range; from
+        :meth:`update_tracker`, on detections of another measurement model or dimension.
 
     Notes
     -----
@@ -391,9 +537,9 @@ class LMBTracker(_LabeledTracker):
         doc="Our association of every group's problem.")
     extraction: str = Property(default="map", doc='State extraction: "map" or "hysteresis".')
 
-    def _make_filter(self, model):
+    def _make_filter(self, model, options):
         return LMBFilter(model, self.association, gate_prob=self.gate_prob, grouping=True,
-                         extraction=self.extraction, **self.filter_options)
+                         extraction=self.extraction, **options)
 
 
 
@@ -410,20 +556,25 @@ class GLMBTracker(_LabeledTracker):
         Source of ``(time, detections)`` pairs (a detection simulator, a reader, or any
         iterable of such pairs).
     transition_model : stonesoup.models.transition.linear.CombinedLinearGaussianTransitionModel
-        Linear-Gaussian motion of ``[x, vx, y, vy]`` (e.g. two ``ConstantVelocity``); ``F``
-        and ``Q`` are taken for each interval between scans.
+        Linear-Gaussian motion of a 4-D position-velocity state (e.g. two
+        ``ConstantVelocity``); ``F`` and ``Q`` are taken for each interval between scans.
+        Optional with a ``predictor`` (its ``transition_model`` is used).
     measurement_model : stonesoup.models.measurement.linear.LinearGaussian
-        Position measurement: ``ndim_state=4``, ``mapping=(0, 2)``, noise covariance ``R``.
+        Position measurement: ``ndim_state=4``, a ``mapping`` that names the two position
+        components (``(0, 2)`` of ``[x, vx, y, vy]``; ``(0, 1)`` of ``[x, y, vx, vy]``),
+        noise covariance ``R``. Optional with an ``updater`` (its ``measurement_model``).
     prob_detection : float
-        Detection probability ``P_D`` in ``(0, 1]``.
+        Detection probability ``P_D`` in ``(0, 1]`` (required).
     clutter_rate : float
-        Mean number of clutter detections per scan, ``> 0``.
+        Mean number of clutter detections per scan, ``> 0`` (required).
     clutter_spatial_density : float
         Clutter intensity ``κ`` per unit measurement area, ``> 0`` (a detection simulator's
-        ``clutter_spatial_density``).
-    birth_components : sequence of stonesoup.types.state.WeightedGaussianState
+        ``clutter_spatial_density``; required).
+    birth_components : sequence of stonesoup.types.state.WeightedGaussianState or None
         One per birth track of every scan; ``weight`` is its existence probability ``r_B`` in
-        ``(0, 1)``.
+        ``(0, 1)``. None (default): no births placed by hand; every detection of a scan that
+        the tracks do not explain starts a birth track of the next scan
+        (:class:`~rankedassign.tracking.birth.MeasurementBirth` with ``birth_options``).
     prob_survival : float, optional
         Survival probability ``P_S`` in ``(0, 1]`` (default 0.99).
     seed : int, optional
@@ -434,6 +585,18 @@ class GLMBTracker(_LabeledTracker):
         χ² gate probability (default ``1 - 1e-7``); None disables gating.
     filter_options : dict, optional
         Further keyword arguments of the filter (e.g. ``max_components``).
+    predictor : stonesoup.predictor.kalman.KalmanPredictor, optional
+        A Stone Soup ``KalmanPredictor``, ``ExtendedKalmanPredictor`` or
+        ``UnscentedKalmanPredictor``: the filter predicts with its ``transition_model`` (on a
+        linear-Gaussian model the three are the Kalman prediction, which ours computes).
+    updater : stonesoup.updater.kalman.KalmanUpdater, optional
+        A Stone Soup ``KalmanUpdater``, ``ExtendedKalmanUpdater`` or
+        ``UnscentedKalmanUpdater``: the filter updates with its ``measurement_model``.
+    birth_options : dict, optional
+        Keyword arguments of :class:`~rankedassign.tracking.birth.MeasurementBirth`
+        (``lambda_b``, ``r_max``, ``velocity_mean``, ``velocity_cov``, ...) when
+        ``birth_components`` is None; the velocity prior is in the order of the state's
+        unmeasured components.
     association : rankedassign.tracking.Association, optional
         ``OriginalGibbs``, ``ShortChainGibbs``, ``Murty`` or ``Exact`` (default
         ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``).
@@ -501,7 +664,7 @@ class GLMBTracker(_LabeledTracker):
                                doc='State extraction: "map", "trajectory", "recursive" or '
                                    '"hysteresis".')
 
-    def _make_filter(self, model):
+    def _make_filter(self, model, options):
         return GLMBFilter(model, self.association, gate_prob=self.gate_prob,
-                          extraction=self.extraction, **self.filter_options)
+                          extraction=self.extraction, **options)
 

@@ -35,6 +35,7 @@ from .association import (
     check_truncation,
     truncate,
 )
+from .birth import MeasurementBirth
 from .clustered import ClusteredGLMBFilter, ClusteredScanRecord
 from .common import gate_threshold
 from .filters import FILTERS, make_filter
@@ -95,6 +96,7 @@ __all__ = [
     "LMBBirth",
     "LinearMotion",
     "LMBFilter",
+    "MeasurementBirth",
     "Model",
     "Murty",
     "MultiSensorAssociationResult",

@@ -33,6 +33,7 @@ from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
+from .._stats import paired_interval
 from ..config import check_ospa
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
@@ -649,13 +650,6 @@ def _per_run(rs: list[dict], key: str = "ospa2", estimator: str = "map") -> dict
             for r in rs if not r["failed"]}
 
 
-def _t95(n: int) -> float:
-    """Student-t quantile 0.975 with ``n − 1`` degrees of freedom."""
-    from scipy.stats import t
-
-    return float(t.ppf(0.975, n - 1))
-
-
 def _compare(xa: dict, xb: dict, a: str, b: str, estimator: str = "map",
              target: float = math.nan, two_sided: bool = False) -> PairedComparison:
     common = sorted(set(xa) & set(xb))
@@ -664,11 +658,8 @@ def _compare(xa: dict, xb: dict, a: str, b: str, estimator: str = "map",
         return PairedComparison(a, b, estimator, math.nan, math.nan, math.nan, 0, target,
                                 two_sided)
     # the paired per-run relative difference: the runs' shared measurements cancel
-    d = np.array([100.0 * (xa[i] / xb[i] - 1.0) for i in common])
-    mean = float(d.mean())
-    half = _t95(n) * float(d.std(ddof=1)) / math.sqrt(n) if n > 1 else math.nan
-    return PairedComparison(a, b, estimator, mean, mean - half, mean + half, n, target,
-                            two_sided)
+    mean, low, high = paired_interval([100.0 * (xa[i] / xb[i] - 1.0) for i in common])
+    return PairedComparison(a, b, estimator, mean, low, high, n, target, two_sided)
 
 
 def _savings(by: dict, a: str, b: str) -> float:

@@ -54,6 +54,7 @@ from .. import _kernels
 from .._checks import check_prior
 from .._kernels import MERGE_RULES
 from ..association import EXACT_LIMIT, Hypotheses, check_truncation, truncate
+from ..birth import BirthComponents, MeasurementBirth
 from ..common import Children as _Children
 from ..common import check_measurements as _check_measurements
 from ..common import concat as _concat
@@ -264,6 +265,12 @@ class GLMBFilter:
         long the run (an entry is told apart by its table index, never by its history, so the
         filter's numbers do not change). None (default): True for
         ``extraction="trajectory"`` and ``"recursive"``, else False.
+    birth : MeasurementBirth or None, optional
+        None (default): the model's static birth at every scan. A
+        :class:`~rankedassign.tracking.birth.MeasurementBirth`: the births of scan ``k + 1``
+        are made from the measurements of scan ``k`` that the tracks do not explain,
+        ``r_A(z) = Σ_h w_h [some entry of component h took z]`` (Reuter et al. 2014, adaptive
+        birth); the model's static birth is not used.
 
     Notes
     -----
@@ -322,9 +329,17 @@ class GLMBFilter:
         max_components: int = 10,
         retained_mass: bool = False,
         keep_histories: bool | None = None,
+        birth: MeasurementBirth | None = None,
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
         self._check_truncation(association)
+        if birth is not None:
+            check_type(birth, "birth", MeasurementBirth,
+                       "None for the model's static birth or MeasurementBirth(...)")
+            # a prior of the wrong dimension is refused now, not at the first scan
+            birth.births(np.empty((0, 2)), np.empty(0), H=model.sensor.H, R=model.sensor.R)
+        #: The measurement-driven birth in use, or None for the model's static birth.
+        self.birth = birth
         self.model = model
         self.association = association
         self.h_upd = _check_count(h_upd, "h_upd")
@@ -434,6 +449,14 @@ class GLMBFilter:
         self._live_nodes = 0
         self._confirmed = np.empty(0, dtype=np.int64)  # label keys (hysteresis)
         self._tracks_seen: dict = {}  # label -> (scans, states) (extraction="recursive")
+        if getattr(self, "birth", None) is not None:
+            self._set_measurement_births(BirthComponents.empty())
+
+    def _set_measurement_births(self, b: BirthComponents) -> None:
+        """The births the next prediction appends (means and covariances not yet predicted)."""
+        self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
+        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
+        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
 
     def set_prior(self, labels, means, covs, components=None, weights=None) -> None:
         """Start from a δ-GLMB prior over single-Gaussian tracks (instead of the empty one).
@@ -493,6 +516,8 @@ class GLMBFilter:
 
     def _max_birth_index(self):
         """Births of every scan are labelled ``(k, 1..B)``: ``B`` (None if it varies)."""
+        if getattr(self, "birth", None) is not None:
+            return None     # measurement births: B changes from scan to scan
         return int(self._birth_r.size)
 
     @property
@@ -578,8 +603,14 @@ class GLMBFilter:
         self.labels = np.concatenate([self.labels, labels])
         self.offsets = np.concatenate([self.offsets, self.w.size + np.arange(1, B + 1)])
         self.w = np.concatenate([self.w, np.ones(B)])
-        self.m = np.ascontiguousarray(np.concatenate([self.m, self._birth_m]))
-        self.P = np.ascontiguousarray(np.concatenate([self.P, self._birth_P]))
+        birth_m, birth_P = self._birth_m, self._birth_P
+        if getattr(self, "birth", None) is not None:
+            # measurement births sit at the last scan's time: predict them with this scan's
+            # motion, as every entry
+            birth_m = birth_m @ self._F.T
+            birth_P = self._F @ birth_P @ self._F.T + self._Q
+        self.m = np.ascontiguousarray(np.concatenate([self.m, birth_m]))
+        self.P = np.ascontiguousarray(np.concatenate([self.P, birth_P]))
         self.hist = np.concatenate([self.hist, np.full(B, -1, dtype=np.int64)])
         self._births = np.arange(T_old, T_old + B, dtype=np.int64)
         return np.concatenate([np.full(T_old, self._ps), self._birth_r])
@@ -1041,8 +1072,22 @@ class GLMBFilter:
         return int(terms.used.size)
 
     def _after_scan(self, z, gen) -> dict:
-        """Work after the estimate (none here); returns extra ``timings`` entries."""
-        return {}
+        """Work after the estimate (the measurement births, if on); extra ``timings``."""
+        if self.birth is None:
+            return {}
+        t0 = perf_counter()
+        # r_A(z_j) = Σ_e r_e [entry e took z_j this scan], r_e = Σ_{h ∋ e} w_h: the weight of
+        # the components that use z_j (an entry takes at most one measurement, and a
+        # component's entries take distinct ones)
+        r_e = np.bincount(self.comp_tracks, weights=np.repeat(self.comp_w,
+                                                              np.diff(self.comp_off)),
+                          minlength=self.n_tracks)
+        last = self._node_meas[self.hist] if self.n_tracks else np.empty(0, np.int64)
+        hit = last >= 0
+        r_A = np.bincount(last[hit], weights=r_e[hit], minlength=z.shape[0])
+        self._set_measurement_births(self.birth.births(
+            z, r_A, H=self.model.sensor.H, R=self._R))
+        return {"birth": perf_counter() - t0}
 
     def _scan(self, z, rng) -> GLMBScanRecord:
         """One scan on validated measurements ``z`` (see :meth:`step`)."""

@@ -47,6 +47,7 @@ from .. import _kernels
 from .._checks import check_prior
 from .._kernels import MERGE_RULES
 from ..association import Association, AssociationResult, check_truncation
+from ..birth import BirthComponents, MeasurementBirth
 from ..common import BETA_TOL, gate_threshold
 from ..common import check_distribution as _check_distribution
 from ..common import check_measurements as _check_measurements
@@ -248,6 +249,12 @@ class LMBFilter:
     estimate : {"max-weight", "mean"}, optional
         State estimate of a reported track: mean of its heaviest component (Vo's code) or of the
         whole mixture.
+    birth : MeasurementBirth or None, optional
+        None (default): the model's static birth at every scan. A
+        :class:`~rankedassign.tracking.birth.MeasurementBirth`: the births of scan ``k + 1``
+        are made from the measurements of scan ``k`` that the tracks do not explain,
+        ``r_A(z_j) = Σ_i β_ij`` (Reuter et al. 2014, adaptive birth); the model's static
+        birth is not used.
 
     Notes
     -----
@@ -310,9 +317,17 @@ class LMBFilter:
         merge_rule: str = "bhattacharyya",
         max_components: int = 10,
         estimate: str = "max-weight",
+        birth: MeasurementBirth | None = None,
     ):
         check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
         self._check_association(association)
+        if birth is not None:
+            check_type(birth, "birth", MeasurementBirth,
+                       "None for the model's static birth or MeasurementBirth(...)")
+            # a prior of the wrong dimension is refused now, not at the first scan
+            birth.births(np.empty((0, 2)), np.empty(0), H=model.sensor.H, R=model.sensor.R)
+        #: The measurement-driven birth in use, or None for the model's static birth.
+        self.birth = birth
         #: The state extraction in use: ``extraction``, or the model's when that is None.
         self.extraction = check_choice(model.extraction if extraction is None else extraction,
                                        "extraction", EXTRACTIONS)
@@ -404,6 +419,24 @@ class LMBFilter:
         self.m = np.empty((0, 4))
         self.P = np.empty((0, 4, 4))
         self.confirmed = np.empty(0, dtype=bool)
+        if getattr(self, "birth", None) is not None:
+            self._set_measurement_births(BirthComponents.empty())
+
+    def _set_measurement_births(self, b: BirthComponents) -> None:
+        """The births the next prediction appends (means and covariances not yet predicted)."""
+        self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
+        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
+        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
+        self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
+
+    def _measurement_births(self, z: np.ndarray, used: np.ndarray, beta: np.ndarray) -> float:
+        """Make the next scan's births from ``r_A(z_j) = Σ_i β_ij``; return the seconds."""
+        t0 = perf_counter()
+        r_A = np.zeros(z.shape[0])
+        r_A[used] = beta[:, :used.size].sum(axis=0)
+        self._set_measurement_births(self.birth.births(
+            z, r_A, H=self.model.sensor.H, R=self._R))
+        return perf_counter() - t0
 
     def set_prior(self, labels, means, covs, existence=None) -> None:
         """Start from an LMB prior of single-Gaussian tracks (instead of no track).
@@ -497,12 +530,18 @@ class LMBFilter:
         labels = np.empty((B, 2), dtype=np.int64)
         labels[:, 0] = self.k
         labels[:, 1] = self._birth_index
+        birth_m, birth_P = self._birth_m, self._birth_P
+        if getattr(self, "birth", None) is not None:
+            # measurement births sit at the last scan's time: predict them with this scan's
+            # motion, as every track
+            birth_m = birth_m @ self._FT
+            birth_P = self._F @ birth_P @ self._FT + self._Q
         self.labels = np.concatenate([self.labels, labels])
         self.r = np.concatenate([self.r, self._birth_r])
         self.offsets = np.concatenate([self.offsets, self.w.size + self._birth_index])
         self.w = np.concatenate([self.w, np.ones(B)])
-        self.m = np.concatenate([self.m, self._birth_m])
-        self.P = np.concatenate([self.P, self._birth_P])
+        self.m = np.concatenate([self.m, birth_m])
+        self.P = np.concatenate([self.P, birth_P])
         self.confirmed = np.concatenate([self.confirmed, np.zeros(B, dtype=bool)])
 
     # ----------------------------------------------------------------------- 2. likelihoods
@@ -778,14 +817,21 @@ class LMBFilter:
         M_all = z.shape[0]
         if T == 0:  # an empty birth model and no tracks: nothing to associate
             t2 = perf_counter()
+            timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0,
+                       "update": 0.0}
+            if self.birth is not None:   # no track explains anything: r_A = 0
+                timings["birth"] = self._measurement_births(
+                    z, np.empty(0, np.int64), np.empty((0, 2)))
             return ScanRecord(
                 labels=np.empty((0, 2), np.int64), states=np.empty((0, 4)),
                 existence=np.empty(0), track_labels=self.labels.copy(),
                 track_existence=self.r.copy(), n_tracks=0, n_meas=M_all, n_meas_gated=0,
                 n_groups=0, invocations=0, sweeps=0, row_updates=0, n_unique=0,
-                timings={"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0},
+                timings=timings,
             )
-        if self._use_spatial(T, M_all):
+        # the measurement birth reads every measurement's association probability from the
+        # dense path's marginals; the cluster path does not gather them
+        if self.birth is None and self._use_spatial(T, M_all):
             n_used, n_problems, counts, r_new, mixture, phases = self._spatial_scan(z, gen)
             t2 = t1 + phases["cost"]
             t3 = t2 + phases["association"]
@@ -805,13 +851,15 @@ class LMBFilter:
             labels, states, ex = self._extract()
             t4 = perf_counter()
         inv, sweeps, rows_upd, n_unique = counts.tolist()
+        timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
+                   "update": t4 - t3}
+        if self.birth is not None:
+            timings["birth"] = self._measurement_births(z, terms.used, beta)
         return ScanRecord(
             labels=labels, states=states, existence=ex, track_labels=self.labels.copy(),
             track_existence=self.r.copy(), n_tracks=T, n_meas=M_all,
             n_meas_gated=n_used, n_groups=n_problems, invocations=inv,
-            sweeps=sweeps, row_updates=rows_upd, n_unique=n_unique,
-            timings={"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
-                     "update": t4 - t3},
+            sweeps=sweeps, row_updates=rows_upd, n_unique=n_unique, timings=timings,
         )
 
     # ----------------------------------------------------------------------- 6. update

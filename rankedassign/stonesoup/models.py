@@ -1,0 +1,212 @@
+"""Stone Soup's single-object models and Kalman-family filters as our array counterparts.
+
+The trackers will do the single-object arithmetic of non-linear tracking on arrays, with
+:mod:`rankedassign.tracking.nonlinear`, instead of on Stone Soup objects. This module maps what
+a Stone Soup user builds a tracker from onto those classes:
+
+* :func:`motion_from_stonesoup`: a linear-Gaussian transition model (``F`` and ``Q`` of one
+  interval) as :class:`~rankedassign.tracking.nonlinear.LinearGaussianMotion`;
+* :func:`measurement_from_stonesoup`: ``LinearGaussian`` as
+  :class:`~rankedassign.tracking.nonlinear.LinearGaussianMeasurement` and
+  ``CartesianToBearingRange`` as :class:`~rankedassign.tracking.nonlinear.BearingRange`;
+* :func:`filter_from_stonesoup`: a ``KalmanPredictor``/``KalmanUpdater``,
+  ``ExtendedKalman…`` or ``UnscentedKalman…`` (with its ``alpha``, ``beta``, ``kappa``) as
+  :class:`~rankedassign.tracking.nonlinear.KalmanFilter`,
+  :class:`~rankedassign.tracking.nonlinear.ExtendedKalmanFilter` or
+  :class:`~rankedassign.tracking.nonlinear.UnscentedKalmanFilter`.
+
+Anything else is refused with a ``TypeError`` naming the class and what is missing. The tests
+(``tests/test_stonesoup_models.py``) check that the mapped filters' predictions and updates
+equal Stone Soup's on the same inputs.
+
+Conventions: Stone Soup measures the bearing from the x-axis,
+``φ = atan2(y − s_y, x − s_x)``; :class:`~rankedassign.tracking.nonlinear.BearingRange` from
+the y-axis (Vo's), ``θ = atan2(p_x − s_x, p_y − s_y)``. Swapping the two position components
+(``position_indices = (mapping[1], mapping[0])``, ``sensor_position = (s_y, s_x)``) makes
+``θ = φ``, so the mapping is exact.
+"""
+
+from __future__ import annotations
+
+import datetime
+
+import numpy as np
+from stonesoup.models.base import GaussianModel, LinearModel
+from stonesoup.models.measurement.linear import LinearGaussian
+from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
+from stonesoup.predictor.kalman import (
+    ExtendedKalmanPredictor,
+    KalmanPredictor,
+    UnscentedKalmanPredictor,
+)
+from stonesoup.updater.kalman import ExtendedKalmanUpdater, KalmanUpdater, UnscentedKalmanUpdater
+
+from ..tracking.nonlinear import (
+    BearingRange,
+    ExtendedKalmanFilter,
+    KalmanFilter,
+    LinearGaussianMeasurement,
+    LinearGaussianMotion,
+    UnscentedKalmanFilter,
+)
+
+__all__ = ["filter_from_stonesoup", "measurement_from_stonesoup", "motion_from_stonesoup"]
+
+
+def motion_from_stonesoup(transition_model, time_interval: datetime.timedelta):
+    """A Stone Soup linear-Gaussian transition model over one interval, as our motion model.
+
+    Parameters
+    ----------
+    transition_model : stonesoup.models.base.LinearModel and GaussianModel
+        E.g. a ``CombinedLinearGaussianTransitionModel`` of ``ConstantVelocity`` models.
+    time_interval : datetime.timedelta
+        The interval whose ``F`` and ``Q`` are taken.
+
+    Returns
+    -------
+    LinearGaussianMotion
+        ``F = transition_model.matrix(time_interval)``,
+        ``Q = transition_model.covar(time_interval)``.
+
+    Raises
+    ------
+    TypeError
+        If the model is not linear-Gaussian (e.g. ``ConstantTurn``, whose turn-rate noise has
+        no counterpart in :class:`~rankedassign.tracking.nonlinear.CoordinatedTurn`'s).
+
+    Examples
+    --------
+    >>> import datetime
+    >>> from stonesoup.models.transition.linear import (
+    ...     CombinedLinearGaussianTransitionModel, ConstantVelocity)
+    >>> cv = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.5)] * 2)
+    >>> motion_from_stonesoup(cv, datetime.timedelta(seconds=2)).F[0].tolist()
+    [1.0, 2.0, 0.0, 0.0]
+    """
+    if not (isinstance(transition_model, LinearModel)
+            and isinstance(transition_model, GaussianModel)):
+        raise TypeError(f"the transition model {type(transition_model).__name__} is not "
+                        "linear-Gaussian (no matrix F and covariance Q): our non-linear motion "
+                        "model is CoordinatedTurn with Vo's noise, which Stone Soup's "
+                        "ConstantTurn does not share")
+    return LinearGaussianMotion(
+        np.asarray(transition_model.matrix(time_interval=time_interval), dtype=np.float64),
+        np.asarray(transition_model.covar(time_interval=time_interval), dtype=np.float64),
+        name=type(transition_model).__name__)
+
+
+def measurement_from_stonesoup(measurement_model, prob_detection: float = 1.0):
+    """A Stone Soup measurement model as our measurement model.
+
+    Parameters
+    ----------
+    measurement_model : LinearGaussian or CartesianToBearingRange
+        A ``LinearGaussian`` (any state dimension and mapping) or a 2-D
+        ``CartesianToBearingRange`` with no rotation offset and a diagonal noise covariance.
+    prob_detection : float, optional
+        ``P_D`` carried by our model (default 1; the filters take it from the tracker).
+
+    Returns
+    -------
+    LinearGaussianMeasurement or BearingRange
+        ``H = measurement_model.matrix()``, ``R = measurement_model.covar()``,
+        ``position_indices = mapping[:2]``; or the bearing–range model with the position
+        components swapped (module docstring), ``sensor_position`` the translation offset.
+
+    Raises
+    ------
+    TypeError
+        If the model is of another class (``CartesianToElevationBearingRange``,
+        ``Cartesian2DToBearing``, ...: the message names it and what is missing).
+    ValueError
+        If a ``CartesianToBearingRange`` has a rotation offset or a correlated noise
+        covariance, or a ``LinearGaussian`` has fewer than two mapped components.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
+    >>> br = CartesianToBearingRange(4, (0, 2), np.diag([1e-4, 1.0]))
+    >>> ours = measurement_from_stonesoup(br)
+    >>> ours.position_indices, ours.h([[0.0, 0.0, 1.0, 0.0]]).round(6).tolist()
+    ((2, 0), [[1.570796, 1.0]])
+    """
+    who = type(measurement_model).__name__
+    if isinstance(measurement_model, LinearGaussian):
+        mapping = tuple(int(i) for i in measurement_model.mapping)
+        if len(mapping) < 2:
+            raise ValueError(f"{who}: our measurement models need two position components, "
+                             f"got mapping {mapping}")
+        return LinearGaussianMeasurement(
+            np.asarray(measurement_model.matrix(), dtype=np.float64),
+            np.asarray(measurement_model.covar(), dtype=np.float64), p_d=prob_detection,
+            position_indices=mapping[:2], name=who)
+    if isinstance(measurement_model, CartesianToBearingRange):
+        rot = np.asarray(measurement_model.rotation_offset, dtype=np.float64).ravel()
+        if np.any(rot != 0):
+            raise ValueError(f"{who}: a rotation offset {rot.tolist()} has no counterpart in "
+                             "our BearingRange (a sensor at a position, bearing from the axis)")
+        R = np.asarray(measurement_model.covar(), dtype=np.float64)
+        if R[0, 1] != 0 or R[1, 0] != 0:
+            raise ValueError(f"{who}: our BearingRange takes independent bearing and range "
+                             f"noise, got the covariance {R.tolist()}")
+        mapping = tuple(int(i) for i in measurement_model.mapping[:2])
+        t = np.asarray(measurement_model.translation_offset, dtype=np.float64).ravel()
+        return BearingRange(sigma_bearing=float(np.sqrt(R[0, 0])),
+                            sigma_range=float(np.sqrt(R[1, 1])),
+                            sensor_position=(float(t[1]), float(t[0])), p_d=prob_detection,
+                            state_ndim=int(measurement_model.ndim_state),
+                            position_indices=(mapping[1], mapping[0]))
+    raise TypeError(f"the measurement model {who} has no counterpart in "
+                    "rankedassign.tracking.nonlinear (LinearGaussian and a 2-D "
+                    "CartesianToBearingRange have; elevation and bearing-only sensors not yet)")
+
+
+def filter_from_stonesoup(component, ndim_state: int | None = None):
+    """A Stone Soup Kalman-family predictor or updater as our single-object filter.
+
+    Parameters
+    ----------
+    component : KalmanPredictor or KalmanUpdater, or their Extended/Unscented forms
+        The predictor or updater.
+    ndim_state : int, optional
+        The state dimension ``n``: Stone Soup's unscented ``kappa=None`` means ``3 − n``,
+        which needs it (ignored otherwise).
+
+    Returns
+    -------
+    KalmanFilter, ExtendedKalmanFilter or UnscentedKalmanFilter
+        The unscented filter with the component's ``alpha``, ``beta`` and ``kappa`` (additive
+        noise, as Stone Soup's).
+
+    Raises
+    ------
+    TypeError
+        If ``component`` is not one of the six classes (a particle predictor or updater, a
+        square-root or cubature Kalman form: the message names the class), or an unscented
+        component has ``kappa=None`` and no ``ndim_state`` is given.
+
+    Examples
+    --------
+    >>> from stonesoup.updater.kalman import UnscentedKalmanUpdater
+    >>> ukf = filter_from_stonesoup(UnscentedKalmanUpdater(), ndim_state=4)
+    >>> type(ukf).__name__, ukf.alpha, ukf.beta, ukf.kappa
+    ('UnscentedKalmanFilter', 0.5, 2.0, -1.0)
+    """
+    kind = type(component)
+    if kind in (KalmanPredictor, KalmanUpdater):
+        return KalmanFilter()
+    if kind in (ExtendedKalmanPredictor, ExtendedKalmanUpdater):
+        return ExtendedKalmanFilter()
+    if kind in (UnscentedKalmanPredictor, UnscentedKalmanUpdater):
+        kappa = component.kappa
+        if kappa is None:
+            if ndim_state is None:
+                raise TypeError(f"{kind.__name__} has kappa=None (3 - n): give ndim_state")
+            kappa = 3.0 - int(ndim_state)
+        return UnscentedKalmanFilter(float(component.alpha), float(component.beta),
+                                     float(kappa))
+    raise TypeError(f"{kind.__name__} has no counterpart in rankedassign.tracking.nonlinear: "
+                    "the Kalman, extended and unscented Kalman predictors and updaters have "
+                    "(our filters hold Gaussian mixtures, not particles)")

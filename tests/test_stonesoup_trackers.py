@@ -1,0 +1,248 @@
+"""The Stone Soup trackers built as a Stone Soup user builds a tracker: from a predictor and an
+updater, any position mapping of a 4-D state, and births from the measurements."""
+
+import datetime
+
+import numpy as np
+import pytest
+
+pytest.importorskip("stonesoup")
+
+from stonesoup.models.measurement.linear import LinearGaussian  # noqa: E402
+from stonesoup.models.measurement.nonlinear import CartesianToBearingRange  # noqa: E402
+from stonesoup.models.transition.linear import (  # noqa: E402
+    CombinedLinearGaussianTransitionModel,
+    ConstantVelocity,
+)
+from stonesoup.predictor.kalman import (  # noqa: E402
+    ExtendedKalmanPredictor,
+    KalmanPredictor,
+    UnscentedKalmanPredictor,
+)
+from stonesoup.predictor.particle import ParticlePredictor  # noqa: E402
+from stonesoup.types.detection import Detection  # noqa: E402
+from stonesoup.types.state import WeightedGaussianState  # noqa: E402
+from stonesoup.updater.kalman import (  # noqa: E402
+    ExtendedKalmanUpdater,
+    KalmanUpdater,
+    UnscentedKalmanUpdater,
+)
+from stonesoup.updater.particle import ParticleUpdater  # noqa: E402
+
+from rankedassign.stonesoup import GLMBTracker, LMBTracker  # noqa: E402
+from rankedassign.tracking import Exact, MeasurementBirth, Murty  # noqa: E402
+
+T0 = datetime.datetime(2025, 1, 1)
+CV = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.5)] * 2)
+MM = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=np.eye(2))
+KW = dict(prob_detection=0.9, clutter_rate=1.0, clutter_spatial_density=1e-4)
+BIRTH = [WeightedGaussianState([[0], [0], [0], [0]], np.diag([4.0, 4, 4, 4]), weight=0.1)]
+
+
+def _scans(n=6, model=MM, start=(0.0, 0.0)):
+    """One target moving along x at 1 m/s from ``start``, one detection per scan."""
+    return [(T0 + datetime.timedelta(seconds=k),
+             {Detection([[start[0] + 1.0 * k], [start[1]]],
+                        timestamp=T0 + datetime.timedelta(seconds=k), measurement_model=model)})
+            for k in range(n)]
+
+
+def _run(tracker):
+    out = []
+    for _, tracks in tracker:
+        out.append(sorted((t.id, tuple(np.round(t.state_vector.ravel(), 9))) for t in tracks))
+    return out
+
+
+# ----------------------------------------------------------------------------- births
+@pytest.mark.parametrize("cls, association", [(LMBTracker, Exact()), (GLMBTracker, Murty(50))])
+def test_births_from_the_measurements(cls, association):
+    # a target far from anywhere a birth would be placed by hand: born from its detection
+    tracker = cls(_scans(start=(5000.0, -3000.0)), CV, MM, association=association, seed=0,
+                  birth_options={"lambda_b": 0.5, "r_max": 0.5}, **KW)
+    assert isinstance(tracker.measurement_birth, MeasurementBirth)
+    assert tracker.filter.birth is tracker.measurement_birth
+    out = _run(tracker)
+    assert out[0] == []                   # the first detection makes a birth of scan 2
+    (label, state), = out[-1]
+    assert label == "2:1"
+    np.testing.assert_allclose(state, [5005.0, 1.0, -3000.0, 0.0], atol=0.5)
+
+
+def test_static_births_are_still_taken():
+    tracker = LMBTracker(_scans(), CV, MM, association=Exact(), seed=0,
+                         birth_components=BIRTH, **KW)
+    assert tracker.measurement_birth is None and tracker.filter.birth is None
+    assert _run(tracker)[-1][0][0] == "1:1"
+
+
+@pytest.mark.parametrize("options, error, match", [
+    ({"lambda_b": 0.0}, ValueError, r"lambda_b must be > 0.0, got 0.0"),
+    ({"lambda_b": float("nan")}, ValueError, r"lambda_b must be a finite real number, got nan"),
+    ({"velocity_cov": np.eye(3)}, ValueError,
+     r"velocity_cov must have shape \(2, 2\) for the 2 unmeasured state components"),
+    ({"velocity_mean": [0.0, 0.0, 0.0]}, ValueError,
+     r"velocity_mean must have shape \(2,\) for the 2 unmeasured state components"),
+    ({"nonsense": 1}, TypeError, r"unexpected keyword argument 'nonsense'"),
+])
+def test_bad_birth_options(options, error, match):
+    with pytest.raises(error, match=match):
+        LMBTracker(None, CV, MM, association=Exact(), birth_options=options, **KW)
+
+
+def test_birth_options_must_be_a_dict():
+    with pytest.raises(TypeError, match=r"LMBTracker: birth_options must be a dict of "
+                                        r"MeasurementBirth's keyword arguments, got list"):
+        LMBTracker(None, CV, MM, association=Exact(), birth_options=[1.0], **KW)
+
+
+# ----------------------------------------------------------------------------- predictor/updater
+@pytest.mark.parametrize("predictor_cls, updater_cls", [
+    (KalmanPredictor, KalmanUpdater),
+    (ExtendedKalmanPredictor, ExtendedKalmanUpdater),
+    (UnscentedKalmanPredictor, UnscentedKalmanUpdater),
+])
+@pytest.mark.parametrize("cls, association", [(LMBTracker, Exact()), (GLMBTracker, Murty(50))])
+def test_predictor_and_updater_give_the_models_tracks(predictor_cls, updater_cls, cls,
+                                                      association):
+    scans = _scans()
+    by_models = _run(cls(scans, CV, MM, association=association, seed=3, **KW))
+    tracker = cls(scans, predictor=predictor_cls(CV), updater=updater_cls(MM),
+                  association=association, seed=3, **KW)
+    assert tracker.transition_model is CV and tracker.measurement_model is MM
+    assert _run(tracker) == by_models
+    assert sum(map(len, by_models)) > 0
+
+
+def test_a_state_in_another_order():
+    """[x, y, vx, vy] with mapping (0, 1): the same tracks as [x, vx, y, vy], reordered."""
+    perm = [0, 2, 1, 3]                       # ours[i] = theirs[perm[i]]
+    cv = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.5)] * 2)
+    F = cv.matrix(time_interval=datetime.timedelta(seconds=1))
+
+    class Reordered(CombinedLinearGaussianTransitionModel):
+        def matrix(self, **kw):
+            M = CombinedLinearGaussianTransitionModel.matrix(self, **kw)
+            return M[np.ix_(perm, perm)]
+
+        def covar(self, **kw):
+            Q = CombinedLinearGaussianTransitionModel.covar(self, **kw)
+            return Q[np.ix_(perm, perm)]
+
+    tm = Reordered([ConstantVelocity(0.5)] * 2)
+    np.testing.assert_array_equal(tm.matrix(time_interval=datetime.timedelta(seconds=1)),
+                                  F[np.ix_(perm, perm)])
+    mm = LinearGaussian(ndim_state=4, mapping=(0, 1), noise_covar=np.eye(2))
+    ours = _run(LMBTracker(_scans(model=MM), CV, MM, association=Exact(), seed=1, **KW))
+    theirs = _run(LMBTracker(_scans(model=mm), tm, mm, association=Exact(), seed=1, **KW))
+    assert [[t[0] for t in s] for s in ours] == [[t[0] for t in s] for s in theirs]
+    for a, b in zip(ours, theirs, strict=True):
+        for (_, x), (_, y) in zip(a, b, strict=True):
+            np.testing.assert_allclose(np.array(y), np.array(x)[perm], atol=1e-8)
+
+
+def test_particle_predictor_and_updater_are_refused_by_name():
+    with pytest.raises(TypeError, match=r"LMBTracker: the predictor must be a Kalman-family "
+                                        r"Stone Soup Predictor \(KalmanPredictor, "
+                                        r"ExtendedKalmanPredictor, UnscentedKalmanPredictor\), "
+                                        r"got ParticlePredictor"):
+        LMBTracker(None, predictor=ParticlePredictor(CV), updater=KalmanUpdater(MM),
+                   association=Exact(), **KW)
+    with pytest.raises(TypeError, match=r"GLMBTracker: the updater must be a Kalman-family "
+                                        r"Stone Soup Updater \(KalmanUpdater, "
+                                        r"ExtendedKalmanUpdater, UnscentedKalmanUpdater\), "
+                                        r"got ParticleUpdater"):
+        GLMBTracker(None, predictor=KalmanPredictor(CV), updater=ParticleUpdater(MM),
+                    association=Murty(5), **KW)
+
+
+@pytest.mark.parametrize("updater_cls", [ExtendedKalmanUpdater, UnscentedKalmanUpdater])
+def test_a_non_linear_sensor_is_refused_until_the_filters_take_it(updater_cls):
+    br = CartesianToBearingRange(4, (0, 2), np.diag([1e-4, 1.0]))
+    with pytest.raises(TypeError, match=r"LMBTracker supports only linear-Gaussian models: the "
+                                        r"measurement model CartesianToBearingRange is not "
+                                        r"linear-Gaussian \(use e.g. LinearGaussian\); the "
+                                        r"filters' non-linear path \(EKF and UKF on our arrays, "
+                                        r"rankedassign.tracking.nonlinear\) is coming"):
+        LMBTracker(None, predictor=ExtendedKalmanPredictor(CV), updater=updater_cls(br),
+                   association=Exact(), **KW)
+
+
+def test_missing_and_disagreeing_parts():
+    with pytest.raises(TypeError, match=r"LMBTracker needs prob_detection, clutter_rate"):
+        LMBTracker(None, CV, MM, clutter_spatial_density=1e-4)
+    with pytest.raises(TypeError, match=r"LMBTracker needs a transition_model or a predictor "
+                                        r"that holds one"):
+        LMBTracker(None, measurement_model=MM, **KW)
+    with pytest.raises(TypeError, match=r"LMBTracker needs a measurement_model or an updater "
+                                        r"that holds one"):
+        LMBTracker(None, predictor=KalmanPredictor(CV), **KW)
+    with pytest.raises(TypeError, match=r"LMBTracker: the updater KalmanUpdater holds no "
+                                        r"measurement_model; give measurement_model"):
+        LMBTracker(None, CV, updater=KalmanUpdater(None), **KW)
+    other = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=np.eye(2))
+    with pytest.raises(ValueError, match=r"LMBTracker: measurement_model is not the updater's "
+                                         r"measurement_model; give one of them"):
+        LMBTracker(None, CV, other, updater=KalmanUpdater(MM), **KW)
+    # the same model given twice is fine
+    LMBTracker(None, CV, MM, predictor=KalmanPredictor(CV), updater=KalmanUpdater(MM),
+               association=Exact(), **KW)
+    six = LinearGaussian(ndim_state=6, mapping=(0, 2), noise_covar=np.eye(2))
+    with pytest.raises(ValueError, match=r"the transition model has a 4-D state, the "
+                                         r"measurement model a 6-D one"):
+        LMBTracker(None, CV, six, **KW)
+
+
+@pytest.mark.parametrize("cls", [LMBTracker, GLMBTracker])
+def test_detections_with_nan_are_refused_with_the_time(cls):
+    tracker = cls(None, CV, MM, association=Exact() if cls is LMBTracker else Murty(5), **KW)
+    with pytest.raises(ValueError, match=rf"{cls.__name__}: a detection at 2025-01-01 00:00:00 "
+                                         r"has a non-finite state vector \[nan, 0.0\]"):
+        tracker.update_tracker(T0, {Detection([[np.nan], [0.0]], timestamp=T0,
+                                              measurement_model=MM)})
+
+
+# ----------------------------------------------------------------------------- the scripts
+def _script(name):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(f"_bench_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_jpda_comparison_script_runs(capsys):
+    """benchmarks/stonesoup_trackers.py on one short seed (a smoke test; the numbers of
+    benchmarks/README.md come from its default 3 seeds x 100 scans)."""
+    out = _script("stonesoup_trackers").main(["--seeds", "1", "--scans", "6"])
+    assert set(out) == {"LMB", "GLMB", "JPDA"}
+    for runs in out.values():
+        (ospa, seconds), = runs
+        assert 0.0 <= ospa <= 10.0 and seconds > 0
+    assert "best JPDA cell" in capsys.readouterr().out
+
+
+def test_the_measurement_birth_script_runs():
+    out = _script("measurement_birth").main(["--presets", "vo", "--seeds", "1",
+                                             "--scans", "5"])
+    assert len(out) == 8 and all(0.0 <= v[0] <= 100.0 for v in out.values())
+
+
+def test_more_bad_models():
+    three = LinearGaussian(ndim_state=4, mapping=(0, 2, 3), noise_covar=np.eye(3))
+    with pytest.raises(ValueError, match=r"LMBTracker: the filters track a 2-D position and its "
+                                         r"velocity: .*; got mapping \(0, 2, 3\) of a 4-D "
+                                         r"state"):
+        LMBTracker(None, CV, three, **KW)
+    with pytest.raises(ValueError, match=r"LMBTracker: transition_model is not the predictor's "
+                                         r"transition_model; give one of them"):
+        LMBTracker(None, CombinedLinearGaussianTransitionModel([ConstantVelocity(1.0)] * 2), MM,
+                   predictor=KalmanPredictor(CV), **KW)
+    small = WeightedGaussianState([[0], [0]], np.eye(2), weight=0.1)
+    with pytest.raises(ValueError, match=r"LMBTracker: birth component 0 has a state of shape "
+                                         r"\(2,\) and covariance \(2, 2\), the tracker's state "
+                                         r"is 4-D"):
+        LMBTracker(None, CV, MM, birth_components=[small], **KW)
