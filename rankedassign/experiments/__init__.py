@@ -65,6 +65,7 @@ from .studies import (  # noqa: F401  (each module registers its study)
     multisensor_tracking,
     optimum,
     readings,
+    scaling,
     sweep,
     table1,
     tempering_herding,

@@ -1,0 +1,81 @@
+"""The ``scaling`` study: cost, memory and accuracy per target against the number of targets."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from rankedassign.experiments import Config, ReproduceError, config_from_dict, get_study
+from rankedassign.experiments.studies.scaling import (
+    ScalingConfig,
+    render_scaling,
+    scaling_task,
+    summarise_scaling,
+)
+
+TINY = ScalingConfig(n_mc=2, sizes=(5, 100), n_scans=3, n_chains=20, mass_max_n=5)
+
+
+@pytest.fixture(scope="module")
+def runs():
+    return [scaling_task(TINY, 0, r, f, n) for f in TINY.filters for n in TINY.sizes
+            for r in range(TINY.n_mc)]
+
+
+def test_records_per_run(runs):
+    for r in runs:
+        assert len(r["seconds"]) == TINY.n_scans
+        assert 0.0 <= r["error_per_target"] <= TINY.ospa_c
+        assert r["gospa_per_target"] is not None and r["gospa_per_target"] >= 0.0
+        if r["filter"] == "lmb":
+            assert r["n_clusters"] is None and r["log10_retained_mass"] is None
+        else:
+            assert r["n_clusters"] >= 1 and r["largest_cluster"] >= 1
+            # the mass up to mass_max_n only, and then every cluster within the DP's reach
+            if r["N"] <= TINY.mass_max_n:
+                assert r["log10_retained_mass"] <= 1e-12 and r["clusters_beyond_dp"] == 0
+            else:
+                assert r["log10_retained_mass"] is None
+
+
+def test_the_same_seed_gives_the_same_record_and_filters_share_the_scenario():
+    a = scaling_task(TINY, 3, 1, "clustered-glmb", 5)
+    b = scaling_task(TINY, 3, 1, "clustered-glmb", 5)
+    assert a["error_per_target"] == b["error_per_target"]
+    assert a["log10_retained_mass"] == b["log10_retained_mass"]
+    # the well-separated known targets: both filters keep every one of them
+    lmb = scaling_task(TINY, 3, 1, "lmb", 5)
+    assert lmb["false_per_target"] == a["false_per_target"] == 0.0
+
+
+def test_summary_and_report(runs):
+    s = summarise_scaling(runs, TINY)
+    assert [(r.filter, r.N) for r in s.rows] == [("lmb", 5), ("lmb", 100),
+                                                 ("clustered-glmb", 5), ("clustered-glmb", 100)]
+    for r in s.rows:
+        assert r.n_runs == 2 and r.ms_per_target > 0
+        assert np.isclose(r.ms_per_target, 1e3 * r.seconds_per_scan / r.N)
+    text = render_scaling(s, TINY)
+    # no N above 100 here: the verdict says so instead of comparing
+    assert "from N = 100 to N = 100" not in text
+    assert "scaling.png" in text and " nan " not in text.replace("|", " ").lower()
+
+
+@pytest.mark.parametrize(("name", "value", "message"), [
+    ("sizes", [], "sizes must name at least one number of targets"),
+    ("sizes", [10, 0], "sizes: N must be a positive integer, got 0"),
+    ("filters", ["phd"], "unknown filter 'phd'"),
+    ("n_scans", 0, "n_scans must be a positive integer, got 0"),
+    ("mass_max_n", 0, "mass_max_n must be a positive integer, got 0"),
+])
+def test_bad_settings_are_refused_naming_the_setting(name, value, message):
+    with pytest.raises(ReproduceError, match=rf"^config for 'scaling': .*{re.escape(message)}"):
+        config_from_dict(Config.quick(), {"scaling": {name: value}})
+
+
+def test_quick_and_full():
+    st = get_study("scaling")
+    assert max(st.quick().sizes) == 1000 and max(st.full().sizes) == 10000
+    assert st.quick().n_mc < st.full().n_mc
