@@ -318,10 +318,17 @@ def check_real(value, name: str, *, minimum=None, maximum=None, strict_minimum=F
     Traceback (most recent call last):
     ...
     ValueError: c must be a finite real number, got nan
+    >>> check_real(10**400, "p")
+    Traceback (most recent call last):
+    ...
+    ValueError: p must be a finite real number, got inf
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {type(value).__name__} {value!r}")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:  # an int beyond the floats (10**400): infinite as a float
+        v = math.inf if value > 0 else -math.inf
     if math.isnan(v) or (finite and math.isinf(v)):
         kind = "finite real number" if finite else "real number"
         raise ValueError(f"{name} must be a {kind}, got {v}")

@@ -2,6 +2,7 @@
 
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 from rankedassign.metrics import (
     OSPA2Result,
     OSPAResult,
+    gospa,
     ospa,
     ospa2,
     track_coverage,
@@ -524,3 +526,13 @@ def test_ospa2_large_order_and_weight_power_by_hand():
                     [1.0, (w * 1.0 + 3.0) / (w + 1.0)], rtol=1e-15)
     # window 2**62: the whole history
     assert_allclose(ospa2(truth, est, 10.0, 1, 2**62).value, [1.0, 2.0], rtol=1e-15)
+
+
+@pytest.mark.parametrize("bad", [10**400, -(10**400)])
+def test_an_int_beyond_the_floats_is_refused_as_infinite(bad):
+    # found by the fuzz test: p = 10**400 raised OverflowError inside the argument check
+    with pytest.raises(ValueError, match=re.escape("p must be a finite real number, got "
+                                                   f"{'inf' if bad > 0 else '-inf'}")):
+        ospa([], [], 1.0, bad)
+    with pytest.raises(ValueError, match="c must be a finite real number"):
+        gospa([], [], bad, 1.0)
