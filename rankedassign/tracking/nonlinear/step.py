@@ -1,0 +1,295 @@
+"""The model-agnostic measurement step the LMB and δ-GLMB filters run on a non-linear model.
+
+A filter built on a :class:`~rankedassign.tracking.nonlinear.NonlinearModel` holds one
+:class:`SingleObject` (Stone Soup's predictor and updater in one component): it predicts the
+Gaussian components through the motion model, and for the predicted components and one scan
+of measurements returns what the multi-object update needs (:class:`MeasurementTerms`): the
+squared Mahalanobis distances on the wrapped innovations, ``ln |S|``, the χ² gate per track,
+the gain ``K = C S⁻¹`` and the updated covariance ``P − K S Kᵀ``. The model's single-object
+filter (Kalman, EKF or UKF) gives ``ẑ``, ``S`` and ``C = Cov(x, z)``; nothing below depends
+on which.
+
+The per-(track, measurement) log-likelihoods, the cost matrices and the samplers are the
+compiled kernels of the linear filters (:func:`rankedassign.tracking._kernels.detection_log_weights`
+takes distances and log-determinants, whatever produced them). The two kernels that assume the
+4-D state of the linear filters (``posterior_components`` and ``reduce_mixtures``) are replaced
+here by their plain-numpy twins of :mod:`rankedassign.tracking.reference`, which work in any
+state dimension. A linear :class:`~rankedassign.tracking.models.Model` never reaches this
+module: its filters keep their compiled path and its numbers bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .. import reference
+from ..common import check_measurements
+from .vo import NonlinearModel
+
+__all__ = ["MeasurementTerms", "SingleObject", "single_object"]
+
+_LOG_2PI = math.log(2.0 * math.pi)
+
+
+class MeasurementTerms(NamedTuple):
+    """The measurement step of one scan for ``C`` components of ``T`` tracks, ``M`` measurements.
+
+    Attributes
+    ----------
+    maha : ndarray of float64, shape (C, M)
+        ``νᵀ S⁻¹ ν`` on the innovations with every angle coordinate wrapped to ``(−π, π]``.
+    log_det_S : ndarray of float64, shape (C,)
+        ``ln |S| + (d_z − 2) ln 2π``: with this, the compiled
+        :func:`~rankedassign.tracking._kernels.detection_log_weights` (written for
+        ``d_z = 2``) gives ``ln N(z; ẑ, S)`` in any measurement dimension; for ``d_z = 2`` it is
+        ``ln |S|``.
+    nu : ndarray of float64, shape (C, M, d_z)
+        Wrapped innovations ``z_j − ẑ_c``.
+    gain : ndarray of float64, shape (C, d, d_z)
+        ``K = C S⁻¹``.
+    P_upd : ndarray of float64, shape (C, d, d)
+        ``P − K Cᵀ`` (= ``P − K S Kᵀ``), symmetrised.
+    gated : ndarray of bool, shape (T, M)
+        Measurement ``j`` is in the gate of some component of track ``t``.
+    """
+
+    maha: np.ndarray
+    log_det_S: np.ndarray
+    nu: np.ndarray
+    gain: np.ndarray
+    P_upd: np.ndarray
+    gated: np.ndarray
+
+
+class SingleObject:
+    """The single-object path of a non-linear model: prediction, measurement step, update.
+
+    Parameters
+    ----------
+    model : NonlinearModel
+        Motion and measurement models, and the single-object filter (``model.filter``:
+        :class:`~rankedassign.tracking.nonlinear.ExtendedKalmanFilter`,
+        :class:`~rankedassign.tracking.nonlinear.UnscentedKalmanFilter`, or the
+        :class:`~rankedassign.tracking.nonlinear.KalmanFilter` on linear models).
+
+    Attributes
+    ----------
+    filter : object
+        The single-object filter.
+    motion, sensor : object
+        The models.
+    ndim, meas_ndim : int
+        State and measurement dimensions ``d`` and ``d_z``.
+    position_indices : tuple of int
+        State components of the position (the sensor model names them).
+    p_d, p_s, clutter_intensity : float
+        Detection and survival probabilities, clutter intensity ``κ``.
+    birth_r, birth_w, birth_m, birth_P : ndarray
+        The birth terms flattened: existence ``(B,)``, then the Gaussians of every term in
+        turn, weights ``(L,)``, means ``(L, d)``, covariances ``(L, d, d)``.
+    birth_counts : ndarray of int64, shape (B,)
+        Gaussians of each birth term.
+
+    Raises
+    ------
+    TypeError
+        If ``model`` is not a :class:`~rankedassign.tracking.nonlinear.NonlinearModel`.
+    ValueError
+        If the motion, the sensor and the births disagree on the state dimension.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rankedassign.tracking.nonlinear import make_nonlinear_model
+    >>> from rankedassign.tracking.nonlinear.step import SingleObject
+    >>> so = SingleObject(make_nonlinear_model("vo-ekf"))
+    >>> so.ndim, so.meas_ndim, so.birth_m.shape
+    (5, 2, (4, 5))
+    """
+
+    def __init__(self, model: NonlinearModel):
+        if not isinstance(model, NonlinearModel):
+            raise TypeError(f"model must be a NonlinearModel, got {type(model).__name__}")
+        self.filter = model.filter
+        self.motion = model.motion
+        self.sensor = model.sensor
+        self.ndim = int(model.motion.ndim)
+        self.meas_ndim = int(model.sensor.ndim)
+        if int(model.sensor.state_ndim) != self.ndim:
+            raise ValueError(f"{model.sensor.name} measures {model.sensor.state_ndim}-D states "
+                             f"but {model.motion.name} moves {self.ndim}-D states")
+        self.position_indices = tuple(int(i) for i in model.sensor.position_indices)
+        self.p_d = float(model.sensor.p_d)
+        self.p_s = float(model.p_s)
+        if not 0 <= self.p_s <= 1:
+            raise ValueError(f"NonlinearModel: p_s must be in [0, 1], got {self.p_s}")
+        self.clutter_intensity = float(model.clutter.intensity)
+        birth = tuple(model.birth)
+        for i, b in enumerate(birth):
+            if b.means.shape[1] != self.ndim:
+                raise ValueError(f"NonlinearModel: birth term {i} has {b.means.shape[1]}-D "
+                                 f"means, the motion model {self.ndim}-D states")
+        self.birth_r = np.array([b.r for b in birth], dtype=np.float64)
+        self.birth_counts = np.array([b.weights.size for b in birth], dtype=np.int64)
+        d = self.ndim
+        self.birth_w = np.concatenate([b.weights for b in birth] or [np.empty(0)])
+        self.birth_m = np.concatenate([b.means for b in birth] or [np.empty((0, d))])
+        self.birth_P = np.concatenate([b.covs for b in birth] or [np.empty((0, d, d))])
+
+    def __repr__(self) -> str:
+        return f"SingleObject({self.filter!r}, {self.motion.name}, {self.sensor.name})"
+
+    # ------------------------------------------------------------------------- prediction
+    def predict(self, m: np.ndarray, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every component through the motion model (Kalman, EKF or UKF prediction).
+
+        Parameters
+        ----------
+        m : ndarray, shape (C, d)
+            Means.
+        P : ndarray, shape (C, d, d)
+            Covariances.
+
+        Returns
+        -------
+        m, P : ndarray
+            C-contiguous predicted means and covariances, same shapes.
+        """
+        if m.shape[0] == 0:
+            return m, P
+        m, P = self.filter.predict(self.motion, m, P)
+        return np.ascontiguousarray(m), np.ascontiguousarray(P)
+
+    # ------------------------------------------------------------------------- measurements
+    def check_measurements(self, z) -> np.ndarray:
+        """One scan's measurements as a float64 ``(M, d_z)`` array (bearings are not wrapped:
+        only their wrapped differences enter).
+
+        Parameters
+        ----------
+        z : array_like, shape (M, d_z)
+            The scan's measurements; ``[]`` is a scan without measurements.
+
+        Returns
+        -------
+        ndarray of float64, shape (M, d_z)
+
+        Raises
+        ------
+        TypeError, ValueError
+            As :func:`rankedassign.tracking.common.check_measurements`, the message naming the
+            measurement model.
+        """
+        return check_measurements(z, f"measurements of {self.sensor.name}", dim=self.meas_ndim)
+
+    def measurement_terms(self, m, P, z, offsets, gate: float | None) -> MeasurementTerms:
+        """The measurement step of every component against every measurement.
+
+        Parameters
+        ----------
+        m : ndarray, shape (C, d)
+            Predicted means.
+        P : ndarray, shape (C, d, d)
+            Predicted covariances.
+        z : ndarray, shape (M, d_z)
+            Measurements (``M >= 1``).
+        offsets : ndarray of int64, shape (T + 1,)
+            Component range of every track.
+        gate : float or None
+            Threshold on the squared Mahalanobis distance; None: every pair is gated.
+
+        Returns
+        -------
+        MeasurementTerms
+
+        Raises
+        ------
+        ValueError
+            From the models and the filter: a component at the sensor position, an innovation
+            covariance that is not positive definite, ... (each message names the model).
+        """
+        filt = self.filter
+        pred = filt.predict_measurement(self.sensor, m, P)
+        nu = filt.innovations(pred, z)
+        Si = pred.S_inv
+        dz = nu.shape[-1]
+        if dz == 2:  # the expression of the compiled gate, term by term
+            maha = (Si[:, None, 0, 0] * nu[..., 0] ** 2
+                    + (Si[:, None, 0, 1] + Si[:, None, 1, 0]) * nu[..., 0] * nu[..., 1]
+                    + Si[:, None, 1, 1] * nu[..., 1] ** 2)
+        else:
+            maha = np.einsum("cmi,cij,cmj->cm", nu, Si, nu)
+        T = offsets.size - 1
+        comp_gated = np.ones(maha.shape, dtype=bool) if gate is None else maha <= gate
+        track = np.repeat(np.arange(T), np.diff(offsets))
+        gated = np.zeros((T, z.shape[0]), dtype=bool)
+        np.logical_or.at(gated, track, comp_gated)
+        # K = C S⁻¹ ; P' = P − K C' (= P − K S K')
+        K = pred.cross @ Si
+        P_upd = P - K @ pred.cross.transpose(0, 2, 1)
+        P_upd = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+        log_det = pred.log_det + (dz - 2) * _LOG_2PI
+        return MeasurementTerms(np.ascontiguousarray(maha), np.ascontiguousarray(log_det),
+                                np.ascontiguousarray(nu), K, P_upd, gated)
+
+    # ------------------------------------------------------------------------- update
+    @staticmethod
+    def posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu, P_upd):
+        """Posterior components (spec eq. 6.4) in any state dimension.
+
+        The parameters and results of
+        :func:`rankedassign.tracking._kernels.posterior_components`, with ``d``-dimensional
+        states and ``d_z``-dimensional innovations; ``m + K ν`` uses the wrapped ``ν``. The
+        arithmetic is that of the plain-numpy twin
+        :func:`rankedassign.tracking.reference.posterior_components` (the compiled kernel is
+        written for 4-D states).
+
+        Returns
+        -------
+        w : ndarray, shape (N,)
+        m : ndarray, shape (N, d)
+        P : ndarray, shape (N, d, d)
+        """
+        return reference.posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu,
+                                              P_upd)
+
+    @staticmethod
+    def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
+        """Prune, merge and cap every kept mixture in any state dimension.
+
+        The parameters and results of :func:`rankedassign.tracking._kernels.reduce_mixtures`
+        (the plain-numpy twin :func:`rankedassign.tracking.reference.reduce_mixtures`; the
+        compiled kernel is written for 4-D states).
+
+        Returns
+        -------
+        offsets, w, m, P : ndarray
+        """
+        return reference.reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule)
+
+
+def single_object(model) -> SingleObject | None:
+    """The single-object path a filter holds for ``model``: None for a linear ``Model``.
+
+    Parameters
+    ----------
+    model : Model or NonlinearModel
+        The filter's model.
+
+    Returns
+    -------
+    SingleObject or None
+        None: the model is the linear :class:`~rankedassign.tracking.models.Model`, whose
+        filters run their compiled Kalman path unchanged.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking import make_model
+    >>> from rankedassign.tracking.nonlinear.step import single_object
+    >>> single_object(make_model("vo")) is None, single_object(make_model("vo-ukf")).ndim
+    (True, 5)
+    """
+    return SingleObject(model) if isinstance(model, NonlinearModel) else None
