@@ -14,8 +14,9 @@ from .association import Association
 from .filters import FILTERS as FILTER_TABLE
 from .filters import make_filter, takes_grouping
 from .multisensor.scenario import run_multisensor_scenario
+from .presets import make_scenario
 from .runner import TIMING_KEYS, run_filter
-from .scenario import ScenarioRun, check_n_scans, make_scenario
+from .scenario import ScenarioRun, check_n_scans
 
 __all__ = ["ScenarioRun", "TIMING_KEYS", "run_scenario"]
 
@@ -39,8 +40,9 @@ def run_scenario(
 
     Parameters
     ----------
-    preset : {"paper", "paper-var", "vo", "multi"}
-        Model preset (:func:`~rankedassign.tracking.models.make_model`); ``"multi"`` is the
+    preset : {"paper", "paper-var", "vo", "vo-ekf", "vo-ukf", "multi"}
+        Model preset (:func:`~rankedassign.tracking.presets.make_model`: ``"vo-ekf"`` and
+        ``"vo-ukf"`` are Vo's coordinated-turn, bearing–range examples); ``"multi"`` is the
         multi-sensor scenario, run by
         :func:`~rankedassign.tracking.multisensor.scenario.run_multisensor_scenario` (which
         returns a :class:`~rankedassign.tracking.multisensor.scenario.MultiSensorRun`).
@@ -136,7 +138,9 @@ def run_scenario(
     run = run_filter(filt, [scan.z for scan in scenario.scans], rng=filter_rng)
     return ScenarioRun(
         scenario=scenario,
-        truth=scenario.truth.positions,
+        # the position components the model names ([0, 2] for every preset so far)
+        truth=scenario.truth.states[:, :, list(getattr(scenario.model, "position_indices",
+                                                       (0, 2)))],
         **{f.name: getattr(run, f.name) for f in dataclasses.fields(ScenarioRun)
            if f.name not in ("scenario", "truth")},
     )
