@@ -82,7 +82,9 @@ def run_scenario(
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.LMBFilter` (``gate_prob``,
         ``theta_upper``, ``prune_track``, ``max_components``, ...) or of
-        :class:`~rankedassign.tracking.GLMBFilter` (``h_upd``, ``h_max``, ...).
+        :class:`~rankedassign.tracking.GLMBFilter` (``h_upd``, ``h_max``, ...). On
+        ``"vo-ekf"`` and ``"vo-ukf"`` with ``filter="lmb"`` or ``"glmb"`` they default to Vo's
+        settings (:meth:`~rankedassign.tracking.nonlinear.VoFilterSettings.filter_options`).
 
     Returns
     -------
@@ -130,6 +132,9 @@ def run_scenario(
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
     # extraction None: the model's, which make_model set to the preset's (PRESET_EXTRACTION)
+    settings = getattr(scenario.model, "settings", None)  # Vo's, for his non-linear presets
+    if not is_object and settings is not None and filter in ("lmb", "glmb"):
+        filter_options = {**settings.filter_options(filter), **filter_options}
     if not is_object:
         filter_options = {"extraction": extraction, **filter_options}
         if groups:
