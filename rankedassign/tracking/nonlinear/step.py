@@ -26,10 +26,13 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import reference
-from ..common import check_measurements
+from ..common import check_measurements, gate_threshold
+from .models import wrap_angle
+from .multisensor import NonlinearMultiSensorModel, StackedSensor
 from .vo import NonlinearModel
 
-__all__ = ["MeasurementTerms", "SingleObject", "single_object"]
+__all__ = ["MeasurementTerms", "MultiSensorPath", "SingleObject", "multi_sensor_path",
+           "single_object"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
 
@@ -293,3 +296,135 @@ def single_object(model) -> SingleObject | None:
     (True, 5)
     """
     return SingleObject(model) if isinstance(model, NonlinearModel) else None
+
+
+class MultiSensorPath:
+    """The per-sensor gates and the stacked update of the multi-sensor filters, non-linear.
+
+    Parameters
+    ----------
+    model : NonlinearMultiSensorModel
+        The sensors and the single-object filter.
+    gate_prob : float or None
+        Gate probability; each sensor's gate is ``χ²`` of its own measurement dimension at it.
+
+    Attributes
+    ----------
+    paths : list of SingleObject
+        One per sensor (``model.single(v)``).
+    gates : list of float or None
+        The gate threshold of every sensor.
+    dims : tuple of int
+        Measurement dimension of every sensor.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.nonlinear.multisensor import make_nonlinear_multisensor_model
+    >>> from rankedassign.tracking.nonlinear.step import MultiSensorPath
+    >>> MultiSensorPath(make_nonlinear_multisensor_model(), 0.99).dims
+    (2, 2)
+    """
+
+    def __init__(self, model: NonlinearMultiSensorModel, gate_prob: float | None):
+        self.model = model
+        self.filter = model.filter
+        self.paths = [SingleObject(model.single(v)) for v in range(model.n_sensors)]
+        self.dims = tuple(p.meas_ndim for p in self.paths)
+        self.gates = [None if gate_prob is None else gate_threshold(gate_prob, d)
+                      for d in self.dims]
+        self._stacks = {}
+
+    def check_measurements(self, v: int, z) -> np.ndarray:
+        """Sensor ``v``'s measurements as ``(M, d_z)`` (messages name the sensor and model).
+
+        Parameters
+        ----------
+        v : int
+            The sensor.
+        z : array_like
+            Its measurements of the scan.
+
+        Returns
+        -------
+        ndarray of float64, shape (M, d_z)
+        """
+        return check_measurements(
+            z, f"measurements of sensor {v} ({self.paths[v].sensor.name})", dim=self.dims[v])
+
+    def gated(self, v: int, m, P, z, offsets) -> np.ndarray:
+        """The χ² gate ``(T, M)`` of sensor ``v`` on the wrapped innovations.
+
+        Parameters
+        ----------
+        v : int
+            The sensor.
+        m, P : ndarray
+            Predicted components ``(C, d)``, ``(C, d, d)``.
+        z : ndarray, shape (M, d_z)
+            Sensor ``v``'s measurements (``M >= 1``).
+        offsets : ndarray of int64, shape (T + 1,)
+            Component range of every track.
+
+        Returns
+        -------
+        ndarray of bool, shape (T, M)
+        """
+        return self.paths[v].measurement_terms(m, P, z, offsets, self.gates[v]).gated
+
+    def stacked(self, D, m, P, zD, update: bool):
+        """``ln N(z_D; ẑ_D, S_D)`` for a batch of components, with the update if asked.
+
+        Parameters
+        ----------
+        D : sequence of int
+            The detecting sensors.
+        m, P : ndarray, shapes (N, d), (N, d, d)
+            One component per row.
+        zD : ndarray, shape (N, Σ_{v∈D} d_z)
+            The stacked measurements of each row.
+        update : bool
+            Also return the updated means and covariances.
+
+        Returns
+        -------
+        ll : ndarray, shape (N,)
+        m_upd, P_upd : ndarray or None
+            ``m + K ν`` and ``P − K S Kᵀ`` with ``K = C S⁻¹`` (None without ``update``).
+        """
+        D = tuple(int(v) for v in D)
+        if D not in self._stacks:
+            self._stacks[D] = StackedSensor([self.paths[v].sensor for v in D])
+        sensor = self._stacks[D]
+        pred = self.filter.predict_measurement(sensor, m, P)
+        nu = np.asarray(zD, dtype=np.float64) - pred.z
+        if pred.angles.any():
+            nu[:, pred.angles] = wrap_angle(nu[:, pred.angles])
+        y = np.einsum("nij,nj->ni", pred.S_inv, nu)
+        dz = nu.shape[1]
+        # ln N(z; ẑ, S) = -(ν' S⁻¹ ν + d ln 2π + ln|S|) / 2
+        ll = -0.5 * (nu * y).sum(axis=1) - 0.5 * dz * _LOG_2PI - 0.5 * pred.log_det
+        if not update:
+            return ll, None, None
+        K = pred.cross @ pred.S_inv
+        m_upd = m + np.einsum("nij,nj->ni", K, nu)
+        P_upd = P - K @ pred.cross.transpose(0, 2, 1)
+        return ll, m_upd, 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+
+
+def multi_sensor_path(model, gate_prob) -> MultiSensorPath | None:
+    """The multi-sensor path a filter holds for ``model``: None for a linear model.
+
+    Parameters
+    ----------
+    model : MultiSensorModel or NonlinearMultiSensorModel
+        The filter's model.
+    gate_prob : float or None
+        The filter's gate probability.
+
+    Returns
+    -------
+    MultiSensorPath or None
+    """
+    if isinstance(model, NonlinearMultiSensorModel):
+        return MultiSensorPath(model, gate_prob)
+    return None
