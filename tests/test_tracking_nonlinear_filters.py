@@ -379,3 +379,19 @@ def test_make_model_and_make_scenario_know_every_preset():
     assert sc.preset == "vo-ekf" and sc.truth.states.shape == (4, 10, 5)
     with pytest.raises(ValueError, match="unknown preset 'vo-pf'; expected one of"):
         make_model("vo-pf")
+
+
+@pytest.mark.parametrize("kind", ["lmb", "glmb"])
+def test_run_scenario_on_multi_bearing_range(kind):
+    run = run_scenario("multi-bearing-range", ShortChainGibbs(300, 10, tau_stall=5,
+                                                              tau_stale=10),
+                       rng=0, n_scans=12, filter=kind)
+    assert run.scenario.preset == "multi-bearing-range" and run.scenario.sensors == (0, 1)
+    assert run.truth.shape == (12, 10, 2) and run.estimates.shape[2] == 2
+    one = run_scenario("multi-bearing-range", ShortChainGibbs(300, 10, tau_stall=5,
+                                                              tau_stale=10),
+                       rng=0, n_scans=3, filter=kind, sensors=(1,))
+    # a sensor's measurements do not depend on which others are selected
+    assert_array_equal(one.scenario.scans[2][0].z, run.scenario.scans[2][1].z)
+    with pytest.raises(ValueError, match="birth applies to the 'multi' preset only"):
+        run_scenario("multi-bearing-range", Exact(), n_scans=1, birth="adaptive")

@@ -13,7 +13,7 @@ from ..validation import check_bool
 from .association import Association
 from .filters import FILTERS as FILTER_TABLE
 from .filters import make_filter, takes_grouping
-from .multisensor.scenario import run_multisensor_scenario
+from .multisensor.scenario import MULTI_PRESETS, run_multisensor_scenario
 from .presets import make_scenario
 from .runner import TIMING_KEYS, run_filter
 from .scenario import ScenarioRun, check_n_scans
@@ -40,7 +40,7 @@ def run_scenario(
 
     Parameters
     ----------
-    preset : {"paper", "paper-var", "vo", "vo-ekf", "vo-ukf", "multi"}
+    preset : {"paper", "paper-var", "vo", "vo-ekf", "vo-ukf", "multi", "multi-bearing-range"}
         Model preset (:func:`~rankedassign.tracking.presets.make_model`: ``"vo-ekf"`` and
         ``"vo-ukf"`` are Vo's coordinated-turn, bearing–range examples); ``"multi"`` is the
         multi-sensor scenario, run by
@@ -70,7 +70,8 @@ def run_scenario(
         MAP cardinality for ``"vo"`` (Vo's public example, which extracts by MAP cardinality),
         hysteresis for ``"multi"``. A filter built on ``make_model(preset)`` takes the same.
     sensors : sequence of int or None
-        ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
+        ``"multi"`` and ``"multi-bearing-range"`` only: the sensors the filter fuses (default
+        ``(0, 1, 2)``, and both sensors of ``"multi-bearing-range"``); a sensor's
         measurements do not depend on which others are selected.
     filter : {"lmb", "glmb"}, filter class or filter object, optional
         The LMB filter (default) or the δ-GLMB filter
@@ -117,15 +118,15 @@ def run_scenario(
                          f"is truncated whole), got grouping={grouping!r}")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
-    if preset == "multi":
+    if preset in MULTI_PRESETS:
         return run_multisensor_scenario(
-            association, rng=rng, n_scans=n_scans,
-            sensors=(0, 1, 2) if sensors is None else sensors,
+            association, rng=rng, n_scans=n_scans, sensors=sensors, preset=preset,
             grouping=True if grouping is None or not groups else grouping,
             extraction=extraction, filter=filter, **filter_options,
         )
     if sensors is not None:
-        raise ValueError(f"sensors applies to the 'multi' preset only, got preset {preset!r}")
+        raise ValueError(f"sensors applies to the multi-sensor presets {MULTI_PRESETS} only, "
+                         f"got preset {preset!r}")
     grouping = False if grouping is None else grouping
     check_n_scans(n_scans)
     parent = spawning_generator(rng)
