@@ -395,3 +395,31 @@ def test_run_scenario_on_multi_bearing_range(kind):
     assert_array_equal(one.scenario.scans[2][0].z, run.scenario.scans[2][1].z)
     with pytest.raises(ValueError, match="birth applies to the 'multi' preset only"):
         run_scenario("multi-bearing-range", Exact(), n_scans=1, birth="adaptive")
+
+
+def test_the_step_modules_mixture_reduction_equals_the_reference_bit_for_bit():
+    # the vectorised one-component tracks and the twin's loop for the others, in 5-D
+    from rankedassign.tracking import reference
+    from rankedassign.tracking.nonlinear.step import SingleObject
+
+    rng = np.random.default_rng(0)
+    for trial in range(60):
+        T = int(rng.integers(1, 8))
+        counts = rng.integers(0, 4, T)
+        if trial % 3 == 0:
+            counts[:] = 1
+        off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        C = int(off[-1])
+        w = rng.random(C)
+        for t in range(T):
+            if counts[t]:
+                w[off[t]:off[t + 1]] /= w[off[t]:off[t + 1]].sum()
+        m = rng.normal(size=(C, 5)) * 3
+        A = rng.normal(size=(C, 5, 5))
+        P = A @ A.transpose(0, 2, 1) + np.eye(5)
+        keep = rng.random(T) < 0.8
+        args = (off, w, m, P, keep, 1e-5, 4.0, 10, trial % 3)
+        for want, got in zip(reference.reduce_mixtures(*args),
+                             SingleObject.reduce_mixtures(*args), strict=True):
+            assert want.shape == got.shape
+            assert_array_equal(got, want)
