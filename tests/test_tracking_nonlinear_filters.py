@@ -423,3 +423,38 @@ def test_the_step_modules_mixture_reduction_equals_the_reference_bit_for_bit():
                              SingleObject.reduce_mixtures(*args), strict=True):
             assert want.shape == got.shape
             assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("kind", ["lmb", "glmb"])
+def test_bearings_outside_the_wrap_interval_are_accepted_and_give_the_same_tracks(kind):
+    # the documented rule: a bearing enters only through wrapped differences, so θ and
+    # θ ± 2π are the same measurement
+    # (every assignment: a ranked truncation could break a near-tie of costs differently
+    # when they move by a rounding error)
+    # (fewer scans and no clutter for the δ-GLMB, whose hypotheses multiply)
+    sc = make_scenario("vo-ekf", rng=6, n_scans=12 if kind == "lmb" else 6)
+    n_clutter = 3 if kind == "lmb" else 0
+    scans = [np.concatenate([s.z[s.origin >= 0], s.z[s.origin < 0][:n_clutter]])
+             for s in sc.scans]
+    shifted = []
+    for k, z in enumerate(scans):
+        z = z.copy()
+        z[:, 0] += 2 * np.pi * (1 if k % 2 else -1)
+        shifted.append(z)
+    a = _run(FILTER_CLASSES[kind](sc.model, Exact()), scans)
+    b = _run(FILTER_CLASSES[kind](sc.model, Exact()), shifted)
+    for (l0, s0, e0, t0), (l1, s1, e1, t1) in zip(a, b, strict=True):
+        assert_array_equal(l1, l0)
+        assert_allclose(s1, s0, rtol=1e-9, atol=1e-6)
+        assert_allclose(e1, e0, rtol=1e-9, atol=1e-12)
+        assert_allclose(t1, t0, rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", ["lmb", "glmb"])
+def test_set_motion_is_refused_on_a_nonlinear_model(kind):
+    from rankedassign.tracking import ConstantVelocity
+
+    f = FILTER_CLASSES[kind](make_model("vo-ekf"), Murty(10))
+    with pytest.raises(TypeError, match=f"set_motion replaces a linear model's motion; this "
+                                        f"{FILTER_CLASSES[kind].__name__} runs a NonlinearModel"):
+        f.set_motion(ConstantVelocity())

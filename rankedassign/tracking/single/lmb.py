@@ -376,7 +376,7 @@ class LMBFilter:
         Raises
         ------
         TypeError
-            If ``motion`` is neither.
+            If ``motion`` is neither, or the filter runs a non-linear model.
 
         Examples
         --------
@@ -388,6 +388,10 @@ class LMBFilter:
         >>> f.model.motion.F.tolist() == np.eye(4).tolist()
         True
         """
+        if self._so is not None:
+            raise TypeError(f"set_motion replaces a linear model's motion; this "
+                            f"{type(self).__name__} runs a NonlinearModel (give the filter a "
+                            "model with the motion it should use)")
         check_type(motion, "motion", (ConstantVelocity, LinearMotion))
         self.model = dataclasses.replace(self.model, motion=motion)
         self._F = np.array(motion.F)
