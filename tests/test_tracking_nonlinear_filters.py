@@ -398,31 +398,39 @@ def test_run_scenario_on_multi_bearing_range(kind):
 
 
 def test_the_step_modules_mixture_reduction_equals_the_reference_bit_for_bit():
-    # the vectorised one-component tracks and the twin's loop for the others, in 5-D
+    # the batched reduction of the non-linear path against the numpy twin of the kernel, in
+    # 5-D: one-component tracks, merges (tight means), pruning (tiny weights), the cap, all
+    # three rules
     from rankedassign.tracking import reference
     from rankedassign.tracking.nonlinear.step import SingleObject
 
     rng = np.random.default_rng(0)
-    for trial in range(60):
+    n_merged = 0
+    for trial in range(150):
         T = int(rng.integers(1, 8))
-        counts = rng.integers(0, 4, T)
+        counts = rng.integers(0, 6, T)
         if trial % 3 == 0:
             counts[:] = 1
         off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         C = int(off[-1])
         w = rng.random(C)
+        if trial % 4 == 0:
+            w[: C // 2] = 1e-7
         for t in range(T):
             if counts[t]:
                 w[off[t]:off[t + 1]] /= w[off[t]:off[t + 1]].sum()
-        m = rng.normal(size=(C, 5)) * 3
+        m = rng.normal(size=(C, 5)) * (0.5 if trial % 2 else 3.0)
         A = rng.normal(size=(C, 5, 5))
         P = A @ A.transpose(0, 2, 1) + np.eye(5)
         keep = rng.random(T) < 0.8
-        args = (off, w, m, P, keep, 1e-5, 4.0, 10, trial % 3)
-        for want, got in zip(reference.reduce_mixtures(*args),
-                             SingleObject.reduce_mixtures(*args), strict=True):
-            assert want.shape == got.shape
-            assert_array_equal(got, want)
+        args = (off, w, m, P, keep, 1e-5, 4.0, 2 if trial % 5 == 0 else 10, trial % 3)
+        want = reference.reduce_mixtures(*args)
+        got = SingleObject.reduce_mixtures(*args)
+        n_merged += int(want[1].size < counts[keep].sum())
+        for a, b in zip(want, got, strict=True):
+            assert a.shape == b.shape
+            assert_array_equal(b, a)
+    assert n_merged > 30  # the cases do merge, prune and cap
 
 
 @pytest.mark.parametrize("kind", ["lmb", "glmb"])
