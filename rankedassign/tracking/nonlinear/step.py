@@ -12,10 +12,11 @@ on which.
 The per-(track, measurement) log-likelihoods, the cost matrices and the samplers are the
 compiled kernels of the linear filters (:func:`rankedassign.tracking._kernels.detection_log_weights`
 takes distances and log-determinants, whatever produced them). The two kernels that assume the
-4-D state of the linear filters (``posterior_components`` and ``reduce_mixtures``) are replaced
-here by their plain-numpy twins of :mod:`rankedassign.tracking.reference`, which work in any
-state dimension. A linear :class:`~rankedassign.tracking.models.Model` never reaches this
-module: its filters keep their compiled path and its numbers bit for bit.
+4-D state of the linear filters are replaced here by numpy code for any state dimension:
+``posterior_components`` by its plain-numpy twin of :mod:`rankedassign.tracking.reference`,
+``reduce_mixtures`` by :func:`reduce_mixtures` (the twin's algorithm batched over the
+tracks). A linear :class:`~rankedassign.tracking.models.Model` never reaches this module: its
+filters keep their compiled path and its numbers bit for bit.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from .multisensor import NonlinearMultiSensorModel, StackedSensor
 from .vo import NonlinearModel
 
 __all__ = ["MeasurementTerms", "MultiSensorPath", "SingleObject", "multi_sensor_path",
-           "single_object"]
+           "reduce_mixtures", "single_object"]
 
 _LOG_2PI = math.log(2.0 * math.pi)
 
