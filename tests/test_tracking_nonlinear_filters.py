@@ -466,3 +466,15 @@ def test_set_motion_is_refused_on_a_nonlinear_model(kind):
     with pytest.raises(TypeError, match=f"set_motion replaces a linear model's motion; this "
                                         f"{FILTER_CLASSES[kind].__name__} runs a NonlinearModel"):
         f.set_motion(ConstantVelocity())
+
+
+def test_glmb_set_prior_in_the_models_state_dimension():
+    f = GLMBFilter(make_model("vo-ekf"), Murty(50))
+    m = np.array([[1000.0, -10.0, 1500.0, -10.0, 0.01]])
+    f.set_prior([[0, 1]], m, np.diag([20.0, 5.0, 20.0, 5.0, 0.05])[None] ** 2)
+    x = CoordinatedTurn().f(m)[0]
+    rec = f.step([BearingRange().h(x[None])[0]], rng=0)
+    assert rec.labels.tolist() == [[0, 1]] and rec.states.shape == (1, 5)
+    with pytest.raises(ValueError, match=re.escape(
+            "means and covs must have shapes (1, 5) and (1, 5, 5), got (1, 4) and (1, 4, 4)")):
+        f.set_prior([[0, 1]], np.zeros((1, 4)), np.eye(4)[None])

@@ -451,8 +451,9 @@ class GLMBFilter:
             births of scan ``k >= 1`` are labelled ``(k, 1..B)``, so a prior label of that form
             would merge with a birth and is refused: label the prior's tracks with birth scan
             0 (or, with a static birth, an index above ``B``).
-        means, covs : array_like, shapes (T, 4) and (T, 4, 4)
-            Their Gaussians: finite means, symmetric positive definite covariances.
+        means, covs : array_like, shapes (T, d) and (T, d, d)
+            Their Gaussians (``d = 4`` on a linear model, the model's state dimension on a
+            non-linear one): finite means, symmetric positive definite covariances.
         components : sequence of sequences of int, optional
             Track indices (ints) of every component (default: one component holding every
             track).
@@ -480,7 +481,8 @@ class GLMBFilter:
         (2, [0.25, 0.75])
         """
         labels, means, covs, comps, w = check_prior(labels, means, covs, components, weights,
-                                                    max_birth_index=self._max_birth_index())
+                                                    max_birth_index=self._max_birth_index(),
+                                                    dim=self._d)
         T = labels.shape[0]
         self.reset()
         self.labels = labels.copy()
