@@ -479,3 +479,59 @@ def test_glmb_set_prior_in_the_models_state_dimension():
     with pytest.raises(ValueError, match=re.escape(
             "means and covs must have shapes (1, 5) and (1, 5, 5), got (1, 4) and (1, 4, 4)")):
         f.set_prior([[0, 1]], np.zeros((1, 4)), np.eye(4)[None])
+
+
+class _RangeOnly:
+    """A user's own measurement model: the range from the origin, d_z = 1 (no angle)."""
+
+    name, linear, state_ndim, p_d, position_indices, ndim = "RangeOnly", False, 5, 0.9, (0, 2), 1
+    angles = np.array([False])
+    R = np.array([[25.0]])
+
+    def h(self, x):
+        x = np.asarray(x, dtype=float)
+        return np.hypot(x[:, 0], x[:, 2])[:, None]
+
+    def jacobian(self, x):
+        x = np.asarray(x, dtype=float)
+        r = np.hypot(x[:, 0], x[:, 2])
+        J = np.zeros((x.shape[0], 1, 5))
+        J[:, 0, 0], J[:, 0, 2] = x[:, 0] / r, x[:, 2] / r
+        return J
+
+
+class _UniformRangeClutter:
+    intensity = 5 / 2000.0  # five points a scan on [0, 2000] m
+
+
+@pytest.mark.parametrize("so", [ExtendedKalmanFilter(), UnscentedKalmanFilter()],
+                         ids=["ekf", "ukf"])
+@pytest.mark.parametrize("kind", ["lmb", "glmb"])
+def test_a_users_own_one_dimensional_measurement_model(kind, so):
+    from scipy.stats import norm
+
+    from rankedassign.tracking.nonlinear.step import SingleObject
+
+    birth = (GaussianBirth(0.1, [300.0, 5, 400, -5, 0.0],
+                           np.diag([30.0, 5, 30, 5, 0.01]) ** 2),)
+    model = NonlinearModel(motion=CoordinatedTurn(), sensor=_RangeOnly(),
+                           clutter=_UniformRangeClutter(), birth=birth, filter=so)
+    # the shifted ln|S| makes the compiled 2-D constant right for d_z = 1
+    path = SingleObject(model)
+    m, P = path.birth_m, path.birth_P
+    z = np.array([[505.0], [900.0]])
+    st = path.measurement_terms(m, P, z, np.array([0, 1]), None)
+    pred = so.predict_measurement(model.sensor, m, P)
+    want = norm.logpdf(z[:, 0], pred.z[0, 0], np.sqrt(pred.S[0, 0, 0]))
+    got = -0.5 * st.maha[0] - math.log(2 * math.pi) - 0.5 * st.log_det_S[0]
+    assert_allclose(got, want, rtol=1e-12)
+    # and the filters follow the target on ranges alone
+    f = FILTER_CLASSES[kind](model, Murty(20))
+    x = np.array([300.0, 5, 400, -5, 0.0])
+    for k in range(6):
+        rec = f.step([[math.hypot(x[0], x[2])], [900.0]], rng=k)
+        x = CoordinatedTurn().f(x[None])[0]
+    assert rec.labels.tolist() == [[1, 1]] and rec.existence[0] > 0.8
+    with pytest.raises(ValueError, match=re.escape(
+            "measurements of RangeOnly must have shape (M, 1), got shape (1, 2)")):
+        f.step([[500.0, 0.1]], rng=9)

@@ -84,7 +84,7 @@ class StackedSensor:
         R = np.zeros((self.ndim, self.ndim))
         i = 0
         for s in self.sensors:
-            k = int(s.ndim)
+            k = int(np.asarray(s.angles).size)
             R[i:i + k, i:i + k] = np.asarray(s.R)
             i += k
         self.R = _readonly(R)

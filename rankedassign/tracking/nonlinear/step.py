@@ -121,7 +121,9 @@ class SingleObject:
         self.motion = model.motion
         self.sensor = model.sensor
         self.ndim = int(model.motion.ndim)
-        self.meas_ndim = int(model.sensor.ndim)
+        # a measurement model states its dimension through ``angles`` (one flag per
+        # coordinate, the interface of the "Non-linear models" page); ``ndim`` is optional
+        self.meas_ndim = int(np.asarray(model.sensor.angles).size)
         if int(model.sensor.state_ndim) != self.ndim:
             raise ValueError(f"{model.sensor.name} measures {model.sensor.state_ndim}-D states "
                              f"but {model.motion.name} moves {self.ndim}-D states")
