@@ -199,8 +199,9 @@ class MultiSensorGLMBFilter(GLMBFilter):
 
     Parameters
     ----------
-    model : MultiSensorModel or Model
-        A single-sensor :class:`~rankedassign.tracking.Model` is taken as ``V = 1``.
+    model : MultiSensorModel, Model, NonlinearMultiSensorModel or NonlinearModel
+        A single-sensor model is taken as ``V = 1`` (as
+        :class:`~rankedassign.tracking.MultiSensorLMBFilter`).
     association : ShortChainGibbs, OriginalGibbs, HerdedGibbs, Exact or object
         The truncation of every component's multi-sensor problem with its count ``T_h``, as
         in :class:`~rankedassign.tracking.GLMBFilter`: the long chain runs
@@ -586,7 +587,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
 
         Parameters
         ----------
-        zs : sequence of V array_like, shape (M_v, 2)
+        zs : sequence of V array_like, shape (M_v, d_v)
             One measurement set per sensor, in the model's sensor order.
         rng : optional
             Anything :func:`numpy.random.default_rng` accepts; one draw keys the streams of

@@ -328,8 +328,10 @@ class MultiSensorLMBFilter(LMBFilter):
 
     Parameters
     ----------
-    model : MultiSensorModel or Model
-        A single-sensor :class:`~rankedassign.tracking.Model` is taken as ``V = 1``.
+    model : MultiSensorModel, Model, NonlinearMultiSensorModel or NonlinearModel
+        A single-sensor model is taken as ``V = 1``. The non-linear models
+        (:mod:`rankedassign.tracking.nonlinear.multisensor`) update on the stacked sensors
+        of each detection pattern with their EKF or UKF; adaptive birth needs a linear model.
     association : callable
         ``association(problem, rng) -> MultiSensorAssociationResult`` on every
         :class:`~rankedassign.multisensor.MultiSensorProblem`
@@ -462,8 +464,9 @@ class MultiSensorLMBFilter(LMBFilter):
 
         Parameters
         ----------
-        zs : sequence of V array_like, shape (M_v, 2)
-            One measurement array per sensor, in the model's sensor order.
+        zs : sequence of V array_like, shape (M_v, d_v)
+            One measurement array per sensor, in the model's sensor order (``d_v = 2``
+            positions on a linear model; sensor ``v``'s own dimension on a non-linear one).
         rng : optional
             Randomness of the association; one child stream per problem (as
             :meth:`LMBFilter.step <rankedassign.tracking.single.lmb.LMBFilter.step>`).

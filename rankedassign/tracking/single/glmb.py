@@ -91,8 +91,9 @@ class GLMBScanRecord(NamedTuple):
     ----------
     labels : ndarray of int64, shape (n, 2)
         Labels of the reported tracks, in increasing order.
-    states : ndarray, shape (n, 4)
-        Their state estimates (mean of the heaviest Gaussian of the track's entry).
+    states : ndarray, shape (n, d)
+        Their state estimates (mean of the heaviest Gaussian of the track's entry; ``d = 4``
+        on a linear model, the model's state dimension on a non-linear one).
     existence : ndarray, shape (n,)
         Their existence probabilities ``r(ℓ)``.
     track_labels, track_existence : ndarray
@@ -199,8 +200,9 @@ class GLMBFilter:
 
     Parameters
     ----------
-    model : Model
-        Motion, sensor, clutter, birth and survival models (as :class:`LMBFilter`).
+    model : Model or NonlinearModel
+        Motion, sensor, clutter, birth and survival models (as :class:`LMBFilter`; a
+        :class:`~rankedassign.tracking.nonlinear.NonlinearModel` runs its EKF or UKF).
     association : OriginalGibbs, ShortChainGibbs, Murty, Exact or object
         The truncation of every component's problem, with the component's count ``T_h``
         (spec §2.3): :class:`~rankedassign.tracking.OriginalGibbs` runs one chain of
@@ -970,7 +972,7 @@ class GLMBFilter:
 
         Parameters
         ----------
-        z : array_like, shape (M, 2)
+        z : array_like, shape (M, d_z)
             Measurements of the scan (as :meth:`LMBFilter.step`).
         rng : optional
             Anything :func:`numpy.random.default_rng` accepts; one draw from it keys the

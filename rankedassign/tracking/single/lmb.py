@@ -142,8 +142,9 @@ class ScanRecord(NamedTuple):
     ----------
     labels : ndarray of int64, shape (n, 2)
         Labels ``(birth scan, birth index)`` (both 1-based) of the reported tracks.
-    states : ndarray, shape (n, 4)
-        Their state estimates.
+    states : ndarray, shape (n, d)
+        Their state estimates (``d = 4`` on a linear model, the model's state dimension on a
+        non-linear one).
     existence : ndarray, shape (n,)
         Their existence probabilities.
     track_labels, track_existence : ndarray
@@ -182,8 +183,12 @@ class LMBFilter:
 
     Parameters
     ----------
-    model : Model
-        Motion, sensor, clutter, birth and survival models.
+    model : Model or NonlinearModel
+        Motion, sensor, clutter, birth and survival models. A
+        :class:`~rankedassign.tracking.nonlinear.NonlinearModel` (e.g. ``make_model("vo-ekf")``)
+        runs its single-object filter (Kalman, EKF or UKF) through
+        :mod:`rankedassign.tracking.nonlinear.step`; a linear :class:`Model` the compiled
+        Kalman kernels.
     association : Association or callable
         Called as ``association(problem, rng)`` on every ranked-assignment problem. The
         multi-sensor associations
@@ -578,8 +583,9 @@ class LMBFilter:
 
         Parameters
         ----------
-        z : array_like, shape (M, 2)
-            Measurements of the scan (positions).
+        z : array_like, shape (M, d_z)
+            Measurements of the scan (positions, ``d_z = 2``, on a linear model; the sensor's
+            own on a non-linear one, e.g. ``[bearing, range]``).
         rng : optional
             Randomness of the association (anything :func:`numpy.random.default_rng` accepts);
             one child stream per problem is spawned from it. A
