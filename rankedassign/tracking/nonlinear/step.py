@@ -340,6 +340,9 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
     comp = np.repeat(offsets[kept], counts) + (np.arange(n) - np.repeat(
         np.cumsum(counts) - counts, counts))
     wk, mk, Pk = w[comp], m[comp], P[comp]
+    # ln|P_i| of every component once (the twin computes them per round, matrix by matrix:
+    # the same LAPACK call on the same matrix, so the same numbers)
+    logdet_k = np.linalg.slogdet(Pk)[1] if rule == _BHATTACHARYYA else None
     idx = np.arange(n)
     # prune: w > elim, and the heaviest (first maximum) of every track always stays
     alive = wk > elim
@@ -364,8 +367,7 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
             maha = np.einsum("ci,cij,cj->c", dm, np.linalg.inv(Pbar), dm)
             # 4 ln(|P̄| / sqrt(|P_i| |P_j|)): eight times the Bhattacharyya distance
             dist = maha + 4.0 * (np.linalg.slogdet(Pbar)[1]
-                                 - 0.5 * (np.linalg.slogdet(Pk[cand])[1]
-                                          + np.linalg.slogdet(Pk[j])[1]))
+                                 - 0.5 * (logdet_k[cand] + logdet_k[j]))
         else:
             inv = np.linalg.inv(Pk[cand] if rule == _VO_MA else Pk[j])
             dist = np.einsum("ci,cij,cj->c", dm, inv, dm)
