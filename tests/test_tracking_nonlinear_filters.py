@@ -535,3 +535,39 @@ def test_a_users_own_one_dimensional_measurement_model(kind, so):
     with pytest.raises(ValueError, match=re.escape(
             "measurements of RangeOnly must have shape (M, 1), got shape (1, 2)")):
         f.step([[500.0, 0.1]], rng=9)
+
+
+def test_bad_models_are_refused_with_pinned_messages():
+    from rankedassign.tracking.nonlinear.multisensor import (
+        NonlinearMultiSensorModel,
+        StackedSensor,
+    )
+    from rankedassign.tracking.nonlinear.step import SingleObject
+
+    with pytest.raises(TypeError, match="model must be a NonlinearModel, got Model"):
+        SingleObject(make_model("vo"))
+    with pytest.raises(ValueError, match="BearingRange measures 4-D states but CoordinatedTurn "
+                                         "moves 5-D states"):
+        LMBFilter(NonlinearModel(sensor=BearingRange(state_ndim=4)), Murty(10))
+    with pytest.raises(ValueError, match=re.escape("NonlinearModel: p_s must be in [0, 1], "
+                                                   "got 1.5")):
+        GLMBFilter(NonlinearModel(p_s=1.5), Murty(10))
+    birth = (GaussianBirth(0.1, np.zeros(4), np.eye(4)),)
+    with pytest.raises(ValueError, match="NonlinearModel: birth term 0 has 4-D means, the "
+                                         "motion model 5-D states"):
+        LMBFilter(NonlinearModel(birth=birth), Murty(10))
+    with pytest.raises(ValueError, match="StackedSensor needs at least one sensor"):
+        StackedSensor([])
+    with pytest.raises(ValueError, match=re.escape(
+            "StackedSensor: the sensors measure states of dimensions [4, 5]; they must share "
+            "one")):
+        StackedSensor([BearingRange(), BearingRange(state_ndim=4)])
+    with pytest.raises(ValueError, match="a multi-sensor model needs at least one sensor"):
+        NonlinearMultiSensorModel(sensors=(), clutters=())
+    with pytest.raises(ValueError, match=re.escape(
+            "clutters must have one entry per sensor (2), got 1")):
+        NonlinearMultiSensorModel(sensors=(BearingRange(), BearingRange()),
+                                  clutters=(BearingRangeClutter(),))
+    with pytest.raises(ValueError, match=re.escape(
+            "sensors must be distinct indices in [0, 2), got [1, 1]")):
+        make_nonlinear_multisensor_model().select([1, 1])
