@@ -1,9 +1,12 @@
 """Our non-linear LMB and δ-GLMB filters against Vo's MATLAB filters on identical measurements.
 
-Three steps, each its own sub-command::
+The steps, each its own sub-command (``VO`` a checkout of Vo's toolbox with its
+``jointglmb/ekf``, ``jointlmb/ekf`` and ``_common`` folders)::
 
     python benchmarks/vo_octave_comparison.py write  MEAS.txt  [--seed 7]
-    octave --eval "pkg load statistics; ..."      # Vo's run_filter on MEAS.txt (see below)
+    python benchmarks/vo_octave_comparison.py driver VO/run_vo.m
+    cd VO && octave --eval "run_vo('VO', 'jointglmb/ekf', 'MEAS.txt', 'OUT_GLMB.txt', 100)"
+    cd VO && octave --eval "run_vo('VO', 'jointlmb/ekf', 'MEAS.txt', 'OUT_LMB.txt', 100)"
     python benchmarks/vo_octave_comparison.py compare MEAS.txt --glmb OUT_GLMB.txt --lmb OUT_LMB.txt
 
 ``write`` draws the ``"vo-ekf"`` scenario (``make_scenario("vo-ekf", rng=seed)``) and writes
@@ -29,6 +32,35 @@ import numpy as np
 from rankedassign.metrics import ospa2
 from rankedassign.tracking import ShortChainGibbs, make_scenario, run_filter
 from rankedassign.tracking.filters import make_filter
+
+#: The Octave driver: Vo's gen_model and run_filter, unmodified, on the written measurements.
+DRIVER = """\
+function run_vo(root, folder, measfile, outfile, K)
+  pkg load statistics;  % chi2inv, used by his run_filter
+  addpath(fullfile(root, folder)); addpath(fullfile(root, '_common'));
+  rand('seed', 1); randn('seed', 1);
+  model = gen_model;
+  D = load(measfile);
+  meas.K = K; meas.Z = cell(K, 1);
+  for k = 1:K
+    meas.Z{k} = D(D(:,1) == k, 2:3)';
+    if isempty(meas.Z{k}), meas.Z{k} = zeros(2, 0); end
+  end
+  t0 = cputime; tw = tic;
+  est = run_filter(model, meas);
+  cpu = cputime - t0; wall = toc(tw);
+  f = fopen(outfile, 'w');
+  fprintf(f, 'cpu %.6f wall %.6f\\n', cpu, wall);
+  for k = 1:K
+    X = est.X{k};
+    for i = 1:size(X, 2)
+      fprintf(f, '%d %.10g %.10g\\n', k, X(1, i), X(3, i));
+    end
+    if size(X, 2) == 0, fprintf(f, '%d nan nan\\n', k); end
+  end
+  fclose(f);
+end
+"""
 
 
 def write(path: str, seed: int) -> None:
@@ -96,6 +128,8 @@ def main() -> None:
     w = sub.add_parser("write")
     w.add_argument("meas")
     w.add_argument("--seed", type=int, default=7)
+    d = sub.add_parser("driver")
+    d.add_argument("path")
     c = sub.add_parser("compare")
     c.add_argument("meas")
     c.add_argument("--glmb")
@@ -105,6 +139,9 @@ def main() -> None:
     a = ap.parse_args()
     if a.cmd == "write":
         write(a.meas, a.seed)
+    elif a.cmd == "driver":
+        with open(a.path, "w") as f:
+            f.write(DRIVER)
     else:
         outs = {k: v for k, v in (("glmb", a.glmb), ("lmb", a.lmb)) if v}
         compare(a.meas, outs, a.seed, a.n_scans)
