@@ -10,7 +10,9 @@ The steps, each its own sub-command (``VO`` a checkout of Vo's toolbox with its
     python benchmarks/vo_octave_comparison.py compare MEAS.txt --glmb OUT_GLMB.txt --lmb OUT_LMB.txt
 
 ``write`` draws the ``"vo-ekf"`` scenario (``make_scenario("vo-ekf", rng=seed)``) and writes
-its measurements, one ``scan bearing range`` row per measurement. Vo's filters are run on them
+its measurements, one ``scan bearing range`` row per measurement (``"vo-ukf"`` draws the same
+ones: the presets differ only in the single-object filter; ``compare --preset vo-ukf`` runs our
+UKF filters against Vo's ``*/ukf`` folders). Vo's filters are run on them
 unmodified (his ``jointglmb/ekf`` and ``jointlmb/ekf`` folders and ``_common`` of a mirror of
 his toolbox, e.g. ``Benzlxs/Tracking_filter``): a driver of a few lines calls his
 ``gen_model`` and ``run_filter`` with ``meas.Z{k}`` read from the file and writes the
@@ -90,8 +92,8 @@ def read_estimates(path: str, n_scans: int):
     return est, card, cpu
 
 
-def ours(kind: str, scans: list, seed: int):
-    sc = make_scenario("vo-ekf", rng=0, n_scans=1)  # the model only
+def ours(kind: str, scans: list, seed: int, preset: str = "vo-ekf"):
+    sc = make_scenario(preset, rng=0, n_scans=1)  # the model only
     settings = sc.model.settings
     # the paper's short chains (400 chains of 25 observations, stall 5, stale 10)
     filt = make_filter(kind, sc.model, ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),
@@ -102,19 +104,20 @@ def ours(kind: str, scans: list, seed: int):
     return run.estimates, run.n_estimated, cpu
 
 
-def compare(meas: str, outs: dict, seed: int, n_scans: int = 100) -> None:
+def compare(meas: str, outs: dict, seed: int, n_scans: int = 100,
+            preset: str = "vo-ekf") -> None:
     from rankedassign.tracking.nonlinear import make_nonlinear_model, vo_truth
 
     truth = vo_truth(make_nonlinear_model("vo-ekf"), n_scans).positions
     scans = read_measurements(meas, n_scans)
-    ours(list(outs)[0], scans[:3], seed)  # compile the kernels outside the timing
+    ours(list(outs)[0], scans[:3], seed, preset)  # compile the kernels outside the timing
     # (Vo's run_filter on a prefix of the run reads only those scans)
     print("| filter | mean OSPA, Vo | mean OSPA, ours | same cardinality as Vo | "
           "CPU s, Vo | CPU s, ours | speed-up |")
     print("|---|---|---|---|---|---|---|")
     for kind, path in outs.items():
         vo_est, vo_card, vo_cpu = read_estimates(path, n_scans)
-        est, card, cpu = ours(kind, scans, seed)
+        est, card, cpu = ours(kind, scans, seed, preset)
         o_vo = ospa2(truth, vo_est, c=100.0, p=1, window=1).value.mean()
         o_us = ospa2(truth, est, c=100.0, p=1, window=1).value.mean()
         same = float((card == vo_card).mean())
@@ -136,6 +139,8 @@ def main() -> None:
     c.add_argument("--lmb")
     c.add_argument("--seed", type=int, default=0)
     c.add_argument("--n-scans", type=int, default=100)
+    c.add_argument("--preset", choices=("vo-ekf", "vo-ukf"), default="vo-ekf",
+                   help="our filters' preset; run Vo's ekf or ukf folders to match")
     a = ap.parse_args()
     if a.cmd == "write":
         write(a.meas, a.seed)
@@ -144,7 +149,7 @@ def main() -> None:
             f.write(DRIVER)
     else:
         outs = {k: v for k, v in (("glmb", a.glmb), ("lmb", a.lmb)) if v}
-        compare(a.meas, outs, a.seed, a.n_scans)
+        compare(a.meas, outs, a.seed, a.n_scans, a.preset)
 
 
 if __name__ == "__main__":
