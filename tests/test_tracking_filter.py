@@ -408,7 +408,8 @@ class _MultiSensorOnly(MultiSensorAssociation):
         ({"max_components": 2.5}, TypeError, "max_components must be an int, got float 2.5"),
         ({"gate_prob": 1.5}, ValueError, re.escape("gate_prob must be in (0, 1), got 1.5")),
         ({"gate_prob": "0.9"}, TypeError, "gate_prob must be a real number, got str"),
-        ({"model": "paper"}, TypeError, "model must be a Model, got str; build one with"),
+        ({"model": "paper"}, TypeError,
+         "model must be a Model or NonlinearModel, got str; build one with"),
         ({"association": 3}, TypeError, "association must be callable"),
         # booleans were parsed by truthiness: "no" switched grouping on
         ({"grouping": "no"}, TypeError, "grouping must be True or False, got str 'no'"),

@@ -481,7 +481,9 @@ def test_run_scenario_multi_feeds_ospa2():
 
 
 def test_run_scenario_errors():
-    with pytest.raises(ValueError, match="sensors applies to the 'multi' preset only"):
+    with pytest.raises(ValueError, match=re.escape(
+            "sensors applies to the multi-sensor presets ('multi', 'multi-bearing-range') "
+            "only")):
         run_scenario("vo", Exact(), n_scans=1, sensors=(0,))
     with pytest.raises(TypeError, match="run_multisensor_scenario needs an association"):
         run_multisensor_scenario(None, n_scans=1)

@@ -57,7 +57,6 @@ from .models import (
     Model,
     PoissonClutter,
     PositionSensor,
-    make_model,
 )
 from .multisensor.adaptive_birth import AdaptiveBirth
 from .multisensor.glmb import MultiSensorGLMBFilter
@@ -67,10 +66,11 @@ from .multisensor.scenario import (
     make_multisensor_model,
     make_multisensor_scenario,
 )
+from .presets import make_model, make_scenario
 from .protocol import Filter
 from .run import ScenarioRun, run_multisensor_scenario, run_scenario
 from .runner import FilterRun, run_filter
-from .scenario import Scan, Scenario, Truth, generate_measurements, make_scenario, paper_truth
+from .scenario import Scan, Scenario, Truth, generate_measurements, paper_truth
 from .single.glmb import GLMB_EXTRACTIONS, GLMBFilter, GLMBScanRecord
 from .single.lmb import LMBFilter, ScanRecord, group_tracks, map_cardinality
 

@@ -79,7 +79,7 @@ def _check_labels(labels, max_birth_index) -> np.ndarray:
     return out
 
 
-def check_prior(labels, means, covs, components, weights, *, max_birth_index):
+def check_prior(labels, means, covs, components, weights, *, max_birth_index, dim=4):
     """Validate the arguments of ``set_prior`` of the δ-GLMB filters.
 
     Parameters
@@ -100,6 +100,9 @@ def check_prior(labels, means, covs, components, weights, *, max_birth_index):
     max_birth_index : int or None
         The number of birth tracks of every scan; None when it changes from scan to scan
         (adaptive birth), and then every label with a birth scan ``>= 1`` is refused.
+    dim : int, optional
+        State dimension ``d`` (default 4; a non-linear model's own, e.g. 5), the ``4`` of the
+        shapes above.
 
     Returns
     -------
@@ -137,15 +140,15 @@ an index above 4
     T = labels.shape[0]
     means = float_array(means, "means")
     covs = float_array(covs, "covs")
-    if means.shape != (T, 4) or covs.shape != (T, 4, 4):
-        raise ValueError(f"means and covs must have shapes ({T}, 4) and ({T}, 4, 4), got "
-                         f"{means.shape} and {covs.shape}")
+    if means.shape != (T, dim) or covs.shape != (T, dim, dim):
+        raise ValueError(f"means and covs must have shapes ({T}, {dim}) and ({T}, {dim}, "
+                         f"{dim}), got {means.shape} and {covs.shape}")
     lab = labels.tolist()  # once: formatting each track's name from the array was O(T²)
     for t in range(T):
         if not np.isfinite(means[t]).all():
             raise ValueError(f"means[{t}] ({_label_text(lab, t)}) must be finite, "
                              f"got {means[t].tolist()}")
-        _spd(covs[t], 4, f"covs[{t}] ({_label_text(lab, t)})")
+        _spd(covs[t], dim, f"covs[{t}] ({_label_text(lab, t)})")
     comps = _check_components(components, T)
     if weights is None:
         w = np.ones(len(comps))

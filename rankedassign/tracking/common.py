@@ -62,8 +62,8 @@ def gate_threshold(gate_prob: float, dim: int = 2) -> float:
     return float(chi2.ppf(gate_prob, dim))
 
 
-def check_measurements(z, name: str = "measurements") -> np.ndarray:
-    """One scan's measurements as a float64 (M, 2) array; ``[]`` and (0, 2) give (0, 2).
+def check_measurements(z, name: str = "measurements", dim: int = 2) -> np.ndarray:
+    """One scan's measurements as a float64 (M, dim) array; ``[]`` and (0, dim) give (0, dim).
 
     Parameters
     ----------
@@ -72,6 +72,8 @@ def check_measurements(z, name: str = "measurements") -> np.ndarray:
     name : str, optional
         Whose measurements they are, for the messages (the multi-sensor filters name the
         sensor).
+    dim : int, optional
+        Measurement dimension (default 2, positions; a non-linear model gives its own).
 
     Returns
     -------
@@ -94,7 +96,7 @@ def check_measurements(z, name: str = "measurements") -> np.ndarray:
         a = np.asarray(z)
     except ValueError:  # numpy: "inhomogeneous shape"
         raise ValueError(
-            f"{name} must be an (M, 2) array of real numbers, got a ragged sequence (rows of "
+            f"{name} must be an (M, {dim}) array of real numbers, got a ragged sequence (rows of "
             "different lengths)"
         ) from None
     if a.dtype.kind == "O" and all(isinstance(v, numbers.Real) and not isinstance(v, bool)
@@ -106,12 +108,13 @@ def check_measurements(z, name: str = "measurements") -> np.ndarray:
         raise TypeError(f"{name} must be real numbers, got {kind} (dtype {a.dtype}) in a scan "
                         f"of shape {a.shape}")
     if a.shape == (0,):  # [] : a scan without measurements
-        return np.empty((0, 2))
-    if a.ndim != 2 or a.shape[1] != 2:
-        empty = " (a scan without measurements is [] or shape (0, 2))" if a.size == 0 else ""
-        raise ValueError(f"{name} must have shape (M, 2), got shape {a.shape}{empty}")
+        return np.empty((0, dim))
+    if a.ndim != 2 or a.shape[1] != dim:
+        empty = (f" (a scan without measurements is [] or shape (0, {dim}))" if a.size == 0
+                 else "")
+        raise ValueError(f"{name} must have shape (M, {dim}), got shape {a.shape}{empty}")
     if a.shape[0] == 0:
-        return np.empty((0, 2))
+        return np.empty((0, dim))
     z = np.array(a, dtype=np.float64)  # a writable copy: one compiled variant of each kernel
     if not np.isfinite(z).all():
         i, j = np.argwhere(~np.isfinite(z))[0]

@@ -41,13 +41,15 @@ def _merge_distances(m, P, j, cand, rule):
         ld_j = np.linalg.slogdet(P[j])[1]
         return maha + 4.0 * (logdet - 0.5 * (ld_i + ld_j))
     inv = np.linalg.inv(P[cand]) if rule == _VO_MA else np.linalg.inv(P[j])[None]
-    return np.einsum("ci,cij,cj->c", d, np.broadcast_to(inv, (len(cand), 4, 4)), d)
+    dim = m.shape[1]
+    return np.einsum("ci,cij,cj->c", d, np.broadcast_to(inv, (len(cand), dim, dim)), d)
 
 
 def _reduce_one(w, m, P, elim, merge_thr, cap, rule):
     """Prune, merge and cap one track's mixture; components in decreasing weight."""
     if w.size == 0:  # a track without components keeps none
-        return np.empty(0), np.empty((0, 4)), np.empty((0, 4, 4))
+        d = m.shape[1]
+        return np.empty(0), np.empty((0, d)), np.empty((0, d, d))
     # prune: w > elim, and the heaviest component always stays
     keep = w > elim
     keep[np.argmax(w)] = True
@@ -89,9 +91,10 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
         Component range of track ``t`` is ``offsets[t]:offsets[t + 1]``.
     w : ndarray of float64, shape (C,)
         Component weights, summing to 1 within each track.
-    m : ndarray of float64, shape (C, 4)
-        Component means ``(p_x, v_x, p_y, v_y)``.
-    P : ndarray of float64, shape (C, 4, 4)
+    m : ndarray of float64, shape (C, d)
+        Component means (``(p_x, v_x, p_y, v_y)`` in the linear filters; any dimension ``d``
+        here, which is why the non-linear path uses this twin).
+    P : ndarray of float64, shape (C, d, d)
         Component covariances.
     keep : ndarray of bool, shape (T,)
         Tracks to keep; the others are dropped with their components.
@@ -136,7 +139,8 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
     counts = [len(p[0]) for p in parts]
     new_off = np.concatenate([[0], np.cumsum(counts, dtype=np.int64)]).astype(np.int64)
     if not parts:
-        return new_off, np.empty(0), np.empty((0, 4)), np.empty((0, 4, 4))
+        d = m.shape[1]
+        return new_off, np.empty(0), np.empty((0, d)), np.empty((0, d, d))
     return (new_off, np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts]),
             np.concatenate([p[2] for p in parts]))
 

@@ -19,10 +19,10 @@ from .association import Association
 from .filters import FILTERS as FILTER_TABLE
 from .filters import make_filter, takes_grouping
 from .multisensor.adaptive_birth import AdaptiveBirth
-from .multisensor.lmb import check_sensors
-from .multisensor.scenario import MULTI_SENSORS, MultiSensorRun, make_multisensor_scenario
+from .multisensor.scenario import MULTI_PRESETS, MultiSensorRun, make_multisensor_scenario
+from .presets import make_scenario
 from .runner import TIMING_KEYS, run_filter
-from .scenario import ScenarioRun, check_n_scans, make_scenario
+from .scenario import ScenarioRun, check_n_scans
 
 __all__ = ["FILTERS", "ScenarioRun", "TIMING_KEYS", "run_multisensor_scenario", "run_scenario"]
 
@@ -48,8 +48,9 @@ def run_scenario(
 
     Parameters
     ----------
-    preset : {"paper", "paper-var", "vo", "multi"}
-        Model preset (:func:`~rankedassign.tracking.models.make_model`); ``"multi"`` is the
+    preset : {"paper", "paper-var", "vo", "vo-ekf", "vo-ukf", "multi", "multi-bearing-range"}
+        Model preset (:func:`~rankedassign.tracking.presets.make_model`: ``"vo-ekf"`` and
+        ``"vo-ukf"`` are Vo's coordinated-turn, bearing–range examples); ``"multi"`` is the
         multi-sensor scenario, run by
         :func:`run_multisensor_scenario` (which
         returns a :class:`~rankedassign.tracking.multisensor.scenario.MultiSensorRun`).
@@ -77,7 +78,8 @@ def run_scenario(
         MAP cardinality for ``"vo"`` (Vo's public example, which extracts by MAP cardinality),
         hysteresis for ``"multi"``. A filter built on ``make_model(preset)`` takes the same.
     sensors : sequence of int or None
-        ``"multi"`` only: the sensors the filter fuses (default ``(0, 1, 2)``); a sensor's
+        ``"multi"`` and ``"multi-bearing-range"`` only: the sensors the filter fuses (default
+        ``(0, 1, 2)``, and both sensors of ``"multi-bearing-range"``); a sensor's
         measurements do not depend on which others are selected.
     filter : {"lmb", "glmb"}, filter class or filter object, optional
         The LMB filter (default) or the δ-GLMB filter
@@ -89,7 +91,9 @@ def run_scenario(
     **filter_options
         Further keyword arguments of :class:`~rankedassign.tracking.LMBFilter` (``gate_prob``,
         ``theta_upper``, ``prune_track``, ``max_components``, ...) or of
-        :class:`~rankedassign.tracking.GLMBFilter` (``h_upd``, ``h_max``, ...).
+        :class:`~rankedassign.tracking.GLMBFilter` (``h_upd``, ``h_max``, ...). On
+        ``"vo-ekf"`` and ``"vo-ukf"`` with ``filter="lmb"`` or ``"glmb"`` they default to Vo's
+        settings (:meth:`~rankedassign.tracking.nonlinear.VoFilterSettings.filter_options`).
 
     Returns
     -------
@@ -122,21 +126,24 @@ def run_scenario(
                          f"is truncated whole), got grouping={grouping!r}")
     if grouping is not None:
         grouping = check_bool(grouping, "grouping")
-    if preset == "multi":
+    if preset in MULTI_PRESETS:
         return run_multisensor_scenario(
-            association, rng=rng, n_scans=n_scans,
-            sensors=(0, 1, 2) if sensors is None else sensors,
+            association, rng=rng, n_scans=n_scans, sensors=sensors, preset=preset,
             grouping=True if grouping is None or not groups else grouping,
             extraction=extraction, filter=filter, **filter_options,
         )
     if sensors is not None:
-        raise ValueError(f"sensors applies to the 'multi' preset only, got preset {preset!r}")
+        raise ValueError(f"sensors applies to the multi-sensor presets {MULTI_PRESETS} only, "
+                         f"got preset {preset!r}")
     grouping = False if grouping is None else grouping
     check_n_scans(n_scans)
     parent = spawning_generator(rng)
     meas_rng, filter_rng = parent.spawn(2)
     scenario = make_scenario(preset, rng=meas_rng, n_scans=n_scans)
     # extraction None: the model's, which make_model set to the preset's (PRESET_EXTRACTION)
+    settings = getattr(scenario.model, "settings", None)  # Vo's, for his non-linear presets
+    if not is_object and settings is not None and filter in ("lmb", "glmb"):
+        filter_options = {**settings.filter_options(filter), **filter_options}
     if not is_object:
         filter_options = {"extraction": extraction, **filter_options}
         if groups:
@@ -145,17 +152,20 @@ def run_scenario(
     run = run_filter(filt, [scan.z for scan in scenario.scans], rng=filter_rng)
     return ScenarioRun(
         scenario=scenario,
-        truth=scenario.truth.positions,
+        # the position components the model names ([0, 2] for every preset so far)
+        truth=scenario.truth.states[:, :, list(getattr(scenario.model, "position_indices",
+                                                       (0, 2)))],
         **{f.name: getattr(run, f.name) for f in dataclasses.fields(ScenarioRun)
            if f.name not in ("scenario", "truth")},
     )
 
 
 def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
-                             sensors=(0, 1, 2), grouping: bool = True,
+                             sensors=None, grouping: bool = True,
                              extraction: str | None = None, birth: str = "paper",
-                             filter: str = "lmb", **filter_options) -> MultiSensorRun:
-    """Simulate the ``"multi"`` scenario and run the multi-sensor LMB or δ-GLMB filter on it.
+                             filter: str = "lmb", preset: str = "multi",
+                             **filter_options) -> MultiSensorRun:
+    """Simulate a multi-sensor scenario and run the multi-sensor LMB or δ-GLMB filter on it.
 
     Parameters
     ----------
@@ -170,9 +180,11 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
     n_scans : int
         Number of scans (default 100, at most
         :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
-    sensors : sequence of int
+    sensors : sequence of int or None
         The sensors the filter fuses (distinct indices into
-        :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`).
+        :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`, or the
+        non-linear preset's); None: as
+        :func:`~rankedassign.tracking.multisensor.scenario.make_multisensor_scenario`.
     grouping : bool
         One problem per group of tracks sharing gated measurements (default True); ``True``
         or ``False`` only.
@@ -192,6 +204,11 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         is (:func:`~rankedassign.tracking.filters.make_filter`); the measurements are the same
         for all. The δ-GLMB filter takes no ``grouping`` (its components are truncated
         whole): it must be left at its default.
+    preset : {"multi", "multi-bearing-range"}
+        :data:`~rankedassign.tracking.multisensor.scenario.MULTI_PRESETS`; on
+        ``"multi-bearing-range"`` the LMB and δ-GLMB options default
+        to Vo's settings
+        (:meth:`~rankedassign.tracking.nonlinear.VoFilterSettings.filter_options`).
     **filter_options
         Further options of the filter.
 
@@ -226,14 +243,16 @@ def run_multisensor_scenario(association=None, *, rng=None, n_scans: int = 100,
         raise ValueError("grouping=False applies to the LMB filter only: the δ-GLMB filter "
                          "truncates every component's problem whole")
     n_scans = check_n_scans(n_scans)
-    sensors = check_sensors(sensors, len(MULTI_SENSORS))
     adaptive = birth if isinstance(birth, AdaptiveBirth) else (
         AdaptiveBirth() if birth == "adaptive" else None)
     if adaptive is not None:
         birth = "adaptive"
     meas_rng, filter_rng = spawning_generator(rng).spawn(2)
     scenario = make_multisensor_scenario(rng=meas_rng, n_scans=n_scans, sensors=sensors,
-                                         birth=birth)
+                                         birth=birth, preset=preset)
+    settings = getattr(scenario.model, "settings", None)  # Vo's, for a non-linear preset
+    if settings is not None and filter in ("lmb", "glmb"):
+        filter_options = {**settings.filter_options(filter), **filter_options}
     if isinstance(filter, (str, type)):
         filter_options = {"extraction": extraction, "birth": adaptive, **filter_options}
         if groups:

@@ -321,7 +321,9 @@ def run_filter(filter, scans, *, rng=None, truth=None) -> FilterRun:
         keys += [name for name in t if name not in keys]
     timings = {name: np.array([t.get(name, 0.0) for t in times], dtype=np.float64)
                for name in keys}
-    est, labels = tracks_to_array(labelled, dims=(0, 2), return_labels=True)
+    # the position components the model names (a non-linear model's sensor); (0, 2) otherwise
+    dims = tuple(getattr(getattr(filter, "model", None), "position_indices", (0, 2)))
+    est, labels = tracks_to_array(labelled, dims=dims, return_labels=True)
     if est.shape[2] == 0:  # nothing was ever reported
         est = np.full((K, 0, 2), np.nan)
     metrics = {"ospa": None, "ospa2": None}

@@ -47,6 +47,9 @@ from ..common import concat as _concat
 from ..common import logsumexp as _logsumexp
 from ..common import retained_ratio
 from ..models import Model
+from ..nonlinear.multisensor import NonlinearMultiSensorModel
+from ..nonlinear.step import multi_sensor_path
+from ..nonlinear.vo import NonlinearModel
 from ..single.glmb import EXACT_SCAN_LIMIT, GLMBFilter, GLMBScanRecord
 from ..single.lmb import group_tracks
 from .adaptive_birth import AdaptiveBirth, empty_birth
@@ -196,8 +199,9 @@ class MultiSensorGLMBFilter(GLMBFilter):
 
     Parameters
     ----------
-    model : MultiSensorModel or Model
-        A single-sensor :class:`~rankedassign.tracking.Model` is taken as ``V = 1``.
+    model : MultiSensorModel, Model, NonlinearMultiSensorModel or NonlinearModel
+        A single-sensor model is taken as ``V = 1`` (as
+        :class:`~rankedassign.tracking.MultiSensorLMBFilter`).
     association : ShortChainGibbs, OriginalGibbs, HerdedGibbs, Exact or object
         The truncation of every component's multi-sensor problem with its count ``T_h``, as
         in :class:`~rankedassign.tracking.GLMBFilter`: the long chain runs
@@ -270,12 +274,20 @@ class MultiSensorGLMBFilter(GLMBFilter):
                  birth_threshold: float = 1e-3, **options):
         if isinstance(model, Model):
             model = MultiSensorModel.from_model(model)
-        check_type(model, "model", MultiSensorModel,
+        elif isinstance(model, NonlinearModel):
+            model = NonlinearMultiSensorModel.from_model(model)
+        check_type(model, "model", (MultiSensorModel, NonlinearMultiSensorModel),
                    "build one with MultiSensorModel(...) or make_multisensor_model()")
         if birth is not None:
             check_type(birth, "birth", AdaptiveBirth,
                        "None for the model's static birth or AdaptiveBirth(...)")
+            if isinstance(model, NonlinearMultiSensorModel):
+                raise ValueError("adaptive birth places births from position measurements; "
+                                 "it needs a linear MultiSensorModel, got a "
+                                 "NonlinearMultiSensorModel (use its static birth, birth=None)")
         self.adaptive_birth = birth
+        #: The non-linear model's per-sensor gates and stacked update (None: linear).
+        self._ms = multi_sensor_path(model, options.get("gate_prob", 0.9999999))
         self.birth_threshold = check_real(birth_threshold, "birth_threshold", minimum=0.0)
         self.ms_model = model
         self.V = model.n_sensors
@@ -315,15 +327,18 @@ class MultiSensorGLMBFilter(GLMBFilter):
             log_dead = np.log1p(-p_exist)
         used, gated, zu = [], [], []
         gate = 0.0 if self.gate is None else self.gate
-        for z, R in zip(zs, self._Rs, strict=True):
+        for v, (z, R) in enumerate(zip(zs, self._Rs, strict=True)):
             if z.shape[0] == 0 or T == 0:
                 used.append(np.empty(0, dtype=np.int64))
                 gated.append(np.zeros((T, 0), dtype=bool))
-                zu.append(np.empty((0, 2)))
+                zu.append(np.empty((0, z.shape[1])))
                 continue
-            with interruptible:
-                _, _, _, _, g = _kernels.gate_and_distances(
-                    self.m, self.P, R, z, self.offsets, gate, self.gate is not None)
+            if self._ms is not None:  # the model's filter, wrapped innovations, own χ² gate
+                g = self._ms.gated(v, self.m, self.P, z, self.offsets)
+            else:
+                with interruptible:
+                    _, _, _, _, g = _kernels.gate_and_distances(
+                        self.m, self.P, R, z, self.offsets, gate, self.gate is not None)
             u = np.flatnonzero(g.any(axis=0))
             used.append(u)
             gated.append(np.ascontiguousarray(g[:, u]))
@@ -362,8 +377,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
             comp = (np.repeat(self.offsets[:-1][tup_e[sel]] - np.cumsum(np.r_[0, n_c[:-1]]),
                               n_c) + np.arange(n_c.sum()))
             zD = np.hstack([zu[v][tup_g[sel[pair], v] - 1] for v in D])
-            ll, _, _ = _stacked(self.m[comp], self.P[comp], zD,
-                                _block_diag([self._Rs[v] for v in D]), update=False)
+            ll, _, _ = self._stacked(D, self.m[comp], self.P[comp], zD, update=False)
             log_q[sel] = _segment_logsumexp(ll + log_w[comp], pair, sel.size)
         tup_la = tup_la + log_q
         # MM factors: ln s = ln p, ln θ^(v)(0) = ln(1 − P_D^v), ln θ^(v)(j) from the one-sensor
@@ -499,6 +513,13 @@ class MultiSensorGLMBFilter(GLMBFilter):
                 log_Z[h] += value
         return retained_ratio(self.comp_w, children, log_Z), ""
 
+    def _stacked(self, D, m, P, zD, update: bool):
+        """``ln N(z_D; ...)`` of a batch of components, with the update if asked: the linear
+        stacked Kalman step, or the model's filter on the stacked sensors ``D``."""
+        if self._ms is not None:
+            return self._ms.stacked(D, m, P, zD, update)
+        return _stacked(m, P, zD, _block_diag([self._Rs[v] for v in D]), update=update)
+
     # ----------------------------------------------------------------------- the update
     def _kalman(self, terms: _MSTerms, e_src: np.ndarray, j_src: np.ndarray) -> None:
         """Mixtures of the new entries: ``e_src`` predicted (``j_src = −1``) or updated with
@@ -518,8 +539,8 @@ class MultiSensorGLMBFilter(GLMBFilter):
             D = [v for v in range(self.V) if pat >> v & 1]
             sel = np.flatnonzero(patterns == pat)
             zD = np.hstack([terms.zu[v][g[sel, v] - 1] for v in D])
-            ll, m_upd, P_upd = _stacked(self.m[comp[sel]], self.P[comp[sel]], zD,
-                                        _block_diag([self._Rs[v] for v in D]), update=True)
+            ll, m_upd, P_upd = self._stacked(D, self.m[comp[sel]], self.P[comp[sel]], zD,
+                                             update=True)
             # w̃_c = w_c N(z_D; ...) / Σ_c' w_c' N(z_D; ...) within each new entry
             seg_ids, seg = np.unique(new[sel], return_inverse=True)
             lw = np.log(self.w[comp[sel]]) + ll
@@ -527,8 +548,9 @@ class MultiSensorGLMBFilter(GLMBFilter):
             m[sel] = m_upd
             P[sel] = P_upd
         keep = np.ones(e_src.size, dtype=bool)
+        reduce = _kernels.reduce_mixtures if self._so is None else self._so.reduce_mixtures
         with interruptible:
-            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+            self.offsets, self.w, self.m, self.P = reduce(
                 offsets, np.ascontiguousarray(w), np.ascontiguousarray(m),
                 np.ascontiguousarray(P), keep, self.prune_component, self.merge_threshold,
                 self.max_components, self._rule)
@@ -565,7 +587,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
 
         Parameters
         ----------
-        zs : sequence of V array_like, shape (M_v, 2)
+        zs : sequence of V array_like, shape (M_v, d_v)
             One measurement set per sensor, in the model's sensor order.
         rng : optional
             Anything :func:`numpy.random.default_rng` accepts; one draw keys the streams of
@@ -587,7 +609,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
             :meth:`GLMBFilter.step <rankedassign.tracking.GLMBFilter.step>`.
         """
         self.n_births = int(self._birth_r.size)  # the births this scan's prediction appends
-        return self._scan(check_scans(zs, self.V), rng)
+        return self._scan(check_scans(zs, self.V, self._ms), rng)
 
     @staticmethod
     def _n_meas(zs) -> int:

@@ -55,6 +55,9 @@ from ..models import (
     PoissonClutter,
     PositionSensor,
 )
+from ..nonlinear.multisensor import NonlinearMultiSensorModel
+from ..nonlinear.step import multi_sensor_path
+from ..nonlinear.vo import NonlinearModel
 from ..single.lmb import LMBFilter, ScanRecord, group_tracks
 from .adaptive_birth import AdaptiveBirth, empty_birth
 
@@ -117,7 +120,7 @@ def check_sensors(sensors, n_sensors: int, name: str = "sensors") -> tuple[int, 
     return tuple(idx)
 
 
-def check_scans(zs, n_sensors: int) -> list:
+def check_scans(zs, n_sensors: int, path=None) -> list:
     """One scan's measurements of every sensor, validated: a list of ``(M_v, 2)`` arrays.
 
     Parameters
@@ -126,6 +129,8 @@ def check_scans(zs, n_sensors: int) -> list:
         One measurement set per sensor, in the model's sensor order.
     n_sensors : int
         ``V``.
+    path : MultiSensorPath, optional
+        A non-linear model's: each sensor's measurements have its own dimension.
 
     Returns
     -------
@@ -151,6 +156,8 @@ def check_scans(zs, n_sensors: int) -> list:
         got = "an array" if isinstance(zs, np.ndarray) else f"{len(zs)} arrays"
         raise ValueError(f"step needs one measurement array per sensor (V = {n_sensors}), "
                          f"got {got}")
+    if path is not None:
+        return [path.check_measurements(v, z) for v, z in enumerate(zs)]
     return [_check_measurements(z, f"measurements of sensor {v}") for v, z in enumerate(zs)]
 
 
@@ -321,8 +328,10 @@ class MultiSensorLMBFilter(LMBFilter):
 
     Parameters
     ----------
-    model : MultiSensorModel or Model
-        A single-sensor :class:`~rankedassign.tracking.Model` is taken as ``V = 1``.
+    model : MultiSensorModel, Model, NonlinearMultiSensorModel or NonlinearModel
+        A single-sensor model is taken as ``V = 1``. The non-linear models
+        (:mod:`rankedassign.tracking.nonlinear.multisensor`) update on the stacked sensors
+        of each detection pattern with their EKF or UKF; adaptive birth needs a linear model.
     association : callable
         ``association(problem, rng) -> MultiSensorAssociationResult`` on every
         :class:`~rankedassign.multisensor.MultiSensorProblem`
@@ -398,12 +407,20 @@ class MultiSensorLMBFilter(LMBFilter):
                  grouping: bool = True, birth: AdaptiveBirth | None = None, **options):
         if isinstance(model, Model):
             model = MultiSensorModel.from_model(model)
-        check_type(model, "model", MultiSensorModel,
+        elif isinstance(model, NonlinearModel):
+            model = NonlinearMultiSensorModel.from_model(model)
+        check_type(model, "model", (MultiSensorModel, NonlinearMultiSensorModel),
                    "build one with MultiSensorModel(...) or make_multisensor_model()")
         if birth is not None:
             check_type(birth, "birth", AdaptiveBirth,
                        "None for the model's static birth or AdaptiveBirth(...)")
+            if isinstance(model, NonlinearMultiSensorModel):
+                raise ValueError("adaptive birth places births from position measurements; "
+                                 "it needs a linear MultiSensorModel, got a "
+                                 "NonlinearMultiSensorModel (use its static birth, birth=None)")
         self.adaptive_birth = birth
+        #: The non-linear model's per-sensor gates and stacked update (None: linear).
+        self._ms = multi_sensor_path(model, gate_prob)
         if "sample_empty_groups" in options:
             check_bool(options.pop("sample_empty_groups"), "sample_empty_groups")
         super().__init__(model.single(0), association, gate_prob=gate_prob, grouping=grouping,
@@ -447,8 +464,9 @@ class MultiSensorLMBFilter(LMBFilter):
 
         Parameters
         ----------
-        zs : sequence of V array_like, shape (M_v, 2)
-            One measurement array per sensor, in the model's sensor order.
+        zs : sequence of V array_like, shape (M_v, d_v)
+            One measurement array per sensor, in the model's sensor order (``d_v = 2``
+            positions on a linear model; sensor ``v``'s own dimension on a non-linear one).
         rng : optional
             Randomness of the association; one child stream per problem (as
             :meth:`LMBFilter.step <rankedassign.tracking.single.lmb.LMBFilter.step>`).
@@ -472,7 +490,7 @@ class MultiSensorLMBFilter(LMBFilter):
             the wrong shape, with a non-finite or negative entry, or with a row whose
             ``dead[n] + tuples[n].sum()`` is not 1.
         """
-        zs = check_scans(zs, self.V)
+        zs = check_scans(zs, self.V, self._ms)
         gen = spawning_generator(rng)
         t0 = perf_counter()
         self.predict()
@@ -484,7 +502,7 @@ class MultiSensorLMBFilter(LMBFilter):
             # no track explains anything: r_U = 1 for every measurement
             birth_s = self._adaptive_births(zs, [np.ones(z.shape[0]) for z in zs], gen)
             return ScanRecord(
-                labels=np.empty((0, 2), np.int64), states=np.empty((0, 4)),
+                labels=np.empty((0, 2), np.int64), states=np.empty((0, self._d)),
                 existence=np.empty(0), track_labels=self.labels.copy(),
                 track_existence=self.r.copy(), n_tracks=0, n_meas=M_all, n_meas_gated=0,
                 n_groups=0, invocations=0, sweeps=0, row_updates=0, n_unique=0,
@@ -584,15 +602,18 @@ class MultiSensorLMBFilter(LMBFilter):
         T = self.n_tracks
         used, gated = [], []
         gate = 0.0 if self.gate is None else self.gate
-        for z, R in zip(zs, self._Rs, strict=True):
+        for v, (z, R) in enumerate(zip(zs, self._Rs, strict=True)):
             if z.shape[0] == 0:
                 used.append(np.empty(0, dtype=np.int64))
                 gated.append(np.zeros((T, 0), dtype=bool))
                 continue
-            with interruptible:
-                _, _, _, _, g = _kernels.gate_and_distances(
-                    self.m, self.P, R, z, self.offsets, gate, self.gate is not None
-                )
+            if self._ms is not None:  # the model's filter, wrapped innovations, own χ² gate
+                g = self._ms.gated(v, self.m, self.P, z, self.offsets)
+            else:
+                with interruptible:
+                    _, _, _, _, g = _kernels.gate_and_distances(
+                        self.m, self.P, R, z, self.offsets, gate, self.gate is not None
+                    )
             u = np.flatnonzero(g.any(axis=0))
             used.append(u)
             gated.append(np.ascontiguousarray(g[:, u]))
@@ -614,7 +635,13 @@ class MultiSensorLMBFilter(LMBFilter):
     # ----------------------------------------------------------------------- the problem
     def _pattern_loglik(self, c, D, zD):
         """``ln N(z_D; H_D m_c, H_D P_c H_Dᵀ + R_D)`` for stacked ``zD`` (N, 2|D|), and the
-        factors the Kalman update needs (innovations, ``S`` and its Cholesky factor)."""
+        factors the Kalman update needs (innovations, ``S`` and its Cholesky factor); for a
+        non-linear model the log-likelihood only."""
+        if self._ms is not None:
+            n = zD.shape[0]
+            ll, _, _ = self._ms.stacked(D, np.repeat(self.m[c][None], n, axis=0),
+                                        np.repeat(self.P[c][None], n, axis=0), zD, False)
+            return ll, None, None
         d = len(D)
         HPH = self.P[c][np.ix_(_POS, _POS)]
         # S_D = 1 1ᵀ ⊗ H P Hᵀ + blkdiag(R_v), v ∈ D (every sensor measures the position)
@@ -710,6 +737,15 @@ class MultiSensorLMBFilter(LMBFilter):
                     zD = self._stack(zu, cols, D, tk)
                     lls, ms, Ps = [], [], []
                     for c in range(lo, hi):
+                        if self._ms is not None:  # the stacked update of the model's filter
+                            n = tk.shape[0]
+                            ll, mu, Pu = self._ms.stacked(
+                                D, np.repeat(self.m[c][None], n, axis=0),
+                                np.repeat(self.P[c][None], n, axis=0), zD, True)
+                            lls.append(ll)
+                            ms.append(mu)
+                            Ps.append(Pu)
+                            continue
                         ll, nu, S = self._pattern_loglik(c, D, zD)
                         # K = P H_Dᵀ S⁻¹, m' = m + K ν, P' = P − K S Kᵀ
                         PHt = np.tile(self.P[c][:, _POS], (1, len(D)))
@@ -718,14 +754,14 @@ class MultiSensorLMBFilter(LMBFilter):
                         Pu = 0.5 * (Pu + Pu.T)
                         lls.append(ll)
                         ms.append(self.m[c] + nu @ K.T)
-                        Ps.append(np.broadcast_to(Pu, (tk.shape[0], 4, 4)))
+                        Ps.append(np.broadcast_to(Pu, (tk.shape[0], self._d, self._d)))
                     lw = np.array(lls) + np.log(self.w[lo:hi])[:, None]  # (K, N)
                     ratio = np.exp(lw - logsumexp(lw, axis=0))
                     weights = ratio * rel[tuple(tk.T)][None, :]
                     # tuple-major order: every component of a tuple together
                     order_w.append(weights.T.reshape(-1))
-                    order_m.append(np.stack(ms, axis=1).reshape(-1, 4))
-                    order_P.append(np.stack(Ps, axis=1).reshape(-1, 4, 4))
+                    order_m.append(np.stack(ms, axis=1).reshape(-1, self._d))
+                    order_P.append(np.stack(Ps, axis=1).reshape(-1, self._d, self._d))
                     order_key.append(np.repeat(np.ravel_multi_index(tk.T, rel.shape),
                                                hi - lo))
                 keyv = np.concatenate(order_key)
@@ -736,6 +772,7 @@ class MultiSensorLMBFilter(LMBFilter):
         counts = np.array([sum(a.size for a in comp_w[t]) for t in range(T)], dtype=np.int64)
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
         w = np.concatenate([a for t in range(T) for a in comp_w[t]] or [np.empty(0)])
-        m = np.concatenate([a for t in range(T) for a in comp_m[t]] or [np.empty((0, 4))])
-        P = np.concatenate([a for t in range(T) for a in comp_P[t]] or [np.empty((0, 4, 4))])
+        d = self._d
+        m = np.concatenate([a for t in range(T) for a in comp_m[t]] or [np.empty((0, d))])
+        P = np.concatenate([a for t in range(T) for a in comp_P[t]] or [np.empty((0, d, d))])
         return r_new, (offsets, w, m, P)

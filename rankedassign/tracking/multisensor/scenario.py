@@ -29,6 +29,8 @@ import numpy as np
 from ...engine.rng import spawning_generator
 from ...validation import check_choice
 from ..models import LMBBirth, PoissonClutter, PositionSensor, make_model
+from ..nonlinear.multisensor import MULTI_NONLINEAR_PRESETS, make_nonlinear_multisensor_model
+from ..nonlinear.vo import generate_nonlinear_measurements, vo_truth
 from ..scenario import (
     ScenarioRun,
     Truth,
@@ -40,6 +42,7 @@ from .lmb import MultiSensorModel, check_sensors
 
 __all__ = [
     "BIRTHS",
+    "MULTI_PRESETS",
     "MULTI_SENSORS",
     "MultiSensorRun",
     "MultiSensorScenario",
@@ -51,6 +54,10 @@ __all__ = [
 MULTI_SENSORS = ((10.0, 0.6), (15.0, 0.7), (20.0, 0.8), (10.0, 0.7))
 #: Mean clutter points per scan and sensor.
 MULTI_CLUTTER = 20.0
+#: The multi-sensor presets: ``"multi"`` (linear position sensors) and the non-linear
+#: ``"multi-bearing-range"``
+#: (:func:`~rankedassign.tracking.nonlinear.multisensor.make_nonlinear_multisensor_model`).
+MULTI_PRESETS = ("multi", *MULTI_NONLINEAR_PRESETS)
 
 
 #: Birth models: the paper's static birth (``P_B = diag(300², 10², 300², 10²)``, spec §6.1),
@@ -126,10 +133,10 @@ class MultiSensorScenario:
     Attributes
     ----------
     preset : str
-        ``"multi"``.
+        ``"multi"`` or ``"multi-bearing-range"`` (:data:`MULTI_PRESETS`).
     sensors : tuple of int
-        Indices of the selected sensors (into :data:`MULTI_SENSORS`).
-    model : MultiSensorModel
+        Indices of the selected sensors (into :data:`MULTI_SENSORS`, or the preset's).
+    model : MultiSensorModel or NonlinearMultiSensorModel
     truth : Truth
     scans : list of tuple of Scan
         Per scan, one :class:`~rankedassign.tracking.scenario.Scan` per selected sensor.
@@ -142,9 +149,9 @@ class MultiSensorScenario:
     scans: list
 
 
-def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2),
-                              birth: str = "paper") -> MultiSensorScenario:
-    """The ``"multi"`` truth and measurements of the sensors ``sensors``.
+def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=None,
+                              birth: str = "paper", preset: str = "multi") -> MultiSensorScenario:
+    """A multi-sensor preset's truth and the measurements of the sensors ``sensors``.
 
     Parameters
     ----------
@@ -156,10 +163,16 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2)
     n_scans : int
         Number of scans (default 100, at most
         :data:`~rankedassign.tracking.scenario.MAX_SCANS`).
-    sensors : sequence of int
-        Which sensors to simulate (distinct indices into :data:`MULTI_SENSORS`).
+    sensors : sequence of int or None
+        Which sensors to simulate (distinct indices into :data:`MULTI_SENSORS`, or into the
+        non-linear preset's sensors); None: ``(0, 1, 2)`` for ``"multi"``, every sensor of
+        ``"multi-bearing-range"``.
     birth : {"paper", "narrow", "adaptive"}
-        Birth model of the filter (the measurements do not depend on it).
+        Birth model of the filter (the measurements do not depend on it); ``"multi"`` only.
+    preset : {"multi", "multi-bearing-range"}
+        :data:`MULTI_PRESETS`. ``"multi-bearing-range"``: Vo's CT truth
+        (:func:`~rankedassign.tracking.nonlinear.vo_truth`) seen by two bearing–range
+        sensors, each from its own stream.
 
     Returns
     -------
@@ -174,7 +187,21 @@ def make_multisensor_scenario(*, rng=None, n_scans: int = 100, sensors=(0, 1, 2)
     True
     """
     n_scans = check_n_scans(n_scans)
-    sensors = check_sensors(sensors, len(MULTI_SENSORS))
+    preset = check_choice(preset, "preset", MULTI_PRESETS)
+    if preset != "multi":
+        if birth != "paper":
+            raise ValueError(f"birth applies to the 'multi' preset only, got birth={birth!r} "
+                             f"with preset {preset!r} (its births are Vo's four terms)")
+        full = make_nonlinear_multisensor_model(preset)
+        sensors = check_sensors(tuple(range(full.n_sensors)) if sensors is None else sensors,
+                                full.n_sensors)
+        truth = vo_truth(full.single(0), n_scans)
+        children = spawning_generator(rng).spawn(full.n_sensors)
+        per_sensor = [generate_nonlinear_measurements(truth, full.single(v), rng=children[v])
+                      for v in sensors]
+        scans = [tuple(s[k] for s in per_sensor) for k in range(n_scans)]
+        return MultiSensorScenario(preset, sensors, full.select(sensors), truth, scans)
+    sensors = check_sensors((0, 1, 2) if sensors is None else sensors, len(MULTI_SENSORS))
     model = make_multisensor_model(sensors, birth=birth)
     full = make_multisensor_model(range(len(MULTI_SENSORS)))
     truth = paper_truth(n_scans, model.motion.F)

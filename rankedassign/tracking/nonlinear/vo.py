@@ -111,6 +111,47 @@ class VoFilterSettings:
         """``chi2inv(P_G, 2)``: the gate on the squared Mahalanobis distance."""
         return float(chi2.ppf(self.gate_prob, 2))
 
+    def filter_options(self, kind: str) -> dict:
+        """These settings as keyword arguments of the LMB or the δ-GLMB filter.
+
+        The requested hypotheses of the LMB's update (``lmb_h_upd``) belong to its
+        association (e.g. ``ShortChainGibbs(1000, ...)``), not to the filter.
+
+        Parameters
+        ----------
+        kind : {"lmb", "glmb"}
+            :class:`~rankedassign.tracking.LMBFilter` or
+            :class:`~rankedassign.tracking.GLMBFilter`.
+
+        Returns
+        -------
+        dict
+            ``gate_prob`` and, for the LMB, ``max_tracks``, ``prune_track``,
+            ``max_components``, ``prune_component``, ``merge_threshold`` and
+            ``merge_rule="heaviest"`` (Vo's ``gaus_merge`` measures the distance in the
+            heaviest component's covariance); for the δ-GLMB ``h_upd``, ``h_max``,
+            ``prune_hypothesis``.
+
+        Raises
+        ------
+        ValueError
+            On another ``kind``.
+
+        Examples
+        --------
+        >>> from rankedassign.tracking.nonlinear import VoFilterSettings
+        >>> VoFilterSettings().filter_options("glmb")["h_upd"]
+        3000
+        """
+        kind = check_choice(kind, "kind", ("lmb", "glmb"))
+        if kind == "glmb":
+            return {"gate_prob": self.gate_prob, "h_upd": self.glmb_h_upd,
+                    "h_max": self.glmb_h_max, "prune_hypothesis": self.glmb_hyp_threshold}
+        return {"gate_prob": self.gate_prob, "max_tracks": self.lmb_t_max,
+                "prune_track": self.lmb_track_threshold, "max_components": self.lmb_l_max,
+                "prune_component": self.elim_threshold, "merge_threshold": self.merge_threshold,
+                "merge_rule": "heaviest"}
+
 
 def _vo_birth() -> tuple:
     # gen_model.m: four single-Gaussian terms, std diag([50 50 50 50 6π/180]), P = B B'

@@ -62,6 +62,8 @@ from ..common import gate_threshold, retained_ratio
 from ..common import logsumexp as _logsumexp
 from ..gating import GatedPairs, clusters
 from ..models import ConstantVelocity, LinearMotion, Model
+from ..nonlinear.step import single_object
+from ..nonlinear.vo import NonlinearModel
 from . import _glmb_kernels
 
 __all__ = [
@@ -92,8 +94,9 @@ class GLMBScanRecord(NamedTuple):
     ----------
     labels : ndarray of int64, shape (n, 2)
         Labels of the reported tracks, in increasing order.
-    states : ndarray, shape (n, 4)
-        Their state estimates (mean of the heaviest Gaussian of the track's entry).
+    states : ndarray, shape (n, d)
+        Their state estimates (mean of the heaviest Gaussian of the track's entry; ``d = 4``
+        on a linear model, the model's state dimension on a non-linear one).
     existence : ndarray, shape (n,)
         Their existence probabilities ``r(ℓ)``.
     track_labels, track_existence : ndarray
@@ -202,6 +205,7 @@ class _Terms(NamedTuple):
     log_dead: np.ndarray  # (T,) ln η_t(−1)
     cc: np.ndarray  # (T, U + 2) −ln η over [measurements | missed | dead]
     W: np.ndarray  # (T, U + 2) exp(−(cc − row minimum))
+    gain: tuple | None = None  # non-linear path: (K (C, d, d_z), P' (C, d, d)); else None
 
 
 # ------------------------------------------------------------------------------- the filter
@@ -210,8 +214,9 @@ class GLMBFilter:
 
     Parameters
     ----------
-    model : Model
-        Motion, sensor, clutter, birth and survival models (as :class:`LMBFilter`).
+    model : Model or NonlinearModel
+        Motion, sensor, clutter, birth and survival models (as :class:`LMBFilter`; a
+        :class:`~rankedassign.tracking.nonlinear.NonlinearModel` runs its EKF or UKF).
     association : OriginalGibbs, ShortChainGibbs, Murty, Exact or object
         The truncation of every component's problem, with the component's count ``T_h``
         (spec §2.3): :class:`~rankedassign.tracking.OriginalGibbs` runs one chain of
@@ -331,7 +336,8 @@ class GLMBFilter:
         keep_histories: bool | None = None,
         birth: MeasurementBirth | None = None,
     ):
-        check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+        check_type(model, "model", (Model, NonlinearModel),
+                   "build one with make_model(preset) or Model(...)")
         self._check_truncation(association)
         if birth is not None:
             check_type(birth, "birth", MeasurementBirth,
@@ -366,13 +372,22 @@ class GLMBFilter:
         if reads_histories and not self.keep_histories:
             raise ValueError(f"extraction={self.extraction!r} needs keep_histories=True (a "
                              "trajectory is read along the association history)")
-        self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
+        #: The single-object path of a non-linear model (None: the linear Kalman kernels).
+        self._so = single_object(model)
+        self._d = 4 if self._so is None else self._so.ndim
+        self._dz = 2 if self._so is None else self._so.meas_ndim
+        self.gate = None if gate_prob is None else gate_threshold(gate_prob, self._dz)
         plan = getattr(association, "batch_plan", None)
         self._plan = plan(self._sensors) if callable(plan) else None
         self._rules = None if self._plan is None or not self._plan.chains else \
             _glmb_kernels.ChainRules(random_scan=self._plan.random_scan,
                                      tau_stall=self._plan.tau_stall,
                                      tau_stale=self._plan.tau_stale)
+        self._rule = MERGE_RULES[self.merge_rule]
+        if self._so is not None:
+            self._nonlinear_constants(self._so)
+            self.reset()
+            return
         self._F = np.array(model.motion.F)
         self._Q = np.array(model.motion.Q)
         self._R = np.array(model.sensor.R)
@@ -384,8 +399,18 @@ class GLMBFilter:
         self._birth_r = np.array(model.birth.r, dtype=np.float64).reshape(-1)
         self._birth_m = np.array(model.birth.means, dtype=np.float64).reshape(-1, 4)
         self._birth_P = np.array(model.birth.covs, dtype=np.float64).reshape(-1, 4, 4)
-        self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
+
+    def _nonlinear_constants(self, so) -> None:
+        """The constants of a non-linear model (the prediction and update are ``so``'s)."""
+        self._pd = so.p_d
+        self._ps = so.p_s
+        self._log_pd = math.log(self._pd)
+        self._log_1m_pd = math.log1p(-self._pd) if self._pd < 1 else -math.inf
+        self._log_kappa = math.log(so.clutter_intensity)
+        self._birth_r = so.birth_r
+        self._birth_m = so.birth_m
+        self._birth_P = so.birth_P
 
     #: The problems this filter truncates (:func:`~rankedassign.tracking.check_truncation`).
     _sensors = "single-sensor"
@@ -409,7 +434,7 @@ class GLMBFilter:
         Raises
         ------
         TypeError
-            If ``motion`` is neither.
+            If ``motion`` is neither, or the filter runs a non-linear model.
 
         Examples
         --------
@@ -421,6 +446,10 @@ class GLMBFilter:
         >>> f.model.motion.F.tolist() == np.eye(4).tolist()
         True
         """
+        if self._so is not None:
+            raise TypeError(f"set_motion replaces a linear model's motion; this "
+                            f"{type(self).__name__} runs a NonlinearModel (give the filter a "
+                            "model with the motion it should use)")
         check_type(motion, "motion", (ConstantVelocity, LinearMotion))
         self.model = dataclasses.replace(self.model, motion=motion)
         self._F = np.array(motion.F)
@@ -434,8 +463,8 @@ class GLMBFilter:
         self.labels = np.empty((0, 2), dtype=np.int64)
         self.offsets = np.zeros(1, dtype=np.int64)
         self.w = np.empty(0)
-        self.m = np.empty((0, 4))
-        self.P = np.empty((0, 4, 4))
+        self.m = np.empty((0, self._d))
+        self.P = np.empty((0, self._d, self._d))
         self.hist = np.empty(0, dtype=np.int64)  # history node of every entry
         # the components: entries (CSR, increasing within a component) and weights
         self.comp_off = np.zeros(2, dtype=np.int64)
@@ -445,7 +474,7 @@ class GLMBFilter:
         self._node_parent = np.empty(0, dtype=np.int64)
         self._node_scan = np.empty(0, dtype=np.int64)
         self._node_meas = np.empty((0, *self._meas_shape), dtype=np.int64)
-        self._node_state = np.empty((0, 4))
+        self._node_state = np.empty((0, self._d))
         self._live_nodes = 0
         self._confirmed = np.empty(0, dtype=np.int64)  # label keys (hysteresis)
         self._tracks_seen: dict = {}  # label -> (scans, states) (extraction="recursive")
@@ -469,8 +498,9 @@ class GLMBFilter:
             births of scan ``k >= 1`` are labelled ``(k, 1..B)``, so a prior label of that form
             would merge with a birth and is refused: label the prior's tracks with birth scan
             0 (or, with a static birth, an index above ``B``).
-        means, covs : array_like, shapes (T, 4) and (T, 4, 4)
-            Their Gaussians: finite means, symmetric positive definite covariances.
+        means, covs : array_like, shapes (T, d) and (T, d, d)
+            Their Gaussians (``d = 4`` on a linear model, the model's state dimension on a
+            non-linear one): finite means, symmetric positive definite covariances.
         components : sequence of sequences of int, optional
             Track indices (ints) of every component (default: one component holding every
             track).
@@ -498,7 +528,8 @@ class GLMBFilter:
         (2, [0.25, 0.75])
         """
         labels, means, covs, comps, w = check_prior(labels, means, covs, components, weights,
-                                                    max_birth_index=self._max_birth_index())
+                                                    max_birth_index=self._max_birth_index(),
+                                                    dim=self._d)
         T = labels.shape[0]
         self.reset()
         self.labels = labels.copy()
@@ -593,16 +624,24 @@ class GLMBFilter:
         birth probability of every entry of the predicted table."""
         self.k += 1
         T_old = self.n_tracks
-        # m <- F m ; P <- F P F' + Q
-        self.m = self.m @ self._F.T
-        self.P = self._F @ self.P @ self._F.T + self._Q
+        if self._so is not None:  # through the motion model (Kalman, EKF or UKF)
+            self.m, self.P = self._so.predict(self.m, self.P)
+        else:
+            # m <- F m ; P <- F P F' + Q
+            self.m = self.m @ self._F.T
+            self.P = self._F @ self.P @ self._F.T + self._Q
         B = self._birth_r.size
         labels = np.empty((B, 2), dtype=np.int64)
         labels[:, 0] = self.k
         labels[:, 1] = np.arange(1, B + 1)
         self.labels = np.concatenate([self.labels, labels])
-        self.offsets = np.concatenate([self.offsets, self.w.size + np.arange(1, B + 1)])
-        self.w = np.concatenate([self.w, np.ones(B)])
+        if self._so is not None:  # Gaussian-mixture birth terms
+            self.offsets = np.concatenate([self.offsets,
+                                           self.w.size + np.cumsum(self._so.birth_counts)])
+            self.w = np.concatenate([self.w, self._so.birth_w])
+        else:
+            self.offsets = np.concatenate([self.offsets, self.w.size + np.arange(1, B + 1)])
+            self.w = np.concatenate([self.w, np.ones(B)])
         birth_m, birth_P = self._birth_m, self._birth_P
         if getattr(self, "birth", None) is not None:
             # measurement births sit at the last scan's time: predict them with this scan's
@@ -624,22 +663,29 @@ class GLMBFilter:
             log_p = np.log(p_exist)
             log_dead = np.log1p(-p_exist)
         log_miss = log_p + self._log_1m_pd
+        gain = None
         if z.shape[0] == 0 or T == 0:
             used = np.empty(0, dtype=np.int64)
             gated = np.zeros((T, 0), dtype=bool)
-            Sinv, nu, lw = np.empty((C, 2, 2)), np.empty((C, 0, 2)), np.empty((C, 0))
+            Sinv, nu, lw = np.empty((C, 2, 2)), np.empty((C, 0, self._dz)), np.empty((C, 0))
             log_g = log_det = np.empty((T, 0))
         else:
             gate = 0.0 if self.gate is None else self.gate
-            with interruptible:
-                det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
-                    self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None)
+            if self._so is not None:  # the model's filter: wrapped innovations, any d, d_z
+                st = self._so.measurement_terms(self.m, self.P, z, self.offsets, self.gate)
+                maha, log_det_S, nu, gated = st.maha, st.log_det_S, st.nu, st.gated
+                Sinv, gain = None, (st.gain, st.P_upd)
+            else:
+                with interruptible:
+                    det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
+                        self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None)
+                log_det_S = np.log(det)
             used = np.flatnonzero(gated.any(axis=0))
             gated = np.ascontiguousarray(gated[:, used])
             # ln η_t(j) = ln p_t + ln P_D + ln q_t(z_j) − ln κ   (spec §2.1)
             with interruptible:
                 lw, log_g, log_det = _kernels.detection_log_weights(
-                    maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_p,
+                    maha, log_det_S, np.log(self.w), self.offsets, used, gated, log_p,
                     self._log_pd, self._log_kappa)
             nu = nu[:, used]
         U = used.size
@@ -651,7 +697,7 @@ class GLMBFilter:
         # minimum is over its own gated measurements, so it is the same in every component
         W = np.exp(-(cc - cc.min(axis=1, keepdims=True))) if T else np.empty((0, U + 2))
         return _Terms(used, gated, Sinv, nu, lw, log_g, log_det, log_miss, log_dead,
-                      np.ascontiguousarray(cc), np.ascontiguousarray(W))
+                      np.ascontiguousarray(cc), np.ascontiguousarray(W), gain)
 
     # ----------------------------------------------------------------------- 3.-4. truncation
     def _counts(self) -> np.ndarray:
@@ -887,15 +933,21 @@ class GLMBFilter:
             c, t, jj = comp[det], track[det], j[det]
             # w̃_c = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
             w[det] = np.exp(terms.lw[c, jj] - terms.log_g[t, jj])
-            # K = P H' S⁻¹, m' = m + K ν, P' = P − K S K' = P − K H P
-            PHt = self.P[c][:, :, [0, 2]]
-            K = PHt @ terms.Sinv[c]
-            m[det] = self.m[c] + np.einsum("cij,cj->ci", K, terms.nu[c, jj])
-            P_upd = self.P[c] - K @ PHt.transpose(0, 2, 1)
-            P[det] = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
+            if self._so is not None:  # K = C S⁻¹ and P' of the model's filter, ν wrapped
+                K, P_upd = terms.gain
+                m[det] = self.m[c] + np.einsum("cij,cj->ci", K[c], terms.nu[c, jj])
+                P[det] = P_upd[c]
+            else:
+                # K = P H' S⁻¹, m' = m + K ν, P' = P − K S K' = P − K H P
+                PHt = self.P[c][:, :, [0, 2]]
+                K = PHt @ terms.Sinv[c]
+                m[det] = self.m[c] + np.einsum("cij,cj->ci", K, terms.nu[c, jj])
+                P_upd = self.P[c] - K @ PHt.transpose(0, 2, 1)
+                P[det] = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
         keep = np.ones(e_src.size, dtype=bool)
+        reduce = _kernels.reduce_mixtures if self._so is None else self._so.reduce_mixtures
         with interruptible:
-            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+            self.offsets, self.w, self.m, self.P = reduce(
                 offsets, np.ascontiguousarray(w), np.ascontiguousarray(m),
                 np.ascontiguousarray(P), keep, self.prune_component, self.merge_threshold,
                 self.max_components, self._rule)
@@ -936,7 +988,7 @@ class GLMBFilter:
                 states.append(self._node_state[v])
             v = int(self._node_parent[v])
         return (np.array(scans[::-1], dtype=np.int64),
-                np.array(states[::-1]).reshape(-1, 4))
+                np.array(states[::-1]).reshape(-1, self._d))
 
     # ----------------------------------------------------------------------- 6. estimation
     def _extract(self):
@@ -981,7 +1033,7 @@ class GLMBFilter:
                     self._tracks_seen[tuple(self.labels[e].tolist())] = self._trajectory(e)
                 trajectories = tuple((lab, *self._tracks_seen[lab])
                                      for lab in sorted(self._tracks_seen))
-        states = self.m[self.offsets[entries]].reshape(-1, 4)
+        states = self.m[self.offsets[entries]].reshape(-1, self._d)
         return (self.labels[entries], states, r_label[linv[entries]], track_labels, r_label,
                 rho, trajectories)
 
@@ -1030,7 +1082,7 @@ class GLMBFilter:
 
         Parameters
         ----------
-        z : array_like, shape (M, 2)
+        z : array_like, shape (M, d_z)
             Measurements of the scan (as :meth:`LMBFilter.step`).
         rng : optional
             Anything :func:`numpy.random.default_rng` accepts; one draw from it keys the
@@ -1059,7 +1111,8 @@ class GLMBFilter:
         >>> rec.n_components, round(rec.retained_mass, 6), rec.carried_mass < 0.999
         (5, 1.0, True)
         """
-        return self._scan(_check_measurements(z), rng)
+        z = _check_measurements(z) if self._so is None else self._so.check_measurements(z)
+        return self._scan(z, rng)
 
     # hooks of the scan that a filter of several sensors replaces (its measurements are one
     # array per sensor, its terms hold one gate per sensor, its births may adapt)

@@ -53,6 +53,8 @@ from ..common import check_distribution as _check_distribution
 from ..common import check_measurements as _check_measurements
 from ..gating import GatedPairs, clusters, gate_pairs
 from ..models import EXTRACTIONS, ConstantVelocity, LinearMotion, Model
+from ..nonlinear.step import single_object
+from ..nonlinear.vo import NonlinearModel
 
 __all__ = [
     "BETA_TOL",
@@ -163,8 +165,9 @@ class ScanRecord(NamedTuple):
     ----------
     labels : ndarray of int64, shape (n, 2)
         Labels ``(birth scan, birth index)`` (both 1-based) of the reported tracks.
-    states : ndarray, shape (n, 4)
-        Their state estimates.
+    states : ndarray, shape (n, d)
+        Their state estimates (``d = 4`` on a linear model, the model's state dimension on a
+        non-linear one).
     existence : ndarray, shape (n,)
         Their existence probabilities.
     track_labels, track_existence : ndarray
@@ -203,8 +206,12 @@ class LMBFilter:
 
     Parameters
     ----------
-    model : Model
-        Motion, sensor, clutter, birth and survival models.
+    model : Model or NonlinearModel
+        Motion, sensor, clutter, birth and survival models. A
+        :class:`~rankedassign.tracking.nonlinear.NonlinearModel` (e.g. ``make_model("vo-ekf")``)
+        runs its single-object filter (Kalman, EKF or UKF) through
+        :mod:`rankedassign.tracking.nonlinear.step`; a linear :class:`Model` the compiled
+        Kalman kernels.
     association : Association or callable
         Called as ``association(problem, rng)`` on every ranked-assignment problem. The
         multi-sensor associations
@@ -319,7 +326,8 @@ class LMBFilter:
         estimate: str = "max-weight",
         birth: MeasurementBirth | None = None,
     ):
-        check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+        check_type(model, "model", (Model, NonlinearModel),
+                   "build one with make_model(preset) or Model(...)")
         self._check_association(association)
         if birth is not None:
             check_type(birth, "birth", MeasurementBirth,
@@ -348,9 +356,18 @@ class LMBFilter:
         self.max_components = check_int(max_components, "max_components", minimum=1)
         self.model = model
         self.association = association
-        self.gate = None if gate_prob is None else gate_threshold(gate_prob, 2)
+        #: The single-object path of a non-linear model (None: the linear Kalman kernels).
+        self._so = single_object(model)
+        self._d = 4 if self._so is None else self._so.ndim
+        self._dz = 2 if self._so is None else self._so.meas_ndim
+        self.gate = None if gate_prob is None else gate_threshold(gate_prob, self._dz)
         self.grouping = check_bool(grouping, "grouping")
         self.sample_empty_groups = check_bool(sample_empty_groups, "sample_empty_groups")
+        self._rule = MERGE_RULES[self.merge_rule]
+        if self._so is not None:
+            self._nonlinear_constants(self._so)
+            self.reset()
+            return
         # model matrices and constants, cached
         self._F = np.array(model.motion.F)
         self._FT = self._F.T
@@ -365,8 +382,19 @@ class LMBFilter:
         self._birth_m = model.birth.means
         self._birth_P = model.birth.covs
         self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
-        self._rule = MERGE_RULES[self.merge_rule]
         self.reset()
+
+    def _nonlinear_constants(self, so) -> None:
+        """The constants of a non-linear model (the prediction and update are ``so``'s)."""
+        self._pd = so.p_d
+        self._ps = so.p_s
+        self._log_pd = math.log(self._pd)
+        self._log_miss = math.log1p(-self._pd) if self._pd < 1 else -np.inf
+        self._log_kappa = math.log(so.clutter_intensity)
+        self._birth_r = so.birth_r
+        self._birth_m = so.birth_m
+        self._birth_P = so.birth_P
+        self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
 
     #: The problems this filter's association solves (:func:`check_truncation`).
     _sensors = "single-sensor"
@@ -390,7 +418,7 @@ class LMBFilter:
         Raises
         ------
         TypeError
-            If ``motion`` is neither.
+            If ``motion`` is neither, or the filter runs a non-linear model.
 
         Examples
         --------
@@ -402,6 +430,10 @@ class LMBFilter:
         >>> f.model.motion.F.tolist() == np.eye(4).tolist()
         True
         """
+        if self._so is not None:
+            raise TypeError(f"set_motion replaces a linear model's motion; this "
+                            f"{type(self).__name__} runs a NonlinearModel (give the filter a "
+                            "model with the motion it should use)")
         check_type(motion, "motion", (ConstantVelocity, LinearMotion))
         self.model = dataclasses.replace(self.model, motion=motion)
         self._F = np.array(motion.F)
@@ -416,8 +448,8 @@ class LMBFilter:
         self.r = np.empty(0)
         self.offsets = np.zeros(1, dtype=np.int64)
         self.w = np.empty(0)
-        self.m = np.empty((0, 4))
-        self.P = np.empty((0, 4, 4))
+        self.m = np.empty((0, self._d))
+        self.P = np.empty((0, self._d, self._d))
         self.confirmed = np.empty(0, dtype=bool)
         if getattr(self, "birth", None) is not None:
             self._set_measurement_births(BirthComponents.empty())
@@ -517,10 +549,13 @@ class LMBFilter:
         (4, [0.03, 0.03, 0.03, 0.03])
         """
         self.k += 1
-        F = self._F
-        # m <- F m ; P <- F P F' + Q ; r <- P_S r (weights and labels kept)
-        self.m = self.m @ self._FT
-        self.P = F @ self.P @ self._FT + self._Q
+        if self._so is not None:  # through the motion model (Kalman, EKF or UKF)
+            self.m, self.P = self._so.predict(self.m, self.P)
+        else:
+            F = self._F
+            # m <- F m ; P <- F P F' + Q ; r <- P_S r (weights and labels kept)
+            self.m = self.m @ self._FT
+            self.P = F @ self.P @ self._FT + self._Q
         self.r = self._ps * self.r
         self._append_births()
 
@@ -538,8 +573,13 @@ class LMBFilter:
             birth_P = self._F @ birth_P @ self._FT + self._Q
         self.labels = np.concatenate([self.labels, labels])
         self.r = np.concatenate([self.r, self._birth_r])
-        self.offsets = np.concatenate([self.offsets, self.w.size + self._birth_index])
-        self.w = np.concatenate([self.w, np.ones(B)])
+        if self._so is not None:  # Gaussian-mixture birth terms
+            self.offsets = np.concatenate([self.offsets,
+                                           self.w.size + np.cumsum(self._so.birth_counts)])
+            self.w = np.concatenate([self.w, self._so.birth_w])
+        else:
+            self.offsets = np.concatenate([self.offsets, self.w.size + self._birth_index])
+            self.w = np.concatenate([self.w, np.ones(B)])
         self.m = np.concatenate([self.m, birth_m])
         self.P = np.concatenate([self.P, birth_P])
         self.confirmed = np.concatenate([self.confirmed, np.zeros(B, dtype=bool)])
@@ -557,10 +597,17 @@ class LMBFilter:
         if M == 0:
             return _Terms.empty(self, T)
         gate = 0.0 if self.gate is None else self.gate
-        with interruptible:
-            det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
-                self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None
-            )
+        gain = None
+        if self._so is not None:  # the model's filter: wrapped innovations, any d, d_z
+            st = self._so.measurement_terms(self.m, self.P, z, self.offsets, self.gate)
+            maha, log_det_S, nu, gated = st.maha, st.log_det_S, st.nu, st.gated
+            Sinv, gain = None, (st.gain, st.P_upd)
+        else:
+            with interruptible:
+                det, Sinv, nu, maha, gated = _kernels.gate_and_distances(
+                    self.m, self.P, self._R, z, self.offsets, gate, self.gate is not None
+                )
+            log_det_S = np.log(det)
         used = np.flatnonzero(gated.any(axis=0))
         gated = gated[:, used]
         with np.errstate(divide="ignore"):
@@ -569,12 +616,12 @@ class LMBFilter:
         # ln w_c + ln N(z_j; H m_c, S_c), ln Σ_c w_c N(...) per track, ln η_t(j) (6.2)
         with interruptible:
             lw, log_g, log_det = _kernels.detection_log_weights(
-                maha, np.log(det), np.log(self.w), self.offsets, used, gated, log_r, self._log_pd,
-                self._log_kappa,
+                maha, log_det_S, np.log(self.w), self.offsets, used, gated, log_r,
+                self._log_pd, self._log_kappa,
             )
         return _Terms(
             used=used, gated=gated, Sinv=Sinv, nu=nu[:, used], lw=lw, log_g=log_g,
-            log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead,
+            log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead, gain=gain,
         )
 
     # ----------------------------------------------------------------------- 3.-5. association
@@ -774,8 +821,9 @@ class LMBFilter:
 
         Parameters
         ----------
-        z : array_like, shape (M, 2)
-            Measurements of the scan (positions).
+        z : array_like, shape (M, d_z)
+            Measurements of the scan (positions, ``d_z = 2``, on a linear model; the sensor's
+            own on a non-linear one, e.g. ``[bearing, range]``).
         rng : optional
             Randomness of the association (anything :func:`numpy.random.default_rng` accepts);
             one child stream per problem is spawned from it. A
@@ -808,7 +856,7 @@ class LMBFilter:
         >>> rec.labels.tolist(), rec.existence.round(3).tolist()
         ([[1, 2]], [1.0])
         """
-        z = _check_measurements(z)
+        z = _check_measurements(z) if self._so is None else self._so.check_measurements(z)
         gen = spawning_generator(rng)
         t0 = perf_counter()
         self.predict()
@@ -823,7 +871,7 @@ class LMBFilter:
                 timings["birth"] = self._measurement_births(
                     z, np.empty(0, np.int64), np.empty((0, 2)))
             return ScanRecord(
-                labels=np.empty((0, 2), np.int64), states=np.empty((0, 4)),
+                labels=np.empty((0, 2), np.int64), states=np.empty((0, self._d)),
                 existence=np.empty(0), track_labels=self.labels.copy(),
                 track_existence=self.r.copy(), n_tracks=0, n_meas=M_all, n_meas_gated=0,
                 n_groups=0, invocations=0, sweeps=0, row_updates=0, n_unique=0,
@@ -884,6 +932,13 @@ class LMBFilter:
             )
         # w̃_cj = w_c N(z_j; H m_c, S_c) / Σ_c' w_c' N(z_j; H m_c', S_c')
         ratio = np.exp(log_ratio)
+        if self._so is not None:  # the non-linear path: K = C S⁻¹, P' from the model's filter
+            d, dz = self._d, self._dz
+            K, P_upd = terms.gain or (np.empty((0, d, dz)), np.empty((0, d, d)))
+            w_all, m_all, P_all = self._so.posterior_components(
+                comp, track, meas, ratio, rel, self.w, self.m, self.P, K, nu, P_upd)
+            offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+            return r_new, (offsets, w_all, m_all, P_all)
         if (meas >= 0).any():
             # Kalman gain and updated covariance per component: K = P H' S⁻¹, P' = P − K S K'
             PHt = self.P[:, :, [0, 2]]  # (C, 4, 2)
@@ -911,8 +966,9 @@ class LMBFilter:
             keep = np.zeros(T, dtype=bool)
             keep[best] = True
         # weights within each track sum to Σ_j β_ij / r_i · Σ w̃ = 1 before pruning
+        reduce = _kernels.reduce_mixtures if self._so is None else self._so.reduce_mixtures
         with interruptible:
-            self.offsets, self.w, self.m, self.P = _kernels.reduce_mixtures(
+            self.offsets, self.w, self.m, self.P = reduce(
                 offsets, np.ascontiguousarray(w), np.ascontiguousarray(m), np.ascontiguousarray(P),
                 keep, self.prune_component, self.merge_threshold, self.max_components, self._rule,
             )
@@ -936,8 +992,8 @@ class LMBFilter:
         else:
             wm = self.w[:, None] * self.m
             sums = np.add.reduceat(wm, self.offsets[:-1], axis=0) if wm.size else wm
-            states = sums[sel] if sel.size else np.empty((0, 4))
-        return self.labels[sel], np.array(states).reshape(-1, 4), r[sel]
+            states = sums[sel] if sel.size else np.empty((0, self._d))
+        return self.labels[sel], np.array(states).reshape(-1, self._d), r[sel]
 
 
 class _Terms(NamedTuple):
@@ -952,6 +1008,7 @@ class _Terms(NamedTuple):
     log_det: np.ndarray  # (T, U) ln η_t(j), -inf outside the gate
     log_miss: np.ndarray  # (T,) ln η_t(0)
     log_dead: np.ndarray  # (T,) ln η_t(-1)
+    gain: tuple | None = None  # non-linear path: (K (C, d, d_z), P' (C, d, d)); else None
 
     @classmethod
     def empty(cls, filt: LMBFilter, T: int) -> _Terms:
@@ -962,7 +1019,7 @@ class _Terms(NamedTuple):
         C = filt.w.size
         return cls(
             used=np.empty(0, dtype=np.int64), gated=np.zeros((T, 0), dtype=bool),
-            Sinv=np.empty((C, 2, 2)), nu=np.empty((C, 0, 2)), lw=np.empty((C, 0)),
+            Sinv=np.empty((C, 2, 2)), nu=np.empty((C, 0, filt._dz)), lw=np.empty((C, 0)),
             log_g=np.empty((T, 0)), log_det=np.empty((T, 0)),
             log_miss=log_r + filt._log_miss, log_dead=log_dead,
         )
