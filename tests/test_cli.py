@@ -393,6 +393,8 @@ TINY_CONFIG = {
     "multisensor_tracking": {"n_mc": 1, "n_scans": 3, "sensor_sets": [[0], [0, 1]],
                              "methods": ["long", "short"], "long_obs": 30, "n_chains": 10,
                              "chain_length": 4},
+    "nonlinear_tracking": {"n_mc": 1, "n_scans": 3, "lmb_budget": 20, "glmb_budget": 20,
+                           "chain_length": 5},
     "scaling": {"n_mc": 1, "sizes": [5, 20], "n_scans": 2, "n_chains": 10, "mass_max_n": 5},
     "tempering_herding": {"n_mc": 1, "families": ["random", "ms:A/random_coupled"],
                           "budgets": [20, 100], "tracking_mc": 1, "presets": ["vo"],
@@ -401,7 +403,7 @@ TINY_CONFIG = {
 PNGS = ["table1.png", "sweep.png", "tracking_ospa2.png", "tracking_observations.png",
         "tracking_var_ospa2.png", "tracking_var_observations.png", "optimum.png",
         "multisensor.png", "adaptive_birth.png", "multisensor_tracking.png", "glmb_tracking.png",
-        "glmb_tradeoff.png", "scaling.png",
+        "glmb_tradeoff.png", "nonlinear_tracking.png", "scaling.png",
         "tempering_herding_obs.png", "tempering_herding_time.png",
         "tempering_herding_marginals.png"]
 
@@ -431,13 +433,13 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     assert main(["reproduce", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
-    assert "[1/13] table1" in err and "[13/13] tempering_herding" in err  # study i of n
+    assert "[1/14] table1" in err and "[14/14] tempering_herding" in err  # study i of n
     assert "preparing each study's compiled kernels" in err
-    assert "[1/13] table1: kernels ready in" in err
+    assert "[1/14] table1: kernels ready in" in err
     assert f"report written to {out / 'report.md'}" in err
     for study in ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum",
                   "random_readings", "glmb_tracking", "multisensor", "adaptive_birth",
-                  "multisensor_tracking", "scaling", "tempering_herding"):
+                  "multisensor_tracking", "nonlinear_tracking", "scaling", "tempering_herding"):
         data = _strict_json(out / f"{study}.json")
         assert data, study
         assert isinstance(_strict_json(out / f"{study}_runs.json"), list)

@@ -677,7 +677,7 @@ def test_every_study_has_a_tiny_warm_up_that_runs_one_task_set():
     from rankedassign.experiments.registry import study_config
 
     quick = Config.quick()
-    assert len(study_names()) == 13
+    assert len(study_names()) == 14
     for st in map(get_study, study_names()):
         assert st.warm is not None, st.name
         tiny = st.warm(study_config(quick, st))

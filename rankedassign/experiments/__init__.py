@@ -63,6 +63,7 @@ from .studies import (  # noqa: F401  (each module registers its study)
     glmb_tracking,
     multisensor,
     multisensor_tracking,
+    nonlinear_tracking,
     optimum,
     readings,
     scaling,
