@@ -23,6 +23,11 @@ switched in one place:
 reference (:mod:`rankedassign.reference`), and fast-math reassociation would break that.
 Setting ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the coverage run does).
 
+Concurrent compiles. numba's on-disk cache saves without a lock; two processes compiling
+different signatures of one kernel at once could leave an index that maps one signature to the
+other's machine code (a crash at the next load). Importing this module makes every save take
+an exclusive lock of the kernel's index file (POSIX ``flock``).
+
 Cache invalidation across files. numba's cache notices when the file that defines a kernel
 changes, but not when a kernel it calls (and has compiled into itself) changes in another
 file. :func:`jit` therefore keys every cached kernel by a digest of the sources a kernel can
@@ -65,12 +70,43 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import numba
+from numba.core import caching as _caching
 
 __all__ = ["CACHE", "KERNEL_PACKAGES", "jit", "threads", "instantiate", "source_digest",
            "kernel_sources",
            "interruptible", "signal_exception"]
 
 CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
+
+def _locked_save(self, key, data, _save=_caching.IndexDataCacheFile.save):
+    """numba's cache save under an exclusive lock of its index file.
+
+    numba reads the index, picks the first free data-file number, writes the index and then
+    the data, without a lock: two processes that compile different signatures of one kernel at
+    once (the suite's workers, ``rankedassign precompile``'s pool) can both take number ``i``,
+    and the index that survives then maps one signature to the other's machine code, which
+    crashes the next process that loads it. Under the lock the read-modify-write is one step.
+    """
+    try:
+        fd = os.open(self._index_path + ".lock", os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError:  # a read-only cache folder: numba's own behaviour
+        return _save(self, key, data)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        return _save(self, key, data)
+    finally:
+        os.close(fd)  # releases the lock
+
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover (not POSIX: numba's unlocked save)
+    pass
+else:
+    if not getattr(_caching.IndexDataCacheFile.save, "_rankedassign_locked", False):
+        _locked_save._rankedassign_locked = True
+        _caching.IndexDataCacheFile.save = _locked_save
+
 # Read by the OpenMP runtime when numba's thread pool starts (on the first parallel call).
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 #: The packages whose kernels may compile one another's into themselves: every cache key

@@ -161,3 +161,33 @@ def test_the_key_covers_every_file_a_kernel_can_depend_on():
                     "rankedassign/samplers.py", "oracle/single/murty.py"):
         assert outside not in names
     assert "rankedassign/tracking/single/_glmb_kernels.py" in names
+
+
+def _save_many(path, who, n):
+    from numba.core.caching import IndexDataCacheFile
+
+    import rankedassign.numba_options  # noqa: F401  (installs the locked save)
+
+    cache = IndexDataCacheFile(str(path), "kernel-1.py311", (1.0, 1))
+    for i in range(n):
+        cache.save((who, i), f"{who}-{i}".encode() * 50)
+
+
+def test_concurrent_saves_of_one_kernels_cache_keep_every_signature_with_its_own_code(tmp_path):
+    """Two processes saving different signatures of one kernel at once (the suite's workers)
+    must not leave an index that maps a signature to another's machine code."""
+    import multiprocessing
+
+    from numba.core.caching import IndexDataCacheFile
+
+    ctx = multiprocessing.get_context("fork")
+    procs = [ctx.Process(target=_save_many, args=(tmp_path, who, 150)) for who in ("a", "b")]
+    for p in procs:
+        p.start()
+    for p in procs:
+        p.join(timeout=120)
+        assert p.exitcode == 0
+    cache = IndexDataCacheFile(str(tmp_path), "kernel-1.py311", (1.0, 1))
+    for who in ("a", "b"):
+        for i in range(150):
+            assert cache.load((who, i)) == f"{who}-{i}".encode() * 50, (who, i)

@@ -64,14 +64,16 @@ def make_model(preset: str = "paper"):
     return _make_linear_model(preset)
 
 
-def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Scenario:
+def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100,
+                  n_targets: int | None = None) -> Scenario:
     """A preset's model, its truth and simulated measurements, linear or non-linear.
 
     Parameters
     ----------
-    preset : {"paper", "paper-var", "vo", "vo-ekf", "vo-ukf"}
-        The linear presets draw the truth of spec §8
-        (:func:`rankedassign.tracking.scenario.make_scenario`); ``"vo-ekf"`` and ``"vo-ukf"``
+    preset : {"paper", "paper-var", "vo", "large", "vo-ekf", "vo-ukf"}
+        The linear presets draw the truth of spec §8, ``"large"`` ``n_targets`` targets at
+        constant density (:func:`rankedassign.tracking.scenario.make_scenario`); ``"vo-ekf"``
+        and ``"vo-ukf"``
         Vo's ten CT targets (:func:`~rankedassign.tracking.nonlinear.vo_truth`) and his
         bearing–range measurements with clutter uniform in (bearing, range)
         (:func:`~rankedassign.tracking.nonlinear.generate_nonlinear_measurements`).
@@ -79,6 +81,8 @@ def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Sce
         Randomness of the measurements.
     n_scans : int
         Number of scans (default 100, Vo's run length for his examples).
+    n_targets : int, optional
+        The targets of the ``"large"`` scenario (only there).
 
     Returns
     -------
@@ -93,9 +97,13 @@ def make_scenario(preset: str = "paper", *, rng=None, n_scans: int = 100) -> Sce
     >>> sc.truth.states.shape, sc.scans[0].z.shape[1]
     ((3, 10, 5), 2)
     """
-    preset = check_choice(preset, "preset", ALL_PRESETS)
+    preset = check_choice(preset, "preset", (*ALL_PRESETS, "large"))
     if preset not in NONLINEAR_PRESETS:
-        return _make_linear_scenario(preset, rng=rng, n_scans=n_scans)
+        # the linear presets and "large" (which checks n_targets)
+        return _make_linear_scenario(preset, rng=rng, n_scans=n_scans, n_targets=n_targets)
+    if n_targets is not None:
+        raise ValueError(f"n_targets is an option of the 'large' scenario only (preset "
+                         f"{preset!r} has Vo's ten targets)")
     n_scans = check_n_scans(n_scans)
     model: NonlinearModel = make_nonlinear_model(preset)
     truth = vo_truth(model, n_scans)
