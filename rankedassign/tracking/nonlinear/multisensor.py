@@ -92,11 +92,33 @@ class StackedSensor:
             self.H = _readonly(np.vstack([np.asarray(s.H) for s in self.sensors]))
 
     def h(self, x) -> np.ndarray:
-        """``[h_1(x), h_2(x), ...]`` of every row of ``x``, shape (n, ndim)."""
+        """``[h_1(x), h_2(x), ...]`` of every row of ``x``.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n, d)
+            States.
+
+        Returns
+        -------
+        ndarray, shape (n, ndim)
+            The sensors' predicted measurements side by side.
+        """
         return np.hstack([s.h(x) for s in self.sensors])
 
     def jacobian(self, x) -> np.ndarray:
-        """The sensors' Jacobians stacked, shape (n, ndim, d)."""
+        """The sensors' Jacobians stacked.
+
+        Parameters
+        ----------
+        x : ndarray, shape (n, d)
+            States.
+
+        Returns
+        -------
+        ndarray, shape (n, ndim, d)
+            The Jacobians of every sensor, one above the other.
+        """
         return np.concatenate([s.jacobian(x) for s in self.sensors], axis=1)
 
 

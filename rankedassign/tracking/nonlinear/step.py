@@ -253,6 +253,23 @@ class SingleObject:
         :func:`rankedassign.tracking.reference.posterior_components` (the compiled kernel is
         written for 4-D states).
 
+        Parameters
+        ----------
+        comp, track, meas : ndarray of int64, shape (N,)
+            Sources of the posterior components; ``meas = -1`` is a missed detection.
+        ratio : ndarray, shape (N,)
+            ``w_c N_cj / Σ_c' w_c' N_c'j`` for an update; not read for a missed detection.
+        rel : ndarray, shape (T, M + 1)
+            ``β_ij / r_i``; column ``M`` is the missed detection.
+        w, m, P : ndarray, shapes (C,), (C, d), (C, d, d)
+            Predicted component weights, means and covariances.
+        K : ndarray, shape (C, d, d_z)
+            Gain of every component (may be empty when no component is an update).
+        nu : ndarray, shape (C, M, d_z)
+            Wrapped innovations of the kept measurements.
+        P_upd : ndarray, shape (C, d, d)
+            Updated covariances ``P − K S Kᵀ`` (may be empty as ``K``).
+
         Returns
         -------
         w : ndarray, shape (N,)
@@ -269,6 +286,21 @@ class SingleObject:
         The parameters and results of :func:`rankedassign.tracking._kernels.reduce_mixtures`
         (the compiled kernel is written for 4-D states), computed by :func:`reduce_mixtures`
         of this module.
+
+        Parameters
+        ----------
+        offsets : ndarray of int64, shape (T + 1,)
+            Each track's components.
+        w, m, P : ndarray, shapes (C,), (C, d), (C, d, d)
+            The components.
+        keep : ndarray of bool, shape (T,)
+            The tracks kept.
+        elim, merge_thr : float
+            Pruning and merging thresholds.
+        cap : int
+            Most components per track.
+        rule : int
+            0 Bhattacharyya, 1 Vo & Ma, 2 heaviest.
 
         Returns
         -------
