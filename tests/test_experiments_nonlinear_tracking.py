@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from rankedassign.experiments import Config, ReproduceError, config_from_dict, get_study
+from rankedassign.experiments._stats import paired_interval
 from rankedassign.experiments.studies.nonlinear_tracking import (
     NonlinearConfig,
     nonlinear_task,
-    paired_interval,
     render_nonlinear,
     summarise_nonlinear,
 )

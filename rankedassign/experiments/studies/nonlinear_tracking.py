@@ -26,7 +26,6 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from ... import metrics, tracking
 from ...engine.rng import spawning_generator
@@ -34,6 +33,7 @@ from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
+from .._stats import paired_interval
 from ..config import check_ospa, check_positive
 from ..registry import Study, register_study
 
@@ -317,32 +317,6 @@ class NonlinearSummary:
 def _se(x) -> float:
     x = np.asarray(x, dtype=float)
     return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else math.nan
-
-
-def paired_interval(d) -> tuple[float, float, float]:
-    """Mean of paired differences ``d`` and its 95 % Student-t interval.
-
-    Parameters
-    ----------
-    d : array_like
-        One difference per pair.
-
-    Returns
-    -------
-    (mean, low, high) : tuple of float
-        ``low`` and ``high`` are NaN with fewer than two pairs.
-
-    Examples
-    --------
-    >>> [round(v, 3) for v in paired_interval([1.0, 2.0, 3.0])]
-    [2.0, -0.484, 4.484]
-    """
-    d = np.asarray(d, dtype=float)
-    m = float(d.mean())
-    if d.size < 2:
-        return m, math.nan, math.nan
-    h = float(stats.t.ppf(0.975, d.size - 1) * d.std(ddof=1) / math.sqrt(d.size))
-    return m, m - h, m + h
 
 
 def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
