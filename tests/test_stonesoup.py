@@ -24,7 +24,10 @@ from stonesoup.measures import Mahalanobis  # noqa: E402
 from stonesoup.metricgenerator.manager import MultiManager  # noqa: E402
 from stonesoup.metricgenerator.ospametric import OSPAMetric  # noqa: E402
 from stonesoup.models.measurement.linear import LinearGaussian  # noqa: E402
-from stonesoup.models.measurement.nonlinear import CartesianToBearingRange  # noqa: E402
+from stonesoup.models.measurement.nonlinear import (  # noqa: E402
+    CartesianToBearingRange,
+    CartesianToElevationBearing,
+)
 from stonesoup.models.transition.linear import (  # noqa: E402
     CombinedLinearGaussianTransitionModel,
     ConstantVelocity,
@@ -658,8 +661,11 @@ def test_tracker_update_by_hand_and_time_steps():
     ({"transition_model": ConstantTurn([0.1, 0.1], 0.1)}, TypeError,
      r"LMBTracker supports only linear-Gaussian models: the transition model ConstantTurn "
      r"is not linear-Gaussian"),
-    ({"measurement_model": CartesianToBearingRange(4, (0, 2), np.eye(2))}, TypeError,
-     r"the measurement model CartesianToBearingRange is not linear-Gaussian"),
+    ({"measurement_model": CartesianToElevationBearing(4, (0, 2, 3), np.eye(2))}, TypeError,
+     r"LMBTracker: the measurement model CartesianToElevationBearing has no counterpart in "
+     r"rankedassign.tracking.nonlinear \(LinearGaussian, CartesianToBearingRange, "
+     r"CartesianToElevationBearingRange and Cartesian2DToBearing have\): it needs array "
+     r"forms of its function h, its Jacobian and its inverse"),
     ({"measurement_model": LinearGaussian(ndim_state=4, mapping=(0, 1), noise_covar=np.eye(2))},
      ValueError, r"mapping must name the two position components of a 4-D state, each moved "
      r"by its own velocity component in the transition model \(e.g. mapping \(0, 2\) of "

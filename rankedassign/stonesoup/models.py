@@ -1,15 +1,19 @@
 """Stone Soup's single-object models and Kalman-family filters as our array counterparts.
 
-The trackers will do the single-object arithmetic of non-linear tracking on arrays, with
+The trackers do the single-object arithmetic of non-linear tracking on arrays, with
 :mod:`rankedassign.tracking.nonlinear`, instead of on Stone Soup objects. This module maps what
 a Stone Soup user builds a tracker from onto those classes:
 
 * :func:`motion_from_stonesoup`: a linear-Gaussian transition model (``F`` and ``Q`` of one
   interval) as :class:`~rankedassign.tracking.nonlinear.LinearGaussianMotion`;
 * :func:`measurement_from_stonesoup`: ``LinearGaussian`` as
-  :class:`~rankedassign.tracking.nonlinear.LinearGaussianMeasurement` and
-  ``CartesianToBearingRange`` as :class:`~rankedassign.tracking.nonlinear.BearingRange`;
-* :func:`filter_from_stonesoup`: a ``KalmanPredictor``/``KalmanUpdater``,
+  :class:`~rankedassign.tracking.nonlinear.LinearGaussianMeasurement`,
+  ``CartesianToBearingRange`` as :class:`~rankedassign.tracking.nonlinear.BearingRange`,
+  ``CartesianToElevationBearingRange`` and ``Cartesian2DToBearing`` as
+  :class:`~rankedassign.tracking.nonlinear.sensors.ElevationBearingRange` and
+  :class:`~rankedassign.tracking.nonlinear.sensors.Bearing`;
+* :func:`filter_from_stonesoup` (and :func:`filters_from_stonesoup` for a pair): a
+  ``KalmanPredictor``/``KalmanUpdater``,
   ``ExtendedKalman…`` or ``UnscentedKalman…`` (with its ``alpha``, ``beta``, ``kappa``) as
   :class:`~rankedassign.tracking.nonlinear.KalmanFilter`,
   :class:`~rankedassign.tracking.nonlinear.ExtendedKalmanFilter` or
@@ -33,7 +37,11 @@ import datetime
 import numpy as np
 from stonesoup.models.base import GaussianModel, LinearModel
 from stonesoup.models.measurement.linear import LinearGaussian
-from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
+from stonesoup.models.measurement.nonlinear import (
+    Cartesian2DToBearing,
+    CartesianToBearingRange,
+    CartesianToElevationBearingRange,
+)
 from stonesoup.predictor.kalman import (
     ExtendedKalmanPredictor,
     KalmanPredictor,
@@ -49,8 +57,11 @@ from ..tracking.nonlinear import (
     LinearGaussianMotion,
     UnscentedKalmanFilter,
 )
+from ..tracking.nonlinear.filters import PairedFilter
+from ..tracking.nonlinear.sensors import Bearing, ElevationBearingRange
 
-__all__ = ["filter_from_stonesoup", "measurement_from_stonesoup", "motion_from_stonesoup"]
+__all__ = ["filter_from_stonesoup", "filters_from_stonesoup", "measurement_from_stonesoup",
+           "motion_from_stonesoup"]
 
 
 def motion_from_stonesoup(transition_model, time_interval: datetime.timedelta):
@@ -101,27 +112,33 @@ def measurement_from_stonesoup(measurement_model, prob_detection: float = 1.0):
 
     Parameters
     ----------
-    measurement_model : LinearGaussian or CartesianToBearingRange
-        A ``LinearGaussian`` (any state dimension and mapping) or a 2-D
-        ``CartesianToBearingRange`` with no rotation offset and a diagonal noise covariance.
+    measurement_model : LinearGaussian, CartesianToBearingRange, ...
+        A ``LinearGaussian`` (any state dimension and mapping), a 2-D
+        ``CartesianToBearingRange`` with no rotation offset and a diagonal noise covariance,
+        a ``CartesianToElevationBearingRange`` or a ``Cartesian2DToBearing`` (any rotation
+        about the z-axis, any noise covariance).
     prob_detection : float, optional
         ``P_D`` carried by our model (default 1; the filters take it from the tracker).
 
     Returns
     -------
-    LinearGaussianMeasurement or BearingRange
+    LinearGaussianMeasurement, BearingRange, ElevationBearingRange or Bearing
         ``H = measurement_model.matrix()``, ``R = measurement_model.covar()``,
         ``position_indices = mapping[:2]``; or the bearing–range model with the position
-        components swapped (module docstring), ``sensor_position`` the translation offset.
+        components swapped (module docstring), ``sensor_position`` the translation offset;
+        or :class:`~rankedassign.tracking.nonlinear.sensors.ElevationBearingRange` /
+        :class:`~rankedassign.tracking.nonlinear.sensors.Bearing` (Stone Soup's convention)
+        with the translation offset and the rotation matrix.
 
     Raises
     ------
     TypeError
-        If the model is of another class (``CartesianToElevationBearingRange``,
-        ``Cartesian2DToBearing``, ...: the message names it and what is missing).
+        If the model is of another class (``CartesianToBearingRangeRate``, a user's own, ...:
+        the message names it and what is missing).
     ValueError
         If a ``CartesianToBearingRange`` has a rotation offset or a correlated noise
-        covariance, or a ``LinearGaussian`` has fewer than two mapped components.
+        covariance, a ``Cartesian2DToBearing`` a rotation about the x- or y-axis, or a
+        ``LinearGaussian`` has fewer than two mapped components.
 
     Examples
     --------
@@ -158,9 +175,78 @@ def measurement_from_stonesoup(measurement_model, prob_detection: float = 1.0):
                             sensor_position=(float(t[1]), float(t[0])), p_d=prob_detection,
                             state_ndim=int(measurement_model.ndim_state),
                             position_indices=(mapping[1], mapping[0]))
+    if isinstance(measurement_model, CartesianToElevationBearingRange):
+        mapping = tuple(int(i) for i in measurement_model.mapping[:3])
+        return ElevationBearingRange(
+            np.asarray(measurement_model.covar(), dtype=np.float64),
+            sensor_position=_offset(measurement_model, 3),
+            rotation=np.asarray(measurement_model.rotation_matrix, dtype=np.float64),
+            p_d=prob_detection, state_ndim=int(measurement_model.ndim_state),
+            position_indices=mapping)
+    if isinstance(measurement_model, Cartesian2DToBearing):
+        mapping = tuple(int(i) for i in measurement_model.mapping[:2])
+        # a planar position has no third coordinate: only A's upper-left block acts on it
+        A = np.asarray(measurement_model.rotation_matrix, dtype=np.float64)[:2, :2]
+        return Bearing(np.asarray(measurement_model.covar(), dtype=np.float64),
+                       sensor_position=_offset(measurement_model, 2), rotation=A,
+                       p_d=prob_detection, state_ndim=int(measurement_model.ndim_state),
+                       position_indices=mapping)
     raise TypeError(f"the measurement model {who} has no counterpart in "
-                    "rankedassign.tracking.nonlinear (LinearGaussian and a 2-D "
-                    "CartesianToBearingRange have; elevation and bearing-only sensors not yet)")
+                    "rankedassign.tracking.nonlinear (LinearGaussian, CartesianToBearingRange, "
+                    "CartesianToElevationBearingRange and Cartesian2DToBearing have): it needs "
+                    "array forms of its function h, its Jacobian and its inverse")
+
+
+def _offset(model, k: int) -> tuple:
+    """The first ``k`` components of a model's translation offset (the sensor position)."""
+    t = np.asarray(model.translation_offset, dtype=np.float64).ravel()
+    return tuple(float(v) for v in t[:k])
+
+
+def filters_from_stonesoup(predictor, updater, ndim_state: int):
+    """A Stone Soup predictor and updater as one single-object filter of ours.
+
+    Parameters
+    ----------
+    predictor : KalmanPredictor, ExtendedKalmanPredictor or UnscentedKalmanPredictor, or None
+        None: the updater's family predicts too.
+    updater : KalmanUpdater, ExtendedKalmanUpdater or UnscentedKalmanUpdater, or None
+        None: the predictor's family measures too; both None: the Kalman filter if
+        ``linear`` else the EKF is the caller's choice (this function returns None).
+    ndim_state : int
+        The state dimension (an unscented component's ``kappa=None`` is ``3 − n``).
+
+    Returns
+    -------
+    object or None
+        :func:`filter_from_stonesoup` of the one given, or of both when they map to the same
+        filter, else a :class:`~rankedassign.tracking.nonlinear.filters.PairedFilter`.
+
+    Raises
+    ------
+    TypeError
+        As :func:`filter_from_stonesoup`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
+    >>> from stonesoup.models.transition.linear import (
+    ...     CombinedLinearGaussianTransitionModel, ConstantVelocity)
+    >>> from stonesoup.predictor.kalman import KalmanPredictor
+    >>> from stonesoup.updater.kalman import ExtendedKalmanUpdater
+    >>> cv = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.5)] * 2)
+    >>> br = CartesianToBearingRange(4, (0, 2), np.diag([1e-4, 1.0]))
+    >>> filters_from_stonesoup(KalmanPredictor(cv), ExtendedKalmanUpdater(br), 4)
+    PairedFilter(KalmanFilter(), ExtendedKalmanFilter())
+    """
+    ours = [None if c is None else filter_from_stonesoup(c, ndim_state)
+            for c in (predictor, updater)]
+    if ours[0] is None or ours[1] is None:
+        return ours[1] if ours[0] is None else ours[0]
+    if repr(ours[0]) == repr(ours[1]):   # the same family and parameters
+        return ours[1]
+    return PairedFilter(ours[0], ours[1])
 
 
 def filter_from_stonesoup(component, ndim_state: int | None = None):

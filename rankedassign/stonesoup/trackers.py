@@ -1,16 +1,22 @@
 """Stone Soup trackers around our LMB and δ-GLMB filters, built from Stone Soup's models.
 
-The filters of :mod:`rankedassign.tracking` track a 2-D position and its velocity from
-position measurements with linear-Gaussian motion. The trackers here take Stone Soup's
-``CombinedLinearGaussianTransitionModel`` (its ``F`` and ``Q`` for each interval between
-scans, :class:`~rankedassign.tracking.models.LinearMotion`) and ``LinearGaussian``
-measurement model (whose ``mapping`` names the two position components of the 4-D state, its
-``R``), directly or from a Stone Soup ``KalmanPredictor`` and ``KalmanUpdater`` (or their
-extended and unscented forms, which on linear-Gaussian models are the Kalman filter), the
-detection and survival probabilities, the clutter rate and spatial density (``κ``), and
-either the birth components as ``WeightedGaussianState`` whose ``weight`` is the existence
-probability ``r_B`` or, with ``birth_components=None``, births made from the measurements
-(:class:`~rankedassign.tracking.birth.MeasurementBirth`, ``birth_options``).
+The trackers take Stone Soup's linear-Gaussian transition model (``F`` and ``Q`` for each
+interval between scans) and any measurement model whose array form
+:func:`~rankedassign.stonesoup.models.measurement_from_stonesoup` gives (``LinearGaussian`` of
+any state dimension and mapping, ``CartesianToBearingRange``,
+``CartesianToElevationBearingRange``, ``Cartesian2DToBearing``), directly or from a Stone Soup
+``KalmanPredictor`` and ``KalmanUpdater`` or their extended and unscented forms; the detection
+and survival probabilities, the clutter rate and spatial density (``κ``), and either the birth
+components as ``WeightedGaussianState`` whose ``weight`` is the existence probability ``r_B``
+or, with ``birth_components=None``, births made from the measurements
+(:class:`~rankedassign.tracking.birth.MeasurementBirth`, ``birth_options``; a non-linear
+sensor places them through its inverse).
+
+Two paths, one interface: a position measurement of a 4-D position-velocity state runs the
+filters' compiled linear-Gaussian path (the Kalman filter, whatever the Kalman family of the
+predictor and updater: on linear models the three are the same); every other model runs the
+non-linear path (:class:`~rankedassign.tracking.nonlinear.NonlinearModel`) with the filter the
+predictor and updater map to (Kalman, EKF, UKF), in the state's own order.
 """
 
 from __future__ import annotations
@@ -18,10 +24,12 @@ from __future__ import annotations
 import datetime
 import math
 from collections.abc import Mapping, Sequence
+from typing import NamedTuple
 
 import numpy as np
 from stonesoup.base import Property
 from stonesoup.models.base import GaussianModel, LinearModel
+from stonesoup.models.measurement.base import MeasurementModel
 from stonesoup.models.measurement.linear import LinearGaussian
 from stonesoup.models.transition.base import TransitionModel
 from stonesoup.predictor.base import Predictor
@@ -49,7 +57,9 @@ from ..tracking import (
     PositionSensor,
     ShortChainGibbs,
 )
+from ..tracking.nonlinear import ExtendedKalmanFilter, GaussianBirth, KalmanFilter, NonlinearModel
 from ..validation import float_array
+from .models import filters_from_stonesoup, measurement_from_stonesoup, motion_from_stonesoup
 
 __all__ = ["LMBTracker", "GLMBTracker"]
 
@@ -59,19 +69,32 @@ _ZERO = datetime.timedelta(0)
 _REQUIRED = ("prob_detection", "clutter_rate", "clutter_spatial_density")
 
 
-def _check_linear(model, role: str, who: str) -> None:
-    """Refuse a model that is not linear-Gaussian (with its name in the message)."""
+def _is_linear(model) -> bool:
+    """Whether a Stone Soup model (and every part of a combined one) is linear-Gaussian."""
+    parts = getattr(model, "model_list", None) or [model]
+    return all(isinstance(p, LinearModel) and isinstance(p, GaussianModel)
+               for p in [model, *parts])
+
+
+def _check_linear_motion(model, who: str) -> None:
+    """Refuse a transition model that is not linear-Gaussian (with its name in the message)."""
     parts = getattr(model, "model_list", None) or [model]
     for part in [model, *parts]:
         if not (isinstance(part, LinearModel) and isinstance(part, GaussianModel)):
             raise TypeError(
-                f"{who} supports only linear-Gaussian models: the {role} model "
+                f"{who} supports only linear-Gaussian models: the transition model "
                 f"{type(part).__name__} is not linear-Gaussian (use e.g. "
-                + ("CombinedLinearGaussianTransitionModel of ConstantVelocity models"
-                   if role == "transition" else "LinearGaussian")
-                + "); the filters' non-linear path (EKF and UKF on our arrays, "
-                "rankedassign.tracking.nonlinear) is coming and will take it then"
+                "CombinedLinearGaussianTransitionModel of ConstantVelocity models); a "
+                "non-linear transition model has no array form here (our CoordinatedTurn "
+                "has Vo's noise, which Stone Soup's ConstantTurn does not share)"
             )
+
+
+class _Clutter(NamedTuple):
+    """The clutter of the non-linear path: all the filters read is the intensity ``κ``."""
+
+    rate: float
+    intensity: float
 
 
 def _component(obj, role: str, family: type, model_attr: str, who: str):
@@ -113,8 +136,8 @@ def _position_layout(mm, tm, who: str) -> np.ndarray:
     return np.array([mapping[0], velocity[0], mapping[1], velocity[1]], dtype=np.int64)
 
 
-def _birth(components, who: str, perm) -> LMBBirth:
-    """The birth components as our :class:`~rankedassign.tracking.LMBBirth` (``x[perm]``)."""
+def _birth_states(components, who: str, n: int):
+    """``(r, m, P)`` of every birth component, checked; ``m`` and ``P`` in the state's order."""
     out = []
     for b, comp in enumerate(components):
         if not isinstance(comp, GaussianState):
@@ -130,11 +153,35 @@ def _birth(components, who: str, perm) -> LMBBirth:
             )
         m = np.asarray(comp.state_vector, float).ravel()
         P = np.asarray(comp.covar, float)
-        if m.shape != (4,) or P.shape != (4, 4):
+        if m.shape != (n,) or P.shape != (n, n):
             raise ValueError(f"{who}: birth component {b} has a state of shape {m.shape} and "
-                             f"covariance {P.shape}, the tracker's state is 4-D")
-        out.append(BirthComponent(float(weight), m[perm], P[np.ix_(perm, perm)]))
-    return LMBBirth(tuple(out))
+                             f"covariance {P.shape}, the tracker's state is {n}-D")
+        out.append((float(weight), m, P))
+    return out
+
+
+def _birth(components, who: str, perm) -> LMBBirth:
+    """The birth components as our :class:`~rankedassign.tracking.LMBBirth` (``x[perm]``)."""
+    return LMBBirth(tuple(BirthComponent(r, m[perm], P[np.ix_(perm, perm)])
+                          for r, m, P in _birth_states(components, who, 4)))
+
+
+def _same_model(own, mm) -> bool:
+    """Whether a detection's measurement model is the tracker's (the same or an equal one)."""
+    if own is None or own is mm:
+        return True
+    if type(own) is not type(mm) or own.ndim_state != mm.ndim_state:
+        return False
+    if tuple(own.mapping) != tuple(mm.mapping):
+        return False
+    if not np.array_equal(np.asarray(own.covar(), float), np.asarray(mm.covar(), float)):
+        return False
+    for attr in ("translation_offset", "rotation_offset"):
+        x, y = getattr(own, attr, None), getattr(mm, attr, None)
+        if (x is None) != (y is None) or (x is not None and not np.array_equal(
+                np.asarray(x, float), np.asarray(y, float))):
+            return False
+    return True
 
 
 class _LabeledTracker(Tracker):
@@ -144,11 +191,11 @@ class _LabeledTracker(Tracker):
         doc="Source of (time, detections) pairs, e.g. a detection simulator.")
     transition_model: TransitionModel = Property(
         default=None,
-        doc="Linear-Gaussian motion of a 4-D position-velocity state (or the predictor's).")
-    measurement_model: LinearGaussian = Property(
+        doc="Linear-Gaussian motion of any state dimension (or the predictor's).")
+    measurement_model: MeasurementModel = Property(
         default=None,
-        doc="Linear-Gaussian position measurement whose mapping names the position (or the "
-            "updater's).")
+        doc="LinearGaussian, CartesianToBearingRange, CartesianToElevationBearingRange or "
+            "Cartesian2DToBearing (or the updater's).")
     prob_detection: float = Property(default=None, doc="Detection probability P_D in (0, 1].")
     clutter_rate: float = Property(default=None,
                                    doc="Mean number of clutter detections per scan.")
@@ -188,43 +235,48 @@ class _LabeledTracker(Tracker):
                                             self.predictor, KalmanPredictor, who)
         self.measurement_model = self._model("measurement", self.measurement_model,
                                              self.updater, KalmanUpdater, who)
-        _check_linear(self.transition_model, "transition", who)
-        _check_linear(self.measurement_model, "measurement", who)
+        _check_linear_motion(self.transition_model, who)
         mm = self.measurement_model
-        if self.transition_model.ndim_state != mm.ndim_state:
+        n = int(mm.ndim_state)
+        if self.transition_model.ndim_state != n:
             raise ValueError(f"{who}: the transition model has a "
                              f"{self.transition_model.ndim_state}-D state, the measurement "
-                             f"model a {mm.ndim_state}-D one")
-        #: ``x[_perm]`` is a Stone Soup state in our layout ``[p_1, v_1, p_2, v_2]``.
-        self._perm = _position_layout(mm, self.transition_model, who)
+                             f"model a {n}-D one")
+        # the single-object filter the predictor and updater map to (refuses a particle or
+        # square-root component by name)
+        try:
+            single = filters_from_stonesoup(self.predictor, self.updater, n)
+        except TypeError as exc:
+            raise TypeError(f"{who}: {exc}") from None
         density = float(self.clutter_spatial_density)
         if not (math.isfinite(density) and density > 0):
             raise ValueError(f"{who}: clutter_spatial_density must be a positive finite "
                              f"number, got {density!r}")
         rate = float(self.clutter_rate)
-        # our clutter model is a rate on a region; a square of area rate / density has the
-        # tracker's intensity (the filters use nothing else of the region)
-        side = math.sqrt(rate / density) if rate > 0 else 1.0
         if self.birth_components is None:
             if not isinstance(self.birth_options, Mapping):
                 raise TypeError(f"{who}: birth_options must be a dict of MeasurementBirth's "
                                 f"keyword arguments, got {type(self.birth_options).__name__}")
-            birth, measurement_birth = LMBBirth(()), MeasurementBirth(**self.birth_options)
+            measurement_birth = MeasurementBirth(**self.birth_options)
         else:
-            birth, measurement_birth = _birth(self.birth_components, who, self._perm), None
-        model = Model(
-            self._motion(_ZERO),
-            PositionSensor(float(self.prob_detection), noise_cov=np.asarray(mm.covar(), float)),
-            PoissonClutter(rate, ((0.0, side), (0.0, side))),
-            birth,
-            ConstantSurvival(float(self.prob_survival)),
-        )
+            measurement_birth = None
+        #: False: the compiled linear path on ``[p_1, v_1, p_2, v_2]``; True: the non-linear
+        #: path (NonlinearModel) in the state's own order.
+        self._nonlinear = not (isinstance(mm, LinearGaussian) and len(mm.mapping) == 2
+                               and n == 4 and _is_linear(self.transition_model))
+        if self._nonlinear:
+            model = self._nonlinear_model(single, rate, density, measurement_birth, who)
+        else:
+            model = self._linear_model(rate, density, measurement_birth, who)
         #: The measurement-driven birth in use (birth_components=None), or None.
         self.measurement_birth = measurement_birth
         options = dict(self.filter_options)
         if measurement_birth is not None:
             options["birth"] = measurement_birth
-        self.filter = self._make_filter(model, options)
+        try:
+            self.filter = self._make_filter(model, options)
+        except ValueError as exc:  # e.g. a birth prior of the wrong dimension: name the tracker
+            raise ValueError(f"{who}: {exc}") from None
         try:
             self._rng = check_rng(self.seed)
         except (TypeError, ValueError) as exc:  # its message names rng, the argument is seed
@@ -236,6 +288,65 @@ class _LabeledTracker(Tracker):
         self._time = None
         self._interval = _ZERO
         self.detector_iter = None
+
+    def _linear_model(self, rate, density, measurement_birth, who) -> Model:
+        """Our linear :class:`~rankedassign.tracking.Model` on ``[p_1, v_1, p_2, v_2]``."""
+        mm = self.measurement_model
+        #: ``x[_perm]`` is a Stone Soup state in our layout ``[p_1, v_1, p_2, v_2]``.
+        self._perm = _position_layout(mm, self.transition_model, who)
+        # our clutter model is a rate on a region; a square of area rate / density has the
+        # tracker's intensity (the filters use nothing else of the region)
+        side = math.sqrt(rate / density) if rate > 0 else 1.0
+        birth = (LMBBirth(()) if measurement_birth is not None
+                 else _birth(self.birth_components, who, self._perm))
+        return Model(
+            self._motion(_ZERO),
+            PositionSensor(float(self.prob_detection), noise_cov=np.asarray(mm.covar(), float)),
+            PoissonClutter(rate, ((0.0, side), (0.0, side))),
+            birth,
+            ConstantSurvival(float(self.prob_survival)),
+        )
+
+    def _nonlinear_model(self, single, rate, density, measurement_birth, who) -> NonlinearModel:
+        """A :class:`~rankedassign.tracking.nonlinear.NonlinearModel` in the state's order."""
+        mm = self.measurement_model
+        n = int(mm.ndim_state)
+        self._perm = np.arange(n)
+        p_d = float(self.prob_detection)
+        if not 0 < p_d <= 1:
+            raise ValueError(f"{who}: prob_detection must be in (0, 1], got {p_d!r}")
+        p_s = float(self.prob_survival)
+        if not 0 < p_s <= 1:
+            raise ValueError(f"{who}: prob_survival must be in (0, 1], got {p_s!r}")
+        if not (math.isfinite(rate) and rate >= 0):
+            raise ValueError(f"{who}: clutter_rate must be a non-negative finite number, got "
+                             f"{rate!r}")
+        try:
+            sensor = measurement_from_stonesoup(mm, p_d)
+        except TypeError as exc:
+            raise TypeError(f"{who}: {exc}") from None
+        except ValueError as exc:
+            raise ValueError(f"{who}: {exc}") from None
+        if len(mm.mapping) != len(set(mm.mapping)):
+            raise ValueError(f"{who}: the measurement model's mapping {tuple(mm.mapping)} "
+                             "repeats a state component")
+        if measurement_birth is not None and not getattr(sensor, "linear", False) \
+                and not callable(getattr(sensor, "inverse", None)):
+            raise TypeError(f"{who}: births from the measurements need the measurement "
+                            f"model's inverse (a position from a detection): "
+                            f"{type(mm).__name__} has none (a bearing alone does not place a "
+                            "target); give birth_components")
+        if single is None:   # no predictor nor updater: Stone Soup's usual pick for the model
+            single = KalmanFilter() if getattr(sensor, "linear", False) else \
+                ExtendedKalmanFilter()
+        if measurement_birth is not None:
+            birth = ()
+        else:
+            birth = tuple(GaussianBirth(r, m, P)
+                          for r, m, P in _birth_states(self.birth_components, who, n))
+        return NonlinearModel(motion=motion_from_stonesoup(self.transition_model, _ZERO),
+                              sensor=sensor, clutter=_Clutter(rate, density), birth=birth,
+                              p_s=p_s, filter=single)
 
     @staticmethod
     def _model(role: str, model, component, family: type, who: str):
@@ -261,8 +372,10 @@ class _LabeledTracker(Tracker):
     def _make_filter(self, model, options):  # pragma: no cover (abstract)
         raise NotImplementedError
 
-    def _motion(self, interval: datetime.timedelta) -> LinearMotion:
+    def _motion(self, interval: datetime.timedelta):
         tm = self.transition_model
+        if getattr(self, "_nonlinear", False):
+            return motion_from_stonesoup(tm, interval)
         p = self._perm
         F = np.asarray(tm.matrix(time_interval=interval), float)
         Q = np.asarray(tm.covar(time_interval=interval), float)
@@ -300,10 +413,7 @@ class _LabeledTracker(Tracker):
                                 f"state_vector and a measurement_model), got "
                                 f"{type(det).__name__} {det!r} in a scan at {time}")
             own = det.measurement_model
-            if own is not None and own is not mm and not (
-                    isinstance(own, LinearGaussian) and own.ndim_state == mm.ndim_state
-                    and tuple(own.mapping) == tuple(mm.mapping)
-                    and np.array_equal(own.covar(), mm.covar())):
+            if not _same_model(own, mm):
                 raise ValueError(
                     f"{who}: a detection at {time} has measurement model "
                     f"{type(own).__name__} (mapping {tuple(getattr(own, 'mapping', ()))}), "
@@ -376,13 +486,14 @@ class _LabeledTracker(Tracker):
             if track is None:
                 track = self._by_label[key] = Track(id=f"{key[0]}:{key[1]}")
             P = self._covariance(key, x)
-            # back from our layout [p_1, v_1, p_2, v_2] to the state's own order
+            # back from our layout [p_1, v_1, p_2, v_2] to the state's own order (the
+            # identity on the non-linear path)
             p = self._perm
             ours = np.asarray(x, dtype=np.float64)
-            x = np.empty(4)
+            x = np.empty(p.size)
             x[p] = ours
             if P is not None:
-                P_ours, P = P, np.empty((4, 4))
+                P_ours, P = P, np.empty((p.size, p.size))
                 P[np.ix_(p, p)] = P_ours
             sv = x.reshape(-1, 1)
             state = (State(sv, timestamp=time) if P is None
@@ -417,13 +528,17 @@ class LMBTracker(_LabeledTracker):
         Source of ``(time, detections)`` pairs (a detection simulator, a reader, or any
         iterable of such pairs).
     transition_model : stonesoup.models.transition.linear.CombinedLinearGaussianTransitionModel
-        Linear-Gaussian motion of a 4-D position-velocity state (e.g. two
+        Linear-Gaussian motion of any state dimension (e.g. two or three
         ``ConstantVelocity``); ``F`` and ``Q`` are taken for each interval between scans.
         Optional with a ``predictor`` (its ``transition_model`` is used).
-    measurement_model : stonesoup.models.measurement.linear.LinearGaussian
-        Position measurement: ``ndim_state=4``, a ``mapping`` that names the two position
-        components (``(0, 2)`` of ``[x, vx, y, vy]``; ``(0, 1)`` of ``[x, y, vx, vy]``),
-        noise covariance ``R``. Optional with an ``updater`` (its ``measurement_model``).
+    measurement_model : stonesoup.models.measurement.base.MeasurementModel
+        ``LinearGaussian`` (any state dimension and ``mapping``),
+        ``CartesianToBearingRange``, ``CartesianToElevationBearingRange`` or
+        ``Cartesian2DToBearing`` (:func:`rankedassign.stonesoup.models.measurement_from_stonesoup`).
+        A position measurement of a 4-D position-velocity state (``mapping`` ``(0, 2)`` of
+        ``[x, vx, y, vy]``, ``(0, 1)`` of ``[x, y, vx, vy]``) runs the filters' compiled
+        linear path; every other model the non-linear path, in the state's own order.
+        Optional with an ``updater`` (its ``measurement_model``).
     prob_detection : float
         Detection probability ``P_D`` in ``(0, 1]`` (required).
     clutter_rate : float
@@ -448,16 +563,22 @@ class LMBTracker(_LabeledTracker):
         Further keyword arguments of the filter (e.g. ``max_components``).
     predictor : stonesoup.predictor.kalman.KalmanPredictor, optional
         A Stone Soup ``KalmanPredictor``, ``ExtendedKalmanPredictor`` or
-        ``UnscentedKalmanPredictor``: the filter predicts with its ``transition_model`` (on a
-        linear-Gaussian model the three are the Kalman prediction, which ours computes).
+        ``UnscentedKalmanPredictor``: the filter predicts with its ``transition_model``, as
+        it does (the unscented one with its ``alpha``, ``beta``, ``kappa``; on the linear
+        path the three are the Kalman prediction, which ours computes).
     updater : stonesoup.updater.kalman.KalmanUpdater, optional
         A Stone Soup ``KalmanUpdater``, ``ExtendedKalmanUpdater`` or
-        ``UnscentedKalmanUpdater``: the filter updates with its ``measurement_model``.
+        ``UnscentedKalmanUpdater``: the filter updates with its ``measurement_model``, as it
+        does (Kalman, EKF or UKF on our arrays). Neither given: the Kalman filter on a
+        linear model, the EKF on a non-linear one.
     birth_options : dict, optional
         Keyword arguments of :class:`~rankedassign.tracking.birth.MeasurementBirth`
         (``lambda_b``, ``r_max``, ``velocity_mean``, ``velocity_cov``, ...) when
         ``birth_components`` is None; the velocity prior is in the order of the state's
-        unmeasured components.
+        unmeasured components (those the measurement model's mapping does not name). A
+        non-linear sensor places a birth through its inverse (bearing and range to a
+        position, the covariance by linearisation); a bearing-only one has none and needs
+        ``birth_components``.
     association : rankedassign.tracking.Association, optional
         Any of our single-sensor associations (default ``ShortChainGibbs(400, 25,
         tau_stall=5, tau_stale=10, marginals="rao-blackwell")``; ``Exact()`` for the exact
@@ -476,19 +597,22 @@ class LMBTracker(_LabeledTracker):
     Raises
     ------
     TypeError
-        If the transition or measurement model is not linear-Gaussian (the message names it;
-        the filters' non-linear path is not wired yet), the predictor or updater is not of
-        the Kalman family (a particle predictor or updater: the message names its class), a
-        required parameter or model is missing, a birth component is not a
-        ``GaussianState``, or ``seed`` is of a kind numpy cannot seed from (the message names
-        ``seed``); from :meth:`update_tracker`, on a ``time`` that is not a datetime or
-        detections that are not a collection of ``Detection``.
+        If the transition model is not linear-Gaussian or the measurement model has no
+        array form (the message names the class and what is missing), the predictor or
+        updater is not of the Kalman family (a particle or square-root predictor or updater:
+        the message names its class), births from the measurements are asked of a sensor
+        without an inverse (``Cartesian2DToBearing``), a required parameter or model is
+        missing, a birth component is not a ``GaussianState``, or ``seed`` is of a kind numpy
+        cannot seed from (the message names ``seed``); from :meth:`update_tracker`, on a
+        ``time`` that is not a datetime or detections that are not a collection of
+        ``Detection``.
     ValueError
-        If the measurement model is not a position measurement of a 4-D state (its mapping
-        names no position with a velocity), a model given is not the predictor's or
-        updater's, a birth component has no existence probability (its weight is not in
-        ``(0, 1)``), a birth option or a probability, rate or density is out of range; from
-        :meth:`update_tracker`, on detections of another measurement model or dimension.
+        If a 4-D linear position measurement's mapping names no position with a velocity,
+        a model given is not the predictor's or updater's, a birth component has no
+        existence probability (its weight is not in ``(0, 1)``) or the wrong dimension, a
+        birth option (a prior of the wrong dimension) or a probability, rate or density is
+        out of range; from :meth:`update_tracker`, on detections of another measurement
+        model, of the wrong dimension or not finite.
 
     Notes
     -----
@@ -556,13 +680,17 @@ class GLMBTracker(_LabeledTracker):
         Source of ``(time, detections)`` pairs (a detection simulator, a reader, or any
         iterable of such pairs).
     transition_model : stonesoup.models.transition.linear.CombinedLinearGaussianTransitionModel
-        Linear-Gaussian motion of a 4-D position-velocity state (e.g. two
+        Linear-Gaussian motion of any state dimension (e.g. two or three
         ``ConstantVelocity``); ``F`` and ``Q`` are taken for each interval between scans.
         Optional with a ``predictor`` (its ``transition_model`` is used).
-    measurement_model : stonesoup.models.measurement.linear.LinearGaussian
-        Position measurement: ``ndim_state=4``, a ``mapping`` that names the two position
-        components (``(0, 2)`` of ``[x, vx, y, vy]``; ``(0, 1)`` of ``[x, y, vx, vy]``),
-        noise covariance ``R``. Optional with an ``updater`` (its ``measurement_model``).
+    measurement_model : stonesoup.models.measurement.base.MeasurementModel
+        ``LinearGaussian`` (any state dimension and ``mapping``),
+        ``CartesianToBearingRange``, ``CartesianToElevationBearingRange`` or
+        ``Cartesian2DToBearing`` (:func:`rankedassign.stonesoup.models.measurement_from_stonesoup`).
+        A position measurement of a 4-D position-velocity state (``mapping`` ``(0, 2)`` of
+        ``[x, vx, y, vy]``, ``(0, 1)`` of ``[x, y, vx, vy]``) runs the filters' compiled
+        linear path; every other model the non-linear path, in the state's own order.
+        Optional with an ``updater`` (its ``measurement_model``).
     prob_detection : float
         Detection probability ``P_D`` in ``(0, 1]`` (required).
     clutter_rate : float
@@ -587,16 +715,22 @@ class GLMBTracker(_LabeledTracker):
         Further keyword arguments of the filter (e.g. ``max_components``).
     predictor : stonesoup.predictor.kalman.KalmanPredictor, optional
         A Stone Soup ``KalmanPredictor``, ``ExtendedKalmanPredictor`` or
-        ``UnscentedKalmanPredictor``: the filter predicts with its ``transition_model`` (on a
-        linear-Gaussian model the three are the Kalman prediction, which ours computes).
+        ``UnscentedKalmanPredictor``: the filter predicts with its ``transition_model``, as
+        it does (the unscented one with its ``alpha``, ``beta``, ``kappa``; on the linear
+        path the three are the Kalman prediction, which ours computes).
     updater : stonesoup.updater.kalman.KalmanUpdater, optional
         A Stone Soup ``KalmanUpdater``, ``ExtendedKalmanUpdater`` or
-        ``UnscentedKalmanUpdater``: the filter updates with its ``measurement_model``.
+        ``UnscentedKalmanUpdater``: the filter updates with its ``measurement_model``, as it
+        does (Kalman, EKF or UKF on our arrays). Neither given: the Kalman filter on a
+        linear model, the EKF on a non-linear one.
     birth_options : dict, optional
         Keyword arguments of :class:`~rankedassign.tracking.birth.MeasurementBirth`
         (``lambda_b``, ``r_max``, ``velocity_mean``, ``velocity_cov``, ...) when
         ``birth_components`` is None; the velocity prior is in the order of the state's
-        unmeasured components.
+        unmeasured components (those the measurement model's mapping does not name). A
+        non-linear sensor places a birth through its inverse (bearing and range to a
+        position, the covariance by linearisation); a bearing-only one has none and needs
+        ``birth_components``.
     association : rankedassign.tracking.Association, optional
         ``OriginalGibbs``, ``ShortChainGibbs``, ``Murty`` or ``Exact`` (default
         ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``).

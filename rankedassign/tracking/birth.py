@@ -319,11 +319,7 @@ class MeasurementBirth:
         free = np.setdiff1d(np.arange(n), idx)
         mu_u = _prior(self.velocity_mean, free.size, "velocity_mean", cov=False)
         P_u = _prior(self.velocity_cov, free.size, "velocity_cov", cov=True)
-        r = birth_existence(r_A, self.lambda_b, self.r_max)
-        keep = np.flatnonzero(r > self.r_min)
-        if self.max_births is not None and keep.size > self.max_births:
-            # the max_births most likely, back in measurement order
-            keep = np.sort(keep[np.argsort(-r[keep], kind="stable")[:self.max_births]])
+        r, keep = self._kept(r_A)
         B = keep.size
         # m_B = Hᵀ z + U μ_u ; P_B = Hᵀ R H + U P_u Uᵀ
         means = np.empty((B, n))
@@ -333,4 +329,89 @@ class MeasurementBirth:
         cov[np.ix_(idx, idx)] = R
         cov[np.ix_(free, free)] = P_u
         covs = np.broadcast_to(cov, (B, n, n)).copy()
+        return BirthComponents(r[keep], means, covs, keep.astype(np.int64))
+
+    def _kept(self, r_A) -> tuple[np.ndarray, np.ndarray]:
+        """``r_B`` of every measurement and the measurements whose birth is kept."""
+        r = birth_existence(r_A, self.lambda_b, self.r_max)
+        keep = np.flatnonzero(r > self.r_min)
+        if self.max_births is not None and keep.size > self.max_births:
+            # the max_births most likely, back in measurement order
+            keep = np.sort(keep[np.argsort(-r[keep], kind="stable")[:self.max_births]])
+        return r, keep
+
+    def births_from(self, z, r_A, sensor) -> BirthComponents:
+        """The birth tracks of one scan for any measurement model (linear or not).
+
+        A linear sensor (one with ``H``) gives :meth:`births` with its ``H`` and ``R``, bit
+        for bit. A non-linear one places each birth through its inverse measurement function
+        ``sensor.inverse(z) -> (p, J)``: the position components ``sensor.position_indices``
+        get the mean ``p`` and, by linearisation, the covariance ``J R Jᵀ``; the other
+        components the prior, as for a position sensor::
+
+            m_B = [p ; μ_u] ,  P_B = blkdiag(J R Jᵀ, P_u)
+
+        Parameters
+        ----------
+        z : array_like, shape (M, d_z)
+            The scan's measurements.
+        r_A : array_like, shape (M,)
+            Probability that each was associated to a track.
+        sensor : object
+            A measurement model of :mod:`rankedassign.tracking.nonlinear` (or a
+            :class:`~rankedassign.tracking.models.PositionSensor`).
+
+        Returns
+        -------
+        BirthComponents
+            As :meth:`births`.
+
+        Raises
+        ------
+        TypeError
+            If the sensor is not linear and has no ``inverse`` (a bearing-only sensor: a
+            bearing does not place a target; give static births).
+        ValueError
+            As :meth:`births`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking.birth import MeasurementBirth
+        >>> from rankedassign.tracking.nonlinear import BearingRange
+        >>> b = MeasurementBirth(lambda_b=0.1).births_from(
+        ...     [[0.0, 100.0]], [0.0], BearingRange(state_ndim=4))
+        >>> b.means.round(6).tolist()
+        [[0.0, 0.0, 100.0, 0.0]]
+        """
+        if getattr(sensor, "linear", True) and hasattr(sensor, "H"):
+            return self.births(z, r_A, H=sensor.H, R=sensor.R)
+        name = getattr(sensor, "name", type(sensor).__name__)
+        if not callable(getattr(sensor, "inverse", None)):
+            raise TypeError(f"measurement birth needs the measurement model's inverse (a "
+                            f"position from a measurement): {name} has no inverse (a bearing "
+                            "alone does not place a target); give static births")
+        R = np.asarray(sensor.R, dtype=np.float64)
+        dz = R.shape[0]
+        n = int(sensor.state_ndim)
+        idx = np.array(sensor.position_indices, dtype=np.int64)
+        z = np.asarray(z, dtype=np.float64).reshape(-1, dz)
+        r_A = np.asarray(r_A, dtype=np.float64).reshape(-1)
+        if r_A.size != z.shape[0]:
+            raise ValueError(f"r_A has {r_A.size} entries for {z.shape[0]} measurements")
+        free = np.setdiff1d(np.arange(n), idx)
+        mu_u = _prior(self.velocity_mean, free.size, "velocity_mean", cov=False)
+        P_u = _prior(self.velocity_cov, free.size, "velocity_cov", cov=True)
+        r, keep = self._kept(r_A)
+        B = keep.size
+        p, J = sensor.inverse(z[keep]) if B else (np.empty((0, idx.size)),
+                                                   np.empty((0, idx.size, dz)))
+        means = np.empty((B, n))
+        means[:, idx] = p
+        means[:, free] = mu_u
+        covs = np.zeros((B, n, n))
+        # P_pos = J R Jᵀ (the linearised inverse)
+        Pp = J @ R @ J.transpose(0, 2, 1)
+        covs[:, idx[:, None], idx[None, :]] = 0.5 * (Pp + Pp.transpose(0, 2, 1))
+        covs[:, free[:, None], free[None, :]] = P_u
         return BirthComponents(r[keep], means, covs, keep.astype(np.int64))

@@ -33,6 +33,7 @@ __all__ = [
     "KalmanFilter",
     "ExtendedKalmanFilter",
     "UnscentedKalmanFilter",
+    "PairedFilter",
     "FILTERS",
     "make_single_object_filter",
 ]
@@ -644,6 +645,81 @@ class UnscentedKalmanFilter(_GaussianFilter):
         xdev = X[:, :, :d] - m[:, None, :]
         cross = np.einsum("i,cij,cik->cjk", wc, xdev, dev)
         return self._prediction(zhat, S, cross, sensor)
+
+
+class PairedFilter(_GaussianFilter):
+    """One filter predicting as ``predictor`` and measuring as ``updater``.
+
+    Stone Soup pairs a predictor and an updater that need not be of one family (an
+    ``UnscentedKalmanPredictor`` with an ``ExtendedKalmanUpdater``); the filters hold one
+    single-object filter, this pair.
+
+    Parameters
+    ----------
+    predictor : KalmanFilter, ExtendedKalmanFilter or UnscentedKalmanFilter
+        Gives :meth:`predict`.
+    updater : KalmanFilter, ExtendedKalmanFilter or UnscentedKalmanFilter
+        Gives :meth:`predict_measurement` (the update steps are the same for all).
+
+    Attributes
+    ----------
+    predictor, updater : object
+        As given.
+    name : str
+        ``"<predictor> + <updater>"``.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.nonlinear.filters import (
+    ...     ExtendedKalmanFilter, PairedFilter, UnscentedKalmanFilter)
+    >>> PairedFilter(UnscentedKalmanFilter(), ExtendedKalmanFilter()).name
+    'UnscentedKalmanFilter + ExtendedKalmanFilter'
+    """
+
+    def __init__(self, predictor, updater):
+        self.predictor = predictor
+        self.updater = updater
+        self.name = f"{predictor.name} + {updater.name}"
+
+    def __repr__(self) -> str:
+        return f"PairedFilter({self.predictor!r}, {self.updater!r})"
+
+    def predict(self, motion, m, P) -> tuple[np.ndarray, np.ndarray]:
+        """The predictor's prediction (see its ``predict``).
+
+        Parameters
+        ----------
+        motion : object
+            A motion model.
+        m : array_like, shape (n, d)
+            Means.
+        P : array_like, shape (n, d, d)
+            Covariances.
+
+        Returns
+        -------
+        m, P : ndarray of float64
+            Predicted means and covariances.
+        """
+        return self.predictor.predict(motion, m, P)
+
+    def predict_measurement(self, sensor, m, P) -> MeasurementPrediction:
+        """The updater's measurement prediction (see its ``predict_measurement``).
+
+        Parameters
+        ----------
+        sensor : object
+            A measurement model.
+        m : array_like, shape (n, d)
+            Predicted means.
+        P : array_like, shape (n, d, d)
+            Predicted covariances.
+
+        Returns
+        -------
+        MeasurementPrediction
+        """
+        return self.updater.predict_measurement(sensor, m, P)
 
 
 #: The filters by name, as a run's settings give them.

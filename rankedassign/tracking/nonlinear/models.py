@@ -740,6 +740,30 @@ class BearingRange:
         J[:, 1, ix], J[:, 1, iy] = dx / r, dy / r
         return J
 
+    def inverse(self, z) -> tuple[np.ndarray, np.ndarray]:
+        """The position of every measurement and the Jacobian of that map (for births).
+
+        Parameters
+        ----------
+        z : array_like, shape (M, 2)
+            Measurements ``[θ, ρ]``.
+
+        Returns
+        -------
+        p : ndarray of float64, shape (M, 2)
+            ``(s_x + ρ sin θ, s_y + ρ cos θ)``, in ``position_indices`` order.
+        J : ndarray of float64, shape (M, 2, 2)
+            ``∂p/∂[θ, ρ] = [[ρ cos θ, sin θ], [−ρ sin θ, cos θ]]``.
+        """
+        z = np.asarray(z, dtype=np.float64).reshape(-1, 2)
+        s, c = np.sin(z[:, 0]), np.cos(z[:, 0])
+        rho = z[:, 1]
+        p = np.column_stack([self.sensor_position[0] + rho * s,
+                             self.sensor_position[1] + rho * c])
+        J = np.empty((z.shape[0], 2, 2))
+        J[:, 0, 0], J[:, 0, 1], J[:, 1, 0], J[:, 1, 1] = rho * c, s, -rho * s, c
+        return p, J
+
 
 # ----------------------------------------------------------------------------- clutter, birth
 @dataclass(frozen=True)

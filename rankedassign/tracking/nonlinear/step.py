@@ -148,6 +148,36 @@ class SingleObject:
     def __repr__(self) -> str:
         return f"SingleObject({self.filter!r}, {self.motion.name}, {self.sensor.name})"
 
+    def set_motion(self, motion, who: str) -> None:
+        """Predict through ``motion`` from now on (e.g. ``F`` and ``Q`` of a new interval).
+
+        Parameters
+        ----------
+        motion : object
+            A motion model of this interface (``f``, ``jacobian``, ``Q``, ``ndim``, ``name``)
+            moving states of this path's dimension.
+        who : str
+            The filter's name, for messages.
+
+        Raises
+        ------
+        TypeError
+            If ``motion`` is not of this interface (e.g. a linear model's
+            :class:`~rankedassign.tracking.models.ConstantVelocity`).
+        ValueError
+            If it moves states of another dimension.
+        """
+        if not all(callable(getattr(motion, a, None)) for a in ("f", "jacobian")):
+            raise TypeError(f"set_motion replaces a linear model's motion; this {who} runs a "
+                            "NonlinearModel: give a motion model of "
+                            "rankedassign.tracking.nonlinear (f, jacobian, Q) of its "
+                            f"{self.ndim}-D state, e.g. LinearGaussianMotion, got "
+                            f"{type(motion).__name__}")
+        if int(motion.ndim) != self.ndim:
+            raise ValueError(f"{who}: the motion {motion.name} moves {int(motion.ndim)}-D "
+                             f"states, the filter's are {self.ndim}-D")
+        self.motion = motion
+
     # ------------------------------------------------------------------------- prediction
     def predict(self, m: np.ndarray, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every component through the motion model (Kalman, EKF or UKF prediction).

@@ -343,7 +343,8 @@ class GLMBFilter:
             check_type(birth, "birth", MeasurementBirth,
                        "None for the model's static birth or MeasurementBirth(...)")
             # a prior of the wrong dimension is refused now, not at the first scan
-            birth.births(np.empty((0, 2)), np.empty(0), H=model.sensor.H, R=model.sensor.R)
+            birth.births_from(np.empty((0, np.shape(model.sensor.R)[0])), np.empty(0),
+                              model.sensor)
         #: The measurement-driven birth in use, or None for the model's static birth.
         self.birth = birth
         self.model = model
@@ -446,10 +447,10 @@ class GLMBFilter:
         >>> f.model.motion.F.tolist() == np.eye(4).tolist()
         True
         """
-        if self._so is not None:
-            raise TypeError(f"set_motion replaces a linear model's motion; this "
-                            f"{type(self).__name__} runs a NonlinearModel (give the filter a "
-                            "model with the motion it should use)")
+        if self._so is not None:  # a motion of the non-linear interface, same dimension
+            self._so.set_motion(motion, type(self).__name__)
+            self.model = dataclasses.replace(self.model, motion=motion)
+            return
         check_type(motion, "motion", (ConstantVelocity, LinearMotion))
         self.model = dataclasses.replace(self.model, motion=motion)
         self._F = np.array(motion.F)
@@ -484,8 +485,9 @@ class GLMBFilter:
     def _set_measurement_births(self, b: BirthComponents) -> None:
         """The births the next prediction appends (means and covariances not yet predicted)."""
         self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
-        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
-        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
+        d = self._d
+        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, d)
+        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, d, d)
 
     def set_prior(self, labels, means, covs, components=None, weights=None) -> None:
         """Start from a δ-GLMB prior over single-Gaussian tracks (instead of the empty one).
@@ -635,7 +637,8 @@ class GLMBFilter:
         labels[:, 0] = self.k
         labels[:, 1] = np.arange(1, B + 1)
         self.labels = np.concatenate([self.labels, labels])
-        if self._so is not None:  # Gaussian-mixture birth terms
+        measured = getattr(self, "birth", None) is not None
+        if self._so is not None and not measured:  # Gaussian-mixture birth terms
             self.offsets = np.concatenate([self.offsets,
                                            self.w.size + np.cumsum(self._so.birth_counts)])
             self.w = np.concatenate([self.w, self._so.birth_w])
@@ -643,7 +646,11 @@ class GLMBFilter:
             self.offsets = np.concatenate([self.offsets, self.w.size + np.arange(1, B + 1)])
             self.w = np.concatenate([self.w, np.ones(B)])
         birth_m, birth_P = self._birth_m, self._birth_P
-        if getattr(self, "birth", None) is not None:
+        if measured and self._so is not None:
+            # measurement births sit at the last scan's time: predict them with this scan's
+            # motion (the model's filter), as every entry
+            birth_m, birth_P = self._so.predict(birth_m, birth_P)
+        elif measured:
             # measurement births sit at the last scan's time: predict them with this scan's
             # motion, as every entry
             birth_m = birth_m @ self._F.T
@@ -1138,8 +1145,8 @@ class GLMBFilter:
         last = self._node_meas[self.hist] if self.n_tracks else np.empty(0, np.int64)
         hit = last >= 0
         r_A = np.bincount(last[hit], weights=r_e[hit], minlength=z.shape[0])
-        self._set_measurement_births(self.birth.births(
-            z, r_A, H=self.model.sensor.H, R=self._R))
+        self._set_measurement_births(self.birth.births_from(
+            z, r_A, self.model.sensor))
         return {"birth": perf_counter() - t0}
 
     def _scan(self, z, rng) -> GLMBScanRecord:

@@ -333,7 +333,8 @@ class LMBFilter:
             check_type(birth, "birth", MeasurementBirth,
                        "None for the model's static birth or MeasurementBirth(...)")
             # a prior of the wrong dimension is refused now, not at the first scan
-            birth.births(np.empty((0, 2)), np.empty(0), H=model.sensor.H, R=model.sensor.R)
+            birth.births_from(np.empty((0, np.shape(model.sensor.R)[0])), np.empty(0),
+                              model.sensor)
         #: The measurement-driven birth in use, or None for the model's static birth.
         self.birth = birth
         #: The state extraction in use: ``extraction``, or the model's when that is None.
@@ -430,10 +431,10 @@ class LMBFilter:
         >>> f.model.motion.F.tolist() == np.eye(4).tolist()
         True
         """
-        if self._so is not None:
-            raise TypeError(f"set_motion replaces a linear model's motion; this "
-                            f"{type(self).__name__} runs a NonlinearModel (give the filter a "
-                            "model with the motion it should use)")
+        if self._so is not None:  # a motion of the non-linear interface, same dimension
+            self._so.set_motion(motion, type(self).__name__)
+            self.model = dataclasses.replace(self.model, motion=motion)
+            return
         check_type(motion, "motion", (ConstantVelocity, LinearMotion))
         self.model = dataclasses.replace(self.model, motion=motion)
         self._F = np.array(motion.F)
@@ -457,8 +458,9 @@ class LMBFilter:
     def _set_measurement_births(self, b: BirthComponents) -> None:
         """The births the next prediction appends (means and covariances not yet predicted)."""
         self._birth_r = np.ascontiguousarray(b.r, dtype=np.float64)
-        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, 4)
-        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, 4, 4)
+        d = self._d
+        self._birth_m = np.ascontiguousarray(b.means, dtype=np.float64).reshape(-1, d)
+        self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, d, d)
         self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
 
     def _measurement_births(self, z: np.ndarray, used: np.ndarray, beta: np.ndarray) -> float:
@@ -466,8 +468,8 @@ class LMBFilter:
         t0 = perf_counter()
         r_A = np.zeros(z.shape[0])
         r_A[used] = beta[:, :used.size].sum(axis=0)
-        self._set_measurement_births(self.birth.births(
-            z, r_A, H=self.model.sensor.H, R=self._R))
+        self._set_measurement_births(self.birth.births_from(
+            z, r_A, self.model.sensor))
         return perf_counter() - t0
 
     def set_prior(self, labels, means, covs, existence=None) -> None:
@@ -566,14 +568,17 @@ class LMBFilter:
         labels[:, 0] = self.k
         labels[:, 1] = self._birth_index
         birth_m, birth_P = self._birth_m, self._birth_P
-        if getattr(self, "birth", None) is not None:
+        measured = getattr(self, "birth", None) is not None
+        if measured and self._so is not None:
             # measurement births sit at the last scan's time: predict them with this scan's
-            # motion, as every track
+            # motion (the model's filter), as every track
+            birth_m, birth_P = self._so.predict(birth_m, birth_P)
+        elif measured:
             birth_m = birth_m @ self._FT
             birth_P = self._F @ birth_P @ self._FT + self._Q
         self.labels = np.concatenate([self.labels, labels])
         self.r = np.concatenate([self.r, self._birth_r])
-        if self._so is not None:  # Gaussian-mixture birth terms
+        if self._so is not None and not measured:  # Gaussian-mixture birth terms
             self.offsets = np.concatenate([self.offsets,
                                            self.w.size + np.cumsum(self._so.birth_counts)])
             self.w = np.concatenate([self.w, self._so.birth_w])
