@@ -42,15 +42,22 @@ GRID = {"min_points": (2, 3, 4), "covar_trace_thresh": (25.0, 100.0, 400.0)}
 CLUTTER_RATE = 10.0
 P_D = 0.9
 VELOCITY_SD = 4.0
+#: The bearing–range sensor (``--sensor bearing-range``): position, noise, clutter region.
+SENSOR = (0.0, -2500.0)
+BEARING_SD = np.radians(0.1)
+RANGE_SD = 5.0
+BEARINGS = (np.pi / 6, 5 * np.pi / 6)
+RANGES = (1000.0, 4500.0)
 
 
-def simulate(seed: int, n_scans: int):
+def simulate(seed: int, n_scans: int, sensor: str = "position"):
     """``(scans, truths, density, transition_model, measurement_model)`` of one seed.
 
     ``scans`` is a list of ``(time, set of Detection)``, ``truths`` the true positions
-    ``(n, 2)`` at every scan.
+    ``(n, 2)`` at every scan. ``sensor``: ``"position"`` or ``"bearing-range"``.
     """
     from stonesoup.models.measurement.linear import LinearGaussian
+    from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
     from stonesoup.models.transition.linear import (
         CombinedLinearGaussianTransitionModel,
         ConstantVelocity,
@@ -69,8 +76,14 @@ def simulate(seed: int, n_scans: int):
     gt = MultiTargetGroundTruthSimulator(
         cv, prior, timestep=datetime.timedelta(seconds=1), number_steps=n_scans,
         birth_rate=0.1, death_probability=0.01, initial_number_targets=5, seed=seed)
+    meas_range = np.array([[-1500.0, 1500.0], [-1500.0, 1500.0]])
+    if sensor == "bearing-range":
+        mm = CartesianToBearingRange(
+            4, (0, 2), np.diag([BEARING_SD ** 2, RANGE_SD ** 2]),
+            translation_offset=np.array([[SENSOR[0]], [SENSOR[1]]]))
+        meas_range = np.array([BEARINGS, RANGES])
     sim = SimpleDetectionSimulator(
-        gt, mm, meas_range=np.array([[-1500.0, 1500.0], [-1500.0, 1500.0]]),
+        gt, mm, meas_range=meas_range,
         detection_probability=P_D, clutter_rate=CLUTTER_RATE, seed=seed + 1000)
     scans, truths = [], []
     for t, dets in sim:
@@ -97,6 +110,17 @@ def mean_ospa(tracker, scans, truths) -> tuple[float, float]:
     return float(np.mean(values)), seconds
 
 
+def _kalman_family(mm):
+    """Stone Soup's predictor and updater classes for ``mm``: the EKF for a non-linear one."""
+    from stonesoup.models.base import LinearModel
+    from stonesoup.predictor.kalman import ExtendedKalmanPredictor, KalmanPredictor
+    from stonesoup.updater.kalman import ExtendedKalmanUpdater, KalmanUpdater
+
+    if isinstance(mm, LinearModel):
+        return KalmanPredictor, KalmanUpdater
+    return ExtendedKalmanPredictor, ExtendedKalmanUpdater
+
+
 def jpda_tracker(scans, density, cv, mm, min_points, covar_trace_thresh):
     """Stone Soup's JPDA tracker with the initiator and deleter of one grid cell."""
     from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
@@ -106,12 +130,11 @@ def jpda_tracker(scans, density, cv, mm, min_points, covar_trace_thresh):
     from stonesoup.hypothesiser.probability import PDAHypothesiser
     from stonesoup.initiator.simple import MultiMeasurementInitiator
     from stonesoup.measures import Mahalanobis
-    from stonesoup.predictor.kalman import KalmanPredictor
     from stonesoup.tracker.simple import MultiTargetMixtureTracker
     from stonesoup.types.state import GaussianState
-    from stonesoup.updater.kalman import KalmanUpdater
 
-    predictor, updater = KalmanPredictor(cv), KalmanUpdater(mm)
+    predictor_cls, updater_cls = _kalman_family(mm)
+    predictor, updater = predictor_cls(cv), updater_cls(mm)
     deleter = CovarianceBasedDeleter(covar_trace_thresh=covar_trace_thresh)
     initiator = MultiMeasurementInitiator(
         prior_state=GaussianState([[0], [0], [0], [0]],
@@ -128,13 +151,11 @@ def jpda_tracker(scans, density, cv, mm, min_points, covar_trace_thresh):
 def our_tracker(kind, scans, density, cv, mm, seed):
     """``LMBTracker`` or ``GLMBTracker`` from the same predictor and updater, births from
     the measurements."""
-    from stonesoup.predictor.kalman import KalmanPredictor
-    from stonesoup.updater.kalman import KalmanUpdater
-
     from rankedassign.stonesoup import GLMBTracker, LMBTracker
 
     cls = LMBTracker if kind == "LMB" else GLMBTracker
-    return cls(scans, predictor=KalmanPredictor(cv), updater=KalmanUpdater(mm),
+    predictor_cls, updater_cls = _kalman_family(mm)
+    return cls(scans, predictor=predictor_cls(cv), updater=updater_cls(mm),
                prob_detection=P_D, clutter_rate=CLUTTER_RATE, clutter_spatial_density=density,
                birth_options={"velocity_cov": VELOCITY_SD ** 2}, seed=seed)
 
@@ -144,9 +165,11 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--scans", type=int, default=100)
+    parser.add_argument("--sensor", choices=("position", "bearing-range"), default="position")
     args = parser.parse_args(argv)
-    data = [simulate(s, args.scans) for s in range(args.seeds)]
-    print(f"{args.seeds} seeds x {args.scans} scans; targets per scan (seed 0): "
+    data = [simulate(s, args.scans, args.sensor) for s in range(args.seeds)]
+    print(f"{args.sensor} sensor ({'EKF' if args.sensor != 'position' else 'Kalman'}); "
+          f"{args.seeds} seeds x {args.scans} scans; targets per scan (seed 0): "
           f"{[len(x) for x in data[0][1]][::10]} (every 10th); detections per scan (mean): "
           f"{np.mean([len(d) for sc in data for _, d in sc[0]]):.1f}", flush=True)
     results = {}

@@ -295,23 +295,33 @@ def tempering_herding_time(out: Path) -> None:
     _tempering_herding(out, "time")
 
 
-def stonesoup_ospa(out: Path) -> None:
-    """The example of docs/stonesoup.md: its code blocks, run as written, save this figure."""
+def _page_figure(page_name: str, figure: str, out: Path) -> None:
+    """Run a page's code blocks as written, in a temporary folder; copy the figure it saves."""
     import os
     import re
     import shutil
     import tempfile
 
-    page = (ROOT / "docs" / "stonesoup.md").read_text()
+    page = (ROOT / "docs" / page_name).read_text()
     code = "\n".join(re.findall(r"^```python\n(.*?)^```$", page, flags=re.S | re.M))
     here = os.getcwd()
     with tempfile.TemporaryDirectory() as tmp:
         os.chdir(tmp)
         try:
-            exec(compile(code, "docs/stonesoup.md", "exec"), {"__name__": "docs_stonesoup"})
+            exec(compile(code, f"docs/{page_name}", "exec"), {"__name__": "docs_page"})
         finally:
             os.chdir(here)
-        shutil.copy(Path(tmp) / "stonesoup_ospa.png", out)
+        shutil.copy(Path(tmp) / figure, out)
+
+
+def stonesoup_ospa(out: Path) -> None:
+    """The example of docs/stonesoup.md: its code blocks, run as written, save this figure."""
+    _page_figure("stonesoup.md", "stonesoup_ospa.png", out)
+
+
+def stonesoup_bearing_range(out: Path) -> None:
+    """The gallery page docs/stonesoup-bearing-range.md, run as written."""
+    _page_figure("stonesoup-bearing-range.md", "stonesoup_bearing_range.png", out)
 
 
 FIGURES = {
@@ -324,6 +334,7 @@ FIGURES = {
     "glmb_tracking": glmb_tracking,
     "glmb_tradeoff": glmb_tradeoff,
     "stonesoup_ospa": stonesoup_ospa,
+    "stonesoup_bearing_range": stonesoup_bearing_range,
     "tempering_herding_obs": tempering_herding_obs,
     "tempering_herding_time": tempering_herding_time,
 }
