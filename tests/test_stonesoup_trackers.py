@@ -39,7 +39,12 @@ from stonesoup.updater.kalman import (  # noqa: E402
 )
 from stonesoup.updater.particle import ParticleUpdater  # noqa: E402
 
-from rankedassign.stonesoup import GLMBTracker, LMBTracker  # noqa: E402
+from rankedassign.stonesoup import (  # noqa: E402
+    GLMBTracker,
+    LMBTracker,
+    MultiSensorGLMBTracker,
+    MultiSensorLMBTracker,
+)
 from rankedassign.tracking import Exact, MeasurementBirth, Murty  # noqa: E402
 
 T0 = datetime.datetime(2025, 1, 1)
@@ -427,3 +432,126 @@ def test_non_linear_bad_input():
         tracker.update_tracker(t + datetime.timedelta(seconds=1),
                                {Detection([[0.1], [10.0]], timestamp=t,
                                           measurement_model=moved)})
+
+
+# ----------------------------------------------------------------------------- multi-sensor
+SENSOR_A = LinearGaussian(4, (0, 2), np.diag([4.0, 1.0]))
+SENSOR_B = LinearGaussian(4, (0, 2, 1), np.diag([1.0, 9.0, 0.25]))   # and the x velocity
+
+
+@pytest.mark.parametrize("cls", [MultiSensorLMBTracker, MultiSensorGLMBTracker])
+def test_multi_sensor_tracks_equal_stone_soups_sequential_kalman_updates(cls):
+    """Two linear sensors, P_D ≈ 1, one target: the joint update on both detections is the
+    stacked Kalman update, equal to Stone Soup's KalmanUpdater applied with one sensor's
+    detection and then the other's (linear: the order does not matter), to 1e-10."""
+    x0 = [200.0, 3.0, 400.0, -2.0]
+    a, b = _truth_scans(CV, SENSOR_A, x0), _truth_scans(CV, SENSOR_B, x0)
+    scans = [(t, da | db) for (t, da), (_, db) in zip(a, b, strict=True)]
+    prior = WeightedGaussianState(np.array(x0).reshape(-1, 1) + 2.0,
+                                  np.diag([25.0, 4.0, 25.0, 4.0]), weight=0.5)
+    # P_D = 1 - 1e-12, not 1: the multi-sensor LMB filter's miss term is -inf - (-inf) at
+    # P_D = 1; the hypotheses missing a sensor weigh 1e-12 and are pruned
+    tracker = cls(scans, CV, measurement_models=[SENSOR_A, SENSOR_B],
+                  predictor=KalmanPredictor(CV), updater=KalmanUpdater(None),
+                  prob_detection=1.0 - 1e-12, clutter_rate=1e-3, clutter_spatial_density=1e-8,
+                  birth_components=[prior], association=Exact(), seed=0)
+    predictor, updater = KalmanPredictor(CV), KalmanUpdater(None)
+    state = None
+    for (t, tracks), (_, da), (_, db) in zip(tracker, a, b, strict=True):
+        state = (GaussianStatePrediction(prior.state_vector, prior.covar, timestamp=t)
+                 if state is None else predictor.predict(state, timestamp=t))
+        for dets in (da, db):
+            (det,) = dets
+            state = updater.update(SingleHypothesis(state, det))
+        (track,) = [tr for tr in tracks if tr.id == "1:1"]
+        assert_allclose(np.asarray(track.state_vector, float).ravel(),
+                        np.asarray(state.state_vector, float).ravel(), rtol=1e-10, atol=1e-10)
+        assert_allclose(np.asarray(track.covar), np.asarray(state.covar), rtol=1e-10,
+                        atol=1e-10)
+
+
+@pytest.mark.parametrize("cls", [MultiSensorLMBTracker, MultiSensorGLMBTracker])
+def test_two_bearing_range_sensors_end_to_end(cls):
+    """Two bearing–range sensors 200 m apart, two targets, EKF: both tracked to within a few
+    metres from the second scan on."""
+    sensors = [CartesianToBearingRange(4, (0, 2), np.diag([1e-4, 4.0]),
+                                       translation_offset=np.array([[x], [0.0]]))
+               for x in (-100.0, 100.0)]
+    rng = np.random.default_rng(0)
+    targets = [np.array([[-20.0], [2.0], [150.0], [0.0]]), np.array([[30.0], [0.0], [80.0],
+                                                                      [1.5]])]
+    F = CV.matrix(time_interval=datetime.timedelta(seconds=1))
+    scans = []
+    for k in range(8):
+        t = T0 + datetime.timedelta(seconds=k)
+        dets = set()
+        for x in targets:
+            for mm in sensors:
+                z = np.asarray(mm.function(GaussianState(x, np.eye(4))), float)
+                z = z + rng.normal(size=(2, 1)) * np.array([[1e-2], [2.0]])
+                dets.add(Detection(z, timestamp=t, measurement_model=mm))
+        scans.append((t, dets))
+        targets = [F @ x for x in targets]
+    birth = [WeightedGaussianState([[x], [0.0], [y], [0.0]],
+                                   np.diag([20.0, 3.0, 20.0, 3.0]) ** 2, weight=0.2)
+             for x, y in ((-10.0, 140.0), (20.0, 90.0))]
+    tracker = cls(scans, CV, measurement_models=sensors, predictor=ExtendedKalmanPredictor(CV),
+                  updater=ExtendedKalmanUpdater(None), prob_detection=0.95,
+                  clutter_rate=[1.0, 2.0], clutter_spatial_density=1e-4,
+                  birth_components=birth, seed=0)
+    for _ in tracker:
+        pass
+    truth = np.array([[x[0, 0], x[2, 0]] for x in (np.linalg.inv(F) @ x for x in targets)])
+    est = np.array([np.asarray(tr.state_vector, float).ravel()[[0, 2]]
+                    for tr in tracker.tracks]).reshape(-1, 2)
+    assert est.shape == (2, 2)
+    assert_allclose(est[np.argsort(est[:, 0])], truth[np.argsort(truth[:, 0])], atol=5.0)
+
+
+def test_multi_sensor_bad_input():
+    kw = dict(prob_detection=0.9, clutter_rate=1.0, clutter_spatial_density=1e-4,
+              birth_components=BIRTH, association=Exact())
+    with pytest.raises(TypeError, match=r"MultiSensorLMBTracker needs measurement_models: a "
+                                        r"sequence of one measurement model per sensor, got "
+                                        r"NoneType"):
+        MultiSensorLMBTracker(None, CV, **kw)
+    with pytest.raises(TypeError, match=r"MultiSensorLMBTracker takes measurement_models \(one "
+                                        r"per sensor\), not measurement_model"):
+        MultiSensorLMBTracker(None, CV, MM, measurement_models=[MM], **kw)
+    with pytest.raises(TypeError, match=r"MultiSensorGLMBTracker needs birth_components: births "
+                                        r"from the measurements of several sensors are not "
+                                        r"wired here"):
+        MultiSensorGLMBTracker(None, CV, measurement_models=[MM, BR],
+                               **{**kw, "birth_components": None})
+    with pytest.raises(ValueError, match=r"MultiSensorLMBTracker: clutter_rate must be one "
+                                         r"number or one per sensor \(2\), got 3"):
+        MultiSensorLMBTracker(None, CV, measurement_models=[MM, BR],
+                              **{**kw, "clutter_rate": [1.0, 2.0, 3.0]})
+    with pytest.raises(ValueError, match=r"MultiSensorLMBTracker: prob_detection out of range: "
+                                         r"1.5"):
+        MultiSensorLMBTracker(None, CV, measurement_models=[MM, BR],
+                              **{**kw, "prob_detection": [0.9, 1.5]})
+    with pytest.raises(ValueError, match=r"MultiSensorLMBTracker: the transition model has a "
+                                         r"4-D state, the measurement model of sensor 1 "
+                                         r"\(AnalyticElevationBearingRange\) a 6-D one"):
+        MultiSensorLMBTracker(None, CV, measurement_models=[MM, EBR], **kw)
+    with pytest.raises(TypeError, match=r"MultiSensorLMBTracker: ParticleUpdater has no "
+                                        r"counterpart|MultiSensorLMBTracker: the updater must be "
+                                        r"a Kalman-family"):
+        MultiSensorLMBTracker(None, CV, measurement_models=[MM, BR],
+                              updater=ParticleUpdater(None), **kw)
+    tracker = MultiSensorLMBTracker(None, CV, measurement_models=[MM, BR], **kw)
+    with pytest.raises(ValueError, match=r"MultiSensorLMBTracker: a detection at 2025-01-01 "
+                                         r"00:00:00 has no measurement_model; with several "
+                                         r"sensors each detection names its sensor's"):
+        tracker.update_tracker(T0, {Detection([[0.0], [0.0]], timestamp=T0)})
+    with pytest.raises(ValueError, match=r"has measurement model AnalyticElevationBearingRange "
+                                         r"\(mapping \(0, 2, 4\)\), none of the tracker's "
+                                         r"measurement_models"):
+        tracker.update_tracker(T0, {Detection([[0.0], [0.0], [1.0]], timestamp=T0,
+                                              measurement_model=EBR)})
+    # an equal model is its sensor's; each sensor's detections go to that sensor
+    twin = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=np.eye(2))
+    tracker.update_tracker(T0, {Detection([[0.0], [0.0]], timestamp=T0, measurement_model=twin),
+                                Detection([[0.3], [100.0]], timestamp=T0,
+                                          measurement_model=BR)})

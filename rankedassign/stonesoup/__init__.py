@@ -17,8 +17,11 @@ loader makes this module available as ``stonesoup.plugins.rankedassign``::
   timestamp for the distance and each of its parts;
 * :class:`LMBTracker`, :class:`GLMBTracker` — Stone Soup trackers around
   :class:`rankedassign.tracking.LMBFilter` and :class:`rankedassign.tracking.GLMBFilter`, built
-  from Stone Soup's linear-Gaussian models or a Kalman predictor and updater, with births
-  placed by hand or made from the measurements;
+  from Stone Soup's models (linear-Gaussian, bearing–range, elevation–bearing–range, bearing)
+  or a Kalman, extended or unscented Kalman predictor and updater, with births placed by hand
+  or made from the measurements;
+* :class:`MultiSensorLMBTracker`, :class:`MultiSensorGLMBTracker` — the same around the
+  multi-sensor filters, one measurement model per sensor;
 * :mod:`rankedassign.stonesoup.models` — Stone Soup's measurement and transition models and
   Kalman-family predictors/updaters as the array models and filters of
   :mod:`rankedassign.tracking.nonlinear` (the same predictions and updates).
@@ -32,7 +35,8 @@ Soup; :mod:`rankedassign` itself does not import this module.
 from .associators import JPDAwithDP, JPDAwithGibbs
 from .hypothesisers import VectorisedPDAHypothesiser
 from .metrics import GOSPAMetric, OSPA2Metric
-from .trackers import GLMBTracker, LMBTracker
+from .trackers import GLMBTracker, LMBTracker, MultiSensorGLMBTracker, MultiSensorLMBTracker
 
 __all__ = ["GLMBTracker", "GOSPAMetric", "JPDAwithDP", "JPDAwithGibbs", "LMBTracker",
-           "OSPA2Metric", "VectorisedPDAHypothesiser"]
+           "MultiSensorGLMBTracker", "MultiSensorLMBTracker", "OSPA2Metric",
+           "VectorisedPDAHypothesiser"]

@@ -57,11 +57,13 @@ from ..tracking import (
     PositionSensor,
     ShortChainGibbs,
 )
+from ..tracking.multisensor import MultiSensorGLMBFilter, MultiSensorLMBFilter
 from ..tracking.nonlinear import ExtendedKalmanFilter, GaussianBirth, KalmanFilter, NonlinearModel
+from ..tracking.nonlinear.multisensor import NonlinearMultiSensorModel
 from ..validation import float_array
 from .models import filters_from_stonesoup, measurement_from_stonesoup, motion_from_stonesoup
 
-__all__ = ["LMBTracker", "GLMBTracker"]
+__all__ = ["LMBTracker", "GLMBTracker", "MultiSensorLMBTracker", "MultiSensorGLMBTracker"]
 
 _ZERO = datetime.timedelta(0)
 
@@ -277,6 +279,10 @@ class _LabeledTracker(Tracker):
             self.filter = self._make_filter(model, options)
         except ValueError as exc:  # e.g. a birth prior of the wrong dimension: name the tracker
             raise ValueError(f"{who}: {exc}") from None
+        self._start(who)
+
+    def _start(self, who: str) -> None:
+        """The generator of the association's randomness and the empty track table."""
         try:
             self._rng = check_rng(self.seed)
         except (TypeError, ValueError) as exc:  # its message names rng, the argument is seed
@@ -398,37 +404,52 @@ class _LabeledTracker(Tracker):
         return self.update_tracker(time, detections)
 
     def _measurements(self, time, detections) -> np.ndarray:
-        """The detections as an ``(M, 2)`` array, checked against the measurement model."""
-        who = type(self).__name__
+        """The detections as an ``(M, d_z)`` array, checked against the measurement model."""
         mm = self.measurement_model
+        rows = [self._row(time, det) for det in self._detections(time, detections)]
+        for det, _ in rows:
+            if not _same_model(det.measurement_model, mm):
+                own = det.measurement_model
+                raise ValueError(
+                    f"{type(self).__name__}: a detection at {time} has measurement model "
+                    f"{type(own).__name__} (mapping {tuple(getattr(own, 'mapping', ()))}), "
+                    "not the tracker's measurement_model; the filter applies its own model "
+                    "to every detection"
+                )
+        return self._stack([z for _, z in rows], mm)
+
+    def _detections(self, time, detections):
+        """The scan's detections, after checking that it is a collection of ``Detection``."""
+        who = type(self).__name__
         if (isinstance(detections, (str, bytes, Mapping, np.ndarray))
                 or not hasattr(detections, "__iter__")):
             raise TypeError(f"{who}: detections must be a set (or list) of Detection, got "
                             f"{type(detections).__name__}"
                             + ("; an empty scan is set()" if detections is None else ""))
-        rows = []
-        for det in detections:
+        out = list(detections)
+        for det in out:
             if not isinstance(det, Detection):
                 raise TypeError(f"{who}: detections must hold Detection objects (with a "
                                 f"state_vector and a measurement_model), got "
                                 f"{type(det).__name__} {det!r} in a scan at {time}")
-            own = det.measurement_model
-            if not _same_model(own, mm):
-                raise ValueError(
-                    f"{who}: a detection at {time} has measurement model "
-                    f"{type(own).__name__} (mapping {tuple(getattr(own, 'mapping', ()))}), "
-                    "not the tracker's measurement_model; the filter applies its own model "
-                    "to every detection"
-                )
-            z = float_array(det.state_vector, f"{who}: the state_vector of a detection at "
-                            f"{time}").reshape(-1)
-            if z.size != mm.ndim_meas:
-                raise ValueError(f"{who}: a detection at {time} has {z.size} dimensions, the "
-                                 f"measurement model gives {mm.ndim_meas}")
-            if not np.isfinite(z).all():
-                raise ValueError(f"{who}: a detection at {time} has a non-finite state "
-                                 f"vector {z.tolist()}")
-            rows.append(z)
+        return out
+
+    def _row(self, time, det, mm=None):
+        """``(det, z)``: a detection's state vector as a float array (finiteness checked)."""
+        who = type(self).__name__
+        z = float_array(det.state_vector, f"{who}: the state_vector of a detection at "
+                        f"{time}").reshape(-1)
+        mm = self.measurement_model if mm is None else mm
+        if mm is not None and z.size != mm.ndim_meas:
+            raise ValueError(f"{who}: a detection at {time} has {z.size} dimensions, the "
+                             f"measurement model gives {mm.ndim_meas}")
+        if not np.isfinite(z).all():
+            raise ValueError(f"{who}: a detection at {time} has a non-finite state "
+                             f"vector {z.tolist()}")
+        return det, z
+
+    @staticmethod
+    def _stack(rows, mm) -> np.ndarray:
         # sorted, so that a seed gives the same result whatever the set's order
         rows.sort(key=tuple)
         return np.array(rows, dtype=np.float64).reshape(-1, mm.ndim_meas)
@@ -802,3 +823,267 @@ class GLMBTracker(_LabeledTracker):
         return GLMBFilter(model, self.association, gate_prob=self.gate_prob,
                           extraction=self.extraction, **options)
 
+
+
+def _per_sensor(value, name: str, V: int, who: str) -> tuple:
+    """A parameter given once for every sensor or once per sensor, as ``V`` floats."""
+    values = tuple(value) if isinstance(value, Sequence) and not isinstance(value, str) \
+        else (value,) * V
+    if len(values) != V:
+        raise ValueError(f"{who}: {name} must be one number or one per sensor ({V}), got "
+                         f"{len(values)}")
+    return tuple(float(v) for v in values)
+
+
+class _MultiSensorTracker(_LabeledTracker):
+    """What :class:`MultiSensorLMBTracker` and :class:`MultiSensorGLMBTracker` share."""
+
+    measurement_models: Sequence = Property(
+        default=None,
+        doc="One measurement model per sensor; a detection's own measurement_model names its "
+            "sensor.")
+
+    def __init__(self, *args, **kwargs):
+        Tracker.__init__(self, *args, **kwargs)
+        who = type(self).__name__
+        missing = [name for name in _REQUIRED if getattr(self, name) is None]
+        if missing:
+            raise TypeError(f"{who} needs {', '.join(missing)}")
+        if self.measurement_model is not None:
+            raise TypeError(f"{who} takes measurement_models (one per sensor), not "
+                            "measurement_model")
+        models = self.measurement_models
+        if isinstance(models, (str, bytes)) or not isinstance(models, Sequence) or not models:
+            raise TypeError(f"{who} needs measurement_models: a sequence of one measurement "
+                            f"model per sensor, got {type(models).__name__}")
+        self.measurement_models = models = tuple(models)
+        V = len(models)
+        self.transition_model = self._model("transition", self.transition_model,
+                                            self.predictor, KalmanPredictor, who)
+        if self.updater is not None:     # its family; every sensor's model is its own
+            _component(self.updater, "updater", KalmanUpdater, "measurement_model", who)
+        _check_linear_motion(self.transition_model, who)
+        n = int(self.transition_model.ndim_state)
+        for v, mm in enumerate(models):
+            if int(getattr(mm, "ndim_state", -1)) != n:
+                raise ValueError(f"{who}: the transition model has a {n}-D state, the "
+                                 f"measurement model of sensor {v} "
+                                 f"({type(mm).__name__}) a {getattr(mm, 'ndim_state', None)}-D "
+                                 "one")
+        try:
+            single = filters_from_stonesoup(self.predictor, self.updater, n)
+        except TypeError as exc:
+            raise TypeError(f"{who}: {exc}") from None
+        if self.birth_components is None:
+            raise TypeError(f"{who} needs birth_components: births from the measurements of "
+                            "several sensors are not wired here (the multi-sensor filters' "
+                            "AdaptiveBirth takes only a linear MultiSensorModel of a 4-D "
+                            "state)")
+        p_d = _per_sensor(self.prob_detection, "prob_detection", V, who)
+        rates = _per_sensor(self.clutter_rate, "clutter_rate", V, who)
+        densities = _per_sensor(self.clutter_spatial_density, "clutter_spatial_density", V,
+                                who)
+        for name, values, ok in (("prob_detection", p_d, lambda x: 0 < x <= 1),
+                                 ("clutter_rate", rates, lambda x: 0 <= x < math.inf),
+                                 ("clutter_spatial_density", densities,
+                                  lambda x: 0 < x < math.inf)):
+            bad = [x for x in values if not ok(x)]
+            if bad:
+                raise ValueError(f"{who}: {name} out of range: {bad[0]!r}")
+        p_s = float(self.prob_survival)
+        if not 0 < p_s <= 1:
+            raise ValueError(f"{who}: prob_survival must be in (0, 1], got {p_s!r}")
+        sensors = []
+        for v, mm in enumerate(models):
+            try:
+                sensors.append(measurement_from_stonesoup(mm, p_d[v]))
+            except (TypeError, ValueError) as exc:
+                raise type(exc)(f"{who}: sensor {v}: {exc}") from None
+        if single is None:
+            single = (KalmanFilter() if all(getattr(s, "linear", False) for s in sensors)
+                      else ExtendedKalmanFilter())
+        birth = tuple(GaussianBirth(r, m, P)
+                      for r, m, P in _birth_states(self.birth_components, who, n))
+        model = NonlinearMultiSensorModel(
+            motion=motion_from_stonesoup(self.transition_model, _ZERO), sensors=tuple(sensors),
+            clutters=tuple(_Clutter(r, d) for r, d in zip(rates, densities, strict=True)),
+            birth=birth, p_s=p_s, filter=single)
+        self._nonlinear = True
+        self._perm = np.arange(n)
+        #: No measurement-driven birth in the multi-sensor trackers.
+        self.measurement_birth = None
+        try:
+            self.filter = self._make_filter(model, dict(self.filter_options))
+        except ValueError as exc:
+            raise ValueError(f"{who}: {exc}") from None
+        self._start(who)
+
+    def _measurements(self, time, detections) -> list:
+        """Every sensor's detections as an ``(M_v, d_z^v)`` array: a detection's sensor is the
+        one whose measurement model is its own (the same object or an equal model)."""
+        who = type(self).__name__
+        models = self.measurement_models
+        rows = [[] for _ in models]
+        for det in self._detections(time, detections):
+            own = det.measurement_model
+            if own is None:
+                if len(models) > 1:
+                    raise ValueError(f"{who}: a detection at {time} has no measurement_model; "
+                                     "with several sensors each detection names its sensor's")
+                v = 0
+            else:
+                v = next((i for i, mm in enumerate(models) if own is mm), None)
+                if v is None:
+                    v = next((i for i, mm in enumerate(models) if _same_model(own, mm)), None)
+                if v is None:
+                    raise ValueError(
+                        f"{who}: a detection at {time} has measurement model "
+                        f"{type(own).__name__} (mapping {tuple(getattr(own, 'mapping', ()))}), "
+                        "none of the tracker's measurement_models")
+            rows[v].append(self._row(time, det, models[v])[1])
+        return [self._stack(r, mm) for r, mm in zip(rows, models, strict=True)]
+
+
+_MS_DOC = """
+
+    Parameters
+    ----------
+    detector : stonesoup.reader.DetectionReader
+        Source of ``(time, detections)`` pairs; the detections of every sensor of a scan
+        together, each ``Detection`` with its sensor's ``measurement_model``.
+    transition_model : stonesoup.models.base.LinearModel
+        Linear-Gaussian motion of any state dimension (or the ``predictor``'s).
+    measurement_models : sequence of stonesoup.models.measurement.base.MeasurementModel
+        One per sensor, each as the single-sensor trackers take it (``LinearGaussian``,
+        ``CartesianToBearingRange``, ``CartesianToElevationBearingRange``,
+        ``Cartesian2DToBearing``), all of the transition model's state.
+    prob_detection, clutter_rate, clutter_spatial_density : float or sequence of float
+        One number for every sensor or one per sensor (required).
+    birth_components : sequence of stonesoup.types.state.WeightedGaussianState
+        The static births (required: births from the measurements are single-sensor here).
+    prob_survival, seed, gate_prob, filter_options, association, extraction
+        As the single-sensor tracker.
+    predictor : stonesoup.predictor.kalman.KalmanPredictor, optional
+        As the single-sensor tracker.
+    measurement_model : None
+        Not taken (give ``measurement_models``).
+    birth_options : dict
+        Not used (no births from the measurements here).
+    updater : stonesoup.updater.kalman.KalmanUpdater, optional
+        Its family (Kalman, extended, unscented, with its parameters) updates every sensor;
+        its own ``measurement_model`` is not used (each sensor's is).
+
+    Raises
+    ------
+    TypeError
+        If ``measurement_models`` is missing or ``measurement_model`` is given, a model has no
+        array form, a predictor or updater is not of the Kalman family, or
+        ``birth_components`` is None (all naming the class and what is missing).
+    ValueError
+        If a per-sensor parameter has the wrong length or is out of range, the models'
+        state dimensions differ; from :meth:`update_tracker`, on a detection of no sensor's
+        model, of the wrong dimension or not finite.
+"""
+
+
+class MultiSensorLMBTracker(_MultiSensorTracker):
+    association: Association = Property(
+        default_factory=lambda: ShortChainGibbs(200, 25, tau_stall=5, tau_stale=10),
+        doc="Our multi-sensor association of every group's problem.")
+    extraction: str = Property(default="map", doc='State extraction: "map" or "hysteresis".')
+
+    def _make_filter(self, model, options):
+        return MultiSensorLMBFilter(model, self.association, gate_prob=self.gate_prob,
+                                    extraction=self.extraction, **options)
+
+
+class MultiSensorGLMBTracker(_MultiSensorTracker):
+    association: Association = Property(
+        default_factory=lambda: ShortChainGibbs(200, 25, tau_stall=5, tau_stale=10),
+        doc="Our multi-sensor truncation of every GLMB component's problem.")
+    extraction: str = Property(default="map",
+                               doc='State extraction: "map", "trajectory", "recursive" or '
+                                   '"hysteresis".')
+
+    def _make_filter(self, model, options):
+        return MultiSensorGLMBFilter(model, self.association, gate_prob=self.gate_prob,
+                                     extraction=self.extraction, **options)
+
+
+MultiSensorLMBTracker.__doc__ = ("""Multi-sensor LMB tracker: our
+    :class:`~rankedassign.tracking.MultiSensorLMBFilter` in Stone Soup, one measurement model
+    per sensor.
+
+    Each scan's detections are split by sensor (a detection's own ``measurement_model``) and
+    the filter's joint multi-sensor update associates them all at once; the single-object
+    arithmetic is that of the non-linear path (Kalman, EKF or UKF on arrays, the state in
+    Stone Soup's order)."""
+    + _MS_DOC + """
+    Examples
+    --------
+    >>> import datetime
+    >>> import numpy as np
+    >>> from stonesoup.models.measurement.nonlinear import CartesianToBearingRange
+    >>> from stonesoup.models.transition.linear import (
+    ...     CombinedLinearGaussianTransitionModel, ConstantVelocity)
+    >>> from stonesoup.types.detection import Detection
+    >>> from stonesoup.types.state import GaussianState, WeightedGaussianState
+    >>> from rankedassign.stonesoup import MultiSensorLMBTracker
+    >>> cv = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.5)] * 2)
+    >>> sensors = [CartesianToBearingRange(4, (0, 2), np.diag([1e-4, 1.0]),
+    ...                                    translation_offset=np.array([[x], [0.0]]))
+    ...            for x in (-100.0, 100.0)]
+    >>> t0 = datetime.datetime(2025, 1, 1)
+    >>> scans = []
+    >>> for k in range(4):
+    ...     x = GaussianState([[1.0 * k], [1.0], [50.0], [0.0]], np.eye(4))
+    ...     t = t0 + datetime.timedelta(seconds=k)
+    ...     scans.append((t, {Detection(mm.function(x), timestamp=t, measurement_model=mm)
+    ...                       for mm in sensors}))
+    >>> birth = [WeightedGaussianState([[0], [0], [50], [0]], np.diag([25.0, 4, 25, 4]),
+    ...                                weight=0.1)]
+    >>> tracker = MultiSensorLMBTracker(scans, cv, measurement_models=sensors,
+    ...                                 prob_detection=0.9, clutter_rate=1.0,
+    ...                                 clutter_spatial_density=1e-4, birth_components=birth,
+    ...                                 seed=0)
+    >>> for time, tracks in tracker:
+    ...     pass
+    >>> [(t.id, len(t)) for t in tracks]
+    [('1:1', 4)]
+    """)
+
+MultiSensorGLMBTracker.__doc__ = ("""Multi-sensor δ-GLMB tracker: our
+    :class:`~rankedassign.tracking.MultiSensorGLMBFilter` in Stone Soup, one measurement
+    model per sensor.
+
+    As :class:`MultiSensorLMBTracker`, with the δ-GLMB filter's joint multi-sensor update."""
+    + _MS_DOC + """
+    Examples
+    --------
+    >>> import datetime
+    >>> import numpy as np
+    >>> from stonesoup.models.measurement.linear import LinearGaussian
+    >>> from stonesoup.models.transition.linear import (
+    ...     CombinedLinearGaussianTransitionModel, ConstantVelocity)
+    >>> from stonesoup.types.detection import Detection
+    >>> from stonesoup.types.state import WeightedGaussianState
+    >>> from rankedassign.stonesoup import MultiSensorGLMBTracker
+    >>> cv = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.5)] * 2)
+    >>> a = LinearGaussian(4, (0, 2), np.eye(2))
+    >>> b = LinearGaussian(4, (0, 2), 4 * np.eye(2))
+    >>> t0 = datetime.datetime(2025, 1, 1)
+    >>> scans = [(t0 + datetime.timedelta(seconds=k),
+    ...           {Detection([[k * 10.0], [0.0]], measurement_model=a),
+    ...            Detection([[k * 10.0 + 0.5], [0.0]], measurement_model=b)})
+    ...          for k in range(4)]
+    >>> birth = [WeightedGaussianState([[0], [0], [0], [0]], np.diag([4.0, 100, 4, 100]),
+    ...                                weight=0.1)]
+    >>> tracker = MultiSensorGLMBTracker(scans, cv, measurement_models=[a, b],
+    ...                                  prob_detection=0.9, clutter_rate=1.0,
+    ...                                  clutter_spatial_density=1e-4, birth_components=birth,
+    ...                                  seed=0)
+    >>> for time, tracks in tracker:
+    ...     pass
+    >>> [(t.id, len(t)) for t in tracks]
+    [('1:1', 4)]
+    """)
