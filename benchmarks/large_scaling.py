@@ -5,6 +5,7 @@ the prior (as ``test_bench_large.py``), by the LMB filter (``grouping=True``) an
 δ-GLMB filter, both with ``ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)``::
 
     python benchmarks/large_scaling.py --sizes 100 1000 10000 --scans 5
+    python benchmarks/large_scaling.py --sizes 100 10000 --filters lmb --seeds 0 1 2
 
 prints one line per filter and N: median seconds per scan after the first (the first loads the
 kernels and forms the clusters), seconds per target, the process's peak resident memory so far,
@@ -71,13 +72,22 @@ def main(argv=None) -> None:
     ap.add_argument("--sizes", type=int, nargs="+", default=[100, 1000])
     ap.add_argument("--scans", type=int, default=5)
     ap.add_argument("--filters", nargs="+", default=["lmb", "clustered-glmb"])
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0])
     args = ap.parse_args(argv)
     run("lmb", 10, 2)  # loads the kernels
     for kind in args.filters:
         for n in args.sizes:
-            r = run(kind, n, args.scans)
-            print(" ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
-                           for k, v in r.items()), flush=True)
+            errs = []
+            for seed in args.seeds:
+                r = run(kind, n, args.scans, seed)
+                errs.append(r["error_per_target_m"])
+                print(f"seed={seed} " + " ".join(
+                    f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
+                    for k, v in r.items()), flush=True)
+            if len(errs) > 1:
+                print(f"filter={kind} N={n} seeds={len(errs)} error_per_target_m mean="
+                      f"{np.mean(errs):.4g} min={min(errs):.4g} max={max(errs):.4g}",
+                      flush=True)
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ import rankedassign.tracking.single.lmb as lmb_module
 from rankedassign.tracking import (
     LMBFilter,
     Murty,
+    OriginalGibbs,
     ShortChainGibbs,
     _kernels,
     gate_threshold,
@@ -16,6 +17,7 @@ from rankedassign.tracking import (
     make_model,
     make_scenario,
 )
+from rankedassign.tracking.birth import MeasurementBirth
 from rankedassign.tracking.gating import (
     GatedPairs,
     candidate_pairs,
@@ -115,6 +117,59 @@ def test_lmb_spatial_scan_equals_the_dense_scan(monkeypatch, association, batch)
         assert (a.n_groups, a.n_meas_gated, a.sweeps, a.row_updates, a.n_unique) == \
             (b.n_groups, b.n_meas_gated, b.sweeps, b.row_updates, b.n_unique)
         # r = Σ_j β_ij over the cluster's columns instead of every gated column: rounding only
+        assert_allclose(b.track_existence, a.track_existence, rtol=1e-12, atol=1e-15)
+        assert_allclose(b.states, a.states, rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("association", [
+    ShortChainGibbs(50, 5, tau_stall=5, tau_stale=10),
+    ShortChainGibbs(20, 4, tau_stall=2, tau_stale=3, scan="random"),
+    ShortChainGibbs(6, 3),
+    OriginalGibbs(30),
+], ids=["short-chains", "random-scan", "no-rules", "original"])
+def test_lmb_compiled_chains_equal_one_call_per_cluster(monkeypatch, association):
+    # the cluster path runs the chains of a batch's clusters in one compiled call; holding it
+    # to one call of the association per cluster (the filter without the plan): the same
+    # records, bit for bit
+    monkeypatch.setattr(lmb_module, "SPATIAL_MIN_PAIRS", 0)
+    sc = make_scenario("vo", rng=5, n_scans=12)
+    batched = LMBFilter(sc.model, association, grouping=True)
+    assert batched._chain_batch is not None
+    per_call = LMBFilter(sc.model, association, grouping=True)
+    per_call._chain_batch = None
+    for k, s in enumerate(sc.scans):
+        a, b = batched.step(s.z, rng=k), per_call.step(s.z, rng=k)
+        for name in ("labels", "states", "existence", "track_labels", "track_existence"):
+            assert_array_equal(getattr(a, name), getattr(b, name))
+        assert a[5:13] == b[5:13]  # the counts: problems, sweeps, row updates, unique
+    assert_array_equal(batched.w, per_call.w)
+    assert_array_equal(batched.P, per_call.P)
+
+
+def test_lmb_chain_plan_only_for_truncated_marginals():
+    # Rao-Blackwellised marginals are not the chains' truncated ones: one call per problem
+    model = make_model("vo")
+    assert LMBFilter(model, ShortChainGibbs(5, 5, marginals="rao-blackwell"))._chain_batch \
+        is None
+    assert LMBFilter(model, Murty(5))._chain_batch is None
+    assert LMBFilter(model, ShortChainGibbs(5, 5, start="lsap"))._chain_batch is None
+
+
+@pytest.mark.parametrize("association", [Murty(20), ShortChainGibbs(50, 5, tau_stall=5,
+                                                                      tau_stale=10)])
+def test_lmb_spatial_scan_with_measurement_birth(monkeypatch, association):
+    # the birth reads r_A(z_j) = Σ_i β_ij of every measurement: the cluster path gathers it
+    # per cluster (0 for a measurement no track gates) and gives the dense path's filter
+    sc = make_scenario("vo", rng=6, n_scans=15)
+    birth = MeasurementBirth(lambda_b=0.2, r_max=0.05)
+    dense = _run(monkeypatch, 1 << 62, association, sc, birth=birth)
+    spatial = _run(monkeypatch, 0, association, sc, birth=birth)
+    assert max(len(r.labels) for r in dense) >= 2  # tracks are born from measurements
+    for a, b in zip(dense, spatial, strict=True):
+        assert_array_equal(a.track_labels, b.track_labels)
+        assert_array_equal(a.labels, b.labels)
+        assert (a.n_tracks, a.n_groups, a.sweeps, a.n_unique) == \
+            (b.n_tracks, b.n_groups, b.sweeps, b.n_unique)
         assert_allclose(b.track_existence, a.track_existence, rtol=1e-12, atol=1e-15)
         assert_allclose(b.states, a.states, rtol=1e-12, atol=1e-9)
 
