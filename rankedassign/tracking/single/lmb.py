@@ -745,7 +745,10 @@ class LMBFilter:
         """
         t0 = perf_counter()
         T = self.n_tracks
-        pairs = gate_pairs(self.m, self.P, self._R, z, self.offsets, self.gate)
+        if self._so is None:
+            pairs = gate_pairs(self.m, self.P, self._R, z, self.offsets, self.gate)
+        else:  # in the sensor's own coordinates (a bearing wraps)
+            pairs = self._so.gate_pairs(self.m, self.P, z, self.offsets, self.gate)
         groups = clusters(pairs).groups()
         n_used = int(np.unique(pairs.meas).size)
         sample_empty = self.sample_empty_groups
