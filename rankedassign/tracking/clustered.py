@@ -156,6 +156,8 @@ class _Cluster(GLMBFilter):
     """A δ-GLMB filter over one cluster of labels, given the births it takes at each scan."""
 
     _birth_sel = np.empty(0, dtype=np.int64)
+    #: The distinct label keys of the table after the last scan (increasing), or None.
+    _ukeys = None
 
     def _predict(self) -> np.ndarray:
         """:meth:`GLMBFilter._predict` with the births ``_birth_sel`` only (their labels
@@ -167,6 +169,9 @@ class _Cluster(GLMBFilter):
         self.m = self.m @ self._F.T
         self.P = self._F @ self.P @ self._F.T + self._Q
         B = sel.size
+        if B == 0:  # most clusters of a large scene take no birth: nothing to append
+            self._births = np.empty(0, dtype=np.int64)
+            return np.full(T_old, self._ps)
         labels = np.empty((B, 2), dtype=np.int64)
         labels[:, 0] = self.k
         labels[:, 1] = sel + 1
@@ -240,6 +245,7 @@ def _keep_entries(c: _Cluster, keep: np.ndarray) -> np.ndarray:
 def _marginal(c: _Cluster, label_keep: np.ndarray) -> _Cluster:
     """The δ-GLMB of ``c`` marginalised onto its labels where ``label_keep`` (per entry)."""
     part = copy.copy(c)
+    part._ukeys = None
     new_index = _keep_entries(part, label_keep)
     acc: dict = {}
     for h in range(c.n_components):
@@ -255,6 +261,7 @@ def _product(a: _Cluster, b: _Cluster, cap: int) -> tuple[_Cluster, float]:
     """The product of two independent δ-GLMBs over disjoint labels, its ``cap`` heaviest
     components kept; returns it and the weight mass the cap dropped."""
     out = copy.copy(a)
+    out._ukeys = None
     Ta = a.n_tracks
     out.labels = np.concatenate([a.labels, b.labels])
     out.offsets = np.concatenate([a.offsets, b.offsets[1:] + a.w.size])
@@ -483,10 +490,14 @@ class ClusteredGLMBFilter:
         # 1. predicted entries of every cluster (as _predict computes them) and the births
         ms, Ps, offs, lab_of_entry = [], [], [np.zeros(1, np.int64)], []
         cl_label_keys, n_labels, n_comp = [], 0, 0
+        cl_inv = []
         for c in self.clusters:
             ukeys, inv = np.unique(_label_keys(c.labels), return_inverse=True)
+            inv = inv.reshape(-1)
+            c._ukeys = ukeys
             cl_label_keys.append(ukeys)
-            lab_of_entry.append(n_labels + inv.reshape(-1))
+            cl_inv.append(inv)
+            lab_of_entry.append(n_labels + inv)
             n_labels += ukeys.size
             ms.append(c.m @ c._F.T)
             Ps.append(c._F @ c.P @ c._F.T + c._Q)
@@ -512,10 +523,9 @@ class ClusteredGLMBFilter:
         parts: list[list] = [[] for _ in range(groups.n_clusters)]
         n_splits = 0
         start = 0
-        for c, ukeys in zip(self.clusters, cl_label_keys, strict=True):
+        for c, ukeys, inv in zip(self.clusters, cl_label_keys, cl_inv, strict=True):
             n = ukeys.size
             lab_g = g_of_label[start:start + n]
-            inv = np.searchsorted(ukeys, _label_keys(c.labels))
             g_e = lab_g[inv]
             gs = np.unique(lab_g)
             if gs.size == 1:
@@ -536,7 +546,9 @@ class ClusteredGLMBFilter:
         for g in range(groups.n_clusters):
             # the parts in increasing order of their smallest label: the product's table (and
             # so the rows of its problems) does not depend on the order of self.clusters
-            ps = sorted(parts[g], key=lambda p: int(_label_keys(p.labels).min()))
+            ps = parts[g]
+            if len(ps) > 1:
+                ps = sorted(ps, key=lambda p: int(_label_keys(p.labels).min()))
             if not ps:
                 c = self._new_cluster()
             else:
@@ -558,13 +570,13 @@ class ClusteredGLMBFilter:
                     f"{_size(CLUSTER_WORK_BYTES)} (CLUSTER_WORK_BYTES); the gates join too "
                     "much of the scene into one cluster: narrow them (gate_prob) or split the "
                     "scene")
-            labs = _label_keys(c.labels)
-            first = int(labs.min()) if labs.size else None
+            labs = c._ukeys if c._ukeys is not None else np.unique(_label_keys(c.labels))
+            first = int(labs[0]) if labs.size else None
             if sel.size:
                 bkey = (self.k + 1) * (1 << 32) + int(sel[0]) + 1
                 first = bkey if first is None else min(first, bkey)
             tasks.append((c, np.ascontiguousarray(z[cols]), [key, first]))
-            scanned_sizes.append(int(np.unique(labs).size + sel.size))
+            scanned_sizes.append(int(labs.size + sel.size))
         # 5. the clusters' scans: each depends on its own state, measurements and stream only,
         # so any split of them over processes gives the same numbers
         for c, rec in self._run(tasks):
@@ -572,10 +584,12 @@ class ClusteredGLMBFilter:
                 timings[name] += rec.timings[name]
             recs.append(rec)
             if c.comp_tracks.size:  # a cluster without any track carries nothing
+                # the record's track labels are the table's distinct labels, increasing
+                c._ukeys = _label_keys(rec.track_labels)
                 new_clusters.append(c)
         self.k += 1
         # the clusters in increasing order of their smallest label: a stable order
-        firsts = [int(_label_keys(c.labels).min()) for c in new_clusters]
+        firsts = [int(c._ukeys[0]) for c in new_clusters]
         order = np.argsort(firsts, kind="stable")
         self.clusters = [new_clusters[i] for i in order]
         return self._record(recs, scanned_sizes, M, n_gated, timings, n_merges, n_splits,
@@ -641,8 +655,7 @@ class ClusteredGLMBFilter:
             n_components=sum(c.n_components for c in self.clusters),
             retained_mass=retained, retained_mass_reason=reason, trajectories=(),
             n_clusters=len(self.clusters),
-            cluster_sizes=np.array([np.unique(_label_keys(c.labels)).size
-                                    for c in self.clusters], dtype=np.int64),
+            cluster_sizes=np.array([c._ukeys.size for c in self.clusters], dtype=np.int64),
             cluster_retained_mass=rm, cluster_scanned_sizes=np.array(scanned_sizes,
                                                                      dtype=np.int64),
             n_merges=n_merges, n_splits=n_splits, merge_dropped_mass=dropped,
