@@ -776,15 +776,15 @@ class LMBFilter:
             sub = self._subset(rows)
             zc = z[cols]
             terms = sub._measurement_terms(zc)
-            # each cluster's rows and columns within the batch's terms
-            local, start = [], 0
-            for r, c in batch:
-                pos = np.searchsorted(terms.used, np.searchsorted(cols, c))
-                local.append((np.arange(start, start + r.size), pos))
-                start += r.size
             tb = perf_counter()
             beta = self._chain_marginals(terms, batch, children, counts)
             if beta is None:  # one call of the association per cluster
+                # each cluster's rows and columns within the batch's terms
+                local, start = [], 0
+                for r, c in batch:
+                    pos = np.searchsorted(terms.used, np.searchsorted(cols, c))
+                    local.append((np.arange(start, start + r.size), pos))
+                    start += r.size
                 beta = np.zeros((rows.size, terms.used.size + 2))
                 beta = sub._fill_marginals(beta, terms, local, children, counts)
             tc = perf_counter()
