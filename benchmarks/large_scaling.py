@@ -22,8 +22,8 @@ square has a larger share of such targets). With several ``--seeds`` every (filt
 once per scenario seed (the filter's streams are keyed by the scan, as before), one line
 each, then the mean, standard deviation and range of the errors over the seeds.
 ``--sensor bearing-range`` runs the scenario's bearing–range sensor
-(``make_scenario("large", ..., sensor="bearing-range")``, the LMB filter only: the clustered
-δ-GLMB filter takes linear models). ``unreported_per_target`` is the share of targets the filter does not report (each counts
+(``make_scenario("large", ..., sensor="bearing-range")``). ``unreported_per_target`` is the
+share of targets the filter does not report (each counts
 ``c`` in the labelled error) and ``error_reported_m`` the error over the reported ones.
 """
 
