@@ -26,6 +26,14 @@ from rankedassign.tracking.clustered import (
     _marginal,
     _product,
 )
+from rankedassign.tracking.nonlinear import (
+    BearingRange,
+    BearingRangeClutter,
+    ExtendedKalmanFilter,
+    GaussianBirth,
+    LinearGaussianMotion,
+    NonlinearModel,
+)
 
 SHORT = ShortChainGibbs(50, 5, tau_stall=5, tau_stale=10)
 
@@ -210,3 +218,52 @@ def test_one_and_two_workers_give_the_same_numbers():
         ClusteredGLMBFilter(sc.model, SHORT, workers=0)
     with pytest.raises(TypeError, match="workers must be an int, got float 1.5"):
         ClusteredGLMBFilter(sc.model, SHORT, workers=1.5)
+
+
+def _one_place_bearing_range_model():
+    """_one_place_model's motion and birth seen by a bearing-range sensor 1 km below."""
+    return NonlinearModel(
+        motion=LinearGaussianMotion.from_motion(ConstantVelocity(1.0, 5.0)),
+        sensor=BearingRange(0.005, 10.0, sensor_position=(0.0, -1000.0), p_d=0.98,
+                            state_ndim=4, position_indices=(0, 2)),
+        clutter=BearingRangeClutter(5.0, (-np.pi, np.pi), (0.0, 3000.0)),
+        birth=(GaussianBirth(0.03, np.zeros(4), 100.0 * np.eye(4)),), p_s=0.99,
+        filter=ExtendedKalmanFilter())
+
+
+def test_one_cluster_equals_the_glmb_filter_on_a_nonlinear_model():
+    # a NonlinearModel: the EKF's prediction and update, the gate in (bearing, range)
+    model = _one_place_bearing_range_model()
+    f = ClusteredGLMBFilter(model, Murty(30), retained_mass=True)
+    g = GLMBFilter(model, Murty(30), retained_mass=True)
+    for k, xy in enumerate(_close_scans()):
+        x = np.zeros((2, 4))
+        x[:, [0, 2]] = xy
+        z = model.sensor.h(x)
+        a = f.step(z, rng=k)
+        b = g.step(z, rng=k)
+        assert a.n_clusters == 1 and a.n_splits == 0
+        assert_array_equal(a.labels, b.labels)
+        assert_array_equal(a.track_labels, b.track_labels)
+        assert_allclose(a.states, b.states, rtol=1e-12, atol=1e-12)
+        assert_allclose(a.track_existence, b.track_existence, rtol=1e-12, atol=1e-12)
+        assert_allclose(a.cardinality, b.cardinality, rtol=1e-12, atol=1e-12)
+        assert_allclose(a.retained_mass, b.retained_mass, rtol=1e-12)
+    assert a.labels.shape[0] == 2
+
+
+def test_a_bearing_range_large_scene():
+    # make_scenario("large", sensor="bearing-range"): the clusters gate in (bearing, range)
+    n = 150
+    sc = make_scenario("large", n_targets=n, n_scans=3, rng=1, sensor="bearing-range")
+    means = np.linalg.solve(sc.model.motion.F, sc.truth.states[0].T).T
+    labels = np.column_stack([np.zeros(n, np.int64), np.arange(1, n + 1)])
+    f = ClusteredGLMBFilter(sc.model, SHORT)
+    f.set_prior(labels, means, np.tile(np.diag([100.0, 25.0, 100.0, 25.0]), (n, 1, 1)))
+    for k, s in enumerate(sc.scans):
+        rec = f.step(s.z, rng=k)
+    prior = rec.labels[:, 0] == 0
+    assert prior.sum() >= 0.97 * n and rec.n_clusters > 40
+    est = rec.states[prior][:, [0, 2]]
+    truth = sc.truth.states[-1][rec.labels[prior, 1] - 1][:, [0, 2]]
+    assert np.median(np.linalg.norm(est - truth, axis=1)) < 10.0

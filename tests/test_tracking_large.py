@@ -12,6 +12,8 @@ from rankedassign.tracking import (
     make_model,
     make_scenario,
 )
+from rankedassign.tracking.nonlinear import BearingRange, NonlinearModel
+from rankedassign.tracking.presets import LARGE_SIGMA_BEARING
 from rankedassign.tracking.scenario import LARGE_CELL, large_model
 
 
@@ -51,6 +53,36 @@ def test_large_scenario_refuses_bad_n_targets():
         make_scenario("large", n_targets=10**7)
     with pytest.raises(ValueError, match="n_targets is an option of the 'large' scenario only"):
         make_scenario("vo", n_targets=10)
+
+
+def test_large_bearing_range_scenario():
+    # the same truth as the position sensor's scenario; measurements [bearing, range] from a
+    # sensor near the centre, so every bearing occurs (those below the sensor wrap at ±π)
+    sc = make_scenario("large", n_targets=900, n_scans=2, rng=3, sensor="bearing-range")
+    pos = make_scenario("large", n_targets=900, n_scans=2, rng=3)
+    assert isinstance(sc.model, NonlinearModel) and isinstance(sc.model.sensor, BearingRange)
+    assert sc.model.sensor.sigma_bearing == LARGE_SIGMA_BEARING
+    assert np.array_equal(sc.truth.states, pos.truth.states)
+    z, origin = sc.scans[0].z, sc.scans[0].origin
+    assert z.shape[1] == 2 and np.all(np.abs(z[:, 0]) <= np.pi)
+    assert (z[:, 0] > 3.0).any() and (z[:, 0] < -3.0).any()
+    # detections: [bearing, range] of their target, within a few σ
+    det = origin >= 0
+    x = sc.truth.states[0][origin[det]]
+    zz = sc.model.sensor.h(x)
+    d = np.pi - np.mod(np.pi - (z[det, 0] - zz[:, 0]), 2 * np.pi)
+    assert np.abs(d).max() < 6 * LARGE_SIGMA_BEARING
+    assert np.abs(z[det, 1] - zz[:, 1]).max() < 60.0
+    # the same clutter count on average (0.3 a target)
+    assert sc.model.clutter.rate == pytest.approx(0.3 * 900)
+
+
+def test_large_scenario_refuses_a_bad_sensor():
+    with pytest.raises(ValueError, match=r"unknown sensor 'sonar'; expected one of \('position', "
+                                         r"'bearing-range'\)"):
+        make_scenario("large", n_targets=10, sensor="sonar")
+    with pytest.raises(ValueError, match="sensor is an option of the 'large' scenario only"):
+        make_scenario("vo", sensor="bearing-range")
 
 
 def test_large_scenario_without_targets():

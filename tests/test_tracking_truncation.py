@@ -96,7 +96,11 @@ def test_the_multisensor_method_has_one_default_and_is_ignored_on_one_sensor():
 
 def test_batch_plans_say_what_the_glmb_filters_may_batch():
     assert ShortChainGibbs(4, 5, tau_stall=5).batch_plan("single-sensor") == BatchPlan(
-        chains=True, tau_stall=5, start_alone=True)
+        chains=True, tau_stall=5, start_alone=True, marginal_chains=(4, 5))
+    # a marginals call of the chains is batched only for the truncated marginals
+    assert OriginalGibbs(9).batch_plan("single-sensor").marginal_chains == (1, 9)
+    assert ShortChainGibbs(4, 5, marginals="rao-blackwell").batch_plan(
+        "single-sensor") == BatchPlan(chains=True, start_alone=True)
     assert ShortChainGibbs(4, 5, backend="python").batch_plan("single-sensor") == BatchPlan(
         start_alone=True)
     assert OriginalGibbs(4).batch_plan("multi-sensor") == BatchPlan(start_alone=True)

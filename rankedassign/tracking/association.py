@@ -116,6 +116,11 @@ class BatchPlan(NamedTuple):
         compiled loops over the components.
     k : int
         See ``ranked``.
+    marginal_chains : tuple of (int, int) or None
+        With ``chains``: the chains and sweeps per chain of one call ``assoc(problem, rng)``
+        (the marginals question) when its marginals are the truncated ones, so that the LMB
+        filter's cluster path may run the calls of many problems in one compiled call; None
+        otherwise.
     """
 
     chains: bool = False
@@ -125,6 +130,7 @@ class BatchPlan(NamedTuple):
     start_alone: bool = False
     ranked: bool = False
     k: int = 0
+    marginal_chains: tuple | None = None
 
 
 def association_name(association) -> str:
@@ -561,8 +567,9 @@ class _Sampled(Association):
                 "from its missed ones")
         return None
 
-    def _chain_plan(self, sensors: str, tau_stall, tau_stale) -> BatchPlan:
-        """The chains' plan: compiled for one sensor with the kernel's readings."""
+    def _chain_plan(self, sensors: str, tau_stall, tau_stale, call=None) -> BatchPlan:
+        """The chains' plan: compiled for one sensor with the kernel's readings; ``call`` is
+        ``(chains, sweeps per chain)`` of one marginals call."""
         if sensors == "multi-sensor":
             return BatchPlan(start_alone=True)
         opts = dict(self.options)
@@ -576,7 +583,8 @@ class _Sampled(Association):
                 or scan not in ("systematic", "random") or opts):
             return BatchPlan(start_alone=True)
         return BatchPlan(chains=True, random_scan=scan == "random", tau_stall=tau_stall or 0,
-                         tau_stale=tau_stale or 0, start_alone=True)
+                         tau_stale=tau_stale or 0, start_alone=True,
+                         marginal_chains=call if self.marginals == "truncated" else None)
 
 
 class OriginalGibbs(_Sampled):
@@ -676,7 +684,8 @@ class OriginalGibbs(_Sampled):
                           int(res.n_row_updates))
 
     def batch_plan(self, sensors: str) -> BatchPlan | None:
-        return self._chain_plan(sensors, None, None)
+        # a call is sample_original(problem, n_obs): one chain of n_obs sweeps, no rules
+        return self._chain_plan(sensors, None, None, (1, self.n_obs))
 
 
 class ShortChainGibbs(_Sampled):
@@ -788,7 +797,8 @@ class ShortChainGibbs(_Sampled):
                           int(res.n_row_updates))
 
     def batch_plan(self, sensors: str) -> BatchPlan | None:
-        return self._chain_plan(sensors, self.tau_stall, self.tau_stale)
+        return self._chain_plan(sensors, self.tau_stall, self.tau_stale,
+                                (self.n_chains, self.chain_length))
 
 
 class HerdedGibbs(_Sampled):

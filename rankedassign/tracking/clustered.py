@@ -52,6 +52,7 @@ from ..validation import MAX_WORK_BYTES, check_int, check_type
 from .common import check_measurements as _check_measurements
 from .gating import GatedPairs, clusters, gate_pairs
 from .models import Model
+from .nonlinear.vo import NonlinearModel
 from .single.glmb import GLMBFilter
 
 __all__ = ["CLUSTER_WORK_BYTES", "PAIR_BYTES", "ClusteredGLMBFilter", "ClusteredScanRecord"]
@@ -156,6 +157,8 @@ class _Cluster(GLMBFilter):
     """A δ-GLMB filter over one cluster of labels, given the births it takes at each scan."""
 
     _birth_sel = np.empty(0, dtype=np.int64)
+    #: The distinct label keys of the table after the last scan (increasing), or None.
+    _ukeys = None
 
     def _predict(self) -> np.ndarray:
         """:meth:`GLMBFilter._predict` with the births ``_birth_sel`` only (their labels
@@ -163,21 +166,46 @@ class _Cluster(GLMBFilter):
         self.k += 1
         T_old = self.n_tracks
         sel = self._birth_sel
-        # m <- F m ; P <- F P F' + Q
-        self.m = self.m @ self._F.T
-        self.P = self._F @ self.P @ self._F.T + self._Q
+        self.m, self.P = _predicted(self, self.m, self.P)
         B = sel.size
+        if B == 0:  # most clusters of a large scene take no birth: nothing to append
+            self._births = np.empty(0, dtype=np.int64)
+            return np.full(T_old, self._ps)
         labels = np.empty((B, 2), dtype=np.int64)
         labels[:, 0] = self.k
         labels[:, 1] = sel + 1
         self.labels = np.concatenate([self.labels, labels])
-        self.offsets = np.concatenate([self.offsets, self.w.size + np.arange(1, B + 1)])
-        self.w = np.concatenate([self.w, np.ones(B)])
-        self.m = np.ascontiguousarray(np.concatenate([self.m, self._birth_m[sel]]))
-        self.P = np.ascontiguousarray(np.concatenate([self.P, self._birth_P[sel]]))
+        n, comp = _birth_components(self, sel)
+        self.offsets = np.concatenate([self.offsets, self.w.size + np.cumsum(n)])
+        self.w = np.concatenate([self.w, self._birth_weights()[comp]])
+        self.m = np.ascontiguousarray(np.concatenate([self.m, self._birth_m[comp]]))
+        self.P = np.ascontiguousarray(np.concatenate([self.P, self._birth_P[comp]]))
         self.hist = np.concatenate([self.hist, np.full(B, -1, dtype=np.int64)])
         self._births = np.arange(T_old, T_old + B, dtype=np.int64)
         return np.concatenate([np.full(T_old, self._ps), self._birth_r[sel]])
+
+    def _birth_weights(self) -> np.ndarray:
+        """Weights of the birth terms' Gaussians (one Gaussian of weight 1 a term, or the
+        non-linear model's mixtures)."""
+        return np.ones(self._birth_r.size) if self._so is None else self._so.birth_w
+
+
+def _predicted(c: GLMBFilter, m: np.ndarray, P: np.ndarray):
+    """``m``, ``P`` one scan on by the motion of ``c`` (``F m``, ``F P Fᵀ + Q``, or the
+    non-linear model's filter)."""
+    if c._so is not None:
+        return c._so.predict(m, P)
+    return m @ c._F.T, c._F @ P @ c._F.T + c._Q
+
+
+def _birth_components(c: GLMBFilter, sel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Gaussians of the birth terms ``sel``: their counts and their indices (in order)."""
+    if c._so is None:  # one Gaussian a term
+        return np.ones(sel.size, dtype=np.int64), sel
+    counts = c._so.birth_counts
+    off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    comp, n = _segments(off, np.arange(int(off[-1])), sel)
+    return n, comp
 
 
 def _label_keys(labels: np.ndarray) -> np.ndarray:
@@ -240,6 +268,7 @@ def _keep_entries(c: _Cluster, keep: np.ndarray) -> np.ndarray:
 def _marginal(c: _Cluster, label_keep: np.ndarray) -> _Cluster:
     """The δ-GLMB of ``c`` marginalised onto its labels where ``label_keep`` (per entry)."""
     part = copy.copy(c)
+    part._ukeys = None
     new_index = _keep_entries(part, label_keep)
     acc: dict = {}
     for h in range(c.n_components):
@@ -255,6 +284,7 @@ def _product(a: _Cluster, b: _Cluster, cap: int) -> tuple[_Cluster, float]:
     """The product of two independent δ-GLMBs over disjoint labels, its ``cap`` heaviest
     components kept; returns it and the weight mass the cap dropped."""
     out = copy.copy(a)
+    out._ukeys = None
     Ta = a.n_tracks
     out.labels = np.concatenate([a.labels, b.labels])
     out.offsets = np.concatenate([a.offsets, b.offsets[1:] + a.w.size])
@@ -315,8 +345,11 @@ class ClusteredGLMBFilter:
 
     Parameters
     ----------
-    model : Model
-        As :class:`~rankedassign.tracking.GLMBFilter`.
+    model : Model or NonlinearModel
+        As :class:`~rankedassign.tracking.GLMBFilter`; with a
+        :class:`~rankedassign.tracking.nonlinear.NonlinearModel` (e.g. the ``"large"``
+        scenario's bearing–range sensor) the entries are gated in the sensor's own coordinates
+        (:meth:`~rankedassign.tracking.nonlinear.step.SingleObject.gate_pairs`).
     association : object
         The truncation of every cluster's components (any truncation
         :class:`~rankedassign.tracking.GLMBFilter` takes).
@@ -384,7 +417,8 @@ class ClusteredGLMBFilter:
     def __init__(self, model: Model, association, *, gate_prob: float = 0.9999999,
                  h_upd: int = 1000, h_max: int = 1000, extraction: str | None = None,
                  retained_mass: bool = False, workers: int = 1, **options):
-        check_type(model, "model", Model, "build one with make_model(preset) or Model(...)")
+        check_type(model, "model", (Model, NonlinearModel),
+                   "build one with make_model(preset) or Model(...)")
         self.workers = check_int(workers, "workers", minimum=1)
         self._executor = None
         if gate_prob is None:
@@ -473,28 +507,34 @@ class ClusteredGLMBFilter:
             terms would take more than :data:`CLUSTER_WORK_BYTES` (every track gated to every
             measurement in a large scene), with the size.
         """
-        z = _check_measurements(z)
+        tpl = self._template
+        z = _check_measurements(z) if tpl._so is None else tpl._so.check_measurements(z)
         gen = spawning_generator(rng)
         key = int(gen.integers(0, _TWO63, dtype=np.uint64))
         t0 = perf_counter()
-        tpl = self._template
         M = z.shape[0]
         B = tpl._birth_r.size
         # 1. predicted entries of every cluster (as _predict computes them) and the births
         ms, Ps, offs, lab_of_entry = [], [], [np.zeros(1, np.int64)], []
         cl_label_keys, n_labels, n_comp = [], 0, 0
+        cl_inv = []
         for c in self.clusters:
             ukeys, inv = np.unique(_label_keys(c.labels), return_inverse=True)
+            inv = inv.reshape(-1)
+            c._ukeys = ukeys
             cl_label_keys.append(ukeys)
-            lab_of_entry.append(n_labels + inv.reshape(-1))
+            cl_inv.append(inv)
+            lab_of_entry.append(n_labels + inv)
             n_labels += ukeys.size
-            ms.append(c.m @ c._F.T)
-            Ps.append(c._F @ c.P @ c._F.T + c._Q)
+            m, P = _predicted(c, c.m, c.P)
+            ms.append(m)
+            Ps.append(P)
             offs.append(c.offsets[1:] + n_comp)
             n_comp += c.w.size
+        n_birth, _ = _birth_components(tpl, np.arange(B))
         ms.append(tpl._birth_m)
         Ps.append(tpl._birth_P)
-        offs.append(n_comp + np.arange(1, B + 1))
+        offs.append(n_comp + np.cumsum(n_birth))
         lab_of_entry.append(n_labels + np.arange(B))
         L = n_labels + B
         m_all = np.ascontiguousarray(np.concatenate(ms))
@@ -502,7 +542,10 @@ class ClusteredGLMBFilter:
         off_all = np.concatenate(offs).astype(np.int64)
         entry_label = np.concatenate(lab_of_entry).astype(np.int64)
         # 2. gate and group the labels
-        pairs = gate_pairs(m_all, P_all, tpl._R, z, off_all, self.gate)
+        if tpl._so is None:
+            pairs = gate_pairs(m_all, P_all, tpl._R, z, off_all, self.gate)
+        else:  # in the sensor's own coordinates (a bearing wraps)
+            pairs = tpl._so.gate_pairs(m_all, P_all, z, off_all, self.gate)
         n_gated = int(np.unique(pairs.meas).size)
         groups = clusters(GatedPairs(entry_label[pairs.track], pairs.meas, L, M,
                                      pairs.n_candidates))
@@ -512,10 +555,9 @@ class ClusteredGLMBFilter:
         parts: list[list] = [[] for _ in range(groups.n_clusters)]
         n_splits = 0
         start = 0
-        for c, ukeys in zip(self.clusters, cl_label_keys, strict=True):
+        for c, ukeys, inv in zip(self.clusters, cl_label_keys, cl_inv, strict=True):
             n = ukeys.size
             lab_g = g_of_label[start:start + n]
-            inv = np.searchsorted(ukeys, _label_keys(c.labels))
             g_e = lab_g[inv]
             gs = np.unique(lab_g)
             if gs.size == 1:
@@ -536,7 +578,9 @@ class ClusteredGLMBFilter:
         for g in range(groups.n_clusters):
             # the parts in increasing order of their smallest label: the product's table (and
             # so the rows of its problems) does not depend on the order of self.clusters
-            ps = sorted(parts[g], key=lambda p: int(_label_keys(p.labels).min()))
+            ps = parts[g]
+            if len(ps) > 1:
+                ps = sorted(ps, key=lambda p: int(_label_keys(p.labels).min()))
             if not ps:
                 c = self._new_cluster()
             else:
@@ -549,22 +593,23 @@ class ClusteredGLMBFilter:
             sel = np.array(births_of[g], dtype=np.int64)
             c._birth_sel = sel
             cols = cols_of[g][1]
-            need = (c.w.size + sel.size) * cols.size * PAIR_BYTES
+            n_gauss = c.w.size + int(n_birth[sel].sum())
+            need = n_gauss * cols.size * PAIR_BYTES
             if need > CLUSTER_WORK_BYTES:
                 raise ValueError(
                     f"a cluster of {np.unique(_label_keys(c.labels)).size + sel.size} labels "
-                    f"({c.w.size + sel.size} Gaussian components) gates {cols.size} "
+                    f"({n_gauss} Gaussian components) gates {cols.size} "
                     f"measurements: its scan would need {_size(need)} for its terms, above "
                     f"{_size(CLUSTER_WORK_BYTES)} (CLUSTER_WORK_BYTES); the gates join too "
                     "much of the scene into one cluster: narrow them (gate_prob) or split the "
                     "scene")
-            labs = _label_keys(c.labels)
-            first = int(labs.min()) if labs.size else None
+            labs = c._ukeys if c._ukeys is not None else np.unique(_label_keys(c.labels))
+            first = int(labs[0]) if labs.size else None
             if sel.size:
                 bkey = (self.k + 1) * (1 << 32) + int(sel[0]) + 1
                 first = bkey if first is None else min(first, bkey)
             tasks.append((c, np.ascontiguousarray(z[cols]), [key, first]))
-            scanned_sizes.append(int(np.unique(labs).size + sel.size))
+            scanned_sizes.append(int(labs.size + sel.size))
         # 5. the clusters' scans: each depends on its own state, measurements and stream only,
         # so any split of them over processes gives the same numbers
         for c, rec in self._run(tasks):
@@ -572,10 +617,12 @@ class ClusteredGLMBFilter:
                 timings[name] += rec.timings[name]
             recs.append(rec)
             if c.comp_tracks.size:  # a cluster without any track carries nothing
+                # the record's track labels are the table's distinct labels, increasing
+                c._ukeys = _label_keys(rec.track_labels)
                 new_clusters.append(c)
         self.k += 1
         # the clusters in increasing order of their smallest label: a stable order
-        firsts = [int(_label_keys(c.labels).min()) for c in new_clusters]
+        firsts = [int(c._ukeys[0]) for c in new_clusters]
         order = np.argsort(firsts, kind="stable")
         self.clusters = [new_clusters[i] for i in order]
         return self._record(recs, scanned_sizes, M, n_gated, timings, n_merges, n_splits,
@@ -614,7 +661,8 @@ class ClusteredGLMBFilter:
             return np.concatenate(arrs) if arrs else np.empty(shape)
 
         labels = cat("labels", (0, 2)).astype(np.int64).reshape(-1, 2)
-        states = cat("states", (0, 4)).reshape(-1, 4)
+        d = self._template._d
+        states = cat("states", (0, d)).reshape(-1, d)
         ex = cat("existence", (0,))
         o = np.argsort(_label_keys(labels), kind="stable")
         tl = cat("track_labels", (0, 2)).astype(np.int64).reshape(-1, 2)
@@ -641,8 +689,7 @@ class ClusteredGLMBFilter:
             n_components=sum(c.n_components for c in self.clusters),
             retained_mass=retained, retained_mass_reason=reason, trajectories=(),
             n_clusters=len(self.clusters),
-            cluster_sizes=np.array([np.unique(_label_keys(c.labels)).size
-                                    for c in self.clusters], dtype=np.int64),
+            cluster_sizes=np.array([c._ukeys.size for c in self.clusters], dtype=np.int64),
             cluster_retained_mass=rm, cluster_scanned_sizes=np.array(scanned_sizes,
                                                                      dtype=np.int64),
             n_merges=n_merges, n_splits=n_splits, merge_dropped_mass=dropped,

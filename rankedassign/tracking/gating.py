@@ -35,7 +35,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 __all__ = ["GatedPairs", "Clusters", "gate_radii", "candidate_pairs", "gate_pairs",
-           "clusters", "dense_gate"]
+           "sensor_candidate_pairs", "track_pairs", "clusters", "dense_gate"]
 
 #: Relative widening of the bounding disc: the rounding of ``λ_max`` and of the exact test is
 #: some 1e-15, so a pair the exact test accepts is never pruned by the tree.
@@ -242,7 +242,6 @@ def gate_pairs(m: np.ndarray, P: np.ndarray, R: np.ndarray, z: np.ndarray,
     R = np.asarray(R, dtype=np.float64)
     z = np.asarray(z, dtype=np.float64)
     offsets = np.asarray(offsets, dtype=np.int64)
-    T = offsets.size - 1
     M = z.shape[0]
     comp, meas = candidate_pairs(m[:, [0, 2]], gate_radii(P, R, gate), z)
     n_cand = int(comp.size)
@@ -257,11 +256,119 @@ def gate_pairs(m: np.ndarray, P: np.ndarray, R: np.ndarray, z: np.ndarray,
             q = i00 * (n0 * n0) + cross * n0 * n1 + i11 * (n1 * n1)
         ok = q <= gate
         comp, meas = comp[ok], meas[ok]
+    return track_pairs(comp, meas, offsets, M, n_cand)
+
+
+def sensor_candidate_pairs(zhat: np.ndarray, S: np.ndarray, z: np.ndarray, gate: float,
+                           angles: np.ndarray, scale: np.ndarray
+                           ) -> tuple[np.ndarray, np.ndarray]:
+    """Every (component, measurement) pair that can pass the χ² gate, in a sensor's own
+    coordinates (e.g. bearing and range).
+
+    The measurements are indexed in the scaled coordinates ``z_d / scale_d``, with a periodic
+    axis of length ``2π / scale_d`` for every angle (:class:`scipy.spatial.cKDTree`'s
+    ``boxsize``), so that a bearing near ``+π`` is near one near ``−π``. In scaled coordinates
+    the innovation is ``D ν`` (``D = diag(1/scale)``) with covariance ``D S D``, and the gate
+    ``νᵀ S⁻¹ ν <= γ`` lies inside the disc of radius ``√(γ λ_max(D S D))`` about ``D ẑ``
+    (widened by :data:`RADIUS_SLACK`); the tree's periodic distance is that of the wrapped
+    innovation. The tree prunes; the caller's exact test decides
+    (:meth:`rankedassign.tracking.nonlinear.step.SingleObject.gate_pairs`).
+
+    Parameters
+    ----------
+    zhat : ndarray, shape (C, d_z)
+        Predicted measurements.
+    S : ndarray, shape (C, d_z, d_z)
+        Innovation covariances.
+    z : ndarray, shape (M, d_z)
+        Measurements.
+    gate : float
+        Threshold ``γ`` on the squared Mahalanobis distance.
+    angles : ndarray of bool, shape (d_z,)
+        Which coordinates are angles (periodic, ``2π``).
+    scale : ndarray, shape (d_z,)
+        Positive scale of every coordinate (the sensor's noise standard deviations make the
+        gates about round).
+
+    Returns
+    -------
+    comp, meas : ndarray of int64, shape (K,)
+        The candidate pairs, sorted by component then measurement.
+
+    Examples
+    --------
+    A bearing of ``+3.14`` rad is 0.18° from one of ``−3.14`` rad, across ``±π``:
+
+    >>> import numpy as np
+    >>> S = np.diag([0.01**2, 10.0**2])[None]
+    >>> c, j = sensor_candidate_pairs(np.array([[3.14, 500.0]]), S,
+    ...                               np.array([[-3.14, 505.0], [3.14, 900.0]]), 32.2,
+    ...                               np.array([True, False]), np.array([0.01, 10.0]))
+    >>> c.tolist(), j.tolist()
+    ([0], [0])
+    """
+    zhat = np.asarray(zhat, dtype=np.float64)
+    S = np.asarray(S, dtype=np.float64)
+    z = np.asarray(z, dtype=np.float64)
+    angles = np.asarray(angles, dtype=bool)
+    scale = np.asarray(scale, dtype=np.float64)
+    if zhat.shape[0] == 0 or z.shape[0] == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    # λ_max of the symmetric part of D S D (ν' S⁻¹ ν only sees the symmetric part)
+    Ss = S / np.multiply.outer(scale, scale)
+    with np.errstate(invalid="ignore"):
+        lam = np.linalg.eigvalsh(0.5 * (Ss + Ss.transpose(0, 2, 1)))[:, -1]
+        radii = np.sqrt(gate * lam) * (1.0 + RADIUS_SLACK)
+    radii[~np.isfinite(radii)] = np.inf
+    box = np.where(angles, 2.0 * np.pi / scale, 0.0)  # 0: not periodic
+
+    def scaled(x):
+        x = x / scale
+        if angles.any():
+            a = np.mod(x[:, angles], box[angles])
+            # mod may round up to the box's length itself, which cKDTree refuses
+            x[:, angles] = np.where(a >= box[angles], 0.0, a)
+        return x
+
+    tree = cKDTree(scaled(z), boxsize=box if angles.any() else None)
+    return candidate_pairs(scaled(zhat), radii, z, tree=tree)
+
+
+def track_pairs(comp: np.ndarray, meas: np.ndarray, offsets: np.ndarray, n_meas: int,
+                n_candidates: int) -> GatedPairs:
+    """The track–measurement pairs of gated component–measurement pairs.
+
+    Parameters
+    ----------
+    comp, meas : ndarray of int64, shape (K,)
+        Component–measurement pairs that passed the gate.
+    offsets : ndarray of int64, shape (T + 1,)
+        Component range of every track.
+    n_meas : int
+        ``M``.
+    n_candidates : int
+        Pairs the exact test ran on.
+
+    Returns
+    -------
+    GatedPairs
+        A pair where some component of the track passed, sorted, without repeats.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = track_pairs(np.array([0, 1, 2]), np.array([1, 1, 0]), np.array([0, 2, 3]), 2, 5)
+    >>> g.track.tolist(), g.meas.tolist()
+    ([0, 1], [1, 0])
+    """
+    offsets = np.asarray(offsets, dtype=np.int64)
+    M = max(int(n_meas), 1)
     track = np.searchsorted(offsets, comp, side="right") - 1
     if track.size:
-        key = np.unique(track * max(M, 1) + meas)
-        track, meas = key // max(M, 1), key % max(M, 1)
-    return GatedPairs(track.astype(np.int64), meas.astype(np.int64), T, M, n_cand)
+        key = np.unique(track * M + meas)
+        track, meas = key // M, key % M
+    return GatedPairs(np.asarray(track, np.int64), np.asarray(meas, np.int64),
+                      offsets.size - 1, int(n_meas), int(n_candidates))
 
 
 def dense_gate(pairs: GatedPairs) -> np.ndarray:

@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import reference
 from ..common import check_measurements, gate_threshold
+from ..gating import GatedPairs, sensor_candidate_pairs, track_pairs
 from .models import wrap_angle
 from .multisensor import NonlinearMultiSensorModel, StackedSensor
 from .vo import NonlinearModel
@@ -270,6 +271,61 @@ class SingleObject:
         log_det = pred.log_det + (dz - 2) * _LOG_2PI
         return MeasurementTerms(np.ascontiguousarray(maha), np.ascontiguousarray(log_det),
                                 np.ascontiguousarray(nu), K, P_upd, gated)
+
+    def gate_pairs(self, m, P, z, offsets, gate: float) -> GatedPairs:
+        """The χ² gate of every track and measurement, on spatial candidates only.
+
+        The candidates come from a k-d tree of the measurements in the sensor's own
+        coordinates, each scaled by its noise standard deviation, angles periodic
+        (:func:`~rankedassign.tracking.gating.sensor_candidate_pairs`); the exact test is that
+        of :meth:`measurement_terms` (the wrapped innovation, the same expression of
+        ``νᵀ S⁻¹ ν``), so the pairs are those of its ``gated`` matrix.
+
+        Parameters
+        ----------
+        m, P : ndarray, shapes (C, d) and (C, d, d)
+            Predicted means and covariances.
+        z : ndarray, shape (M, d_z)
+            Measurements.
+        offsets : ndarray of int64, shape (T + 1,)
+            Component range of every track.
+        gate : float
+            Threshold on the squared Mahalanobis distance.
+
+        Returns
+        -------
+        GatedPairs
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from rankedassign.tracking.nonlinear import make_nonlinear_model
+        >>> so = SingleObject(make_nonlinear_model("vo-ekf"))
+        >>> m = np.array([[0.0, 0, -500, 0, 0]])           # straight below: bearing ±π
+        >>> z = np.array([[-np.pi + 0.01, 505.0], [np.pi - 0.01, 495.0], [0.0, 500.0]])
+        >>> g = so.gate_pairs(m, np.diag([100.0, 1, 100, 1, 0.01])[None], z, np.array([0, 1]),
+        ...                   30.0)
+        >>> g.meas.tolist()
+        [0, 1]
+        """
+        pred = self.filter.predict_measurement(self.sensor, m, P)
+        scale = np.sqrt(np.diagonal(np.asarray(self.sensor.R, dtype=np.float64)))
+        comp, meas = sensor_candidate_pairs(pred.z, pred.S, z, gate, pred.angles, scale)
+        n_cand = int(comp.size)
+        if n_cand:
+            nu = z[meas] - pred.z[comp]
+            if pred.angles.any():
+                nu[:, pred.angles] = wrap_angle(nu[:, pred.angles])
+            Si = pred.S_inv[comp]
+            if nu.shape[1] == 2:  # measurement_terms' expression, term by term
+                maha = (Si[:, 0, 0] * nu[:, 0] ** 2
+                        + (Si[:, 0, 1] + Si[:, 1, 0]) * nu[:, 0] * nu[:, 1]
+                        + Si[:, 1, 1] * nu[:, 1] ** 2)
+            else:
+                maha = np.einsum("ci,cij,cj->c", nu, Si, nu)
+            ok = maha <= gate
+            comp, meas = comp[ok], meas[ok]
+        return track_pairs(comp, meas, offsets, z.shape[0], n_cand)
 
     # ------------------------------------------------------------------------- update
     @staticmethod

@@ -893,7 +893,9 @@ class GLMBFilter:
         w = w / kept
         starts = children.off[first[order]]
         sizes = children.off[first[order] + 1] - starts
-        idx = np.repeat(starts - np.cumsum(np.r_[0, sizes[:-1]]), sizes) + np.arange(sizes.sum())
+        # (concatenate, not np.r_: the clustered filter runs thousands of these scans a scan)
+        idx = (np.repeat(starts - np.cumsum(np.concatenate(([0], sizes[:-1]))), sizes)
+               + np.arange(sizes.sum()))
         kept_ids = ids[idx]
         # drop the entries no kept component uses; the remap keeps the order
         used_ids, comp_tracks = np.unique(kept_ids, return_inverse=True)

@@ -55,6 +55,8 @@ from ..gating import GatedPairs, clusters, gate_pairs
 from ..models import EXTRACTIONS, ConstantVelocity, LinearMotion, Model
 from ..nonlinear.step import single_object
 from ..nonlinear.vo import NonlinearModel
+from . import _glmb_kernels
+from .glmb import _zobrist
 
 __all__ = [
     "BETA_TOL",
@@ -357,6 +359,15 @@ class LMBFilter:
         self.max_components = check_int(max_components, "max_components", minimum=1)
         self.model = model
         self.association = association
+        # chains the cluster path may run for many problems in one compiled call (the
+        # truncation's own plan; None: one call of the association per problem)
+        plan = getattr(association, "batch_plan", None)
+        plan = plan(self._sensors) if callable(plan) else None
+        self._chain_batch = None
+        if plan is not None and plan.chains and plan.marginal_chains is not None:
+            self._chain_batch = (plan.marginal_chains, _glmb_kernels.ChainRules(
+                random_scan=plan.random_scan, tau_stall=plan.tau_stall,
+                tau_stale=plan.tau_stale))
         #: The single-object path of a non-linear model (None: the linear Kalman kernels).
         self._so = single_object(model)
         self._d = 4 if self._so is None else self._so.ndim
@@ -463,11 +474,9 @@ class LMBFilter:
         self._birth_P = np.ascontiguousarray(b.covs, dtype=np.float64).reshape(-1, d, d)
         self._birth_index = np.arange(1, self._birth_r.size + 1, dtype=np.int64)
 
-    def _measurement_births(self, z: np.ndarray, used: np.ndarray, beta: np.ndarray) -> float:
+    def _measurement_births(self, z: np.ndarray, r_A: np.ndarray) -> float:
         """Make the next scan's births from ``r_A(z_j) = Σ_i β_ij``; return the seconds."""
         t0 = perf_counter()
-        r_A = np.zeros(z.shape[0])
-        r_A[used] = beta[:, :used.size].sum(axis=0)
         self._set_measurement_births(self.birth.births_from(
             z, r_A, self.model.sensor))
         return perf_counter() - t0
@@ -741,7 +750,10 @@ class LMBFilter:
         """
         t0 = perf_counter()
         T = self.n_tracks
-        pairs = gate_pairs(self.m, self.P, self._R, z, self.offsets, self.gate)
+        if self._so is None:
+            pairs = gate_pairs(self.m, self.P, self._R, z, self.offsets, self.gate)
+        else:  # in the sensor's own coordinates (a bearing wraps)
+            pairs = self._so.gate_pairs(self.m, self.P, z, self.offsets, self.gate)
         groups = clusters(pairs).groups()
         n_used = int(np.unique(pairs.meas).size)
         sample_empty = self.sample_empty_groups
@@ -759,6 +771,9 @@ class LMBFilter:
             beta[:, -2:] = sub._closed_form(terms, np.arange(rows.size))
             parts.append((rows, *self._part_posterior(sub, np.empty((0, 2)), beta, terms)))
         t_cost = perf_counter() - t0
+        # the association probability of every measurement, for the measurement birth: a
+        # measurement no track gates has none (0)
+        r_A = np.zeros(z.shape[0]) if self.birth is not None else None
         for batch in self._batches([g for g in groups if g[1].size or sample_empty]):
             ta = perf_counter()
             rows = np.concatenate([r for r, _ in batch])
@@ -766,16 +781,20 @@ class LMBFilter:
             sub = self._subset(rows)
             zc = z[cols]
             terms = sub._measurement_terms(zc)
-            # each cluster's rows and columns within the batch's terms
-            local, start = [], 0
-            for r, c in batch:
-                pos = np.searchsorted(terms.used, np.searchsorted(cols, c))
-                local.append((np.arange(start, start + r.size), pos))
-                start += r.size
             tb = perf_counter()
-            beta = np.zeros((rows.size, terms.used.size + 2))
-            beta = sub._fill_marginals(beta, terms, local, children, counts)
+            beta = self._chain_marginals(terms, batch, children, counts)
+            if beta is None:  # one call of the association per cluster
+                # each cluster's rows and columns within the batch's terms
+                local, start = [], 0
+                for r, c in batch:
+                    pos = np.searchsorted(terms.used, np.searchsorted(cols, c))
+                    local.append((np.arange(start, start + r.size), pos))
+                    start += r.size
+                beta = np.zeros((rows.size, terms.used.size + 2))
+                beta = sub._fill_marginals(beta, terms, local, children, counts)
             tc = perf_counter()
+            if r_A is not None:  # r_A(z_j) = Σ_i β_ij over the batch's tracks
+                r_A[cols[terms.used]] = beta[:, :terms.used.size].sum(axis=0)
             parts.append((rows, *self._part_posterior(sub, zc[terms.used], beta, terms)))
             t_cost += tb - ta
             t_assoc += tc - tb
@@ -796,7 +815,88 @@ class LMBFilter:
         offsets = np.concatenate([[0], np.cumsum(n_sorted)]).astype(np.int64)
         t_update += perf_counter() - td
         return (n_used, n_problems, counts, r_new, (offsets, w, m, P),
-                {"cost": t_cost, "association": t_assoc, "update": t_update})
+                {"cost": t_cost, "association": t_assoc, "update": t_update}, r_A)
+
+    def _chain_marginals(self, terms: _Terms, batch, children, counts) -> np.ndarray | None:
+        """The truncated marginals ``β`` (T_b, U_b + 2) of every cluster of a batch, the chains
+        of all of them in one compiled call; None when the association has no such plan.
+
+        Each cluster is a component of
+        :func:`~rankedassign.tracking.single._glmb_kernels.sample_components` (its rows, no
+        births) with the base key its child stream would draw in
+        :func:`rankedassign.sample_short_chains`, so its unique assignments, their costs
+        (summed row by row, left to right, as ``AssignmentProblem._sum_costs``) and the
+        marginals ``β_ij = Σ_h w_h 1[γ_i^(h) = j]`` (summed over ``h`` in discovery order, as
+        :func:`~rankedassign.tracking._kernels.truncated_marginals`) are those of one call of
+        the association per cluster, bit for bit; the Python work per cluster is one key and
+        one sum.
+        """
+        if self._chain_batch is None or self.sample_empty_groups:
+            return None
+        (n_chains, chain_length), rules = self._chain_batch
+        T, U = terms.gated.shape
+        log_miss = terms.log_miss
+        if not np.isfinite(log_miss).all():
+            # the samplers refuse an all-missed start with a row that cannot be missed; the
+            # per-problem path says so
+            return None
+        sizes = np.array([r.size for r, _ in batch], dtype=np.int64)
+        H = sizes.size
+        comp_off = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        # −ln η over [gated measurements | missed | dead] and the samplers' shifted weights
+        # (rankedassign.single.prepare.shifted_weights: a row's minimum is over its own
+        # cluster's columns, the others are +inf)
+        cc = np.empty((T, U + 2))
+        cc[:, :U] = -terms.log_det
+        cc[:, U] = -log_miss
+        cc[:, U + 1] = -terms.log_dead
+        W = np.exp(-(cc - cc.min(axis=1, keepdims=True)))
+        # The kernel sizes its work space for every observation being new (chains x sweeps
+        # + 1 states a cluster). A cluster has at most F <= Π_i (m_i + 2) feasible assignments
+        # (m_i: row i's gated measurements), so the stall rule ends a chain within F tau_stall
+        # sweeps and the stale rule the run within F tau_stale chains (each new assignment
+        # resets a counter, at most F - 1 are new): budgets cut to those bounds run the same
+        # chains, draw for draw.
+        feasible = np.multiply.reduceat(terms.gated.sum(axis=1) + 2.0, comp_off[:-1])
+        chains = np.full(H, n_chains, dtype=np.int64)
+        length = np.full(H, chain_length, dtype=np.int64)
+        if rules.tau_stale > 0:
+            chains = np.minimum(chains, np.minimum(feasible * rules.tau_stale, n_chains)
+                                .astype(np.int64))
+        if rules.tau_stall > 0:
+            length = np.minimum(length, np.minimum(feasible * rules.tau_stall, chain_length)
+                                .astype(np.int64))
+        # the base key sample_short_chains draws from each cluster's child stream
+        base = np.array([int(next(children).integers(0, 2**63, dtype=np.uint64))
+                         for _ in range(H)], dtype=np.uint64)
+        with interruptible:
+            comp, cost, off, entry, meas, sweeps, n_rows = _glmb_kernels.sample_components(
+                comp_off, np.arange(T, dtype=np.int64), np.empty(0, dtype=np.int64), W, cc,
+                np.ascontiguousarray(terms.gated), chains, length, rules, base,
+                _zobrist(int(sizes.max()), U + 2))
+        N = comp.size
+        # w_h ∝ exp(−cost_h), normalised per cluster as single_marginals does: the shift by
+        # the largest −cost, then the division by the cluster's sum (numpy's own summation)
+        first = np.searchsorted(comp, np.arange(H))
+        neg = -cost
+        lw = neg - np.maximum.reduceat(neg, first)[comp]
+        w = np.exp(lw)
+        bounds = np.append(first, N).tolist()
+        total = np.array([w[a:b].sum() for a, b in zip(bounds[:-1], bounds[1:], strict=True)])
+        w = w / total[comp]
+        # every (child, row of its cluster): dead unless the child lists the row
+        n_slot = sizes[comp]
+        slot0 = np.cumsum(n_slot) - n_slot
+        child = np.repeat(np.arange(N), n_slot)
+        row = np.repeat(comp_off[comp] - slot0, n_slot) + np.arange(int(n_slot.sum()))
+        col = np.full(row.size, U + 1, dtype=np.int64)
+        listed = np.repeat(np.arange(N), np.diff(off))
+        col[slot0[listed] + entry - comp_off[comp[listed]]] = np.where(meas >= 0, meas, U)
+        # Σ_h w_h over the children in order (bincount adds in the order of its input)
+        beta = np.bincount(row * (U + 2) + col, weights=w[child],
+                           minlength=T * (U + 2)).reshape(T, U + 2)
+        counts += (H, int(sweeps.sum()), int((sweeps * n_rows).sum()), N)
+        return beta
 
     @staticmethod
     def _batches(groups):
@@ -873,8 +973,7 @@ class LMBFilter:
             timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0,
                        "update": 0.0}
             if self.birth is not None:   # no track explains anything: r_A = 0
-                timings["birth"] = self._measurement_births(
-                    z, np.empty(0, np.int64), np.empty((0, 2)))
+                timings["birth"] = self._measurement_births(z, np.zeros(z.shape[0]))
             return ScanRecord(
                 labels=np.empty((0, 2), np.int64), states=np.empty((0, self._d)),
                 existence=np.empty(0), track_labels=self.labels.copy(),
@@ -882,10 +981,9 @@ class LMBFilter:
                 n_groups=0, invocations=0, sweeps=0, row_updates=0, n_unique=0,
                 timings=timings,
             )
-        # the measurement birth reads every measurement's association probability from the
-        # dense path's marginals; the cluster path does not gather them
-        if self.birth is None and self._use_spatial(T, M_all):
-            n_used, n_problems, counts, r_new, mixture, phases = self._spatial_scan(z, gen)
+        r_A = None
+        if self._use_spatial(T, M_all):
+            n_used, n_problems, counts, r_new, mixture, phases, r_A = self._spatial_scan(z, gen)
             t2 = t1 + phases["cost"]
             t3 = t2 + phases["association"]
             t_upd = perf_counter()
@@ -907,7 +1005,10 @@ class LMBFilter:
         timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
                    "update": t4 - t3}
         if self.birth is not None:
-            timings["birth"] = self._measurement_births(z, terms.used, beta)
+            if r_A is None:  # the dense path: Σ_i β_ij over every track
+                r_A = np.zeros(z.shape[0])
+                r_A[terms.used] = beta[:, :terms.used.size].sum(axis=0)
+            timings["birth"] = self._measurement_births(z, r_A)
         return ScanRecord(
             labels=labels, states=states, existence=ex, track_labels=self.labels.copy(),
             track_existence=self.r.copy(), n_tracks=T, n_meas=M_all,
