@@ -453,11 +453,10 @@ def test_multi_sensor_tracks_equal_stone_soups_sequential_kalman_updates(cls):
     scans = [(t, da | db) for (t, da), (_, db) in zip(a, b, strict=True)]
     prior = WeightedGaussianState(np.array(x0).reshape(-1, 1) + 2.0,
                                   np.diag([25.0, 4.0, 25.0, 4.0]), weight=0.5)
-    # P_D = 1 - 1e-12, not 1: the multi-sensor LMB filter's miss term is -inf - (-inf) at
-    # P_D = 1; the hypotheses missing a sensor weigh 1e-12 and are pruned
+    # P_D = 1: the hypotheses that miss a sensor weigh 0
     tracker = cls(scans, CV, measurement_models=[SENSOR_A, SENSOR_B],
                   predictor=KalmanPredictor(CV), updater=KalmanUpdater(None),
-                  prob_detection=1.0 - 1e-12, clutter_rate=1e-3, clutter_spatial_density=1e-8,
+                  prob_detection=1.0, clutter_rate=1e-3, clutter_spatial_density=1e-8,
                   birth_components=[prior], association=Exact(), seed=0)
     predictor, updater = KalmanPredictor(CV), KalmanUpdater(None)
     state = None

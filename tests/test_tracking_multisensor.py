@@ -16,6 +16,7 @@ from rankedassign.tracking import (
     Association,
     Exact,
     LMBFilter,
+    MultiSensorGLMBFilter,
     MultiSensorLMBFilter,
     MultiSensorModel,
     Murty,
@@ -498,3 +499,24 @@ def test_filter_runs_with_rao_blackwellised_marginals(method):
         rng=3, n_scans=3, sensors=(0, 1), birth="narrow")
     assert all(0 <= r <= 1 for scan in run.existence for r in scan.values())
     assert (run.sweeps > 0).any()
+
+
+@pytest.mark.parametrize("cls", [MultiSensorLMBFilter, MultiSensorGLMBFilter])
+def test_detection_probability_one_gives_no_nan(cls):
+    """P_D = 1 (allowed by the sensor) makes log(1 - P_D) = -inf: the hypotheses that miss a
+    sensor weigh 0, those that detect on every sensor stay finite; the result is the limit
+    P_D -> 1 (compared with P_D = 1 - 1e-13), never NaN."""
+    import dataclasses
+
+    def model(p_d):
+        m = make_model("vo")
+        s = dataclasses.replace(m.sensor, p_d=p_d)
+        return MultiSensorModel(m.motion, (s, s), (m.clutter, m.clutter), m.birth, m.survival)
+
+    z = [[400.0, -600.0], [-200.0, 300.0]]
+    scans = [[z, z], [z, np.array(z) + 5.0]]
+    exact, near = cls(model(1.0), Exact()), cls(model(1.0 - 1e-13), Exact())
+    for k, scan in enumerate(scans):
+        a, b = exact.step(scan, rng=k), near.step(scan, rng=k)
+        assert np.all(np.isfinite(a.track_existence))
+        assert_allclose(a.track_existence, b.track_existence, rtol=1e-9, atol=1e-12)

@@ -692,7 +692,12 @@ class MultiSensorLMBFilter(LMBFilter):
                 zD = self._stack(zu, cols, D, t)
                 ll = np.array([self._pattern_loglik(c, D, zD)[0] for c in comps])
                 log_g = logsumexp(ll + log_w[:, None], axis=0)
-                miss = sum_miss - sum(self._log_misses[v] for v in D)
+                if np.isfinite(sum_miss):
+                    miss = sum_miss - sum(self._log_misses[v] for v in D)
+                else:
+                    # a sensor with P_D = 1 has log(1 - P_D) = -inf: subtracting it from the
+                    # sum would give -inf - (-inf) = NaN; sum the missing sensors instead
+                    miss = sum(self._log_misses[v] for v in range(V) if v not in D)
                 det = sum(self._log_pds[v] - self._log_kappas[v] for v in D)
                 la[(i, *t.T)] = log_r[row] + miss + det + log_g
                 if len(D) == 1:
