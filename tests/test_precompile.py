@@ -48,6 +48,28 @@ def test_a_second_process_compiles_no_sampler_kernel():
     assert _compiles_in_a_new_process("from rankedassign import warmup; warmup()") == []
 
 
+# The first steps that docs/reproduction.md times (section "Compile cost of a first step"):
+# the δ-GLMB filter with Murty and with short chains, the LMB filter with short chains.
+_FIRST_STEPS = textwrap.dedent("""
+    import numpy as np
+    from rankedassign.tracking import GLMBFilter, LMBFilter, Murty, ShortChainGibbs, make_model
+
+    z = np.array([[0.0, 0.0], [100.0, -50.0], [-300.0, 200.0]])
+    for f in (GLMBFilter(make_model("vo"), Murty(100)),
+              GLMBFilter(make_model("vo"), ShortChainGibbs(10, 25, tau_stall=5, tau_stale=10)),
+              LMBFilter(make_model("vo"), ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))):
+        f.step(z, rng=0)
+        f.step(z + 1, rng=1)
+""")
+
+
+def test_a_second_process_compiles_nothing_for_a_filters_first_step():
+    # the first process loads what the suite has compiled and compiles what is missing (about a
+    # minute with an empty cache); the second must load every kernel of the three first steps
+    subprocess.run([sys.executable, "-c", _FIRST_STEPS], cwd=ROOT, check=True)
+    assert _compiles_in_a_new_process(_FIRST_STEPS) == []
+
+
 def test_the_queue_starts_with_the_longest_study_and_holds_every_warm_task():
     cfg = Config.quick()
     queue = _queue(study_names(), cfg)
