@@ -28,7 +28,7 @@ def runs():
 
 def test_every_row_sees_the_same_measurements_and_records_every_scan(runs):
     for task in runs:
-        assert [r["truncation"] for r in task] == ["original", "short", "murty"]
+        assert [r["truncation"] for r in task] == ["original", "short-chain", "murty"]
         for r in task:
             for key in ("ospa", "ospa2", "cardinality_error", "sweeps", "seconds",
                         "single_object_seconds", "retained_mass"):
@@ -94,3 +94,12 @@ def test_the_quick_settings_are_registered_and_smaller_than_the_full():
     quick, full = st.quick(), st.full()
     assert quick.n_mc < full.n_mc and quick.n_scans <= full.n_scans
     assert np.isclose(full.ospa_c, 100.0) and full.lmb_budget == 1000 and full.glmb_budget == 3000
+
+
+def test_the_old_spelling_of_the_short_chains_still_reads_with_a_deprecation_warning():
+    with pytest.warns(DeprecationWarning, match=r"truncations: 'short' is deprecated; write "
+                                                r"'short-chain' \(the ShortChainGibbs class's "
+                                                r"name\)"):
+        cfg = config_from_dict(Config.quick(),
+                               {"nonlinear_tracking": {"truncations": ["original", "short"]}})
+    assert cfg.nonlinear_tracking.truncations == ("original", "short-chain")

@@ -59,7 +59,7 @@ def test_every_applicable_method_at_every_budget(result):
                 assert (r.l1_mean is None) == (TH.kind_name(fam) == "adaptive_birth")
                 if r.l1_mean is not None:
                     assert 0 <= r.l1_mean <= 2
-                if m in ("gibbs", "herded-shared", "herded-full") or m.startswith("beta"):
+                if m in ("original", "herded-shared", "herded-full") or m.startswith("beta"):
                     assert r.obs_mean == r.budget  # one chain runs the budget
                 if "short" in m:
                     assert r.obs_mean <= r.budget  # the rules may stop short chains early
@@ -82,9 +82,9 @@ def test_records_are_the_oracle_s_numbers_on_the_same_data(result):
     s = run_seed(5, 1)
     problem = TH.make_problem("random", s, TINY)
     rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index("random"),
-                     TH_METHODS.index("gibbs"), 200)
+                     TH_METHODS.index("original"), 200)
     res = sample_original(problem, 200, rng=rng)
-    cell = rec["methods"]["gibbs"]["200"]
+    cell = rec["methods"]["original"]["200"]
     assert cell["n_unique"] == len(res.costs)
     assert cell["error"] == oracle.truncation_error(problem, res.assignments)
     exact = oracle.marginals(problem)
@@ -216,3 +216,16 @@ def test_report_plots_and_csv(result, tmp_path):
 def test_bad_settings_are_refused_by_name(bad, message):
     with pytest.raises(ValueError, match=message.replace("(", r"\(")):
         TemperingHerdingConfig(**bad)
+
+
+@pytest.mark.parametrize(("setting", "old", "new"), [("methods", "gibbs", "original"),
+                                                     ("methods", "short", "short-chain"),
+                                                     ("tracking_methods", "gibbs", "original"),
+                                                     ("tracking_methods", "short",
+                                                      "short-chain")])
+def test_the_old_spellings_of_the_samplers_still_read_with_a_deprecation_warning(setting, old,
+                                                                                 new):
+    with pytest.warns(DeprecationWarning, match=rf"^{setting}: '{old}' is deprecated; write "
+                                                rf"'{new}'"):
+        cfg = TemperingHerdingConfig(**{setting: (old, "lbp")})
+    assert getattr(cfg, setting) == (new, "lbp")

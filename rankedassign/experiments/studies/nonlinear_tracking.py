@@ -36,6 +36,7 @@ from .._plots import figure, legend_below, series_style
 from .._stats import paired_interval
 from ..config import check_ospa, check_positive
 from ..registry import Study, register_study
+from ..vocabulary import canonical_truncation
 
 __all__ = ["NONLINEAR", "NonlinearConfig", "NonlinearRow", "NonlinearComparison",
            "NonlinearSummary", "nonlinear_task", "summarise_nonlinear"]
@@ -44,9 +45,10 @@ __all__ = ["NONLINEAR", "NonlinearConfig", "NonlinearRow", "NonlinearComparison"
 PRESETS = ("vo-ekf", "vo-ukf")
 #: The filters (the rows of :data:`rankedassign.tracking.filters.FILTERS`).
 FILTER_NAMES = ("lmb", "glmb")
-#: The truncations, by their classes' ``name``: the long chain, short chains, Murty.
-TRUNCATIONS = ("original", "short", "murty")
-_LABEL = {"original": "long chain", "short": "short chains", "murty": "Murty",
+#: The truncations, by their classes' ``name`` (:mod:`rankedassign.experiments.vocabulary`):
+#: the long chain, short chains, Murty.
+TRUNCATIONS = ("original", "short-chain", "murty")
+_LABEL = {"original": "long chain", "short-chain": "short chains", "murty": "Murty",
           "lmb": "LMB", "glmb": "δ-GLMB", "vo-ekf": "EKF", "vo-ukf": "UKF"}
 
 
@@ -65,7 +67,8 @@ class NonlinearConfig:
     filters : tuple of str
         Of :data:`FILTER_NAMES`.
     truncations : tuple of str
-        Of :data:`TRUNCATIONS`.
+        Of :data:`TRUNCATIONS`; ``"short"`` is read as ``"short-chain"``, with a
+        ``DeprecationWarning`` (:func:`~rankedassign.experiments.vocabulary.canonical_truncation`).
     lmb_budget, glmb_budget : int
         ``H_upd``: the long chain's sweeps, the short chains' total (``N_S · N_C``) and
         Murty's ``k``; per group in the LMB filter (Vo: 1 000), per scan in the δ-GLMB filter,
@@ -102,6 +105,8 @@ class NonlinearConfig:
         for name, allowed in (("presets", PRESETS), ("filters", FILTER_NAMES),
                               ("truncations", TRUNCATIONS)):
             values = tuple(getattr(self, name))
+            if name == "truncations":
+                values = tuple(canonical_truncation(v, name) for v in values)
             object.__setattr__(self, name, values)
             if not values:
                 raise ValueError(f"{name} must name at least one of {allowed}")
@@ -124,7 +129,7 @@ def _association(cfg: NonlinearConfig, filter_name: str, truncation: str):
     budget = cfg.lmb_budget if filter_name == "lmb" else cfg.glmb_budget
     if truncation == "original":
         return tracking.OriginalGibbs(budget)
-    if truncation == "short":
+    if truncation == "short-chain":
         return tracking.ShortChainGibbs(max(budget // cfg.chain_length, 1), cfg.chain_length,
                                         tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale)
     return tracking.Murty(budget)
@@ -170,9 +175,9 @@ def nonlinear_task(cfg: NonlinearConfig, seed: int, run: int, preset: str,
     Examples
     --------
     >>> cfg = NonlinearConfig(n_mc=1, n_scans=3, lmb_budget=20, glmb_budget=20,
-    ...                       truncations=("short",))
+    ...                       truncations=("short-chain",))
     >>> [r["truncation"] for r in nonlinear_task(cfg, 0, 0, "vo-ekf", "lmb")]
-    ['short']
+    ['short-chain']
     """
     meas_rng, filter_rng = spawning_generator(run_seed(seed, run)).spawn(2)
     sc = tracking.make_scenario(preset, rng=meas_rng, n_scans=cfg.n_scans)
@@ -373,8 +378,8 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
 
     for p in cfg.presets:
         for f in cfg.filters:
-            pair("short vs long", (p, f, "original"), (p, f, "short"),
-                 {"preset": p, "filter": f, "truncation": "short"}, "sweeps")
+            pair("short vs long", (p, f, "original"), (p, f, "short-chain"),
+                 {"preset": p, "filter": f, "truncation": "short-chain"}, "sweeps")
     if "vo-ekf" in cfg.presets and "vo-ukf" in cfg.presets:
         for f in cfg.filters:
             for t in cfg.truncations:

@@ -70,6 +70,7 @@ from ..config import (
     check_positive,
 )
 from ..registry import Study, register_study
+from ..vocabulary import canonical_truncation
 
 #: Problems of the ``tempering_herding`` study: the paper's three families, the multi-sensor
 #: cases A/B/C (``"ms:<size>/<family>"``, :mod:`rankedassign.multisensor.synthetic`) and the
@@ -78,10 +79,13 @@ from ..registry import Study, register_study
 TH_FAMILIES = (*FAMILIES, "ms:A/random_coupled", "ms:B/random", "ms:C/uniform",
                "birth:diagonal", "birth:uniform", "birth:random")
 #: Methods of the ``tempering_herding`` study, in report order (``lbp``: marginals only).
-TH_METHODS = ("gibbs", "short", "herded-shared", "herded-full", "herded-short-shared",
-              "herded-short-full", "beta-0.5", "beta-0.7", "beta-0.9", "zanella-roberts", "lbp")
+#: The samplers by their classes' ``name`` (:mod:`rankedassign.experiments.vocabulary`; the old
+#: ``"gibbs"`` and ``"short"`` still read, deprecated).
+TH_METHODS = ("original", "short-chain", "herded-shared", "herded-full",
+              "herded-short-shared", "herded-short-full", "beta-0.5", "beta-0.7", "beta-0.9",
+              "zanella-roberts", "lbp")
 #: LMB associations of the study's tracking part, in report order.
-TH_TRACKING_METHODS = ("exact", "gibbs", "short", "herded", "herded-short", "lbp")
+TH_TRACKING_METHODS = ("exact", "original", "short-chain", "herded", "herded-short", "lbp")
 
 
 @dataclass(frozen=True)
@@ -181,6 +185,9 @@ class TemperingHerdingConfig:
             values = getattr(self, name)
             if not isinstance(values, tuple) or (not values and name != "presets"):
                 raise ValueError(f"{name} must be a non-empty tuple, got {values!r}")
+            if name in ("methods", "tracking_methods"):  # the old spellings, deprecated
+                values = tuple(canonical_truncation(v, name) for v in values)
+                object.__setattr__(self, name, values)
             for v in values:
                 check_choice(v, f"{name}: {one}", allowed)
         b = self.budgets
@@ -213,8 +220,8 @@ QUICK_MC, QUICK_TRACKING_MC, QUICK_BUDGETS = 3, 1, (100, 1_000, 10_000)
 BIRTH_SENSORS = 4
 
 _LABELS = {
-    "gibbs": "Gibbs, one chain",
-    "short": "short chains",
+    "original": "Gibbs, one chain",
+    "short-chain": "short chains",
     "herded-shared": "herded, shared keys",
     "herded-full": "herded, full keys",
     "herded-short-shared": "herded short chains, shared keys",
@@ -302,7 +309,7 @@ def applies(method: str, problem) -> bool:
     Examples
     --------
     >>> from rankedassign import synthetic
-    >>> applies("lbp", synthetic.diagonal()), applies("gibbs", synthetic.diagonal())
+    >>> applies("lbp", synthetic.diagonal()), applies("original", synthetic.diagonal())
     (True, True)
     """
     if method == "zanella-roberts":
@@ -328,9 +335,9 @@ def _short(problem, budget, cfg, rng, **extra):
 def _call(method: str, problem, budget: int, cfg, rng):
     """Run one method; ``(result, sweeps spent)``."""
     opts = _options(problem, cfg)
-    if method == "gibbs":
+    if method == "original":
         res = sample_original(problem, budget, rng=rng, **opts)
-    elif method == "short":
+    elif method == "short-chain":
         res = _short(problem, budget, cfg, rng)
     elif method in ("herded-shared", "herded-full"):
         res = sample_herded(problem, budget, keys=method.split("-")[1], rng=rng, **opts)
@@ -399,9 +406,9 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str
     Examples
     --------
     >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
-    >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=("gibbs", "lbp"))
+    >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=("original", "lbp"))
     >>> out = synthetic_task(cfg, 0, 0, "uniform")
-    >>> out["methods"]["gibbs"]["50"]["n_obs"], out["methods"]["lbp"]["0"]["converged"]
+    >>> out["methods"]["original"]["50"]["n_obs"], out["methods"]["lbp"]["0"]["converged"]
     (50, True)
     """
     s = run_seed(seed, run)
@@ -444,9 +451,9 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str
 def _association(method: str, cfg: TemperingHerdingConfig):
     if method == "exact":
         return tracking.Exact()
-    if method == "gibbs":
+    if method == "original":
         return tracking.OriginalGibbs(cfg.tracking_obs)
-    if method == "short":
+    if method == "short-chain":
         return tracking.ShortChainGibbs(cfg.tracking_chains, cfg.chain_length,
                                         tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale)
     if method == "herded":
@@ -677,7 +684,7 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
                     seconds_mean=float(np.mean([c["seconds"] for c in cell])),
                     l1_mean=lm, l1_se=ls,
                     seconds_min=float(np.min([c["seconds"] for c in cell]))))
-        g = [r["methods"].get("gibbs") for r in rs]
+        g = [r["methods"].get("original") for r in rs]
         h = [r["methods"].get("herded-shared") for r in rs]
         if all(x is not None for x in g + h):
             herded_vs_gibbs[fam] = {
@@ -691,7 +698,7 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
         for r in fr:
             by_m.setdefault(r.method, []).append(r)
         v = {"obs": {}, "time": {}, "l1": {}}
-        gibbs = {r.budget: r for r in by_m.get("gibbs", [])}
+        gibbs = {r.budget: r for r in by_m.get("original", [])}
         for b in cfg.budgets:
             v["obs"][b] = _best({r.method: r.error_pct_mean for r in fr if r.budget == b})
             v["l1"][b] = _best({r.method: r.l1_mean for r in rows
@@ -815,7 +822,7 @@ def _overall_verdict(s: THSummary, cfg) -> str:
         if not rows:
             continue
         best = min(rows, key=lambda r: (r.error_pct_mean, TH_METHODS.index(r.method)))
-        gibbs = next((r for r in rows if r.method == "gibbs"), None)
+        gibbs = next((r for r in rows if r.method == "original"), None)
         text = (f"{_family_title(fam)}: {label(best.method)} "
                 f"{fmt.pm(best.error_pct_mean, best.error_pct_se)} %")
         if gibbs is not None and gibbs is not best:
@@ -941,9 +948,9 @@ p) the mean over scans of each scan's positions. {fmt.runs_note(
 
 #: The two groups of methods a family's error plot shows side by side (at most six series
 #: each): the Gibbs chain and the short chains appear in both as the references.
-PLOT_GROUPS = (("tempering", ("gibbs", "short", "beta-0.5", "beta-0.7", "beta-0.9",
+PLOT_GROUPS = (("tempering", ("original", "short-chain", "beta-0.5", "beta-0.7", "beta-0.9",
                               "zanella-roberts")),
-               ("herding", ("gibbs", "short", "herded-shared", "herded-full",
+               ("herding", ("original", "short-chain", "herded-shared", "herded-full",
                             "herded-short-shared", "herded-short-full")))
 
 
@@ -1032,7 +1039,7 @@ def _cost_figure(s: THSummary, fams: list):
         top = max(r.budget for r in s.rows if r.family == fam)
         rows = {r.method: r for r in s.rows if r.family == fam and r.budget == top
                 and r.obs_mean > 0}
-        gibbs = rows.get("gibbs")
+        gibbs = rows.get("original")
         if gibbs is None:
             ax.set_visible(False)
             continue
