@@ -24,6 +24,7 @@ import warnings
 from dataclasses import dataclass, replace
 from pathlib import Path
 from time import perf_counter
+from typing import ClassVar
 
 import numpy as np
 
@@ -123,6 +124,14 @@ class GLMBStudyConfig:
     >>> GLMBStudyConfig.quick().retained_mass, GLMBStudyConfig.quick().tradeoff_h_upd
     (('vo', 'paper'), (100, 300))
     """
+
+    #: Removed settings still accepted by a ``--config`` file, each with what replaced it
+    #: (:func:`~rankedassign.experiments.config_from_dict` warns and ignores them).
+    DEPRECATED_SETTINGS: ClassVar[dict] = {
+        "glmb_extraction": "every filter of the study extracts by MAP, and each filter's "
+                           "other estimator (LMB: hysteresis; δ-GLMB: Vo's recursive "
+                           "estimator, GLMBFilter(extraction='recursive')) is scored beside "
+                           "it on the same run (ESTIMATORS)"}
 
     n_mc: int = 20
     n_scans: int = 100
