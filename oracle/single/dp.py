@@ -372,8 +372,10 @@ class PlanCache:
     operation list) depends only on which entries are finite, not on their values, and its
     search for a measurement order (:func:`_frontier_order`) costs more than the DP itself on
     the gated problems of a tracking scan. A δ-GLMB scan's components share most of their
-    tracks, so their problems repeat a few gate patterns many times: planning each pattern
-    once leaves the values, and so ``ln Z``, exactly as without the cache.
+    tracks, so their problems repeat a few gate patterns many times, and each is planned once.
+    A planned problem is scaled by its rows' least costs (:func:`_row_scaled`) rather than by
+    an LSAP's duals, the LSAP's scaling kept as the fallback near underflow: ``ln Z`` then
+    equals that of the unplanned call to round-off, not bit for bit.
 
     Parameters
     ----------
@@ -555,9 +557,10 @@ def compact_log_normalizer(cost, *, plans: PlanCache | None = None) -> float:
     Returns
     -------
     float
-        ``ln Z``, bit for bit that of
+        ``ln Z``; ``0.0`` for ``P = 0``. Without ``plans``, bit for bit that of
         ``oracle.log_normalizer(AssignmentProblem.from_cost(full))`` for the same problem in
-        the paper's layout, with or without ``plans``; ``0.0`` for ``P = 0``.
+        the paper's layout; with ``plans``, equal to it to round-off (see
+        :class:`PlanCache`).
 
     Raises
     ------
