@@ -933,7 +933,9 @@ against the other's. OSPA: c = {c["ospa_c"]:g} m, p = {c["ospa_p"]:g}; OSPA(2) t
 window of {c["ospa_window"]} scans; GOSPA (α = 2) the same c and p. The retained mass
 `Σ_h w_h K_h / Σ_h w_h Z_h` (exact normalisers, spec §4) is the share of the exact posterior
 the truncation keeps; the carried mass the share that survives the scan's merge, prune and
-`H_max` cap; both computed on {", ".join(f"`{p}`" for p in c["retained_mass"]) or "no preset"}.
+`H_max` cap; both computed on {", ".join(f"`{p}`" for p in c["retained_mass"]) or "no preset"}
+(exact normalisers, included in the GLMB rows' seconds per run there; their cost per part is on
+the δ-GLMB page of the documentation).
 {fmt.runs_note(r.n_runs for p in s.presets for r in p.rows if r.n_runs)} Every comparison is
 the mean over paired runs of the per-run relative difference in mean OSPA(2), with its 95 %
 Student-t interval; a target counts as met or not met only when the interval leaves no doubt.
