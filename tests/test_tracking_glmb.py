@@ -253,10 +253,14 @@ def test_retained_mass_is_nan_with_the_reason_when_the_oracle_cannot(monkeypatch
                         r"oracle's DP: too large for the DP", rec.retained_mass_reason)
 
 
+@pytest.mark.parametrize("sliced", [False, True])
 @pytest.mark.parametrize("seed", range(6))
-def test_component_groups_are_every_components_gate_clusters(seed):
+def test_component_groups_are_every_components_gate_clusters(seed, sliced, monkeypatch):
     # the groups of all components at once are, component by component, the partition and
-    # order of clusters() on the component's own gate (births first, then its entries)
+    # order of clusters() on the component's own gate (births first, then its entries);
+    # sliced: the adjacency built a component or two at a time, as on a large scene
+    if sliced:
+        monkeypatch.setattr(glmb_module, "_GROUP_BYTES", 500)
     rng = np.random.default_rng(seed)
     T, U, B, H = 40, 15, int(rng.integers(0, 4)), 60
     gated = rng.random((T, U)) < rng.uniform(0.03, 0.2)

@@ -207,6 +207,10 @@ class _Terms(NamedTuple):
     gain: tuple | None = None  # non-linear path: (K (C, d, d_z), P' (C, d, d)); else None
 
 
+#: Bytes of the work array of :func:`_component_groups`' adjacency (one slice of components).
+_GROUP_BYTES = 1 << 24
+
+
 def _component_groups(comp_off, comp_tracks, births, gated):
     """The gate groups of every component's problem, for all components at once.
 
@@ -243,15 +247,19 @@ def _component_groups(comp_off, comp_tracks, births, gated):
     pos = np.arange(comp_tracks.size) - np.repeat(comp_off[:-1], sizes)
     R[np.repeat(np.arange(H), sizes), B + pos] = comp_tracks
     valid = R >= 0
-    # entries that share a gated measurement (and every entry with itself), on the gate's
-    # bytes: a BLAS product here cost more than all the rest (its threads, on small matrices)
-    packed = np.packbits(gated, axis=1)
-    share = (packed[:, None, :] & packed[None, :, :]).any(axis=2)
-    np.fill_diagonal(share, True)
-    Rc = np.where(valid, R, 0)
-    adj = share[Rc[:, :, None], Rc[:, None, :]] & valid[:, :, None] & valid[:, None, :]
+    # rows of a component that share a gated measurement, on the gate's bytes (a BLAS product
+    # of the gate cost more than all the rest: its threads, on small matrices), in slices of
+    # components so that the work array stays within _GROUP_BYTES whatever the scene's size
+    packed = np.packbits(gated, axis=1)[np.where(valid, R, 0)]  # (H, P, bytes)
+    adj = np.empty((H, P_max, P_max), dtype=bool)
+    step = max(1, _GROUP_BYTES // (P_max * P_max * max(packed.shape[2], 1)))
+    for h0 in range(0, H, step):
+        pr = packed[h0:h0 + step]
+        adj[h0:h0 + step] = (pr[:, :, None, :] & pr[:, None, :, :]).any(axis=3)
+    adj |= np.eye(P_max, dtype=bool)  # every row with itself
+    adj &= valid[:, :, None] & valid[:, None, :]
     # every row takes the least row position it reaches: its group's first row
-    lab = np.broadcast_to(np.arange(P_max), (H, P_max)).copy()
+    lab = np.broadcast_to(np.arange(P_max, dtype=np.int32), (H, P_max)).copy()
     while True:
         new = np.where(adj, lab[:, None, :], P_max).min(axis=2)
         new = np.where(valid, new, lab)
