@@ -468,26 +468,26 @@ def _row_scaled(cm: np.ndarray, c_un: np.ndarray):
 
 def _planned_total(cm, c_un, kind, arg):
     """Scaled total and shift of one planned component (:class:`PlanCache`): rows scaled by
-    their least cost, the LSAP duals' scaling only when that total is near underflow."""
-    for scale in (_row_scaled, None):
-        if scale is None:
-            out = _scaled(cm, c_un)
-            factors, shift = out[:4], out[4]
-        else:
-            factors, shift = scale(cm, c_un)
+    their least cost, by the LSAP's duals only when that total is near underflow."""
+    def dp(factors):
         if kind == "dense":
-            total = _dense_total(factors)
-        else:
-            total = _frontier_total(None, arg[0], arg[1], factors, arg[2])
-        if total > _ROW_SCALED_FLOOR:
-            break
+            return _dense_total(factors)
+        order, width, ops = arg
+        return _frontier_total(None, order, width, factors, ops)
+
+    factors, shift = _row_scaled(cm, c_un)
+    total = dp(factors)
+    if not total > _ROW_SCALED_FLOOR:
+        # the LSAP's duals scale the best assignment to exactly one: nothing underflows
+        out = _scaled(cm, c_un)
+        shift = out[4]
+        total = dp(out[:4])
     return total, shift
 
 
-def _solve(problem, *, with_marginals: bool, method: str = "auto", plans=None):
+def _solve(problem, *, with_marginals: bool, method: str = "auto"):
     """``ln Z`` and (optionally) the marginals, component by component."""
-    return _solve_compact(problem.compact_cost, with_marginals=with_marginals, method=method,
-                          plans=plans)
+    return _solve_compact(problem.compact_cost, with_marginals=with_marginals, method=method)
 
 
 def _solve_compact(cc: np.ndarray, *, with_marginals: bool, method: str = "auto",
