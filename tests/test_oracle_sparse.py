@@ -382,15 +382,31 @@ def test_compact_entry_point_on_a_gated_tracking_like_problem():
     assert (len(plans), plans.hits) == (1, 1)
 
 
-def test_planned_normaliser_falls_back_to_the_lsap_scaling_near_underflow():
-    # every row's least cost is the one measurement: scaled by the rows' least costs, the best
-    # assignment weighs exp(-800 (P - 1)), far below the floor, so the LSAP's duals scale it
-    P = 4
-    cc = np.full((P, 3), np.inf)
-    cc[:, 0], cc[:, 1] = 0.0, 800.0
-    want = np.log(P) - 800.0 * (P - 1) + np.log1p(np.exp(-800.0) / P)
+def _underflowing(kind):
+    """Problems whose every row's least cost is a measurement all cannot have: scaled by the
+    rows' least costs, the best assignment weighs exp(-800) or less, which underflows."""
+    if kind == "dense":  # 4 rows, 1 measurement: Z = 4 e^{-2400} + e^{-3200}
+        cc = np.full((4, 3), np.inf)
+        cc[:, 0], cc[:, 1] = 0.0, 800.0
+        return cc, np.log(4.0) - 2400.0 + np.log1p(np.exp(-800.0) / 4)
+    # a path of 12 rows and 11 measurements (row i gates i - 1 and i), beyond the subset DP's
+    # small sizes: one row is missed in each of the 12 best assignments, Z = 12 e^{-800} (1 +
+    # terms below e^{-800})
+    cc = np.full((12, 13), np.inf)
+    for i in range(12):
+        cc[i, max(i - 1, 0):min(i + 1, 11)] = 0.0
+    cc[:, 11] = 800.0
+    return cc, np.log(12.0) - 800.0
+
+
+@pytest.mark.parametrize("kind", ["dense", "frontier"])
+def test_planned_normaliser_falls_back_to_the_lsap_scaling_near_underflow(kind):
+    cc, want = _underflowing(kind)
+    assert _plan(np.isfinite(cc[:, :-2]), "auto")[0] == kind
     assert_allclose(log_normalizer(from_compact(cc)), want, rtol=1e-15)
-    assert_allclose(compact_log_normalizer(cc, plans=PlanCache()), want, rtol=1e-15)
+    plans = PlanCache()
+    for _ in range(3):  # planned, then planned in full, then reused
+        assert_allclose(compact_log_normalizer(cc, plans=plans), want, rtol=1e-15)
 
 
 @pytest.mark.parametrize(

@@ -286,6 +286,11 @@ def _frontier_inputs(finite, order, width, scaled, ops=None):
 
 def _frontier_total(finite, order, width, scaled, ops=None):
     ops, W, s, w_un, _ = _frontier_inputs(finite, order, width, scaled, ops)
+    return _frontier_run(ops, W, s, w_un)
+
+
+def _frontier_run(ops, W, s, w_un):
+    """The frontier DP's total from its operation list and weights (:func:`_frontier_inputs`)."""
     full = 1 << W.shape[1]
     F, G = np.zeros(full), np.zeros(full)
     F[0] = 1.0
@@ -441,7 +446,11 @@ def _layout(finite: np.ndarray, method: str, *, with_ops: bool = False,
         fin = finite[np.ix_(rows, meas)]
         kind, arg = _plan(fin, method, small_bits)
         if kind == "frontier" and with_ops:
-            arg = (*arg, _frontier_ops(fin, *arg))
+            ops = _frontier_ops(fin, *arg)
+            row_in_slot = ops[1]
+            # what _frontier_inputs derives from the plan on every call, kept with it
+            arg = (*arg, ops, np.maximum(row_in_slot, 0), row_in_slot >= 0,
+                   np.ones(row_in_slot.shape[0]))
         plans.append((kind, arg))
     return comps, isolated, plans
 
@@ -451,37 +460,40 @@ _ROW_SCALED_FLOOR = 1e-200
 
 
 def _row_scaled(cm: np.ndarray, c_un: np.ndarray):
-    """Scaling by each row's least cost: the four factors of :func:`_scaled` and the shift.
+    """Scaling by each row's least cost: ``(w_meas, w_un)`` as in :func:`_scaled`, and the
+    shift.
 
-    Every factor is at most one (each row's best option exactly one) and no column factor is
-    needed, so it takes a few array operations where :func:`_scaled` solves an LSAP. Unlike
-    the LSAP's, the best *assignment* is not scaled to one: when rows compete for the same
+    Every factor is at most one (each row's best option exactly one) and there is no column
+    factor (the unused measurements' and unmatched columns' factors of :func:`_scaled` are all
+    one), so it takes a few array operations where :func:`_scaled` solves an LSAP. Unlike the
+    LSAP's, the best *assignment* is not scaled to one: when rows compete for the same
     measurement the total can be far below one, and :func:`_planned_total` falls back to
     :func:`_scaled` when it comes near underflow (:data:`_ROW_SCALED_FLOOR`).
     """
     m = np.minimum(cm.min(axis=1, initial=np.inf), c_un)
     # exp(-(c - m)) <= 1; a forbidden entry's exp(-inf) = 0
-    w_meas = np.exp(m[:, None] - cm)
-    w_un = np.exp(m - c_un)
-    return (w_meas, np.ones(cm.shape[1]), w_un, np.ones(cm.shape[0])), float(m.sum())
+    return np.exp(m[:, None] - cm), np.exp(m - c_un), float(m.sum())
 
 
 def _planned_total(cm, c_un, kind, arg):
     """Scaled total and shift of one planned component (:class:`PlanCache`): rows scaled by
     their least cost, by the LSAP's duals only when that total is near underflow."""
-    def dp(factors):
-        if kind == "dense":
-            return _dense_total(factors)
-        order, width, ops = arg
-        return _frontier_total(None, order, width, factors, ops)
-
-    factors, shift = _row_scaled(cm, c_un)
-    total = dp(factors)
+    w_meas, w_un, shift = _row_scaled(cm, c_un)
+    if kind == "dense":
+        total = _dense_total((w_meas, np.ones(w_meas.shape[1]), w_un, np.ones(w_un.size)))
+    else:
+        order, width, ops, slot_row, slot_used, ones = arg
+        # _frontier_inputs without its unit factors: the weight of the row in each slot
+        W = np.where(slot_used, w_meas[slot_row, order[:, None]], 0.0)
+        total = _frontier_run(ops[0], W, ones, w_un)
     if not total > _ROW_SCALED_FLOOR:
         # the LSAP's duals scale the best assignment to exactly one: nothing underflows
         out = _scaled(cm, c_un)
         shift = out[4]
-        total = dp(out[:4])
+        if kind == "dense":
+            total = _dense_total(out[:4])
+        else:
+            total = _frontier_total(None, arg[0], arg[1], out[:4], arg[2])
     return total, shift
 
 
@@ -503,15 +515,20 @@ def _solve_compact(cc: np.ndarray, *, with_marginals: bool, method: str = "auto"
     else:
         comps, isolated, comp_plans = _layout(finite, method)
     log_z = 0.0
+    if plans is not None and not with_marginals:
+        for (rows, meas), (kind, arg) in zip(comps, comp_plans, strict=True):
+            whole = rows.size == P and meas.size == M  # one component: no copies by index
+            cm = cc[:, :M] if whole else cc[np.ix_(rows, meas)]
+            total, shift = _planned_total(cm, c_un if whole else c_un[rows], kind, arg)
+            log_z += float(np.log(total)) - shift
+        if isolated.size:
+            log_z -= float(np.sum(c_un[isolated]))
+        return log_z, None, None, c_un
     pm = np.zeros((P, M)) if with_marginals else None
     unmatched = np.zeros(P)
     for (rows, meas), (kind, arg) in zip(comps, comp_plans, strict=True):
         whole = rows.size == P and meas.size == M  # one component: no copies by index
         cm = cc[:, :M] if whole else cc[np.ix_(rows, meas)]
-        if plans is not None and not with_marginals:
-            total, shift = _planned_total(cm, c_un[rows], kind, arg)
-            log_z += float(np.log(total)) - shift
-            continue
         scaled = _scaled(cm, c_un[rows])
         shift, scaled = scaled[4], scaled[:4]
         if with_marginals:
@@ -593,12 +610,12 @@ def compact_log_normalizer(cost, *, plans: PlanCache | None = None) -> float:
     if cc.ndim != 2 or cc.shape[1] < 2:
         raise ValueError(
             f"compact cost must be 2-D with shape (P, M + 2), got shape {cc.shape}")
-    if np.isnan(cc).any():
-        raise ValueError("compact cost contains NaN")
-    if np.isneginf(cc).any():
+    if not (cc > -np.inf).all():  # one pass for both (NaN compares False)
+        if np.isnan(cc).any():
+            raise ValueError("compact cost contains NaN")
         raise ValueError("compact cost contains -inf; a cost must be finite or +inf")
     M = cc.shape[1] - 2
-    bad = ~(np.isfinite(cc[:, M]) | np.isfinite(cc[:, M + 1]))
+    bad = (cc[:, M:] == np.inf).all(axis=1)
     if bad.any():
         raise ValueError(
             f"row {int(np.flatnonzero(bad)[0])} has neither a finite missed nor a finite "
