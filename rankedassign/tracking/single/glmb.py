@@ -905,23 +905,27 @@ class GLMBFilter:
         # _kernels.group_cost_matrix), negated once a scan
         cost_all = np.concatenate([-terms.log_det, -terms.log_miss[:, None],
                                    -terms.log_dead[:, None]], axis=1)
-        U = terms.log_det.shape[1]
+        # every group's columns at once: the measurements some row of it gates, then the
+        # missed and dead columns
+        flat = uniq[uniq >= 0]
+        gate = np.logical_or.reduceat(terms.gated[flat], np.r_[0, np.cumsum(size)[:-1]],
+                                      axis=0)
+        cols_of = np.concatenate([gate, np.ones((gate.shape[0], 2), dtype=bool)], axis=1)
         # solved in the order of first use, so that a group beyond the DP is reported for the
         # first component that has it
         for u, n in enumerate(size.tolist()):
             rr = uniq[u, :n]
-            cg = np.flatnonzero(terms.gated[rr].any(axis=0))
+            cols = np.flatnonzero(cols_of[u])
             if n == 1:
-                t = rr[0]
-                value[u] = _logsumexp(cost_all[t, np.append(cg, (U, U + 1))] * -1.0)
+                value[u] = _logsumexp(-cost_all[rr[0], cols])
                 continue
-            cost = cost_all[rr][:, np.append(cg, (U, U + 1))]
+            cost = cost_all[rr[:, None], cols]
             try:
                 value[u] = compact_log_normalizer(cost, plans=self._plans)
             except ValueError as err:
                 h = int(g_comp[first[u]])
                 return math.nan, (
-                    f"component {h} has a group of {rr.size} rows and {cg.size} "
+                    f"component {h} has a group of {rr.size} rows and {cols.size - 2} "
                     f"measurements beyond the oracle's DP: {err}")
         # Σ_g ln Z_g per component, group by group in order (np.add.at is unbuffered)
         np.add.at(log_Z, g_comp, value[inv])
