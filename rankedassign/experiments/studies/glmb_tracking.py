@@ -106,7 +106,7 @@ class GLMBStudyConfig:
     tradeoff_methods : tuple of str
         The truncations run at ``tradeoff_h_upd`` (of :data:`TRADEOFF_METHODS`; the quick
         settings leave Murty out: it keeps ``Σ_h max(T_h, 1)``, about ``H_max`` components
-        at any ``H_upd``, and their exact masses cost some 6 s of CPU per ``"paper"`` run,
+        at any ``H_upd``, and their exact masses cost some 5 s of CPU per ``"paper"`` run,
         the quick study's largest part; see the δ-GLMB page's costs).
     ospa_c, ospa_p, ospa_window : float, float, int
         OSPA(2) (spec §7: 200 m, 1, 5 scans); OSPA and GOSPA have the same ``c`` and ``p``.
