@@ -15,6 +15,7 @@ import os
 import shlex
 import signal
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -157,8 +158,12 @@ def _cmd_reproduce(args) -> int:
     try:
         guard.__enter__()
         if args.config is not None:
-            config = experiments.config_from_dict(experiments.Config(mode),
-                                                  _read_config(args.config))
+            with warnings.catch_warnings():
+                # a deprecated setting's warning is for the user who wrote the file: shown
+                # on stderr (Python hides DeprecationWarning outside __main__ by default)
+                warnings.simplefilter("always", DeprecationWarning)
+                config = experiments.config_from_dict(experiments.Config(mode),
+                                                      _read_config(args.config))
         experiments.reproduce(
             args.studies,
             mode,

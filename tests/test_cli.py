@@ -13,6 +13,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from rankedassign import __version__
+from rankedassign import cli as cli_module
 from rankedassign.cli import main
 
 
@@ -298,6 +299,24 @@ def test_reproduce_unreachable_scheduler(tmp_path, capsys, monkeypatch):
         capsys.readouterr().err)
     assert not out.exists()
     assert list(tmp_path.iterdir()) == []
+
+
+def test_reproduce_config_naming_a_removed_setting_warns_and_runs_without_it(tmp_path,
+                                                                             monkeypatch):
+    # the deprecated alias reaches the user who wrote the file, and the run goes on without it
+    seen = {}
+
+    def reproduce(studies, mode, out, *, config, **kwargs):
+        seen["config"] = config
+
+    monkeypatch.setattr(cli_module.experiments, "reproduce", reproduce)
+    cfg = tmp_path / "c.json"
+    cfg.write_text(json.dumps({"glmb_tracking": {"glmb_extraction": "map", "n_mc": 3}}))
+    with pytest.warns(DeprecationWarning, match="'glmb_extraction' is deprecated and ignored"):
+        code = main(["reproduce", "glmb_tracking", "--config", str(cfg), "--out",
+                     str(tmp_path / "r"), "--quiet"])
+    assert code == 0
+    assert seen["config"].glmb_tracking.n_mc == 3
 
 
 @pytest.mark.parametrize(

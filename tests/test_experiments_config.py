@@ -251,3 +251,16 @@ def test_every_string_setting_of_every_study_is_checked(study, name):
     for value in ("", "nosuch", 5, True, ["x"]):
         with pytest.raises(ReproduceError, match=rf"^config for '{study}': .*{name}"):
             config_from_dict(Config.quick(), {study: {name: value}})
+
+
+@pytest.mark.parametrize("value", ["map", "hysteresis", "trajectory", None])
+def test_removed_glmb_extraction_is_a_deprecated_alias_that_is_ignored(value):
+    # glmb_tracking's glmb_extraction was removed (every filter now extracts by MAP, each
+    # filter's other estimator scored beside it); an old --config naming it still loads
+    base = Config.quick()
+    with pytest.warns(DeprecationWarning,
+                      match=r"config for 'glmb_tracking': 'glmb_extraction' is deprecated and "
+                            r"ignored; every filter of the study extracts by MAP"):
+        c = config_from_dict(base, {"glmb_tracking": {"glmb_extraction": value, "n_mc": 3}})
+    assert c.glmb_tracking == dataclasses.replace(base.glmb_tracking, n_mc=3)
+    assert "glmb_extraction" not in {f.name for f in dataclasses.fields(c.glmb_tracking)}

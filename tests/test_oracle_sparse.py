@@ -21,12 +21,14 @@ from oracle import enumerate_assignments as oracle_enumerate
 from oracle.single import murty
 from oracle.single.dp import (
     MAX_FRONTIER,
+    PlanCache,
     _components,
     _frontier_ops,
     _frontier_order,
     _log_normalizer,
     _marginals,
     _plan,
+    compact_log_normalizer,
 )
 from rankedassign import AssignmentProblem
 
@@ -349,3 +351,90 @@ def test_wide_band_near_the_frontier_limit(width):
     pairs = [tuple(x) for x in np.argwhere(fin)[:: len(np.argwhere(fin)) // 3]] + [(7, M)]
     got = [m[i, j] if j < M else m[i, M] + m[i, M + 1] for i, j in pairs]
     assert_allclose(got, pair_identity(q, pairs), rtol=1e-10, atol=1e-15)
+
+
+# ------------------------------------------------------------- the compact entry point
+@given(sparse_problems())
+def test_compact_entry_point_is_the_public_normaliser(problem):
+    cc = problem.compact_cost
+    # its domain: every row can be unmatched (so the problem is feasible without a check)
+    assume(np.isfinite(cc[:, -2:]).any(axis=1).all())
+    want = log_normalizer(problem)
+    assert compact_log_normalizer(cc) == want  # the same computation, bit for bit
+    # planned once, then reused: rows scaled by their least cost, so equal to round-off
+    plans = PlanCache()
+    for _ in range(2):
+        assert_allclose(compact_log_normalizer(cc, plans=plans), want, rtol=1e-13, atol=1e-12)
+    if problem.n_rows:
+        assert (len(plans), plans.hits) == (1, 1)
+
+
+def test_compact_entry_point_on_a_gated_tracking_like_problem():
+    p = gated(np.random.default_rng(1))  # 22 rows, 57 measurements: the frontier DP
+    plans = PlanCache()
+    want = log_normalizer(p)
+    assert compact_log_normalizer(p.compact_cost) == want
+    assert_allclose(compact_log_normalizer(p.compact_cost, plans=plans), want, rtol=1e-13)
+    # another problem with the same gate pattern reuses the plan
+    q = from_compact(p.compact_cost + np.random.default_rng(2).uniform(0, 1, p.compact_cost.shape))
+    assert_allclose(compact_log_normalizer(q.compact_cost, plans=plans), log_normalizer(q),
+                    rtol=1e-13)
+    assert (len(plans), plans.hits) == (1, 1)
+
+
+def _underflowing(kind):
+    """Problems whose every row's least cost is a measurement all cannot have: scaled by the
+    rows' least costs, the best assignment weighs exp(-800) or less, which underflows."""
+    if kind == "dense":  # 4 rows, 1 measurement: Z = 4 e^{-2400} + e^{-3200}
+        cc = np.full((4, 3), np.inf)
+        cc[:, 0], cc[:, 1] = 0.0, 800.0
+        return cc, np.log(4.0) - 2400.0 + np.log1p(np.exp(-800.0) / 4)
+    # a path of 12 rows and 11 measurements (row i gates i - 1 and i), beyond the subset DP's
+    # small sizes: one row is missed in each of the 12 best assignments, Z = 12 e^{-800} (1 +
+    # terms below e^{-800})
+    cc = np.full((12, 13), np.inf)
+    for i in range(12):
+        cc[i, max(i - 1, 0):min(i + 1, 11)] = 0.0
+    cc[:, 11] = 800.0
+    return cc, np.log(12.0) - 800.0
+
+
+@pytest.mark.parametrize("kind", ["dense", "frontier"])
+def test_planned_normaliser_falls_back_to_the_lsap_scaling_near_underflow(kind):
+    cc, want = _underflowing(kind)
+    assert _plan(np.isfinite(cc[:, :-2]), "auto")[0] == kind
+    assert_allclose(log_normalizer(from_compact(cc)), want, rtol=1e-15)
+    plans = PlanCache()
+    for _ in range(3):  # planned, then planned in full, then reused
+        assert_allclose(compact_log_normalizer(cc, plans=plans), want, rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("cost", "error", "match"),
+    [
+        (np.zeros(3), ValueError,
+         r"compact cost must be 2-D with shape \(P, M \+ 2\), got shape \(3,\)"),
+        (np.zeros((2, 1)), ValueError, r"got shape \(2, 1\)"),
+        ([[np.nan, 0.0, 0.0]], ValueError, "compact cost contains NaN"),
+        ([[-np.inf, 0.0, 0.0]], ValueError, "compact cost contains -inf; a cost must be finite"),
+        ([[0.0, 1.0, 1.0], [0.0, np.inf, np.inf]], ValueError,
+         "row 1 has neither a finite missed nor a finite dead cost"),
+    ],
+)
+def test_compact_entry_point_refuses(cost, error, match):
+    with pytest.raises(error, match=match):
+        compact_log_normalizer(cost)
+
+
+def test_plan_cache_settings_and_eviction():
+    with pytest.raises(TypeError, match="plans must be a PlanCache or None, got dict"):
+        compact_log_normalizer(np.zeros((1, 3)), plans={})
+    for bad in (0, 1.5, True):
+        with pytest.raises(ValueError, match="maxsize must be a positive int, got"):
+            PlanCache(bad)
+    plans = PlanCache(maxsize=1)
+    a = np.array([[0.0, np.inf, 1.0, 1.0], [np.inf, 0.0, 1.0, 1.0]])
+    b = np.array([[0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 1.0, 1.0]])
+    for cc in (a, b, a):
+        compact_log_normalizer(cc, plans=plans)
+    assert (len(plans), plans.hits) == (1, 0)  # the oldest pattern is dropped for the new

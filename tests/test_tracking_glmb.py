@@ -38,7 +38,9 @@ from rankedassign.tracking import (
     run_scenario,
 )
 from rankedassign.tracking.association import MultiSensorAssociation
+from rankedassign.tracking.gating import GatedPairs, clusters
 from rankedassign.tracking.single import _glmb_kernels
+from rankedassign.tracking.single import glmb as glmb_module
 from rankedassign.tracking.single.glmb import Hypotheses, _gibbs_budget, _zobrist, truncate
 
 GATE = gate_threshold(0.9999999)
@@ -238,16 +240,52 @@ def test_retained_mass_is_nan_with_the_reason_when_the_oracle_cannot(monkeypatch
     assert math.isnan(rec.retained_mass)
     assert rec.retained_mass_reason == "not computed (retained_mass=False)"
 
-    def beyond(problem):
+    def beyond(cost, plans=None):
         raise ValueError("too large for the DP")
 
-    monkeypatch.setattr(oracle, "log_normalizer", beyond)
+    # the filter's normalisers go through the oracle's compact entry point
+    monkeypatch.setattr(glmb_module, "compact_log_normalizer", beyond)
     f = GLMBFilter(model, Murty(5), retained_mass=True)
     f.set_prior(labels, means, covs)
     rec = f.step(Z1, rng=0)
     assert math.isnan(rec.retained_mass)
     assert re.fullmatch(r"component 0 has a group of \d+ rows and \d+ measurements beyond the "
                         r"oracle's DP: too large for the DP", rec.retained_mass_reason)
+
+
+@pytest.mark.parametrize("sliced", [False, True])
+@pytest.mark.parametrize("seed", range(6))
+def test_component_groups_are_every_components_gate_clusters(seed, sliced, monkeypatch):
+    # the groups of all components at once are, component by component, the partition and
+    # order of clusters() on the component's own gate (births first, then its entries);
+    # sliced: the adjacency built a component or two at a time, as on a large scene
+    if sliced:
+        monkeypatch.setattr(glmb_module, "_GROUP_BYTES", 500)
+    rng = np.random.default_rng(seed)
+    T, U, B, H = 40, 15, int(rng.integers(0, 4)), 60
+    gated = rng.random((T, U)) < rng.uniform(0.03, 0.2)
+    births = np.arange(T - B, T, dtype=np.int64)
+    comps = [np.sort(rng.choice(T - B, int(rng.integers(0, 12)), replace=False))
+             for _ in range(H)]
+    comp_off = np.r_[0, np.cumsum([c.size for c in comps])].astype(np.int64)
+    comp_tracks = np.concatenate(comps).astype(np.int64)
+    want = []
+    for h, c in enumerate(comps):
+        r = np.r_[births, c].astype(np.int64)
+        tr, me = np.nonzero(gated[r])
+        for g_rows, _ in clusters(GatedPairs(tr, me, r.size, U, tr.size)).groups():
+            want.append((h, r[g_rows].tolist()))
+    out = glmb_module._component_groups(comp_off, comp_tracks, births, gated)
+    if not want:
+        assert out is None
+        return
+    uniq, first, inv, g_comp = out
+    got = [(int(h), uniq[u][uniq[u] >= 0].tolist()) for h, u in zip(g_comp, inv, strict=True)]
+    assert got == want
+    # the distinct groups, in the order of their first use
+    assert_array_equal(inv[first], np.arange(first.size))
+    assert_array_equal(np.sort(first), first)
+    assert len({tuple(x) for x in uniq.tolist()}) == uniq.shape[0]
 
 
 def _naive_children(model, prior, tracks, z, k, gate=GATE):

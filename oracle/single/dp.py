@@ -45,7 +45,8 @@ from .._kernels.plan import (
 from .._result import check_problem
 from . import _plan_reference
 
-__all__ = ["log_normalizer", "marginals", "MAX_SUBSET_BITS", "MAX_FRONTIER"]
+__all__ = ["log_normalizer", "marginals", "compact_log_normalizer", "PlanCache",
+           "MAX_SUBSET_BITS", "MAX_FRONTIER"]
 
 #: Largest ``min(P, M)`` of a component the subset DP accepts (``2^20`` states, 8 MiB per
 #: state vector).
@@ -113,12 +114,14 @@ def _scaled(cm: np.ndarray, c_un: np.ndarray):
     if not ok:  # pragma: no cover - AssignmentProblem guarantees feasibility
         raise AssertionError("merged LSAP infeasible although the problem is feasible")
     shift = float(u.sum() + v.sum())
-    with np.errstate(invalid="ignore"):
-        red = L - u[:, None] - v[None, :]
-    # tiny negative round-off on tight edges: clamp so every factor is <= 1
-    wred = np.where(np.isfinite(L), np.exp(-np.maximum(red, 0.0)), 0.0)
-    ev = np.exp(v)
-    return wred[:, :M], ev[:M], wred[rows, M + rows], ev[M + rows], shift
+    # Only the measurement block and the diagonal of the unmatched block are ever read: their
+    # reduced costs alone, each as (L - u) - v. A forbidden entry has a reduced cost of +inf
+    # (u and v are finite), so exp(-inf) = 0 is its weight without a mask; tiny negative
+    # round-off on tight edges is clamped so that every factor is <= 1.
+    v_un = v[M + rows]
+    w_meas = np.exp(-np.maximum(cm - u[:, None] - v[None, :M], 0.0))
+    w_un = np.exp(-np.maximum(c_un - u - v_un, 0.0))
+    return w_meas, np.exp(v[:M]), w_un, np.exp(v_un), shift
 
 
 # ----------------------------------------------------------------------------- subset DP
@@ -269,9 +272,11 @@ def _frontier_ops(finite: np.ndarray, order: np.ndarray, width: int):
                             np.ascontiguousarray(order, dtype=np.int64), int(width))
 
 
-def _frontier_inputs(finite, order, width, scaled):
+def _frontier_inputs(finite, order, width, scaled, ops=None):
     w_meas, e_meas, w_un, e_un = scaled
-    ops, row_in_slot = _frontier_ops(finite, order, width)
+    if ops is None:
+        ops = _frontier_ops(finite, order, width)
+    ops, row_in_slot = ops
     r = np.maximum(row_in_slot, 0)
     # a matched row's unmatched column is left unused: fold its factor into the match weight
     W = np.where(row_in_slot >= 0, w_meas[r, order[:, None]] * e_un[r], 0.0)
@@ -279,8 +284,13 @@ def _frontier_inputs(finite, order, width, scaled):
         np.ascontiguousarray(w_un), row_in_slot
 
 
-def _frontier_total(finite, order, width, scaled):
-    ops, W, s, w_un, _ = _frontier_inputs(finite, order, width, scaled)
+def _frontier_total(finite, order, width, scaled, ops=None):
+    ops, W, s, w_un, _ = _frontier_inputs(finite, order, width, scaled, ops)
+    return _frontier_run(ops, W, s, w_un)
+
+
+def _frontier_run(ops, W, s, w_un):
+    """The frontier DP's total from its operation list and weights (:func:`_frontier_inputs`)."""
     full = 1 << W.shape[1]
     F, G = np.zeros(full), np.zeros(full)
     F[0] = 1.0
@@ -325,16 +335,19 @@ def _frontier_marginals(finite, order, width, scaled):
 
 
 # ----------------------------------------------------------------------------- dispatch
-def _plan(finite: np.ndarray, method: str):
+def _plan(finite: np.ndarray, method: str, small_bits: int = _SMALL_BITS):
     """Choose the DP of one component: ``("dense", None)`` or ``("frontier", (order, F))``.
 
     ``method="auto"`` takes the cheaper of the two by operation count among those within
-    their limits; ``"dense"`` / ``"frontier"`` force one (for testing).
+    their limits, except that a component of at most ``small_bits`` bits goes to the subset
+    DP without a search for a measurement order (which would cost more than it saves, unless
+    the plan is reused: :class:`PlanCache`); ``"dense"`` / ``"frontier"`` force one (for
+    testing).
     """
     P, M = finite.shape
     k = min(P, M)
     dense = _dense_work(P, M)
-    if method == "dense" or (method == "auto" and k <= _SMALL_BITS):
+    if method == "dense" or (method == "auto" and k <= small_bits):
         if dense < np.inf:
             return "dense", None
         raise ValueError(
@@ -356,23 +369,170 @@ def _plan(finite: np.ndarray, method: str):
     )
 
 
+class PlanCache:
+    """DP plans of single-sensor problems, by gate pattern, for many calls of
+    :func:`compact_log_normalizer`.
+
+    A plan (the connected components, the DP of each, the frontier DP's measurement order and
+    operation list) depends only on which entries are finite, not on their values, and its
+    search for a measurement order (:func:`_frontier_order`) costs more than the DP itself on
+    the gated problems of a tracking scan. A δ-GLMB scan's components share most of their
+    tracks, so their problems repeat a few gate patterns many times, and each is planned once.
+    A pattern met a second time also has its small components (which
+    :func:`oracle.log_normalizer` sends to the subset DP without a search) planned in full, so
+    that each component gets the cheaper DP by operation count. A planned problem is scaled
+    by its rows' least costs (:func:`_row_scaled`) rather than by an LSAP's duals, the LSAP's
+    scaling kept as the fallback near underflow: ``ln Z`` then equals that of the unplanned
+    call to round-off, not bit for bit.
+
+    Parameters
+    ----------
+    maxsize : int, optional
+        Patterns kept (default 4096, each a few kilobytes); the oldest is dropped first.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from oracle.single.dp import PlanCache, compact_log_normalizer
+    >>> plans = PlanCache()
+    >>> cc = np.array([[0.0, np.inf, 1.0, 2.0], [0.5, 0.5, 1.0, np.inf]])
+    >>> a = compact_log_normalizer(cc, plans=plans)
+    >>> b = compact_log_normalizer(cc + 1.0, plans=plans)     # same pattern: planned once
+    >>> len(plans), plans.hits, round(a - b, 12)
+    (1, 1, 2.0)
+    """
+
+    def __init__(self, maxsize: int = 4096):
+        if isinstance(maxsize, bool) or not isinstance(maxsize, int) or maxsize < 1:
+            raise ValueError(f"maxsize must be a positive int, got {maxsize!r}")
+        self.maxsize = maxsize
+        self.hits = 0
+        self._plans: dict = {}
+
+    def __len__(self) -> int:
+        return len(self._plans)
+
+    def _layout(self, finite: np.ndarray, method: str):
+        # the key is exact: shape and every bit of the pattern
+        key = (method, finite.shape, np.packbits(finite).tobytes())
+        entry = self._plans.get(key)
+        if entry is None:
+            # first use: a small component goes to the subset DP unplanned, as without a cache
+            layout = _layout(finite, method, with_ops=True)
+            if len(self._plans) >= self.maxsize:
+                del self._plans[next(iter(self._plans))]
+            self._plans[key] = (layout, False)
+            return layout
+        self.hits += 1
+        layout, searched = entry
+        if not searched:
+            # second use: the pattern recurs, so the search for a measurement order that the
+            # small components skipped pays for itself (on δ-GLMB groups of 5 to 10 rows and
+            # some 50 measurements the frontier DP is several times cheaper than the subset
+            # DP); it is made once
+            if any(kind == "dense" for kind, _ in layout[2]):
+                layout = _layout(finite, method, with_ops=True, small_bits=-1)
+            self._plans[key] = (layout, True)
+        return layout
+
+
+def _layout(finite: np.ndarray, method: str, *, with_ops: bool = False,
+            small_bits: int = _SMALL_BITS):
+    """Components, isolated rows and the plan of every component (``_plan``); with
+    ``with_ops`` a frontier plan also carries its operation list (``_frontier_ops``)."""
+    comps, isolated = _components(finite)
+    plans = []
+    for rows, meas in comps:
+        fin = finite[np.ix_(rows, meas)]
+        kind, arg = _plan(fin, method, small_bits)
+        if kind == "frontier" and with_ops:
+            ops = _frontier_ops(fin, *arg)
+            row_in_slot = ops[1]
+            # what _frontier_inputs derives from the plan on every call, kept with it
+            arg = (*arg, ops, np.maximum(row_in_slot, 0), row_in_slot >= 0,
+                   np.ones(row_in_slot.shape[0]))
+        plans.append((kind, arg))
+    return comps, isolated, plans
+
+
+#: A total scaled by the rows' least costs below this is recomputed with the LSAP's scaling.
+_ROW_SCALED_FLOOR = 1e-200
+
+
+def _row_scaled(cm: np.ndarray, c_un: np.ndarray):
+    """Scaling by each row's least cost: ``(w_meas, w_un)`` as in :func:`_scaled`, and the
+    shift.
+
+    Every factor is at most one (each row's best option exactly one) and there is no column
+    factor (the unused measurements' and unmatched columns' factors of :func:`_scaled` are all
+    one), so it takes a few array operations where :func:`_scaled` solves an LSAP. Unlike the
+    LSAP's, the best *assignment* is not scaled to one: when rows compete for the same
+    measurement the total can be far below one, and :func:`_planned_total` falls back to
+    :func:`_scaled` when it comes near underflow (:data:`_ROW_SCALED_FLOOR`).
+    """
+    m = np.minimum(cm.min(axis=1, initial=np.inf), c_un)
+    # exp(-(c - m)) <= 1; a forbidden entry's exp(-inf) = 0
+    return np.exp(m[:, None] - cm), np.exp(m - c_un), float(m.sum())
+
+
+def _planned_total(cm, c_un, kind, arg):
+    """Scaled total and shift of one planned component (:class:`PlanCache`): rows scaled by
+    their least cost, by the LSAP's duals only when that total is near underflow."""
+    w_meas, w_un, shift = _row_scaled(cm, c_un)
+    if kind == "dense":
+        total = _dense_total((w_meas, np.ones(w_meas.shape[1]), w_un, np.ones(w_un.size)))
+    else:
+        order, width, ops, slot_row, slot_used, ones = arg
+        # _frontier_inputs without its unit factors: the weight of the row in each slot
+        W = np.where(slot_used, w_meas[slot_row, order[:, None]], 0.0)
+        total = _frontier_run(ops[0], W, ones, w_un)
+    if not total > _ROW_SCALED_FLOOR:
+        # the LSAP's duals scale the best assignment to exactly one: nothing underflows
+        out = _scaled(cm, c_un)
+        shift = out[4]
+        if kind == "dense":
+            total = _dense_total(out[:4])
+        else:
+            total = _frontier_total(None, arg[0], arg[1], out[:4], arg[2])
+    return total, shift
+
+
 def _solve(problem, *, with_marginals: bool, method: str = "auto"):
     """``ln Z`` and (optionally) the marginals, component by component."""
-    P, M = problem.n_rows, problem.n_meas
-    cc = problem.compact_cost
+    return _solve_compact(problem.compact_cost, with_marginals=with_marginals, method=method)
+
+
+def _solve_compact(cc: np.ndarray, *, with_marginals: bool, method: str = "auto",
+                   plans: PlanCache | None = None):
+    """:func:`_solve` on the compact cost ``(P, M + 2)``; ``plans`` (totals only) reuses the
+    plans of earlier problems with the same gate pattern."""
+    P, M = cc.shape[0], cc.shape[1] - 2
     finite = np.isfinite(cc[:, :M])
     # cost of the merged unmatched option: -ln(exp(-C_miss) + exp(-C_dead)) = -ln a_i
     c_un = -np.logaddexp(-cc[:, M], -cc[:, M + 1])
-    comps, isolated = _components(finite)
-    plans = [_plan(finite[np.ix_(rows, meas)], method) for rows, meas in comps]
+    if plans is not None and not with_marginals:
+        comps, isolated, comp_plans = plans._layout(finite, method)
+    else:
+        comps, isolated, comp_plans = _layout(finite, method)
     log_z = 0.0
+    if plans is not None and not with_marginals:
+        for (rows, meas), (kind, arg) in zip(comps, comp_plans, strict=True):
+            whole = rows.size == P and meas.size == M  # one component: no copies by index
+            cm = cc[:, :M] if whole else cc[np.ix_(rows, meas)]
+            total, shift = _planned_total(cm, c_un if whole else c_un[rows], kind, arg)
+            log_z += float(np.log(total)) - shift
+        if isolated.size:
+            log_z -= float(np.sum(c_un[isolated]))
+        return log_z, None, None, c_un
     pm = np.zeros((P, M)) if with_marginals else None
     unmatched = np.zeros(P)
-    for (rows, meas), (kind, arg) in zip(comps, plans, strict=True):
-        scaled = _scaled(cc[np.ix_(rows, meas)], c_un[rows])
+    for (rows, meas), (kind, arg) in zip(comps, comp_plans, strict=True):
+        whole = rows.size == P and meas.size == M  # one component: no copies by index
+        cm = cc[:, :M] if whole else cc[np.ix_(rows, meas)]
+        scaled = _scaled(cm, c_un[rows])
         shift, scaled = scaled[4], scaled[:4]
-        fin = finite[np.ix_(rows, meas)]
         if with_marginals:
+            fin = finite[np.ix_(rows, meas)]
             if kind == "dense":
                 total, pair, un = _dense_marginals(scaled)
             else:
@@ -382,7 +542,7 @@ def _solve(problem, *, with_marginals: bool, method: str = "auto"):
         elif kind == "dense":
             total = _dense_total(scaled)
         else:
-            total = _frontier_total(fin, *arg, scaled)
+            total = _frontier_total(finite[np.ix_(rows, meas)], *arg, scaled)
         log_z += float(np.log(total)) - shift
     # a row without any finite measurement is missed or dead with probability 1: factor a_i
     log_z -= float(np.sum(c_un[isolated]))
@@ -406,6 +566,65 @@ def log_normalizer(problem) -> float:
     if problem.n_rows == 0:
         return 0.0
     return _solve(problem, with_marginals=False)[0]
+
+
+def compact_log_normalizer(cost, *, plans: PlanCache | None = None) -> float:
+    """:func:`oracle.log_normalizer` of a problem given by its compact cost matrix.
+
+    The entry point for many small normalisers (the δ-GLMB filter's retained mass asks for
+    hundreds a scan): no :class:`~rankedassign.AssignmentProblem` is built, and ``plans``
+    reuses the DP plans of earlier problems with the same gate pattern.
+
+    Parameters
+    ----------
+    cost : array_like of float64, shape (P, M + 2)
+        ``-ln eta`` in compact columns ``[measurements | missed | dead]``
+        (:attr:`~rankedassign.AssignmentProblem.compact_cost`); ``+inf`` = forbidden. Every
+        row needs a finite missed or dead cost (so that the problem is feasible).
+    plans : PlanCache or None, optional
+        Plans by gate pattern, shared across calls (default None: plan this problem alone).
+
+    Returns
+    -------
+    float
+        ``ln Z``; ``0.0`` for ``P = 0``. Without ``plans``, bit for bit that of
+        ``oracle.log_normalizer(AssignmentProblem.from_cost(full))`` for the same problem in
+        the paper's layout; with ``plans``, equal to it to round-off (see
+        :class:`PlanCache`).
+
+    Raises
+    ------
+    ValueError
+        On a wrong shape, NaN or ``-inf``, a row whose missed and dead costs are both
+        ``+inf``, or a component beyond both DPs (as :func:`oracle.log_normalizer`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from oracle.single.dp import compact_log_normalizer
+    >>> cc = -np.log([[2.0, 0.5, 0.25]])                  # Z = 2 + 0.5 + 0.25
+    >>> round(float(np.exp(compact_log_normalizer(cc))), 12)
+    2.75
+    """
+    cc = np.asarray(cost, dtype=np.float64)
+    if cc.ndim != 2 or cc.shape[1] < 2:
+        raise ValueError(
+            f"compact cost must be 2-D with shape (P, M + 2), got shape {cc.shape}")
+    if not (cc > -np.inf).all():  # one pass for both (NaN compares False)
+        if np.isnan(cc).any():
+            raise ValueError("compact cost contains NaN")
+        raise ValueError("compact cost contains -inf; a cost must be finite or +inf")
+    M = cc.shape[1] - 2
+    bad = (cc[:, M:] == np.inf).all(axis=1)
+    if bad.any():
+        raise ValueError(
+            f"row {int(np.flatnonzero(bad)[0])} has neither a finite missed nor a finite "
+            "dead cost")
+    if plans is not None and not isinstance(plans, PlanCache):
+        raise TypeError(f"plans must be a PlanCache or None, got {type(plans).__name__}")
+    if cc.shape[0] == 0:
+        return 0.0
+    return _solve_compact(cc, with_marginals=False, plans=plans)[0]
 
 
 def marginals(problem) -> np.ndarray:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+import warnings
 from collections.abc import Callable, Hashable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
@@ -475,6 +476,12 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
     ReproduceError
         Unknown study or setting, or a value the study's settings reject.
 
+    Warns
+    -----
+    DeprecationWarning
+        For a removed setting that its study still names in the class attribute
+        ``DEPRECATED_SETTINGS`` (``{name: what replaced it}``); the setting is then ignored.
+
     Examples
     --------
     >>> from rankedassign.experiments import Config, config_from_dict
@@ -494,6 +501,14 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
             raise ReproduceError(f"config for {name!r} must be a mapping of its settings "
                                  f"(e.g. {{\"n_mc\": 5}}), got {_short(fields)}")
         sub = base[name]
+        # a setting that was removed keeps a deprecated alias for a release (SciPy's
+        # practice): its settings type names it in DEPRECATED_SETTINGS with what replaced it,
+        # and it is ignored after a warning
+        deprecated = getattr(type(sub), "DEPRECATED_SETTINGS", {})
+        for old in sorted(set(fields) & set(deprecated)) if isinstance(fields, dict) else ():
+            warnings.warn(f"config for {name!r}: {old!r} is deprecated and ignored; "
+                          f"{deprecated[old]}", DeprecationWarning, stacklevel=2)
+            fields = {k: v for k, v in fields.items() if k != old}
         known = {f.name for f in dataclasses.fields(sub)}
         if not isinstance(fields, dict) or not set(fields) <= known:
             bad = sorted(set(fields) - known) if isinstance(fields, dict) else fields

@@ -241,8 +241,17 @@ def retained_ratio(comp_w: np.ndarray, children: Children, log_Z: np.ndarray) ->
     """
     H = comp_w.size
     log_K = np.full(H, -np.inf)
-    starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
-    log_K[children.comp[starts]] = np.array(
-        [logsumexp(-x) for x in np.split(children.cost, starts[1:])])
+    if children.comp.size:
+        # logsumexp(-cost) of every parent's run of children at once (a loop over thousands
+        # of components a scan cost more than the rest of the mass)
+        starts = np.flatnonzero(np.r_[True, children.comp[1:] != children.comp[:-1]])
+        neg = -np.asarray(children.cost, dtype=np.float64)
+        top = np.maximum.reduceat(neg, starts)
+        finite = np.isfinite(top)
+        shift = np.where(finite, top, 0.0)
+        run = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, neg.size]))
+        total = np.add.reduceat(np.exp(neg - shift[run]), starts)
+        with np.errstate(divide="ignore"):
+            log_K[children.comp[starts]] = np.where(finite, shift + np.log(total), top)
     log_w = np.log(comp_w)
     return math.exp(logsumexp(log_w + log_K) - logsumexp(log_w + log_Z))

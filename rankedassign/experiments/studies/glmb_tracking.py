@@ -24,6 +24,7 @@ import warnings
 from dataclasses import dataclass, replace
 from pathlib import Path
 from time import perf_counter
+from typing import ClassVar
 
 import numpy as np
 
@@ -105,7 +106,8 @@ class GLMBStudyConfig:
     tradeoff_methods : tuple of str
         The truncations run at ``tradeoff_h_upd`` (of :data:`TRADEOFF_METHODS`; the quick
         settings leave Murty out: it keeps ``Σ_h max(T_h, 1)``, about ``H_max`` components
-        at any ``H_upd``, and their exact masses cost some 30 s of CPU per ``"paper"`` run).
+        at any ``H_upd``, and their exact masses cost some 5 s of CPU per ``"paper"`` run,
+        the quick study's largest part; see the δ-GLMB page's costs).
     ospa_c, ospa_p, ospa_window : float, float, int
         OSPA(2) (spec §7: 200 m, 1, 5 scans); OSPA and GOSPA have the same ``c`` and ``p``.
 
@@ -123,6 +125,14 @@ class GLMBStudyConfig:
     >>> GLMBStudyConfig.quick().retained_mass, GLMBStudyConfig.quick().tradeoff_h_upd
     (('vo', 'paper'), (100, 300))
     """
+
+    #: Removed settings still accepted by a ``--config`` file, each with what replaced it
+    #: (:func:`~rankedassign.experiments.config_from_dict` warns and ignores them).
+    DEPRECATED_SETTINGS: ClassVar[dict] = {
+        "glmb_extraction": "every filter of the study extracts by MAP, and each filter's "
+                           "other estimator (LMB: hysteresis; δ-GLMB: Vo's recursive "
+                           "estimator, GLMBFilter(extraction='recursive')) is scored beside "
+                           "it on the same run (ESTIMATORS)"}
 
     n_mc: int = 20
     n_scans: int = 100
@@ -923,7 +933,9 @@ against the other's. OSPA: c = {c["ospa_c"]:g} m, p = {c["ospa_p"]:g}; OSPA(2) t
 window of {c["ospa_window"]} scans; GOSPA (α = 2) the same c and p. The retained mass
 `Σ_h w_h K_h / Σ_h w_h Z_h` (exact normalisers, spec §4) is the share of the exact posterior
 the truncation keeps; the carried mass the share that survives the scan's merge, prune and
-`H_max` cap; both computed on {", ".join(f"`{p}`" for p in c["retained_mass"]) or "no preset"}.
+`H_max` cap; both computed on {", ".join(f"`{p}`" for p in c["retained_mass"]) or "no preset"}
+(exact normalisers, included in the GLMB rows' seconds per run there; their cost per part is on
+the δ-GLMB page of the documentation).
 {fmt.runs_note(r.n_runs for p in s.presets for r in p.rows if r.n_runs)} Every comparison is
 the mean over paired runs of the per-run relative difference in mean OSPA(2), with its 95 %
 Student-t interval; a target counts as met or not met only when the interval leaves no doubt.

@@ -36,7 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-import oracle
+from oracle.single.dp import PlanCache, compact_log_normalizer
 
 from ...engine._kernels import zobrist_keys
 from ...engine.rng import spawning_generator
@@ -60,7 +60,6 @@ from ..common import check_measurements as _check_measurements
 from ..common import concat as _concat
 from ..common import gate_threshold, retained_ratio
 from ..common import logsumexp as _logsumexp
-from ..gating import GatedPairs, clusters
 from ..models import ConstantVelocity, LinearMotion, Model
 from ..nonlinear.step import single_object
 from ..nonlinear.vo import NonlinearModel
@@ -206,6 +205,84 @@ class _Terms(NamedTuple):
     cc: np.ndarray  # (T, U + 2) −ln η over [measurements | missed | dead]
     W: np.ndarray  # (T, U + 2) exp(−(cc − row minimum))
     gain: tuple | None = None  # non-linear path: (K (C, d, d_z), P' (C, d, d)); else None
+
+
+#: Bytes of the work array of :func:`_component_groups`' adjacency (one slice of components).
+_GROUP_BYTES = 1 << 24
+
+
+def _component_groups(comp_off, comp_tracks, births, gated):
+    """The gate groups of every component's problem, for all components at once.
+
+    Component ``h``'s rows are the births, then its entries (the order of
+    :func:`~rankedassign.tracking.single._glmb_kernels.component_problem`); its groups are the
+    connected components of those rows linked by shared gated measurements, in the order of
+    their first row, each row in its group in row order: the partition and order of
+    :func:`~rankedassign.tracking.gating.clusters` on the component's gate, found here for
+    every component by one label propagation over a padded ``(H, P, P)`` adjacency rather
+    than by a graph search per component.
+
+    Returns
+    -------
+    None when no component has a row, else
+    uniq : ndarray of int64, shape (G, P_max)
+        The distinct groups in the order of their first use, their entries in row order,
+        padded with ``-1``.
+    first : ndarray of int64, shape (G,)
+        Index of the first use of each distinct group in the list of all groups (components in
+        order, each component's groups in order).
+    inv : ndarray of int64, shape (n_groups,)
+        The distinct group of every group of that list.
+    g_comp : ndarray of int64, shape (n_groups,)
+        The component of every group of that list.
+    """
+    H = comp_off.size - 1
+    B = births.size
+    sizes = np.diff(comp_off)
+    P_max = B + int(sizes.max(initial=0))
+    if H == 0 or P_max == 0:
+        return None
+    R = np.full((H, P_max), -1, dtype=np.int64)
+    R[:, :B] = births
+    pos = np.arange(comp_tracks.size) - np.repeat(comp_off[:-1], sizes)
+    R[np.repeat(np.arange(H), sizes), B + pos] = comp_tracks
+    valid = R >= 0
+    # rows of a component that share a gated measurement, on the gate's bytes (a BLAS product
+    # of the gate cost more than all the rest: its threads, on small matrices), in slices of
+    # components so that the work array stays within _GROUP_BYTES whatever the scene's size
+    packed = np.packbits(gated, axis=1)[np.where(valid, R, 0)]  # (H, P, bytes)
+    adj = np.empty((H, P_max, P_max), dtype=bool)
+    step = max(1, _GROUP_BYTES // (P_max * P_max * max(packed.shape[2], 1)))
+    for h0 in range(0, H, step):
+        pr = packed[h0:h0 + step]
+        adj[h0:h0 + step] = (pr[:, :, None, :] & pr[:, None, :, :]).any(axis=3)
+    adj |= np.eye(P_max, dtype=bool)  # every row with itself
+    adj &= valid[:, :, None] & valid[:, None, :]
+    # every row takes the least row position it reaches: its group's first row
+    lab = np.broadcast_to(np.arange(P_max, dtype=np.int32), (H, P_max)).copy()
+    while True:
+        new = np.where(adj, lab[:, None, :], P_max).min(axis=2)
+        new = np.where(valid, new, lab)
+        if np.array_equal(new, lab):
+            break
+        lab = new
+    hh, aa = np.nonzero(valid)
+    ll = lab[hh, aa]
+    order = np.lexsort((aa, ll, hh))  # by component, group, row
+    hh, aa, ll = hh[order], aa[order], ll[order]
+    start = np.r_[True, (hh[1:] != hh[:-1]) | (ll[1:] != ll[:-1])]
+    gidx = np.cumsum(start) - 1
+    starts = np.flatnonzero(start)
+    groups = np.full((starts.size, P_max), -1, dtype=np.int64)
+    groups[gidx, np.arange(hh.size) - starts[gidx]] = R[hh, aa]
+    # distinct groups in the order of first use, by their bytes (np.unique(axis=0) sorts
+    # structured rows, several times slower at a few thousand groups a scan)
+    index: dict = {}
+    inv = np.fromiter((index.setdefault(row, len(index))
+                       for row in map(bytes, groups)), dtype=np.int64, count=starts.size)
+    first = np.full(len(index), starts.size, dtype=np.int64)
+    np.minimum.at(first, inv, np.arange(starts.size))
+    return groups[first], first, inv, hh[starts]
 
 
 # ------------------------------------------------------------------------------- the filter
@@ -366,6 +443,8 @@ class GLMBFilter:
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
         self.max_components = check_int(max_components, "max_components", minimum=1)
         self.retained_mass = check_bool(retained_mass, "retained_mass")
+        # the DP plans of the retained mass's normalisers, by gate pattern (see _retained)
+        self._plans = PlanCache()
         reads_histories = self.extraction in ("trajectory", "recursive")
         if keep_histories is None:
             keep_histories = reads_histories
@@ -816,50 +895,47 @@ class GLMBFilter:
         ``Z_h`` factorises over the connected components of the problem's gate graph (rows
         that share no measurement are independent, and every row's missed and dead columns are
         its own): ``Z_h = Π_g Z_g``. A group is named by its entries, so a group met in several
-        components is solved once per scan, by :func:`oracle.log_normalizer`; a group of one
-        row is its closed form ``Σ_j η(j)``.
+        components is solved once per scan, by :func:`oracle.single.dp.compact_log_normalizer`
+        (with the filter's :class:`~oracle.single.dp.PlanCache`: the components share most of
+        their tracks, so their groups repeat a few gate patterns); a group of one row is its
+        closed form ``Σ_j η(j)``.
         """
-        H = self.n_components
-        U = terms.used.size
-        mark = np.zeros(U, dtype=bool)
-        rows = np.empty(self._births.size + int(np.diff(self.comp_off).max(initial=0)),
-                        dtype=np.int64)
-        cols = np.empty(U, dtype=np.int64)
-        log_Z = np.zeros(H)
-        cache: dict = {}
-        for h in range(H):
-            with interruptible:
-                P, M = _glmb_kernels.component_problem(
-                    h, self.comp_off, self.comp_tracks, self._births, terms.gated, mark, rows,
-                    cols)
-                r, c = rows[:P].copy(), cols[:M].copy()
-            # the groups by sparse connected components (the dense kernel's partition and
-            # order, without its rows x columns x rows scan)
-            tr, me = np.nonzero(terms.gated[np.ix_(r, c)])
-            groups = clusters(GatedPairs(tr.astype(np.int64), me.astype(np.int64), P, M,
-                                         int(tr.size))).groups()
-            for g_rows, g_cols in groups:
-                rr = r[g_rows]
-                name = tuple(rr.tolist())
-                value = cache.get(name)
-                if value is None:
-                    cg = c[g_cols]
-                    if rr.size == 1:
-                        t = rr[0]
-                        value = _logsumexp(np.r_[terms.log_det[t, cg], terms.log_miss[t],
-                                                 terms.log_dead[t]])
-                    else:
-                        with interruptible:
-                            cost = _kernels.group_cost_matrix(
-                                terms.log_det, terms.log_miss, terms.log_dead, rr, cg)
-                        try:
-                            value = oracle.log_normalizer(AssignmentProblem(cost))
-                        except ValueError as err:
-                            return math.nan, (
-                                f"component {h} has a group of {rr.size} rows and {cg.size} "
-                                f"measurements beyond the oracle's DP: {err}")
-                    cache[name] = value
-                log_Z[h] += value
+        groups = _component_groups(self.comp_off, self.comp_tracks, self._births,
+                                   terms.gated)
+        log_Z = np.zeros(self.n_components)
+        if groups is None:  # no rows at all: every Z_h is 1
+            return retained_ratio(self.comp_w, children, log_Z), ""
+        uniq, first, inv, g_comp = groups
+        value = np.empty(uniq.shape[0])
+        size = (uniq >= 0).sum(axis=1)
+        # the compact cost of every entry, [measurements | missed | dead] (as
+        # _kernels.group_cost_matrix), negated once a scan
+        cost_all = np.concatenate([-terms.log_det, -terms.log_miss[:, None],
+                                   -terms.log_dead[:, None]], axis=1)
+        # every group's columns at once: the measurements some row of it gates, then the
+        # missed and dead columns
+        flat = uniq[uniq >= 0]
+        gate = np.logical_or.reduceat(terms.gated[flat], np.r_[0, np.cumsum(size)[:-1]],
+                                      axis=0)
+        cols_of = np.concatenate([gate, np.ones((gate.shape[0], 2), dtype=bool)], axis=1)
+        # solved in the order of first use, so that a group beyond the DP is reported for the
+        # first component that has it
+        for u, n in enumerate(size.tolist()):
+            rr = uniq[u, :n]
+            cols = np.flatnonzero(cols_of[u])
+            if n == 1:
+                value[u] = _logsumexp(-cost_all[rr[0], cols])
+                continue
+            cost = cost_all[rr[:, None], cols]
+            try:
+                value[u] = compact_log_normalizer(cost, plans=self._plans)
+            except ValueError as err:
+                h = int(g_comp[first[u]])
+                return math.nan, (
+                    f"component {h} has a group of {rr.size} rows and {cols.size - 2} "
+                    f"measurements beyond the oracle's DP: {err}")
+        # Σ_g ln Z_g per component, group by group in order (np.add.at is unbuffered)
+        np.add.at(log_Z, g_comp, value[inv])
         return retained_ratio(self.comp_w, children, log_Z), ""
 
     # ----------------------------------------------------------------------- 5. children
