@@ -5,7 +5,7 @@ The studies grew their own spellings of the same sampler (``"long"``, ``"gibbs"`
 :class:`~rankedassign.tracking.ShortChainGibbs`). A study names a truncation by the class's
 ``name`` (:data:`TRUNCATIONS`); :func:`canonical_truncation` reads an old spelling from a
 ``--config`` file as the new name, with a :class:`DeprecationWarning` that names it
-(:data:`DEPRECATED_TRUNCATIONS`, listed in ``CHANGELOG.md``).
+(:data:`DEPRECATED_TRUNCATIONS`, listed in the changelog, ``docs/structure.md``).
 """
 
 from __future__ import annotations
