@@ -1,4 +1,4 @@
-"""Stone Soup's angle measurement models with analytic Jacobians, for the 1e-10 comparisons.
+"""Stone Soup's angle measurement models and ConstantTurn with analytic Jacobians, for the 1e-10 comparisons.
 
 Stone Soup's own ``jacobian`` of these models takes finite differences, which agree with the
 analytic one to about 1e-7 only; with these subclasses Stone Soup's ``ExtendedKalmanUpdater``
@@ -13,6 +13,7 @@ from stonesoup.models.measurement.nonlinear import (
     CartesianToBearingRange,
     CartesianToElevationBearingRange,
 )
+from stonesoup.models.transition.nonlinear import ConstantTurn
 
 
 def _local(model, state, k):
@@ -60,3 +61,24 @@ class AnalyticElevationBearingRange(CartesianToElevationBearingRange):
         J = np.zeros((3, self.ndim_state))
         J[:, idx] = np.vstack([d_theta, d_phi, d_rho]) @ A
         return J
+
+
+class AnalyticConstantTurn(ConstantTurn):
+    """``ConstantTurn`` with its analytic Jacobian (turn rate away from 0)."""
+
+    def jacobian(self, state, **kwargs):
+        x = np.asarray(state.state_vector, dtype=float).ravel()
+        T = kwargs["time_interval"].total_seconds()
+        vx, vy, w = x[1], x[3], x[4]
+        s, c = np.sin(w * T), np.cos(w * T)
+        # f0 = x + (s/ω) vx − ((1−c)/ω) vy,  f1 = c vx − s vy,
+        # f2 = ((1−c)/ω) vx + y + (s/ω) vy,  f3 = s vx + c vy,  f4 = ω
+        ds = (T * c * w - s) / w ** 2          # d(s/ω)/dω
+        dv = (T * s * w - (1 - c)) / w ** 2    # d((1−c)/ω)/dω
+        return np.array([
+            [1.0, s / w, 0.0, -(1 - c) / w, ds * vx - dv * vy],
+            [0.0, c, 0.0, -s, -T * s * vx - T * c * vy],
+            [0.0, (1 - c) / w, 1.0, s / w, dv * vx + ds * vy],
+            [0.0, s, 0.0, c, T * c * vx - T * s * vy],
+            [0.0, 0.0, 0.0, 0.0, 1.0],
+        ])

@@ -32,7 +32,7 @@ from stonesoup.models.transition.linear import (  # noqa: E402
     CombinedLinearGaussianTransitionModel,
     ConstantVelocity,
 )
-from stonesoup.models.transition.nonlinear import ConstantTurn  # noqa: E402
+from stonesoup.models.transition.nonlinear import ConstantTurnSandwich  # noqa: E402
 from stonesoup.predictor.kalman import (  # noqa: E402
     ExtendedKalmanPredictor,
     KalmanPredictor,
@@ -658,9 +658,9 @@ def test_tracker_update_by_hand_and_time_steps():
 
 
 @pytest.mark.parametrize("kwargs, error, match", [
-    ({"transition_model": ConstantTurn([0.1, 0.1], 0.1)}, TypeError,
-     r"LMBTracker supports only linear-Gaussian models: the transition model ConstantTurn "
-     r"is not linear-Gaussian"),
+    ({"transition_model": ConstantTurnSandwich([0.1, 0.1], 0.1, [ConstantVelocity(0.1)])},
+     TypeError, r"LMBTracker supports linear-Gaussian transition models and ConstantTurn: the "
+     r"transition model ConstantTurnSandwich is neither"),
     ({"measurement_model": CartesianToElevationBearing(4, (0, 2, 3), np.eye(2))}, TypeError,
      r"LMBTracker: the measurement model CartesianToElevationBearing has no counterpart in "
      r"rankedassign.tracking.nonlinear \(LinearGaussian, CartesianToBearingRange, "

@@ -25,7 +25,10 @@ from stonesoup.models.transition.linear import (  # noqa: E402
     CombinedLinearGaussianTransitionModel,
     ConstantVelocity,
 )
-from stonesoup.models.transition.nonlinear import ConstantTurn  # noqa: E402
+from stonesoup.models.transition.nonlinear import (  # noqa: E402
+    ConstantTurn,
+    ConstantTurnSandwich,
+)
 from stonesoup.predictor.kalman import (  # noqa: E402
     ExtendedKalmanPredictor,
     KalmanPredictor,
@@ -200,9 +203,28 @@ def test_what_has_no_counterpart_is_refused_by_name():
                                                            np.array([[1.0, 0.1], [0.1, 1.0]])))
     with pytest.raises(ValueError, match=r"need two position components, got mapping \(0,\)"):
         measurement_from_stonesoup(LinearGaussian(4, (0,), np.eye(1)))
-    with pytest.raises(TypeError, match=r"the transition model ConstantTurn is not "
-                                        r"linear-Gaussian"):
-        motion_from_stonesoup(ConstantTurn([0.1, 0.1], 0.1), DT)
+    with pytest.raises(TypeError, match=r"the transition model ConstantTurnSandwich is not "
+                                        r"linear-Gaussian \(no matrix F and covariance Q\) nor "
+                                        r"ConstantTurn"):
+        motion_from_stonesoup(ConstantTurnSandwich([0.1, 0.1], 0.1, [ConstantVelocity(0.1)]),
+                              DT)
+
+
+def test_constant_turn_is_our_coordinated_turn_with_stone_soups_noise():
+    """ConstantTurn over an interval: Stone Soup's function and covariance; the square root the
+    augmented unscented filter uses gives Q back."""
+    ct = ConstantTurn([0.3, 0.7], 0.01)
+    dt = datetime.timedelta(seconds=2.5)
+    ours = motion_from_stonesoup(ct, dt)
+    x = np.array([[10.0, 5.0, -3.0, 2.0, 0.2], [0.0, 1.0, 0.0, -1.0, 0.0]])
+    theirs = np.column_stack([np.asarray(ct.function(GaussianState(r.reshape(-1, 1), np.eye(5)),
+                                                     time_interval=dt), float).ravel()
+                              for r in x]).T
+    assert_allclose(ours.f(x), theirs, rtol=1e-12, atol=1e-12)
+    assert_allclose(ours.Q, np.asarray(ct.covar(time_interval=dt)), rtol=0, atol=0)
+    G = np.asarray(ours.noise_gain)
+    assert_allclose(G @ G.T, ours.Q, atol=1e-14)
+    assert motion_from_stonesoup(ct, datetime.timedelta(0)).f(x).tolist() == x.tolist()
 
 
 # ----------------------------------------------------------------------------- 3-D and bearing

@@ -5,7 +5,8 @@ The trackers do the single-object arithmetic of non-linear tracking on arrays, w
 a Stone Soup user builds a tracker from onto those classes:
 
 * :func:`motion_from_stonesoup`: a linear-Gaussian transition model (``F`` and ``Q`` of one
-  interval) as :class:`~rankedassign.tracking.nonlinear.LinearGaussianMotion`;
+  interval) as :class:`~rankedassign.tracking.nonlinear.LinearGaussianMotion`, and
+  ``ConstantTurn`` as :class:`StoneSoupTurn` (our coordinated turn with Stone Soup's noise);
 * :func:`measurement_from_stonesoup`: ``LinearGaussian`` as
   :class:`~rankedassign.tracking.nonlinear.LinearGaussianMeasurement`,
   ``CartesianToBearingRange`` as :class:`~rankedassign.tracking.nonlinear.BearingRange`,
@@ -33,6 +34,7 @@ the y-axis (Vo's), ``θ = atan2(p_x − s_x, p_y − s_y)``. Swapping the two po
 from __future__ import annotations
 
 import datetime
+from dataclasses import dataclass, field
 
 import numpy as np
 from stonesoup.models.base import GaussianModel, LinearModel
@@ -42,6 +44,7 @@ from stonesoup.models.measurement.nonlinear import (
     CartesianToBearingRange,
     CartesianToElevationBearingRange,
 )
+from stonesoup.models.transition.nonlinear import ConstantTurn, ConstantTurnSandwich
 from stonesoup.predictor.kalman import (
     ExtendedKalmanPredictor,
     KalmanPredictor,
@@ -51,6 +54,7 @@ from stonesoup.updater.kalman import ExtendedKalmanUpdater, KalmanUpdater, Unsce
 
 from ..tracking.nonlinear import (
     BearingRange,
+    CoordinatedTurn,
     ExtendedKalmanFilter,
     KalmanFilter,
     LinearGaussianMeasurement,
@@ -60,31 +64,149 @@ from ..tracking.nonlinear import (
 from ..tracking.nonlinear.filters import PairedFilter
 from ..tracking.nonlinear.sensors import Bearing, ElevationBearingRange
 
-__all__ = ["filter_from_stonesoup", "filters_from_stonesoup", "measurement_from_stonesoup",
-           "motion_from_stonesoup"]
+__all__ = ["StoneSoupTurn", "filter_from_stonesoup", "filters_from_stonesoup",
+           "is_constant_turn", "measurement_from_stonesoup", "motion_from_stonesoup"]
 
 
-def motion_from_stonesoup(transition_model, time_interval: datetime.timedelta):
-    """A Stone Soup linear-Gaussian transition model over one interval, as our motion model.
+def is_constant_turn(model) -> bool:
+    """Whether ``model`` is Stone Soup's ``ConstantTurn`` on ``[x, v_x, y, v_y, ω]`` (a
+    subclass that only changes e.g. its Jacobian included; ``ConstantTurnSandwich``, which
+    adds linear components to the state, excluded).
 
     Parameters
     ----------
-    transition_model : stonesoup.models.base.LinearModel and GaussianModel
-        E.g. a ``CombinedLinearGaussianTransitionModel`` of ``ConstantVelocity`` models.
+    model : object
+        A Stone Soup transition model (anything else gives False).
+
+    Returns
+    -------
+    bool
+        True if :func:`motion_from_stonesoup` maps it onto :class:`StoneSoupTurn`.
+
+    Examples
+    --------
+    >>> from stonesoup.models.transition.nonlinear import ConstantTurn
+    >>> is_constant_turn(ConstantTurn(linear_noise_coeffs=(1.0, 1.0), turn_noise_coeff=0.01))
+    True
+    """
+    return (isinstance(model, ConstantTurn) and not isinstance(model, ConstantTurnSandwich)
+            and int(model.ndim_state) == 5)
+
+
+@dataclass(frozen=True, eq=False)
+class StoneSoupTurn(CoordinatedTurn):
+    """Stone Soup's ``ConstantTurn`` over one interval: the coordinated turn with its noise.
+
+    The transition is :class:`~rankedassign.tracking.nonlinear.CoordinatedTurn`'s, which is
+    the function of Stone Soup's ``ConstantTurn`` on the same state ``[x, v_x, y, v_y, ω]``
+    (Stone Soup replaces ``ω = 0`` by machine epsilon, we use the Taylor series: the two agree
+    to rounding). The process noise is Stone Soup's ``covar(time_interval)`` (white
+    acceleration noise per axis with ``linear_noise_coeffs`` and a turn-rate noise), not Vo's
+    ``G Gᵀ``; the unscented filter's augmented form uses a square root of it.
+
+    Parameters
+    ----------
+    dt : float
+        The interval in s; 0 gives the identity (the trackers' placeholder before the first
+        interval is known).
+    noise : ndarray, shape (5, 5)
+        Stone Soup's process noise covariance over ``dt``.
+
+    Attributes
+    ----------
+    dt : float
+        The interval in s.
+    noise : ndarray, shape (5, 5)
+        The process noise covariance (read-only, symmetrised).
+    sigma_vel, sigma_turn : float
+        :class:`~rankedassign.tracking.nonlinear.CoordinatedTurn`'s noise parameters, unused
+        here (``noise`` replaces ``G Gᵀ``).
+
+    Raises
+    ------
+    ValueError
+        If ``dt`` is negative or not finite, or ``noise`` is not a symmetric positive
+        semi-definite 5 × 5 matrix.
+
+    References
+    ----------
+    Stone Soup, ``stonesoup.models.transition.nonlinear.ConstantTurn``; X. R. Li and
+    V. P. Jilkov, "Survey of maneuvering target tracking. Part I: dynamic models", IEEE Trans.
+    Aerosp. Electron. Syst. 39(4), 2003 (the coordinated turn).
+
+    Examples
+    --------
+    >>> import datetime
+    >>> from stonesoup.models.transition.nonlinear import ConstantTurn, ConstantTurnSandwich
+    >>> ct = ConstantTurn(linear_noise_coeffs=(1.0, 1.0), turn_noise_coeff=0.01)
+    >>> m = motion_from_stonesoup(ct, datetime.timedelta(seconds=2))
+    >>> m.f([[0.0, 10.0, 0.0, 0.0, 0.0]]).tolist()
+    [[20.0, 10.0, 0.0, 0.0, 0.0]]
+    >>> float(m.Q[4, 4])
+    0.02
+    """
+
+    noise: np.ndarray = field(default_factory=lambda: np.zeros((5, 5)))
+    name = "ConstantTurn"
+
+    def __post_init__(self):
+        dt = float(self.dt)
+        if not (np.isfinite(dt) and dt >= 0):
+            raise ValueError(f"ConstantTurn: the interval must be non-negative and finite, "
+                             f"got {self.dt!r} s")
+        Q = np.array(self.noise, dtype=np.float64)
+        if Q.shape != (5, 5) or not np.all(np.isfinite(Q)) or not np.allclose(Q, Q.T) \
+                or np.linalg.eigvalsh(0.5 * (Q + Q.T)).min() < -1e-12 * max(1.0, abs(Q).max()):
+            raise ValueError("ConstantTurn: the process noise must be a finite symmetric "
+                             "positive semi-definite 5 x 5 matrix")
+        Q = 0.5 * (Q + Q.T)
+        Q.setflags(write=False)
+        object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "noise", Q)
+
+    @property
+    def Q(self) -> np.ndarray:
+        """Stone Soup's process noise covariance, shape (5, 5)."""
+        return self.noise
+
+    @property
+    def noise_gain(self) -> np.ndarray:
+        """A square root ``G`` of ``Q`` (``G Gᵀ = Q``, from its eigendecomposition)."""
+        lam, U = np.linalg.eigh(self.noise)
+        G = U * np.sqrt(np.clip(lam, 0.0, None))
+        G.setflags(write=False)
+        return G
+
+    @property
+    def noise_cov(self) -> np.ndarray:
+        """``I₅``: the noise enters as ``G v`` with ``v ~ N(0, I)``."""
+        return np.eye(5)
+
+
+def motion_from_stonesoup(transition_model, time_interval: datetime.timedelta):
+    """A Stone Soup transition model over one interval, as our motion model.
+
+    Parameters
+    ----------
+    transition_model : stonesoup.models.base.LinearModel and GaussianModel, or ConstantTurn
+        E.g. a ``CombinedLinearGaussianTransitionModel`` of ``ConstantVelocity`` models, or
+        ``ConstantTurn`` (state ``[x, v_x, y, v_y, ω]``).
     time_interval : datetime.timedelta
         The interval whose ``F`` and ``Q`` are taken.
 
     Returns
     -------
-    LinearGaussianMotion
+    LinearGaussianMotion or StoneSoupTurn
         ``F = transition_model.matrix(time_interval)``,
-        ``Q = transition_model.covar(time_interval)``.
+        ``Q = transition_model.covar(time_interval)``; for ``ConstantTurn`` the coordinated
+        turn over the interval with ``Q = transition_model.covar(time_interval)``.
 
     Raises
     ------
     TypeError
-        If the model is not linear-Gaussian (e.g. ``ConstantTurn``, whose turn-rate noise has
-        no counterpart in :class:`~rankedassign.tracking.nonlinear.CoordinatedTurn`'s).
+        If the model is neither linear-Gaussian nor ``ConstantTurn`` (Stone Soup's
+        ``KnownTurnRate`` is linear and taken; ``ConstantTurnSandwich`` and a user's own
+        non-linear model are refused).
 
     Examples
     --------
@@ -95,12 +217,15 @@ def motion_from_stonesoup(transition_model, time_interval: datetime.timedelta):
     >>> motion_from_stonesoup(cv, datetime.timedelta(seconds=2)).F[0].tolist()
     [1.0, 2.0, 0.0, 0.0]
     """
+    if is_constant_turn(transition_model):
+        return StoneSoupTurn(
+            dt=abs(time_interval.total_seconds()),
+            noise=np.asarray(transition_model.covar(time_interval=time_interval), dtype=float))
     if not (isinstance(transition_model, LinearModel)
             and isinstance(transition_model, GaussianModel)):
         raise TypeError(f"the transition model {type(transition_model).__name__} is not "
-                        "linear-Gaussian (no matrix F and covariance Q): our non-linear motion "
-                        "model is CoordinatedTurn with Vo's noise, which Stone Soup's "
-                        "ConstantTurn does not share")
+                        "linear-Gaussian (no matrix F and covariance Q) nor ConstantTurn, the "
+                        "non-linear transition model with an array counterpart here")
     return LinearGaussianMotion(
         np.asarray(transition_model.matrix(time_interval=time_interval), dtype=np.float64),
         np.asarray(transition_model.covar(time_interval=time_interval), dtype=np.float64),

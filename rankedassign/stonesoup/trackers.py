@@ -61,7 +61,12 @@ from ..tracking.multisensor import MultiSensorGLMBFilter, MultiSensorLMBFilter
 from ..tracking.nonlinear import ExtendedKalmanFilter, GaussianBirth, KalmanFilter, NonlinearModel
 from ..tracking.nonlinear.multisensor import NonlinearMultiSensorModel
 from ..validation import float_array
-from .models import filters_from_stonesoup, measurement_from_stonesoup, motion_from_stonesoup
+from .models import (
+    filters_from_stonesoup,
+    is_constant_turn,
+    measurement_from_stonesoup,
+    motion_from_stonesoup,
+)
 
 __all__ = ["LMBTracker", "GLMBTracker", "MultiSensorLMBTracker", "MultiSensorGLMBTracker"]
 
@@ -79,16 +84,18 @@ def _is_linear(model) -> bool:
 
 
 def _check_linear_motion(model, who: str) -> None:
-    """Refuse a transition model that is not linear-Gaussian (with its name in the message)."""
+    """Refuse a transition model with no array counterpart (with its name in the message):
+    linear-Gaussian models (combined or not) and ``ConstantTurn`` are taken."""
+    if is_constant_turn(model):
+        return
     parts = getattr(model, "model_list", None) or [model]
     for part in [model, *parts]:
         if not (isinstance(part, LinearModel) and isinstance(part, GaussianModel)):
             raise TypeError(
-                f"{who} supports only linear-Gaussian models: the transition model "
-                f"{type(part).__name__} is not linear-Gaussian (use e.g. "
-                "CombinedLinearGaussianTransitionModel of ConstantVelocity models); a "
-                "non-linear transition model has no array form here (our CoordinatedTurn "
-                "has Vo's noise, which Stone Soup's ConstantTurn does not share)"
+                f"{who} supports linear-Gaussian transition models and ConstantTurn: the "
+                f"transition model {type(part).__name__} is neither (use e.g. "
+                "CombinedLinearGaussianTransitionModel of ConstantVelocity models, or "
+                "ConstantTurn)"
             )
 
 
@@ -343,7 +350,8 @@ class _LabeledTracker(Tracker):
                             f"{type(mm).__name__} has none (a bearing alone does not place a "
                             "target); give birth_components")
         if single is None:   # no predictor nor updater: Stone Soup's usual pick for the model
-            single = KalmanFilter() if getattr(sensor, "linear", False) else \
+            single = KalmanFilter() if getattr(sensor, "linear", False) \
+                and _is_linear(self.transition_model) else \
                 ExtendedKalmanFilter()
         if measurement_birth is not None:
             birth = ()
@@ -901,6 +909,7 @@ class _MultiSensorTracker(_LabeledTracker):
                 raise type(exc)(f"{who}: sensor {v}: {exc}") from None
         if single is None:
             single = (KalmanFilter() if all(getattr(s, "linear", False) for s in sensors)
+                      and _is_linear(self.transition_model)
                       else ExtendedKalmanFilter())
         birth = tuple(GaussianBirth(r, m, P)
                       for r, m, P in _birth_states(self.birth_components, who, n))
