@@ -57,11 +57,6 @@ exception becomes a ``SystemError``; see :data:`rankedassign.numba_options.inter
 boxing a named tuple there crashes, hence the plain tuples).
 One sweep is never split: the longest pause between two checks is one slice plus one sweep.
 
-Compile cost. The driver is compiled in a user's first call, so it assigns no array into a
-slice (``a[i, :] = b``): numba compiles a formatted shape-mismatch error for each shape of such
-an assignment (about a second each, plus its string formatting the first time); element loops
-do the same work.
-
 Random streams. Every row update draws its uniforms with :func:`next_uniform` from a
 one-element ``uint64`` state array, one SplitMix64 stream per chain started at
 :func:`chain_state`; the pure-Python reference draws the same numbers from
@@ -637,8 +632,7 @@ def _insert(U, slot, state, h, n_unique, count, chain):
     """Store ``state`` as unique number ``n_unique`` at the empty hash-table ``slot``."""
     U.table[slot, 0] = h
     U.table[slot, 1] = np.uint64(n_unique + 1)
-    for i in range(state.shape[0]):  # element by element: see "Compile cost" in the module notes
-        U.states[n_unique, i] = state[i]
+    U.states[n_unique, :] = state
     U.hashes[n_unique] = h
     U.counts[n_unique] = count
     U.last_chain[n_unique] = chain
@@ -652,15 +646,13 @@ def _grow(U, n_unique):
     if n_unique >= cap:
         new_cap = 2 * cap
         s2 = np.empty((new_cap, states.shape[1]), dtype=states.dtype)
+        s2[:cap] = states
         h2 = np.empty(new_cap, dtype=hashes.dtype)
+        h2[:cap] = hashes
         c2 = np.zeros(new_cap, dtype=counts.dtype)
+        c2[:cap] = counts
         l2 = np.full(new_cap, -1, dtype=last_chain.dtype)
-        for u in range(cap):
-            for i in range(states.shape[1]):
-                s2[u, i] = states[u, i]
-            h2[u] = hashes[u]
-            c2[u] = counts[u]
-            l2[u] = last_chain[u]
+        l2[:cap] = last_chain
         states, hashes, counts, last_chain = s2, h2, c2, l2
     if 2 * (n_unique + 1) > table.shape[0]:
         size = table.shape[0]
@@ -1102,8 +1094,7 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
             c = c0 + b
             if pos[_IN_CHAIN] == 0:
                 if not speculative:
-                    for i in range(x0.shape[0]):
-                        slab.states[b, i] = x0[i]
+                    slab.states[b, :] = x0
                     reset_work(data, work, b, x0)
                     slab.h[b] = h0
                     slab.rs[b, 0] = chain_state(base, c)
