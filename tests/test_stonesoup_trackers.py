@@ -307,6 +307,22 @@ def _stone_soup_chain(predictor, updater, prior, scans):
     return out
 
 
+def _assert_one_track_is_stone_soups(cls, association, tm, mm, predictor_cls, updater_cls,
+                                     prior, scans):
+    """Our tracker (P_D = 1, one birth: the prior) against Stone Soup's own predictor and
+    updater on the same detections: the track "1:1" equal to 1e-10 at every scan."""
+    tracker = cls(scans, predictor=predictor_cls(tm), updater=updater_cls(mm),
+                  prob_detection=1.0, clutter_rate=1e-3, clutter_spatial_density=1e-8,
+                  birth_components=[prior], association=association, seed=0)
+    assert tracker._nonlinear
+    theirs = _stone_soup_chain(predictor_cls(tm), updater_cls(mm), prior, scans)
+    for (_, tracks), (m, P) in zip(tracker, theirs, strict=True):
+        (track,) = [t for t in tracks if t.id == "1:1"]
+        assert_allclose(np.asarray(track.state_vector, float).ravel(), m, rtol=1e-10,
+                        atol=1e-10)
+        assert_allclose(np.asarray(track.covar), P, rtol=1e-10, atol=1e-10)
+
+
 @pytest.mark.parametrize("case", sorted(CASES))
 @pytest.mark.parametrize("cls, association", [(LMBTracker, Exact()), (GLMBTracker, Murty(50))])
 def test_tracks_equal_stone_soups_own_predictor_and_updater(case, cls, association):
@@ -318,16 +334,8 @@ def test_tracks_equal_stone_soups_own_predictor_and_updater(case, cls, associati
     scans = _truth_scans(tm, mm, x0)
     prior = WeightedGaussianState(np.array(x0, dtype=float).reshape(-1, 1) + 2.0,
                                   np.diag([25.0, 4.0] * (n // 2)), weight=0.5)
-    tracker = cls(scans, predictor=predictor_cls(tm), updater=updater_cls(mm),
-                  prob_detection=1.0, clutter_rate=1e-3, clutter_spatial_density=1e-8,
-                  birth_components=[prior], association=association, seed=0)
-    assert tracker._nonlinear
-    theirs = _stone_soup_chain(predictor_cls(tm), updater_cls(mm), prior, scans)
-    for (_, tracks), (m, P) in zip(tracker, theirs, strict=True):
-        (track,) = [t for t in tracks if t.id == "1:1"]
-        assert_allclose(np.asarray(track.state_vector, float).ravel(), m, rtol=1e-10,
-                        atol=1e-10)
-        assert_allclose(np.asarray(track.covar), P, rtol=1e-10, atol=1e-10)
+    _assert_one_track_is_stone_soups(cls, association, tm, mm, predictor_cls, updater_cls,
+                                     prior, scans)
 
 
 def _bearing_range_scenario(seed, n_scans=15):
@@ -414,16 +422,8 @@ def test_constant_turn_tracks_equal_stone_soups(mm, predictor_cls, updater_cls, 
         out.append((t, {Detection(z, timestamp=t, measurement_model=mm)}))
     prior = WeightedGaussianState(np.array(x0).reshape(-1, 1) + [[2.0], [0.5], [2.0], [0.5], [0.01]],
                                   np.diag([25.0, 4.0, 25.0, 4.0, 1e-4]), weight=0.5)
-    tracker = cls(out, predictor=predictor_cls(CT), updater=updater_cls(mm),
-                  prob_detection=1.0, clutter_rate=1e-3, clutter_spatial_density=1e-8,
-                  birth_components=[prior], association=association, seed=0)
-    assert tracker._nonlinear
-    theirs = _stone_soup_chain(predictor_cls(CT), updater_cls(mm), prior, out)
-    for (_, tracks), (m, P) in zip(tracker, theirs, strict=True):
-        (track,) = [t for t in tracks if t.id == "1:1"]
-        assert_allclose(np.asarray(track.state_vector, float).ravel(), m, rtol=1e-10,
-                        atol=1e-10)
-        assert_allclose(np.asarray(track.covar), P, rtol=1e-10, atol=1e-10)
+    _assert_one_track_is_stone_soups(cls, association, CT, mm, predictor_cls, updater_cls,
+                                     prior, out)
 
 
 @pytest.mark.parametrize("cls, association", [
