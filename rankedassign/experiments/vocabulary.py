@@ -23,7 +23,8 @@ from .. import tracking
 from ..multisensor.prepare import METHODS as ROW_METHODS
 
 __all__ = ["TRUNCATIONS", "DEPRECATED_TRUNCATIONS", "canonical_truncation", "ROW_METHODS",
-           "DEPRECATED_ASSOCIATIONS", "DEPRECATED_FILTER_TRUNCATIONS", "canonical_pair"]
+           "DEPRECATED_ASSOCIATIONS", "DEPRECATED_FILTER_TRUNCATIONS",
+           "DEPRECATED_GLMB_TRUNCATIONS", "canonical_pair", "canonical_value"]
 
 #: Every truncation, by its association class's ``name``.
 TRUNCATIONS = tuple(cls.name for cls in (
@@ -54,6 +55,10 @@ DEPRECATED_FILTER_TRUNCATIONS = {
     for old, new in ((o, {"long": tracking.OriginalGibbs.name,
                           "short": tracking.ShortChainGibbs.name}.get(o, o)) for o in olds)
 }
+#: The ``glmb_tracking`` study's old ``tradeoff_methods`` (all δ-GLMB) and the truncation each
+#: stands for.
+DEPRECATED_GLMB_TRUNCATIONS = {old: t for old, (f, t) in DEPRECATED_FILTER_TRUNCATIONS.items()
+                               if f == "glmb"}
 
 
 def canonical_truncation(value, setting: str):
@@ -149,9 +154,47 @@ def canonical_pair(value, setting: str, deprecated: dict):
                 else value[i]
             value = (name, value[1]) if i == 0 else (value[0], name)
         return value
+    return canonical_value(value, setting, deprecated, stacklevel=4)
+
+
+def canonical_value(value, setting: str, deprecated: dict, *, stacklevel: int = 3):
+    """``deprecated[value]`` with a warning naming it, for a deprecated string; else ``value``.
+
+    Parameters
+    ----------
+    value : object
+        A setting's entry as read.
+    setting : str
+        The setting's name, for the warning.
+    deprecated : dict
+        Old strings and what replaces each: a name, or a pair of names.
+    stacklevel : int, optional
+        Passed on to :func:`warnings.warn` (3: the caller of the function that calls this).
+
+    Returns
+    -------
+    object
+        The replacement, or ``value`` unchanged.
+
+    Warns
+    -----
+    DeprecationWarning
+        ``"<setting>: '<old>' is deprecated; write <new>"``, a pair written as the JSON list a
+        ``--config`` file holds.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     new = canonical_value("glmb-short", "tradeoff_methods", DEPRECATED_GLMB_TRUNCATIONS)
+    >>> new, str(w[0].message)
+    ('short-chain', "tradeoff_methods: 'glmb-short' is deprecated; write 'short-chain'")
+    """
     new = deprecated.get(value) if isinstance(value, str) else None
     if new is None:
         return value
-    warnings.warn(f"{setting}: {value!r} is deprecated; write {json.dumps(list(new))}",
-                  DeprecationWarning, stacklevel=3)
+    shown = json.dumps(list(new)) if isinstance(new, tuple) else repr(new)
+    warnings.warn(f"{setting}: {value!r} is deprecated; write {shown}", DeprecationWarning,
+                  stacklevel=stacklevel)
     return new
