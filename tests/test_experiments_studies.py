@@ -267,14 +267,32 @@ def test_tracking_tiny():
     assert len(cur["ospa2_original"]) == len(cur["cumulative_obs_proposed"]) == 8
     assert cur["cumulative_obs_original"][-1] == out.obs_original
     assert all(0.0 <= v <= 200.0 for v in cur["ospa2_proposed"])
-    by = {(r["run"], r["method"]): r for r in runs}
+    by = {(r["run"], r["truncation"]): r for r in runs}
     for r in range(2):  # same measurements for both samplers in a run
-        assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
+        assert_array_equal(by[r, "original"]["n_meas"], by[r, "short-chain"]["n_meas"])
     assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
     assert out.config["marginals"] == "truncated"
     # 8 scans: no target lives past the 10 settling scans, so none is counted, none lost
     assert all(rec["coverage"] == [None] * 12 for rec in runs)
     assert out.targets_lost_original == out.targets_lost_proposed == 0
+
+
+def test_tracking_reads_the_old_name_of_the_short_chains_with_a_deprecation_warning():
+    from rankedassign.experiments.studies.tracking import tracking_task
+
+    cfg = TrackingConfig(n_mc=1, n_scans=3, original_obs=50, n_chains=5)
+    with pytest.warns(DeprecationWarning, match=r"^truncation: 'proposed' is deprecated; "
+                                                r"write 'short-chain'$"):
+        old = tracking_task(cfg, 0, 0, "proposed")
+    new = tracking_task(cfg, 0, 0, "short-chain")
+    assert old["truncation"] == new["truncation"] == "short-chain"
+    for rec in (old, new):
+        rec.pop("total_seconds")
+        rec.pop("association_seconds")
+    assert old == new
+    with pytest.raises(ValueError, match=re.escape(
+            "unknown truncation 'gibbs'; expected one of ('original', 'short-chain')")):
+        tracking_task(cfg, 0, 0, "gibbs")
 
 
 def test_tracking_reports_gospa_beside_ospa2():
@@ -290,16 +308,16 @@ def test_tracking_reports_gospa_beside_ospa2():
         assert g.shape == (6,)
         # value^p = localisation^p + missed^p + false^p (p = 1 here)
         assert_allclose(g, parts.sum(axis=0), rtol=1e-12)
-    for m in ("original", "proposed"):
-        per_run = [np.mean(r["gospa"]) for r in runs if r["method"] == m]
-        assert_allclose(getattr(out, f"gospa_mean_{m}"), np.mean(per_run), rtol=1e-12)
-        assert len(out.curves[f"gospa_{m}"]) == len(out.curves[f"gospa_missed_{m}"]) == 6
+    for m, c in (("original", "original"), ("short-chain", "proposed")):
+        per_run = [np.mean(r["gospa"]) for r in runs if r["truncation"] == m]
+        assert_allclose(getattr(out, f"gospa_mean_{c}"), np.mean(per_run), rtol=1e-12)
+        assert len(out.curves[f"gospa_{c}"]) == len(out.curves[f"gospa_missed_{c}"]) == 6
     text = render_tracking(out, cfg)
     assert "mean GOSPA (m; c = 200, p = 1)" in text and "GOSPA (α = 2" in text
     # the task's GOSPA is gospa_series of the run's arrays
     from rankedassign.experiments.studies.tracking import _association, run_seed
 
-    rec = next(r for r in runs if r["run"] == 0 and r["method"] == "original")
+    rec = next(r for r in runs if r["run"] == 0 and r["truncation"] == "original")
     sr = run_scenario(cfg.preset, _association(cfg, "original"), rng=run_seed(0, 0),
                       n_scans=6, grouping=cfg.grouping, extraction=cfg.extraction)
     assert_allclose(rec["gospa"], gospa_series(sr.truth, sr.estimates, 200.0, 1.0).value,
@@ -310,9 +328,9 @@ def test_tracking_lost_targets_counted_by_hand():
     cfg = TrackingConfig(n_mc=2, n_scans=4, original_obs=50, n_chains=5)
     _, runs = run_study("tracking", cfg, seed=0, progress=False, return_runs=True)
     cover = {(0, "original"): [1.0, None, 0.5], (1, "original"): [1.0, 1.0, 1.0],
-             (0, "proposed"): [1.0, 0.2, 0.49], (1, "proposed"): [0.0, None, 1.0]}
+             (0, "short-chain"): [1.0, 0.2, 0.49], (1, "short-chain"): [0.0, None, 1.0]}
     for rec in runs:
-        rec["coverage"] = cover[rec["run"], rec["method"]]
+        rec["coverage"] = cover[rec["run"], rec["truncation"]]
     out = summarise_tracking(runs, cfg)
     # lost: coverage < 0.5; 0.5 itself is kept and None (too short-lived) is not counted
     assert (out.targets_lost_original, out.runs_with_lost_target_original) == (0, 0)
@@ -329,8 +347,8 @@ def test_tracking_var_tiny():
                         seed=0, progress=False, return_runs=True)
     assert out.config["preset"] == "paper-var"
     assert out.config["sample_empty_groups"] is True
-    by = {(r["run"], r["method"]): r for r in runs}
-    by_base = {(r["run"], r["method"]): r for r in base}
+    by = {(r["run"], r["truncation"]): r for r in runs}
+    by_base = {(r["run"], r["truncation"]): r for r in base}
     for key, rec in by.items():
         assert rec["n_meas"] == by_base[key]["n_meas"]
         assert rec["invocations"] == rec["n_groups"]
@@ -356,15 +374,15 @@ def test_tracking_tiny_rao_blackwell_marginals():
     _, runs_t = run_study("tracking", base, seed=0, progress=False, return_runs=True)
     out, runs_r = run_study("tracking", rb, seed=0, progress=False, return_runs=True)
     assert out.config["marginals"] == "rao-blackwell"
-    by_t = {r["method"]: r for r in runs_t}
-    by_r = {r["method"]: r for r in runs_r}
-    for m in ("original", "proposed"):
+    by_t = {r["truncation"]: r for r in runs_t}
+    by_r = {r["truncation"]: r for r in runs_r}
+    for m in ("original", "short-chain"):
         assert by_r[m]["sweeps"][0] == by_t[m]["sweeps"][0]
         assert by_r[m]["n_meas"] == by_t[m]["n_meas"]
     # tracks of small existence that no sampled hypothesis keeps alive are pruned under the
     # truncated marginals and kept under the Rao-Blackwellised ones (measured on this seed:
     # 12 against 9-10 tracks at scan 3, 18 against 11-12 at scan 6)
-    for m in ("original", "proposed"):
+    for m in ("original", "short-chain"):
         assert sum(by_r[m]["n_tracks"]) > sum(by_t[m]["n_tracks"])
 
 

@@ -24,7 +24,8 @@ from ..multisensor.prepare import METHODS as ROW_METHODS
 
 __all__ = ["TRUNCATIONS", "DEPRECATED_TRUNCATIONS", "canonical_truncation", "ROW_METHODS",
            "DEPRECATED_ASSOCIATIONS", "DEPRECATED_FILTER_TRUNCATIONS",
-           "DEPRECATED_GLMB_TRUNCATIONS", "canonical_pair", "canonical_value"]
+           "DEPRECATED_GLMB_TRUNCATIONS", "DEPRECATED_TRACKING_SAMPLERS", "canonical_pair",
+           "canonical_value"]
 
 #: Every truncation, by its association class's ``name``.
 TRUNCATIONS = tuple(cls.name for cls in (
@@ -55,6 +56,9 @@ DEPRECATED_FILTER_TRUNCATIONS = {
     for old, new in ((o, {"long": tracking.OriginalGibbs.name,
                           "short": tracking.ShortChainGibbs.name}.get(o, o)) for o in olds)
 }
+#: The ``tracking`` study's old name of its short chains (the paper's "proposed" sampler), in
+#: its per-run records' ``truncation`` and its task's argument.
+DEPRECATED_TRACKING_SAMPLERS = {"proposed": tracking.ShortChainGibbs.name}
 #: The ``glmb_tracking`` study's old ``tradeoff_methods`` (all δ-GLMB) and the truncation each
 #: stands for.
 DEPRECATED_GLMB_TRUNCATIONS = {old: t for old, (f, t) in DEPRECATED_FILTER_TRUNCATIONS.items()
