@@ -173,7 +173,7 @@ def canonical_value(value, setting: str, deprecated: dict, *, stacklevel: int = 
     deprecated : dict
         Old strings and what replaces each: a name, or a pair of names.
     stacklevel : int, optional
-        Passed on to :func:`warnings.warn` (3: the caller of the function that calls this).
+        Passed on to ``warnings.warn`` (3: the caller of the function that calls this).
 
     Returns
     -------
