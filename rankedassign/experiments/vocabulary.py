@@ -107,7 +107,7 @@ def canonical_truncation(value, setting: str):
     return new
 
 
-def canonical_pair(value, setting: str, deprecated: dict):
+def canonical_pair(value, setting: str, deprecated: dict, *, truncation_at: int = 0):
     """The pair ``value`` stands for: itself as a tuple, or the pair of a deprecated string.
 
     A study whose cell is a pair of names (``(truncation, method)`` in ``multisensor_tracking``,
@@ -123,13 +123,16 @@ def canonical_pair(value, setting: str, deprecated: dict):
     deprecated : dict
         Old strings and their pairs (:data:`DEPRECATED_ASSOCIATIONS`,
         :data:`DEPRECATED_FILTER_TRUNCATIONS`).
+    truncation_at : {0, 1}, optional
+        Which name of a pair is the truncation (0: ``(truncation, method)``; 1:
+        ``(filter, truncation)``).
 
     Returns
     -------
     object
-        A list or tuple as a tuple, whose second name passes :func:`canonical_truncation` when
-        ``deprecated`` is :data:`DEPRECATED_FILTER_TRUNCATIONS` and whose first does otherwise;
-        for a key of ``deprecated`` its pair; any other value unchanged.
+        A list or tuple of two as a tuple, its truncation through
+        :func:`canonical_truncation`; for a key of ``deprecated`` its pair; any other value
+        unchanged.
 
     Warns
     -----
@@ -144,20 +147,18 @@ def canonical_pair(value, setting: str, deprecated: dict):
     >>> import warnings
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
-    ...     new = canonical_pair("glmb-long", "methods", DEPRECATED_FILTER_TRUNCATIONS)
+    ...     new = canonical_pair("glmb-long", "methods", DEPRECATED_FILTER_TRUNCATIONS,
+    ...                          truncation_at=1)
     >>> new
     ('glmb', 'original')
     >>> print(w[0].message)
     methods: 'glmb-long' is deprecated; write ["glmb", "original"]
     """
     if isinstance(value, (list, tuple)):
-        value = tuple(value)
+        value = list(value)
         if len(value) == 2:  # a deprecated truncation spelling inside a pair
-            i = 1 if deprecated is DEPRECATED_FILTER_TRUNCATIONS else 0
-            name = canonical_truncation(value[i], setting) if isinstance(value[i], str) \
-                else value[i]
-            value = (name, value[1]) if i == 0 else (value[0], name)
-        return value
+            value[truncation_at] = canonical_truncation(value[truncation_at], setting)
+        return tuple(value)
     return canonical_value(value, setting, deprecated, stacklevel=4)
 
 

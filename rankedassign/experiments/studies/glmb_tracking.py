@@ -206,7 +206,8 @@ class GLMBStudyConfig:
             object.__setattr__(self, name, tuple(getattr(self, name)))
         # the old one-string spellings, deprecated; a --config file's lists as tuples
         object.__setattr__(self, "methods", tuple(
-            canonical_pair(m, "methods", DEPRECATED_FILTER_TRUNCATIONS) for m in self.methods))
+            canonical_pair(m, "methods", DEPRECATED_FILTER_TRUNCATIONS, truncation_at=1)
+            for m in self.methods))
         object.__setattr__(self, "tradeoff_methods", tuple(
             canonical_value(m, "tradeoff_methods", DEPRECATED_GLMB_TRUNCATIONS)
             for m in self.tradeoff_methods))
@@ -407,7 +408,8 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
         fit a scan's problem (``Exact``) — the scan and the error, the curves then empty.
     """
     h_upd = cfg.h_upd if h_upd is None else int(h_upd)
-    method = check_method(canonical_pair(method, "method", DEPRECATED_FILTER_TRUNCATIONS))
+    method = check_method(canonical_pair(method, "method", DEPRECATED_FILTER_TRUNCATIONS,
+                                         truncation_at=1))
     filt_name, truncation = method
     meas_rng, filter_rng = spawning_generator(run_seed(seed, run)).spawn(2)
     sc = tracking.make_scenario(preset, rng=meas_rng, n_scans=cfg.n_scans)
