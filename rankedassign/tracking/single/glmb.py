@@ -821,7 +821,7 @@ class GLMBFilter:
         U = terms.used.size
         if self._rules is not None:
             chains, length = _gibbs_budget(self.association, counts)
-            sizes = np.diff(self.comp_off)
+            sizes = self.comp_off[1:] - self.comp_off[:-1]  # np.diff, without its call cost
             P_max = int(self._births.size + (sizes.max() if H else 0))
             with interruptible:
                 comp, cost, off, entry, meas, sweeps, n_rows = _glmb_kernels.sample_components(
@@ -966,7 +966,7 @@ class GLMBFilter:
         # the new entries: one per distinct (predicted entry, measurement or missed)
         key = children.entry * (U + 1) + (children.meas + 1)
         uniq, ids = _unique_inverse(key)
-        seg = np.repeat(np.arange(N), np.diff(children.off))
+        seg = np.repeat(np.arange(N), children.off[1:] - children.off[:-1])
         ids = ids[np.lexsort((ids, seg))]  # increasing within each child
         with interruptible:
             group, g_log_w, first = _glmb_kernels.merge_children(children.off, ids, log_w)
@@ -1016,7 +1016,7 @@ class GLMBFilter:
     def _kalman(self, terms: _Terms, e_src: np.ndarray, j_src: np.ndarray) -> None:
         """The mixtures of the new entries: entry ``e_src`` predicted (``j_src = −1``) or
         updated with gated measurement ``j_src``; then pruned, merged and capped."""
-        n_comp = np.diff(self.offsets)[e_src]
+        n_comp = (self.offsets[1:] - self.offsets[:-1])[e_src]
         offsets = np.concatenate([[0], np.cumsum(n_comp)]).astype(np.int64)
         within = np.arange(offsets[-1]) - np.repeat(offsets[:-1], n_comp)
         comp = np.repeat(self.offsets[:-1][e_src], n_comp) + within
@@ -1092,7 +1092,7 @@ class GLMBFilter:
         """Labels, states, existence of the reported tracks; every label with ``r(ℓ)``;
         the cardinality distribution; the trajectories."""
         w = self.comp_w
-        sizes = np.diff(self.comp_off)
+        sizes = self.comp_off[1:] - self.comp_off[:-1]
         T = self.n_tracks
         # r_e = Σ_{h ∋ e} w_h, then r(ℓ) = Σ over the entries of label ℓ
         r_e = np.bincount(self.comp_tracks, weights=np.repeat(w, sizes), minlength=T)
