@@ -585,11 +585,11 @@ class ClusteredGLMBFilter:
         for c, ukeys, inv in zip(self.clusters, cl_label_keys, cl_inv, strict=True):
             n = ukeys.size
             lab_g = g_of_label[start:start + n]
-            g_e = lab_g[inv]
-            gs = np.unique(lab_g)
-            if gs.size == 1:
-                parts[int(gs[0])].append(c)
+            if (lab_g == lab_g[0]).all():  # the common case: the cluster stays whole
+                parts[int(lab_g[0])].append(c)
             else:
+                g_e = lab_g[inv]
+                gs = np.unique(lab_g)
                 n_splits += 1
                 for g in gs.tolist():
                     parts[g].append(_marginal(c, g_e == g))
