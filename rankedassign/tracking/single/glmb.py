@@ -1022,9 +1022,10 @@ class GLMBFilter:
         comp = np.repeat(self.offsets[:-1][e_src], n_comp) + within
         track = np.repeat(e_src, n_comp)
         j = np.repeat(j_src, n_comp)
-        w = self.w[comp].copy()
-        m = self.m[comp].copy()
-        P = self.P[comp].copy()
+        # (fancy indexing copies: the updates below do not touch the table)
+        w = self.w[comp]
+        m = self.m[comp]
+        P = self.P[comp]
         det = j >= 0
         if det.any():
             c, t, jj = comp[det], track[det], j[det]
@@ -1032,14 +1033,15 @@ class GLMBFilter:
             w[det] = np.exp(terms.lw[c, jj] - terms.log_g[t, jj])
             if self._so is not None:  # K = C S⁻¹ and P' of the model's filter, ν wrapped
                 K, P_upd = terms.gain
-                m[det] = self.m[c] + np.einsum("cij,cj->ci", K[c], terms.nu[c, jj])
+                m[det] = m[det] + np.einsum("cij,cj->ci", K[c], terms.nu[c, jj])
                 P[det] = P_upd[c]
             else:
                 # K = P H' S⁻¹, m' = m + K ν, P' = P − K S K' = P − K H P
-                PHt = self.P[c][:, :, [0, 2]]
+                P_c = P[det]
+                PHt = P_c[:, :, [0, 2]]
                 K = PHt @ terms.Sinv[c]
-                m[det] = self.m[c] + np.einsum("cij,cj->ci", K, terms.nu[c, jj])
-                P_upd = self.P[c] - K @ PHt.transpose(0, 2, 1)
+                m[det] = m[det] + np.einsum("cij,cj->ci", K, terms.nu[c, jj])
+                P_upd = P_c - K @ PHt.transpose(0, 2, 1)
                 P[det] = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
         keep = np.ones(e_src.size, dtype=bool)
         reduce = _kernels.reduce_mixtures if self._so is None else self._so.reduce_mixtures
