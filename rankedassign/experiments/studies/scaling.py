@@ -3,7 +3,8 @@
 The ``"large"`` scenario (:func:`~rankedassign.tracking.make_scenario` with ``n_targets=N``:
 N targets at constant density over a square, one per 200 m × 200 m, Vo's noise and clutter
 density, a position sensor) run by the LMB filter (``grouping=True``: spatial gating and
-clusters) and the clustered δ-GLMB filter (:class:`~rankedassign.tracking.ClusteredGLMBFilter`,
+clusters; by default the estimate per cluster, ``lmb_extraction="cluster-map"``) and the
+clustered δ-GLMB filter (:class:`~rankedassign.tracking.ClusteredGLMBFilter`,
 Beard, Vo & Vo 2020), both with the short chains, from the known targets as the prior. Per run
 and N the task records the seconds of every scan, the process's peak memory, the labelled
 error per target (``min(c, |p̂ − p|)`` with the position the filter reports for a target's
@@ -72,11 +73,11 @@ class ScalingConfig:
         untimed pass over the same measurements and streams (the oracle's DP on every
         cluster's components costs tens of times the filter's own scan).
     lmb_extraction : str
-        The LMB filter's state extraction (:data:`~rankedassign.tracking.single.lmb.
-        LMB_EXTRACTIONS`); default ``"cluster-map"``, the MAP cardinality of every cluster of
-        the scan, which reports what the clustered δ-GLMB filter's per-cluster extraction
-        does. The global MAP cardinality (``"map"``) leaves about ``Σ_i (1 − r_i)`` likely
-        tracks unreported, 0.7 % of the targets at N ≥ 1 000.
+        The LMB filter's state extraction (one of
+        :data:`~rankedassign.tracking.single.lmb.LMB_EXTRACTIONS`); default ``"cluster-map"``,
+        the MAP cardinality of every cluster of the scan, as the clustered δ-GLMB filter
+        extracts per cluster. The global MAP cardinality (``"map"``) leaves about
+        ``Σ_i (1 − r_i)`` likely tracks unreported, 0.7 % of the targets at N ≥ 1 000.
     """
 
     n_mc: int = 3
