@@ -406,6 +406,7 @@ def key_table_sweep_done(work, b):
 
 
 __all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "KeyTable", "make_driver",
+           "make_problem_runner", "unique_set", "add_state",
            "N_COUNTERS", "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick",
            "alloc_key_table", "reset_key_table", "key_table_done", "key_table_sweep_done"]
 
@@ -594,9 +595,16 @@ def _new_unique_set(L, cap):
     )
 
 
-@jit()
+@jit(inline="always")
 def _find(U, state, h):
-    """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill."""
+    """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill.
+
+    The one probe of the unique set (linear probing from the hash, a hit confirmed on the
+    full state): :func:`_advance`, :func:`_grow`, :func:`_new_run` and every caller outside
+    the driver (:func:`add_state`, :func:`make_problem_runner`) look states up through it. It is
+    written into each caller (``inline="always"``): a call passing the arrays of the unique
+    set costs as much as the look-up itself.
+    """
     table = U.table
     mask = table.shape[0] - 1
     s = np.int64(h & np.uint64(mask))
@@ -649,11 +657,9 @@ def _grow(U, n_unique):
         while 2 * (n_unique + 1) > size:
             size *= 2
         table = np.zeros((size, 2), dtype=np.uint64)
-        mask = size - 1
-        for u in range(n_unique):
-            s = np.int64(hashes[u] & np.uint64(mask))
-            while table[s, 1] != 0:
-                s = (s + 1) & mask
+        fresh = UniqueSet(states, hashes, counts, last_chain, table)
+        for u in range(n_unique):  # the states are distinct: each look-up ends on an empty slot
+            s = -1 - _find(fresh, states[u], hashes[u])
             table[s, 0] = hashes[u]
             table[s, 1] = np.uint64(u + 1)
     return UniqueSet(states, hashes, counts, last_chain, table)
@@ -691,6 +697,77 @@ def _grow_run(run):
 def _room(U, n_unique):
     """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5)."""
     return min(U.states.shape[0], U.table.shape[0] // 2) - n_unique
+
+
+@jit()
+def unique_set(L, n):
+    """An empty unique set of length-``L`` states with room for ``n`` without growing.
+
+    Its capacity is the smallest power of two ``>= n`` (at least 2), so its hash table keeps
+    a load factor of at most one half (:func:`_room` is at least ``n``).
+
+    Parameters
+    ----------
+    L : int
+        Length of a state (``int32`` entries).
+    n : int
+        States it must hold.
+
+    Returns
+    -------
+    UniqueSet
+        Empty: fill it with :func:`add_state` (or :func:`_find` and :func:`_insert`).
+
+    Examples
+    --------
+    >>> U = unique_set(3, 5)
+    >>> U.states.shape, int(_room(U, 0))
+    ((8, 3), 8)
+    """
+    cap = 2
+    while cap < n:
+        cap *= 2
+    return _new_unique_set(L, cap)
+
+
+@jit(inline="always")
+def add_state(U, x, h, n_u):
+    """Index of the state ``x`` (hash ``h``) in ``U``, stored as number ``n_u`` if new.
+
+    The caller keeps the number of states ``n_u`` and guarantees room for one more
+    (:func:`unique_set`); a new state is stored with count 0 and no chain.
+
+    Parameters
+    ----------
+    U : UniqueSet
+        The set.
+    x : ndarray of int32, shape (L,)
+        The state.
+    h : uint64
+        Its hash (any 64-bit hash that equal states share).
+    n_u : int
+        States in ``U`` so far.
+
+    Returns
+    -------
+    (u, new) : (int, bool)
+        The state's index in discovery order, and whether it was added.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> U = unique_set(2, 4)
+    >>> x, y = np.array([1, 2], np.int32), np.array([2, 1], np.int32)
+    >>> add_state(U, x, np.uint64(7), 0), add_state(U, y, np.uint64(7), 1)
+    ((0, True), (1, True))
+    >>> add_state(U, y.copy(), np.uint64(7), 2)
+    (1, False)
+    """
+    r = _find(U, x, h)
+    if r >= 0:
+        return r, False
+    _insert(U, -1 - r, x, h, n_u, 0, -1)
+    return n_u, True
 
 
 # ------------------------------------------------------------------------ stall and stale
@@ -832,8 +909,7 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     the stall rule is applied (:func:`_stalled`).
 
     The caller guarantees room for ``j1 - j0`` new unique states (:func:`_room`), so this hot
-    loop never reallocates; the look-up is written out here rather than called because a call
-    passing the arrays of the unique set costs as much as the look-up itself.
+    loop never reallocates; the look-up (:func:`_find`) is written into it (``inline``).
 
     :func:`make_driver` compiles it, and :func:`_speculate_chain`, without reference counting
     (:func:`rankedassign.numba_options.jit`, ``nrt=False``): the sweep written into them
@@ -850,7 +926,6 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     b, c, j0, j1, done = span.b, span.c, span.j0, span.j1, span.done
     L = U.states.shape[1]
     table = U.table
-    mask = table.shape[0] - 1
     state = slab.states[b]
     rs = slab.rs[b, 0:1]
     h = slab.h[b]
@@ -863,25 +938,9 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
             x = state
             hx = h
             done = j
-        # look x up in U: linear probing from its hash, confirmed on the full state
-        slot = np.int64(hx & np.uint64(mask))
-        u = -1
-        while True:
-            v = table[slot, 1]
-            if v == 0:
-                break
-            if table[slot, 0] == hx:
-                cand = np.int64(v) - 1
-                same = True
-                for i in range(L):
-                    if U.states[cand, i] != x[i]:
-                        same = False
-                        break
-                if same:
-                    u = cand
-                    break
-            slot = (slot + 1) & mask
-        if u < 0:  # new to U: U.add(x); the stall run restarts
+        u = _find(U, x, hx)
+        if u < 0:  # new to U: U.add(x) at the empty slot the look-up ended on; the stall
+            slot = -1 - u  # run restarts
             u = ctr[NU]
             table[slot, 0] = hx
             table[slot, 1] = np.uint64(u + 1)
@@ -1229,3 +1288,77 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
                           "speculate_chain": chain, "advance": adv}
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
     return run_chains
+
+
+def _run_problem(data, zkeys, x0, base, n_chains, chain_length, rules):
+    """The short-chain run of one small problem, chain after chain, in one call.
+
+    The sequential run of :func:`_run_slice` (``batch = 0``) with the same chains, streams,
+    unique set and stall and stale rules, for a caller that runs many small problems inside
+    one compiled loop (the δ-GLMB filter's per-component truncation): no slices, no
+    speculation, and ``U`` sized for every observation up front, so it never grows.
+
+    Parameters
+    ----------
+    data, zkeys, x0, base, n_chains, chain_length, rules
+        As in :func:`_run_slice`.
+
+    Returns
+    -------
+    U : UniqueSet
+        The unique states in discovery order (``x0`` first), ``U.states[:ctr[NU]]``.
+    ctr : ndarray of int64, shape (N_COUNTERS,)
+        The run's counters (:func:`make_driver`).
+    """
+    L = x0.shape[0]
+    h0 = hash_of(zkeys, x0)
+    U = unique_set(L, n_chains * chain_length + 1)
+    add_state(U, x0, h0, 0)  # U <- {x0}, not an observation
+    ctr = np.zeros(N_COUNTERS, dtype=np.int64)
+    ctr[NU] = 1
+    cctr = np.zeros(4, dtype=np.int64)
+    slab = Slab(np.empty((1, 0, L), dtype=np.int32), np.empty((1, 0), dtype=np.uint64),
+                np.empty((1, L), dtype=np.int32), np.empty(1, dtype=np.uint64),
+                np.empty((1, 8), dtype=np.uint64))
+    work = alloc_work(data, 1)
+    state = slab.states[0]
+    for c in range(n_chains):
+        state[:] = x0
+        reset_work(data, work, 0, x0)
+        slab.h[0] = h0
+        slab.rs[0, 0] = chain_state(base, c)
+        _begin_chain(c, U.last_chain, cctr)
+        _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
+                      Span(b=0, c=c, j0=0, j1=chain_length, done=0))
+        if _end_chain(ctr, cctr, rules.stale_mode, rules.tau_stale):
+            break
+    return U, ctr
+
+
+def make_problem_runner(name, alloc_work, reset_work, sweep, *, cache=None):
+    """Compile the one-call run of one problem (:func:`_run_problem`) for a problem type.
+
+    For callers that loop over many small problems in compiled code: the returned function
+    is a compiled kernel, callable from another one, with the chains, unique set and
+    stall/stale rules of :func:`make_driver`'s ``run_chains`` (sequential, ``batch = 0``).
+
+    Parameters
+    ----------
+    name : str
+        Unique name of the instantiation (names its compiled functions and cache files).
+    alloc_work, reset_work, sweep : compiled functions
+        The problem type's functions, as in :func:`make_driver`.
+    cache : bool, optional
+        As in :func:`rankedassign.numba_options.jit`.
+
+    Returns
+    -------
+    run_problem : compiled function
+        ``run_problem(data, zkeys, x0, base, n_chains, chain_length, rules) -> (U, ctr)``
+        (:func:`_run_problem`): the same unique states, in the same order, and the same
+        counters as ``run_chains(..., batch=0, ...)``.
+    """
+    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache, nrt=False)
+    return instantiate(_run_problem, f"run_problem_{name}",
+                       {"alloc_work": alloc_work, "reset_work": reset_work,
+                        "_advance_impl": adv}, cache=cache)
