@@ -406,7 +406,9 @@ def key_table_sweep_done(work, b):
 
 
 __all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "KeyTable", "make_driver",
-           "make_problem_runner", "unique_set", "add_state",
+           "make_problem_runner", "ProblemScratch", "problem_scratch", "problem_states",
+           "unique_set",
+           "add_state",
            "N_COUNTERS", "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick",
            "alloc_key_table", "reset_key_table", "key_table_done", "key_table_sweep_done"]
 
@@ -724,10 +726,7 @@ def unique_set(L, n):
     >>> U.states.shape, int(_room(U, 0))
     ((8, 3), 8)
     """
-    cap = 2
-    while cap < n:
-        cap *= 2
-    return _new_unique_set(L, cap)
+    return _new_unique_set(L, _capacity(n))
 
 
 @jit(inline="always")
@@ -766,7 +765,14 @@ def add_state(U, x, h, n_u):
     r = _find(U, x, h)
     if r >= 0:
         return r, False
-    _insert(U, -1 - r, x, h, n_u, 0, -1)
+    slot = -1 - r  # :func:`_insert`, its state copied by a loop (no reference counting here)
+    U.table[slot, 0] = h
+    U.table[slot, 1] = np.uint64(n_u + 1)
+    for i in range(x.shape[0]):
+        U.states[n_u, i] = x[i]
+    U.hashes[n_u] = h
+    U.counts[n_u] = 0
+    U.last_chain[n_u] = -1
     return n_u, True
 
 
@@ -1290,40 +1296,157 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
     return run_chains
 
 
-def _run_problem(data, zkeys, x0, base, n_chains, chain_length, rules):
+class ProblemScratch(NamedTuple):
+    """Flat buffers from which :func:`_run_problem` carves its unique set, slab and counters,
+    problem after problem, without allocating (:func:`problem_scratch`).
+
+    A caller that runs thousands of problems of a few sweeps each (the δ-GLMB filter's
+    components) would otherwise spend more time allocating a run's dozen arrays than running
+    it. ``cap`` is the largest capacity (a power of two) and ``L`` the longest state.
+
+    Attributes
+    ----------
+    states : ndarray, shape (cap L,), int32
+    hashes, counts, last_chain : ndarray, shape (cap,), uint64, int64, int64
+    table : ndarray, shape (4 cap,), uint64
+        The buffers of a :class:`UniqueSet`.
+    traj : ndarray, shape (0,), int32
+    thash : ndarray, shape (0,), uint64
+    slab_states : ndarray, shape (L,), int32
+    h : ndarray, shape (1,), uint64
+    rs : ndarray, shape (8,), uint64
+        The buffers of a one-chain :class:`Slab` that speculates nothing.
+    ctr : ndarray, shape (N_COUNTERS,), int64
+    cctr : ndarray, shape (4,), int64
+        The run's and the chain's counters.
+    """
+
+    states: np.ndarray
+    hashes: np.ndarray
+    counts: np.ndarray
+    last_chain: np.ndarray
+    table: np.ndarray
+    traj: np.ndarray
+    thash: np.ndarray
+    slab_states: np.ndarray
+    h: np.ndarray
+    rs: np.ndarray
+    ctr: np.ndarray
+    cctr: np.ndarray
+
+
+@jit()
+def _capacity(n):
+    """Smallest power of two ``>= n``, at least 2 (a unique set's capacity for ``n`` states)."""
+    cap = 2
+    while cap < n:
+        cap *= 2
+    return cap
+
+
+@jit()
+def problem_scratch(L, n):
+    """A :class:`ProblemScratch` for problems with states of length ``<= L`` and runs of at
+    most ``n`` unique states (``n_chains * chain_length + 1``).
+
+    Examples
+    --------
+    >>> s = problem_scratch(3, 5)
+    >>> s.states.shape, s.table.shape
+    ((24,), (32,))
+    """
+    cap = _capacity(n)
+    return ProblemScratch(
+        states=np.empty(cap * L, dtype=np.int32), hashes=np.empty(cap, dtype=np.uint64),
+        counts=np.empty(cap, dtype=np.int64), last_chain=np.empty(cap, dtype=np.int64),
+        table=np.empty(4 * cap, dtype=np.uint64), traj=np.empty(0, dtype=np.int32),
+        thash=np.empty(0, dtype=np.uint64), slab_states=np.empty(L, dtype=np.int32),
+        h=np.empty(1, dtype=np.uint64), rs=np.empty(8, dtype=np.uint64),
+        ctr=np.empty(N_COUNTERS, dtype=np.int64), cctr=np.empty(4, dtype=np.int64))
+
+
+@jit(inline="always")
+def _carve(scratch, L, n):
+    """An empty unique set with room for ``n`` states of length ``L``, a one-chain slab and
+    zeroed counters, all views of ``scratch``: ``(U, slab, ctr, cctr)``.
+
+    The buffers are cleared by loops: for the few entries of a small problem a slice
+    assignment's set-up costs more than the stores.
+    """
+    cap = _capacity(n)
+    if cap * L > scratch.states.size or cap > scratch.hashes.size or \
+            L > scratch.slab_states.size:
+        raise ValueError("problem_scratch: the scratch is smaller than the problem")
+    counts = scratch.counts
+    last_chain = scratch.last_chain
+    for u in range(cap):
+        counts[u] = 0
+        last_chain[u] = -1
+    table = scratch.table
+    for t in range(4 * cap):
+        table[t] = 0
+    ctr = scratch.ctr
+    for k in range(ctr.size):
+        ctr[k] = 0
+    U = UniqueSet(scratch.states[:cap * L].reshape((cap, L)), scratch.hashes[:cap],
+                  counts[:cap], last_chain[:cap], table[:4 * cap].reshape((2 * cap, 2)))
+    slab = Slab(scratch.traj.reshape((1, 0, L)), scratch.thash.reshape((1, 0)),
+                scratch.slab_states[:L].reshape((1, L)), scratch.h,
+                scratch.rs.reshape((1, 8)))
+    return U, slab, ctr, scratch.cctr
+
+
+@jit()
+def problem_states(scratch, L, n):
+    """The first ``n`` unique states of the last run in ``scratch`` (:func:`_run_problem`),
+    shape (n, L), in discovery order: a view, valid until the scratch's next use.
+
+    Examples
+    --------
+    >>> s = problem_scratch(2, 4)
+    >>> problem_states(s, 2, 3).shape
+    (3, 2)
+    """
+    return scratch.states[:n * L].reshape((n, L))
+
+
+def _run_problem(data, work, zkeys, x0, base, n_chains, chain_length, rules, scratch):
     """The short-chain run of one small problem, chain after chain, in one call.
 
     The sequential run of :func:`_run_slice` (``batch = 0``) with the same chains, streams,
     unique set and stall and stale rules, for a caller that runs many small problems inside
     one compiled loop (the δ-GLMB filter's per-component truncation): no slices, no
-    speculation, and ``U`` sized for every observation up front, so it never grows.
+    speculation, ``U`` sized for every observation up front so that it never grows, and the
+    unique set, slab and counters carved from ``scratch``. It allocates nothing and runs
+    without reference counting (``nrt=False``, as :func:`_advance`): for problems of a few
+    sweeps, a run's set-up would otherwise cost more than its chains.
 
     Parameters
     ----------
     data, zkeys, x0, base, n_chains, chain_length, rules
         As in :func:`_run_slice`.
+    work : named tuple
+        The kind's workspace of one chain (its ``alloc_work(data, 1)``).
+    scratch : ProblemScratch
+        Large enough for the problem (:func:`problem_scratch`); overwritten.
 
     Returns
     -------
-    U : UniqueSet
-        The unique states in discovery order (``x0`` first), ``U.states[:ctr[NU]]``.
-    ctr : ndarray of int64, shape (N_COUNTERS,)
-        The run's counters (:func:`make_driver`).
+    n_unique : int
+        Unique states, in discovery order (``x0`` first): :func:`problem_states`.
+    n_observations : int
+        Observations (sweeps). ``scratch.ctr`` holds every counter of the run
+        (:func:`make_driver`).
     """
     L = x0.shape[0]
     h0 = hash_of(zkeys, x0)
-    U = unique_set(L, n_chains * chain_length + 1)
+    U, slab, ctr, cctr = _carve(scratch, L, n_chains * chain_length + 1)
     add_state(U, x0, h0, 0)  # U <- {x0}, not an observation
-    ctr = np.zeros(N_COUNTERS, dtype=np.int64)
     ctr[NU] = 1
-    cctr = np.zeros(4, dtype=np.int64)
-    slab = Slab(np.empty((1, 0, L), dtype=np.int32), np.empty((1, 0), dtype=np.uint64),
-                np.empty((1, L), dtype=np.int32), np.empty(1, dtype=np.uint64),
-                np.empty((1, 8), dtype=np.uint64))
-    work = alloc_work(data, 1)
     state = slab.states[0]
     for c in range(n_chains):
-        state[:] = x0
+        for i in range(L):
+            state[i] = x0[i]
         reset_work(data, work, 0, x0)
         slab.h[0] = h0
         slab.rs[0, 0] = chain_state(base, c)
@@ -1332,10 +1455,10 @@ def _run_problem(data, zkeys, x0, base, n_chains, chain_length, rules):
                       Span(b=0, c=c, j0=0, j1=chain_length, done=0))
         if _end_chain(ctr, cctr, rules.stale_mode, rules.tau_stale):
             break
-    return U, ctr
+    return ctr[NU], ctr[NOBS]
 
 
-def make_problem_runner(name, alloc_work, reset_work, sweep, *, cache=None):
+def make_problem_runner(name, reset_work, sweep, *, cache=None):
     """Compile the one-call run of one problem (:func:`_run_problem`) for a problem type.
 
     For callers that loop over many small problems in compiled code: the returned function
@@ -1346,19 +1469,22 @@ def make_problem_runner(name, alloc_work, reset_work, sweep, *, cache=None):
     ----------
     name : str
         Unique name of the instantiation (names its compiled functions and cache files).
-    alloc_work, reset_work, sweep : compiled functions
-        The problem type's functions, as in :func:`make_driver`.
+    reset_work, sweep : compiled functions
+        The problem type's functions, as in :func:`make_driver` (the caller allocates the
+        workspace with the kind's ``alloc_work(data, 1)``).
     cache : bool, optional
         As in :func:`rankedassign.numba_options.jit`.
 
     Returns
     -------
     run_problem : compiled function
-        ``run_problem(data, zkeys, x0, base, n_chains, chain_length, rules) -> (U, ctr)``
-        (:func:`_run_problem`): the same unique states, in the same order, and the same
-        counters as ``run_chains(..., batch=0, ...)``.
+        ``run_problem(data, work, zkeys, x0, base, n_chains, chain_length, rules, scratch)
+        -> (n_unique, n_observations)`` (:func:`_run_problem`, ``scratch`` from
+        :func:`problem_scratch`, the states then read with :func:`problem_states`): the same
+        unique states, in the same order, and the same counters as
+        ``run_chains(..., batch=0, ...)``.
     """
     adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache, nrt=False)
     return instantiate(_run_problem, f"run_problem_{name}",
-                       {"alloc_work": alloc_work, "reset_work": reset_work,
-                        "_advance_impl": adv}, cache=cache)
+                       {"reset_work": reset_work, "_advance_impl": adv}, cache=cache,
+                       nrt=False)

@@ -48,13 +48,13 @@ import numpy as np
 from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_kernel
 
 from ...engine._kernels import (
-    NOBS,
-    NU,
     Rules,
     add_state,
     chain_state,
     make_problem_runner,
     mix64,
+    problem_scratch,
+    problem_states,
     unique_set,
 )
 from ...numba_options import jit
@@ -359,9 +359,9 @@ class ChainRules(NamedTuple):
 
 #: The engine's one-call run of a component's problem (its chains, unique set and stall and
 #: stale rules), compiled for the single-sensor kind's direct and prefix-sum draws.
-_run_direct = make_problem_runner("glmb_component", alloc_work, reset_work, row_sweep)
-_run_prefix = make_problem_runner("glmb_component_prefix", alloc_work_prefix,
-                                  reset_work_prefix, row_sweep_prefix)
+_run_direct = make_problem_runner("glmb_component", reset_work, row_sweep)
+_run_prefix = make_problem_runner("glmb_component_prefix", reset_work_prefix,
+                                  row_sweep_prefix)
 
 
 @jit()
@@ -441,10 +441,13 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     # upper bounds of the output: every observation new, every row present
     n_cap = 0
     e_cap = 0
+    c_max = 1
     for h in range(H):
         c = n_chains[h] * chain_length[h] + 1
         n_cap += c
         e_cap += c * (B + comp_off[h + 1] - comp_off[h])
+        c_max = max(c_max, c)
+    scratch = problem_scratch(P_max, c_max)  # every component's run, one after another
     child_comp = np.empty(n_cap, dtype=np.int64)
     child_cost = np.empty(n_cap)
     child_off = np.zeros(n_cap + 1, dtype=np.int64)
@@ -485,14 +488,13 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
             next_pos = np.zeros((P, 1), dtype=np.int64)
         data = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=rules.random_scan)
         if prefix:
-            U_h, ctr = _run_prefix(data, zkeys, x0, base[h], n_chains[h], chain_length[h],
-                                   chain_rules)
+            n_u, obs = _run_prefix(data, alloc_work_prefix(data, 1), zkeys, x0, base[h],
+                                   n_chains[h], chain_length[h], chain_rules, scratch)
         else:
-            U_h, ctr = _run_direct(data, zkeys, x0, base[h], n_chains[h], chain_length[h],
-                                   chain_rules)
-        n_u = ctr[NU]
-        states = U_h.states
-        sweeps[h] = ctr[NOBS]
+            n_u, obs = _run_direct(data, alloc_work(data, 1), zkeys, x0, base[h],
+                                   n_chains[h], chain_length[h], chain_rules, scratch)
+        states = problem_states(scratch, P, n_u)
+        sweeps[h] = obs
         # the children: cost, and the (entry, measurement) of every row that exists
         for u in range(n_u):
             cost = 0.0
@@ -560,7 +562,8 @@ def merge_children(child_off, child_ids, log_w):
         for q in range(a, b):
             key = mix64(key ^ np.uint64(child_ids[q] + 1))
             x[q - a + 1] = child_ids[q]
-        x[b - a + 1:] = -1
+        for q in range(b - a + 1, width + 1):
+            x[q] = -1
         g, new = add_state(groups, x, key, G)
         group[n] = g
         if new:
