@@ -1337,7 +1337,18 @@ class ProblemScratch(NamedTuple):
 
 @jit()
 def _capacity(n):
-    """Smallest power of two ``>= n``, at least 2 (a unique set's capacity for ``n`` states)."""
+    """Smallest power of two ``>= n``, at least 2 (a unique set's capacity for ``n`` states).
+
+    Parameters
+    ----------
+    n : int
+        States to hold.
+
+    Returns
+    -------
+    int
+        The capacity.
+    """
     cap = 2
     while cap < n:
         cap *= 2
@@ -1348,6 +1359,18 @@ def _capacity(n):
 def problem_scratch(L, n):
     """A :class:`ProblemScratch` for problems with states of length ``<= L`` and runs of at
     most ``n`` unique states (``n_chains * chain_length + 1``).
+
+    Parameters
+    ----------
+    L : int
+        The longest state.
+    n : int
+        The most unique states of a run.
+
+    Returns
+    -------
+    ProblemScratch
+        Uninitialised buffers.
 
     Examples
     --------
@@ -1372,6 +1395,26 @@ def _carve(scratch, L, n):
 
     The buffers are cleared by loops: for the few entries of a small problem a slice
     assignment's set-up costs more than the stores.
+
+    Parameters
+    ----------
+    scratch : ProblemScratch
+        The buffers (:func:`problem_scratch`), large enough.
+    L : int
+        Length of a state.
+    n : int
+        States the unique set must hold.
+
+    Returns
+    -------
+    (UniqueSet, Slab, ndarray, ndarray)
+        ``U`` (capacity :func:`_capacity` of ``n``), the slab of one chain, ``ctr`` and
+        ``cctr``.
+
+    Raises
+    ------
+    ValueError
+        If ``scratch`` is too small.
     """
     cap = _capacity(n)
     if cap * L > scratch.states.size or cap > scratch.hashes.size or \
@@ -1400,6 +1443,19 @@ def _carve(scratch, L, n):
 def problem_states(scratch, L, n):
     """The first ``n`` unique states of the last run in ``scratch`` (:func:`_run_problem`),
     shape (n, L), in discovery order: a view, valid until the scratch's next use.
+
+    Parameters
+    ----------
+    scratch : ProblemScratch
+        The buffers of the last run.
+    L : int
+        Its state length.
+    n : int
+        Its unique states (the run's ``n_unique``).
+
+    Returns
+    -------
+    ndarray of int32, shape (n, L)
 
     Examples
     --------

@@ -79,6 +79,18 @@ __all__ = ["component_keys", "component_problem", "component_costs", "count_comp
 def component_keys(key, H):
     """Base keys of the streams of ``H`` components: ``chain_state(key, h)``, shape (H,).
 
+    Parameters
+    ----------
+    key : uint64
+        The scan's base key (:func:`rankedassign.engine.rng.base_key`).
+    H : int
+        Components.
+
+    Returns
+    -------
+    ndarray of uint64, shape (H,)
+        Component ``h``'s base key.
+
     Examples
     --------
     >>> import numpy as np
@@ -150,7 +162,30 @@ def component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
 def _emit_rows(child_entry, child_meas, e_out, rows, cols, option, M, dead):
     """Write the (entry, measurement or ``−1``) of every row of one child that exists after
     the scan (``option[i] < dead``; a measurement when ``< M``, else missed); return the new
-    end of the pairs."""
+    end of the pairs.
+
+    Parameters
+    ----------
+    child_entry, child_meas : ndarray of int64
+        The children's pairs, written from ``e_out`` on.
+    e_out : int
+        End of the pairs so far.
+    rows : ndarray of int64, shape (P,)
+        Track-table entries of the problem's rows.
+    cols : ndarray of int64, shape (M,)
+        Gated measurements of its columns.
+    option : ndarray, shape (P,)
+        The child's column of every row.
+    M : int
+        Measurements of the problem.
+    dead : int
+        The first column that means the row does not exist after the scan.
+
+    Returns
+    -------
+    int
+        The new end of the pairs.
+    """
     for i in range(option.size):
         k = option[i]
         if k < dead:
@@ -371,6 +406,16 @@ def engine_rules(rules):
     The stall rule in its global-consecutive reading, the stale rule in its consecutive one
     (spec §3.2; the samplers' defaults), a threshold of 0 turning the rule off.
 
+    Parameters
+    ----------
+    rules : ChainRules
+        The filter's thresholds.
+
+    Returns
+    -------
+    Rules
+        ``(stall_mode, tau_stall, stale_mode, tau_stale)``.
+
     Examples
     --------
     >>> from rankedassign.tracking.single._glmb_kernels import ChainRules, engine_rules
@@ -578,6 +623,18 @@ def merge_children(child_off, child_ids, log_w):
 @jit()
 def mark_reachable(parent, live):
     """Nodes of the history forest reachable from the nodes ``live`` (``parent −1``: a root).
+
+    Parameters
+    ----------
+    parent : ndarray of int64, shape (N,)
+        Parent of every node, ``-1`` for a root.
+    live : ndarray of int64
+        The nodes live tracks use.
+
+    Returns
+    -------
+    ndarray of bool, shape (N,)
+        Whether each node is ``live`` or an ancestor of one.
 
     Examples
     --------
