@@ -7,6 +7,7 @@ the prior (as ``test_bench_large.py``), by the LMB filter (``grouping=True``) an
     python benchmarks/large_scaling.py --sizes 100 1000 10000 --scans 5
     python benchmarks/large_scaling.py --sizes 100 10000 --filters lmb --seeds 0 1 2
     python benchmarks/large_scaling.py --sizes 10000 --filters lmb --sensor bearing-range
+    python benchmarks/large_scaling.py --sizes 100 1000 --filters lmb --seeds 0 1 2 3 4 5 6 7 8 9
 
 prints one line per filter and N: median seconds per scan after the first (the first loads the
 kernels and forms the clusters), seconds per target, the process's peak resident memory so far,
@@ -25,6 +26,16 @@ each, then the mean, standard deviation and range of the errors over the seeds.
 (``make_scenario("large", ..., sensor="bearing-range")``). ``unreported_per_target`` is the
 share of targets the filter does not report (each counts
 ``c`` in the labelled error) and ``error_reported_m`` the error over the reported ones.
+
+The LMB filter extracts by the MAP cardinality of every cluster of the scan
+(``--extraction cluster-map``, the default; ``map`` for the global MAP cardinality). Its state
+does not depend on which (neither keeps anything between scans), so every LMB line also gives
+the other one's numbers from the same run, computed from the filter's final tracks:
+``map_unreported_per_target``, ``map_error_per_target_m`` for the global MAP and
+``cluster_unreported_per_target``, ``cluster_error_per_target_m`` per cluster (one of the two
+pairs repeats the line's own numbers). With several seeds the summary line of an LMB filter
+also gives the 95 % interval of the relative change of the error per target from the smallest
+N, for both extractions (a t interval of the difference of the means, by the delta method).
 """
 
 from __future__ import annotations
@@ -37,12 +48,25 @@ import numpy as np
 
 from rankedassign.tracking import ClusteredGLMBFilter, LMBFilter, ShortChainGibbs, make_scenario
 from rankedassign.tracking.scenario import LARGE_CELL
+from rankedassign.tracking.single.lmb import cluster_map_tracks, map_cardinality
 
 CUTOFF = 100.0
 EDGE = 300.0
 
 
-def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position") -> dict:
+def _labelled_error(labels, states, truth, n):
+    """Per-target labelled error (``c`` when the target's prior label is not reported) and the
+    indices of the reported targets."""
+    err = np.full(n, CUTOFF)
+    prior = labels[:, 0] == 0
+    idx = labels[prior, 1] - 1
+    pos = states[prior][:, [0, 2]]
+    err[idx] = np.minimum(CUTOFF, np.linalg.norm(pos - truth[idx][:, [0, 2]], axis=1))
+    return err, idx
+
+
+def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position",
+        extraction: str = "cluster-map") -> dict:
     """One run; the numbers of the docstring as a dict."""
     sc = make_scenario("large", n_targets=n, n_scans=n_scans, rng=seed, sensor=sensor)
     F = sc.model.motion.F
@@ -51,22 +75,29 @@ def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position"
     covs = np.tile(np.diag([100.0, 25.0, 100.0, 25.0]), (n, 1, 1))
     assoc = ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)
     if kind == "lmb":
-        f = LMBFilter(sc.model, assoc, grouping=True, max_tracks=10 * n + 100)
+        f = LMBFilter(sc.model, assoc, grouping=True, max_tracks=10 * n + 100,
+                      extraction=extraction)
         f.set_prior(labels, means, covs, existence=np.full(n, 0.99))
     else:
         f = ClusteredGLMBFilter(sc.model, assoc, retained_mass=True)
         f.set_prior(labels, means, covs)
     seconds = []
+    seen = {}
+    if kind == "lmb":
+        # the clusters of the kept tracks that the scan hands to the extraction (None from the
+        # dense path with extraction="map"), for the other extraction's numbers
+        extract = f._extract
+
+        def spy(cluster=None):
+            seen["cluster"] = cluster
+            return extract(cluster)
+
+        f._extract = spy
     for k, scan in enumerate(sc.scans):
         t = time.perf_counter()
         rec = f.step(scan.z, rng=k)
         seconds.append(time.perf_counter() - t)
-    err = np.full(n, CUTOFF)
-    prior = rec.labels[:, 0] == 0
-    idx = rec.labels[prior, 1] - 1
-    pos = rec.states[prior][:, [0, 2]]
-    err[idx] = np.minimum(CUTOFF, np.linalg.norm(pos - sc.truth.states[-1][idx][:, [0, 2]],
-                                                 axis=1))
+    err, idx = _labelled_error(rec.labels, rec.states, sc.truth.states[-1], n)
     # targets at least EDGE inside the square at the last scan: their neighbourhood (targets,
     # clutter) is that of every N, where one near the edge sees less clutter and fewer
     # neighbours, and a small square has more of them
@@ -80,13 +111,42 @@ def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position"
            # the error over the reported ones
            "unreported_per_target": float(1.0 - idx.size / max(n, 1)),
            "error_reported_m": float(err[idx].mean()) if idx.size else float("nan"),
-           "false_per_target": float((~prior).sum() / max(n, 1))}
+           "false_per_target": float((rec.labels[:, 0] != 0).sum() / max(n, 1))}
     out["ms_per_target"] = 1e3 * out["seconds_per_scan"] / max(n, 1)
+    if kind == "lmb":
+        # both extractions from the filter's final tracks (states: heaviest component)
+        states = f.m[f.offsets[:-1]]
+        top = np.argsort(-f.r, kind="stable")[:map_cardinality(f.r)]
+        for name, sel in (("map", np.sort(top)),
+                          ("cluster", None if seen.get("cluster") is None
+                           else cluster_map_tracks(f.r, seen["cluster"]))):
+            if sel is None:
+                out[f"{name}_unreported_per_target"] = out[f"{name}_error_per_target_m"] = \
+                    float("nan")
+                continue
+            e, i = _labelled_error(f.labels[sel], states[sel], sc.truth.states[-1], n)
+            out[f"{name}_unreported_per_target"] = float(1.0 - i.size / max(n, 1))
+            out[f"{name}_error_per_target_m"] = float(e.mean())
     if kind != "lmb":
         out.update(n_clusters=rec.n_clusters, largest_cluster=int(rec.cluster_sizes.max()),
                    retained_mass=rec.retained_mass,
                    clusters_beyond_dp=int(np.isnan(rec.cluster_retained_mass).sum()))
     return out
+
+
+def _relative_change(a, b) -> str:
+    """``mean(b) / mean(a) − 1`` with its 95 % interval (delta method, Welch's t)."""
+    from scipy import stats
+
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    ma, mb = a.mean(), b.mean()
+    va, vb = a.var(ddof=1) / a.size, b.var(ddof=1) / b.size
+    ratio = mb / ma
+    se = ratio * np.sqrt(va / ma**2 + vb / mb**2)
+    df = (va + vb) ** 2 / (va**2 / (a.size - 1) + vb**2 / (b.size - 1))
+    half = stats.t.ppf(0.975, df) * se
+    return (f"{100 * (ratio - 1):+.2f} % (95 % interval {100 * (ratio - half - 1):+.2f} to "
+            f"{100 * (ratio + half - 1):+.2f} %)")
 
 
 def main(argv=None) -> None:
@@ -96,16 +156,19 @@ def main(argv=None) -> None:
     ap.add_argument("--filters", nargs="+", default=["lmb", "clustered-glmb"])
     ap.add_argument("--seeds", type=int, nargs="+", default=[0])
     ap.add_argument("--sensor", choices=("position", "bearing-range"), default="position")
+    ap.add_argument("--extraction", choices=("cluster-map", "map"), default="cluster-map")
     args = ap.parse_args(argv)
     run("lmb", 10, 2)  # loads the kernels
     for kind in args.filters:
+        by_n = {}
         for n in args.sizes:
             errs, inner, rep = [], [], []
             for seed in args.seeds:
-                r = run(kind, n, args.scans, seed, args.sensor)
+                r = run(kind, n, args.scans, seed, args.sensor, args.extraction)
                 errs.append(r["error_per_target_m"])
                 inner.append(r["error_inside_m"])
                 rep.append(r["error_reported_m"])
+                by_n.setdefault(n, []).append(r)
                 print(f"seed={seed} " + " ".join(
                     f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                     for k, v in r.items()), flush=True)
@@ -114,6 +177,18 @@ def main(argv=None) -> None:
                                 ("error_reported_m", rep)):
                     print(f"filter={kind} N={n} seeds={len(v)} {name} mean={np.mean(v):.4g} "
                           f"sd={np.std(v, ddof=1):.3g} min={min(v):.4g} max={max(v):.4g}",
+                          flush=True)
+        n0 = min(by_n)
+        keys = (["map_error_per_target_m", "cluster_error_per_target_m"] if kind == "lmb"
+                else ["error_per_target_m"])
+        for n in sorted(by_n):
+            if n == n0 or len(by_n[n]) < 2 or len(by_n[n0]) < 2:
+                continue
+            for key in keys:
+                a = [r[key] for r in by_n[n0]]
+                b = [r[key] for r in by_n[n]]
+                if np.isfinite(a).all() and np.isfinite(b).all():
+                    print(f"filter={kind} {key} N={n0}->{n} change {_relative_change(a, b)}",
                           flush=True)
 
 

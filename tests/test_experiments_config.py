@@ -264,3 +264,25 @@ def test_removed_glmb_extraction_is_a_deprecated_alias_that_is_ignored(value):
         c = config_from_dict(base, {"glmb_tracking": {"glmb_extraction": value, "n_mc": 3}})
     assert c.glmb_tracking == dataclasses.replace(base.glmb_tracking, n_mc=3)
     assert "glmb_extraction" not in {f.name for f in dataclasses.fields(c.glmb_tracking)}
+
+
+@pytest.mark.parametrize(("study", "name", "old", "new"), [
+    ("multisensor_tracking", "methods", ["long", "short-mm"],
+     (("original", "exact"), ("short-chain", "mm"))),
+    ("multisensor_tracking", "glmb_adaptive_methods", ["short-mm-fixed"],
+     (("short-chain", "mm-fixed"),)),
+    ("glmb_tracking", "methods", ["lmb-long", "glmb-murty-matched"],
+     (("lmb", "original"), ("glmb", "murty-matched"))),
+    ("glmb_tracking", "tradeoff_methods", ["glmb-short"], ("short-chain",)),
+])
+def test_a_config_file_with_the_old_method_strings_still_loads_deprecated(study, name, old, new):
+    # the studies' old one-string spellings read as the vocabulary's pairs and names; a
+    # --config file that writes the new ones (two-element lists) loads silently
+    base = Config.quick()
+    with pytest.warns(DeprecationWarning) as got:
+        c = config_from_dict(base, {study: {name: old}})
+    assert [str(w.message).split(";")[0] for w in got] == [
+        f"{name}: {v!r} is deprecated" for v in old]
+    assert getattr(c[study], name) == new
+    pairs = [list(v) if isinstance(v, tuple) else v for v in new]
+    assert getattr(config_from_dict(base, {study: {name: pairs}})[study], name) == new

@@ -69,6 +69,7 @@ def test_summary_and_report(runs):
     ("filters", ["phd"], "unknown filter 'phd'"),
     ("n_scans", 0, "n_scans must be a positive integer, got 0"),
     ("mass_max_n", 0, "mass_max_n must be a positive integer, got 0"),
+    ("lmb_extraction", "threshold", "unknown lmb_extraction 'threshold'"),
 ])
 def test_bad_settings_are_refused_naming_the_setting(name, value, message):
     with pytest.raises(ReproduceError, match=rf"^config for 'scaling': .*{re.escape(message)}"):
@@ -79,3 +80,12 @@ def test_quick_and_full():
     st = get_study("scaling")
     assert max(st.quick().sizes) == 1000 and max(st.full().sizes) == 10000
     assert st.quick().n_mc < st.full().n_mc
+
+
+def test_the_lmb_filter_extracts_per_cluster_by_default():
+    # the study's LMB filter reports by the MAP of every cluster; "map" is the global MAP
+    assert ScalingConfig().lmb_extraction == "cluster-map"
+    cfg = ScalingConfig(n_mc=1, sizes=(5,), n_scans=2, n_chains=10, lmb_extraction="map")
+    assert scaling_task(cfg, 0, 0, "lmb", 5)["N"] == 5
+    assert "extraction is `map`" in render_scaling(summarise_scaling(
+        [scaling_task(cfg, 0, 0, "lmb", 5)], cfg), cfg)

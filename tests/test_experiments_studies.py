@@ -2,6 +2,7 @@
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -266,14 +267,32 @@ def test_tracking_tiny():
     assert len(cur["ospa2_original"]) == len(cur["cumulative_obs_proposed"]) == 8
     assert cur["cumulative_obs_original"][-1] == out.obs_original
     assert all(0.0 <= v <= 200.0 for v in cur["ospa2_proposed"])
-    by = {(r["run"], r["method"]): r for r in runs}
+    by = {(r["run"], r["truncation"]): r for r in runs}
     for r in range(2):  # same measurements for both samplers in a run
-        assert_array_equal(by[r, "original"]["n_meas"], by[r, "proposed"]["n_meas"])
+        assert_array_equal(by[r, "original"]["n_meas"], by[r, "short-chain"]["n_meas"])
     assert by[0, "original"]["n_meas"] != by[1, "original"]["n_meas"]
     assert out.config["marginals"] == "truncated"
     # 8 scans: no target lives past the 10 settling scans, so none is counted, none lost
     assert all(rec["coverage"] == [None] * 12 for rec in runs)
     assert out.targets_lost_original == out.targets_lost_proposed == 0
+
+
+def test_tracking_reads_the_old_name_of_the_short_chains_with_a_deprecation_warning():
+    from rankedassign.experiments.studies.tracking import tracking_task
+
+    cfg = TrackingConfig(n_mc=1, n_scans=3, original_obs=50, n_chains=5)
+    with pytest.warns(DeprecationWarning, match=r"^truncation: 'proposed' is deprecated; "
+                                                r"write 'short-chain'$"):
+        old = tracking_task(cfg, 0, 0, "proposed")
+    new = tracking_task(cfg, 0, 0, "short-chain")
+    assert old["truncation"] == new["truncation"] == "short-chain"
+    for rec in (old, new):
+        rec.pop("total_seconds")
+        rec.pop("association_seconds")
+    assert old == new
+    with pytest.raises(ValueError, match=re.escape(
+            "unknown truncation 'gibbs'; expected one of ('original', 'short-chain')")):
+        tracking_task(cfg, 0, 0, "gibbs")
 
 
 def test_tracking_reports_gospa_beside_ospa2():
@@ -289,16 +308,16 @@ def test_tracking_reports_gospa_beside_ospa2():
         assert g.shape == (6,)
         # value^p = localisation^p + missed^p + false^p (p = 1 here)
         assert_allclose(g, parts.sum(axis=0), rtol=1e-12)
-    for m in ("original", "proposed"):
-        per_run = [np.mean(r["gospa"]) for r in runs if r["method"] == m]
-        assert_allclose(getattr(out, f"gospa_mean_{m}"), np.mean(per_run), rtol=1e-12)
-        assert len(out.curves[f"gospa_{m}"]) == len(out.curves[f"gospa_missed_{m}"]) == 6
+    for m, c in (("original", "original"), ("short-chain", "proposed")):
+        per_run = [np.mean(r["gospa"]) for r in runs if r["truncation"] == m]
+        assert_allclose(getattr(out, f"gospa_mean_{c}"), np.mean(per_run), rtol=1e-12)
+        assert len(out.curves[f"gospa_{c}"]) == len(out.curves[f"gospa_missed_{c}"]) == 6
     text = render_tracking(out, cfg)
     assert "mean GOSPA (m; c = 200, p = 1)" in text and "GOSPA (α = 2" in text
     # the task's GOSPA is gospa_series of the run's arrays
     from rankedassign.experiments.studies.tracking import _association, run_seed
 
-    rec = next(r for r in runs if r["run"] == 0 and r["method"] == "original")
+    rec = next(r for r in runs if r["run"] == 0 and r["truncation"] == "original")
     sr = run_scenario(cfg.preset, _association(cfg, "original"), rng=run_seed(0, 0),
                       n_scans=6, grouping=cfg.grouping, extraction=cfg.extraction)
     assert_allclose(rec["gospa"], gospa_series(sr.truth, sr.estimates, 200.0, 1.0).value,
@@ -309,9 +328,9 @@ def test_tracking_lost_targets_counted_by_hand():
     cfg = TrackingConfig(n_mc=2, n_scans=4, original_obs=50, n_chains=5)
     _, runs = run_study("tracking", cfg, seed=0, progress=False, return_runs=True)
     cover = {(0, "original"): [1.0, None, 0.5], (1, "original"): [1.0, 1.0, 1.0],
-             (0, "proposed"): [1.0, 0.2, 0.49], (1, "proposed"): [0.0, None, 1.0]}
+             (0, "short-chain"): [1.0, 0.2, 0.49], (1, "short-chain"): [0.0, None, 1.0]}
     for rec in runs:
-        rec["coverage"] = cover[rec["run"], rec["method"]]
+        rec["coverage"] = cover[rec["run"], rec["truncation"]]
     out = summarise_tracking(runs, cfg)
     # lost: coverage < 0.5; 0.5 itself is kept and None (too short-lived) is not counted
     assert (out.targets_lost_original, out.runs_with_lost_target_original) == (0, 0)
@@ -328,8 +347,8 @@ def test_tracking_var_tiny():
                         seed=0, progress=False, return_runs=True)
     assert out.config["preset"] == "paper-var"
     assert out.config["sample_empty_groups"] is True
-    by = {(r["run"], r["method"]): r for r in runs}
-    by_base = {(r["run"], r["method"]): r for r in base}
+    by = {(r["run"], r["truncation"]): r for r in runs}
+    by_base = {(r["run"], r["truncation"]): r for r in base}
     for key, rec in by.items():
         assert rec["n_meas"] == by_base[key]["n_meas"]
         assert rec["invocations"] == rec["n_groups"]
@@ -355,15 +374,15 @@ def test_tracking_tiny_rao_blackwell_marginals():
     _, runs_t = run_study("tracking", base, seed=0, progress=False, return_runs=True)
     out, runs_r = run_study("tracking", rb, seed=0, progress=False, return_runs=True)
     assert out.config["marginals"] == "rao-blackwell"
-    by_t = {r["method"]: r for r in runs_t}
-    by_r = {r["method"]: r for r in runs_r}
-    for m in ("original", "proposed"):
+    by_t = {r["truncation"]: r for r in runs_t}
+    by_r = {r["truncation"]: r for r in runs_r}
+    for m in ("original", "short-chain"):
         assert by_r[m]["sweeps"][0] == by_t[m]["sweeps"][0]
         assert by_r[m]["n_meas"] == by_t[m]["n_meas"]
     # tracks of small existence that no sampled hypothesis keeps alive are pruned under the
     # truncated marginals and kept under the Rao-Blackwellised ones (measured on this seed:
     # 12 against 9-10 tracks at scan 3, 18 against 11-12 at scan 6)
-    for m in ("original", "proposed"):
+    for m in ("original", "short-chain"):
         assert sum(by_r[m]["n_tracks"]) > sum(by_t[m]["n_tracks"])
 
 
@@ -536,6 +555,7 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
     from rankedassign.experiments.studies.glmb_tracking import (
         GLMB_METHODS,
         GLMBStudyConfig,
+        cell_name,
         plot_glmb_tracking,
         render_glmb_tracking,
     )
@@ -545,25 +565,24 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
     s = run_study("glmb_tracking", cfg, seed=0, progress=False)
     assert [p.preset for p in s.presets] == ["vo", "paper"]
     for p in s.presets:
-        rows = {r.method: r for r in p.rows}
+        rows = {(r.filter, r.truncation): r for r in p.rows}
         assert set(rows) == set(GLMB_METHODS)
         for m, r in rows.items():
             if r.n_runs:
                 assert 0 <= r.ospa_mean <= cfg.ospa_c and 0 <= r.ospa2_mean <= cfg.ospa_c
-                assert len(p.curves[f"ospa_{m}"]) == cfg.n_scans
+                assert len(p.curves[f"ospa_{cell_name(m)}"]) == cfg.n_scans
             assert math.isfinite(r.retained_mass_mean) == (
-                m.startswith("glmb") and p.preset == "vo" and r.n_runs > 0)
+                m[0] == "glmb" and p.preset == "vo" and r.n_runs > 0)
             assert math.isfinite(r.carried_mass_mean) == math.isfinite(r.retained_mass_mean)
             if math.isfinite(r.carried_mass_mean):
                 assert r.carried_mass_mean <= r.retained_mass_mean * (1 + 1e-12)
             if r.n_runs:  # every row with its budget beside its accuracy
                 assert r.sweeps_per_scan >= 0
-                assert r.hypotheses_per_scan > 0 or m == "lmb-exact"  # marginals only
+                assert r.hypotheses_per_scan > 0 or m == ("lmb", "exact")  # marginals only
                 assert 0 <= r.gospa_mean and 0 <= r.alt_ospa2_mean <= cfg.ospa_c
-                assert r.alt_estimator == ("recursive" if m.startswith("glmb") else
-                                           "hysteresis")
+                assert r.alt_estimator == ("recursive" if m[0] == "glmb" else "hysteresis")
     # the paper scenario's first scan has a component no enumeration reaches: stated, no crash
-    exact = {r.method: r for r in s.presets[1].rows}["glmb-exact"]
+    exact = {(r.filter, r.truncation): r for r in s.presets[1].rows}["glmb", "exact"]
     assert exact.n_runs == 0
     assert "1 of 1 runs do not fit; run 0 stopped at scan 1: Exact() cannot enumerate" in exact.failed
     text = render_glmb_tracking(s, cfg)
@@ -572,21 +591,21 @@ def test_glmb_tracking_every_truncation_on_both_presets(tmp_path):
     assert plot_glmb_tracking(s, tmp_path) == ["glmb_tracking.png", "glmb_tradeoff.png"]
     assert "T_h = 0" in text and "best (deviation)" in text and "95 %" in text
     for p in s.presets:  # every comparison with its paired interval (one run: none)
-        assert {(c.a, c.b) for c in p.comparisons} >= {("glmb-short", "glmb-long"),
-                                                       ("glmb-murty-matched", "glmb-short")}
+        assert {(c.a, c.b) for c in p.comparisons} >= {
+            ("glmb/short-chain", "glmb/original"), ("glmb/murty-matched", "glmb/short-chain")}
         assert all(c.n == 1 and math.isnan(c.lo_pct) for c in p.comparisons)
         # trade-off points: every GLMB chain truncation at both H_upd, the LMB points beside
-        hs = {(q["method"], q["h_upd"]) for q in p.tradeoff}
-        assert {("glmb-long", 20), ("glmb-long", 40), ("glmb-murty", 20),
-                ("glmb-herded", 20)} <= hs
-        assert ("lmb-long", None) in hs
+        hs = {(q["filter"], q["truncation"], q["h_upd"]) for q in p.tradeoff}
+        assert {("glmb", "original", 20), ("glmb", "original", 40), ("glmb", "murty", 20),
+                ("glmb", "herded", 20)} <= hs
+        assert ("lmb", "original", None) in hs
     # the per-scan OSPA and OSPA(2) are run_scenario's on the same measurements and filter
     from rankedassign.experiments._executor import run_seed
     from rankedassign.experiments.studies.glmb_tracking import glmb_tracking_task
     from rankedassign.metrics import ospa2
     from rankedassign.tracking import ShortChainGibbs, run_scenario
 
-    rec = glmb_tracking_task(cfg, 0, 0, "lmb-short", "vo")
+    rec = glmb_tracking_task(cfg, 0, 0, ("lmb", "short-chain"), "vo")
     run = run_scenario("vo", ShortChainGibbs(10, 25, tau_stall=5, tau_stale=10),
                        rng=run_seed(0, 0), n_scans=cfg.n_scans)
     for key, window in (("ospa", 1), ("ospa2", cfg.ospa_window)):
@@ -661,12 +680,79 @@ def test_glmb_study_config_checks_the_tradeoff_values():
         GLMBStudyConfig(tradeoff_h_upd=(100, 0))
     with pytest.raises(ValueError, match="tradeoff_runs must be >= 0, got -1"):
         GLMBStudyConfig(tradeoff_runs=-1)
-    with pytest.raises(ValueError, match="tradeoff method"):
+    with pytest.raises(ValueError, match=re.escape(
+            "unknown tradeoff_methods: truncation 'lmb-long'; expected one of ('original', "
+            "'short-chain', 'herded', 'murty')")):
         GLMBStudyConfig(tradeoff_methods=("lmb-long",))
     quick = GLMBStudyConfig.quick()
-    assert quick.tradeoff_methods == ("glmb-long", "glmb-short")
+    assert quick.tradeoff_methods == ("original", "short-chain")
     assert {t[3] for t in get_study("glmb_tracking").tasks(quick, 0) if t[5] != 1000} == {
-        "glmb-long", "glmb-short"}
+        ("glmb", "original"), ("glmb", "short-chain")}
+
+
+@pytest.mark.parametrize(("old", "new"), [
+    ("lmb-exact", ("lmb", "exact")), ("lmb-long", ("lmb", "original")),
+    ("lmb-short", ("lmb", "short-chain")), ("lmb-murty", ("lmb", "murty")),
+    ("glmb-exact", ("glmb", "exact")), ("glmb-long", ("glmb", "original")),
+    ("glmb-short", ("glmb", "short-chain")), ("glmb-murty", ("glmb", "murty")),
+    ("glmb-murty-matched", ("glmb", "murty-matched")), ("glmb-herded", ("glmb", "herded"))])
+def test_glmb_study_reads_the_old_method_strings_with_a_deprecation_warning(old, new):
+    from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
+
+    want = rf'^methods: \'{old}\' is deprecated; write \["{new[0]}", "{new[1]}"\]$'
+    with pytest.warns(DeprecationWarning, match=want):
+        cfg = GLMBStudyConfig(methods=(old,))
+    assert cfg.methods == (new,)
+    # a --config file's two-element lists read as the pairs, silently
+    assert GLMBStudyConfig(methods=[list(new)]).methods == (new,)
+
+
+@pytest.mark.parametrize(("old", "new"), [("glmb-long", "original"),
+                                          ("glmb-short", "short-chain"),
+                                          ("glmb-herded", "herded"), ("glmb-murty", "murty")])
+def test_glmb_study_reads_the_old_tradeoff_methods_with_a_deprecation_warning(old, new):
+    from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
+
+    with pytest.warns(DeprecationWarning,
+                      match=rf"^tradeoff_methods: '{old}' is deprecated; write '{new}'$"):
+        assert GLMBStudyConfig(tradeoff_methods=(old,)).tradeoff_methods == (new,)
+
+
+def test_glmb_study_refuses_a_method_that_is_not_a_pair_of_the_study():
+    from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig, check_method
+
+    with pytest.raises(TypeError, match=re.escape(
+            "methods entries must be (filter, truncation) pairs such as ['glmb', "
+            "'short-chain'], got 'glmb'")):
+        GLMBStudyConfig(methods=("glmb",))
+    with pytest.raises(ValueError, match=re.escape(
+            "unknown methods: filter 'phd'; expected one of ('lmb', 'glmb')")):
+        check_method(("phd", "murty"))
+    with pytest.raises(ValueError, match=re.escape(
+            "unknown methods: truncation 'lbp'; expected one of ('exact', 'original', "
+            "'short-chain', 'murty', 'murty-matched', 'herded')")):
+        check_method(("glmb", "lbp"))
+    with pytest.raises(ValueError, match=re.escape(
+            "methods: 'murty-matched' matches the δ-GLMB filter's Murty to its short chains; "
+            "write ['glmb', 'murty-matched']")):
+        check_method(["lmb", "murty-matched"])
+
+
+def test_glmb_study_old_and_new_spelling_give_the_same_numbers():
+    from rankedassign.experiments.studies.glmb_tracking import (
+        GLMBStudyConfig,
+        glmb_tracking_task,
+    )
+
+    cfg = GLMBStudyConfig(n_mc=1, n_scans=3, h_upd=40, h_max=20, n_chains=10, murty_k=20,
+                          original_obs=200, retained_mass=("vo",), tradeoff_runs=0)
+    with pytest.warns(DeprecationWarning, match=r"^method: 'glmb-short' is deprecated"):
+        old = glmb_tracking_task(cfg, 0, 0, "glmb-short", "vo")
+    new = glmb_tracking_task(cfg, 0, 0, ("glmb", "short-chain"), "vo")
+    assert (old["filter"], old["truncation"]) == ("glmb", "short-chain")
+    old.pop("seconds")
+    new.pop("seconds")
+    assert old == new
 
 
 def test_every_study_has_a_tiny_warm_up_that_runs_one_task_set():

@@ -8,10 +8,18 @@ import pytest
 
 from rankedassign import tracking
 from rankedassign.experiments.vocabulary import (
+    DEPRECATED_ASSOCIATIONS,
+    DEPRECATED_FILTER_TRUNCATIONS,
+    DEPRECATED_GLMB_TRUNCATIONS,
+    DEPRECATED_TRACKING_SAMPLERS,
     DEPRECATED_TRUNCATIONS,
+    ROW_METHODS,
     TRUNCATIONS,
+    canonical_pair,
     canonical_truncation,
+    canonical_value,
 )
+from rankedassign.multisensor.prepare import METHODS
 
 
 def test_the_truncations_are_the_association_classes_names():
@@ -35,3 +43,49 @@ def test_a_current_name_or_another_value_passes_unchanged_and_silently(value):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert canonical_truncation(value, "truncations") == value
+
+
+def test_method_is_the_row_conditional_alone():
+    assert ROW_METHODS is METHODS == ("exact", "mm", "mm-fixed", "componentwise")
+
+
+def test_every_replacement_is_made_of_the_vocabulary():
+    # the truncations by the classes' names, the row conditionals by the samplers' methods
+    for truncation, method in DEPRECATED_ASSOCIATIONS.values():
+        assert truncation in TRUNCATIONS and method in ROW_METHODS
+    for filt, truncation in DEPRECATED_FILTER_TRUNCATIONS.values():
+        assert filt in ("lmb", "glmb")
+        assert truncation in TRUNCATIONS or truncation == "murty-matched"  # the study's rule
+    assert set(DEPRECATED_GLMB_TRUNCATIONS.values()) <= {*TRUNCATIONS, "murty-matched"}
+    assert DEPRECATED_TRACKING_SAMPLERS == {"proposed": "short-chain"}
+    assert DEPRECATED_ASSOCIATIONS["short-mm"] == ("short-chain", "mm")
+    assert DEPRECATED_FILTER_TRUNCATIONS["glmb-long"] == ("glmb", "original")
+
+
+def test_a_pair_reads_as_a_tuple_and_its_old_truncation_spelling_is_deprecated():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert canonical_pair(["short-chain", "mm"], "methods", DEPRECATED_ASSOCIATIONS) == (
+            "short-chain", "mm")
+        assert canonical_pair(("glmb", "murty"), "methods", DEPRECATED_FILTER_TRUNCATIONS,
+                              truncation_at=1) == ("glmb", "murty")
+        for other in ("no-such", 3, ("a", "b", "c")):  # left for the study's check
+            assert canonical_pair(other, "methods", DEPRECATED_ASSOCIATIONS) == other
+    with pytest.warns(DeprecationWarning, match=r"^methods: 'short' is deprecated; write "
+                                                r"'short-chain' \(the ShortChainGibbs "):
+        assert canonical_pair(["short", "mm"], "methods", DEPRECATED_ASSOCIATIONS) == (
+            "short-chain", "mm")
+    with pytest.warns(DeprecationWarning, match=r"^methods: 'long' is deprecated; write "
+                                                r"'original' \(the OriginalGibbs "):
+        assert canonical_pair(["lmb", "long"], "methods", DEPRECATED_FILTER_TRUNCATIONS,
+                              truncation_at=1) == ("lmb", "original")
+
+
+def test_a_deprecated_value_warns_with_the_replacement_as_a_config_file_writes_it():
+    with pytest.warns(DeprecationWarning, match=r'^methods: \'exact\' is deprecated; write '
+                                                r'\["exact", "exact"\]$'):
+        assert canonical_pair("exact", "methods", DEPRECATED_ASSOCIATIONS) == ("exact", "exact")
+    with pytest.warns(DeprecationWarning, match=r"^truncation: 'proposed' is deprecated; write "
+                                                r"'short-chain'$"):
+        assert canonical_value("proposed", "truncation", DEPRECATED_TRACKING_SAMPLERS) == \
+            "short-chain"

@@ -171,9 +171,15 @@ def _readline(child, lines, deadline=DEADLINE):
     try:
         line = lines.get(timeout=deadline)
     except queue.Empty:
-        child.kill()
-        pytest.fail(f"the child printed nothing for {deadline:.0f} s; stderr:\n"
-                    f"{child.stderr.read()}")
+        # SIGABRT first: the child's faulthandler writes every thread's Python stack to stderr,
+        # so a hang says where it is (a kernel's Python caller, a lock, the compiler).
+        child.send_signal(signal.SIGABRT)
+        try:
+            child.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            child.kill()
+        pytest.fail(f"the child printed nothing for {deadline:.0f} s; its stacks (SIGABRT) "
+                    f"and stderr:\n{child.stderr.read()}")
     return [] if line is None else line.split()
 
 

@@ -34,6 +34,7 @@ from rankedassign.tracking.nonlinear import (
     LinearGaussianMotion,
     NonlinearModel,
 )
+from rankedassign.tracking.single.glmb import _unique_inverse
 
 SHORT = ShortChainGibbs(50, 5, tau_stall=5, tau_stale=10)
 
@@ -91,6 +92,36 @@ def test_processing_order_does_not_change_the_result():
         assert_array_equal(a.cluster_sizes, b.cluster_sizes)
         assert (a.sweeps, a.n_unique) == (b.sweeps, b.n_unique)
         assert_allclose(a.cardinality, b.cardinality, rtol=1e-12, atol=1e-15)
+
+
+def test_the_scan_reuses_the_gate_prediction_only_for_an_unchanged_cluster():
+    # a cluster's scan takes the table the gate predicted (the same numbers); a part of a
+    # split or a merged product predicts its own table, never the whole cluster's
+    sc = make_scenario("vo", rng=3, n_scans=6)
+    f = ClusteredGLMBFilter(sc.model, Murty(30))
+    for k, s in enumerate(sc.scans):
+        f.step(s.z, rng=k)
+        # the scans used every stored prediction, and each cluster keeps only the scan's
+        # history nodes (no histories are kept)
+        for c in f.clusters:
+            assert c._pred is None
+            assert c._node_parent.size == c.n_tracks and (c._node_parent == -1).all()
+            assert_array_equal(c.hist, np.arange(c.n_tracks))
+    c, d = f.clusters[:2]
+    c._pred, d._pred = (c.m, c.P), (d.m, d.P)
+    assert _marginal(c, np.ones(c.n_tracks, dtype=bool))._pred is None
+    assert _product(c, d, cap=10)[0]._pred is None
+
+
+def test_lean_unique_is_numpys():
+    rng = np.random.default_rng(2)
+    for _ in range(300):
+        x = rng.integers(-3, int(rng.integers(1, 40)), int(rng.integers(0, 25))).astype(np.int64)
+        u, inv = np.unique(x, return_inverse=True)
+        a, b = _unique_inverse(x)
+        assert_array_equal(a, u)
+        assert_array_equal(b, inv.reshape(-1))
+        assert b.dtype == np.int64
 
 
 def test_clusters_split_and_report():

@@ -393,7 +393,8 @@ class _MultiSensorOnly(MultiSensorAssociation):
         ({"model": "paper"}, TypeError, "model must be a Model"),
         ({"association": 3}, TypeError, "association must be callable"),
         ({"extraction": "best"}, ValueError,
-         re.escape("unknown extraction 'best'; expected one of ('hysteresis', 'map')")),
+         re.escape("unknown extraction 'best'; expected one of ('hysteresis', 'map', "
+                   "'cluster-map')")),
         ({"estimate": "median"}, ValueError,
          re.escape("unknown estimate 'median'; expected one of ('max-weight', 'mean')")),
         ({"theta_upper": 1.5}, ValueError, "theta_upper must be <= 1.0, got 1.5"),

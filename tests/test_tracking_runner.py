@@ -271,7 +271,8 @@ def test_model_extraction_errors():
     with pytest.raises(ValueError, match=re.escape(msg)):
         MultiSensorModel(base.motion, (base.sensor,), (base.clutter,), base.birth,
                          base.survival, "best")
-    with pytest.raises(ValueError, match=re.escape(msg)):
+    # the LMB filter also takes the MAP cardinality of every cluster
+    with pytest.raises(ValueError, match=re.escape(msg[:-1] + ", 'cluster-map')")):
         LMBFilter(base, Exact(), extraction="best")
 
 

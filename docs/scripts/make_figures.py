@@ -186,10 +186,10 @@ def tracking_multisensor(out: Path) -> None:
     )
 
     cfg = MultiSensorStudyConfig(n_mc=1, n_scans=30, seed=SEED % 1000)
-    recs = [multisensor_tracking_task(cfg, 0, s, "short-mm")
+    recs = [multisensor_tracking_task(cfg, 0, s, ("short-chain", "mm"))
             for s in ((0,), (1,), (2,), (0, 1, 2))]
     # one association: one panel, the four sensor sets as its lines
-    plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="method")
+    plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="association")
 
 
 def sweep_scaling(out: Path) -> None:
@@ -220,8 +220,8 @@ def tracking_multisensor_adaptive(out: Path) -> None:
     )
 
     cfg = MultiSensorStudyConfig(n_mc=1, n_scans=100, seed=0)
-    recs = [multisensor_tracking_task(cfg, 0, (0, 1), "short")]
-    recs += [multisensor_tracking_task(cfg, 0, s, "short", "adaptive")
+    recs = [multisensor_tracking_task(cfg, 0, (0, 1), ("short-chain", "exact"))]
+    recs += [multisensor_tracking_task(cfg, 0, s, ("short-chain", "exact"), "adaptive")
              for s in ((0, 1), (0, 1, 2))]
     # one panel per sensor set: static and adaptive birth side by side on sensors 0, 1
     plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="sensors")

@@ -159,6 +159,9 @@ class _Cluster(GLMBFilter):
     _birth_sel = np.empty(0, dtype=np.int64)
     #: The distinct label keys of the table after the last scan (increasing), or None.
     _ukeys = None
+    #: ``(m, P)`` of the table predicted one scan on, as the scan's gate computed them (the
+    #: scan then uses them instead of predicting again), or None.
+    _pred = None
 
     def _predict(self) -> np.ndarray:
         """:meth:`GLMBFilter._predict` with the births ``_birth_sel`` only (their labels
@@ -166,7 +169,11 @@ class _Cluster(GLMBFilter):
         self.k += 1
         T_old = self.n_tracks
         sel = self._birth_sel
-        self.m, self.P = _predicted(self, self.m, self.P)
+        if self._pred is not None:  # the gate's prediction of this very table
+            self.m, self.P = self._pred
+            self._pred = None
+        else:
+            self.m, self.P = _predicted(self, self.m, self.P)
         B = sel.size
         if B == 0:  # most clusters of a large scene take no birth: nothing to append
             self._births = np.empty(0, dtype=np.int64)
@@ -183,6 +190,19 @@ class _Cluster(GLMBFilter):
         self.hist = np.concatenate([self.hist, np.full(B, -1, dtype=np.int64)])
         self._births = np.arange(T_old, T_old + B, dtype=np.int64)
         return np.concatenate([np.full(T_old, self._ps), self._birth_r[sel]])
+
+    def _append_nodes(self, parents, meas, states) -> np.ndarray:
+        """The scan's history nodes, alone: a cluster keeps no histories (every parent is
+        −1), so no entry reaches an older node and what :meth:`GLMBFilter._compact_history`
+        would leave of the forest is the new nodes; kept without growing the arrays scan by
+        scan."""
+        n = parents.size
+        self._node_parent = parents
+        self._node_scan = np.full(n, self.k, np.int64)
+        self._node_meas = meas
+        self._node_state = states
+        self._live_nodes = n
+        return np.arange(n, dtype=np.int64)
 
     def _birth_weights(self) -> np.ndarray:
         """Weights of the birth terms' Gaussians (one Gaussian of weight 1 a term, or the
@@ -269,6 +289,7 @@ def _marginal(c: _Cluster, label_keep: np.ndarray) -> _Cluster:
     """The δ-GLMB of ``c`` marginalised onto its labels where ``label_keep`` (per entry)."""
     part = copy.copy(c)
     part._ukeys = None
+    part._pred = None  # a part predicts its own table (the same numbers as it always did)
     new_index = _keep_entries(part, label_keep)
     acc: dict = {}
     for h in range(c.n_components):
@@ -285,6 +306,7 @@ def _product(a: _Cluster, b: _Cluster, cap: int) -> tuple[_Cluster, float]:
     components kept; returns it and the weight mass the cap dropped."""
     out = copy.copy(a)
     out._ukeys = None
+    out._pred = None
     Ta = a.n_tracks
     out.labels = np.concatenate([a.labels, b.labels])
     out.offsets = np.concatenate([a.offsets, b.offsets[1:] + a.w.size])
@@ -519,14 +541,19 @@ class ClusteredGLMBFilter:
         cl_label_keys, n_labels, n_comp = [], 0, 0
         cl_inv = []
         for c in self.clusters:
-            ukeys, inv = np.unique(_label_keys(c.labels), return_inverse=True)
-            inv = inv.reshape(-1)
-            c._ukeys = ukeys
+            if c._ukeys is None:
+                ukeys, inv = np.unique(_label_keys(c.labels), return_inverse=True)
+                inv = inv.reshape(-1)
+                c._ukeys = ukeys
+            else:  # the distinct keys the last scan recorded: each entry's is among them
+                ukeys = c._ukeys
+                inv = np.searchsorted(ukeys, _label_keys(c.labels))
             cl_label_keys.append(ukeys)
             cl_inv.append(inv)
             lab_of_entry.append(n_labels + inv)
             n_labels += ukeys.size
             m, P = _predicted(c, c.m, c.P)
+            c._pred = (m, P)
             ms.append(m)
             Ps.append(P)
             offs.append(c.offsets[1:] + n_comp)
@@ -558,11 +585,11 @@ class ClusteredGLMBFilter:
         for c, ukeys, inv in zip(self.clusters, cl_label_keys, cl_inv, strict=True):
             n = ukeys.size
             lab_g = g_of_label[start:start + n]
-            g_e = lab_g[inv]
-            gs = np.unique(lab_g)
-            if gs.size == 1:
-                parts[int(gs[0])].append(c)
+            if (lab_g == lab_g[0]).all():  # the common case: the cluster stays whole
+                parts[int(lab_g[0])].append(c)
             else:
+                g_e = lab_g[inv]
+                gs = np.unique(lab_g)
                 n_splits += 1
                 for g in gs.tolist():
                     parts[g].append(_marginal(c, g_e == g))

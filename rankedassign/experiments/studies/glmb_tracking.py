@@ -38,23 +38,55 @@ from .._stats import paired_interval
 from ..config import check_ospa
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
+from ..vocabulary import (
+    DEPRECATED_FILTER_TRUNCATIONS,
+    DEPRECATED_GLMB_TRUNCATIONS,
+    canonical_pair,
+    canonical_value,
+)
 
-__all__ = ["GLMB_METHODS", "GLMBStudyConfig", "GLMBMethodSummary", "GLMBPresetSummary",
-           "GLMBStudySummary", "PairedComparison",
+__all__ = ["GLMB_METHODS", "GLMB_TRUNCATIONS", "TRADEOFF_METHODS", "GLMBStudyConfig",
+           "GLMBMethodSummary", "GLMBPresetSummary", "GLMBStudySummary", "PairedComparison",
+           "check_method", "cell_name",
            "glmb_tracking_task", "summarise_glmb_tracking", "GLMB_TRACKING"]
 
-#: Methods of the study: filter and truncation (``"glmb-murty-matched"``: Murty with, at every
-#: scan, as many hypotheses as the GLMB short chains found on the same measurements;
-#: ``"glmb-herded"``: one herded chain of the long chain's budget, ``HerdedGibbs``).
-GLMB_METHODS = ("lmb-exact", "lmb-long", "lmb-short", "lmb-murty", "glmb-exact", "glmb-long",
-                "glmb-short", "glmb-murty", "glmb-murty-matched", "glmb-herded")
-_LABELS = {"lmb-exact": "LMB, exact", "lmb-long": "LMB, long chain",
-           "lmb-short": "LMB, short chains", "lmb-murty": "LMB, Murty",
-           "glmb-exact": "GLMB, exact", "glmb-long": "GLMB, long chain",
-           "glmb-short": "GLMB, short chains", "glmb-murty": "GLMB, Murty at H_upd",
-           "glmb-murty-matched": "GLMB, Murty matched", "glmb-herded": "GLMB, herded chain"}
+#: Truncations of the study, by their classes' ``name``
+#: (:mod:`rankedassign.experiments.vocabulary`), and ``"murty-matched"``: this study's Murty
+#: (:class:`~rankedassign.tracking.Murty`) whose ``H_upd`` is set, at every scan, so that it
+#: keeps as many hypotheses as the GLMB short chains found on the same measurements (a rule of
+#: the study, δ-GLMB only). ``"herded"``: one herded chain of the long chain's budget.
+GLMB_TRUNCATIONS = (tracking.Exact.name, tracking.OriginalGibbs.name,
+                    tracking.ShortChainGibbs.name, tracking.Murty.name, "murty-matched",
+                    tracking.HerdedGibbs.name)
+#: Methods of the study, each a ``(filter, truncation)`` pair (a ``--config`` file writes
+#: ``["glmb", "short-chain"]``; the old strings ``"glmb-short"``, ... still read, deprecated:
+#: :data:`~rankedassign.experiments.vocabulary.DEPRECATED_FILTER_TRUNCATIONS`).
+GLMB_METHODS = (("lmb", "exact"), ("lmb", "original"), ("lmb", "short-chain"),
+                ("lmb", "murty"), ("glmb", "exact"), ("glmb", "original"),
+                ("glmb", "short-chain"), ("glmb", "murty"), ("glmb", "murty-matched"),
+                ("glmb", "herded"))
+_TRUNCATION_LABELS = {"exact": "exact", "original": "long chain", "short-chain": "short chains",
+                      "murty": "Murty", "murty-matched": "Murty matched",
+                      "herded": "herded chain"}
+
+
+def _label(m: tuple) -> str:
+    """A method's name in the report: ``("glmb", "short-chain")`` → ``"GLMB, short chains"``
+    (the δ-GLMB's Murty: ``"Murty at H_upd"``, beside the matched one)."""
+    filt, truncation = m
+    text = _TRUNCATION_LABELS[truncation]
+    if m == ("glmb", "murty"):
+        text += " at H_upd"
+    return f"{filt.upper()}, {text}"
+
+
+def cell_name(m: tuple) -> str:
+    """A method's key in the summary's curves and comparisons: ``"glmb/short-chain"``."""
+    return "/".join(m)
+
+
 #: The GLMB truncations drawn over several ``H_upd`` in the trade-off figure.
-TRADEOFF_METHODS = ("glmb-long", "glmb-short", "glmb-herded", "glmb-murty")
+TRADEOFF_METHODS = ("original", "short-chain", "herded", "murty")
 #: Each filter's estimators: the first is MAP (the one every comparison uses), the second the
 #: filter's other estimator, reported beside it (LMB: the paper's hysteresis; GLMB: Vo's
 #: recursive trajectory estimator).
@@ -78,10 +110,11 @@ class GLMBStudyConfig:
     presets : tuple of str
         Single-sensor model presets (``"vo"``, Vo's example, and ``"paper"``, the paper's
         scenario; ``"paper-var"`` too).
-    methods : tuple of str
-        Of :data:`GLMB_METHODS` (the quick settings leave ``"glmb-herded"`` out).
+    methods : tuple of (str, str)
+        ``(filter, truncation)`` pairs, of :data:`GLMB_METHODS` (the quick settings leave
+        ``("glmb", "herded")`` out).
     murty_runs, glmb_exact_runs : int
-        Runs (the first ones) of the Murty methods and of ``"glmb-exact"`` (which enumerates
+        Runs (the first ones) of the Murty methods and of ``("glmb", "exact")`` (which enumerates
         every assignment of every component until a component does not fit: some five minutes
         a run on ``"vo"``).
     h_upd, h_max : int
@@ -104,7 +137,8 @@ class GLMBStudyConfig:
         Runs of every trade-off point (0: no trade-off runs; the figure then has the
         ``h_upd`` points only).
     tradeoff_methods : tuple of str
-        The truncations run at ``tradeoff_h_upd`` (of :data:`TRADEOFF_METHODS`; the quick
+        The δ-GLMB truncations run at ``tradeoff_h_upd`` (of :data:`TRADEOFF_METHODS`; the
+        old ``"glmb-long"``, ... still read, deprecated; the quick
         settings leave Murty out: it keeps ``Σ_h max(T_h, 1)``, about ``H_max`` components
         at any ``H_upd``, and their exact masses cost some 5 s of CPU per ``"paper"`` run,
         the quick study's largest part; see the δ-GLMB page's costs).
@@ -162,16 +196,23 @@ class GLMBStudyConfig:
         all; both masses on both presets; the trade-off of the chains at ``H_upd`` 100 and 300
         on one run."""
         return cls(n_mc=2, murty_runs=1, glmb_exact_runs=0, tradeoff_h_upd=(100, 300),
-                   tradeoff_runs=1, tradeoff_methods=("glmb-long", "glmb-short"),
-                   methods=tuple(m for m in GLMB_METHODS if m != "glmb-herded"))
+                   tradeoff_runs=1, tradeoff_methods=("original", "short-chain"),
+                   methods=tuple(m for m in GLMB_METHODS if m != ("glmb", "herded")))
 
     def __post_init__(self):
         check_fields(self, where="glmb_tracking: ")
         for name in ("methods", "presets", "retained_mass", "tradeoff_h_upd",
                      "tradeoff_methods"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
+        # the old one-string spellings, deprecated; a --config file's lists as tuples
+        object.__setattr__(self, "methods", tuple(
+            canonical_pair(m, "methods", DEPRECATED_FILTER_TRUNCATIONS, truncation_at=1)
+            for m in self.methods))
+        object.__setattr__(self, "tradeoff_methods", tuple(
+            canonical_value(m, "tradeoff_methods", DEPRECATED_GLMB_TRUNCATIONS)
+            for m in self.tradeoff_methods))
         for m in self.methods:
-            check_choice(m, "method", GLMB_METHODS)
+            check_method(m)
         if not self.presets:
             raise ValueError("presets must name at least one preset")
         for p in self.presets + self.retained_mass:
@@ -184,7 +225,7 @@ class GLMBStudyConfig:
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
         for m in self.tradeoff_methods:
-            check_choice(m, "tradeoff method", TRADEOFF_METHODS)
+            check_choice(m, "tradeoff_methods: truncation", TRADEOFF_METHODS)
         for h in self.tradeoff_h_upd:
             if isinstance(h, bool) or not isinstance(h, int) or h < 1:
                 raise ValueError(f"tradeoff_h_upd must hold positive ints, got {h!r}")
@@ -194,23 +235,61 @@ class GLMBStudyConfig:
         check_ospa(self.ospa_c, self.ospa_p)
 
 
-def _association(cfg: GLMBStudyConfig, method: str):
-    kind = method.split("-")[1]
-    if kind == "exact":
+def check_method(method) -> tuple:
+    """``method`` if it is a ``(filter, truncation)`` pair of the study.
+
+    Parameters
+    ----------
+    method : object
+        The pair to check.
+
+    Returns
+    -------
+    tuple of str
+        ``method`` as a tuple.
+
+    Raises
+    ------
+    TypeError
+        If it is not a pair.
+    ValueError
+        On a filter other than ``"lmb"`` and ``"glmb"``, a truncation not in
+        :data:`GLMB_TRUNCATIONS`, or ``"murty-matched"`` on the LMB filter.
+
+    Examples
+    --------
+    >>> check_method(["glmb", "short-chain"])
+    ('glmb', 'short-chain')
+    """
+    if not isinstance(method, (tuple, list)) or len(method) != 2:
+        raise TypeError(f"methods entries must be (filter, truncation) pairs such as "
+                        f"['glmb', 'short-chain'], got {method!r}")
+    filt, truncation = method
+    check_choice(filt, "methods: filter", tuple(ESTIMATORS))
+    check_choice(truncation, "methods: truncation", GLMB_TRUNCATIONS)
+    if filt == "lmb" and truncation == "murty-matched":
+        raise ValueError("methods: 'murty-matched' matches the δ-GLMB filter's Murty to its "
+                         "short chains; write ['glmb', 'murty-matched']")
+    return (filt, truncation)
+
+
+def _association(cfg: GLMBStudyConfig, truncation: str):
+    if truncation == tracking.Exact.name:
         return tracking.Exact()
-    if kind == "long":
+    if truncation == tracking.OriginalGibbs.name:
         return tracking.OriginalGibbs(cfg.original_obs)
-    if kind == "short":
+    if truncation == tracking.ShortChainGibbs.name:
         return tracking.ShortChainGibbs(cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall,
                                         tau_stale=cfg.tau_stale)
-    if kind == "herded":  # the long chain's budget, min(T_h − 1, obs) sweeps, herded
+    if truncation == tracking.HerdedGibbs.name:
+        # the long chain's budget, min(T_h − 1, obs) sweeps, herded
         return tracking.HerdedGibbs(cfg.original_obs)
-    return tracking.Murty(cfg.murty_k)
+    return tracking.Murty(cfg.murty_k)  # "murty" and "murty-matched"
 
 
-def _filter(cfg: GLMBStudyConfig, method: str, preset: str, model, h_upd: int):
-    assoc = _association(cfg, method)
-    if method.startswith("glmb"):
+def _filter(cfg: GLMBStudyConfig, method: tuple, preset: str, model, h_upd: int):
+    assoc = _association(cfg, method[1])
+    if method[0] == "glmb":
         # "recursive" reports the MAP estimate every scan and keeps the trajectories Vo's
         # recursive estimator scores at the end: both estimators from one run
         return tracking.GLMBFilter(model, assoc, h_upd=h_upd, h_max=cfg.h_max,
@@ -288,7 +367,7 @@ def _nan_none(v) -> list:
     return [None if math.isnan(x) else x for x in v]
 
 
-def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
+def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
                        preset: str = "vo", h_upd: int | None = None) -> dict:
     """One run of one method on one preset; every method of a run sees the same measurements.
 
@@ -302,9 +381,10 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
         does with that ``rng``.
     run : int
         Monte Carlo run index (0-based).
-    method : str
-        One of ``cfg.methods`` (:data:`GLMB_METHODS`). ``"glmb-murty-matched"`` runs the GLMB
-        short chains beside Murty on the same measurements and, before every scan, sets
+    method : (str, str)
+        ``(filter, truncation)``, one of ``cfg.methods`` (:data:`GLMB_METHODS`; an old string
+        such as ``"glmb-short"`` reads, deprecated). ``("glmb", "murty-matched")`` runs the
+        GLMB short chains beside Murty on the same measurements and, before every scan, sets
         Murty's ``H_upd`` to the largest value whose hypotheses ``Σ_h min(k, max(T_h, 1))``
         do not exceed the unique hypotheses the short chains found at that scan.
     preset : str, optional
@@ -315,7 +395,8 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
     Returns
     -------
     dict
-        Plain data for JSON: ``preset``, ``run``, ``method``, ``h_upd``; per scan the MAP
+        Plain data for JSON: ``preset``, ``run``, ``filter``, ``truncation``, ``h_upd``; per
+        scan the MAP
         estimate's ``ospa``, ``ospa2``, ``gospa`` and ``cardinality_error`` (absolute), and
         the same of the filter's other estimator under ``alt`` (with its name in
         ``alt_estimator``); ``sweeps``, ``hypotheses`` (unique assignments), ``problems``
@@ -327,12 +408,15 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
         fit a scan's problem (``Exact``) — the scan and the error, the curves then empty.
     """
     h_upd = cfg.h_upd if h_upd is None else int(h_upd)
+    method = check_method(canonical_pair(method, "method", DEPRECATED_FILTER_TRUNCATIONS,
+                                         truncation_at=1))
+    filt_name, truncation = method
     meas_rng, filter_rng = spawning_generator(run_seed(seed, run)).spawn(2)
     sc = tracking.make_scenario(preset, rng=meas_rng, n_scans=cfg.n_scans)
-    glmb = method.startswith("glmb")
+    glmb = filt_name == "glmb"
     filt = _filter(cfg, method, preset, sc.model, h_upd)
-    twin = (_filter(cfg, "glmb-short", preset, sc.model, h_upd)
-            if method == "glmb-murty-matched" else None)
+    twin = (_filter(cfg, ("glmb", "short-chain"), preset, sc.model, h_upd)
+            if method == ("glmb", "murty-matched") else None)
     if twin is not None:
         twin.retained_mass = False  # only its hypothesis count is read
     K = sc.truth.n_scans
@@ -340,12 +424,12 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
             "small_components", "small_sweeps", "budget_sweeps", "matched_target")
     col = {k: [] for k in keys}
     est, alt, secs = [], [], 0.0
-    out = {"preset": preset, "run": run, "method": method, "h_upd": h_upd, "failed": None,
-           "alt_estimator": ESTIMATORS["glmb" if glmb else "lmb"][1]}
-    chains = glmb and method.split("-")[1] in ("long", "short")
+    out = {"preset": preset, "run": run, "filter": filt_name, "truncation": truncation,
+           "h_upd": h_upd, "failed": None, "alt_estimator": ESTIMATORS[filt_name][1]}
+    chains = glmb and truncation in (tracking.OriginalGibbs.name, tracking.ShortChainGibbs.name)
     for k, (scan, g) in enumerate(zip(sc.scans, filter_rng.spawn(K), strict=True)):
         if twin is not None:
-            # the short chains' run on the same measurements and streams as "glmb-short"
+            # the short chains' run on the same measurements and streams as the GLMB's
             target = int(twin.step(scan.z, rng=g).n_unique)
             filt.h_upd = _matched_h_upd(filt, target, cfg.murty_k)
             col["matched_target"].append(target)
@@ -358,7 +442,7 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
         try:
             rec = filt.step(scan.z, rng=g)
         except ValueError as err:  # a problem beyond the exact truncation's reach
-            if not method.endswith("exact"):
+            if truncation != tracking.Exact.name:
                 raise
             empty = {k: [] for k in ("ospa", "ospa2", "gospa", "cardinality_error")}
             return {**out, "failed": {"scan": k + 1, "error": str(err)}, **empty,
@@ -385,18 +469,19 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method: str,
 
 def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
     """``(cfg, seed, run, method, preset, h_upd)``: every run of every method on every preset
-    (the Murty methods: the first ``murty_runs``; ``"glmb-exact"``: the first
+    (the Murty methods: the first ``murty_runs``; ``("glmb", "exact")``: the first
     ``glmb_exact_runs``), then the trade-off points: ``tradeoff_methods`` at every
     ``tradeoff_h_upd`` on the first ``tradeoff_runs`` runs."""
     def runs(m):
-        if "murty" in m:
+        if m[1] in ("murty", "murty-matched"):
             return min(cfg.n_mc, cfg.murty_runs)
-        return min(cfg.n_mc, cfg.glmb_exact_runs) if m == "glmb-exact" else cfg.n_mc
+        return min(cfg.n_mc, cfg.glmb_exact_runs) if m == ("glmb", "exact") else cfg.n_mc
 
     main = [(cfg, seed, r, m, p, cfg.h_upd) for p in cfg.presets for m in cfg.methods
             for r in range(runs(m))]
+    tradeoff = [("glmb", t) for t in cfg.tradeoff_methods]
     extra = [(cfg, seed, r, m, p, h) for p in cfg.presets for h in cfg.tradeoff_h_upd
-             if h != cfg.h_upd for m in cfg.tradeoff_methods if m in cfg.methods
+             if h != cfg.h_upd for m in tradeoff if m in cfg.methods
              for r in range(min(runs(m), cfg.tradeoff_runs))]
     return main + extra
 
@@ -409,8 +494,8 @@ class GLMBMethodSummary:
     ----------
     preset : str
         The scenario's preset.
-    method : str
-        The method (``"glmb-short"``, ...).
+    filter, truncation : str
+        The method: ``"lmb"`` or ``"glmb"``, and the truncation (:data:`GLMB_TRUNCATIONS`).
     n_runs : int
         Runs that finished (a run whose truncation did not fit is counted in ``failed``).
     ospa_mean, ospa_se, ospa2_mean, ospa2_se, gospa_mean, gospa_se : float
@@ -443,7 +528,8 @@ class GLMBMethodSummary:
     """
 
     preset: str
-    method: str
+    filter: str
+    truncation: str
     n_runs: int
     ospa_mean: float
     ospa_se: float
@@ -479,7 +565,7 @@ class PairedComparison:
     Attributes
     ----------
     a, b : str
-        The methods.
+        The methods, by :func:`cell_name` (``"glmb/short-chain"``).
     estimator : str
         ``"map"`` (both), or ``"best"``: each filter with its estimator of lower mean
         OSPA(2) (the names in ``a`` and ``b`` then carry it after a colon).
@@ -533,11 +619,12 @@ class GLMBPresetSummary:
         Sweeps the short chains save against the long chain (%), on the GLMB and on the LMB
         filter (paired runs).
     tradeoff : tuple of dict
-        Per GLMB truncation and ``H_upd`` (on the first ``tradeoff_runs`` runs): ``method``,
-        ``h_upd``, ``n_runs``, ``sweeps_per_scan``, ``hypotheses_per_scan``, ``ospa2``,
-        ``carried_mass``; the LMB rows' points with ``h_upd`` None.
+        Per GLMB truncation and ``H_upd`` (on the first ``tradeoff_runs`` runs): ``filter``,
+        ``truncation``, ``h_upd``, ``n_runs``, ``sweeps_per_scan``, ``hypotheses_per_scan``,
+        ``ospa2``, ``carried_mass``; the LMB rows' points with ``h_upd`` None.
     curves : dict
-        Per-scan means for the plot: ``"scan"`` and, per method ``m``, ``ospa_m``,
+        Per-scan means for the plot: ``"scan"`` and, per method ``m`` by its
+        :func:`cell_name` (``ospa2_glmb/short-chain``), ``ospa_m``,
         ``ospa2_m``, ``cardinality_error_m``, ``components_m``, ``sweeps_m``,
         ``retained_mass_m`` and ``carried_mass_m``.
     """
@@ -594,12 +681,12 @@ def _mean_min(rs, key) -> tuple[float, float]:
     return (float(v.mean()), float(v.min())) if v.size else (math.nan, math.nan)
 
 
-def _method_row(preset: str, m: str, all_runs: list[dict]) -> GLMBMethodSummary:
+def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummary:
     rs = [r for r in all_runs if not r["failed"]]
     nan = math.nan
-    alt_name = ESTIMATORS[m.split("-")[0]][1]
+    alt_name = ESTIMATORS[m[0]][1]
     if not rs:
-        return GLMBMethodSummary(preset, m, 0, *([nan] * 7), alt_name, *([nan] * 16),
+        return GLMBMethodSummary(preset, *m, 0, *([nan] * 7), alt_name, *([nan] * 16),
                                  _failures(all_runs))
 
     def runs_mean(key, sub=None):
@@ -610,7 +697,7 @@ def _method_row(preset: str, m: str, all_runs: list[dict]) -> GLMBMethodSummary:
     retained = _mean_min(rs, "retained_mass")
     carried = _mean_min(rs, "carried_mass")
     return GLMBMethodSummary(
-        preset=preset, method=m, n_runs=len(rs),
+        preset=preset, filter=m[0], truncation=m[1], n_runs=len(rs),
         ospa_mean=float(runs_mean("ospa").mean()), ospa_se=_se(runs_mean("ospa")),
         ospa2_mean=float(runs_mean("ospa2").mean()), ospa2_se=_se(runs_mean("ospa2")),
         gospa_mean=float(runs_mean("gospa").mean()), gospa_se=_se(runs_mean("gospa")),
@@ -643,13 +730,13 @@ def _curves(by: dict, n_scans: int) -> dict:
         if not rs:
             continue
         for key in ("ospa", "ospa2", "cardinality_error", "components", "sweeps"):
-            curves[f"{key}_{m}"] = np.mean([r[key] for r in rs], axis=0).tolist()
+            curves[f"{key}_{cell_name(m)}"] = np.mean([r[key] for r in rs], axis=0).tolist()
         for key in ("retained_mass", "carried_mass"):
             mass = np.array([_values(r, key) for r in rs])
             if np.isfinite(mass).any():
                 with np.errstate(invalid="ignore"), warnings.catch_warnings():
                     warnings.simplefilter("ignore", RuntimeWarning)  # a scan without a value
-                    curves[f"{key}_{m}"] = np.nanmean(mass, axis=0).tolist()
+                    curves[f"{key}_{cell_name(m)}"] = np.nanmean(mass, axis=0).tolist()
     return curves
 
 
@@ -688,25 +775,31 @@ def _best(rs: list[dict]) -> tuple[str, dict]:
     return label, fits[name]
 
 
+_GLMB_SHORT, _GLMB_LONG = ("glmb", "short-chain"), ("glmb", "original")
+_LMB_SHORT, _LMB_LONG = ("lmb", "short-chain"), ("lmb", "original")
+_GLMB_MURTY, _GLMB_MATCHED = ("glmb", "murty"), ("glmb", "murty-matched")
+
+
 def _comparisons(by: dict) -> tuple:
     def runs(m):
         return _per_run(by.get(m, []))
 
     out = []
-    for a, b, target, two in (("glmb-short", "glmb-long", SHORT_VS_LONG_TARGET, True),
-                              ("glmb-short", "lmb-short", GLMB_VS_LMB_TARGET, False),
-                              ("glmb-long", "lmb-long", GLMB_VS_LMB_TARGET, False),
-                              ("glmb-murty", "lmb-murty", GLMB_VS_LMB_TARGET, False),
-                              ("glmb-murty-matched", "glmb-short", math.nan, False),
-                              ("glmb-murty-matched", "glmb-murty", math.nan, False)):
+    for a, b, target, two in ((_GLMB_SHORT, _GLMB_LONG, SHORT_VS_LONG_TARGET, True),
+                              (_GLMB_SHORT, _LMB_SHORT, GLMB_VS_LMB_TARGET, False),
+                              (_GLMB_LONG, _LMB_LONG, GLMB_VS_LMB_TARGET, False),
+                              (_GLMB_MURTY, ("lmb", "murty"), GLMB_VS_LMB_TARGET, False),
+                              (_GLMB_MATCHED, _GLMB_SHORT, math.nan, False),
+                              (_GLMB_MATCHED, _GLMB_MURTY, math.nan, False)):
         if by.get(a) and by.get(b):
-            out.append(_compare(runs(a), runs(b), a, b, "map", target, two))
+            out.append(_compare(runs(a), runs(b), cell_name(a), cell_name(b), "map", target,
+                                two))
     # each filter with its best estimator, long chain against long chain
-    if by.get("glmb-long") and by.get("lmb-long"):
-        ea, xa = _best([r for r in by["glmb-long"] if not r["failed"]])
-        eb, xb = _best([r for r in by["lmb-long"] if not r["failed"]])
-        out.append(_compare(xa, xb, f"glmb-long:{ea}", f"lmb-long:{eb}", "best",
-                            GLMB_VS_LMB_TARGET, False))
+    if by.get(_GLMB_LONG) and by.get(_LMB_LONG):
+        ea, xa = _best([r for r in by[_GLMB_LONG] if not r["failed"]])
+        eb, xb = _best([r for r in by[_LMB_LONG] if not r["failed"]])
+        out.append(_compare(xa, xb, f"{cell_name(_GLMB_LONG)}:{ea}",
+                            f"{cell_name(_LMB_LONG)}:{eb}", "best", GLMB_VS_LMB_TARGET, False))
     return tuple(out)
 
 
@@ -714,22 +807,24 @@ def _tradeoff(runs: list[dict], cfg: GLMBStudyConfig, preset: str, rows: tuple) 
     n = cfg.tradeoff_runs
     points = []
     hs = sorted({cfg.h_upd, *cfg.tradeoff_h_upd})
-    for m in TRADEOFF_METHODS:
+    for t in TRADEOFF_METHODS:
         for h in hs:
-            rs = [r for r in runs if r["method"] == m and r.get("preset") == preset
+            rs = [r for r in runs if (r["filter"], r["truncation"]) == ("glmb", t)
+                  and r.get("preset") == preset
                   and r.get("h_upd", cfg.h_upd) == h and not r["failed"] and r["run"] < max(n, 1)]
             if not rs:
                 continue
             carried = _mean_min(rs, "carried_mass")[0]
-            points.append({"method": m, "h_upd": h, "n_runs": len(rs),
+            points.append({"filter": "glmb", "truncation": t, "h_upd": h, "n_runs": len(rs),
                            "sweeps_per_scan": float(np.mean([np.mean(r["sweeps"]) for r in rs])),
                            "hypotheses_per_scan": float(np.mean([np.mean(r["hypotheses"])
                                                                  for r in rs])),
                            "ospa2": float(np.mean([np.mean(r["ospa2"]) for r in rs])),
                            "carried_mass": carried})
     for r in rows:
-        if r.method.startswith("lmb") and r.n_runs:
-            points.append({"method": r.method, "h_upd": None, "n_runs": r.n_runs,
+        if r.filter == "lmb" and r.n_runs:
+            points.append({"filter": "lmb", "truncation": r.truncation, "h_upd": None,
+                           "n_runs": r.n_runs,
                            "sweeps_per_scan": r.sweeps_per_scan,
                            "hypotheses_per_scan": r.hypotheses_per_scan,
                            "ospa2": r.ospa2_mean, "carried_mass": math.nan})
@@ -753,7 +848,7 @@ def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudy
     """
     out = []
     for preset in cfg.presets:
-        by = {m: sorted((r for r in runs if r["method"] == m
+        by = {m: sorted((r for r in runs if (r["filter"], r["truncation"]) == m
                          and r.get("preset", "vo") == preset
                          and r.get("h_upd", cfg.h_upd) == cfg.h_upd), key=lambda r: r["run"])
               for m in cfg.methods}
@@ -761,14 +856,14 @@ def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudy
         rows = tuple(_method_row(preset, m, rs) for m, rs in by.items())
         out.append(GLMBPresetSummary(
             preset=preset, rows=rows, comparisons=_comparisons(by),
-            glmb_savings_pct=_savings(by, "glmb-short", "glmb-long"),
-            lmb_savings_pct=_savings(by, "lmb-short", "lmb-long"),
+            glmb_savings_pct=_savings(by, _GLMB_SHORT, _GLMB_LONG),
+            lmb_savings_pct=_savings(by, _LMB_SHORT, _LMB_LONG),
             tradeoff=_tradeoff(runs, cfg, preset, rows),
             curves=_curves(by, cfg.n_scans),
         ))
     return GLMBStudySummary(
         n_mc=cfg.n_mc,
-        config={"presets": list(cfg.presets), "methods": list(cfg.methods),
+        config={"presets": list(cfg.presets), "methods": [list(m) for m in cfg.methods],
                 "n_scans": cfg.n_scans, "h_upd": cfg.h_upd, "h_max": cfg.h_max,
                 "original_obs": cfg.original_obs, "n_chains": cfg.n_chains,
                 "chain_length": cfg.chain_length, "tau_stall": cfg.tau_stall,
@@ -782,9 +877,10 @@ def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudy
 
 
 def _name(m: str) -> str:
-    """A comparison's side: ``"glmb-long:recursive"`` → ``"GLMB, long chain (recursive)"``."""
+    """A comparison's side: ``"glmb/original:recursive"`` → ``"GLMB, long chain
+    (recursive)"``."""
     method, _, est = m.partition(":")
-    return _LABELS[method] + (f" ({est})" if est else "")
+    return _label(tuple(method.split("/"))) + (f" ({est})" if est else "")
 
 
 def _interval(c: PairedComparison) -> str:
@@ -811,8 +907,8 @@ def _comparison_table(s: GLMBPresetSummary) -> str:
 def _verdict(s: GLMBPresetSummary) -> str:
     parts = []
     paper = 100.0 * (1 - PAPER_TOTALS["proposed"] / PAPER_TOTALS["original"])
-    rows = {r.method: r for r in s.rows}
-    long = rows.get("glmb-long")
+    rows = {(r.filter, r.truncation): r for r in s.rows}
+    long = rows.get(_GLMB_LONG)
     if math.isfinite(s.glmb_savings_pct):
         text = (f"The GLMB short chains spend {fmt.num(s.glmb_savings_pct, 1)} % fewer sweeps "
                 "than the GLMB long chain")
@@ -820,7 +916,7 @@ def _verdict(s: GLMBPresetSummary) -> str:
             text += f", the LMB short chains {fmt.num(s.lmb_savings_pct, 1)} % fewer"
         text += f" (the paper: {fmt.num(paper, 1)} %)."
         if long is not None and long.n_runs:
-            lmb_long = rows.get("lmb-long")
+            lmb_long = rows.get(_LMB_LONG)
             text += (
                 " The baseline explains the gap: the paper measures against a deliberately "
                 "saturated chain of 10 000 sweeps on one problem"
@@ -838,12 +934,12 @@ def _verdict(s: GLMBPresetSummary) -> str:
         if math.isfinite(c.target) and c.status == "not resolved":
             parts.append(f"{_name(c.a)} against {_name(c.b)} is not resolved by "
                          f"{fmt.plural(c.n, 'paired run')}: {_interval(c)}.")
-    for m in ("glmb-murty-matched", "glmb-murty"):
+    for m in (_GLMB_MATCHED, _GLMB_MURTY):
         r = rows.get(m)
         if r is not None and r.n_runs:
-            parts.append(f"{_LABELS[m]} keeps {fmt.num(r.hypotheses_per_scan, 0)} hypotheses a "
+            parts.append(f"{_label(m)} keeps {fmt.num(r.hypotheses_per_scan, 0)} hypotheses a "
                          "scan.")
-    chains = rows.get("glmb-short")
+    chains = rows.get(_GLMB_SHORT)
     if chains is not None and chains.n_runs:
         parts.append(f"The GLMB short chains find {fmt.num(chains.hypotheses_per_scan, 0)} "
                      "unique hypotheses a scan.")
@@ -851,19 +947,19 @@ def _verdict(s: GLMBPresetSummary) -> str:
     if best:
         parts.append("Each filter's other estimator on the same runs (mean OSPA(2), MAP → "
                      "other): " + "; ".join(
-                         f"{_LABELS[m]} {fmt.num(r.ospa2_mean, 2)} → "
+                         f"{_label(m)} {fmt.num(r.ospa2_mean, 2)} → "
                          f"{fmt.num(r.alt_ospa2_mean, 2)} m ({r.alt_estimator})"
                          for m, r in best) + ".")
     mass = {m: r for m, r in rows.items() if math.isfinite(r.retained_mass_mean)}
     if mass:
         parts.append("Posterior mass per scan, retained by the truncation / carried into the "
                      "next scan (mean; worst scan): " + "; ".join(
-                         f"{_LABELS[m]} {fmt.num(r.retained_mass_mean, 4)} / "
+                         f"{_label(m)} {fmt.num(r.retained_mass_mean, 4)} / "
                          f"{fmt.num(r.carried_mass_mean, 4)}; {fmt.num(r.retained_mass_min, 4)}"
                          f" / {fmt.num(r.carried_mass_min, 4)}" for m, r in mass.items()) + ".")
     for m, r in rows.items():
         if r.failed:
-            parts.append(f"{_LABELS[m]}: {r.failed}.")
+            parts.append(f"{_label(m)}: {r.failed}.")
     return " ".join(parts)
 
 
@@ -874,24 +970,26 @@ def _table(s: GLMBPresetSummary) -> str:
               "seconds per run"]
     rows = []
     for r in s.rows:
+        m = (r.filter, r.truncation)
         if not r.n_runs:
-            rows.append([_LABELS[r.method], "0", "does not fit"] + ["–"] * 10)
+            rows.append([_label(m), "0", "does not fit"] + ["–"] * 10)
             continue
-        glmb = r.method.startswith("glmb")
+        glmb = r.filter == "glmb"
         rows.append([
-            _LABELS[r.method], str(r.n_runs), fmt.pm(r.ospa_mean, r.ospa_se, n_runs=r.n_runs),
+            _label(m), str(r.n_runs), fmt.pm(r.ospa_mean, r.ospa_se, n_runs=r.n_runs),
             fmt.pm(r.ospa2_mean, r.ospa2_se, n_runs=r.n_runs),
             fmt.pm(r.gospa_mean, r.gospa_se, n_runs=r.n_runs),
             fmt.num(r.cardinality_error_mean, 3),
             f"{fmt.pm(r.alt_ospa2_mean, r.alt_ospa2_se, n_runs=r.n_runs)} ({r.alt_estimator})",
             fmt.integer(r.sweeps_per_scan),
-            "– (marginals)" if r.method == "lmb-exact" else fmt.integer(r.hypotheses_per_scan),
+            "– (marginals)" if m == ("lmb", "exact") else fmt.integer(r.hypotheses_per_scan),
             fmt.num(r.components_mean, 1) if glmb else "–",
             (f"{fmt.num(r.retained_mass_mean, 4)} / {fmt.num(r.carried_mass_mean, 4)}"
              if math.isfinite(r.retained_mass_mean) else "–"),
             # the spec (§2.2) keeps the all-missed assignment of a component with T_h = 0;
             # Murty keeps its best one: a deviation, stated where the numbers are
-            ("best (deviation)" if "murty" in r.method else "all-missed") if glmb else "–",
+            ("best (deviation)" if r.truncation in ("murty", "murty-matched") else "all-missed")
+            if glmb else "–",
             fmt.num(r.seconds, 2)])
     return fmt.table(header, rows)
 
@@ -960,11 +1058,11 @@ def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
 
     Every method keeps its colour, dashes and marker in every panel; one legend below.
     """
-    glmb_shown = ("glmb-exact", "glmb-long", "glmb-short", "glmb-murty", "glmb-herded",
-                  "lmb-exact")
+    glmb_shown = (("glmb", "exact"), _GLMB_LONG, _GLMB_SHORT, _GLMB_MURTY, ("glmb", "herded"),
+                  ("lmb", "exact"))
     styles = {m: {**series_style(i), "markevery": 10} for i, m in enumerate(GLMB_METHODS)}
     panels = (("ospa2", "OSPA(2) (m)", "LMB filter",
-               ("lmb-exact", "lmb-long", "lmb-short", "lmb-murty")),
+               (("lmb", "exact"), _LMB_LONG, _LMB_SHORT, ("lmb", "murty"))),
               ("ospa2", "OSPA(2) (m)", "δ-GLMB filter", glmb_shown),
               ("cardinality_error", "abs. cardinality error", "δ-GLMB filter", glmb_shown),
               ("components", "components kept", "δ-GLMB filter", glmb_shown[:5]),
@@ -977,9 +1075,10 @@ def plot_glmb_tracking(s: GLMBStudySummary, directory: Path) -> list[str]:
         for ax, (what, ylabel, title, who) in zip(row, panels, strict=True):
             drawn = 0
             for r in p.rows:
-                key = f"{what}_{r.method}"
-                if key in cur and r.method in who:
-                    ax.plot(k, cur[key], label=_LABELS[r.method], **styles[r.method])
+                m = (r.filter, r.truncation)
+                key = f"{what}_{cell_name(m)}"
+                if key in cur and m in who:
+                    ax.plot(k, cur[key], label=_label(m), **styles[m])
                     drawn += 1
             if not drawn:  # e.g. the carried mass, not computed on this preset
                 ax.set_visible(False)
@@ -1010,26 +1109,28 @@ def plot_glmb_tradeoff(s: GLMBStudySummary, directory: Path) -> list[str]:
     is the per-scan figure's reference instead; six series a panel at most)."""
     from matplotlib.ticker import LogLocator, NullFormatter
 
-    glmb_style = {m: series_style(i) for i, m in enumerate(TRADEOFF_METHODS)}
-    lmb_style = {m: {**series_style(i + len(TRADEOFF_METHODS)), "ls": "none", "ms": 7}
-                 for i, m in enumerate(("lmb-long", "lmb-short"))}
+    glmb_style = {t: series_style(i) for i, t in enumerate(TRADEOFF_METHODS)}
+    lmb_style = {t: {**series_style(i + len(TRADEOFF_METHODS)), "ls": "none", "ms": 7}
+                 for i, t in enumerate(("original", "short-chain"))}
     fig, axes = figure(2, width=4.6, height=3.4, nrows=len(s.presets), squeeze_row=False)
     for p, (ax_o, ax_m) in zip(s.presets, axes, strict=True):
         mass_drawn = 0
         for m in TRADEOFF_METHODS:
-            pts = sorted((q for q in p.tradeoff if q["method"] == m), key=lambda q: q["h_upd"])
+            pts = sorted((q for q in p.tradeoff if q["filter"] == "glmb"
+                          and q["truncation"] == m), key=lambda q: q["h_upd"])
             if not pts:
                 continue
             x = [max(q["hypotheses_per_scan"], 1.0) for q in pts]
-            ax_o.plot(x, [q["ospa2"] for q in pts], label=_LABELS[m], **glmb_style[m])
+            ax_o.plot(x, [q["ospa2"] for q in pts], label=_label(("glmb", m)), **glmb_style[m])
             mass = [q["carried_mass"] for q in pts]
             if any(math.isfinite(v) for v in mass):
-                ax_m.plot(x, mass, label=_LABELS[m], **glmb_style[m])
+                ax_m.plot(x, mass, label=_label(("glmb", m)), **glmb_style[m])
                 mass_drawn += 1
         for q in p.tradeoff:
-            if q["h_upd"] is None and q["method"] in lmb_style:
+            if q["h_upd"] is None and q["truncation"] in lmb_style:
                 ax_o.plot([max(q["hypotheses_per_scan"], 1.0)], [q["ospa2"]],
-                          label=_LABELS[q["method"]], **lmb_style[q["method"]])
+                          label=_label(("lmb", q["truncation"])),
+                          **lmb_style[q["truncation"]])
         for ax, ylabel in ((ax_o, "mean OSPA(2) (m)"), (ax_m, "mean carried mass")):
             ax.set_xscale("log")
             # decades only: the minor labels of a short log range overlap

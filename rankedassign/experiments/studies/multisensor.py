@@ -51,6 +51,7 @@ from .._plots import bar_style, figure, legend_below
 from .._synthetic import PairedStats, paired_summary
 from ..config import CRITERIA
 from ..registry import Study, as_rows, register_study
+from ..vocabulary import ROW_METHODS
 
 __all__ = ["MULTISENSOR", "MultiSensorConfig", "MultiSensorRow", "MethodAccuracyRow",
            "MultiSensorSummary", "CASES", "METHODS", "summarise_multisensor"]
@@ -60,8 +61,10 @@ __all__ = ["MULTISENSOR", "MultiSensorConfig", "MultiSensorRow", "MethodAccuracy
 CASES = ("A/random_coupled", "B/random", "C/uniform")
 #: Families a case may name.
 MS_FAMILIES = ("diagonal", "uniform", "random", "random_coupled", "geometric")
-#: Row updates of the multi-sensor samplers, in report order.
-METHODS = ("exact", "mm", "mm-fixed", "componentwise")
+#: Row updates of the multi-sensor samplers (``method``, the row conditional alone), in report
+#: order: the samplers' own list (:data:`~rankedassign.experiments.vocabulary.ROW_METHODS`); a
+#: run's streams are keyed by the position in it.
+METHODS = ROW_METHODS
 #: Termination rules of each Table I column (``True`` = rule on), readings S3 / T3.
 RULES = {"stall": (True, False), "stale": (False, True), "full": (True, True)}
 #: Quick mode: Monte Carlo runs (the per-run settings are the full study's).

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -41,15 +42,19 @@ from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._plots import legend_below, series_style
 from ..registry import Study, register_study
+from ..vocabulary import DEPRECATED_ASSOCIATIONS, ROW_METHODS, canonical_pair
 
 __all__ = [
     "MULTISENSOR_TRACKING",
     "LONG_CHAIN_SWEEPS",
     "STUDY_FILTERS",
-    "STUDY_METHODS",
+    "STUDY_TRUNCATIONS",
+    "STUDY_ASSOCIATIONS",
     "MultiSensorStudyConfig",
     "MultiSensorTrackingRecord",
     "MultiSensorTrackingSummary",
+    "check_association",
+    "association_label",
     "make_association",
     "multisensor_tracking_task",
     "summarise_multisensor_tracking",
@@ -58,10 +63,18 @@ __all__ = [
     "plot_multisensor_tracking",
 ]
 
-#: Associations of the study: the long chain (Alg. 1), the short chains (Alg. 1 kernel), the
-#: short chains with the MM kernels, and the exact DP (where a group fits it; otherwise the
-#: long chain, counted as a fallback).
-STUDY_METHODS = ("long", "short", "short-mm", "short-mm-fixed", "exact")
+#: Truncations of the study, by their classes' ``name``
+#: (:mod:`rankedassign.experiments.vocabulary`): the long chain, the short chains, and the
+#: exact DP (where a group fits it; otherwise the long chain, counted as a fallback).
+STUDY_TRUNCATIONS = (OriginalGibbs.name, ShortChainGibbs.name, Exact.name)
+#: Associations of the study, each a ``(truncation, method)`` pair, ``method`` the row
+#: conditional (:data:`~rankedassign.experiments.vocabulary.ROW_METHODS`; of the exact DP, its
+#: long-chain fallback's): the long chain (Alg. 1), the short chains with the Alg. 1 kernel and
+#: with the MM kernels, and the exact DP. The old one-string spellings (``"long"``,
+#: ``"short-mm"``, ...) still read, deprecated
+#: (:data:`~rankedassign.experiments.vocabulary.DEPRECATED_ASSOCIATIONS`).
+STUDY_ASSOCIATIONS = (("original", "exact"), ("short-chain", "exact"), ("short-chain", "mm"),
+                      ("short-chain", "mm-fixed"), ("exact", "exact"))
 #: Sweeps per sampler call of the long chain the sweep reduction is measured against (spec §7.2).
 LONG_CHAIN_SWEEPS = 10_000
 #: Filters of the study's rows (the names of :data:`~rankedassign.tracking.filters.FILTERS`).
@@ -81,8 +94,9 @@ class MultiSensorStudyConfig:
     sensor_sets : tuple of tuple of int
         Sensor subsets (indices into
         :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`).
-    methods : tuple of str
-        Associations (:data:`STUDY_METHODS`).
+    methods : tuple of (str, str)
+        Associations, ``(truncation, method)`` pairs (:data:`STUDY_ASSOCIATIONS`; a
+        ``--config`` file writes each as a two-element list, ``["short-chain", "mm"]``).
     adaptive_sensor_sets, adaptive_methods : tuple
         The (sensor set, association) cells that also run with adaptive birth
         (:class:`~rankedassign.tracking.AdaptiveBirth` with its defaults, the
@@ -116,9 +130,9 @@ class MultiSensorStudyConfig:
     n_mc: int = 10
     n_scans: int = 100
     sensor_sets: tuple = ((0,), (1,), (2,), (0, 1), (0, 1, 2))
-    methods: tuple = STUDY_METHODS
+    methods: tuple = STUDY_ASSOCIATIONS
     adaptive_sensor_sets: tuple = ((0,), (0, 1), (0, 1, 2))
-    adaptive_methods: tuple = ("short", "short-mm")
+    adaptive_methods: tuple = (("short-chain", "exact"), ("short-chain", "mm"))
     long_obs: int = 10_000
     n_chains: int = 400
     chain_length: int = 25
@@ -127,10 +141,11 @@ class MultiSensorStudyConfig:
     marginals: str = "truncated"
     birth: str = "paper"
     glmb_sensor_sets: tuple = ((0,), (1,), (2,), (0, 1), (0, 1, 2))
-    glmb_methods: tuple = ("long", "short", "short-mm")
+    glmb_methods: tuple = (("original", "exact"), ("short-chain", "exact"),
+                           ("short-chain", "mm"))
     glmb_birth: str = "narrow"
     glmb_adaptive_sensor_sets: tuple = ((0, 1, 2),)
-    glmb_adaptive_methods: tuple = ("short", "short-mm")
+    glmb_adaptive_methods: tuple = (("short-chain", "exact"), ("short-chain", "mm"))
     glmb_extraction: str = "map"
     seed: int = 0
 
@@ -149,10 +164,13 @@ class MultiSensorStudyConfig:
         15
         """
         return cls(n_mc=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1, 2)),
-                   methods=("long", "short", "short-mm"), long_obs=300,
-                   adaptive_sensor_sets=((0, 1, 2),), adaptive_methods=("short",),
-                   glmb_sensor_sets=((0,), (0, 1, 2)), glmb_methods=("short-mm",),
-                   glmb_adaptive_sensor_sets=((0, 1, 2),), glmb_adaptive_methods=("short-mm",))
+                   methods=(("original", "exact"), ("short-chain", "exact"),
+                            ("short-chain", "mm")), long_obs=300,
+                   adaptive_sensor_sets=((0, 1, 2),),
+                   adaptive_methods=(("short-chain", "exact"),),
+                   glmb_sensor_sets=((0,), (0, 1, 2)), glmb_methods=(("short-chain", "mm"),),
+                   glmb_adaptive_sensor_sets=((0, 1, 2),),
+                   glmb_adaptive_methods=(("short-chain", "mm"),))
 
     def __post_init__(self):
         check_fields(self)
@@ -176,16 +194,66 @@ class MultiSensorStudyConfig:
                     check_int(v, f"{name}sensor_sets: sensor", maximum=len(MULTI_SENSORS) - 1)
                 if len(set(ss)) != len(ss):
                     raise ValueError(f"{name}sensor_sets entry {ss!r} repeats a sensor")
+            # the old one-string spellings, deprecated; a --config file's lists as tuples
+            methods = tuple(canonical_pair(m, f"{name}methods", DEPRECATED_ASSOCIATIONS)
+                            for m in methods)
+            object.__setattr__(self, f"{name}methods", methods)
             for m in methods:
-                check_choice(m, f"{name}methods: method", STUDY_METHODS)
+                check_association(m, f"{name}methods")
         check_choice(self.marginals, "marginals", MARGINALS)
         check_choice(self.birth, "birth", ("paper", "narrow"))
         check_choice(self.glmb_birth, "glmb_birth", ("paper", "narrow"))
         check_choice(self.glmb_extraction, "glmb_extraction", ("map", "hysteresis"))
 
 
-def make_association(cfg: MultiSensorStudyConfig, method: str):
-    """The association of ``method`` under the settings ``cfg``.
+def check_association(association, setting: str = "association") -> tuple:
+    """``association`` if it is a ``(truncation, method)`` pair of the study.
+
+    Parameters
+    ----------
+    association : object
+        The pair to check.
+    setting : str, optional
+        What it is an entry of, for the messages.
+
+    Returns
+    -------
+    tuple of str
+        ``association`` as a tuple.
+
+    Raises
+    ------
+    TypeError
+        If it is not a pair.
+    ValueError
+        On a truncation not in :data:`STUDY_TRUNCATIONS` or a method not in
+        :data:`~rankedassign.experiments.vocabulary.ROW_METHODS`.
+
+    Examples
+    --------
+    >>> check_association(["short-chain", "mm"])
+    ('short-chain', 'mm')
+    >>> check_association(("murty", "mm"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown association: truncation 'murty'; expected one of ('original', ...)
+    """
+    if not isinstance(association, (tuple, list)) or len(association) != 2:
+        raise TypeError(f"{setting} entries must be (truncation, method) pairs such as "
+                        f"['short-chain', 'mm'], got {association!r}")
+    truncation, method = association
+    check_choice(truncation, f"{setting}: truncation", STUDY_TRUNCATIONS)
+    check_choice(method, f"{setting}: method", ROW_METHODS)
+    return (truncation, method)
+
+
+def association_label(truncation: str, method: str) -> str:
+    """How the report's text and plots name an association: ``"short-chain (mm)"``."""
+    return f"{truncation} ({method})"
+
+
+def make_association(cfg: MultiSensorStudyConfig, association):
+    """The association of the pair ``association`` under the settings ``cfg``.
 
     Parameters
     ----------
@@ -193,11 +261,13 @@ def make_association(cfg: MultiSensorStudyConfig, method: str):
         Settings the association takes: ``long_obs`` (the long chain's sweeps per call),
         ``n_chains``, ``chain_length``, ``tau_stall``, ``tau_stale`` (the short chains) and
         ``marginals``.
-    method : {"long", "short", "short-mm", "short-mm-fixed", "exact"}
-        One of :data:`STUDY_METHODS`: the long chain (Alg. 1), the short chains with the
-        Alg. 1 row kernel (``"exact"``), with the MM-Gibbs kernel and its exclusion-aware
-        proposal (``"mm"``) or its fixed proposal (``"mm-fixed"``), or the exact DP with the
-        long chain as its fallback.
+    association : (str, str)
+        ``(truncation, method)`` (:func:`check_association`): the long chain
+        (``"original"``), the short chains (``"short-chain"``) or the exact DP with the long
+        chain as its fallback (``"exact"``), with the row conditional ``method``: the Alg. 1
+        row kernel (``"exact"``), the MM-Gibbs kernel and its exclusion-aware proposal
+        (``"mm"``) or its fixed proposal (``"mm-fixed"``). An old one-string spelling
+        (``"short-mm"``) still reads, with a ``DeprecationWarning``.
 
     Returns
     -------
@@ -206,26 +276,25 @@ def make_association(cfg: MultiSensorStudyConfig, method: str):
 
     Raises
     ------
-    ValueError
-        On an unknown method.
+    TypeError, ValueError
+        On an association that is not a pair of the study (:func:`check_association`).
 
     Examples
     --------
     >>> from rankedassign.experiments.studies.multisensor_tracking import (
     ...     MultiSensorStudyConfig, make_association)
-    >>> make_association(MultiSensorStudyConfig(), "short-mm")
+    >>> make_association(MultiSensorStudyConfig(), ("short-chain", "mm"))
     ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10)
     """
-    check_choice(method, "method", STUDY_METHODS)
-    # the long chain with the Alg. 1 row kernel, as the study has always run it
-    long = OriginalGibbs(cfg.long_obs, method="exact", marginals=cfg.marginals)
-    if method == "long":
+    truncation, method = check_association(
+        canonical_pair(association, "association", DEPRECATED_ASSOCIATIONS))
+    long = OriginalGibbs(cfg.long_obs, method=method, marginals=cfg.marginals)
+    if truncation == OriginalGibbs.name:
         return long
-    if method == "exact":
+    if truncation == Exact.name:
         return Exact(fallback=long)
-    kernel = {"short": "exact", "short-mm": "mm", "short-mm-fixed": "mm-fixed"}[method]
     return ShortChainGibbs(cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall,
-                           tau_stale=cfg.tau_stale, method=kernel, marginals=cfg.marginals)
+                           tau_stale=cfg.tau_stale, method=method, marginals=cfg.marginals)
 
 
 @dataclass(frozen=True)
@@ -236,7 +305,9 @@ class MultiSensorTrackingRecord:
     ----------
     run : int
     sensors : tuple of int
-    method : str
+    truncation, method : str
+        The association (:func:`check_association`): the truncation's class name and the row
+        conditional.
     ospa2, cardinality_error : ndarray, shape (n_scans,)
         OSPA(2) (``c = 200``, ``p = 1``, window 5) and ``|#estimates − #targets|`` per scan.
     coverage : ndarray, shape (n_targets,)
@@ -262,6 +333,7 @@ class MultiSensorTrackingRecord:
 
     run: int
     sensors: tuple
+    truncation: str
     method: str
     ospa2: np.ndarray
     cardinality_error: np.ndarray
@@ -285,7 +357,7 @@ class MultiSensorTrackingRecord:
 
 
 def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
-                              method: str, birth: str | None = None,
+                              association, birth: str | None = None,
                               filter: str = "lmb") -> MultiSensorTrackingRecord:
     """Run the filter once (seed ``cfg.seed + run``) and measure it.
 
@@ -300,8 +372,9 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
     sensors : sequence of int
         Sensors the filter fuses (distinct indices into
         :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`).
-    method : {"long", "short", "short-mm", "short-mm-fixed", "exact"}
-        Association (:data:`STUDY_METHODS`, built by :func:`make_association`).
+    association : (str, str)
+        ``(truncation, method)`` (:data:`STUDY_ASSOCIATIONS`, built by
+        :func:`make_association`).
     birth : {"paper", "narrow", "adaptive"}, optional
         Birth model (:data:`~rankedassign.tracking.multisensor.scenario.BIRTHS`); None
         (default) is ``cfg.birth``.
@@ -318,14 +391,16 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
     Examples
     --------
     >>> cfg = MultiSensorStudyConfig(n_scans=3, n_chains=20, chain_length=5)
-    >>> rec = multisensor_tracking_task(cfg, 0, (0,), "short")
+    >>> rec = multisensor_tracking_task(cfg, 0, (0,), ("short-chain", "exact"))
     >>> rec.ospa2.shape, rec.sensors, rec.invocations >= 3
     ((3,), (0,), True)
     """
     check_int(run, "run")
     birth = cfg.birth if birth is None else check_choice(birth, "birth", BIRTHS)
     check_choice(filter, "filter", STUDY_FILTERS)
-    assoc = make_association(cfg, method)
+    truncation, method = check_association(
+        canonical_pair(association, "association", DEPRECATED_ASSOCIATIONS))
+    assoc = make_association(cfg, (truncation, method))
     extraction = cfg.glmb_extraction if filter == "glmb" else None
     sr = run_multisensor_scenario(assoc, rng=cfg.seed + run, n_scans=cfg.n_scans,
                                   sensors=sensors, birth=birth, filter=filter,
@@ -336,7 +411,7 @@ def multisensor_tracking_task(cfg: MultiSensorStudyConfig, run: int, sensors,
     n_true = (~np.isnan(sr.truth[:, :, 0])).sum(axis=1)
     cov = track_coverage(sr.truth, sr.estimates, COVERAGE_RADIUS, settle=COVERAGE_SETTLE)
     return MultiSensorTrackingRecord(
-        run=run, sensors=tuple(int(v) for v in sensors), method=method,
+        run=run, sensors=tuple(int(v) for v in sensors), truncation=truncation, method=method,
         ospa2=np.asarray(o2, dtype=float),
         cardinality_error=np.abs(sr.n_estimated - n_true).astype(float),
         coverage=np.asarray(cov, dtype=float),
@@ -362,7 +437,8 @@ class MultiSensorTrackingSummary:
     Attributes
     ----------
     sensors : tuple of int
-    method : str
+    truncation, method : str
+        The association: the truncation's class name and the row conditional.
     n_runs : int
     ospa2_mean, ospa2_se : float
         Mean OSPA(2) over scans and runs, and the standard error over runs of the run means.
@@ -398,6 +474,7 @@ class MultiSensorTrackingSummary:
     """
 
     sensors: tuple
+    truncation: str
     method: str
     n_runs: int
     ospa2_mean: float
@@ -422,7 +499,8 @@ class MultiSensorTrackingSummary:
 
 
 def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
-    """One summary per (sensor set, association, birth, filter), in order of first appearance.
+    """One summary per (sensor set, truncation, method, birth, filter), in order of first
+    appearance.
 
     Parameters
     ----------
@@ -433,30 +511,36 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
     Returns
     -------
     list of MultiSensorTrackingSummary
-        One per distinct ``(sensors, method, birth, filter)``, in order of first appearance;
+        One per distinct ``(sensors, truncation, method, birth, filter)``, in order of first
+        appearance;
         the runs of a cell are taken in order of ``run``.
 
     Examples
     --------
     >>> import numpy as np
-    >>> recs = [MultiSensorTrackingRecord(r, (0,), m, np.full(2, o), np.zeros(2),
+    >>> recs = [MultiSensorTrackingRecord(r, (0,), t, "exact", np.full(2, o), np.zeros(2),
     ...         np.ones(3), s, 2 * s, 2, 0, 1.0)
-    ...         for r in (0, 1) for m, o, s in (("long", 10.0, 20_000), ("short", 11.0, 1000))]
-    >>> [(s.method, s.ospa2_mean, round(s.sweep_reduction, 2))
+    ...         for r in (0, 1)
+    ...         for t, o, s in (("original", 10.0, 20_000), ("short-chain", 11.0, 1000))]
+    >>> [(s.truncation, s.ospa2_mean, round(s.sweep_reduction, 2))
     ...  for s in summarise_multisensor_tracking(recs)]
-    [('long', 10.0, 0.0), ('short', 11.0, 0.95)]
+    [('original', 10.0, 0.0), ('short-chain', 11.0, 0.95)]
     """
     records = list(records)
 
     def key(r):
-        return (r.sensors, r.method, r.birth, r.filter)
+        return (r.sensors, (r.truncation, r.method), r.birth, r.filter)
 
     keys = list(dict.fromkeys(key(r) for r in records))
     cells = {k: sorted((r for r in records if key(r) == k), key=lambda r: r.run) for k in keys}
-    long_sweeps = {(k[0], k[2]): float(np.mean([r.sweeps for r in rs]))
-                   for k, rs in cells.items() if k[3] == "glmb" and k[1] == "long"}
+    # the GLMB long chain of the same sensors and birth (the Alg. 1 one the study runs, or
+    # any long chain when there is none)
+    long_sweeps = {}
+    for k, rs in sorted(cells.items(), key=lambda kv: kv[0][1] != ("original", "exact")):
+        if k[3] == "glmb" and k[1][0] == OriginalGibbs.name:
+            long_sweeps.setdefault((k[0], k[2]), float(np.mean([r.sweeps for r in rs])))
     out = []
-    for (sensors, method, birth, filt), rs in cells.items():
+    for (sensors, (truncation, method), birth, filt), rs in cells.items():
         o = np.array([r.ospa2 for r in rs])
         c = np.array([r.cardinality_error for r in rs])
         g = (np.array([r.gospa for r in rs]) if all(r.gospa is not None for r in rs)
@@ -470,7 +554,7 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
             reduction = float("nan") if calls == 0 else \
                 float(1.0 - sweeps / (LONG_CHAIN_SWEEPS * calls))
         out.append(MultiSensorTrackingSummary(
-            sensors=sensors, method=method, n_runs=len(rs),
+            sensors=sensors, truncation=truncation, method=method, n_runs=len(rs),
             ospa2_mean=float(o.mean()), ospa2_se=_se(o.mean(axis=1)),
             card_mean=float(c.mean()), card_se=_se(c.mean(axis=1)),
             ospa2_curve=o.mean(axis=0), card_curve=c.mean(axis=0),
@@ -498,7 +582,8 @@ def multisensor_tracking_table(summaries) -> str:
     Returns
     -------
     str
-        A Markdown table of 15 columns (filter, sensors, ``V``, association, birth, OSPA(2),
+        A Markdown table of 16 columns (filter, sensors, ``V``, truncation, method, birth,
+        OSPA(2),
         GOSPA and cardinality error with their standard errors — ``(1 run)`` instead of one
         for a cell of one run —, sweeps, row updates and calls per run, sweep reduction in percent,
         births per scan, targets lost, seconds per run): the header, the rule, then one line
@@ -510,17 +595,17 @@ def multisensor_tracking_table(summaries) -> str:
     >>> multisensor_tracking_table([]).splitlines()[0].startswith("| filter | sensors")
     True
     """
-    head = ("| filter | sensors | V | association | birth | OSPA(2) mean ± se (m) | "
+    head = ("| filter | sensors | V | truncation | method | birth | OSPA(2) mean ± se (m) | "
             "GOSPA mean ± se (m) | card. error ± se | "
             "sweeps / run | row updates / run | calls / run | sweep reduction | births / scan | "
             "targets lost | s / run |")
-    lines = [head, "|" + "---|" * 15]
+    lines = [head, "|" + "---|" * 16]
     for s in summaries:
         red = "" if math.isnan(s.sweep_reduction) else f"{100 * s.sweep_reduction:.1f} %"
         births = "" if math.isnan(s.births_per_scan) else f"{s.births_per_scan:.1f}"
         lines.append(
             f"| {s.filter.upper()} | {','.join(map(str, s.sensors))} | {len(s.sensors)} | "
-            f"{s.method} | {s.birth} | "
+            f"{s.truncation} | {s.method} | {s.birth} | "
             f"{fmt.pm(s.ospa2_mean, s.ospa2_se, 1, n_runs=s.n_runs)} | "
             f"{fmt.pm(s.gospa_mean, s.gospa_se, 1, n_runs=s.n_runs)} | "
             f"{fmt.pm(s.card_mean, s.card_se, 2, n_runs=s.n_runs)} | "
@@ -533,7 +618,7 @@ def multisensor_tracking_table(summaries) -> str:
 #: How :func:`plot_multisensor_tracking` splits the lines into panels: one panel per sensor set
 #: (the associations and births on it as lines) or one per association and birth (the sensor
 #: sets as lines).
-PLOT_BY = ("sensors", "method")
+PLOT_BY = ("sensors", "association")
 #: Most panel columns of one row of :func:`plot_multisensor_tracking`; more panels wrap.
 PLOT_COLUMNS = 4
 
@@ -543,7 +628,7 @@ def _sensor_label(sensors) -> str:
 
 
 def _method_label(s) -> str:
-    return (("GLMB " if s.filter == "glmb" else "") + s.method
+    return (("GLMB " if s.filter == "glmb" else "") + association_label(s.truncation, s.method)
             + (" adaptive" if s.birth == "adaptive" else
                f" {s.birth}" if s.filter == "glmb" or s.birth == "narrow" else ""))
 
@@ -556,13 +641,15 @@ def plot_multisensor_tracking(summaries, path, *, by: str = "sensors") -> None:
     summaries : list of MultiSensorTrackingSummary
     path : str or path-like
         Image file to write (format from the suffix).
-    by : {"sensors", "method"}, optional
+    by : {"sensors", "association"}, optional
         ``"sensors"`` (default): one panel per sensor set, one line per association and birth
         on it, the cells that pair the δ-GLMB filter with the LMB filter in a panel of their
-        own beside it; ``"method"``: one panel per association and birth, one line per sensor
+        own beside it; ``"association"``: one panel per association and birth, one line per
+        sensor
         set. Each panel has its OSPA(2) above its cardinality error; a line keeps its colour,
         dashes and marker in every panel, one legend below the panels names them, and at most
-        :data:`PLOT_COLUMNS` panels share a row.
+        :data:`PLOT_COLUMNS` panels share a row. ``"method"``, the old name of
+        ``"association"``, still reads, with a ``DeprecationWarning``.
 
     Raises
     ------
@@ -576,11 +663,11 @@ def plot_multisensor_tracking(summaries, path, *, by: str = "sensors") -> None:
     >>> import numpy as np
     >>> from rankedassign.experiments.studies.multisensor_tracking import (
     ...     MultiSensorTrackingRecord, plot_multisensor_tracking, summarise_multisensor_tracking)
-    >>> recs = [MultiSensorTrackingRecord(0, s, m, np.full(5, 50.0 / len(s)), np.zeros(5),
-    ...                                   np.ones(12), 100, 200, 5, 0, 1.0)
-    ...         for s in ((0,), (0, 1)) for m in ("short", "long")]
+    >>> recs = [MultiSensorTrackingRecord(0, s, t, "exact", np.full(5, 50.0 / len(s)),
+    ...                                   np.zeros(5), np.ones(12), 100, 200, 5, 0, 1.0)
+    ...         for s in ((0,), (0, 1)) for t in ("short-chain", "original")]
     >>> out = Path(tempfile.mkdtemp()) / "ms.png"
-    >>> plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="method")
+    >>> plot_multisensor_tracking(summarise_multisensor_tracking(recs), out, by="association")
     >>> out.stat().st_size > 0
     True
     """
@@ -589,6 +676,10 @@ def plot_multisensor_tracking(summaries, path, *, by: str = "sensors") -> None:
 
 def _tracking_figure(summaries, by: str):
     """The matplotlib Figure of :func:`plot_multisensor_tracking` (no pyplot state)."""
+    if by == "method":  # "method" means the row conditional alone now
+        warnings.warn("by: 'method' is deprecated; write 'association'", DeprecationWarning,
+                      stacklevel=3)
+        by = "association"
     check_choice(by, "by", PLOT_BY)
     summaries = list(summaries)
     if not summaries:
@@ -600,10 +691,11 @@ def _tracking_figure(summaries, by: str):
     # The cells that pair a δ-GLMB filter with the LMB filter on the same birth get panels of
     # their own beside the LMB associations of the same sensors: together they made eight
     # lines in one panel.
-    glmb = {(s.sensors, s.method, s.birth) for s in summaries if s.filter == "glmb"}
+    glmb = {(s.sensors, s.truncation, s.method, s.birth) for s in summaries
+            if s.filter == "glmb"}
 
     def paired(s):
-        return (s.sensors, s.method, s.birth) in glmb
+        return (s.sensors, s.truncation, s.method, s.birth) in glmb
 
     def panel_of(s):
         if by == "sensors":
@@ -663,10 +755,10 @@ def _tracking_figure(summaries, by: str):
 def _tasks(cfg: MultiSensorStudyConfig, seed: int) -> list[tuple]:
     """One task per (run, sensor set, association, birth); run ``r`` uses seed ``seed + r``."""
     cfg = dataclasses.replace(cfg, seed=int(seed))
-    static = [(cfg, r, tuple(sensors), method, cfg.birth) for r in range(cfg.n_mc)
-              for sensors in cfg.sensor_sets for method in cfg.methods]
-    adaptive = [(cfg, r, tuple(sensors), method, "adaptive") for r in range(cfg.n_mc)
-                for sensors in cfg.adaptive_sensor_sets for method in cfg.adaptive_methods]
+    static = [(cfg, r, tuple(sensors), assoc, cfg.birth) for r in range(cfg.n_mc)
+              for sensors in cfg.sensor_sets for assoc in cfg.methods]
+    adaptive = [(cfg, r, tuple(sensors), assoc, "adaptive") for r in range(cfg.n_mc)
+                for sensors in cfg.adaptive_sensor_sets for assoc in cfg.adaptive_methods]
     # the GLMB cells, each with the LMB filter beside it (unless that cell is already above)
     done = {(t[1], t[2], t[3], t[4]) for t in static + adaptive}
     glmb = []
@@ -675,10 +767,10 @@ def _tasks(cfg: MultiSensorStudyConfig, seed: int) -> list[tuple]:
                                   cfg.glmb_adaptive_methods)):
         for r in range(cfg.n_mc):
             for sensors in sets:
-                for method in methods:
-                    glmb.append((cfg, r, tuple(sensors), method, birth, "glmb"))
-                    if (r, tuple(sensors), method, birth) not in done:
-                        glmb.append((cfg, r, tuple(sensors), method, birth, "lmb"))
+                for assoc in methods:
+                    glmb.append((cfg, r, tuple(sensors), assoc, birth, "glmb"))
+                    if (r, tuple(sensors), assoc, birth) not in done:
+                        glmb.append((cfg, r, tuple(sensors), assoc, birth, "lmb"))
     return static + adaptive + glmb
 
 
@@ -690,9 +782,9 @@ def _fusion_gains(summary, cfg) -> str:
     """Per filter, the fused OSPA(2) of the GLMB cells against the best single sensor."""
     out = []
     for filt in STUDY_FILTERS:
-        for method in cfg.glmb_methods:
+        for assoc in cfg.glmb_methods:
             rows = {s.sensors: s.ospa2_mean for s in summary if s.filter == filt
-                    and s.method == method and s.birth == cfg.glmb_birth
+                    and (s.truncation, s.method) == assoc and s.birth == cfg.glmb_birth
                     and s.sensors in {tuple(x) for x in cfg.glmb_sensor_sets}}
             singles = [v for k, v in rows.items() if len(k) == 1]
             many = [k for k in rows if len(k) > 1]
@@ -700,7 +792,8 @@ def _fusion_gains(summary, cfg) -> str:
                 continue
             fused = max(many, key=len)
             gain = 1.0 - rows[fused] / min(singles)
-            out.append(f"{filt.upper()} {method}: sensors {_sensor_label(fused)} "
+            out.append(f"{filt.upper()} {association_label(*assoc)}: "
+                       f"sensors {_sensor_label(fused)} "
                        f"{rows[fused]:.1f} m against {min(singles):.1f} m for the best single "
                        f"sensor, {100 * gain:.0f} % lower")
     if not out:
@@ -720,22 +813,23 @@ LONGER_RUNS = ("the longer runs documented on the multi-sensor tracking page fou
 def _verdict(summary, cfg) -> str:
     """The section's verdict in words: fusion gain, short against long chains, adaptive
     birth, δ-GLMB against LMB, each with its numbers, and what one run can resolve."""
-    cells = {(s.filter, s.sensors, s.method, s.birth): s for s in summary}
+    cells = {(s.filter, s.sensors, (s.truncation, s.method), s.birth): s for s in summary}
 
     def val(s):
         return fmt.pm(s.ospa2_mean, s.ospa2_se, 1) + " m"  # "1 run" is said once, below
 
     parts = []
-    for method in cfg.methods:
+    for assoc in cfg.methods:
         rows = {k[1]: s for k, s in cells.items()
-                if k[0] == "lmb" and k[2] == method and k[3] == cfg.birth}
+                if k[0] == "lmb" and k[2] == assoc and k[3] == cfg.birth}
         singles = {k: s for k, s in rows.items() if len(k) == 1}
         many = [k for k in rows if len(k) > 1]
         if singles and many:
             fused = rows[max(many, key=len)]
             best = min(singles.values(), key=lambda s: s.ospa2_mean)
             gain = 100 * (1 - fused.ospa2_mean / best.ospa2_mean)
-            parts.append(f"{method}: sensors {_sensor_label(fused.sensors)} {val(fused)} against "
+            parts.append(f"{association_label(*assoc)}: sensors "
+                         f"{_sensor_label(fused.sensors)} {val(fused)} against "
                          f"{val(best)} for the best single sensor "
                          f"{_sensor_label(best.sensors)} ({gain:.0f} % "
                          f"{'lower' if gain >= 0 else 'higher'})")
@@ -744,22 +838,23 @@ def _verdict(summary, cfg) -> str:
     fused_sets = sorted({k[1] for k in cells if len(k[1]) > 1}, key=len)
     if fused_sets:
         big = fused_sets[-1]
-        long_ = cells.get(("lmb", big, "long", cfg.birth))
-        short = cells.get(("lmb", big, "short", cfg.birth))
+        long_ = cells.get(("lmb", big, ("original", "exact"), cfg.birth))
+        short = cells.get(("lmb", big, ("short-chain", "exact"), cfg.birth))
         if long_ is not None and short is not None:
             text += (f" On sensors {_sensor_label(big)} the short chains reach {val(short)} "
                      f"with {short.sweeps:,.0f} sweeps per run against the {cfg.long_obs}-sweep "
                      f"long chain's {val(long_)} with {long_.sweeps:,.0f}.")
-        adaptive = cells.get(("lmb", big, "short", "adaptive"))
+        adaptive = cells.get(("lmb", big, ("short-chain", "exact"), "adaptive"))
         if adaptive is not None and short is not None:
             text += (f" Adaptive birth gives {val(adaptive)} against {val(short)} with the "
                      f"static birth: its births come from the previous scan's measurements, so "
                      "it confirms the targets of scan 1 later.")
     pairs = []
-    for (filt, sensors, method, birth), g in cells.items():
-        lmb = cells.get(("lmb", sensors, method, birth))
+    for (filt, sensors, assoc, birth), g in cells.items():
+        lmb = cells.get(("lmb", sensors, assoc, birth))
         if filt == "glmb" and lmb is not None:
-            pairs.append(f"sensors {_sensor_label(sensors)}, {method}, {birth} birth: δ-GLMB "
+            pairs.append(f"sensors {_sensor_label(sensors)}, {association_label(*assoc)}, "
+                         f"{birth} birth: δ-GLMB "
                          f"{val(g)}, LMB {val(lmb)}")
     if pairs:
         text += " The δ-GLMB against the LMB filter on the same cells: " + "; ".join(pairs) + "."

@@ -25,6 +25,7 @@ from .._plots import figure, legend_below, series_style
 from ..config import check_ospa, check_positive
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
+from ..vocabulary import DEPRECATED_TRACKING_SAMPLERS, canonical_value
 
 
 @dataclass(frozen=True)
@@ -145,15 +146,27 @@ PAPER_SCANS, PAPER_ORIGINAL_OBS = 100, 10_000
 #: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
 QUICK_MC = 10
 
-METHODS = ("original", "proposed")
+#: The two samplers, by their classes' ``name`` (:mod:`rankedassign.experiments.vocabulary`):
+#: the per-run records' ``truncation`` (``"proposed"`` still reads as ``"short-chain"``,
+#: deprecated).
+TRUNCATIONS = (tracking.OriginalGibbs.name, tracking.ShortChainGibbs.name)
+#: The summary's field and curve suffix of each sampler: the paper's column names
+#: (``obs_original``, ``obs_proposed``, as :data:`~rankedassign.experiments.paper.PAPER_TOTALS`).
+COLUMNS = {"original": "original", "short-chain": "proposed"}
 #: Target coverage (:func:`~rankedassign.metrics.track_coverage`): an estimate within this many
 #: metres covers a target; the first scans of each target's life are left out (time to
 #: confirm a newborn); a target covered on less than this fraction of the rest counts as lost.
 COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW = 50.0, 10, 0.5
 
 
-def _association(cfg: TrackingConfig, method: str):
-    if method == "original":
+def _truncation(value) -> str:
+    """``value`` as one of :data:`TRUNCATIONS` (the old ``"proposed"``: a warning)."""
+    value = canonical_value(value, "truncation", DEPRECATED_TRACKING_SAMPLERS, stacklevel=4)
+    return check_choice(value, "truncation", TRUNCATIONS)
+
+
+def _association(cfg: TrackingConfig, truncation: str):
+    if _truncation(truncation) == tracking.OriginalGibbs.name:
         return tracking.OriginalGibbs(cfg.original_obs, marginals=cfg.marginals)
     return tracking.ShortChainGibbs(
         cfg.n_chains, cfg.chain_length, tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale,
@@ -161,11 +174,12 @@ def _association(cfg: TrackingConfig, method: str):
     )
 
 
-def tracking_task(cfg: TrackingConfig, seed: int, run: int, method: str) -> dict:
-    """One 100-scan run of one association method; both methods share the measurements."""
+def tracking_task(cfg: TrackingConfig, seed: int, run: int, truncation: str) -> dict:
+    """One 100-scan run of one sampler (:data:`TRUNCATIONS`); both share the measurements."""
+    truncation = _truncation(truncation)
     sr = tracking.run_scenario(
         cfg.preset,
-        _association(cfg, method),
+        _association(cfg, truncation),
         rng=run_seed(seed, run),
         n_scans=cfg.n_scans,
         grouping=cfg.grouping,
@@ -187,7 +201,7 @@ def tracking_task(cfg: TrackingConfig, seed: int, run: int, method: str) -> dict
 
     return {
         "run": run,
-        "method": method,
+        "truncation": truncation,
         "ospa2": floats(o2.value),
         "ospa2_localisation": floats(o2.localisation),
         "ospa2_cardinality": floats(o2.cardinality),
@@ -346,8 +360,8 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
     Parameters
     ----------
     runs : list of dict
-        Per-run records of the study's task, one per run and method (``"original"``,
-        ``"proposed"``), each with per-scan lists (``sweeps``, ``row_updates``,
+        Per-run records of the study's task, one per run and sampler (``truncation``
+        ``"original"`` or ``"short-chain"``), each with per-scan lists (``sweeps``, ``row_updates``,
         ``invocations``, ``ospa2`` and its components, ``n_tracks``, ``n_meas``,
         ``n_groups``, ``association_seconds``) and the targets' ``coverage``.
     cfg : TrackingConfig
@@ -358,7 +372,8 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
     TrackingSummary
         Means over the runs, paired where both methods enter.
     """
-    by = {m: sorted((r for r in runs if r["method"] == m), key=lambda r: r["run"]) for m in METHODS}
+    by = {m: sorted((r for r in runs if r["truncation"] == m), key=lambda r: r["run"])
+          for m in TRUNCATIONS}
     n = len(by["original"])
 
     def per_scan(m, key):
@@ -372,11 +387,11 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
         "marginals": cfg.marginals,
         "ospa_c": cfg.ospa_c, "ospa_p": cfg.ospa_p, "ospa_window": cfg.ospa_window}}
     totals = {}
-    for m in METHODS:
+    for m in TRUNCATIONS:
         for key in ("sweeps", "row_updates", "invocations"):
             totals[m, key] = per_scan(m, key).sum(axis=1)  # per run
-    names = {"original": "original", "proposed": "proposed"}
-    for m in METHODS:
+    names = COLUMNS
+    for m in TRUNCATIONS:
         out[f"obs_{names[m]}"] = float(totals[m, "sweeps"].mean())
         out[f"obs_{names[m]}_se"] = _se(totals[m, "sweeps"])
         out[f"row_updates_{names[m]}"] = float(totals[m, "row_updates"].mean())
@@ -402,7 +417,8 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
         1.0 - out["row_updates_proposed"] / out["row_updates_original"]
     )
     # Paired per-run OSPA(2) difference (same measurements in both runs of a pair).
-    d = per_scan("proposed", "ospa2").mean(axis=1) - per_scan("original", "ospa2").mean(axis=1)
+    d = (per_scan("short-chain", "ospa2").mean(axis=1)
+         - per_scan("original", "ospa2").mean(axis=1))
     out["ospa2_difference_mean"] = float(d.mean())
     out["ospa2_difference_se"] = _se(d)
     out["paper_obs_original"] = PAPER_TOTALS["original"]
@@ -416,30 +432,32 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
     out["paper_calls_per_scan"] = PAPER_TOTALS["original"] / (PAPER_SCANS * PAPER_ORIGINAL_OBS)
     out["paper_sweeps_per_call_proposed"] = PAPER_TOTALS["proposed"] / (
         PAPER_SCANS * out["paper_calls_per_scan"])
+    # the curves keep the summary's column names (ospa2_original, ospa2_proposed, ...)
+    col = COLUMNS.items()
     out["curves"] = {
         "scan": list(range(1, cfg.n_scans + 1)),
-        **{f"ospa2_{m}": per_scan(m, "ospa2").mean(axis=0).tolist() for m in METHODS},
+        **{f"ospa2_{c}": per_scan(m, "ospa2").mean(axis=0).tolist() for m, c in col},
         **{
-            f"ospa2_{part}_{m}": per_scan(m, f"ospa2_{part}").mean(axis=0).tolist()
-            for m in METHODS
+            f"ospa2_{part}_{c}": per_scan(m, f"ospa2_{part}").mean(axis=0).tolist()
+            for m, c in col
             for part in ("localisation", "cardinality")
         },
-        **{f"gospa_{m}": per_scan(m, "gospa").mean(axis=0).tolist() for m in METHODS},
+        **{f"gospa_{c}": per_scan(m, "gospa").mean(axis=0).tolist() for m, c in col},
         **{
-            f"gospa_{part}_{m}": per_scan(m, f"gospa_{part}").mean(axis=0).tolist()
-            for m in METHODS
+            f"gospa_{part}_{c}": per_scan(m, f"gospa_{part}").mean(axis=0).tolist()
+            for m, c in col
             for part in ("localisation", "missed", "false")
         },
         **{
-            f"cumulative_obs_{m}": np.cumsum(per_scan(m, "sweeps").mean(axis=0)).tolist()
-            for m in METHODS
+            f"cumulative_obs_{c}": np.cumsum(per_scan(m, "sweeps").mean(axis=0)).tolist()
+            for m, c in col
         },
         **{
-            f"cumulative_row_updates_{m}": np.cumsum(per_scan(m, "row_updates").mean(axis=0))
+            f"cumulative_row_updates_{c}": np.cumsum(per_scan(m, "row_updates").mean(axis=0))
             .tolist()
-            for m in METHODS
+            for m, c in col
         },
-        **{f"sweeps_{m}": per_scan(m, "sweeps").mean(axis=0).tolist() for m in METHODS},
+        **{f"sweeps_{c}": per_scan(m, "sweeps").mean(axis=0).tolist() for m, c in col},
         "n_tracks": per_scan("original", "n_tracks").mean(axis=0).tolist(),
         "n_meas": per_scan("original", "n_meas").mean(axis=0).tolist(),
     }
@@ -612,8 +630,8 @@ def plot_tracking(summary: TrackingSummary, directory: Path, study: str = "track
 
 
 def tracking_tasks(cfg: TrackingConfig, seed: int) -> list[tuple]:
-    """``(cfg, seed, run, method)`` for every run and both samplers."""
-    return [(cfg, seed, r, m) for r in range(cfg.n_mc) for m in METHODS]
+    """``(cfg, seed, run, truncation)`` for every run and both samplers."""
+    return [(cfg, seed, r, m) for r in range(cfg.n_mc) for m in TRUNCATIONS]
 
 
 def _curves_csv(s: TrackingSummary) -> list[dict]:

@@ -435,6 +435,8 @@ class MultiSensorLMBFilter(LMBFilter):
         self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
 
     _sensors = "multi-sensor"
+    # the per-cluster MAP ("cluster-map") reads the single-sensor scan's clusters
+    _extractions = EXTRACTIONS
 
     def reset(self) -> None:
         """Forget every track (and, with adaptive birth, the pending births); restart at scan 1.

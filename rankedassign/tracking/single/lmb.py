@@ -21,7 +21,8 @@ sensor):
    and the posterior mixture ``(1/r_i) Σ_j β_ij p^(j)``;
 7. track pruning and cap, then mixture pruning, merging and cap
    (:meth:`LMBFilter._prune_and_merge`, one compiled kernel per scan);
-8. state extraction (:meth:`LMBFilter._extract`: hysteresis 6.5, or MAP cardinality).
+8. state extraction (:meth:`LMBFilter._extract`: hysteresis 6.5, the MAP cardinality, or the
+   MAP cardinality of every cluster of the scan, :func:`cluster_map_tracks`).
 
 The Kalman algebra is batched with numpy over all components; the per-pair likelihoods, the
 log-sum-exp over each mixture, the cost matrices and the mixture reduction run in compiled
@@ -65,8 +66,10 @@ __all__ = [
     "MERGE_RULES",
     "LMBFilter",
     "SPATIAL_BATCH_PAIRS",
+    "LMB_EXTRACTIONS",
     "SPATIAL_MIN_PAIRS",
     "ScanRecord",
+    "cluster_map_tracks",
     "gate_threshold",
     "group_tracks",
     "map_cardinality",
@@ -89,6 +92,11 @@ SPATIAL_MIN_PAIRS = 1 << 20
 #: The cluster path computes the terms and the posterior of consecutive clusters together, in
 #: batches of at most this many (tracks x measurements) pairs.
 SPATIAL_BATCH_PAIRS = 4096
+
+#: The LMB filter's state extractions: those a model can carry (:data:`EXTRACTIONS`) and
+#: ``"cluster-map"``, the MAP cardinality of every cluster of the scan
+#: (:func:`cluster_map_tracks`).
+LMB_EXTRACTIONS = EXTRACTIONS + ("cluster-map",)
 
 
 
@@ -158,6 +166,96 @@ def map_cardinality(r: np.ndarray) -> int:
     r = np.ascontiguousarray(r, dtype=np.float64).reshape(-1)
     with interruptible:
         return int(np.argmax(_kernels.cardinality_distribution(r)))
+
+
+def cluster_map_tracks(r, cluster) -> np.ndarray:
+    """The tracks the MAP cardinality of every cluster reports (the ``"cluster-map"`` extraction).
+
+    Within each cluster the ``n̂_c = argmax_n ρ_c(n)`` most likely tracks are reported, with
+    ``ρ_c`` the Poisson-binomial cardinality distribution of the cluster's tracks
+    (:func:`map_cardinality`); ties of ``r`` go to the earlier track, as in the global MAP
+    extraction.
+
+    Parameters
+    ----------
+    r : array_like of float, shape (T,)
+        Existence probabilities, in ``[0, 1]`` (converted to float64).
+    cluster : array_like of int, shape (T,)
+        Cluster of every track (any integers; tracks with equal values form one cluster).
+
+    Returns
+    -------
+    ndarray of int64
+        Sorted indices of the reported tracks. With every track in one cluster they are those
+        of the global MAP extraction (the ``n̂ = map_cardinality(r)`` most likely tracks).
+
+    Raises
+    ------
+    ValueError
+        If ``r`` and ``cluster`` differ in length.
+
+    Notes
+    -----
+    The cardinalities of independent clusters are independent, so the vector
+    ``(n̂_1, …, n̂_K)`` is the mode of their joint distribution, where the global MAP is the
+    mode of their sum only. With ``N`` tracks of existence ``r ≈ 0.99`` in clusters of a few
+    tracks each, the global MAP cardinality falls about ``Σ_i (1 − r_i)`` short of ``N`` and
+    leaves that many likely tracks unreported; each cluster's own MAP reports all of them. A
+    cluster of one track reports it when ``r > 1 − r`` (``r > 0.5``), the comparison
+    :func:`map_cardinality` makes for one track.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.single.lmb import cluster_map_tracks, map_cardinality
+    >>> r = [0.99, 0.99, 0.6, 0.4, 0.45]
+    >>> map_cardinality(r), cluster_map_tracks(r, [0, 0, 0, 0, 0]).tolist()
+    (3, [0, 1, 2])
+    >>> cluster_map_tracks(r, [0, 1, 2, 3, 4]).tolist()
+    [0, 1, 2]
+    >>> cluster_map_tracks([0.7, 0.7, 0.2], [0, 0, 1]).tolist()
+    [0, 1]
+    """
+    r = np.ascontiguousarray(r, dtype=np.float64).reshape(-1)
+    cluster = np.asarray(cluster).reshape(-1)
+    if cluster.size != r.size:
+        raise ValueError(f"cluster has {cluster.size} entries for {r.size} tracks")
+    T = r.size
+    if T == 0:
+        return np.empty(0, dtype=np.int64)
+    _, cid = np.unique(cluster, return_inverse=True)
+    cid = cid.reshape(-1).astype(np.int64)
+    sizes = np.bincount(cid)
+    # n̂_c: a one-track cluster's ρ = [1 − r, r], argmax 1 iff r > 1 − r (ties to 0)
+    n_hat = np.zeros(sizes.size, dtype=np.int64)
+    lone = sizes[cid] == 1
+    n_hat[cid[lone]] = (r[lone] > 1.0 - r[lone]).astype(np.int64)
+    # every cluster's tracks by decreasing r, ties in track order (lexsort is stable)
+    order = np.lexsort((-r, cid))
+    start = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    # ρ_c convolved over the cluster's tracks in track order, the order map_cardinality(r)
+    # takes with one cluster (so that it is the global MAP there, bit for bit)
+    members = np.argsort(cid, kind="stable")
+    for size in np.unique(sizes[sizes > 1]).tolist():
+        cs = np.flatnonzero(sizes == size)
+        if cs.size == 1 or size > 64:
+            for c in cs.tolist():
+                n_hat[c] = map_cardinality(r[members[start[c]:start[c] + size]])
+            continue
+        # every cluster of this size at once (a large scene has thousands of small ones): the
+        # kernel's recursion ρ_k ← ρ_k (1 − r_i) + ρ_{k−1} r_i, ρ_0 ← ρ_0 (1 − r_i) with the
+        # same operations, row by row
+        q = r[members[start[cs][:, None] + np.arange(size)]]
+        rho = np.zeros((cs.size, size + 1))
+        rho[:, 0] = 1.0
+        for i in range(size):
+            qi = q[:, i:i + 1]
+            pi = 1.0 - qi
+            rho[:, 1:] = rho[:, 1:] * pi + rho[:, :-1] * qi
+            rho[:, :1] *= pi
+        n_hat[cs] = np.argmax(rho, axis=1)
+    c_of = cid[order]
+    rank = np.arange(T) - start[c_of]
+    return np.sort(order[rank < n_hat[c_of]]).astype(np.int64)
 
 
 class ScanRecord(NamedTuple):
@@ -233,9 +331,13 @@ class LMBFilter:
         is the same in expectation; only the association's cost and counters change. The
         paper's observation totals fit a sampler call on every group, these included
         (ambiguity A13; see the Tracking page of the documentation). Default False.
-    extraction : {"hysteresis", "map"} or None, optional
-        Hysteresis state extraction (6.5, the paper) or the MAP cardinality of Vo's code
-        (:data:`EXTRACTIONS`). None (default): the model's own,
+    extraction : {"hysteresis", "map", "cluster-map"} or None, optional
+        Hysteresis state extraction (6.5, the paper), the MAP cardinality of Vo's code
+        (:data:`EXTRACTIONS`), or the MAP cardinality of every cluster of the scan
+        (``"cluster-map"``, :func:`cluster_map_tracks`: the tracks linked through shared gated
+        measurements, as ``grouping=True`` forms them, whatever ``grouping`` is; for large
+        scenes, where the global MAP cardinality leaves about ``Σ_i (1 − r_i)`` likely tracks
+        unreported). None (default): the model's own,
         :attr:`Model.extraction <rankedassign.tracking.models.Model>`, which is the preset's
         for a model of :func:`~rankedassign.tracking.models.make_model`
         (:data:`~rankedassign.tracking.models.PRESET_EXTRACTION`: MAP cardinality for
@@ -308,6 +410,9 @@ class LMBFilter:
     'hysteresis'
     """
 
+    #: The extractions this filter takes (the multi-sensor filter: :data:`EXTRACTIONS` only).
+    _extractions = LMB_EXTRACTIONS
+
     def __init__(
         self,
         model: Model,
@@ -341,7 +446,7 @@ class LMBFilter:
         self.birth = birth
         #: The state extraction in use: ``extraction``, or the model's when that is None.
         self.extraction = check_choice(model.extraction if extraction is None else extraction,
-                                       "extraction", EXTRACTIONS)
+                                       "extraction", self._extractions)
         self.estimate = check_choice(estimate, "estimate", ESTIMATES)
         self.merge_rule = check_choice(merge_rule, "merge_rule", tuple(MERGE_RULES))
         self.theta_upper = check_real(theta_upper, "theta_upper", minimum=0.0, maximum=1.0)
@@ -754,7 +859,8 @@ class LMBFilter:
             pairs = gate_pairs(self.m, self.P, self._R, z, self.offsets, self.gate)
         else:  # in the sensor's own coordinates (a bearing wraps)
             pairs = self._so.gate_pairs(self.m, self.P, z, self.offsets, self.gate)
-        groups = clusters(pairs).groups()
+        found = clusters(pairs)
+        groups = found.groups()
         n_used = int(np.unique(pairs.meas).size)
         sample_empty = self.sample_empty_groups
         n_problems = sum(1 for _, cols in groups if cols.size or sample_empty)
@@ -815,7 +921,8 @@ class LMBFilter:
         offsets = np.concatenate([[0], np.cumsum(n_sorted)]).astype(np.int64)
         t_update += perf_counter() - td
         return (n_used, n_problems, counts, r_new, (offsets, w, m, P),
-                {"cost": t_cost, "association": t_assoc, "update": t_update}, r_A)
+                {"cost": t_cost, "association": t_assoc, "update": t_update}, r_A,
+                found.track_cluster)
 
     def _chain_marginals(self, terms: _Terms, batch, children, counts) -> np.ndarray | None:
         """The truncated marginals ``β`` (T_b, U_b + 2) of every cluster of a batch, the chains
@@ -983,12 +1090,13 @@ class LMBFilter:
             )
         r_A = None
         if self._use_spatial(T, M_all):
-            n_used, n_problems, counts, r_new, mixture, phases, r_A = self._spatial_scan(z, gen)
+            (n_used, n_problems, counts, r_new, mixture, phases, r_A,
+             track_cluster) = self._spatial_scan(z, gen)
             t2 = t1 + phases["cost"]
             t3 = t2 + phases["association"]
             t_upd = perf_counter()
-            self._prune_and_merge(r_new, *mixture)
-            labels, states, ex = self._extract()
+            keep = self._prune_and_merge(r_new, *mixture)
+            labels, states, ex = self._extract(track_cluster[keep])
             t4 = t3 + phases["update"] + (perf_counter() - t_upd)
         else:
             terms = self._measurement_terms(z)
@@ -998,8 +1106,15 @@ class LMBFilter:
             beta, n_problems, counts = self._associate(terms, groups, gen)
             t3 = perf_counter()
             r_new, mixture = self._posterior(z[terms.used], beta, terms)
-            self._prune_and_merge(r_new, *mixture)
-            labels, states, ex = self._extract()
+            keep = self._prune_and_merge(r_new, *mixture)
+            cluster = None
+            if self.extraction == "cluster-map":
+                # the clusters of the gate, whether or not the association was grouped
+                track, meas = np.nonzero(terms.gated)
+                cluster = clusters(GatedPairs(track.astype(np.int64), meas.astype(np.int64),
+                                              T, terms.gated.shape[1], int(track.size))
+                                   ).track_cluster[keep]
+            labels, states, ex = self._extract(cluster)
             t4 = perf_counter()
         inv, sweeps, rows_upd, n_unique = counts.tolist()
         timings = {"prediction": t1 - t0, "cost": t2 - t1, "association": t3 - t2,
@@ -1061,9 +1176,10 @@ class LMBFilter:
         return r_new, (offsets, w_all, m_all, P_all)
 
     # ----------------------------------------------------------------------- 7. housekeeping
-    def _prune_and_merge(self, r_new, offsets, w, m, P) -> None:
+    def _prune_and_merge(self, r_new, offsets, w, m, P) -> np.ndarray:
         """Drop unlikely tracks (``r <= prune_track``, then all but the ``max_tracks`` most
-        likely) and prune, merge and cap every kept mixture (``_kernels.reduce_mixtures``)."""
+        likely) and prune, merge and cap every kept mixture (``_kernels.reduce_mixtures``).
+        Returns the mask of the kept tracks, shape (T,)."""
         T = r_new.size
         keep = (r_new > self.prune_track) & (offsets[1:] > offsets[:-1])
         if keep.sum() > self.max_tracks:
@@ -1081,15 +1197,20 @@ class LMBFilter:
         self.r = r_new[keep]
         self.labels = self.labels[keep]
         self.confirmed = self.confirmed[keep]
+        return keep
 
     # ----------------------------------------------------------------------- 8. extraction
-    def _extract(self):
-        """Labels, states and existence of the reported tracks (hysteresis 6.5 or MAP)."""
+    def _extract(self, cluster=None):
+        """Labels, states and existence of the reported tracks (hysteresis 6.5, MAP, or MAP per
+        cluster: ``cluster`` (T,) is every kept track's cluster of the scan, None for one)."""
         r = self.r
         if self.extraction == "hysteresis":
             # confirmed_k = [r >= ϑ_u] or (confirmed_{k-1} and r >= ϑ_l)   (6.5)
             self.confirmed = (r >= self.theta_upper) | (self.confirmed & (r >= self.theta_lower))
             sel = np.flatnonzero(self.confirmed)
+        elif self.extraction == "cluster-map":
+            sel = cluster_map_tracks(r, np.zeros(r.size, np.int64) if cluster is None
+                                     else cluster)
         else:
             n_hat = map_cardinality(r)
             sel = np.sort(np.argsort(-r, kind="stable")[:n_hat])
