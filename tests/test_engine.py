@@ -207,3 +207,40 @@ def test_numba_builds_and_reads_a_record_that_extends_another():
         return X(p=x.p + 1.0, q=x.q * 2.0).q + x.p
 
     assert make_and_read(X(p=1.0, q=3.0)) == 7.0
+
+
+@pytest.mark.parametrize("rules", [Rules(0, 0, 0, 0), Rules(1, 3, 1, 4), Rules(2, 5, 2, 3),
+                                   Rules(3, 4, 4, 30), Rules(1, 2, 3, 2)])
+def test_the_one_call_run_of_a_problem_is_the_sequential_driver(rules):
+    """make_problem_runner's run (the δ-GLMB components') is run_chains with batch = 0, for
+    every reading of the stall and stale rules."""
+    from rankedassign.engine._kernels import problem_scratch, problem_states, zobrist_keys
+    from rankedassign.single import synthetic
+    from rankedassign.single._kernels import alloc_work, run_chains
+    from rankedassign.single.prepare import DirectData, PrefixData, shifted_weights
+    from rankedassign.tracking.single._glmb_kernels import _run_direct
+
+    problem = synthetic.uniform(5, 1, 6)
+    cc = np.ascontiguousarray(problem.compact_cost)
+    W = shifted_weights(problem)
+    P, M = cc.shape[0], cc.shape[1] - 2
+    x0 = np.where(np.isfinite(cc[:, M]), M, M + 1).astype(np.int32)
+    zkeys = zobrist_keys(P, M + 2, np.uint64(3))
+    base = np.uint64(17)
+    states, counts, ctr = run_chains(DirectData(W, cc, False), zkeys, x0, base, 40, 9, rules,
+                                     0, 1)
+    data = PrefixData(W, cc, np.zeros((P, 1)), np.zeros((P, 1), dtype=np.int64), False)
+    scratch = problem_scratch(P, 40 * 9 + 1)
+    n, n_obs = _run_direct(data, alloc_work(data, 1), zkeys, x0, base, 40, 9, rules, scratch)
+    assert_array_equal(problem_states(scratch, P, n), states)
+    assert_array_equal(scratch.counts[:n], counts)
+    assert_array_equal(scratch.ctr, ctr)
+    assert n_obs == counts.sum()
+
+
+def test_a_problem_scratch_too_small_is_refused():
+    from rankedassign.engine._kernels import _carve, problem_scratch
+
+    with pytest.raises(ValueError, match="problem_scratch: the scratch is smaller than the "
+                                         "problem"):
+        _carve(problem_scratch(2, 4), 3, 4)

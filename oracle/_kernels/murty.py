@@ -181,7 +181,12 @@ def unpack_search(t):
 def _grow(a, n):
     """``a`` copied into a new array with ``n`` rows (first axis)."""
     out = np.empty((n,) + a.shape[1:], dtype=a.dtype)
-    out[: a.shape[0]] = a
+    # element by element through flat views (both C-contiguous): an array assigned into a
+    # slice compiles numba's formatted shape-mismatch error for each shape, about a second
+    flat = out.reshape(out.size)
+    src = a.reshape(a.size)
+    for t in range(a.size):
+        flat[t] = src[t]
     return out
 
 
@@ -1402,5 +1407,19 @@ def murty_compact_kernel(cc, k):
     .. [2] M. L. Miller, H. S. Stone, I. J. Cox, "Optimizing Murty's Ranked Assignment
        Method", IEEE Trans. Aerosp. Electron. Syst. 33(3), 1997.
     """
-    out, costs, _ = murty_start(compact_costs(cc), k, 1 << 62)
-    return out, costs
+    # The loop of murty_start without its slices, written out: the δ-GLMB filter's
+    # per-component loop calls this kernel, and numba optimises and compiles a callee's machine
+    # code again in each caller it is linked into, so the two levels between here and _search
+    # (murty_start, murty_slice) cost seconds of a first filter step's compile. One call runs
+    # every iteration (an unbounded budget), as murty_start's slices together do. The budget
+    # is an int64, not a literal: numba compiles a callee once per literal argument value, and
+    # murty_start(cc, k, 1 << 62) compiled _search twice (the literal, then int64 after a
+    # grow_search), about 12 s each.
+    cs = compact_costs(cc)
+    ok, search = new_search(cs, k)
+    if not ok:
+        return np.empty((0, cc.shape[0]), dtype=np.int64), np.empty(0)
+    unbounded = np.int64(1 << 62)
+    while not _search(cs, unpack_search(search), k, unbounded):
+        search = grow_search(search, k)  # only an array can be full: the budget is unbounded
+    return search_output(search)

@@ -406,6 +406,9 @@ def key_table_sweep_done(work, b):
 
 
 __all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "KeyTable", "make_driver",
+           "make_problem_runner", "ProblemScratch", "problem_scratch", "problem_states",
+           "unique_set",
+           "add_state",
            "N_COUNTERS", "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick",
            "alloc_key_table", "reset_key_table", "key_table_done", "key_table_sweep_done"]
 
@@ -594,9 +597,16 @@ def _new_unique_set(L, cap):
     )
 
 
-@jit()
+@jit(inline="always")
 def _find(U, state, h):
-    """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill."""
+    """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill.
+
+    The one probe of the unique set (linear probing from the hash, a hit confirmed on the
+    full state): :func:`_advance`, :func:`_grow`, :func:`_new_run` and every caller outside
+    the driver (:func:`add_state`, :func:`make_problem_runner`) look states up through it. It is
+    written into each caller (``inline="always"``): a call passing the arrays of the unique
+    set costs as much as the look-up itself.
+    """
     table = U.table
     mask = table.shape[0] - 1
     s = np.int64(h & np.uint64(mask))
@@ -649,11 +659,9 @@ def _grow(U, n_unique):
         while 2 * (n_unique + 1) > size:
             size *= 2
         table = np.zeros((size, 2), dtype=np.uint64)
-        mask = size - 1
-        for u in range(n_unique):
-            s = np.int64(hashes[u] & np.uint64(mask))
-            while table[s, 1] != 0:
-                s = (s + 1) & mask
+        fresh = UniqueSet(states, hashes, counts, last_chain, table)
+        for u in range(n_unique):  # the states are distinct: each look-up ends on an empty slot
+            s = -1 - _find(fresh, states[u], hashes[u])
             table[s, 0] = hashes[u]
             table[s, 1] = np.uint64(u + 1)
     return UniqueSet(states, hashes, counts, last_chain, table)
@@ -691,6 +699,81 @@ def _grow_run(run):
 def _room(U, n_unique):
     """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5)."""
     return min(U.states.shape[0], U.table.shape[0] // 2) - n_unique
+
+
+@jit()
+def unique_set(L, n):
+    """An empty unique set of length-``L`` states with room for ``n`` without growing.
+
+    Its capacity is the smallest power of two ``>= n`` (at least 2), so its hash table keeps
+    a load factor of at most one half (:func:`_room` is at least ``n``).
+
+    Parameters
+    ----------
+    L : int
+        Length of a state (``int32`` entries).
+    n : int
+        States it must hold.
+
+    Returns
+    -------
+    UniqueSet
+        Empty: fill it with :func:`add_state` (or :func:`_find` and :func:`_insert`).
+
+    Examples
+    --------
+    >>> U = unique_set(3, 5)
+    >>> U.states.shape, int(_room(U, 0))
+    ((8, 3), 8)
+    """
+    return _new_unique_set(L, _capacity(n))
+
+
+@jit(inline="always")
+def add_state(U, x, h, n_u):
+    """Index of the state ``x`` (hash ``h``) in ``U``, stored as number ``n_u`` if new.
+
+    The caller keeps the number of states ``n_u`` and guarantees room for one more
+    (:func:`unique_set`); a new state is stored with count 0 and no chain.
+
+    Parameters
+    ----------
+    U : UniqueSet
+        The set.
+    x : ndarray of int32, shape (L,)
+        The state.
+    h : uint64
+        Its hash (any 64-bit hash that equal states share).
+    n_u : int
+        States in ``U`` so far.
+
+    Returns
+    -------
+    (u, new) : (int, bool)
+        The state's index in discovery order, and whether it was added.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> U = unique_set(2, 4)
+    >>> x, y = np.array([1, 2], np.int32), np.array([2, 1], np.int32)
+    >>> add_state(U, x, np.uint64(7), 0), add_state(U, y, np.uint64(7), 1)
+    ((0, True), (1, True))
+    >>> add_state(U, y.copy(), np.uint64(7), 2)
+    (1, False)
+    """
+    r = _find(U, x, h)
+    if r >= 0:
+        return r, False
+    slot = -1 - r  # :func:`_insert`, its state copied by a loop (no reference counting here)
+    U.table[slot, 0] = h
+    U.table[slot, 1] = np.uint64(n_u + 1)
+    for i in range(x.shape[0]):
+        U.states[n_u, i] = x[i]
+    U.hashes[n_u] = h
+    U.counts[n_u] = 0
+    U.last_chain[n_u] = -1
+    return n_u, True
 
 
 # ------------------------------------------------------------------------ stall and stale
@@ -832,8 +915,7 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     the stall rule is applied (:func:`_stalled`).
 
     The caller guarantees room for ``j1 - j0`` new unique states (:func:`_room`), so this hot
-    loop never reallocates; the look-up is written out here rather than called because a call
-    passing the arrays of the unique set costs as much as the look-up itself.
+    loop never reallocates; the look-up (:func:`_find`) is written into it (``inline``).
 
     :func:`make_driver` compiles it, and :func:`_speculate_chain`, without reference counting
     (:func:`rankedassign.numba_options.jit`, ``nrt=False``): the sweep written into them
@@ -850,7 +932,6 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     b, c, j0, j1, done = span.b, span.c, span.j0, span.j1, span.done
     L = U.states.shape[1]
     table = U.table
-    mask = table.shape[0] - 1
     state = slab.states[b]
     rs = slab.rs[b, 0:1]
     h = slab.h[b]
@@ -863,25 +944,9 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
             x = state
             hx = h
             done = j
-        # look x up in U: linear probing from its hash, confirmed on the full state
-        slot = np.int64(hx & np.uint64(mask))
-        u = -1
-        while True:
-            v = table[slot, 1]
-            if v == 0:
-                break
-            if table[slot, 0] == hx:
-                cand = np.int64(v) - 1
-                same = True
-                for i in range(L):
-                    if U.states[cand, i] != x[i]:
-                        same = False
-                        break
-                if same:
-                    u = cand
-                    break
-            slot = (slot + 1) & mask
-        if u < 0:  # new to U: U.add(x); the stall run restarts
+        u = _find(U, x, hx)
+        if u < 0:  # new to U: U.add(x) at the empty slot the look-up ended on; the stall
+            slot = -1 - u  # run restarts
             u = ctr[NU]
             table[slot, 0] = hx
             table[slot, 1] = np.uint64(u + 1)
@@ -1229,3 +1294,253 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
                           "speculate_chain": chain, "advance": adv}
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
     return run_chains
+
+
+class ProblemScratch(NamedTuple):
+    """Flat buffers from which :func:`_run_problem` carves its unique set, slab and counters,
+    problem after problem, without allocating (:func:`problem_scratch`).
+
+    A caller that runs thousands of problems of a few sweeps each (the δ-GLMB filter's
+    components) would otherwise spend more time allocating a run's dozen arrays than running
+    it. ``cap`` is the largest capacity (a power of two) and ``L`` the longest state.
+
+    Attributes
+    ----------
+    states : ndarray, shape (cap L,), int32
+    hashes, counts, last_chain : ndarray, shape (cap,), uint64, int64, int64
+    table : ndarray, shape (4 cap,), uint64
+        The buffers of a :class:`UniqueSet`.
+    traj : ndarray, shape (0,), int32
+    thash : ndarray, shape (0,), uint64
+    slab_states : ndarray, shape (L,), int32
+    h : ndarray, shape (1,), uint64
+    rs : ndarray, shape (8,), uint64
+        The buffers of a one-chain :class:`Slab` that speculates nothing.
+    ctr : ndarray, shape (N_COUNTERS,), int64
+    cctr : ndarray, shape (4,), int64
+        The run's and the chain's counters.
+    """
+
+    states: np.ndarray
+    hashes: np.ndarray
+    counts: np.ndarray
+    last_chain: np.ndarray
+    table: np.ndarray
+    traj: np.ndarray
+    thash: np.ndarray
+    slab_states: np.ndarray
+    h: np.ndarray
+    rs: np.ndarray
+    ctr: np.ndarray
+    cctr: np.ndarray
+
+
+@jit()
+def _capacity(n):
+    """Smallest power of two ``>= n``, at least 2 (a unique set's capacity for ``n`` states).
+
+    Parameters
+    ----------
+    n : int
+        States to hold.
+
+    Returns
+    -------
+    int
+        The capacity.
+    """
+    cap = 2
+    while cap < n:
+        cap *= 2
+    return cap
+
+
+@jit()
+def problem_scratch(L, n):
+    """A :class:`ProblemScratch` for problems with states of length ``<= L`` and runs of at
+    most ``n`` unique states (``n_chains * chain_length + 1``).
+
+    Parameters
+    ----------
+    L : int
+        The longest state.
+    n : int
+        The most unique states of a run.
+
+    Returns
+    -------
+    ProblemScratch
+        Uninitialised buffers.
+
+    Examples
+    --------
+    >>> s = problem_scratch(3, 5)
+    >>> s.states.shape, s.table.shape
+    ((24,), (32,))
+    """
+    cap = _capacity(n)
+    return ProblemScratch(
+        states=np.empty(cap * L, dtype=np.int32), hashes=np.empty(cap, dtype=np.uint64),
+        counts=np.empty(cap, dtype=np.int64), last_chain=np.empty(cap, dtype=np.int64),
+        table=np.empty(4 * cap, dtype=np.uint64), traj=np.empty(0, dtype=np.int32),
+        thash=np.empty(0, dtype=np.uint64), slab_states=np.empty(L, dtype=np.int32),
+        h=np.empty(1, dtype=np.uint64), rs=np.empty(8, dtype=np.uint64),
+        ctr=np.empty(N_COUNTERS, dtype=np.int64), cctr=np.empty(4, dtype=np.int64))
+
+
+@jit(inline="always")
+def _carve(scratch, L, n):
+    """An empty unique set with room for ``n`` states of length ``L``, a one-chain slab and
+    zeroed counters, all views of ``scratch``: ``(U, slab, ctr, cctr)``.
+
+    The buffers are cleared by loops: for the few entries of a small problem a slice
+    assignment's set-up costs more than the stores.
+
+    Parameters
+    ----------
+    scratch : ProblemScratch
+        The buffers (:func:`problem_scratch`), large enough.
+    L : int
+        Length of a state.
+    n : int
+        States the unique set must hold.
+
+    Returns
+    -------
+    (UniqueSet, Slab, ndarray, ndarray)
+        ``U`` (capacity :func:`_capacity` of ``n``), the slab of one chain, ``ctr`` and
+        ``cctr``.
+
+    Raises
+    ------
+    ValueError
+        If ``scratch`` is too small.
+    """
+    cap = _capacity(n)
+    if cap * L > scratch.states.size or cap > scratch.hashes.size or \
+            L > scratch.slab_states.size:
+        raise ValueError("problem_scratch: the scratch is smaller than the problem")
+    counts = scratch.counts
+    last_chain = scratch.last_chain
+    for u in range(cap):
+        counts[u] = 0
+        last_chain[u] = -1
+    table = scratch.table
+    for t in range(4 * cap):
+        table[t] = 0
+    ctr = scratch.ctr
+    for k in range(ctr.size):
+        ctr[k] = 0
+    U = UniqueSet(scratch.states[:cap * L].reshape((cap, L)), scratch.hashes[:cap],
+                  counts[:cap], last_chain[:cap], table[:4 * cap].reshape((2 * cap, 2)))
+    slab = Slab(scratch.traj.reshape((1, 0, L)), scratch.thash.reshape((1, 0)),
+                scratch.slab_states[:L].reshape((1, L)), scratch.h,
+                scratch.rs.reshape((1, 8)))
+    return U, slab, ctr, scratch.cctr
+
+
+@jit()
+def problem_states(scratch, L, n):
+    """The first ``n`` unique states of the last run in ``scratch`` (:func:`_run_problem`),
+    shape (n, L), in discovery order: a view, valid until the scratch's next use.
+
+    Parameters
+    ----------
+    scratch : ProblemScratch
+        The buffers of the last run.
+    L : int
+        Its state length.
+    n : int
+        Its unique states (the run's ``n_unique``).
+
+    Returns
+    -------
+    ndarray of int32, shape (n, L)
+
+    Examples
+    --------
+    >>> s = problem_scratch(2, 4)
+    >>> problem_states(s, 2, 3).shape
+    (3, 2)
+    """
+    return scratch.states[:n * L].reshape((n, L))
+
+
+def _run_problem(data, work, zkeys, x0, base, n_chains, chain_length, rules, scratch):
+    """The short-chain run of one small problem, chain after chain, in one call.
+
+    The sequential run of :func:`_run_slice` (``batch = 0``) with the same chains, streams,
+    unique set and stall and stale rules, for a caller that runs many small problems inside
+    one compiled loop (the δ-GLMB filter's per-component truncation): no slices, no
+    speculation, ``U`` sized for every observation up front so that it never grows, and the
+    unique set, slab and counters carved from ``scratch``. It allocates nothing and runs
+    without reference counting (``nrt=False``, as :func:`_advance`): for problems of a few
+    sweeps, a run's set-up would otherwise cost more than its chains.
+
+    Parameters
+    ----------
+    data, zkeys, x0, base, n_chains, chain_length, rules
+        As in :func:`_run_slice`.
+    work : named tuple
+        The kind's workspace of one chain (its ``alloc_work(data, 1)``).
+    scratch : ProblemScratch
+        Large enough for the problem (:func:`problem_scratch`); overwritten.
+
+    Returns
+    -------
+    n_unique : int
+        Unique states, in discovery order (``x0`` first): :func:`problem_states`.
+    n_observations : int
+        Observations (sweeps). ``scratch.ctr`` holds every counter of the run
+        (:func:`make_driver`).
+    """
+    L = x0.shape[0]
+    h0 = hash_of(zkeys, x0)
+    U, slab, ctr, cctr = _carve(scratch, L, n_chains * chain_length + 1)
+    add_state(U, x0, h0, 0)  # U <- {x0}, not an observation
+    ctr[NU] = 1
+    state = slab.states[0]
+    for c in range(n_chains):
+        for i in range(L):
+            state[i] = x0[i]
+        reset_work(data, work, 0, x0)
+        slab.h[0] = h0
+        slab.rs[0, 0] = chain_state(base, c)
+        _begin_chain(c, U.last_chain, cctr)
+        _advance_impl(data, work, zkeys, slab, U, ctr, cctr, rules,
+                      Span(b=0, c=c, j0=0, j1=chain_length, done=0))
+        if _end_chain(ctr, cctr, rules.stale_mode, rules.tau_stale):
+            break
+    return ctr[NU], ctr[NOBS]
+
+
+def make_problem_runner(name, reset_work, sweep, *, cache=None):
+    """Compile the one-call run of one problem (:func:`_run_problem`) for a problem type.
+
+    For callers that loop over many small problems in compiled code: the returned function
+    is a compiled kernel, callable from another one, with the chains, unique set and
+    stall/stale rules of :func:`make_driver`'s ``run_chains`` (sequential, ``batch = 0``).
+
+    Parameters
+    ----------
+    name : str
+        Unique name of the instantiation (names its compiled functions and cache files).
+    reset_work, sweep : compiled functions
+        The problem type's functions, as in :func:`make_driver` (the caller allocates the
+        workspace with the kind's ``alloc_work(data, 1)``).
+    cache : bool, optional
+        As in :func:`rankedassign.numba_options.jit`.
+
+    Returns
+    -------
+    run_problem : compiled function
+        ``run_problem(data, work, zkeys, x0, base, n_chains, chain_length, rules, scratch)
+        -> (n_unique, n_observations)`` (:func:`_run_problem`, ``scratch`` from
+        :func:`problem_scratch`, the states then read with :func:`problem_states`): the same
+        unique states, in the same order, and the same counters as
+        ``run_chains(..., batch=0, ...)``.
+    """
+    adv = instantiate(_advance, f"advance_{name}", {"sweep": sweep}, cache=cache, nrt=False)
+    return instantiate(_run_problem, f"run_problem_{name}",
+                       {"reset_work": reset_work, "_advance_impl": adv}, cache=cache,
+                       nrt=False)

@@ -69,7 +69,22 @@ from .prepare import CANCEL_GUARD
 # ---------------------------------------------------------------------------------- Gibbs
 @jit(inline="always")
 def cheapest_available(cc, i, free):
-    """The cheapest compact cost of row ``i`` among its available candidates (``free`` mask)."""
+    """The cheapest compact cost of row ``i`` among its available candidates (``free`` mask).
+
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs.
+    i : int
+        The row.
+    free : ndarray of float64, shape (M,)
+        Free-measurement mask (1.0 free, 0.0 held by another row).
+
+    Returns
+    -------
+    float
+        ``min cc[i, k]`` over the free measurements, missed and dead.
+    """
     M = cc.shape[1] - 2
     m = np.inf
     for k in range(M + 2):
@@ -88,6 +103,18 @@ def draw_exact(cc, i, free, u):
     cost; the current entry of row ``i`` is always available and finite, so ``m`` is finite.
     The loop is the same inverse CDF as in :func:`sweep`. This path calls ``exp``, so it
     matches the reference as far as both use the same libm (they do on one machine).
+
+    Parameters
+    ----------
+    cc, i, free
+        As in :func:`cheapest_available`.
+    u : float
+        The row's uniform in ``[0, 1)``.
+
+    Returns
+    -------
+    int
+        The compact column drawn (a free measurement ``< M``, missed ``M`` or dead ``M + 1``).
     """
     M = cc.shape[1] - 2
     K = M + 2
@@ -117,6 +144,24 @@ def draw_prefix(W, S, next_pos, cc, i, free, held, n_held, cum, u):
     ``held[:n_held]`` are the measurements held by the other rows, sorted. The rule, its
     bisection over the runs of free measurements, the cancellation guard and the fall-backs
     are those of :func:`rankedassign.single.reference.draw_prefix`, operation for operation.
+
+    Parameters
+    ----------
+    W, cc, i, free, cum, u
+        As in :func:`draw_direct` (``cum`` the scratch of the held runs' sums).
+    S : ndarray of float64, shape (P, M + 1)
+        Per-row prefix sums of the measurement weights.
+    next_pos : ndarray of int64, shape (P, M)
+        First measurement at or after each one with a positive weight, or ``M``.
+    held : ndarray of int64
+        ``held[:n_held]``: the measurements the other rows hold, increasing.
+    n_held : int
+        Their number.
+
+    Returns
+    -------
+    int
+        The compact column drawn.
     """
     M = W.shape[1] - 2
     cs = cum  # cs[t]: held weight left of run t, summed left to right (scratch row)
@@ -179,6 +224,26 @@ def draw_direct(W, cc, i, free, cum, u):
     to the reference's loop that skips them; the running sums are stored so that the search is
     a branch-free count of ``cum[k] <= target`` (the sums never decrease, so the count is the
     index of the first one above ``target``).
+
+    Parameters
+    ----------
+    W : ndarray of float64, shape (P, M + 2)
+        Shifted weights.
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs (read by the :func:`draw_exact` fall-back only).
+    i : int
+        The row.
+    free : ndarray of float64, shape (M,)
+        Free-measurement mask.
+    cum : ndarray of float64, shape (M + 2,)
+        Scratch row: the running sums.
+    u : float
+        The row's uniform in ``[0, 1)``.
+
+    Returns
+    -------
+    int
+        The compact column drawn.
     """
     M = W.shape[1] - 2
     K = M + 2
@@ -206,7 +271,22 @@ def draw_direct(W, cc, i, free, cum, u):
 
 @jit()
 def _release(held, n_held, k):
-    """Remove ``k`` from the sorted ``held[:n_held]``; return the new count."""
+    """Remove ``k`` from the sorted ``held[:n_held]``; return the new count.
+
+    Parameters
+    ----------
+    held : ndarray of int64
+        Sorted measurements, ``held[:n_held]``; ``k`` among them.
+    n_held : int
+        Their number.
+    k : int
+        The measurement to remove.
+
+    Returns
+    -------
+    int
+        ``n_held - 1``.
+    """
     t = 0
     while held[t] != k:
         t += 1
@@ -217,7 +297,22 @@ def _release(held, n_held, k):
 
 @jit()
 def _hold(held, n_held, k):
-    """Insert ``k`` into the sorted ``held[:n_held]``; return the new count."""
+    """Insert ``k`` into the sorted ``held[:n_held]``; return the new count.
+
+    Parameters
+    ----------
+    held : ndarray of int64
+        Sorted measurements, ``held[:n_held]``, with room for one more.
+    n_held : int
+        Their number.
+    k : int
+        The measurement to insert (not among them).
+
+    Returns
+    -------
+    int
+        ``n_held + 1``.
+    """
     t = n_held
     while t > 0 and held[t - 1] > k:
         held[t] = held[t - 1]
@@ -228,7 +323,15 @@ def _hold(held, n_held, k):
 
 @jit()
 def _shuffle(perm, rs):
-    """The random scan's row order: Fisher-Yates from the identity (see :func:`sweep`)."""
+    """The random scan's row order: Fisher-Yates from the identity (see :func:`sweep`).
+
+    Parameters
+    ----------
+    perm : ndarray of int64, shape (P,)
+        Filled with the permutation of ``0..P-1``.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (advanced by ``P - 1`` uniforms).
+    """
     P = perm.shape[0]
     for t in range(P):
         perm[t] = t
@@ -387,7 +490,15 @@ def sweep_prefix(data, zkeys, state, h, rs, free, perm, cum, held, n_held):
 # ------------------------------------------------------------------------ the problem types
 @jit()
 def _reset_free(free, x0):
-    """The free-measurement mask of the start state ``x0``."""
+    """The free-measurement mask of the start state ``x0``.
+
+    Parameters
+    ----------
+    free : ndarray of float64, shape (M,)
+        Filled: 0.0 at the measurements ``x0`` holds, else 1.0.
+    x0 : ndarray of int32, shape (P,)
+        The start state (compact columns).
+    """
     M = free.shape[0]
     free[:] = 1.0
     for i in range(x0.shape[0]):
@@ -434,7 +545,20 @@ class PrefixWork(NamedTuple):
 
 @jit()
 def alloc_work(data, nb):
-    """Workspace of ``nb`` chains of the direct draw: free masks and row permutations."""
+    """Workspace of ``nb`` chains of the direct draw: free masks and row permutations.
+
+    Parameters
+    ----------
+    data : DirectData
+        The call's data record (its ``W`` sizes the workspace).
+    nb : int
+        Chains simulated at once.
+
+    Returns
+    -------
+    DirectWork
+        Uninitialised (:func:`reset_work` prepares a slab).
+    """
     W = data.W
     return DirectWork(free=np.empty((nb, W.shape[1] - 2)),
                       perm=np.empty((nb, W.shape[0]), dtype=np.int64))
@@ -442,19 +566,59 @@ def alloc_work(data, nb):
 
 @jit()
 def reset_work(data, work, b, x0):
-    """Slab ``b``'s free-measurement mask for the start state ``x0``."""
+    """Slab ``b``'s free-measurement mask for the start state ``x0``.
+
+    Parameters
+    ----------
+    data : DirectData
+        The call's data record (unused).
+    work : DirectWork
+        The workspace.
+    b : int
+        The slab.
+    x0 : ndarray of int32, shape (P,)
+        The start state.
+    """
     _reset_free(work.free[b], x0)
 
 
 @jit(inline="always")
 def row_sweep(data, work, b, zkeys, state, h, rs):
-    """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace)."""
+    """One sweep of chain slab ``b`` (:func:`sweep` on the slab's workspace).
+
+    Parameters
+    ----------
+    data : DirectData
+        The call's data record.
+    work : DirectWork
+        The workspace.
+    b : int
+        The chain's slab.
+    zkeys, state, h, rs
+        As in :func:`sweep`.
+
+    Returns
+    -------
+    uint64
+        The new Zobrist hash of ``state``.
+    """
     return sweep(data, zkeys, state, h, rs, work.free[b], work.perm[b])
 
 
 @jit()
 def alloc_work_prefix(data, nb):
-    """Workspace of ``nb`` chains of the prefix draw: also running sums and held lists."""
+    """Workspace of ``nb`` chains of the prefix draw: also running sums and held lists.
+
+    Parameters
+    ----------
+    data, nb
+        As in :func:`alloc_work`, with a :class:`PrefixData`.
+
+    Returns
+    -------
+    PrefixWork
+        Uninitialised (:func:`reset_work_prefix` prepares a slab).
+    """
     W = data.W
     P = W.shape[0]
     M = W.shape[1] - 2
@@ -466,7 +630,13 @@ def alloc_work_prefix(data, nb):
 
 @jit()
 def reset_work_prefix(data, work, b, x0):
-    """Slab ``b``'s free-measurement mask and sorted held list for the start state ``x0``."""
+    """Slab ``b``'s free-measurement mask and sorted held list for the start state ``x0``.
+
+    Parameters
+    ----------
+    data, work, b, x0
+        As in :func:`reset_work`, with a :class:`PrefixData` and a :class:`PrefixWork`.
+    """
     _reset_free(work.free[b], x0)
     held = work.held[b]
     M = work.free.shape[1]
@@ -479,7 +649,20 @@ def reset_work_prefix(data, work, b, x0):
 
 @jit(inline="always")
 def row_sweep_prefix(data, work, b, zkeys, state, h, rs):
-    """One sweep of chain slab ``b`` (:func:`sweep_prefix` on the slab's workspace)."""
+    """One sweep of chain slab ``b`` (:func:`sweep_prefix` on the slab's workspace).
+
+    Parameters
+    ----------
+    data, work, b
+        As in :func:`row_sweep`, with a :class:`PrefixData` and a :class:`PrefixWork`.
+    zkeys, state, h, rs
+        As in :func:`sweep_prefix`.
+
+    Returns
+    -------
+    uint64
+        The new Zobrist hash of ``state``.
+    """
     return sweep_prefix(data, zkeys, state, h, rs, work.free[b], work.perm[b], work.cum[b],
                         work.held[b], work.n_held[b])
 
@@ -496,6 +679,28 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     with row ``i`` as -1, or its gated measurements held by the other rows in increasing
     order, padded with -1), the key table, the chain's tallies ``cnt`` and ``hist`` (read by
     :func:`rankedassign.engine._kernels.key_table_done`).
+
+    Parameters
+    ----------
+    data : HerdedData
+        The call's data record.
+    work : HerdedWork
+        The workspace.
+    b : int
+        The chain's slab.
+    zkeys : ndarray of uint64, shape (P, M + 2)
+        Zobrist keys.
+    state : ndarray of int32, shape (P,)
+        Compact state, updated in place.
+    h : uint64
+        Its Zobrist hash.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state.
+
+    Returns
+    -------
+    uint64
+        The new Zobrist hash of ``state``.
     """
     W, cc, random_scan = data.W, data.cc, data.random_scan
     key_mode, init_mode, capacity = data.key_mode, data.init_mode, data.capacity
@@ -638,7 +843,20 @@ class HerdedWork(record(DirectWork, {"cum": np.ndarray}, KeyTable)):
 
 @jit()
 def alloc_work_herded(data, nb):
-    """Workspace of ``nb`` herded chains: the direct draw's, a scratch row and key tables."""
+    """Workspace of ``nb`` herded chains: the direct draw's, a scratch row and key tables.
+
+    Parameters
+    ----------
+    data : HerdedData
+        The call's data record (``W``, ``capacity`` and ``chain_length`` size the workspace).
+    nb : int
+        Chains simulated at once.
+
+    Returns
+    -------
+    HerdedWork
+        Its key tables empty only after :func:`reset_work_herded`.
+    """
     W = data.W
     P = W.shape[0]
     K = W.shape[1]
@@ -648,7 +866,13 @@ def alloc_work_herded(data, nb):
 
 @jit()
 def reset_work_herded(data, work, b, x0):
-    """Slab ``b`` for a new chain from ``x0``: free mask, an empty key table, zero tallies."""
+    """Slab ``b`` for a new chain from ``x0``: free mask, an empty key table, zero tallies.
+
+    Parameters
+    ----------
+    data, work, b, x0
+        As in :func:`reset_work`, with a :class:`HerdedData` and a :class:`HerdedWork`.
+    """
     _reset_free(work.free[b], x0)
     reset_key_table(work, b)
 

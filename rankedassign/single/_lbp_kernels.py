@@ -24,6 +24,32 @@ def lbp_kernel(rptr, w, w0, cptr, cedge, tol, max_iter):  # pragma: no cover (ji
 
     ``nu[e]`` is the message of measurement ``col[e]`` to the row of edge ``e`` after the last
     iteration, ``change`` the largest change of a message in that iteration.
+
+    Parameters
+    ----------
+    rptr : ndarray of int64, shape (P + 1,)
+        Row offsets of the edges.
+    w : ndarray of float64, shape (E,)
+        Weight of every edge (row by row).
+    w0 : ndarray of float64, shape (P,)
+        Every row's unmatched weight (missed plus dead).
+    cptr : ndarray of int64, shape (M + 1,)
+        Column offsets of ``cedge``.
+    cedge : ndarray of int64, shape (E,)
+        The edges of every column, in increasing row order.
+    tol : float
+        Stop when no message changes by more than it.
+    max_iter : int
+        Iterations at most.
+
+    Returns
+    -------
+    nu : ndarray of float64, shape (E,)
+        The measurements' messages.
+    iterations : int
+        Iterations run.
+    change : float
+        The largest change of a message in the last one.
     """
     P = rptr.size - 1
     n_edges = w.size
@@ -76,6 +102,24 @@ def lbp_beliefs(rptr, col, w, w0, missed, dead, nu, M):  # pragma: no cover (jit
 
     A row whose belief has no mass (only from contradictory messages) gets NaN; the caller
     raises on it.
+
+    Parameters
+    ----------
+    rptr, w, w0
+        As in :func:`lbp_kernel`.
+    col : ndarray of int64, shape (E,)
+        Column of every edge.
+    missed, dead : ndarray of float64, shape (P,)
+        Every row's missed and dead weights (``missed + dead = w0``).
+    nu : ndarray of float64, shape (E,)
+        The final messages (:func:`lbp_kernel`).
+    M : int
+        Measurements.
+
+    Returns
+    -------
+    ndarray of float64, shape (P, M + 2)
+        Every row's marginal over the measurements, missed and dead.
     """
     P = rptr.size - 1
     out = np.zeros((P, M + 2))

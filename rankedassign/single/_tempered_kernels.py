@@ -89,7 +89,24 @@ class SingleTemperedRun(NamedTuple):
 @jit()
 def _row_sums(W, Wb, free, state, i):
     """Row ``i``'s sums of ``W`` and ``Wb`` over its available candidates (the measurements no
-    other row holds, its own included; missed; dead), left to right."""
+    other row holds, its own included; missed; dead), left to right.
+
+    Parameters
+    ----------
+    W, Wb : ndarray of float64, shape (P, M + 2)
+        Shifted weights and their tempered power (:class:`SingleTemperedData`).
+    free : ndarray of float64, shape (M,)
+        Free-measurement mask of ``state``.
+    state : ndarray of int32, shape (P,)
+        The chain's compact state.
+    i : int
+        The row.
+
+    Returns
+    -------
+    (float, float)
+        The sums of ``W`` and of ``Wb``.
+    """
     M = W.shape[1] - 2
     s = 0.0
     sb = 0.0
@@ -105,7 +122,24 @@ def _row_sums(W, Wb, free, state, i):
 
 @jit()
 def _weights(R, S, Sb, state, p):
-    """``p[i] = R[i, x_i] * S[i] / Sb[i]``; return their sum (or -1.0 if one is not finite)."""
+    """``p[i] = R[i, x_i] * S[i] / Sb[i]``; return their sum (or -1.0 if one is not finite).
+
+    Parameters
+    ----------
+    R : ndarray of float64, shape (P, M + 2)
+        ``W^(beta - 1)`` (:class:`SingleTemperedData`).
+    S, Sb : ndarray of float64, shape (P,)
+        Every row's sums (:func:`_row_sums`).
+    state : ndarray of int32, shape (P,)
+        The chain's compact state.
+    p : ndarray of float64, shape (P,)
+        Filled with the rows' ratios.
+
+    Returns
+    -------
+    float
+        ``Z = Σ p``, or -1.0.
+    """
     Z = 0.0
     for i in range(state.shape[0]):
         if not (S[i] > 0.0 and Sb[i] > 0.0):  # every available weight underflowed
@@ -124,6 +158,20 @@ def tempered_start(data, zkeys, run):  # pragma: no cover (jit)
 
     ``data`` is a :class:`SingleTemperedData`, ``run`` a :class:`SingleTemperedRun`. Returns
     :data:`OK` or :data:`UNDERFLOW`.
+
+    Parameters
+    ----------
+    data : SingleTemperedData
+        The call's data record.
+    zkeys : ndarray of uint64, shape (P, M + 2)
+        Zobrist keys.
+    run : SingleTemperedRun
+        The run, its ``state`` the start state; filled in place.
+
+    Returns
+    -------
+    int
+        :data:`OK`, or :data:`UNDERFLOW` when every ratio underflowed.
     """
     W, Wb, R = data.W, data.Wb, data.R
     state, free, S, Sb, p = run.state, run.free, run.S, run.Sb, run.p
@@ -160,6 +208,18 @@ def tempered_steps(data, zkeys, run, t0, t1):  # pragma: no cover (jit)
     Returns ``(status, t)``: :data:`OK` with ``t = t1``; :data:`NEED_ROOM` with the move ``t``
     not yet made when the unique set may not hold one more state (grow it, then continue from
     ``t``); :data:`UNDERFLOW`. Moves in several calls are the moves of one call, bit for bit.
+
+    Parameters
+    ----------
+    data, zkeys, run
+        As in :func:`tempered_start` (``run`` advanced in place).
+    t0, t1 : int
+        The moves to make.
+
+    Returns
+    -------
+    (int, int)
+        ``(status, t)`` as above.
     """
     W, Wb, R, refresh = data.W, data.Wb, data.R, data.refresh
     state, free, S, Sb, p, acc = run.state, run.free, run.S, run.Sb, run.p, run.acc
@@ -274,13 +334,35 @@ def tempered_steps(data, zkeys, run, t0, t1):  # pragma: no cover (jit)
 
 @jit()
 def next_uniform_of(hu):  # pragma: no cover (jit)
-    """A uniform from the stream whose state is ``hu[2]`` (the run's record keeps it there)."""
+    """A uniform from the stream whose state is ``hu[2]`` (the run's record keeps it there).
+
+    Parameters
+    ----------
+    hu : ndarray of uint64, shape (3,)
+        The run's ``hu`` record; ``hu[2]`` is advanced.
+
+    Returns
+    -------
+    float
+        A uniform in ``[0, 1)``.
+    """
     return next_uniform(hu[2:3])
 
 
 @jit()
 def rehash(hashes, n_u, table):  # pragma: no cover (jit)
-    """Insert unique states ``0..n_u-1`` by their ``hashes`` into the empty ``table``."""
+    """Insert unique states ``0..n_u-1`` by their ``hashes`` into the empty ``table``.
+
+    Parameters
+    ----------
+    hashes : ndarray of uint64, shape (cap,)
+        Hashes of the unique states, in discovery order.
+    n_u : int
+        Unique states.
+    table : ndarray of int64, shape (T,)
+        Empty open-addressing index (T a power of two, at least ``2 n_u``), filled with
+        ``index + 1``.
+    """
     mask = table.shape[0] - 1
     for u in range(n_u):
         t = np.int64(hashes[u] & np.uint64(mask))

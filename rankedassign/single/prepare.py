@@ -232,6 +232,11 @@ def shifted_weights(problem: AssignmentProblem) -> np.ndarray:
 def prefix_sums(W):
     """Per-row prefix sums of the measurement weights and the next positive weight.
 
+    Parameters
+    ----------
+    W : ndarray of float64, shape (P, M + 2)
+        Shifted weights (:func:`shifted_weights`).
+
     Returns
     -------
     S : ndarray, shape (P, M + 1), float64

@@ -18,15 +18,18 @@ run here in one compiled call per scan:
 3. :func:`merge_children` merges children with the same track set and sums their weights;
 4. :func:`mark_reachable` finds the association-history nodes that live tracks still use.
 
-The chains are those of :func:`rankedassign.sample_short_chains` with the default readings of
-the stall and stale rules (the original sampler is one chain without rules): the same sweep
-(:func:`rankedassign.single._kernels.sweep`, or
-:func:`~rankedassign.single._kernels.sweep_prefix` where
-:func:`rankedassign.single.prepare.uses_prefix_sums` says so), the same SplitMix64 stream per
+The chains are the engine's: :func:`sample_components` hands each component's problem to
+:func:`rankedassign.engine._kernels.make_problem_runner`'s compiled run (the sequential run of
+:func:`rankedassign.sample_short_chains`, with the default readings of the stall and stale
+rules; the original sampler is one chain without rules), compiled for the single-sensor kind's
+direct and prefix-sum sweeps (:func:`rankedassign.single._kernels.row_sweep`,
+:func:`~rankedassign.single._kernels.row_sweep_prefix`, where
+:func:`rankedassign.single.prepare.uses_prefix_sums` says so): the same SplitMix64 stream per
 chain, the same start state and the same unique set in discovery order. Given the base key of
 :func:`rankedassign.engine.rng.base_key` a component's children are the sampler's unique
-assignments
-(``tests/test_tracking_glmb.py`` holds the two together).
+assignments (``tests/test_tracking_glmb.py`` holds the two together). The merge of children
+(:func:`merge_children`) keys the same unique set by track sets. No chain loop or hash table
+is written here: this module keeps only what is δ-GLMB, the gather, the children, the merge.
 
 References
 ----------
@@ -44,10 +47,27 @@ import numpy as np
 
 from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_kernel
 
-from ...engine._kernels import chain_state, hash_of, mix64
+from ...engine._kernels import (
+    Rules,
+    add_state,
+    chain_state,
+    make_problem_runner,
+    mix64,
+    problem_scratch,
+    problem_states,
+    unique_set,
+)
 from ...numba_options import jit
-from ...single._kernels import sweep, sweep_prefix
+from ...single._kernels import (
+    alloc_work,
+    alloc_work_prefix,
+    reset_work,
+    reset_work_prefix,
+    row_sweep,
+    row_sweep_prefix,
+)
 from ...single.prepare import M_DIRECT, PrefixData, prefix_sums
+from ...validation import STALE_CONSECUTIVE, STALE_OFF, STALL_GLOBAL_CONSECUTIVE, STALL_OFF
 from .._kernels import _logaddexp
 
 __all__ = ["component_keys", "component_problem", "component_costs", "count_components",
@@ -58,6 +78,18 @@ __all__ = ["component_keys", "component_problem", "component_costs", "count_comp
 @jit()
 def component_keys(key, H):
     """Base keys of the streams of ``H`` components: ``chain_state(key, h)``, shape (H,).
+
+    Parameters
+    ----------
+    key : uint64
+        The scan's base key (:func:`rankedassign.engine.rng.base_key`).
+    H : int
+        Components.
+
+    Returns
+    -------
+    ndarray of uint64, shape (H,)
+        Component ``h``'s base key.
 
     Examples
     --------
@@ -130,7 +162,30 @@ def component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
 def _emit_rows(child_entry, child_meas, e_out, rows, cols, option, M, dead):
     """Write the (entry, measurement or ``−1``) of every row of one child that exists after
     the scan (``option[i] < dead``; a measurement when ``< M``, else missed); return the new
-    end of the pairs."""
+    end of the pairs.
+
+    Parameters
+    ----------
+    child_entry, child_meas : ndarray of int64
+        The children's pairs, written from ``e_out`` on.
+    e_out : int
+        End of the pairs so far.
+    rows : ndarray of int64, shape (P,)
+        Track-table entries of the problem's rows.
+    cols : ndarray of int64, shape (M,)
+        Gated measurements of its columns.
+    option : ndarray, shape (P,)
+        The child's column of every row.
+    M : int
+        Measurements of the problem.
+    dead : int
+        The first column that means the row does not exist after the scan.
+
+    Returns
+    -------
+    int
+        The new end of the pairs.
+    """
     for i in range(option.size):
         k = option[i]
         if k < dead:
@@ -316,43 +371,11 @@ def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exac
             child_meas[:e_out].copy())
 
 
-@jit()
-def _find_or_insert(table, hashes, states, n_u, x, hx):
-    """Index of ``x`` in the unique set, inserting it as number ``n_u`` if new; ``(u, new)``."""
-    mask = table.shape[0] - 1
-    P = x.shape[0]
-    slot = np.int64(hx & np.uint64(mask))
-    while True:
-        v = table[slot]
-        if v == 0:
-            table[slot] = n_u + 1
-            hashes[n_u] = hx
-            for i in range(P):
-                states[n_u, i] = x[i]
-            return n_u, True
-        u = v - 1
-        if hashes[u] == hx:
-            same = True
-            for i in range(P):
-                if states[u, i] != x[i]:
-                    same = False
-                    break
-            if same:
-                return u, False
-        slot = (slot + 1) & mask
-
-
-@jit()
-def _table_size(n):
-    """Smallest power of two >= 2 n (load factor at most one half)."""
-    size = 2
-    while size < 2 * n:
-        size *= 2
-    return size
-
-
 class ChainRules(NamedTuple):
     """How :func:`sample_components` runs the chains of every component.
+
+    The filter's reading of the engine's rules (:func:`engine_rules`): the engine runs the
+    chains and applies the rules.
 
     Attributes
     ----------
@@ -369,100 +392,40 @@ class ChainRules(NamedTuple):
     tau_stale: int
 
 
-class ComponentChains(NamedTuple):
-    """The chains of one component (:func:`_component_chains`): start, scratch, unique set.
+#: The engine's one-call run of a component's problem (its chains, unique set and stall and
+#: stale rules), compiled for the single-sensor kind's direct and prefix-sum draws.
+_run_direct = make_problem_runner("glmb_component", reset_work, row_sweep)
+_run_prefix = make_problem_runner("glmb_component_prefix", reset_work_prefix,
+                                  row_sweep_prefix)
 
-    Attributes
+
+@jit()
+def engine_rules(rules):
+    """The engine's :class:`~rankedassign.engine._kernels.Rules` of a :class:`ChainRules`.
+
+    The stall rule in its global-consecutive reading, the stale rule in its consecutive one
+    (spec §3.2; the samplers' defaults), a threshold of 0 turning the rule off.
+
+    Parameters
     ----------
-    x0 : ndarray, shape (P,), int32
-        The start state (every row missed where it can be, else dead).
-    h0 : uint64
-        Its Zobrist hash.
-    state : ndarray, shape (P,), int32
-        The chain's state.
-    free : ndarray, shape (M,), float64
-        Its free-measurement mask.
-    perm : ndarray, shape (P,), int64
-        Row order of the random scan.
-    cum : ndarray, shape (M + 2,), float64
-        Scratch row of the prefix-sum draw.
-    held : ndarray, shape (max(P, 1),), int64
-        The held measurements, sorted (prefix-sum draw).
-    n_held : ndarray, shape (1,), int64
-        Their number.
-    rs : ndarray, shape (1,), uint64
-        The chain's stream state.
-    table, hashes, states
-        The component's unique set (:func:`_find_or_insert`), ``x0`` its unique 0.
-    """
-
-    x0: np.ndarray
-    h0: np.uint64
-    state: np.ndarray
-    free: np.ndarray
-    perm: np.ndarray
-    cum: np.ndarray
-    held: np.ndarray
-    n_held: np.ndarray
-    rs: np.ndarray
-    table: np.ndarray
-    hashes: np.ndarray
-    states: np.ndarray
-
-
-@jit(nrt=False)
-def _component_chains(data, prefix, zkeys, chains, n_chains, chain_length, base, rules):
-    """The chains of one component (spec §3.3, the default readings of stall and stale).
-
-    ``data`` is the component's :class:`~rankedassign.single.prepare.PrefixData` (its prefix
-    sums placeholders unless ``prefix``: the rows draw from them, else by the direct sum);
-    ``chains`` a :class:`ComponentChains` whose unique set holds ``x0`` alone. Compiled without
-    reference counting, as the chain driver's loops are
-    (:func:`rankedassign.engine._kernels.make_driver`): the sweep written into the loop reads
-    its arrays from the records on every sweep.
+    rules : ChainRules
+        The filter's thresholds.
 
     Returns
     -------
-    (n_unique, n_observations) : (int, int)
+    Rules
+        ``(stall_mode, tau_stall, stale_mode, tau_stale)``.
+
+    Examples
+    --------
+    >>> from rankedassign.tracking.single._glmb_kernels import ChainRules, engine_rules
+    >>> tuple(engine_rules(ChainRules(random_scan=False, tau_stall=5, tau_stale=0)))
+    (1, 5, 0, 0)
     """
-    x0, state, free, perm, cum = chains.x0, chains.state, chains.free, chains.perm, chains.cum
-    held, n_held, rs = chains.held, chains.n_held, chains.rs
-    table, hashes, states = chains.table, chains.hashes, chains.states
-    P = x0.shape[0]
-    n_u = 1
-    obs = 0
-    stale_run = 0
-    for c in range(n_chains):
-        for i in range(P):
-            state[i] = x0[i]
-        free[:] = 1.0  # the start state holds no measurement
-        n_held[0] = 0
-        rs[0] = chain_state(base, c)
-        hx = chains.h0
-        stall_run = 0
-        new_in_chain = 0
-        for _ in range(chain_length):
-            if prefix:
-                hx = sweep_prefix(data, zkeys, state, hx, rs, free, perm, cum, held, n_held)
-            else:
-                hx = sweep(data, zkeys, state, hx, rs, free, perm)
-            obs += 1
-            u, new = _find_or_insert(table, hashes, states, n_u, state, hx)
-            if new:
-                n_u += 1
-                new_in_chain += 1
-                stall_run = 0
-            else:
-                stall_run += 1
-            if rules.tau_stall > 0 and stall_run >= rules.tau_stall:
-                break
-        if new_in_chain > 0:
-            stale_run = 0
-        else:
-            stale_run += 1
-        if rules.tau_stale > 0 and stale_run >= rules.tau_stale:
-            break
-    return n_u, obs
+    return Rules(STALL_GLOBAL_CONSECUTIVE if rules.tau_stall > 0 else STALL_OFF,
+                 rules.tau_stall,
+                 STALE_CONSECUTIVE if rules.tau_stale > 0 else STALE_OFF,
+                 rules.tau_stale)
 
 
 @jit()
@@ -510,7 +473,9 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     Each chain ``c`` starts there with the stream ``chain_state(base, c)``; each sweep is an
     observation added to the component's unique set; a chain stops after ``tau_stall``
     observations in a row that were not new, the run after ``tau_stale`` chains in a row that
-    added nothing (spec §3.3).
+    added nothing (spec §3.3). The chains are the engine's
+    (:func:`rankedassign.engine._kernels.make_problem_runner`): this kernel only gathers each
+    problem and emits its unique states as children.
     """
     H = comp_off.size - 1
     U = W_all.shape[1] - 2
@@ -521,10 +486,13 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     # upper bounds of the output: every observation new, every row present
     n_cap = 0
     e_cap = 0
+    c_max = 1
     for h in range(H):
         c = n_chains[h] * chain_length[h] + 1
         n_cap += c
         e_cap += c * (B + comp_off[h + 1] - comp_off[h])
+        c_max = max(c_max, c)
+    scratch = problem_scratch(P_max, c_max)  # every component's run, one after another
     child_comp = np.empty(n_cap, dtype=np.int64)
     child_cost = np.empty(n_cap)
     child_off = np.zeros(n_cap + 1, dtype=np.int64)
@@ -535,7 +503,7 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     mark = np.zeros(U, dtype=np.bool_)
     rows = np.empty(P_max, dtype=np.int64)
     cols = np.empty(U, dtype=np.int64)
-    rs = np.empty(1, dtype=np.uint64)
+    chain_rules = engine_rules(rules)
     n_out = 0
     e_out = 0
     for h in range(H):
@@ -557,12 +525,6 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         x0 = np.empty(P, dtype=np.int32)
         for i in range(P):
             x0[i] = M if cc[i, M] < np.inf else M + 1
-        cap = n_chains[h] * chain_length[h] + 1
-        states = np.empty((cap, P), dtype=np.int32)
-        hashes = np.empty(cap, dtype=np.uint64)
-        table = np.zeros(_table_size(cap), dtype=np.int64)
-        h0 = hash_of(zkeys, x0)
-        _find_or_insert(table, hashes, states, 0, x0, h0)
         prefix = M > M_DIRECT and M > 2 * P
         if prefix:
             S, next_pos = prefix_sums(W)
@@ -570,13 +532,13 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
             S = np.zeros((P, 1))
             next_pos = np.zeros((P, 1), dtype=np.int64)
         data = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=rules.random_scan)
-        chains = ComponentChains(
-            x0=x0, h0=h0, state=np.empty(P, dtype=np.int32), free=np.empty(M),
-            perm=np.empty(P, dtype=np.int64), cum=np.empty(K),
-            held=np.empty(max(P, 1), dtype=np.int64), n_held=np.zeros(1, dtype=np.int64),
-            rs=rs, table=table, hashes=hashes, states=states)
-        n_u, obs = _component_chains(data, prefix, zkeys, chains, n_chains[h], chain_length[h],
-                                     base[h], rules)
+        if prefix:
+            n_u, obs = _run_prefix(data, alloc_work_prefix(data, 1), zkeys, x0, base[h],
+                                   n_chains[h], chain_length[h], chain_rules, scratch)
+        else:
+            n_u, obs = _run_direct(data, alloc_work(data, 1), zkeys, x0, base[h],
+                                   n_chains[h], chain_length[h], chain_rules, scratch)
+        states = problem_states(scratch, P, n_u)
         sweeps[h] = obs
         # the children: cost, and the (entry, measurement) of every row that exists
         for u in range(n_u):
@@ -626,9 +588,13 @@ def merge_children(child_off, child_ids, log_w):
     ([0, 1, 0], [0.7, 0.3], [0, 1])
     """
     N = child_off.size - 1
-    table = np.zeros(_table_size(max(N, 1)), dtype=np.int64)
-    mask = table.shape[0] - 1
-    keys = np.empty(N, dtype=np.uint64)
+    width = 0
+    for n in range(N):
+        width = max(width, child_off[n + 1] - child_off[n])
+    # A child's key in the engine's unique set: its number of tracks, then its entries, padded
+    # with -1 (entries index the scan's track table, far below 2**31).
+    groups = unique_set(width + 1, max(N, 1))
+    x = np.empty(width + 1, dtype=np.int32)
     group = np.empty(N, dtype=np.int64)
     group_log_w = np.empty(N)
     first = np.empty(N, dtype=np.int64)
@@ -637,39 +603,38 @@ def merge_children(child_off, child_ids, log_w):
         a = child_off[n]
         b = child_off[n + 1]
         key = mix64(np.uint64(b - a + 1))
+        x[0] = b - a
         for q in range(a, b):
             key = mix64(key ^ np.uint64(child_ids[q] + 1))
-        keys[n] = key
-        slot = np.int64(key & np.uint64(mask))
-        while True:
-            v = table[slot]
-            if v == 0:
-                table[slot] = G + 1
-                group[n] = G
-                group_log_w[G] = log_w[n]
-                first[G] = n
-                G += 1
-                break
-            g = v - 1
-            f = first[g]
-            same = keys[f] == key and child_off[f + 1] - child_off[f] == b - a
-            if same:
-                fa = child_off[f]
-                for q in range(b - a):
-                    if child_ids[fa + q] != child_ids[a + q]:
-                        same = False
-                        break
-            if same:
-                group[n] = g
-                group_log_w[g] = _logaddexp(group_log_w[g], log_w[n])
-                break
-            slot = (slot + 1) & mask
+            x[q - a + 1] = child_ids[q]
+        for q in range(b - a + 1, width + 1):
+            x[q] = -1
+        g, new = add_state(groups, x, key, G)
+        group[n] = g
+        if new:
+            group_log_w[G] = log_w[n]
+            first[G] = n
+            G += 1
+        else:
+            group_log_w[g] = _logaddexp(group_log_w[g], log_w[n])
     return group, group_log_w[:G].copy(), first[:G].copy()
 
 
 @jit()
 def mark_reachable(parent, live):
     """Nodes of the history forest reachable from the nodes ``live`` (``parent −1``: a root).
+
+    Parameters
+    ----------
+    parent : ndarray of int64, shape (N,)
+        Parent of every node, ``-1`` for a root.
+    live : ndarray of int64
+        The nodes live tracks use.
+
+    Returns
+    -------
+    ndarray of bool, shape (N,)
+        Whether each node is ``live`` or an ancestor of one.
 
     Examples
     --------
