@@ -455,6 +455,13 @@ def plot_scaling(summary: ScalingSummary, directory: Path) -> list[str]:
     axes[2].set_ylabel("labelled error per target (m)")
     axes[2].set_title("accuracy (±1 SE)", fontsize=9)
     for ax in axes[:2]:
+        ys = np.concatenate([np.asarray(line.get_ydata(), dtype=float)
+                             for line in ax.get_lines()] or [np.empty(0)])
+        ys = ys[np.isfinite(ys) & (ys > 0)]
+        if ys.size and ys.max() / ys.min() < 10:
+            # within a decade a log axis labels one tick or none: linear from 0 instead
+            ax.set_ylim(0, 1.1 * ys.max())
+            continue
         ax.set_yscale("log")
         # a short log range has one decade or none: label 1, 2 and 5 of every decade as plain
         # numbers (matplotlib's minor labels print as "6 × 10⁰" and crowd the axis)
