@@ -65,6 +65,7 @@ def test_summary_rows_comparisons_and_report(runs):
         assert c.n_runs == 2 and c.ci_low <= c.delta_ospa2 <= c.ci_high
     text = render_nonlinear(s, TINY)
     assert "**Do the savings carry over?**" in text and "**EKF or UKF?**" in text
+    assert text.count("**Verdict.**") == 1
     assert "nonlinear_tracking.png" in text and "nan" not in text.lower()
 
 

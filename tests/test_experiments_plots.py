@@ -53,14 +53,39 @@ def _tempering_herding_summary():
     return th.THSummary(rows=rows, tracking=tracking)
 
 
+#: Every plot the quick report writes, per study (17 files; the report's sections link them).
+PLOTS = {
+    "table1": ["table1.png"],
+    "sweep": ["sweep.png"],
+    "tracking": ["tracking_ospa2.png", "tracking_observations.png"],
+    "tracking_var": ["tracking_var_ospa2.png", "tracking_var_observations.png"],
+    "optimum": ["optimum.png"],
+    "glmb_tracking": ["glmb_tracking.png", "glmb_tradeoff.png"],
+    "nonlinear_tracking": ["nonlinear_tracking.png"],
+    "scaling": ["scaling.png"],
+    "multisensor": ["multisensor.png"],
+    "adaptive_birth": ["adaptive_birth.png"],
+    "multisensor_tracking": ["multisensor_tracking.png"],
+    "tempering_herding": ["tempering_herding_obs.png", "tempering_herding_time.png",
+                          "tempering_herding_marginals.png"],
+}
+
+
+def test_the_check_below_covers_every_plot_of_the_report():
+    with_plot = [n for n in study_names() if get_study(n).plot is not None]
+    assert sorted(with_plot) == sorted(PLOTS)
+    assert sum(len(v) for v in PLOTS.values()) == 17
+
+
 @pytest.mark.parametrize("name", [n for n in study_names() if get_study(n).plot is not None])
 def test_every_plot_of_the_report_reads_at_a_glance(name, tmp_path, monkeypatch):
     st = get_study(name)
     if name == "tempering_herding":
         summary = _tempering_herding_summary()
+        cfg = Config.quick()[name]
     else:
-        tiny = st.warm(Config.quick()[name])
-        summary = run_study(st, tiny, seed=0, progress=False)
+        cfg = st.warm(Config.quick()[name])
+        summary = run_study(st, cfg, seed=0, progress=False)
     drawn = []
     save = Figure.savefig
 
@@ -70,7 +95,10 @@ def test_every_plot_of_the_report_reads_at_a_glance(name, tmp_path, monkeypatch)
 
     monkeypatch.setattr(Figure, "savefig", spy)
     files = st.plot(summary, tmp_path)
-    assert len(drawn) == len(files) >= 1
+    assert files == PLOTS[name]
+    assert len(drawn) == len(files)
+    section = st.render(summary, cfg)
+    assert all(f"]({file})" in section for file in files)  # the report shows every plot
     for fig, file in zip(drawn, files, strict=True):
         assert figure_problems(fig) == [], file
 

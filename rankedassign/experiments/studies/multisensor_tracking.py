@@ -748,7 +748,10 @@ def _tracking_figure(summaries, by: str):
             ax.set_ylim(lo, hi)
     # one legend for every panel, below them: a legend inside a panel lay on its curves
     legend_below(fig, axes.ravel(), ncol=min(4, len(lines)))
-    fig.suptitle("OSPA(2) and cardinality error, mean over runs")
+    runs = sorted({s.n_runs for s in summaries})
+    fig.suptitle("OSPA(2) and cardinality error, "
+                 + ("one run (no mean)" if runs == [1] else
+                    f"mean of {'–'.join(map(str, (runs[0], runs[-1])[:len(runs)]))} runs"))
     return fig
 
 

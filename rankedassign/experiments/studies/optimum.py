@@ -232,7 +232,7 @@ def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
 
 
 _HEADER = ["family", "sampler", "observations", "unique k", "ε (%)", "ε*(k) (%)",
-           "ε − ε* (pp)"]
+           "ε − ε* (pp, > 0: above the best possible)"]
 
 
 def _verdict(rows: list[OptimumRow]) -> str:

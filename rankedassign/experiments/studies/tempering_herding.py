@@ -1007,10 +1007,14 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
             if ys.size and ys.min() > 0 and ys.max() / ys.min() < 10:
                 ax.margins(y=0.1)
             else:
-                ax.set_yscale("symlog", linthresh=1e-3 if y_of == "error_pct_mean" else 1e-4)
+                thresh = 1e-3 if y_of == "error_pct_mean" else 1e-4
+                ax.set_yscale("symlog", linthresh=thresh)
                 ax.margins(y=0.08)
                 lo, hi = ax.get_ylim()
-                ax.set_ylim(max(lo, 0.0), hi)  # errors are never negative
+                # errors are never negative; the floor sits a little below 0 so that a series
+                # at 0 (LBP's marginals, a tempered chain that found everything) is drawn
+                # above the axis line instead of on it
+                ax.set_ylim(max(lo, -0.08 * thresh), hi)
             ax.xaxis.set_minor_formatter(NullFormatter())
             ax.set_title(f"{_family_title(fam)}\n{group}", fontsize=8)
             ax.set_xlabel("sweeps per call")
