@@ -81,7 +81,23 @@ def _label(m: tuple) -> str:
 
 
 def cell_name(m: tuple) -> str:
-    """A method's key in the summary's curves and comparisons: ``"glmb/short-chain"``."""
+    """A method's key in the summary's curves and comparisons: ``"glmb/short-chain"``.
+
+    Parameters
+    ----------
+    m : (str, str)
+        The method's ``(filter, truncation)`` pair.
+
+    Returns
+    -------
+    str
+        ``filter/truncation``.
+
+    Examples
+    --------
+    >>> cell_name(("glmb", "short-chain"))
+    'glmb/short-chain'
+    """
     return "/".join(m)
 
 

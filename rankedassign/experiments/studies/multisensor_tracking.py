@@ -248,7 +248,25 @@ def check_association(association, setting: str = "association") -> tuple:
 
 
 def association_label(truncation: str, method: str) -> str:
-    """How the report's text and plots name an association: ``"short-chain (mm)"``."""
+    """How the report's text and plots name an association: ``"short-chain (mm)"``.
+
+    Parameters
+    ----------
+    truncation : str
+        The truncation's name (one of the vocabulary's ``TRUNCATIONS``).
+    method : str
+        The multi-sensor row conditional.
+
+    Returns
+    -------
+    str
+        ``"truncation (method)"``.
+
+    Examples
+    --------
+    >>> association_label("short-chain", "mm")
+    'short-chain (mm)'
+    """
     return f"{truncation} ({method})"
 
 
