@@ -77,6 +77,14 @@ _CHILD = textwrap.dedent("""
     def on_sigterm(signum, frame):
         raise Terminated
 
+    # The child must not inherit the test runner's signal state: an ignored SIGINT (Python
+    # then installs no handler of its own) or a blocked one would pass unseen through every
+    # kernel. Say on stderr what was inherited, then take the defaults.
+    print("inherited: SIGINT", signal.getsignal(signal.SIGINT), "blocked",
+          sorted(int(s) for s in signal.pthread_sigmask(signal.SIG_BLOCK, [])),
+          file=sys.stderr, flush=True)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {{signal.SIGINT, signal.SIGTERM}})
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     signal.signal(signal.SIGTERM, on_sigterm)
     p = synthetic.random(rng=0)
     def real(s):
