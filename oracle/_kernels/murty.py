@@ -164,6 +164,17 @@ def pack_search(sr):
     numba boxes a named tuple by calling its class, Python code, where a signal handler's
     exception crashes numba's return path (a segmentation fault, not an error); a plain tuple
     is built in C and only ever raises. :func:`unpack_search` names it again in compiled code.
+
+    Parameters
+    ----------
+    sr : Search
+        The search's state.
+
+    Returns
+    -------
+    tuple
+        ``(path, tree, forb, sols, ranking, part, state)``, each record a plain tuple of its
+        fields; the arrays are shared, not copied.
     """
     return (sr.path[:], sr.tree[:], sr.forb[:], sr.sols[:], sr.ranking[:], sr.part[:],
             sr.state)
@@ -171,7 +182,18 @@ def pack_search(sr):
 
 @jit(inline="always")
 def unpack_search(t):
-    """The :data:`Search` of a packed one (:func:`pack_search`)."""
+    """The :data:`Search` of a packed one (:func:`pack_search`).
+
+    Parameters
+    ----------
+    t : tuple
+        A packed search.
+
+    Returns
+    -------
+    Search
+        The same arrays, named.
+    """
     return Search(PathWork(*t[0]), Tree(*t[1]), Forbidden(*t[2]), Solutions(*t[3]),
                   Ranking(*t[4]), PartitionWork(*t[5]), t[6])
 
@@ -179,7 +201,20 @@ def unpack_search(t):
 # ----------------------------------------------------------------------------- small helpers
 @jit()
 def _grow(a, n):
-    """``a`` copied into a new array with ``n`` rows (first axis)."""
+    """``a`` copied into a new array with ``n`` rows (first axis).
+
+    Parameters
+    ----------
+    a : ndarray
+        C-contiguous, ``a.shape[0] <= n``.
+    n : int
+        Rows of the copy.
+
+    Returns
+    -------
+    ndarray, shape (n, *a.shape[1:]), dtype of ``a``
+        ``a`` in the first rows, the rest uninitialised.
+    """
     out = np.empty((n,) + a.shape[1:], dtype=a.dtype)
     # element by element through flat views (both C-contiguous): an array assigned into a
     # slice compiles numba's formatted shape-mismatch error for each shape, about a second
@@ -1080,7 +1115,18 @@ DONE, PAUSED, FULL = 0, 1, 2
 # ----------------------------------------------------------------------------- the records' arrays
 @jit()
 def _new_path_work(P, M):
-    """A :data:`PathWork` for ``P`` rows and ``M`` measurements."""
+    """A :data:`PathWork` for ``P`` rows and ``M`` measurements.
+
+    Parameters
+    ----------
+    P, M : int
+        Rows and measurements of the problem.
+
+    Returns
+    -------
+    PathWork
+        Uninitialised arrays: ``vf`` of ``M`` entries, the others of ``P``.
+    """
     return PathWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
                     np.empty(P, dtype=np.int64), np.empty(P), np.empty(P),
                     np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64), np.empty(P),
@@ -1090,7 +1136,20 @@ def _new_path_work(P, M):
 
 @jit()
 def _new_tree(n, P):
-    """An empty :data:`Tree` with room for ``n`` nodes of ``P`` rows."""
+    """An empty :data:`Tree` with room for ``n`` nodes of ``P`` rows.
+
+    Parameters
+    ----------
+    n : int
+        Nodes.
+    P : int
+        Rows (unused: a node's arrays do not depend on it).
+
+    Returns
+    -------
+    Tree
+        Uninitialised arrays of ``n`` entries.
+    """
     return Tree(np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
                 np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
                 np.empty(n, dtype=np.int64))
@@ -1098,21 +1157,57 @@ def _new_tree(n, P):
 
 @jit()
 def _new_forbidden(n):
-    """An empty :data:`Forbidden` with room for ``n`` entries."""
+    """An empty :data:`Forbidden` with room for ``n`` entries.
+
+    Parameters
+    ----------
+    n : int
+        Entries.
+
+    Returns
+    -------
+    Forbidden
+        Uninitialised int64 arrays of ``n`` entries.
+    """
     return Forbidden(np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
                      np.empty(n, dtype=np.int64))
 
 
 @jit()
 def _new_solutions(n, P):
-    """An empty :data:`Solutions` with room for ``n`` solutions of ``P`` rows."""
+    """An empty :data:`Solutions` with room for ``n`` solutions of ``P`` rows.
+
+    Parameters
+    ----------
+    n : int
+        Solutions.
+    P : int
+        Rows.
+
+    Returns
+    -------
+    Solutions
+        Uninitialised: ``cols``, ``u``, ``v`` of shape (n, P), the others (n,).
+    """
     return Solutions(np.empty((n, P), dtype=np.int64), np.empty((n, P)), np.empty((n, P)),
                      np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64))
 
 
 @jit()
 def _new_partition_work(P):
-    """A :data:`PartitionWork` for ``P`` rows."""
+    """A :data:`PartitionWork` for ``P`` rows.
+
+    Parameters
+    ----------
+    P : int
+        Rows.
+
+    Returns
+    -------
+    PartitionWork
+        Uninitialised arrays of ``P`` entries; ``rc`` (P, P) when ``P <= RC_ROWS``, else
+        (1, 1).
+    """
     n = P if P <= RC_ROWS else 1
     return PartitionWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
                          np.empty(P, dtype=np.int64), np.empty(P), np.empty(P, dtype=np.int64),
@@ -1121,27 +1216,76 @@ def _new_partition_work(P):
 
 @jit()
 def _grown_tree(t, n):
-    """:data:`Tree` ``t`` copied into arrays with room for ``n`` nodes."""
+    """:data:`Tree` ``t`` copied into arrays with room for ``n`` nodes.
+
+    Parameters
+    ----------
+    t : Tree
+        The tree.
+    n : int
+        Nodes of the copy (at least as many as ``t`` holds).
+
+    Returns
+    -------
+    Tree
+    """
     return Tree(_grow(t.key, n), _grow(t.slot, n), _grow(t.parent, n), _grow(t.forb, n),
                 _grow(t.end, n), _grow(t.heap_key, n), _grow(t.heap_id, n))
 
 
 @jit()
 def _grown_forbidden(f, n):
-    """:data:`Forbidden` ``f`` copied into arrays with room for ``n`` entries."""
+    """:data:`Forbidden` ``f`` copied into arrays with room for ``n`` entries.
+
+    Parameters
+    ----------
+    f : Forbidden
+        The lists.
+    n : int
+        Entries of the copy (at least as many as ``f`` holds).
+
+    Returns
+    -------
+    Forbidden
+    """
     return Forbidden(_grow(f.row, n), _grow(f.entry, n), _grow(f.next, n))
 
 
 @jit()
 def _grown_solutions(s, n):
-    """:data:`Solutions` ``s`` copied into arrays with room for ``n`` solutions."""
+    """:data:`Solutions` ``s`` copied into arrays with room for ``n`` solutions.
+
+    Parameters
+    ----------
+    s : Solutions
+        The solutions.
+    n : int
+        Solutions of the copy (at least as many as ``s`` holds).
+
+    Returns
+    -------
+    Solutions
+    """
     return Solutions(_grow(s.cols, n), _grow(s.u, n), _grow(s.v, n), _grow(s.v_free, n),
                      _grow(s.cost, n), _grow(s.scale, n), _grow(s.taken, n))
 
 
 @jit()
 def _grown_ranking(r, n_out, n_best):
-    """:data:`Ranking` ``r`` with room for ``n_out`` reported nodes and ``n_best`` costs."""
+    """:data:`Ranking` ``r`` with room for ``n_out`` reported nodes and ``n_best`` costs.
+
+    Parameters
+    ----------
+    r : Ranking
+        The ranking.
+    n_out, n_best : int
+        Room wanted in ``slot`` and ``kbest``; an array already that large is kept, not
+        copied.
+
+    Returns
+    -------
+    Ranking
+    """
     slot, kbest = r
     if n_out > slot.shape[0]:
         slot = _grow(slot, n_out)
@@ -1153,7 +1297,19 @@ def _grown_ranking(r, n_out, n_best):
 # ----------------------------------------------------------------------------- entry points
 @jit()
 def compact_costs(cc):
-    """The :data:`CompactCosts` of a problem's compact costs ``cc`` ``(P, M + 2)``."""
+    """The :data:`CompactCosts` of a problem's compact costs ``cc`` ``(P, M + 2)``.
+
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs ``[measurements | missed | dead]``, ``+inf`` forbidding a pair.
+
+    Returns
+    -------
+    CompactCosts
+        ``cost`` and ``cost0``, two equal (P, M + 3) arrays: ``cc`` and a last column of
+        ``+inf``.
+    """
     P, W = cc.shape
     cost0 = np.empty((P, W + 1))
     for i in range(P):
@@ -1245,7 +1401,21 @@ def murty_slice(costs, search, k, budget):
 @jit()
 def grow_search(search, k):
     """Packed ``search`` with every full array doubled (every array the next iteration may
-    fill); ``k`` the number of assignments wanted (the output and kbest never need more)."""
+    fill); ``k`` the number of assignments wanted (the output and kbest never need more).
+
+    Parameters
+    ----------
+    search : tuple
+        A packed :data:`Search` (:func:`pack_search`) whose last :func:`murty_slice`
+        returned :data:`FULL`.
+    k : int
+        Number of assignments wanted.
+
+    Returns
+    -------
+    tuple
+        The packed search with the grown arrays (the others shared).
+    """
     sr = unpack_search(search)
     P = sr.path.row.shape[0]
     state = sr.state
@@ -1269,7 +1439,20 @@ def grow_search(search, k):
 @jit()
 def search_output(search):
     """The reported assignments ``(n, P)`` and their costs ``(n,)`` of a finished (packed)
-    search, as documented in :func:`murty_compact_kernel`."""
+    search, as documented in :func:`murty_compact_kernel`.
+
+    Parameters
+    ----------
+    search : tuple
+        A packed :data:`Search` whose :func:`murty_slice` returned :data:`DONE`.
+
+    Returns
+    -------
+    assignments : ndarray of int64, shape (n, P)
+        As in :func:`murty_compact_kernel`.
+    costs : ndarray of float64, shape (n,)
+        Non-decreasing (a stable sort by value).
+    """
     sr = unpack_search(search)
     P = sr.path.row.shape[0]
     cols, cost, out_slot = sr.sols.cols, sr.sols.cost, sr.ranking.slot
@@ -1339,9 +1522,19 @@ def murty_start(cs, k, budget):
 def murty_compact_start(cc, k, budget):
     """:func:`murty_start` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``.
 
-    Returns ``(assignments, costs, None)`` when done within the budget, else ``(empty,
-    empty, (costs, search))`` with the fields of the problem's :data:`CompactCosts` (from
-    :func:`compact_costs`) and the packed search to continue with :func:`murty_slice`.
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        As in :func:`murty_compact_kernel`.
+    k, budget : int
+        As in :func:`murty_slice`.
+
+    Returns
+    -------
+    tuple
+        ``(assignments, costs, None)`` when done within the budget, else ``(empty, empty,
+        (costs, search))`` with the fields of the problem's :data:`CompactCosts` (from
+        :func:`compact_costs`) and the packed search to continue with :func:`murty_slice`.
     """
     cs = compact_costs(cc)
     out, out_costs, search = murty_start(cs, k, budget)
