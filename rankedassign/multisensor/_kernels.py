@@ -757,7 +757,23 @@ run_chains = make_driver("multisensor", alloc_work, reset_work, sweep, work=Mult
 def _row_key(data, work, b, state, n, vlo, vhi):
     """Row ``n``'s key vector into ``keyv[b]`` (twin of the reference's ``herd_key``): the
     state with row ``n`` as -1 (full), or the codes ``v K + j`` of the gated measurements of
-    sensors ``vlo..vhi-1`` that other rows hold (shared)."""
+    sensors ``vlo..vhi-1`` that other rows hold (shared).
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (``key_mode`` 0 full, else shared; ``gate`` (P, V, Kc) bool).
+    work : MultiSensorHerdedWork
+        ``keyv[b]`` written, padded with -1.
+    b : int
+        The slab.
+    state : ndarray of int32, shape (P * V,)
+        The current state (``gamma + 1``).
+    n : int
+        The row.
+    vlo, vhi : int
+        The sensors of the shared key.
+    """
     n_meas = data.n_meas
     P = data.P
     V = data.V
@@ -783,7 +799,17 @@ def _row_key(data, work, b, state, n, vlo, vhi):
 @jit(inline="always")
 def _component_key(data, work, b, state, n, v, off):
     """Component ``v`` of row ``n``'s key vector (twin of the reference's
-    ``_component_key``); ``off`` is the tuple offset of the row's other components."""
+    ``_component_key``); ``off`` is the tuple offset of the row's other components.
+
+    Parameters
+    ----------
+    data, work, b, state, n
+        As in :func:`_row_key` (``row[b]`` holds the row's current components).
+    v : int
+        The component (sensor).
+    off : int
+        Offset in the flat tuple index of the row's other components.
+    """
     n_meas, strides, la = data.n_meas, data.strides, data.la
     P = data.P
     V = data.V
@@ -814,7 +840,32 @@ def _component_key(data, work, b, state, n, v, off):
 def _herd_stage(data, work, b, rid, nc, K, rs):
     """One herded draw (twin of the reference's ``_herd_stage``) over ``K`` candidates, the
     ``nc`` available ones in ``wbuf/lbuf/cand[b]``, key in ``keyv[b]``: the candidate, -1 if
-    none has weight, or the Gibbs draw of the same lists when the table is full."""
+    none has weight, or the Gibbs draw of the same lists when the table is full.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (``capacity``, ``init_mode``).
+    work : MultiSensorHerdedWork
+        ``wbuf[b]``, ``lbuf[b]``, ``cand[b]`` the available candidates' weights,
+        log-weights and full indices, ``keyv[b]`` the key; ``p[b]`` and the key table
+        updated.
+    b : int
+        The slab.
+    rid : int
+        The key's row id (``n (V + 1) + stage``).
+    nc : int
+        Available candidates.
+    K : int
+        Width of the full candidate range.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state.
+
+    Returns
+    -------
+    int
+        The full candidate index drawn, or -1.
+    """
     wbuf, lbuf, cand, p, keyv = work.wbuf, work.lbuf, work.cand, work.p[b], work.keyv[b]
     for k in range(K):
         p[k] = 0.0
@@ -849,7 +900,28 @@ def _herd_stage(data, work, b, rid, nc, K, rs):
 
 @jit(inline="always")
 def _herd_row_exact(data, work, b, state, n, rs):
-    """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``."""
+    """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (exact method).
+    work : MultiSensorHerdedWork
+        ``avail[b]`` as :func:`_available` left it.
+    b : int
+        The slab.
+    state : ndarray of int32, shape (P * V,)
+        The current state (``gamma + 1``).
+    n : int
+        The row.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state.
+
+    Returns
+    -------
+    bool
+        False when no candidate has weight (the row stays).
+    """
     n_meas, strides, Wd, ld, Wa, la = (data.n_meas, data.strides, data.Wd, data.ld, data.Wa,
                                        data.la)
     V = data.V
@@ -889,7 +961,18 @@ def _herd_row_exact(data, work, b, state, n, rs):
 
 @jit(inline="always")
 def _herd_row_mm(data, work, b, state, n, rs):
-    """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``."""
+    """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``.
+
+    Parameters
+    ----------
+    data, work, b, state, n, rs
+        As in :func:`_herd_row_exact` (the MM methods).
+
+    Returns
+    -------
+    bool
+        False when the row stays.
+    """
     n_meas, ld, Th, lth, las = data.n_meas, data.ld, data.Th, data.lth, data.las
     Ea, Ed, qdead = data.Ea, data.Ed, data.qdead
     V = data.V
@@ -950,7 +1033,18 @@ def _herd_row_mm(data, work, b, state, n, rs):
 
 @jit(inline="always")
 def _herd_row_componentwise(data, work, b, state, n, rs):
-    """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``."""
+    """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``.
+
+    Parameters
+    ----------
+    data, work, b, state, n, rs
+        As in :func:`_herd_row_exact` (componentwise method).
+
+    Returns
+    -------
+    bool
+        Always True; a component without a candidate keeps its value.
+    """
     n_meas, strides, Wa, la = data.n_meas, data.strides, data.Wa, data.la
     V = data.V
     avail, navail, wbuf, lbuf, row, cand = (work.avail, work.navail, work.wbuf, work.lbuf,
@@ -983,6 +1077,20 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     :func:`_herd_row_exact`, :func:`_herd_row_mm` or :func:`_herd_row_componentwise` by the
     method, then the row is written back as in :func:`sweep`. The chain's tallies are
     ``cnt[b]`` (keys, fall-backs, sweeps) and, when chains are speculated, ``hist``.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data.
+    work : MultiSensorHerdedWork
+        Slab ``b`` used and kept up to date.
+    b, zkeys, state, h, rs
+        As in :func:`sweep`.
+
+    Returns
+    -------
+    np.uint64
+        The hash of the updated state.
     """
     method = data.method
     _scan_order(data, work, b, rs)
@@ -1022,7 +1130,19 @@ class MultiSensorHerdedWork(record(MultiSensorWork, {"cand": np.ndarray}, KeyTab
 
 @jit()
 def alloc_work_herded(data, nb):
-    """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables."""
+    """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (``width``, ``capacity``, ``chain_length``).
+    nb : int
+        Chains.
+
+    Returns
+    -------
+    MultiSensorHerdedWork
+    """
     g = alloc_work(data, nb)
     cand = np.zeros((nb, g.wbuf.shape[1]), dtype=np.int64)
     table = alloc_key_table(nb, data.width, max(data.P * data.V, 1), data.capacity,
@@ -1032,7 +1152,15 @@ def alloc_work_herded(data, nb):
 
 @jit()
 def reset_work_herded(data, work, b, x0):
-    """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies."""
+    """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies.
+
+    Parameters
+    ----------
+    data, b, x0
+        As in :func:`reset_work`.
+    work : MultiSensorHerdedWork
+        Slab ``b`` reset.
+    """
     reset_work(data, work, b, x0)
     reset_key_table(work, b)
 
