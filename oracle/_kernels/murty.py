@@ -227,7 +227,19 @@ def _grow(a, n):
 
 @jit(inline="always")
 def _sift_down_max(a, n, h, x):
-    """Put ``x`` at ``h`` in the max-heap ``a[:n]`` and move it down to its place."""
+    """Put ``x`` at ``h`` in the max-heap ``a[:n]`` and move it down to its place.
+
+    Parameters
+    ----------
+    a : ndarray of float64
+        The heap, ``a[:n]``; the entry at ``h`` is replaced.
+    n : int
+        Its size.
+    h : int
+        The position.
+    x : float
+        The new value.
+    """
     while True:
         ch = 2 * h + 1
         if ch >= n:
@@ -244,13 +256,39 @@ def _sift_down_max(a, n, h, x):
 
 @jit(inline="always")
 def _own_entry(i, c, M, P):
-    """The entry of row ``i``'s column ``c`` in its row of the compact costs."""
+    """The entry of row ``i``'s column ``c`` in its row of the compact costs.
+
+    Parameters
+    ----------
+    i : int
+        The row.
+    c : int
+        One of its columns in the ``P x (M + 2P)`` layout (a measurement, its own missed
+        ``M + i`` or dead ``M + P + i``).
+    M, P : int
+        Measurements and rows.
+
+    Returns
+    -------
+    int
+        ``c``, ``M`` or ``M + 1``.
+    """
     return c if c < M else (M if c < M + P else M + 1)
 
 
 @jit(inline="always")
 def _switch_off(cost, forb, head):
-    """Forbid every pair of the list that starts at ``head``: its cost becomes ``+inf``."""
+    """Forbid every pair of the list that starts at ``head``: its cost becomes ``+inf``.
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        :data:`CompactCosts`' working copy.
+    forb : Forbidden
+        The forbidden-pair lists.
+    head : int
+        The list's first entry (``NO_ENTRY``: empty).
+    """
     g = head
     while g != NO_ENTRY:
         gu = np.uint64(g)
@@ -260,7 +298,15 @@ def _switch_off(cost, forb, head):
 
 @jit(inline="always")
 def _switch_on(cost, cost0, forb, head):
-    """Allow the pairs of the list that starts at ``head`` again (their costs from ``cost0``)."""
+    """Allow the pairs of the list that starts at ``head`` again (their costs from ``cost0``).
+
+    Parameters
+    ----------
+    cost, forb, head
+        As in :func:`_switch_off`.
+    cost0 : ndarray of float64, shape (P, M + 3)
+        The original costs.
+    """
     g = head
     while g != NO_ENTRY:
         gu = np.uint64(g)
@@ -273,7 +319,21 @@ def _switch_on(cost, cost0, forb, head):
 @jit(inline="always")
 def _is_full(sr, k, n_out, n_sols, n_nodes, n_forb, n_best):
     """Whether some array of ``sr`` lacks room for the next iteration's worst case (``P``
-    children; kbest never holds more than ``k``)."""
+    children; kbest never holds more than ``k``).
+
+    Parameters
+    ----------
+    sr : Search
+        The search.
+    k : int
+        Number of assignments wanted.
+    n_out, n_sols, n_nodes, n_forb, n_best : int
+        The counters ``S_OUT``, ``S_SOLS``, ``S_NODES``, ``S_FORB``, ``S_BEST``.
+
+    Returns
+    -------
+    bool
+    """
     P = sr.path.row.shape[0]
     return (n_out == sr.ranking.slot.shape[0] or n_sols == sr.sols.cols.shape[0]
             or n_nodes + P > sr.tree.key.shape[0] or n_forb + P > sr.forb.row.shape[0]
@@ -283,7 +343,23 @@ def _is_full(sr, k, n_out, n_sols, n_nodes, n_forb, n_best):
 @jit(inline="always")
 def _free_duals(vf, sols, s, v_free):
     """Fill ``vf`` for the free columns' pass of solution ``s``: ``v_free`` for a free
-    measurement, ``-inf`` for one a row takes. Returns whether some measurement is free."""
+    measurement, ``-inf`` for one a row takes. Returns whether some measurement is free.
+
+    Parameters
+    ----------
+    vf : ndarray of float64, shape (M,)
+        :data:`PathWork`'s ``vf``; left unchanged when no measurement is free.
+    sols : Solutions
+        The solutions.
+    s : int
+        The solution's slot.
+    v_free : float
+        Its free columns' shared potential.
+
+    Returns
+    -------
+    bool
+    """
     M = vf.shape[0]
     su = np.uint64(s)
     if sols.taken[su] == M:
@@ -302,7 +378,31 @@ def _least_free(cost, vf, free_meas, i, ci, ui, v_free, min_val):
     """The closest free column of row ``i`` (its column ``ci``, dual ``ui``) reached at
     ``min_val``: ``(distance, column)``, the lower column among equal distances (``+inf, -1``:
     none). The free measurements (``vf``, when ``free_meas``), then the row's own missed and
-    dead columns when it does not take them."""
+    dead columns when it does not take them.
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        The working costs.
+    vf : ndarray of float64, shape (M,)
+        The free measurements' duals (:func:`_free_duals`).
+    free_meas : bool
+        Some measurement is free.
+    i : int
+        The row.
+    ci : int
+        Its column in the parent's solution.
+    ui : float
+        Its dual.
+    v_free : float
+        The free columns' shared potential.
+    min_val : float
+        The distance the row is reached at.
+
+    Returns
+    -------
+    (float, int)
+    """
     M = vf.shape[0]
     P = cost.shape[0]
     iu = np.uint64(i)
@@ -333,7 +433,25 @@ def _least_free(cost, vf, free_meas, i, ci, ui, v_free, min_val):
 def _load_parent(pw, sols, forb, f, end, ps):
     """Load the open rows of a node (``forb.row[f:end]``, the first one ``root``, whose pair
     it forbids: its column is the freed one) and their columns in solution ``ps`` (its
-    parent) into the frontier of ``pw``. Returns the number of open rows."""
+    parent) into the frontier of ``pw``. Returns the number of open rows.
+
+    Parameters
+    ----------
+    pw : PathWork
+        The path workspace (its frontier written).
+    sols : Solutions
+        The solutions.
+    forb : Forbidden
+        The forbidden-pair lists (their ``row`` lists the open rows).
+    f, end : int
+        The node's ``forb`` and ``end``.
+    ps : int
+        The parent's solution slot.
+
+    Returns
+    -------
+    int
+    """
     row, off, tie, v, d = pw.row, pw.off, pw.tie, pw.v, pw.d
     s_cols, s_v = sols.cols, sols.v
     M = pw.vf.shape[0]
@@ -357,7 +475,27 @@ def _load_parent(pw, sols, forb, f, end, ps):
 def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
     """Relax row ``i`` (dual ``ui``, reached at ``min_val``) into the frontier's columns and
     return the position of the closest one (``-1``: none reached): ties by ``tie``, so the
-    freed column, then the lower column."""
+    freed column, then the lower column.
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        The working costs (the node's forbidden pairs at ``+inf``).
+    pw : PathWork
+        The frontier: ``d`` and ``via`` updated.
+    n_open : int
+        Columns in the frontier.
+    i : int
+        The row scanned.
+    ui : float
+        Its dual.
+    min_val : float
+        The distance it is reached at.
+
+    Returns
+    -------
+    int
+    """
     off, tie, v, d, via = pw.off, pw.tie, pw.v, pw.d, pw.via
     iu = np.uint64(i)
     index = 0
@@ -382,7 +520,23 @@ def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
 def _open_hub(pw, n_open, v_free, min_val):
     """A free column was scanned at ``min_val``: the dummy rows reach every frontier column
     at reduced cost ``v_free - v``. Returns the position of the closest one afterwards
-    (``-1``: none)."""
+    (``-1``: none).
+
+    Parameters
+    ----------
+    pw : PathWork
+        The frontier: ``d`` and ``via`` (``HUB``) updated.
+    n_open : int
+        Columns in the frontier.
+    v_free : float
+        The free columns' shared potential.
+    min_val : float
+        The free column's distance.
+
+    Returns
+    -------
+    int
+    """
     tie, v, d, via = pw.tie, pw.v, pw.d, pw.via
     index = 0
     lowest = np.inf
@@ -405,7 +559,24 @@ def _open_hub(pw, n_open, v_free, min_val):
 @jit(inline="always")
 def _scan(pw, t, n_open, n_done):
     """Move the frontier's column at position ``t`` to the scanned ones (``done``); returns
-    its row."""
+    its row.
+
+    Parameters
+    ----------
+    pw : PathWork
+        The path workspace; the frontier's last entry moves to position ``t``.
+    t : int
+        The position.
+    n_open : int
+        Columns in the frontier (one fewer afterwards, which the caller counts).
+    n_done : int
+        Columns scanned so far (the new one's position in ``done``).
+
+    Returns
+    -------
+    int
+        The row whose column was scanned.
+    """
     row, off, tie, v, d, via = pw.row, pw.off, pw.tie, pw.v, pw.d, pw.via
     t = np.uint64(t)
     n = np.uint64(n_done)
@@ -431,7 +602,25 @@ def _solve_node(cs, sr, node, cut, s):
     and assignment minus ``(root, freed)`` (the algorithm of :func:`.lsap.sap_augment`, warm
     start), unless the cut drops it; when solved, its solution (and ``v_free``) is written
     into slot ``s``. Returns ``(solved, distance)``: the node costs its parent's cost plus the
-    distance, up to rounding."""
+    distance, up to rounding.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (the node's forbidden pairs are switched off and on again).
+    sr : Search
+        The search.
+    node : int
+        The node's id.
+    cut : float
+        The cut: a node proven to cost more is dropped (``+inf``: no cut).
+    s : int
+        The free solution slot.
+
+    Returns
+    -------
+    (bool, float)
+    """
     cost = cs.cost
     pw, tree, forb, sols = sr.path, sr.tree, sr.forb, sr.sols
     done, done_d, done_v, done_via, at = pw.done, pw.done_d, pw.done_v, pw.done_via, pw.at
@@ -543,7 +732,21 @@ def _solve_node(cs, sr, node, cut, s):
 @jit(inline="always")
 def _store_cost(cs, sols, s):
     """Set the cost (summed row by row from ``0.0``) and the number of measurements taken of
-    solution ``s``; returns the cost."""
+    solution ``s``; returns the cost.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (``cost0`` is read).
+    sols : Solutions
+        ``cost`` and ``taken`` of slot ``s`` written.
+    s : int
+        The solution's slot (its ``cols`` set).
+
+    Returns
+    -------
+    float
+    """
     cost0 = cs.cost0
     P = cost0.shape[0]
     M = cost0.shape[1] - 3

@@ -1298,6 +1298,21 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     multi-sensor sweep split into phases ran twice as slowly with them). Neither allocates,
     and the run keeps every array they touch alive.
 
+    Parameters
+    ----------
+    data, work, zkeys, slab
+        As in :func:`_speculate`.
+    U : UniqueSet
+        The unique set, with room for ``j1 - j0`` more states.
+    ctr : ndarray of int64, shape (N_COUNTERS,)
+        The run's counters.
+    cctr : ndarray of int64
+        The chain's counters.
+    rules : Rules
+        The stall and stale readings and thresholds.
+    span : Span
+        The chain's slab row, index, observations and sweeps simulated.
+
     Returns
     -------
     (j, stalled, done) : (int, bool, int)
