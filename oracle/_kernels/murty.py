@@ -767,7 +767,25 @@ def _store_cost(cs, sols, s):
 def _keep_least(kbest, n_best, n_stale, want, key):
     """Keep the ``want`` least solved costs in ``kbest`` (``n_stale`` of its ``n_best``
     entries belong to reported nodes): appended until there are that many, then a max-heap
-    (made once) whose top is replaced. Returns the new ``n_best``."""
+    (made once) whose top is replaced. Returns the new ``n_best``.
+
+    Parameters
+    ----------
+    kbest : ndarray of float64
+        :data:`Ranking`'s ``kbest``, with room for one more entry while not full.
+    n_best : int
+        Its entries.
+    n_stale : int
+        Those of reported nodes.
+    want : int
+        The least costs to keep (``k - n`` with ``n`` reported).
+    key : float
+        A solved node's cost.
+
+    Returns
+    -------
+    int
+    """
     if n_best - n_stale < want:
         kbest[n_best] = key
         n_best += 1
@@ -786,7 +804,26 @@ def _load_partition(cs, sr, node, sl, key):
     of each row's own column, the free rows (the node's open rows) as ``open`` and the entries
     and duals of their columns in the path workspace. Returns ``(scale, n_free)``: the
     rounding scale of its children's solves (also stored in ``sols.scale[sl]``) and the number
-    of free rows."""
+    of free rows.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem.
+    sr : Search
+        The search: ``part.entry_of``, ``path.row`` (the free rows) and ``path.off``,
+        ``path.v`` at the free rows written.
+    node : int
+        The node's id.
+    sl : int
+        Its solution's slot.
+    key : float
+        Its cost.
+
+    Returns
+    -------
+    (float, int)
+    """
     cost0 = cs.cost0
     pw, part, sols, tree = sr.path, sr.part, sr.sols, sr.tree
     off, v, op = pw.off, pw.v, pw.row
@@ -825,7 +862,18 @@ def _load_partition(cs, sr, node, sl, key):
 @jit(inline="always")
 def _least_free_rc(cost, vf, free_meas, i, ci, ui, v_free):
     """The least reduced cost ``cost - ui - v_free`` of row ``i`` (column ``ci``) over its free
-    columns (as :func:`_least_free`, the value only)."""
+    columns (as :func:`_least_free`, the value only).
+
+    Parameters
+    ----------
+    cost, vf, free_meas, i, ci, ui, v_free
+        As in :func:`_least_free`.
+
+    Returns
+    -------
+    float
+        ``+inf`` when the row has no free column.
+    """
     M = vf.shape[0]
     P = cost.shape[0]
     iu = np.uint64(i)
@@ -849,7 +897,27 @@ def _row_bound(cost, cost0, pw, rows, lo, hi, i, ci, ui, free_meas, v_free):
     """The least reduced cost of an alternative for the free row ``i`` (its column ``ci``, dual
     ``ui``): over the columns of the rows ``rows[lo:hi]`` but its own, and over the free
     columns. Returns ``(bound, row)``, ``row`` the one whose column gives it (``-1``: a free
-    column)."""
+    column).
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        The working costs (row ``i``'s own entry is set to ``+inf`` and restored).
+    cost0 : ndarray of float64, shape (P, M + 3)
+        The original costs.
+    pw : PathWork
+        ``off`` and ``v`` of the rows (:func:`_load_partition`), ``vf``.
+    rows : ndarray of int64
+        Rows whose columns are candidates: ``rows[lo:hi]``.
+    lo, hi : int
+        Their range.
+    i, ci, ui, free_meas, v_free
+        As in :func:`_least_free`.
+
+    Returns
+    -------
+    (float, int)
+    """
     off, v = pw.off, pw.v
     iu = np.uint64(i)
     oi = np.uint64(off[iu])
@@ -877,7 +945,24 @@ def _order_rows(cs, sr, sl, n_free, free_meas, v_free):
     active alternative ``j != s[i]`` (and the row ``lb_row[i]`` whose column gives it), and
     ``order``: the free rows by decreasing bound, ties in row order (partition ordering), with
     each one's ``rank`` in it. (As :func:`_row_bound` over the free rows, keeping ``rc`` and
-    ``free_rc``.)"""
+    ``free_rc``.)
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (the node's forbidden pairs switched off).
+    sr : Search
+        The search: ``part``'s ``order``, ``rank``, ``lb``, ``lb_row``, ``free_rc`` and, when
+        ``P <= RC_ROWS``, ``rc`` written.
+    sl : int
+        The node's solution slot.
+    n_free : int
+        Its free rows (``path.row[:n_free]``).
+    free_meas : bool
+        Some measurement is free (:func:`_free_duals`).
+    v_free : float
+        The free columns' shared potential.
+    """
     cost, cost0 = cs.cost, cs.cost0
     pw, part, sols = sr.path, sr.part, sr.sols
     order, rank, lb, lb_row, free_rc, rcm = (part.order, part.rank, part.lb, part.lb_row,
@@ -936,7 +1021,32 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
     the free rows at hand (``rc``), the bound looks one step further: a first step into the
     column of an open row ``q`` is followed either by ``q``'s step into the freed column or
     by another step (at least ``lb[q]``) and the last one; a first step into a free column,
-    by the last one. The least of these sums is at least the two-step bound."""
+    by the last one. The least of these sums is at least the two-step bound.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (the node's forbidden pairs switched off).
+    sr : Search
+        The search (``part`` as :func:`_order_rows` left it); the new nodes and their
+        forbidden pairs are written into ``tree`` and ``forb``.
+    node : int
+        The node's id.
+    key : float
+        Its cost.
+    slack : float
+        The rounding margin subtracted from each bound.
+    cut : float
+        The cut (``+inf``: none).
+    n_free, free_meas, v_free
+        As in :func:`_order_rows`.
+    n_nodes, n_forb : int
+        Nodes and forbidden-pair entries used so far.
+
+    Returns
+    -------
+    (int, int)
+    """
     cost = cs.cost
     entry_of, order, rank, lb, lb_row, free_rc, rcm = sr.part
     keep = rcm.shape[0] == order.shape[0]
@@ -1013,7 +1123,27 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
 def _partition(cs, sr, node, key, cut, n_nodes, n_forb):
     """Partition the solved, reported ``node`` of cost ``key`` (lazily: its children enter
     the queue with a lower bound only), with the node's forbidden pairs switched off meanwhile.
-    Returns ``(n_nodes, n_forb)``."""
+    Returns ``(n_nodes, n_forb)``.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem.
+    sr : Search
+        The search.
+    node : int
+        The node's id.
+    key : float
+        Its cost.
+    cut : float
+        The cut (``+inf``: none).
+    n_nodes, n_forb : int
+        Nodes and forbidden-pair entries used so far.
+
+    Returns
+    -------
+    (int, int)
+    """
     tree, sols = sr.tree, sr.sols
     sl = tree.slot[node]
     head = tree.forb[node]
@@ -1034,7 +1164,21 @@ def _partition(cs, sr, node, key, cut, n_nodes, n_forb):
 @jit(inline="always")
 def _replace_top(heap_key, heap_id, n_heap, kx, x):
     """Put ``(kx, x)`` at the top of the min-heap ``(heap_key, heap_id)[:n_heap]`` (ordered by
-    key, then id) and sift it down to its place."""
+    key, then id) and sift it down to its place.
+
+    Parameters
+    ----------
+    heap_key : ndarray of float64
+        The keys.
+    heap_id : ndarray of int64
+        The node ids.
+    n_heap : int
+        The heap's size (``>= 1``).
+    kx : float
+        The new entry's key.
+    x : int
+        Its node id.
+    """
     h = 0
     while True:
         ch = 2 * h + 1
@@ -1061,7 +1205,21 @@ def _replace_top(heap_key, heap_id, n_heap, kx, x):
 
 @jit(inline="always")
 def _push(heap_key, heap_id, n_heap, ky, y):
-    """Push ``(ky, y)`` onto the min-heap of :func:`_replace_top`; returns its new size."""
+    """Push ``(ky, y)`` onto the min-heap of :func:`_replace_top`; returns its new size.
+
+    Parameters
+    ----------
+    heap_key, heap_id, n_heap
+        As in :func:`_replace_top` (with room for one more entry).
+    ky : float
+        The key.
+    y : int
+        The node id.
+
+    Returns
+    -------
+    int
+    """
     h = n_heap
     while h > 0:
         p = (h - 1) >> 1
@@ -1210,6 +1368,21 @@ def _root_lsap(cs, pw, sols, free):
     rows already assigned, and of the free columns (potential 0) only the closest matters,
     since the first one scanned ends the path. ``free`` (M,) is scratch: the measurements no
     row takes.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem.
+    pw : PathWork
+        The path workspace (scratch).
+    sols : Solutions
+        Slot 0 receives the root's solution (``cols``, ``u``, ``v``).
+    free : ndarray of int64, shape (M,)
+        Scratch.
+
+    Returns
+    -------
+    bool
     """
     cost = cs.cost
     P = cost.shape[0]
