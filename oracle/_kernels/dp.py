@@ -149,6 +149,11 @@ def dp_total_slice(W, s, F, G, pos, budget):
         Steps done (start at zero).
     budget : int
         Steps in this call (``>= 1``; one step is ``O(k 2^k)``).
+
+    Returns
+    -------
+    bool
+        True when all ``K`` steps are done.
     """
     K, k = W.shape
     t = pos[0]

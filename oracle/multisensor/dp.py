@@ -215,6 +215,11 @@ def _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):  # pragma: no
     budget : int
         States to push in this call (``>= 1``).
 
+    Returns
+    -------
+    bool
+        True when done (also early, with ``acc[0] = -inf``, when a row leaves no weight).
+
     Notes
     -----
     Every step's vector is divided by its maximum and the logs of the divisors are added
