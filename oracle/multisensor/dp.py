@@ -202,8 +202,10 @@ def _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):  # pragma: no
 
     Parameters
     ----------
-    w_dead : (P,) float64, w_alive : (P, T) float64
-        Scaled weights (0 = forbidden).
+    w_dead : (P,) float64
+        Scaled weight of each row being dead (0 = forbidden).
+    w_alive : (P, T) float64
+        Scaled weight of each row taking each tuple (0 = forbidden).
     masks : (T,) int64
         ``det(t)`` bitsets (``-1``: the tuple is never allowed).
     f, g : (2^B,) float64
