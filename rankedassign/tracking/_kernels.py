@@ -362,8 +362,7 @@ def _sort_cap_normalise(ow, om, oP, start, stop, cap):
     Returns
     -------
     int
-        The new stop, ``start + min(stop - start, cap)``; the weights in ``start:`` it sum
-        to 1.
+        The new stop, ``start + min(stop - start, cap)``; the kept weights sum to 1.
     """
     n = stop - start
     key = np.empty(n)
