@@ -43,7 +43,23 @@ __all__ = [
 # ----------------------------------------------------------------------------- subset DP
 @jit()
 def _dp_forward_step(F, G, W, s, t, k):
-    """``G(S) = s[t] F(S) + sum_{e in S} W[t, e] F(S \\ {e})`` (spec eq. 5.1)."""
+    """``G(S) = s[t] F(S) + sum_{e in S} W[t, e] F(S \\ {e})`` (spec eq. 5.1).
+
+    Parameters
+    ----------
+    F : ndarray of float64, shape (2^k,)
+        The vector before step ``t``, indexed by subsets (bit ``e``: element ``e``).
+    G : ndarray of float64, shape (2^k,)
+        Overwritten with the vector after it.
+    W : ndarray of float64, shape (K, k)
+        ``W[t, e]``: weight of adding element ``e`` at step ``t``.
+    s : ndarray of float64, shape (K,)
+        Weight of leaving the state unchanged at step ``t``.
+    t : int
+        The step.
+    k : int
+        Number of elements (bits).
+    """
     n = F.shape[0]
     st = s[t]
     for S in range(n):
@@ -61,7 +77,17 @@ def _dp_forward_step(F, G, W, s, t, k):
 
 @jit()
 def _dp_backward_step(B, G, W, s, t, k):
-    """``G(S) = s[t] B(S) + sum_{e not in S} W[t, e] B(S | {e})`` (adjoint of the forward step)."""
+    """``G(S) = s[t] B(S) + sum_{e not in S} W[t, e] B(S | {e})`` (adjoint of the forward step).
+
+    Parameters
+    ----------
+    B : ndarray of float64, shape (2^k,)
+        The backward vector after step ``t``.
+    G : ndarray of float64, shape (2^k,)
+        Overwritten with the backward vector before it.
+    W, s, t, k
+        As in :func:`_dp_forward_step`.
+    """
     n = B.shape[0]
     st = s[t]
     for S in range(n):
@@ -79,7 +105,20 @@ def _dp_backward_step(B, G, W, s, t, k):
 
 @jit()
 def dp_terminal(tin, tout, k):
-    """``T(S) = prod_{e in S} tin[e] * prod_{e not in S} tout[e]``."""
+    """``T(S) = prod_{e in S} tin[e] * prod_{e not in S} tout[e]``.
+
+    Parameters
+    ----------
+    tin, tout : ndarray of float64, shape (k,)
+        Terminal weight of an element inside / outside the final state.
+    k : int
+        Number of elements.
+
+    Returns
+    -------
+    ndarray of float64, shape (2^k,)
+        ``T``, indexed by subsets (bit ``e``: element ``e``).
+    """
     n = 1 << k
     T = np.ones(n)
     for e in range(k):
@@ -110,6 +149,11 @@ def dp_total_slice(W, s, F, G, pos, budget):
         Steps done (start at zero).
     budget : int
         Steps in this call (``>= 1``; one step is ``O(k 2^k)``).
+
+    Returns
+    -------
+    bool
+        True when all ``K`` steps are done.
     """
     K, k = W.shape
     t = pos[0]
@@ -128,8 +172,19 @@ def dp_total_slice(W, s, F, G, pos, budget):
 def dp_total_finish(F, G, K, tin, tout):
     """``sum_S F_K(S) T(S)`` after :func:`dp_total_slice` (``F_K`` is ``F`` for even ``K``).
 
-    ``tin, tout`` : ndarray, float64, shape (k,): terminal weight of an element inside /
-    outside the final state.
+    Parameters
+    ----------
+    F, G : ndarray of float64, shape (2^k,)
+        The two vectors of :func:`dp_total_slice` after its last step.
+    K : int
+        Number of steps (rows of its ``W``).
+    tin, tout : ndarray of float64, shape (k,)
+        Terminal weight of an element inside / outside the final state.
+
+    Returns
+    -------
+    float
+        The total weight.
     """
     k = tin.shape[0]
     cur = F if K % 2 == 0 else G
@@ -161,7 +216,24 @@ SubsetMarginals = namedtuple("SubsetMarginals", ["pair", "stay", "term_out"])
 @jit()
 def _subset_backward_sweep(dp, work, pos, left):
     """Pass 0: backward steps from ``t = pos[2]`` down, storing ``B_t`` at block starts; on
-    completion ``pos = [1, 0, -1]``. Returns the budget left."""
+    completion ``pos = [1, 0, -1]``. Returns the budget left.
+
+    Parameters
+    ----------
+    dp : SubsetDP
+        The DP's data.
+    work : SubsetWork
+        Its vectors (``Bst`` filled at the block starts).
+    pos : ndarray of int64, shape (3,)
+        As in :func:`dp_marginal_slice`.
+    left : int
+        Steps left in this call.
+
+    Returns
+    -------
+    int
+        Steps left; the pass is complete when ``pos[0]`` has moved on.
+    """
     W, s, _ = dp
     Bst, X, Y = work.Bst, work.X, work.Y
     K, k = W.shape
@@ -191,7 +263,18 @@ def _subset_backward_sweep(dp, work, pos, left):
 def _subset_block_backward(dp, work, pos, left):
     """Pass 1: recompute ``B_t`` for ``t`` in ``(t0, t1]`` of block ``pos[1]`` from its stored
     end (``pos[2] = -1``: not begun); on completion ``pos[0] = 2``, ``pos[2] = t0``. Returns
-    the budget left."""
+    the budget left.
+
+    Parameters
+    ----------
+    dp, work, pos, left
+        As in :func:`_subset_backward_sweep` (``work.Bblk`` filled).
+
+    Returns
+    -------
+    int
+        Steps left.
+    """
     W, s, T = dp
     Bst, Bblk = work.Bst, work.Bblk
     K, k = W.shape
@@ -221,7 +304,20 @@ def _subset_block_backward(dp, work, pos, left):
 def _subset_block_forward(dp, work, out, pos, left):
     """Pass 2: the forward steps of block ``pos[1]`` from ``t = pos[2]`` and the weights
     through them (spec eq. 5.2); on completion ``pos = [1, block + 1, -1]``. Returns the
-    budget left."""
+    budget left.
+
+    Parameters
+    ----------
+    dp, work, pos, left
+        As in :func:`_subset_backward_sweep`.
+    out : SubsetMarginals
+        ``pair`` and ``stay`` written at the block's steps.
+
+    Returns
+    -------
+    int
+        Steps left.
+    """
     W, s, _ = dp
     F, Fn, Bblk = work.F, work.Fn, work.Bblk
     pair, stay = out.pair, out.stay
@@ -347,7 +443,21 @@ RETIRE = 2
 
 @jit()
 def _retire_source(Sp, e, top):
-    """State ``S0`` (bit ``e`` clear) before retiring slot ``e`` that maps to state ``Sp``."""
+    """State ``S0`` (bit ``e`` clear) before retiring slot ``e`` that maps to state ``Sp``.
+
+    Parameters
+    ----------
+    Sp : int
+        A state after the retirement (bits ``0..top-1``).
+    e : int
+        The retiring slot.
+    top : int
+        The highest slot before the retirement (``n - 1``), whose row moves into slot ``e``.
+
+    Returns
+    -------
+    int
+    """
     if e == top:
         return Sp
     hb = (Sp >> e) & 1
@@ -364,7 +474,27 @@ FrontierDP = namedtuple("FrontierDP", ["ops", "W", "s", "w_un"])
 
 @jit()
 def _frontier_forward(dp, k, n, F, G):
-    """Apply operation ``k`` to ``F[:2^n]``, writing ``G``; return the new number of slots."""
+    """Apply operation ``k`` to ``F[:2^n]``, writing ``G``; return the new number of slots.
+
+    Parameters
+    ----------
+    dp : FrontierDP
+        The DP's data.
+    k : int
+        The operation.
+    n : int
+        Slots in use before it.
+    F : ndarray of float64
+        The forward vector before it, ``2^n`` entries read.
+    G : ndarray of float64
+        Receives the vector after it (``2^(n+1)``, ``2^n`` or ``2^(n-1)`` entries written for
+        ``ENTER``, ``TRANS``, ``RETIRE``).
+
+    Returns
+    -------
+    int
+        Slots in use after the operation.
+    """
     kind, arg, slot = dp.ops[k, 0], dp.ops[k, 1], dp.ops[k, 2]
     size = 1 << n
     if kind == ENTER:
@@ -388,7 +518,21 @@ def _frontier_forward(dp, k, n, F, G):
 @jit()
 def _frontier_adjoint(dp, k, n, B, G):
     """Transpose of :func:`_frontier_forward`: ``n`` slots *before* operation ``k``, ``B``
-    the backward vector after it; writes the backward vector before it into ``G``."""
+    the backward vector after it; writes the backward vector before it into ``G``.
+
+    Parameters
+    ----------
+    dp : FrontierDP
+        The DP's data.
+    k : int
+        The operation.
+    n : int
+        Slots in use before it.
+    B : ndarray of float64
+        The backward vector after it.
+    G : ndarray of float64
+        Receives the ``2^n`` entries of the backward vector before it.
+    """
     kind, arg, slot = dp.ops[k, 0], dp.ops[k, 1], dp.ops[k, 2]
     size = 1 << n
     if kind == ENTER:
@@ -445,6 +589,11 @@ def frontier_total_slice(dp, F, G, pos, budget):
 def frontier_layout(ops):
     """Slots before each operation and the checkpoint layout of :func:`frontier_marginal_slice`.
 
+    Parameters
+    ----------
+    ops : ndarray of int64, shape (n_ops, 3)
+        The operations ``(kind, arg, slot)`` (:data:`FrontierDP`).
+
     Returns
     -------
     nb : (n_ops + 1,) int64
@@ -500,7 +649,26 @@ FrontierMarginals = namedtuple("FrontierMarginals", ["pair", "unmatched", "acc"]
 def _frontier_forward_sweep(dp, work, out, pos, left):
     """Pass 0: forward operations from ``pos[2]``, checkpointing every ``L``-th vector; on
     completion ``out.acc[0]`` is the total and ``pos[0] = 1``, ``pos[2] = -1``. Returns the
-    budget left."""
+    budget left.
+
+    Parameters
+    ----------
+    dp : FrontierDP
+        The DP's data.
+    work : FrontierWork
+        Its vectors (``ck`` filled with the checkpoints).
+    out : FrontierMarginals
+        ``acc`` written on completion.
+    pos : ndarray of int64, shape (4,)
+        As in :func:`frontier_marginal_slice`.
+    left : int
+        Operations left in this call.
+
+    Returns
+    -------
+    int
+        Operations left; the pass is complete when ``pos[0]`` has moved on.
+    """
     nb, ck_off, ck, F, G = work.nb, work.ck_off, work.ck, work.F, work.G
     n_ops = dp.ops.shape[0]
     L = work.blk_off.shape[0] - 1
@@ -529,7 +697,18 @@ def _frontier_forward_sweep(dp, work, out, pos, left):
 def _frontier_block_forward(dp, work, pos, left):
     """Pass 1: recompute ``f_k``, ``k0 <= k < k1``, of block ``pos[1]`` from its checkpoint
     (``pos[2] = -1``: not begun); on completion ``pos[0] = 2``, ``pos[2] = k1 - 1``. Returns
-    the budget left."""
+    the budget left.
+
+    Parameters
+    ----------
+    dp, work, pos, left
+        As in :func:`_frontier_forward_sweep` (``work.blk`` and ``work.blk_off`` filled).
+
+    Returns
+    -------
+    int
+        Operations left.
+    """
     nb, ck_off, ck, G = work.nb, work.ck_off, work.ck, work.G
     blk, blk_off = work.blk, work.blk_off
     n_ops = dp.ops.shape[0]
@@ -562,7 +741,19 @@ def _frontier_block_forward(dp, work, pos, left):
 def _frontier_block_backward(dp, work, out, pos, left):
     """Pass 2: the adjoint operations of block ``pos[1]`` from ``pos[2]`` down and the
     weights through them (spec eq. 5.2); on completion ``pos = [1, block - 1, -1, ...]``.
-    Returns the budget left."""
+    Returns the budget left.
+
+    Parameters
+    ----------
+    dp, work, out, pos, left
+        As in :func:`_frontier_forward_sweep` (``out.pair`` and ``out.unmatched`` written at
+        the block's ``TRANS`` and ``RETIRE`` operations; ``work.B``, ``work.Bn`` alternate).
+
+    Returns
+    -------
+    int
+        Operations left.
+    """
     ops, W, _, w_un = dp
     nb, blk, blk_off, B, Bn = work.nb, work.blk, work.blk_off, work.B, work.Bn
     pair, unmatched = out.pair, out.unmatched

@@ -28,6 +28,22 @@ def _next_option(cc, row, o, used):
     """The first option of ``row`` after ``o`` that is finite and, for a measurement, unused.
 
     Returns ``M + 2`` when the row's options are exhausted.
+
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs ``[meas 0..M-1 | missed | dead]`` (``+inf`` = forbidden).
+    row : int
+        The row.
+    o : int
+        Its current compact option (:data:`NO_OPTION`, -1, before the first).
+    used : ndarray of bool, shape (M,)
+        Measurements held by the rows before ``row``.
+
+    Returns
+    -------
+    int
+        The next compact option, or ``M + 2``.
     """
     M = cc.shape[1] - 2
     o += 1
@@ -38,7 +54,21 @@ def _next_option(cc, row, o, used):
 
 @jit()
 def _full_column(o, i, P, M):
-    """Column of compact option ``o`` of row ``i`` in the ``(P, M + 2P)`` layout."""
+    """Column of compact option ``o`` of row ``i`` in the ``(P, M + 2P)`` layout.
+
+    Parameters
+    ----------
+    o : int
+        Compact option: a measurement ``< M``, missed ``M`` or dead ``M + 1``.
+    i : int
+        The row.
+    P, M : int
+        Rows and measurements.
+
+    Returns
+    -------
+    int
+    """
     if o < M:
         return o
     if o == M:
@@ -106,6 +136,11 @@ def _cost_keys(keys):
     """Turn the float64 bits in ``keys`` (no NaN) into order-preserving keys, in place.
 
     Negative floats: every bit flipped (reverses their order); others: the sign bit set.
+
+    Parameters
+    ----------
+    keys : ndarray of uint64, shape (n,)
+        The bits of float64 values; overwritten by the keys.
     """
     for t in range(keys.shape[0]):
         b = keys[t]
@@ -114,7 +149,18 @@ def _cost_keys(keys):
 
 @jit()
 def _key_costs(keys):
-    """Undo :func:`_cost_keys` in place; returns the float64 view of ``keys``."""
+    """Undo :func:`_cost_keys` in place; returns the float64 view of ``keys``.
+
+    Parameters
+    ----------
+    keys : ndarray of uint64, shape (n,)
+        Order-preserving keys; overwritten by the floats' bits.
+
+    Returns
+    -------
+    ndarray of float64, shape (n,)
+        A view of ``keys``.
+    """
     for t in range(keys.shape[0]):
         b = keys[t]
         keys[t] = b & ~_SIGN if b & _SIGN else ~b
@@ -124,6 +170,11 @@ def _key_costs(keys):
 @jit()
 def _radix_sort(keys):
     """Stable LSD radix sort of ``keys`` (uint64, overwritten).
+
+    Parameters
+    ----------
+    keys : ndarray of uint64, shape (n,)
+        The keys, ``n < 2^31``; used as one of the sort's two buffers.
 
     Returns
     -------
@@ -174,6 +225,16 @@ def _radix_argsort(x):
 
     ``-0.0`` sorts as ``+0.0``, and equal values keep their input order, as
     ``np.argsort(x, kind="stable")``.
+
+    Parameters
+    ----------
+    x : ndarray of float64, shape (n,)
+        The values (not modified), ``n < 2^31``.
+
+    Returns
+    -------
+    ndarray of int32, shape (n,)
+        The stable argsort.
     """
     keys = (x + 0.0).view(np.uint64)  # a copy (+ 0.0 maps -0.0 to +0.0), viewed as bits
     _cost_keys(keys)
@@ -187,6 +248,19 @@ def _search(cc, n_out, costs, rank, out):
     With ``rank`` empty, ``costs[n]`` gets the cost of the ``n``-th assignment (summed as
     :func:`enumerate_kernel` sums it); otherwise the ``n``-th assignment is written to row
     ``rank[n]`` of ``out``, its sorted position, and ``costs`` is not used.
+
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs, as in :func:`enumerate_kernel`.
+    n_out : int
+        Number of feasible assignments.
+    costs : ndarray of float64, shape (n_out,) or empty
+        Receives the costs in search order (first pass).
+    rank : ndarray of int32, shape (n_out,) or empty
+        Sorted position of each assignment (second pass); empty selects the first pass.
+    out : ndarray of int64, shape (n_out, P) or empty
+        Receives the assignments at their sorted rows (second pass).
     """
     P = cc.shape[0]
     M = cc.shape[1] - 2
@@ -227,8 +301,20 @@ def _search(cc, n_out, costs, rank, out):
 def enumerate_sorted_kernel(cc, n_out):
     """:func:`enumerate_kernel` followed by one stable sort by cost.
 
-    Returns ``(assignments, costs)`` as :func:`enumerate_kernel`, sorted by cost; equal costs
-    stay in the search's (lexicographic) order.
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs, as in :func:`enumerate_kernel`.
+    n_out : int
+        Exact number of feasible assignments.
+
+    Returns
+    -------
+    assignments : ndarray of int64, shape (n_out, P)
+        As in :func:`enumerate_kernel`, sorted by cost; equal costs stay in the search's
+        (lexicographic) order.
+    costs : ndarray of float64, shape (n_out,)
+        Their costs, non-decreasing.
 
     Notes
     -----
@@ -264,6 +350,26 @@ def count_slice(cc, cap, used, opt, at, budget):
     ``at`` (the search's row, the count) at zero; ``P >= 1``. Used only when the exact
     counting DP of :meth:`~rankedassign.AssignmentProblem.n_feasible` refuses the size; the
     caller loops over slices so that Ctrl-C ends a long count promptly.
+
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs, as in :func:`enumerate_kernel`.
+    cap : int
+        The count above which the search stops.
+    used : ndarray of bool, shape (M,)
+        Measurements held; the search's state, kept between slices.
+    opt : ndarray of int64, shape (P,)
+        Current option of each row; kept between slices.
+    at : ndarray of int64, shape (2,)
+        The search's row and the count so far; kept between slices.
+    budget : int
+        Steps in this call.
+
+    Returns
+    -------
+    bool
+        True when the count is done.
     """
     P = cc.shape[0]
     M = cc.shape[1] - 2

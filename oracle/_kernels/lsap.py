@@ -69,7 +69,20 @@ SearchWorkspace = namedtuple("SearchWorkspace", ["d", "path", "scanned_c", "cand
 
 @jit()
 def new_workspace(P, N):
-    """A clean :data:`SearchWorkspace` for ``P`` rows and ``N`` columns."""
+    """A clean :data:`SearchWorkspace` for ``P`` rows and ``N`` columns.
+
+    Parameters
+    ----------
+    P, N : int
+        Rows and columns of the problem.
+
+    Returns
+    -------
+    SearchWorkspace
+        ``d`` (N,) ``+inf``, ``path`` (N,) ``UNASSIGNED``, ``scanned_c`` (N,) False,
+        ``cand``, ``touched``, ``done`` (N,) int64 and ``rows`` (P,) int64 uninitialised,
+        ``n`` (4,) int64 zero.
+    """
     return SearchWorkspace(np.full(N, np.inf), np.full(N, UNASSIGNED, dtype=np.int64),
                            np.zeros(N, dtype=np.bool_), np.empty(N, dtype=np.int64),
                            np.empty(N, dtype=np.int64), np.empty(N, dtype=np.int64),
@@ -78,14 +91,38 @@ def new_workspace(P, N):
 
 @jit()
 def new_matching(P, N):
-    """An empty :data:`Matching`: zero duals, nothing assigned, every column active."""
+    """An empty :data:`Matching`: zero duals, nothing assigned, every column active.
+
+    Parameters
+    ----------
+    P, N : int
+        Rows and columns of the problem.
+
+    Returns
+    -------
+    Matching
+        ``u`` (P,), ``v`` (N,) float64 zero; ``col4row`` (P,), ``row4col`` (N,) int64
+        ``UNASSIGNED``; ``active`` (N,) bool True.
+    """
     return Matching(np.zeros(P), np.zeros(N), np.full(P, UNASSIGNED, dtype=np.int64),
                     np.full(N, UNASSIGNED, dtype=np.int64), np.ones(N, dtype=np.bool_))
 
 
 @jit()
 def graph_from_dense(C):
-    """The :data:`Graph` of the finite entries of ``C`` (columns in increasing order)."""
+    """The :data:`Graph` of the finite entries of ``C`` (columns in increasing order).
+
+    Parameters
+    ----------
+    C : ndarray of float64, shape (P, N)
+        Costs, ``+inf`` for a missing entry (no NaN).
+
+    Returns
+    -------
+    Graph
+        ``ptr`` (P + 1,), ``col`` (E,) int64, ``cost`` and ``cost0`` (E,) float64 (two
+        copies), ``pos`` (P, N) int64, with ``E`` the number of finite entries.
+    """
     P, N = C.shape
     ptr = np.zeros(P + 1, dtype=np.int64)
     for i in range(P):
@@ -110,7 +147,15 @@ def graph_from_dense(C):
 
 @jit()
 def _mark_reached(ws, j):
-    """Column ``j`` is reached for the first time: onto the frontier and the touched list."""
+    """Column ``j`` is reached for the first time: onto the frontier and the touched list.
+
+    Parameters
+    ----------
+    ws : SearchWorkspace
+        The search's workspace.
+    j : int
+        The column.
+    """
     ws.cand[ws.n[N_CAND]] = j
     ws.n[N_CAND] += 1
     ws.touched[ws.n[N_TOUCHED]] = j
@@ -123,6 +168,25 @@ def relax_row(g, i, min_val, freed, hub_open, v_free, m, ws):
 
     Only the row's own finite, active, unscanned entries are visited. Once the hub is open
     every dummy-held column is already reached, so those are skipped.
+
+    Parameters
+    ----------
+    g : Graph
+        The problem.
+    i : int
+        The row.
+    min_val : float
+        Distance of the row (of the column it was reached through; 0 for the root).
+    freed : int
+        The freed column of a warm start, or ``COLD``.
+    hub_open : bool
+        The dummy rows' hub is open (:func:`open_hub`).
+    v_free : float
+        The free columns' shared potential.
+    m : Matching
+        Duals and matching.
+    ws : SearchWorkspace
+        Distances and paths updated; ``i`` appended to the scanned rows.
     """
     ws.rows[ws.n[N_ROWS]] = i
     ws.n[N_ROWS] += 1
@@ -157,6 +221,19 @@ def closest_column(ws, freed, m):
     Ties prefer a column that ends the path (the freed column of a warm start, a free column
     of a cold one), then the lowest column index: shorter paths, and an order that does not
     depend on the order in which columns were reached.
+
+    Parameters
+    ----------
+    ws : SearchWorkspace
+        The search's workspace.
+    freed : int
+        The freed column, or ``COLD``.
+    m : Matching
+        The matching (which columns are free).
+
+    Returns
+    -------
+    int
     """
     index = -1
     lowest = np.inf
@@ -177,7 +254,20 @@ def closest_column(ws, freed, m):
 
 @jit()
 def _take(ws, index):
-    """Remove ``ws.cand[index]`` from the frontier, mark it scanned, and return it."""
+    """Remove ``ws.cand[index]`` from the frontier, mark it scanned, and return it.
+
+    Parameters
+    ----------
+    ws : SearchWorkspace
+        The search's workspace.
+    index : int
+        Position in the frontier (:func:`closest_column`).
+
+    Returns
+    -------
+    int
+        The column.
+    """
     j = ws.cand[index]
     ws.n[N_CAND] -= 1
     ws.cand[index] = ws.cand[ws.n[N_CAND]]
@@ -195,6 +285,19 @@ def open_hub(min_val, v_free, freed, m, ws):
     (its potential stays the shared ``v_free``); every matched active column ``k`` and the
     freed column are reached at ``min_val + v_free - v[k]`` (the dummy row's zero-cost edge,
     reduced).
+
+    Parameters
+    ----------
+    min_val : float
+        Distance of the dummy-held column just scanned.
+    v_free : float
+        The free columns' shared potential.
+    freed : int
+        The freed column (a warm start).
+    m : Matching
+        Duals and matching.
+    ws : SearchWorkspace
+        Frontier, distances and paths updated.
     """
     it = 0
     while it < ws.n[N_CAND]:
@@ -223,6 +326,17 @@ def update_duals(root, min_val, m, ws):
     ``u[i] += min_val - d[col4row[i]]`` on scanned rows (``min_val`` for the root),
     ``v[j] -= min_val - d[j]`` on scanned columns: reduced costs stay ``>= 0`` and become 0
     along the shortest path.
+
+    Parameters
+    ----------
+    root : int
+        The row the search started from.
+    min_val : float
+        Length of the shortest augmenting path.
+    m : Matching
+        Duals updated in place (the matching is read, not changed).
+    ws : SearchWorkspace
+        The finished search.
     """
     for t in range(ws.n[N_ROWS]):
         r = ws.rows[t]
@@ -237,7 +351,21 @@ def update_duals(root, min_val, m, ws):
 
 @jit()
 def flip_path(sink, root, hub_src, m, path):
-    """Augment along the shortest path ending at ``sink``, back to ``root``."""
+    """Augment along the shortest path ending at ``sink``, back to ``root``.
+
+    Parameters
+    ----------
+    sink : int
+        The column the path ends at.
+    root : int
+        The row it starts from.
+    hub_src : int
+        The dummy-held column that opened the hub (read when the path passes it).
+    m : Matching
+        ``col4row`` and ``row4col`` updated in place.
+    path : ndarray of int64, shape (N,)
+        The row each column was reached from (``HUB``: through the dummy rows).
+    """
     j = sink
     while True:
         r = path[j]
@@ -255,7 +383,13 @@ def flip_path(sink, root, hub_src, m, path):
 
 @jit()
 def clear_search(ws):
-    """Restore the clean state of the workspace (``d = +inf``, nothing scanned)."""
+    """Restore the clean state of the workspace (``d = +inf``, nothing scanned).
+
+    Parameters
+    ----------
+    ws : SearchWorkspace
+        Cleared in ``O(touched)``; its counters zeroed.
+    """
     for t in range(ws.n[N_TOUCHED]):
         j = ws.touched[t]
         ws.d[j] = np.inf
@@ -282,6 +416,28 @@ def sap_augment(g, root, freed, m, v_free, ws):
 
     Updates ``m`` in place and returns ``(increase, new_v_free)``; ``increase = +inf`` when no
     augmenting path exists (the subproblem is infeasible; ``m`` is then unchanged).
+
+    Parameters
+    ----------
+    g : Graph
+        The problem.
+    root : int
+        The free row to augment from.
+    freed : int
+        ``COLD``, or the column un-assigned from ``root`` (a warm start).
+    m : Matching
+        Duals and matching, updated in place.
+    v_free : float
+        The free columns' shared potential.
+    ws : SearchWorkspace
+        Clean on entry and on return.
+
+    Returns
+    -------
+    increase : float
+        The path's length (the cost's increase), or ``+inf``.
+    new_v_free : float
+        The shared potential after the augmentation.
     """
     min_val = 0.0
     i = root

@@ -164,6 +164,17 @@ def pack_search(sr):
     numba boxes a named tuple by calling its class, Python code, where a signal handler's
     exception crashes numba's return path (a segmentation fault, not an error); a plain tuple
     is built in C and only ever raises. :func:`unpack_search` names it again in compiled code.
+
+    Parameters
+    ----------
+    sr : Search
+        The search's state.
+
+    Returns
+    -------
+    tuple
+        ``(path, tree, forb, sols, ranking, part, state)``, each record a plain tuple of its
+        fields; the arrays are shared, not copied.
     """
     return (sr.path[:], sr.tree[:], sr.forb[:], sr.sols[:], sr.ranking[:], sr.part[:],
             sr.state)
@@ -171,7 +182,18 @@ def pack_search(sr):
 
 @jit(inline="always")
 def unpack_search(t):
-    """The :data:`Search` of a packed one (:func:`pack_search`)."""
+    """The :data:`Search` of a packed one (:func:`pack_search`).
+
+    Parameters
+    ----------
+    t : tuple
+        A packed search.
+
+    Returns
+    -------
+    Search
+        The same arrays, named.
+    """
     return Search(PathWork(*t[0]), Tree(*t[1]), Forbidden(*t[2]), Solutions(*t[3]),
                   Ranking(*t[4]), PartitionWork(*t[5]), t[6])
 
@@ -179,7 +201,20 @@ def unpack_search(t):
 # ----------------------------------------------------------------------------- small helpers
 @jit()
 def _grow(a, n):
-    """``a`` copied into a new array with ``n`` rows (first axis)."""
+    """``a`` copied into a new array with ``n`` rows (first axis).
+
+    Parameters
+    ----------
+    a : ndarray
+        C-contiguous, ``a.shape[0] <= n``.
+    n : int
+        Rows of the copy.
+
+    Returns
+    -------
+    ndarray, shape (n, *a.shape[1:]), dtype of ``a``
+        ``a`` in the first rows, the rest uninitialised.
+    """
     out = np.empty((n,) + a.shape[1:], dtype=a.dtype)
     # element by element through flat views (both C-contiguous): an array assigned into a
     # slice compiles numba's formatted shape-mismatch error for each shape, about a second
@@ -192,7 +227,19 @@ def _grow(a, n):
 
 @jit(inline="always")
 def _sift_down_max(a, n, h, x):
-    """Put ``x`` at ``h`` in the max-heap ``a[:n]`` and move it down to its place."""
+    """Put ``x`` at ``h`` in the max-heap ``a[:n]`` and move it down to its place.
+
+    Parameters
+    ----------
+    a : ndarray of float64
+        The heap, ``a[:n]``; the entry at ``h`` is replaced.
+    n : int
+        Its size.
+    h : int
+        The position.
+    x : float
+        The new value.
+    """
     while True:
         ch = 2 * h + 1
         if ch >= n:
@@ -209,13 +256,39 @@ def _sift_down_max(a, n, h, x):
 
 @jit(inline="always")
 def _own_entry(i, c, M, P):
-    """The entry of row ``i``'s column ``c`` in its row of the compact costs."""
+    """The entry of row ``i``'s column ``c`` in its row of the compact costs.
+
+    Parameters
+    ----------
+    i : int
+        The row.
+    c : int
+        One of its columns in the ``P x (M + 2P)`` layout (a measurement, its own missed
+        ``M + i`` or dead ``M + P + i``).
+    M, P : int
+        Measurements and rows.
+
+    Returns
+    -------
+    int
+        ``c``, ``M`` or ``M + 1``.
+    """
     return c if c < M else (M if c < M + P else M + 1)
 
 
 @jit(inline="always")
 def _switch_off(cost, forb, head):
-    """Forbid every pair of the list that starts at ``head``: its cost becomes ``+inf``."""
+    """Forbid every pair of the list that starts at ``head``: its cost becomes ``+inf``.
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        :data:`CompactCosts`' working copy.
+    forb : Forbidden
+        The forbidden-pair lists.
+    head : int
+        The list's first entry (``NO_ENTRY``: empty).
+    """
     g = head
     while g != NO_ENTRY:
         gu = np.uint64(g)
@@ -225,7 +298,15 @@ def _switch_off(cost, forb, head):
 
 @jit(inline="always")
 def _switch_on(cost, cost0, forb, head):
-    """Allow the pairs of the list that starts at ``head`` again (their costs from ``cost0``)."""
+    """Allow the pairs of the list that starts at ``head`` again (their costs from ``cost0``).
+
+    Parameters
+    ----------
+    cost, forb, head
+        As in :func:`_switch_off`.
+    cost0 : ndarray of float64, shape (P, M + 3)
+        The original costs.
+    """
     g = head
     while g != NO_ENTRY:
         gu = np.uint64(g)
@@ -238,7 +319,21 @@ def _switch_on(cost, cost0, forb, head):
 @jit(inline="always")
 def _is_full(sr, k, n_out, n_sols, n_nodes, n_forb, n_best):
     """Whether some array of ``sr`` lacks room for the next iteration's worst case (``P``
-    children; kbest never holds more than ``k``)."""
+    children; kbest never holds more than ``k``).
+
+    Parameters
+    ----------
+    sr : Search
+        The search.
+    k : int
+        Number of assignments wanted.
+    n_out, n_sols, n_nodes, n_forb, n_best : int
+        The counters ``S_OUT``, ``S_SOLS``, ``S_NODES``, ``S_FORB``, ``S_BEST``.
+
+    Returns
+    -------
+    bool
+    """
     P = sr.path.row.shape[0]
     return (n_out == sr.ranking.slot.shape[0] or n_sols == sr.sols.cols.shape[0]
             or n_nodes + P > sr.tree.key.shape[0] or n_forb + P > sr.forb.row.shape[0]
@@ -248,7 +343,23 @@ def _is_full(sr, k, n_out, n_sols, n_nodes, n_forb, n_best):
 @jit(inline="always")
 def _free_duals(vf, sols, s, v_free):
     """Fill ``vf`` for the free columns' pass of solution ``s``: ``v_free`` for a free
-    measurement, ``-inf`` for one a row takes. Returns whether some measurement is free."""
+    measurement, ``-inf`` for one a row takes. Returns whether some measurement is free.
+
+    Parameters
+    ----------
+    vf : ndarray of float64, shape (M,)
+        :data:`PathWork`'s ``vf``; left unchanged when no measurement is free.
+    sols : Solutions
+        The solutions.
+    s : int
+        The solution's slot.
+    v_free : float
+        Its free columns' shared potential.
+
+    Returns
+    -------
+    bool
+    """
     M = vf.shape[0]
     su = np.uint64(s)
     if sols.taken[su] == M:
@@ -267,7 +378,31 @@ def _least_free(cost, vf, free_meas, i, ci, ui, v_free, min_val):
     """The closest free column of row ``i`` (its column ``ci``, dual ``ui``) reached at
     ``min_val``: ``(distance, column)``, the lower column among equal distances (``+inf, -1``:
     none). The free measurements (``vf``, when ``free_meas``), then the row's own missed and
-    dead columns when it does not take them."""
+    dead columns when it does not take them.
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        The working costs.
+    vf : ndarray of float64, shape (M,)
+        The free measurements' duals (:func:`_free_duals`).
+    free_meas : bool
+        Some measurement is free.
+    i : int
+        The row.
+    ci : int
+        Its column in the parent's solution.
+    ui : float
+        Its dual.
+    v_free : float
+        The free columns' shared potential.
+    min_val : float
+        The distance the row is reached at.
+
+    Returns
+    -------
+    (float, int)
+    """
     M = vf.shape[0]
     P = cost.shape[0]
     iu = np.uint64(i)
@@ -298,7 +433,25 @@ def _least_free(cost, vf, free_meas, i, ci, ui, v_free, min_val):
 def _load_parent(pw, sols, forb, f, end, ps):
     """Load the open rows of a node (``forb.row[f:end]``, the first one ``root``, whose pair
     it forbids: its column is the freed one) and their columns in solution ``ps`` (its
-    parent) into the frontier of ``pw``. Returns the number of open rows."""
+    parent) into the frontier of ``pw``. Returns the number of open rows.
+
+    Parameters
+    ----------
+    pw : PathWork
+        The path workspace (its frontier written).
+    sols : Solutions
+        The solutions.
+    forb : Forbidden
+        The forbidden-pair lists (their ``row`` lists the open rows).
+    f, end : int
+        The node's ``forb`` and ``end``.
+    ps : int
+        The parent's solution slot.
+
+    Returns
+    -------
+    int
+    """
     row, off, tie, v, d = pw.row, pw.off, pw.tie, pw.v, pw.d
     s_cols, s_v = sols.cols, sols.v
     M = pw.vf.shape[0]
@@ -322,7 +475,27 @@ def _load_parent(pw, sols, forb, f, end, ps):
 def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
     """Relax row ``i`` (dual ``ui``, reached at ``min_val``) into the frontier's columns and
     return the position of the closest one (``-1``: none reached): ties by ``tie``, so the
-    freed column, then the lower column."""
+    freed column, then the lower column.
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        The working costs (the node's forbidden pairs at ``+inf``).
+    pw : PathWork
+        The frontier: ``d`` and ``via`` updated.
+    n_open : int
+        Columns in the frontier.
+    i : int
+        The row scanned.
+    ui : float
+        Its dual.
+    min_val : float
+        The distance it is reached at.
+
+    Returns
+    -------
+    int
+    """
     off, tie, v, d, via = pw.off, pw.tie, pw.v, pw.d, pw.via
     iu = np.uint64(i)
     index = 0
@@ -347,7 +520,23 @@ def _relax_and_pick(cost, pw, n_open, i, ui, min_val):
 def _open_hub(pw, n_open, v_free, min_val):
     """A free column was scanned at ``min_val``: the dummy rows reach every frontier column
     at reduced cost ``v_free - v``. Returns the position of the closest one afterwards
-    (``-1``: none)."""
+    (``-1``: none).
+
+    Parameters
+    ----------
+    pw : PathWork
+        The frontier: ``d`` and ``via`` (``HUB``) updated.
+    n_open : int
+        Columns in the frontier.
+    v_free : float
+        The free columns' shared potential.
+    min_val : float
+        The free column's distance.
+
+    Returns
+    -------
+    int
+    """
     tie, v, d, via = pw.tie, pw.v, pw.d, pw.via
     index = 0
     lowest = np.inf
@@ -370,7 +559,24 @@ def _open_hub(pw, n_open, v_free, min_val):
 @jit(inline="always")
 def _scan(pw, t, n_open, n_done):
     """Move the frontier's column at position ``t`` to the scanned ones (``done``); returns
-    its row."""
+    its row.
+
+    Parameters
+    ----------
+    pw : PathWork
+        The path workspace; the frontier's last entry moves to position ``t``.
+    t : int
+        The position.
+    n_open : int
+        Columns in the frontier (one fewer afterwards, which the caller counts).
+    n_done : int
+        Columns scanned so far (the new one's position in ``done``).
+
+    Returns
+    -------
+    int
+        The row whose column was scanned.
+    """
     row, off, tie, v, d, via = pw.row, pw.off, pw.tie, pw.v, pw.d, pw.via
     t = np.uint64(t)
     n = np.uint64(n_done)
@@ -396,7 +602,25 @@ def _solve_node(cs, sr, node, cut, s):
     and assignment minus ``(root, freed)`` (the algorithm of :func:`.lsap.sap_augment`, warm
     start), unless the cut drops it; when solved, its solution (and ``v_free``) is written
     into slot ``s``. Returns ``(solved, distance)``: the node costs its parent's cost plus the
-    distance, up to rounding."""
+    distance, up to rounding.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (the node's forbidden pairs are switched off and on again).
+    sr : Search
+        The search.
+    node : int
+        The node's id.
+    cut : float
+        The cut: a node proven to cost more is dropped (``+inf``: no cut).
+    s : int
+        The free solution slot.
+
+    Returns
+    -------
+    (bool, float)
+    """
     cost = cs.cost
     pw, tree, forb, sols = sr.path, sr.tree, sr.forb, sr.sols
     done, done_d, done_v, done_via, at = pw.done, pw.done_d, pw.done_v, pw.done_via, pw.at
@@ -508,7 +732,21 @@ def _solve_node(cs, sr, node, cut, s):
 @jit(inline="always")
 def _store_cost(cs, sols, s):
     """Set the cost (summed row by row from ``0.0``) and the number of measurements taken of
-    solution ``s``; returns the cost."""
+    solution ``s``; returns the cost.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (``cost0`` is read).
+    sols : Solutions
+        ``cost`` and ``taken`` of slot ``s`` written.
+    s : int
+        The solution's slot (its ``cols`` set).
+
+    Returns
+    -------
+    float
+    """
     cost0 = cs.cost0
     P = cost0.shape[0]
     M = cost0.shape[1] - 3
@@ -529,7 +767,25 @@ def _store_cost(cs, sols, s):
 def _keep_least(kbest, n_best, n_stale, want, key):
     """Keep the ``want`` least solved costs in ``kbest`` (``n_stale`` of its ``n_best``
     entries belong to reported nodes): appended until there are that many, then a max-heap
-    (made once) whose top is replaced. Returns the new ``n_best``."""
+    (made once) whose top is replaced. Returns the new ``n_best``.
+
+    Parameters
+    ----------
+    kbest : ndarray of float64
+        :data:`Ranking`'s ``kbest``, with room for one more entry while not full.
+    n_best : int
+        Its entries.
+    n_stale : int
+        Those of reported nodes.
+    want : int
+        The least costs to keep (``k - n`` with ``n`` reported).
+    key : float
+        A solved node's cost.
+
+    Returns
+    -------
+    int
+    """
     if n_best - n_stale < want:
         kbest[n_best] = key
         n_best += 1
@@ -548,7 +804,26 @@ def _load_partition(cs, sr, node, sl, key):
     of each row's own column, the free rows (the node's open rows) as ``open`` and the entries
     and duals of their columns in the path workspace. Returns ``(scale, n_free)``: the
     rounding scale of its children's solves (also stored in ``sols.scale[sl]``) and the number
-    of free rows."""
+    of free rows.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem.
+    sr : Search
+        The search: ``part.entry_of``, ``path.row`` (the free rows) and ``path.off``,
+        ``path.v`` at the free rows written.
+    node : int
+        The node's id.
+    sl : int
+        Its solution's slot.
+    key : float
+        Its cost.
+
+    Returns
+    -------
+    (float, int)
+    """
     cost0 = cs.cost0
     pw, part, sols, tree = sr.path, sr.part, sr.sols, sr.tree
     off, v, op = pw.off, pw.v, pw.row
@@ -587,7 +862,18 @@ def _load_partition(cs, sr, node, sl, key):
 @jit(inline="always")
 def _least_free_rc(cost, vf, free_meas, i, ci, ui, v_free):
     """The least reduced cost ``cost - ui - v_free`` of row ``i`` (column ``ci``) over its free
-    columns (as :func:`_least_free`, the value only)."""
+    columns (as :func:`_least_free`, the value only).
+
+    Parameters
+    ----------
+    cost, vf, free_meas, i, ci, ui, v_free
+        As in :func:`_least_free`.
+
+    Returns
+    -------
+    float
+        ``+inf`` when the row has no free column.
+    """
     M = vf.shape[0]
     P = cost.shape[0]
     iu = np.uint64(i)
@@ -611,7 +897,27 @@ def _row_bound(cost, cost0, pw, rows, lo, hi, i, ci, ui, free_meas, v_free):
     """The least reduced cost of an alternative for the free row ``i`` (its column ``ci``, dual
     ``ui``): over the columns of the rows ``rows[lo:hi]`` but its own, and over the free
     columns. Returns ``(bound, row)``, ``row`` the one whose column gives it (``-1``: a free
-    column)."""
+    column).
+
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 3)
+        The working costs (row ``i``'s own entry is set to ``+inf`` and restored).
+    cost0 : ndarray of float64, shape (P, M + 3)
+        The original costs.
+    pw : PathWork
+        ``off`` and ``v`` of the rows (:func:`_load_partition`), ``vf``.
+    rows : ndarray of int64
+        Rows whose columns are candidates: ``rows[lo:hi]``.
+    lo, hi : int
+        Their range.
+    i, ci, ui, free_meas, v_free
+        As in :func:`_least_free`.
+
+    Returns
+    -------
+    (float, int)
+    """
     off, v = pw.off, pw.v
     iu = np.uint64(i)
     oi = np.uint64(off[iu])
@@ -639,7 +945,24 @@ def _order_rows(cs, sr, sl, n_free, free_meas, v_free):
     active alternative ``j != s[i]`` (and the row ``lb_row[i]`` whose column gives it), and
     ``order``: the free rows by decreasing bound, ties in row order (partition ordering), with
     each one's ``rank`` in it. (As :func:`_row_bound` over the free rows, keeping ``rc`` and
-    ``free_rc``.)"""
+    ``free_rc``.)
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (the node's forbidden pairs switched off).
+    sr : Search
+        The search: ``part``'s ``order``, ``rank``, ``lb``, ``lb_row``, ``free_rc`` and, when
+        ``P <= RC_ROWS``, ``rc`` written.
+    sl : int
+        The node's solution slot.
+    n_free : int
+        Its free rows (``path.row[:n_free]``).
+    free_meas : bool
+        Some measurement is free (:func:`_free_duals`).
+    v_free : float
+        The free columns' shared potential.
+    """
     cost, cost0 = cs.cost, cs.cost0
     pw, part, sols = sr.path, sr.part, sr.sols
     order, rank, lb, lb_row, free_rc, rcm = (part.order, part.rank, part.lb, part.lb_row,
@@ -698,7 +1021,32 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
     the free rows at hand (``rc``), the bound looks one step further: a first step into the
     column of an open row ``q`` is followed either by ``q``'s step into the freed column or
     by another step (at least ``lb[q]``) and the last one; a first step into a free column,
-    by the last one. The least of these sums is at least the two-step bound."""
+    by the last one. The least of these sums is at least the two-step bound.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem (the node's forbidden pairs switched off).
+    sr : Search
+        The search (``part`` as :func:`_order_rows` left it); the new nodes and their
+        forbidden pairs are written into ``tree`` and ``forb``.
+    node : int
+        The node's id.
+    key : float
+        Its cost.
+    slack : float
+        The rounding margin subtracted from each bound.
+    cut : float
+        The cut (``+inf``: none).
+    n_free, free_meas, v_free
+        As in :func:`_order_rows`.
+    n_nodes, n_forb : int
+        Nodes and forbidden-pair entries used so far.
+
+    Returns
+    -------
+    (int, int)
+    """
     cost = cs.cost
     entry_of, order, rank, lb, lb_row, free_rc, rcm = sr.part
     keep = rcm.shape[0] == order.shape[0]
@@ -775,7 +1123,27 @@ def _make_children(cs, sr, node, key, slack, cut, n_free, free_meas, v_free, n_n
 def _partition(cs, sr, node, key, cut, n_nodes, n_forb):
     """Partition the solved, reported ``node`` of cost ``key`` (lazily: its children enter
     the queue with a lower bound only), with the node's forbidden pairs switched off meanwhile.
-    Returns ``(n_nodes, n_forb)``."""
+    Returns ``(n_nodes, n_forb)``.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem.
+    sr : Search
+        The search.
+    node : int
+        The node's id.
+    key : float
+        Its cost.
+    cut : float
+        The cut (``+inf``: none).
+    n_nodes, n_forb : int
+        Nodes and forbidden-pair entries used so far.
+
+    Returns
+    -------
+    (int, int)
+    """
     tree, sols = sr.tree, sr.sols
     sl = tree.slot[node]
     head = tree.forb[node]
@@ -796,7 +1164,21 @@ def _partition(cs, sr, node, key, cut, n_nodes, n_forb):
 @jit(inline="always")
 def _replace_top(heap_key, heap_id, n_heap, kx, x):
     """Put ``(kx, x)`` at the top of the min-heap ``(heap_key, heap_id)[:n_heap]`` (ordered by
-    key, then id) and sift it down to its place."""
+    key, then id) and sift it down to its place.
+
+    Parameters
+    ----------
+    heap_key : ndarray of float64
+        The keys.
+    heap_id : ndarray of int64
+        The node ids.
+    n_heap : int
+        The heap's size (``>= 1``).
+    kx : float
+        The new entry's key.
+    x : int
+        Its node id.
+    """
     h = 0
     while True:
         ch = 2 * h + 1
@@ -823,7 +1205,21 @@ def _replace_top(heap_key, heap_id, n_heap, kx, x):
 
 @jit(inline="always")
 def _push(heap_key, heap_id, n_heap, ky, y):
-    """Push ``(ky, y)`` onto the min-heap of :func:`_replace_top`; returns its new size."""
+    """Push ``(ky, y)`` onto the min-heap of :func:`_replace_top`; returns its new size.
+
+    Parameters
+    ----------
+    heap_key, heap_id, n_heap
+        As in :func:`_replace_top` (with room for one more entry).
+    ky : float
+        The key.
+    y : int
+        The node id.
+
+    Returns
+    -------
+    int
+    """
     h = n_heap
     while h > 0:
         p = (h - 1) >> 1
@@ -972,6 +1368,21 @@ def _root_lsap(cs, pw, sols, free):
     rows already assigned, and of the free columns (potential 0) only the closest matters,
     since the first one scanned ends the path. ``free`` (M,) is scratch: the measurements no
     row takes.
+
+    Parameters
+    ----------
+    cs : CompactCosts
+        The problem.
+    pw : PathWork
+        The path workspace (scratch).
+    sols : Solutions
+        Slot 0 receives the root's solution (``cols``, ``u``, ``v``).
+    free : ndarray of int64, shape (M,)
+        Scratch.
+
+    Returns
+    -------
+    bool
     """
     cost = cs.cost
     P = cost.shape[0]
@@ -1080,7 +1491,18 @@ DONE, PAUSED, FULL = 0, 1, 2
 # ----------------------------------------------------------------------------- the records' arrays
 @jit()
 def _new_path_work(P, M):
-    """A :data:`PathWork` for ``P`` rows and ``M`` measurements."""
+    """A :data:`PathWork` for ``P`` rows and ``M`` measurements.
+
+    Parameters
+    ----------
+    P, M : int
+        Rows and measurements of the problem.
+
+    Returns
+    -------
+    PathWork
+        Uninitialised arrays: ``vf`` of ``M`` entries, the others of ``P``.
+    """
     return PathWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
                     np.empty(P, dtype=np.int64), np.empty(P), np.empty(P),
                     np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64), np.empty(P),
@@ -1090,7 +1512,20 @@ def _new_path_work(P, M):
 
 @jit()
 def _new_tree(n, P):
-    """An empty :data:`Tree` with room for ``n`` nodes of ``P`` rows."""
+    """An empty :data:`Tree` with room for ``n`` nodes of ``P`` rows.
+
+    Parameters
+    ----------
+    n : int
+        Nodes.
+    P : int
+        Rows (unused: a node's arrays do not depend on it).
+
+    Returns
+    -------
+    Tree
+        Uninitialised arrays of ``n`` entries.
+    """
     return Tree(np.empty(n), np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
                 np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n),
                 np.empty(n, dtype=np.int64))
@@ -1098,21 +1533,57 @@ def _new_tree(n, P):
 
 @jit()
 def _new_forbidden(n):
-    """An empty :data:`Forbidden` with room for ``n`` entries."""
+    """An empty :data:`Forbidden` with room for ``n`` entries.
+
+    Parameters
+    ----------
+    n : int
+        Entries.
+
+    Returns
+    -------
+    Forbidden
+        Uninitialised int64 arrays of ``n`` entries.
+    """
     return Forbidden(np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
                      np.empty(n, dtype=np.int64))
 
 
 @jit()
 def _new_solutions(n, P):
-    """An empty :data:`Solutions` with room for ``n`` solutions of ``P`` rows."""
+    """An empty :data:`Solutions` with room for ``n`` solutions of ``P`` rows.
+
+    Parameters
+    ----------
+    n : int
+        Solutions.
+    P : int
+        Rows.
+
+    Returns
+    -------
+    Solutions
+        Uninitialised: ``cols``, ``u``, ``v`` of shape (n, P), the others (n,).
+    """
     return Solutions(np.empty((n, P), dtype=np.int64), np.empty((n, P)), np.empty((n, P)),
                      np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64))
 
 
 @jit()
 def _new_partition_work(P):
-    """A :data:`PartitionWork` for ``P`` rows."""
+    """A :data:`PartitionWork` for ``P`` rows.
+
+    Parameters
+    ----------
+    P : int
+        Rows.
+
+    Returns
+    -------
+    PartitionWork
+        Uninitialised arrays of ``P`` entries; ``rc`` (P, P) when ``P <= RC_ROWS``, else
+        (1, 1).
+    """
     n = P if P <= RC_ROWS else 1
     return PartitionWork(np.empty(P, dtype=np.int64), np.empty(P, dtype=np.int64),
                          np.empty(P, dtype=np.int64), np.empty(P), np.empty(P, dtype=np.int64),
@@ -1121,27 +1592,76 @@ def _new_partition_work(P):
 
 @jit()
 def _grown_tree(t, n):
-    """:data:`Tree` ``t`` copied into arrays with room for ``n`` nodes."""
+    """:data:`Tree` ``t`` copied into arrays with room for ``n`` nodes.
+
+    Parameters
+    ----------
+    t : Tree
+        The tree.
+    n : int
+        Nodes of the copy (at least as many as ``t`` holds).
+
+    Returns
+    -------
+    Tree
+    """
     return Tree(_grow(t.key, n), _grow(t.slot, n), _grow(t.parent, n), _grow(t.forb, n),
                 _grow(t.end, n), _grow(t.heap_key, n), _grow(t.heap_id, n))
 
 
 @jit()
 def _grown_forbidden(f, n):
-    """:data:`Forbidden` ``f`` copied into arrays with room for ``n`` entries."""
+    """:data:`Forbidden` ``f`` copied into arrays with room for ``n`` entries.
+
+    Parameters
+    ----------
+    f : Forbidden
+        The lists.
+    n : int
+        Entries of the copy (at least as many as ``f`` holds).
+
+    Returns
+    -------
+    Forbidden
+    """
     return Forbidden(_grow(f.row, n), _grow(f.entry, n), _grow(f.next, n))
 
 
 @jit()
 def _grown_solutions(s, n):
-    """:data:`Solutions` ``s`` copied into arrays with room for ``n`` solutions."""
+    """:data:`Solutions` ``s`` copied into arrays with room for ``n`` solutions.
+
+    Parameters
+    ----------
+    s : Solutions
+        The solutions.
+    n : int
+        Solutions of the copy (at least as many as ``s`` holds).
+
+    Returns
+    -------
+    Solutions
+    """
     return Solutions(_grow(s.cols, n), _grow(s.u, n), _grow(s.v, n), _grow(s.v_free, n),
                      _grow(s.cost, n), _grow(s.scale, n), _grow(s.taken, n))
 
 
 @jit()
 def _grown_ranking(r, n_out, n_best):
-    """:data:`Ranking` ``r`` with room for ``n_out`` reported nodes and ``n_best`` costs."""
+    """:data:`Ranking` ``r`` with room for ``n_out`` reported nodes and ``n_best`` costs.
+
+    Parameters
+    ----------
+    r : Ranking
+        The ranking.
+    n_out, n_best : int
+        Room wanted in ``slot`` and ``kbest``; an array already that large is kept, not
+        copied.
+
+    Returns
+    -------
+    Ranking
+    """
     slot, kbest = r
     if n_out > slot.shape[0]:
         slot = _grow(slot, n_out)
@@ -1153,7 +1673,19 @@ def _grown_ranking(r, n_out, n_best):
 # ----------------------------------------------------------------------------- entry points
 @jit()
 def compact_costs(cc):
-    """The :data:`CompactCosts` of a problem's compact costs ``cc`` ``(P, M + 2)``."""
+    """The :data:`CompactCosts` of a problem's compact costs ``cc`` ``(P, M + 2)``.
+
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        Compact costs ``[measurements | missed | dead]``, ``+inf`` forbidding a pair.
+
+    Returns
+    -------
+    CompactCosts
+        ``cost`` and ``cost0``, two equal (P, M + 3) arrays: ``cc`` and a last column of
+        ``+inf``.
+    """
     P, W = cc.shape
     cost0 = np.empty((P, W + 1))
     for i in range(P):
@@ -1245,7 +1777,21 @@ def murty_slice(costs, search, k, budget):
 @jit()
 def grow_search(search, k):
     """Packed ``search`` with every full array doubled (every array the next iteration may
-    fill); ``k`` the number of assignments wanted (the output and kbest never need more)."""
+    fill); ``k`` the number of assignments wanted (the output and kbest never need more).
+
+    Parameters
+    ----------
+    search : tuple
+        A packed :data:`Search` (:func:`pack_search`) whose last :func:`murty_slice`
+        returned :data:`FULL`.
+    k : int
+        Number of assignments wanted.
+
+    Returns
+    -------
+    tuple
+        The packed search with the grown arrays (the others shared).
+    """
     sr = unpack_search(search)
     P = sr.path.row.shape[0]
     state = sr.state
@@ -1269,7 +1815,20 @@ def grow_search(search, k):
 @jit()
 def search_output(search):
     """The reported assignments ``(n, P)`` and their costs ``(n,)`` of a finished (packed)
-    search, as documented in :func:`murty_compact_kernel`."""
+    search, as documented in :func:`murty_compact_kernel`.
+
+    Parameters
+    ----------
+    search : tuple
+        A packed :data:`Search` whose :func:`murty_slice` returned :data:`DONE`.
+
+    Returns
+    -------
+    assignments : ndarray of int64, shape (n, P)
+        As in :func:`murty_compact_kernel`.
+    costs : ndarray of float64, shape (n,)
+        Non-decreasing (a stable sort by value).
+    """
     sr = unpack_search(search)
     P = sr.path.row.shape[0]
     cols, cost, out_slot = sr.sols.cols, sr.sols.cost, sr.ranking.slot
@@ -1339,9 +1898,19 @@ def murty_start(cs, k, budget):
 def murty_compact_start(cc, k, budget):
     """:func:`murty_start` on a problem's compact costs ``(P, M + 2)``, ``P >= 1``.
 
-    Returns ``(assignments, costs, None)`` when done within the budget, else ``(empty,
-    empty, (costs, search))`` with the fields of the problem's :data:`CompactCosts` (from
-    :func:`compact_costs`) and the packed search to continue with :func:`murty_slice`.
+    Parameters
+    ----------
+    cc : ndarray of float64, shape (P, M + 2)
+        As in :func:`murty_compact_kernel`.
+    k, budget : int
+        As in :func:`murty_slice`.
+
+    Returns
+    -------
+    tuple
+        ``(assignments, costs, None)`` when done within the budget, else ``(empty, empty,
+        (costs, search))`` with the fields of the problem's :data:`CompactCosts` (from
+        :func:`compact_costs`) and the packed search to continue with :func:`murty_slice`.
     """
     cs = compact_costs(cc)
     out, out_costs, search = murty_start(cs, k, budget)

@@ -34,6 +34,11 @@ __all__ = [
 def bipartite_components(finite):
     """Connected components of rows and measurements, numbered by their first row.
 
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        ``finite[i, j]``: row ``i`` may take measurement ``j``.
+
     Returns
     -------
     row_comp : ndarray, int64, shape (P,)
@@ -91,6 +96,13 @@ def frontier_profile(finite, order):
     or before ``t`` and its last one at or after ``t``; a step with ``n`` active rows and ``d``
     finite entries costs ``(3 + d) 2^n``.
 
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        Gate matrix of one connected component.
+    order : ndarray of int64, shape (K,)
+        A permutation of the measurements.
+
     Returns
     -------
     width : int
@@ -139,6 +151,18 @@ def greedy_order(finite, start):
     most rows retire (their last remaining measurement), then the one touching the most active
     rows, then the lowest index — the rule of
     :func:`oracle.single._plan_reference._greedy_order`.
+
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        Gate matrix of one connected component.
+    start : int
+        The first measurement.
+
+    Returns
+    -------
+    ndarray of int64, shape (K,)
+        The order, a permutation of the measurements.
     """
     P, K = finite.shape
     done = np.zeros(K, dtype=np.bool_)
@@ -183,7 +207,19 @@ def greedy_order(finite, start):
 
 @jit()
 def _bfs(finite, src, dist, queue):
-    """Breadth-first distances (float64, ``inf`` unreachable) of every node from ``src``."""
+    """Breadth-first distances (float64, ``inf`` unreachable) of every node from ``src``.
+
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        The bipartite graph: node ``i < P`` is row ``i``, node ``P + j`` measurement ``j``.
+    src : int
+        The start node.
+    dist : ndarray of float64, shape (P + K,)
+        Overwritten with the distances (in edges).
+    queue : ndarray of int64, shape (P + K,)
+        Scratch.
+    """
     P, K = finite.shape
     dist[:] = np.inf
     dist[src] = 0.0
@@ -212,7 +248,22 @@ def _bfs(finite, src, dist, queue):
 @jit()
 def _peripheral(finite, deg):
     """A pseudo-peripheral measurement and the BFS distances of the measurements from it
-    (:func:`oracle.single._plan_reference._peripheral`)."""
+    (:func:`oracle.single._plan_reference._peripheral`).
+
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        Gate matrix of one connected component.
+    deg : ndarray of int64, shape (K,)
+        Degrees of the measurements (the search starts from the first of least degree).
+
+    Returns
+    -------
+    start : int
+        The measurement.
+    dist : ndarray of float64, shape (K,)
+        Distances of the measurements from it, in edges of the bipartite graph.
+    """
     P, K = finite.shape
     dist = np.empty(P + K)
     d2 = np.empty(P + K)
@@ -238,6 +289,20 @@ def _cuthill_mckee(finite, inds, degree):
     unvisited neighbours appended in index order and then stably sorted by degree (an insertion
     sort), a new start for every connected component, the whole order reversed; here only its
     measurements are kept.
+
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        Gate matrix: node ``i < P`` is row ``i``, node ``P + j`` measurement ``j``.
+    inds : ndarray of int64, shape (P + K,)
+        The nodes by degree (``np.argsort(degree)``).
+    degree : ndarray of int64, shape (P + K,)
+        Node degrees.
+
+    Returns
+    -------
+    ndarray of int64, shape (K,)
+        The measurements in reverse Cuthill–McKee order.
     """
     P, K = finite.shape
     N = P + K
@@ -355,6 +420,15 @@ def frontier_ops(finite, order, width):
     :mod:`oracle._kernels.dp`): per step ``t``, ``ENTER`` for the rows whose first measurement
     it is (in row order), one ``TRANS``, then ``RETIRE`` for the rows whose last measurement
     it is (in row order); a retiring row's slot is taken over by the row in the highest slot.
+
+    Parameters
+    ----------
+    finite : ndarray of bool, shape (P, K)
+        Gate matrix of one connected component.
+    order : ndarray of int64, shape (K,)
+        The measurement order.
+    width : int
+        Its frontier width (:func:`frontier_profile`), the most slots in use.
 
     Returns
     -------

@@ -202,8 +202,10 @@ def _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):  # pragma: no
 
     Parameters
     ----------
-    w_dead : (P,) float64, w_alive : (P, T) float64
-        Scaled weights (0 = forbidden).
+    w_dead : (P,) float64
+        Scaled weight of each row being dead (0 = forbidden).
+    w_alive : (P, T) float64
+        Scaled weight of each row taking each tuple (0 = forbidden).
     masks : (T,) int64
         ``det(t)`` bitsets (``-1``: the tuple is never allowed).
     f, g : (2^B,) float64
@@ -214,6 +216,11 @@ def _row_dp_slice(w_dead, w_alive, masks, f, g, acc, pos, budget):  # pragma: no
         Row ``n`` and next state ``S``; start at zero.
     budget : int
         States to push in this call (``>= 1``).
+
+    Returns
+    -------
+    bool
+        True when done (also early, with ``acc[0] = -inf``, when a row leaves no weight).
 
     Notes
     -----
@@ -276,7 +283,24 @@ RowMarginals = namedtuple("RowMarginals", ["dead", "alive", "acc"])
 def _row_backward(dp, work, pos, left):  # pragma: no cover - compiled
     """Pass 0: ``beta_n`` for ``n = pos[1]`` down to 0, from the state ``pos[2]`` on, only
     where ``cap[S] <= n``; each row divided by its maximum. Returns the budget left (the pass
-    is complete when ``pos[1] < 0``)."""
+    is complete when ``pos[1] < 0``).
+
+    Parameters
+    ----------
+    dp : RowDP
+        The DP's data.
+    work : RowWork
+        ``beta`` and ``log_b`` written.
+    pos : ndarray of int64, shape (3,)
+        As in :func:`_row_marginal_slice`.
+    left : int
+        States left in this call.
+
+    Returns
+    -------
+    int
+        States left.
+    """
     w_dead, w_alive, masks, cap = dp
     beta, log_b = work.beta, work.log_b
     T = w_alive.shape[1]
@@ -315,7 +339,20 @@ def _row_backward(dp, work, pos, left):  # pragma: no cover - compiled
 def _row_forward(dp, work, out, pos, left):  # pragma: no cover - compiled
     """Passes 1 and 2, row ``n = pos[1]`` on: row ``n``'s marginals, then the push to
     ``alpha_{n+1}`` (divided by its maximum), from the state ``pos[2]`` on. Returns the budget
-    left (the passes are complete when ``pos[1] = P``)."""
+    left (the passes are complete when ``pos[1] = P``).
+
+    Parameters
+    ----------
+    dp, work, pos, left
+        As in :func:`_row_backward` (``work.alpha`` and ``work.nxt`` updated).
+    out : RowMarginals
+        ``dead`` and ``alive`` added to.
+
+    Returns
+    -------
+    int
+        States left.
+    """
     w_dead, w_alive, masks, _ = dp
     beta, alpha, nxt = work.beta, work.alpha, work.nxt
     dead, alive = out.dead, out.alive
@@ -414,7 +451,16 @@ def _row_marginal_slice(dp, work, out, pos, budget):  # pragma: no cover - compi
 
 @jit()
 def _lae(a, b):  # pragma: no cover - compiled
-    """``ln(e^a + e^b)`` without overflow (either may be ``-inf``)."""
+    """``ln(e^a + e^b)`` without overflow (either may be ``-inf``).
+
+    Parameters
+    ----------
+    a, b : float
+
+    Returns
+    -------
+    float
+    """
     if a == -np.inf:
         return b
     if b == -np.inf:
@@ -430,6 +476,28 @@ def _row_dp_log_slice(l_dead, l_alive, masks, f, g, acc, pos, budget):  # pragma
 
     Same recursion on ``ln f``; ``l_dead``, ``l_alive`` are log-weights (``-inf`` forbidden);
     ``f`` starts as ``[0, -inf, ...]``, ``g`` at ``-inf``; ``acc[0]`` is ``ln Z`` once done.
+
+    Parameters
+    ----------
+    l_dead : ndarray of float64, shape (P,)
+        Log-weights of each row being dead.
+    l_alive : ndarray of float64, shape (P, T)
+        Log-weights of each row taking each tuple.
+    masks : ndarray of int64, shape (T,)
+        As in :func:`_row_dp_slice`.
+    f, g : ndarray of float64, shape (2^B,)
+        The log-space vectors.
+    acc : ndarray of float64, shape (>= 1,)
+        ``acc[0]`` receives ``ln Z``.
+    pos : ndarray of int64, shape (2,)
+        Row and next state; start at zero.
+    budget : int
+        States in this call (``>= 1``).
+
+    Returns
+    -------
+    bool
+        True when done.
     """
     P, T = l_alive.shape
     N = f.shape[0]
@@ -472,6 +540,30 @@ def _row_marginal_log_slice(l_dead, l_alive, masks, cap, beta, dead, alive, alph
     ``beta`` starts at ``-inf`` with row ``P`` zero; ``dead``, ``alive``, ``nxt`` at ``-inf``;
     ``alpha`` as ``[0, -inf, ...]``; ``pos`` (pass 0 backward or 1 forward, row, next state)
     at ``[0, P - 1, 0]``.
+
+    Parameters
+    ----------
+    l_dead, l_alive, masks
+        As in :func:`_row_dp_log_slice`.
+    cap : ndarray of int8, shape (2^B,)
+        As in :data:`RowDP`.
+    beta : ndarray of float64, shape (P + 1, 2^B)
+        The log backward vectors.
+    dead : ndarray of float64, shape (P,)
+        Receives ``ln`` of each row's dead weight.
+    alive : ndarray of float64, shape (P, T)
+        Receives ``ln`` of each row's tuple weights.
+    alpha, nxt : ndarray of float64, shape (2^B,)
+        The log forward vector and the next one.
+    pos : ndarray of int64, shape (3,)
+        Pass, row, next state.
+    budget : int
+        States in this call (``>= 1``).
+
+    Returns
+    -------
+    bool
+        True when done.
     """
     P, T = l_alive.shape
     N = alpha.shape[0]
@@ -660,13 +752,32 @@ def _row_marginal_reference(w_dead, w_alive, masks, n_bits):
 
 @jit(inline="always")
 def _mul_add(acc, w, x):  # pragma: no cover - compiled
-    """``acc + w x``: one term of the matched-subset DP."""
+    """``acc + w x``: one term of the matched-subset DP.
+
+    Parameters
+    ----------
+    acc, w, x : float
+
+    Returns
+    -------
+    float
+    """
     return acc + w * x
 
 
 @jit(inline="always")
 def _log_mul_add(acc, w, x):  # pragma: no cover - compiled
-    """:func:`_mul_add` in log space: ``ln(e^acc + e^(w + x))``."""
+    """:func:`_mul_add` in log space: ``ln(e^acc + e^(w + x))``.
+
+    Parameters
+    ----------
+    acc, w, x : float
+        Logs.
+
+    Returns
+    -------
+    float
+    """
     return _lae(acc, w + x)
 
 

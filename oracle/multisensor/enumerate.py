@@ -99,8 +99,9 @@ def _enumerate_slice(options, counts, tuples, out, used, pos, at, n_out, count_o
         Receives the option codes in depth-first order (row 0 slowest, each row's options in
         the order of ``options``: dead, then tuples lexicographically).
     used : ndarray, bool, shape (V, max M_v + 1)
-        Measurements in use (start all False). ``pos`` : (P,) int64, each row's option (start
-        at -1).
+        Measurements in use (start all False).
+    pos : ndarray, int64, shape (P,)
+        Each row's option (start at -1).
     at : ndarray, int64, shape (2,)
         The search's row and the assignments found so far; start at zero. Once done
         ``at[1]`` is the number found (``n_out + 1`` once a count passes the limit).
@@ -110,6 +111,11 @@ def _enumerate_slice(options, counts, tuples, out, used, pos, at, n_out, count_o
     count_only : bool
     budget : int
         Steps (one option tried per step) in this call, ``>= 1``.
+
+    Returns
+    -------
+    bool
+        True when the enumeration (or count) is done.
     """
     P = options.shape[0]
     V = tuples.shape[1]

@@ -91,6 +91,18 @@ class AdaptiveBirthWork(NamedTuple):
 def alloc_work(data, nb):
     """Scratch arrays for ``nb`` chains (an :class:`AdaptiveBirthWork`).
 
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The call's data (``V``, ``n``, ``shape``).
+    nb : int
+        Chains.
+
+    Returns
+    -------
+    AdaptiveBirthWork
+        Zero arrays of the shapes listed there.
+
     Examples
     --------
     >>> import numpy as np
@@ -114,6 +126,17 @@ def alloc_work(data, nb):
 def reset_work(data, work, b, x0):
     """Prepare slab ``b`` for a chain started at ``x0`` (nothing to do; see module notes).
 
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The call's data.
+    work : AdaptiveBirthWork
+        The workspace.
+    b : int
+        The slab.
+    x0 : ndarray of int32, shape (V,)
+        The start tuple.
+
     Examples
     --------
     >>> import numpy as np
@@ -129,6 +152,19 @@ def draw(lw, K, u):
     """Index in ``0..K-1`` with probability ``∝ exp(lw[j])`` from the uniform ``u``.
 
     Twin of :func:`rankedassign.adaptive_birth.reference.draw` (which draws ``u`` itself).
+
+    Parameters
+    ----------
+    lw : ndarray of float64, shape (>= K,)
+        Log-weights, at least one finite; overwritten by ``exp(lw - max)``.
+    K : int
+        Candidates.
+    u : float
+        A uniform in ``[0, 1)``.
+
+    Returns
+    -------
+    int
 
     Examples
     --------
@@ -162,6 +198,15 @@ def draw(lw, K, u):
 def cholesky(M, L, n):
     """Lower Cholesky factor of ``M`` into ``L`` (plain loops, as the reference).
 
+    Parameters
+    ----------
+    M : ndarray of float64, shape (n, n)
+        Symmetric positive definite (its lower triangle is read).
+    L : ndarray of float64, shape (n, n)
+        Receives the factor in its lower triangle (the upper one is not written).
+    n : int
+        The dimension.
+
     Examples
     --------
     >>> import numpy as np
@@ -185,6 +230,17 @@ def cholesky(M, L, n):
 def half_logdet(L, n):
     """``sum_i ln L_ii = ln|M| / 2`` for ``M = L L'``.
 
+    Parameters
+    ----------
+    L : ndarray of float64, shape (n, n)
+        A Cholesky factor.
+    n : int
+        The dimension.
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> import numpy as np
@@ -200,6 +256,21 @@ def half_logdet(L, n):
 @jit()
 def quad(L, b, y, n):
     """``|L^-1 b|^2 = b' M^-1 b`` for ``M = L L'``, using ``y`` as scratch.
+
+    Parameters
+    ----------
+    L : ndarray of float64, shape (n, n)
+        A Cholesky factor.
+    b : ndarray of float64, shape (n,)
+        The vector.
+    y : ndarray of float64, shape (n,)
+        Receives ``L^-1 b``.
+    n : int
+        The dimension.
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -219,7 +290,21 @@ def quad(L, b, y, n):
 
 @jit()
 def _sums(data, M, b, c, state):
-    """``(M, b, c)`` = prior information plus the terms of the detecting sensors of ``state``."""
+    """``(M, b, c)`` = prior information plus the terms of the detecting sensors of ``state``.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The call's data (Gaussian mode).
+    M : ndarray of float64, shape (n, n)
+        Receives the information matrix.
+    b : ndarray of float64, shape (n,)
+        Receives the information vector.
+    c : ndarray of float64, shape (1,)
+        Receives the scalar term.
+    state : ndarray of int32, shape (V,)
+        The tuple ``J`` (0 missed, ``j >= 1`` measurement ``j`` of the sensor).
+    """
     n = data.n
     off, M0, b0, A, a, cz = data.off, data.M0, data.b0, data.A, data.a, data.cz
     for i in range(n):
@@ -239,7 +324,28 @@ def _sums(data, M, b, c, state):
 
 @jit()
 def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
-    """Sensor ``s``'s log-weights into ``lw`` (ratio form); leaves ``(M-, b-, c-)``, ``M+``."""
+    """Sensor ``s``'s log-weights into ``lw`` (ratio form); leaves ``(M-, b-, c-)``, ``M+``.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The call's data (Gaussian mode).
+    M, b, c
+        The information sums of ``state`` (as :func:`_sums` makes them); sensor ``s``'s
+        terms removed in place.
+    Mp : ndarray of float64, shape (n, n)
+        Receives ``M+ = M- + A_s``.
+    L : ndarray of float64, shape (n, n)
+        Scratch for the Cholesky factors (left holding that of ``M+``).
+    y, bj : ndarray of float64, shape (n,)
+        Scratch.
+    lw : ndarray of float64, shape (>= M_s + 1,)
+        Receives the log-weights: 0 missed, ``j`` measurement ``j``.
+    state : ndarray of int32, shape (V,)
+        The tuple.
+    s : int
+        The sensor.
+    """
     n = data.n
     off, A, a, cz, const = data.off, data.A, data.a, data.cz, data.const
     Ms = data.shape[s] - 1
@@ -267,6 +373,27 @@ def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
 @jit(inline="always")
 def sweep(data, work, b, zkeys, state, h, rs):
     """One sweep over the sensors of slab ``b``'s chain; returns the updated Zobrist hash.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The call's data.
+    work : AdaptiveBirthWork
+        Slab ``b`` used as scratch.
+    b : int
+        The slab.
+    zkeys : ndarray of uint64, shape (V, K)
+        Zobrist keys.
+    state : ndarray of int32, shape (V,)
+        The tuple ``J``, updated in place.
+    h : np.uint64
+        Its hash.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (``V - 1`` uniforms for a random order, then one per sensor).
+
+    Returns
+    -------
+    np.uint64
 
     Examples
     --------
@@ -334,7 +461,17 @@ run_chains = make_driver("adaptive_birth", alloc_work, reset_work, sweep,
 # ---------------------------------------------------------------------------- herded draw
 @jit(inline="always")
 def _conditional(lw, p, K):
-    """Twin of :func:`rankedassign.adaptive_birth.reference.conditional` into ``p``."""
+    """Twin of :func:`rankedassign.adaptive_birth.reference.conditional` into ``p``.
+
+    Parameters
+    ----------
+    lw : ndarray of float64, shape (>= K,)
+        Log-weights, at least one finite (not modified).
+    p : ndarray of float64, shape (>= K,)
+        Receives the normalised weights in ``p[:K]``.
+    K : int
+        Candidates.
+    """
     mx = lw[0]
     for j in range(K):
         if lw[j] > mx:
@@ -357,6 +494,19 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     conditional ``p``, the key vector ``keyv`` (``J`` with the redrawn sensor as -1; the key is
     the same for both key modes), the key table and the chain's tallies
     (:func:`rankedassign.engine._kernels.key_table_done`).
+
+    Parameters
+    ----------
+    data : AdaptiveBirthHerdedData
+        The call's data.
+    work : AdaptiveBirthHerdedWork
+        Slab ``b`` used and kept up to date.
+    b, zkeys, state, h, rs
+        As in :func:`sweep`.
+
+    Returns
+    -------
+    np.uint64
     """
     V = data.V
     strides = data.strides
@@ -433,6 +583,17 @@ class AdaptiveBirthHerdedWork(record(AdaptiveBirthWork, KeyTable)):
 def alloc_work_herded(data, nb):
     """Workspace of ``nb`` herded chains: the Gibbs scratch, the conditional, key tables.
 
+    Parameters
+    ----------
+    data : AdaptiveBirthHerdedData
+        The call's data (with ``capacity`` and ``chain_length``).
+    nb : int
+        Chains.
+
+    Returns
+    -------
+    AdaptiveBirthHerdedWork
+
     Examples
     --------
     >>> import numpy as np
@@ -453,7 +614,15 @@ def alloc_work_herded(data, nb):
 
 @jit()
 def reset_work_herded(data, work, b, x0):
-    """Slab ``b`` for a new chain: an empty key table and zero tallies."""
+    """Slab ``b`` for a new chain: an empty key table and zero tallies.
+
+    Parameters
+    ----------
+    data, b, x0
+        As in :func:`reset_work`.
+    work : AdaptiveBirthHerdedWork
+        Slab ``b``'s key table reset.
+    """
     reset_key_table(work, b)
 
 

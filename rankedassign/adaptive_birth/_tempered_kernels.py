@@ -81,7 +81,27 @@ class AdaptiveBirthTemperedWork(NamedTuple):
 
 @jit()
 def row_weights(data, work, state, p):
-    """``p[s]`` for every sensor (and ``Wb``, ``Sb`` into ``work``); ``Z`` or -1.0."""
+    """``p[s]`` for every sensor (and ``Wb``, ``Sb`` into ``work``); ``Z`` or -1.0.
+
+    The kind's ``row_weights`` (:mod:`rankedassign.engine._tempered_kernels`): a "row" is a
+    sensor.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthTemperedData
+        The call's data.
+    work : AdaptiveBirthTemperedWork
+        Scratch; ``Wb`` and ``Sb`` written.
+    state : ndarray of int32, shape (V,)
+        The tuple ``J``.
+    p : ndarray of float64, shape (V,)
+        Receives the ratios.
+
+    Returns
+    -------
+    float
+        ``Z``, summed left to right, or -1.0 when a ratio is not representable.
+    """
     V = data.V
     shape, strides, logw = data.shape, data.strides, data.logw
     beta = data.beta
@@ -125,7 +145,30 @@ def row_weights(data, work, state, p):
 
 @jit()
 def move(data, work, zkeys, state, r, h, rs):
-    """Sensor ``r``'s entry drawn from its tempered conditional; ``(hash, changed)``."""
+    """Sensor ``r``'s entry drawn from its tempered conditional; ``(hash, changed)``.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthTemperedData
+        The call's data.
+    work : AdaptiveBirthTemperedWork
+        ``Wb`` and ``Sb`` from :func:`row_weights`.
+    zkeys : ndarray of uint64, shape (V, K)
+        Zobrist keys.
+    state : ndarray of int32, shape (V,)
+        Updated in place.
+    r : int
+        The sensor.
+    h : np.uint64
+        The hash of ``state``.
+    rs : ndarray of uint64, shape (1,)
+        The stream state (one uniform).
+
+    Returns
+    -------
+    (np.uint64, bool)
+        The new hash and whether the entry changed.
+    """
     Wb, Sb = work.Wb, work.Sb
     K = data.shape[r]
     target = next_uniform(rs) * Sb[r]
@@ -148,7 +191,19 @@ def move(data, work, zkeys, state, r, h, rs):
 
 @jit()
 def accumulate(data, work, state, acc, w):
-    """``acc[s, state[s]] += w`` for every sensor."""
+    """``acc[s, state[s]] += w`` for every sensor.
+
+    Parameters
+    ----------
+    data, work
+        Unused.
+    state : ndarray of int32, shape (V,)
+        The tuple.
+    acc : ndarray of float64, shape (V, K)
+        The accumulator.
+    w : float
+        The state's importance weight.
+    """
     for s in range(state.shape[0]):
         acc[s, state[s]] += w
 

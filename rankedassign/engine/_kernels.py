@@ -111,6 +111,14 @@ _ONE = np.uint64(1)
 def mix64(z):
     """SplitMix64 output function on ``np.uint64`` (twin of :func:`rankedassign.engine.rng.mix64`).
 
+    Parameters
+    ----------
+    z : np.uint64
+
+    Returns
+    -------
+    np.uint64
+
     Examples
     --------
     >>> import numpy as np
@@ -129,6 +137,17 @@ def mix64(z):
 def chain_state(base, chain):
     """Initial stream state of chain ``chain``: ``mix64(base ^ mix64(chain + 1))``.
 
+    Parameters
+    ----------
+    base : np.uint64
+        The run's base state (from the seed).
+    chain : int
+        The chain's index (``>= 0``).
+
+    Returns
+    -------
+    np.uint64
+
     Examples
     --------
     >>> import numpy as np
@@ -142,6 +161,16 @@ def chain_state(base, chain):
 @jit()
 def next_uniform(rs):
     """Advance the one-element ``uint64`` state array ``rs``; return a double in ``[0, 1)``.
+
+    Parameters
+    ----------
+    rs : ndarray of uint64, shape (1,)
+        The stream's state, advanced in place by the golden-ratio increment.
+
+    Returns
+    -------
+    float
+        The top 53 bits of ``mix64`` of the new state, times ``2^-53``.
 
     Examples
     --------
@@ -159,6 +188,18 @@ def next_uniform(rs):
 @jit()
 def uniform_stream(state, n):
     """``n`` consecutive uniforms of the stream started at ``state`` (used by the tests).
+
+    Parameters
+    ----------
+    state : np.uint64
+        The stream's state before the first draw.
+    n : int
+        Number of uniforms.
+
+    Returns
+    -------
+    ndarray of float64, shape (n,)
+        The values of ``n`` calls of :func:`next_uniform`.
 
     Examples
     --------
@@ -181,6 +222,19 @@ def zobrist_keys(L, K, seed):
     Position ``l`` of a sampler state holding value ``k`` contributes ``keys[l, k]`` to the
     state's hash (XOR over positions), so a change of one position updates the hash with two
     XORs.
+
+    Parameters
+    ----------
+    L : int
+        Positions of a state.
+    K : int
+        Values a position can hold.
+    seed : np.uint64
+        Start state of the SplitMix64 stream.
+
+    Returns
+    -------
+    ndarray of uint64, shape (L, K)
 
     Examples
     --------
@@ -209,6 +263,17 @@ _TWO = np.int64(2)
 def key_hash(i, keyv):
     """Hash of row ``i``'s key vector ``keyv`` (entries >= -1), for the key table.
 
+    Parameters
+    ----------
+    i : int
+        The row (draw) id.
+    keyv : ndarray of int32, shape (L,)
+        The key vector.
+
+    Returns
+    -------
+    np.uint64
+
     Examples
     --------
     >>> import numpy as np
@@ -228,6 +293,29 @@ def table_find(i, keyv, h, krow, kst, tslot, thash):
 
     ``krow``/``kst`` are the stored keys (row id, key vector) by slot, ``tslot``/``thash`` the
     open-addressing index (slot + 1, 0 = empty; the key's hash ``h``), a power of two long.
+
+    Parameters
+    ----------
+    i : int
+        The row (draw) id.
+    keyv : ndarray of int32, shape (L,)
+        The key vector.
+    h : np.uint64
+        Its hash (:func:`key_hash`).
+    krow : ndarray of int32, shape (cap,)
+        Stored row ids by slot.
+    kst : ndarray of int32, shape (cap, L)
+        Stored key vectors by slot.
+    tslot : ndarray of int64, shape (T,)
+        Index: slot + 1, 0 for an empty entry; ``T`` a power of two larger than the keys
+        stored (so an empty entry is always found).
+    thash : ndarray of uint64, shape (T,)
+        Hash of the key at each index entry.
+
+    Returns
+    -------
+    int
+        The key's slot, or ``-1 - t`` with ``t`` the empty index entry where it would go.
     """
     mask = tslot.shape[0] - 1
     t = np.int64(h & np.uint64(mask))
@@ -257,6 +345,22 @@ def herd_lookup(i, keyv, cnt, capacity, krow, kst, tslot, thash):
     A new key is stored in slot ``cnt[0]`` (then incremented); ``cnt[1]`` counts the
     fall-backs (the full-table case). The twin of the dictionary look-up of
     :func:`rankedassign.engine.reference.herd_choice`.
+
+    Parameters
+    ----------
+    i, keyv, krow, kst, tslot, thash
+        As in :func:`table_find` (a new key is stored into them).
+    cnt : ndarray of int64, shape (>= 2,)
+        ``[keys stored, fall-backs, ...]`` of the table, updated.
+    capacity : int
+        The keys the table can hold.
+
+    Returns
+    -------
+    slot : int
+        The key's slot, or ``-1`` when the table is full.
+    is_new : bool
+        True when the key was stored by this call.
     """
     hk = key_hash(i, keyv)
     s = table_find(i, keyv, hk, krow, kst, tslot, thash)
@@ -284,6 +388,26 @@ def herd_pick(w, p, K, new, init_mode, rs):
     A new key first gets its initial weights (``init_mode`` 0: ``p``, 1: zeros, 2: ``K``
     uniforms from ``rs``), ``-inf`` where ``p`` is 0. Then ``w += p``, the choice is the first
     candidate of ``p > 0`` of the largest ``w``, and ``w[choice] -= 1``.
+
+    Parameters
+    ----------
+    w : ndarray of float64, shape (>= K,)
+        The key's herding weights, updated in place.
+    p : ndarray of float64, shape (>= K,)
+        The conditional; at least one ``p[k] > 0``.
+    K : int
+        Number of candidates.
+    new : bool
+        The key was just stored (its weights are initialised first).
+    init_mode : int
+        Initial weights of a new key: 0 ``p``, 1 zeros, 2 uniforms.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (advanced by ``K`` uniforms for a new key in mode 2 only).
+
+    Returns
+    -------
+    int
+        The candidate chosen.
     """
     if new:
         for k in range(K):
@@ -354,6 +478,25 @@ class KeyTable(NamedTuple):
 def alloc_key_table(nb, K, L, cap, chain_length):
     """Empty key tables of ``nb`` herded chains (a :class:`KeyTable`).
 
+    Parameters
+    ----------
+    nb : int
+        Chains (slabs).
+    K : int
+        Width of a draw's weights.
+    L : int
+        Length of a key vector.
+    cap : int
+        Keys a table holds.
+    chain_length : int
+        Sweeps of a chain (sizes ``hist`` when ``nb > 1``).
+
+    Returns
+    -------
+    KeyTable
+        ``tslot``, ``thash``, ``cnt``, ``hist`` and ``p`` zero, the others uninitialised;
+        ``T`` the smallest power of two ``>= 4`` and ``>= 2 cap``.
+
     Examples
     --------
     >>> t = alloc_key_table(2, 5, 3, 10, 4)
@@ -374,7 +517,15 @@ def alloc_key_table(nb, K, L, cap, chain_length):
 @jit()
 def reset_key_table(work, b):
     """Slab ``b``'s key table emptied and its tallies zeroed (``work`` holds the fields of a
-    :class:`KeyTable`)."""
+    :class:`KeyTable`).
+
+    Parameters
+    ----------
+    work : record
+        A herded kind's workspace (with the fields of a :class:`KeyTable`).
+    b : int
+        The slab.
+    """
     work.tslot[b, :] = 0
     work.cnt[b, :] = 0
     work.hist[b, 0, :] = 0
@@ -383,7 +534,19 @@ def reset_key_table(work, b):
 @jit()
 def key_table_done(data, work, b, j):
     """Add the tallies of slab ``b``'s chain at its last observation ``j`` to ``data.tally``
-    (a herded kind's ``chain_done``, :func:`make_driver`)."""
+    (a herded kind's ``chain_done``, :func:`make_driver`).
+
+    Parameters
+    ----------
+    data : record
+        The call's data record; its ``tally`` (int64, ``[keys, fall-backs]``) is updated.
+    work : record
+        The herded workspace (:func:`reset_key_table`).
+    b : int
+        The slab.
+    j : int
+        The chain's last observed sweep.
+    """
     tally = data.tally
     hist = work.hist
     if hist.shape[1] > 1:
@@ -396,7 +559,15 @@ def key_table_done(data, work, b, j):
 
 @jit(inline="always")
 def key_table_sweep_done(work, b):
-    """Count a sweep of slab ``b`` and, when chains are speculated, record its tallies."""
+    """Count a sweep of slab ``b`` and, when chains are speculated, record its tallies.
+
+    Parameters
+    ----------
+    work : record
+        The herded workspace (:func:`reset_key_table`).
+    b : int
+        The slab.
+    """
     cnt = work.cnt[b]
     cnt[2] += 1
     hist = work.hist
@@ -524,7 +695,13 @@ def chain_done(data, work, b, j):  # pragma: no cover - replaced in every instan
 
 def no_chain_done(data, work, b, j):
     """The default :func:`make_driver` ``chain_done``: a kind that keeps no per-chain tally
-    (compiled for each kind, as every function that takes the kind's records is)."""
+    (compiled for each kind, as every function that takes the kind's records is).
+
+    Parameters
+    ----------
+    data, work, b, j
+        As in :func:`key_table_done`; unused.
+    """
     return None
 
 
@@ -573,6 +750,17 @@ def as_work(fields):  # pragma: no cover - replaced in every instantiation
 def hash_of(zkeys, x):
     """Zobrist hash of the state ``x``: XOR of ``zkeys[l, x[l]]`` over positions ``l``.
 
+    Parameters
+    ----------
+    zkeys : ndarray of uint64, shape (L, K)
+        Zobrist keys (:func:`zobrist_keys`).
+    x : ndarray of int32, shape (L,)
+        The state, entries in ``0..K-1``.
+
+    Returns
+    -------
+    np.uint64
+
     Examples
     --------
     >>> import numpy as np
@@ -588,6 +776,22 @@ def hash_of(zkeys, x):
 
 @jit()
 def _new_unique_set(L, cap):
+    """An empty :data:`UniqueSet` of capacity ``cap``.
+
+    Parameters
+    ----------
+    L : int
+        Length of a state.
+    cap : int
+        States it holds before :func:`_grow`; a power of two (its table has ``2 cap`` rows).
+
+    Returns
+    -------
+    UniqueSet
+        ``states`` (cap, L) int32 and ``hashes`` (cap,) uint64 uninitialised, ``counts``
+        (cap,) int64 zero, ``last_chain`` (cap,) int64 ``-1``, ``table`` (2 cap, 2) uint64
+        zero (every slot empty).
+    """
     return UniqueSet(
         np.empty((cap, L), dtype=np.int32),
         np.empty(cap, dtype=np.uint64),
@@ -606,6 +810,20 @@ def _find(U, state, h):
     the driver (:func:`add_state`, :func:`make_problem_runner`) look states up through it. It is
     written into each caller (``inline="always"``): a call passing the arrays of the unique
     set costs as much as the look-up itself.
+
+    Parameters
+    ----------
+    U : UniqueSet
+        The set; its table has at least one empty slot.
+    state : ndarray of int32, shape (L,)
+        The state.
+    h : np.uint64
+        Its hash.
+
+    Returns
+    -------
+    int
+        The state's index in discovery order, or ``-1 - slot``.
     """
     table = U.table
     mask = table.shape[0] - 1
@@ -629,7 +847,25 @@ def _find(U, state, h):
 
 @jit()
 def _insert(U, slot, state, h, n_unique, count, chain):
-    """Store ``state`` as unique number ``n_unique`` at the empty hash-table ``slot``."""
+    """Store ``state`` as unique number ``n_unique`` at the empty hash-table ``slot``.
+
+    Parameters
+    ----------
+    U : UniqueSet
+        The set, with room for ``n_unique + 1`` states.
+    slot : int
+        The empty table slot (:func:`_find`'s ``-1 - slot``).
+    state : ndarray of int32, shape (L,)
+        The state (copied).
+    h : np.uint64
+        Its hash.
+    n_unique : int
+        States in ``U`` so far (the new state's index).
+    count : int
+        Its visit count.
+    chain : int
+        The chain that found it.
+    """
     U.table[slot, 0] = h
     U.table[slot, 1] = np.uint64(n_unique + 1)
     U.states[n_unique, :] = state
@@ -640,7 +876,22 @@ def _insert(U, slot, state, h, n_unique, count, chain):
 
 @jit()
 def _grow(U, n_unique):
-    """Double the arrays of ``U`` when full; rehash at load factor 0.5. Returns the new ``U``."""
+    """Double the arrays of ``U`` when full; rehash at load factor 0.5. Returns the new ``U``.
+
+    Parameters
+    ----------
+    U : UniqueSet
+        The set.
+    n_unique : int
+        States in it.
+
+    Returns
+    -------
+    UniqueSet
+        With room for at least one more state: the state arrays doubled if full (the new
+        entries as :func:`_new_unique_set` leaves them), the table doubled until it has
+        more than ``2 n_unique`` rows and rebuilt; arrays that needed neither are shared.
+    """
     states, hashes, counts, last_chain, table = U
     cap = states.shape[0]
     if n_unique >= cap:
@@ -674,6 +925,16 @@ def _pack(run):
     exception crashes numba's return path (a segmentation fault, not an error); plain tuples
     are built in C and only ever raise. The kind's workspace record becomes the plain tuple of
     its fields (``work[:]``); :func:`_unpack` rebuilds it.
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+
+    Returns
+    -------
+    tuple
+        ``(U fields, slab fields, work fields, used_hist, ctr, cctr, pos)``; arrays shared.
     """
     U, S = run.U, run.slab
     return ((U.states, U.hashes, U.counts, U.last_chain, U.table),
@@ -683,13 +944,35 @@ def _pack(run):
 
 def _unpack(run):
     """The :class:`Run` of a packed run (:func:`_pack`); ``as_work`` rebuilds the kind's
-    workspace record from its fields."""
+    workspace record from its fields.
+
+    Parameters
+    ----------
+    run : tuple
+        A packed run.
+
+    Returns
+    -------
+    Run
+        The same arrays, named.
+    """
     return Run(UniqueSet(*run[0]), Slab(*run[1]), as_work(run[2]), run[3], run[4], run[5],
                run[6])
 
 
 def _grow_run(run):
-    """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared."""
+    """Packed ``run`` with its unique set grown (:func:`_grow`); every other field shared.
+
+    Parameters
+    ----------
+    run : tuple
+        A packed run (:func:`_pack`) whose slice returned ``NEED_ROOM``.
+
+    Returns
+    -------
+    tuple
+        The packed run.
+    """
     r = _unpack_impl(run)
     return _pack_impl(Run(_grow(r.U, r.ctr[NU]), r.slab, r.work, r.used_hist, r.ctr, r.cctr,
                           r.pos))
@@ -697,7 +980,19 @@ def _grow_run(run):
 
 @jit()
 def _room(U, n_unique):
-    """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5)."""
+    """Insertions ``U`` takes before :func:`_grow` must run (load factor 0.5).
+
+    Parameters
+    ----------
+    U : UniqueSet
+        The set.
+    n_unique : int
+        States in it.
+
+    Returns
+    -------
+    int
+    """
     return min(U.states.shape[0], U.table.shape[0] // 2) - n_unique
 
 
@@ -779,7 +1074,17 @@ def add_state(U, x, h, n_u):
 # ------------------------------------------------------------------------ stall and stale
 @jit()
 def _begin_chain(c, last_chain, cctr):
-    """Reset the per-chain counters; the start state (unique 0) is the chain's ``x[0]``."""
+    """Reset the per-chain counters; the start state (unique 0) is the chain's ``x[0]``.
+
+    Parameters
+    ----------
+    c : int
+        The chain's index in the run.
+    last_chain : ndarray of int64
+        ``U.last_chain``; entry 0 (the start state) set to ``c``.
+    cctr : ndarray of int64
+        The per-chain counters, zeroed but for the chain's local unique count, 1.
+    """
     cctr[:] = 0
     cctr[_LOCAL_UNIQUE] = 1
     last_chain[0] = c
@@ -793,6 +1098,22 @@ def _stalled(cctr, j, stall_mode, tau_stall):
     * global-cumulative (S2): the chain's observations that were already in ``U``;
     * chain-local (S1): ``(j + 1) - NumUnique(x[0..j])``, repeats among the chain's own
       states including its start state.
+
+    Parameters
+    ----------
+    cctr : ndarray of int64
+        The chain's counters.
+    j : int
+        The observation just made (1-based sweep number).
+    stall_mode : int
+        The stall reading's code (``rankedassign.validation``; 0 off).
+    tau_stall : int
+        The threshold.
+
+    Returns
+    -------
+    bool
+        True when the chain stops.
     """
     if stall_mode == STALL_GLOBAL_CONSECUTIVE:
         return cctr[_STALL_RUN] >= tau_stall
@@ -812,6 +1133,22 @@ def _end_chain(ctr, cctr, stale_mode, tau_stale):
     * literal-set (T1): ``|x| - n_u`` with ``x`` the set of samples, i.e. ``|U| - |U|``;
     * literal-multiset (T1): ``|x| - n_u`` with ``x`` the multiset of every chain's start state
       and every observation, i.e. ``(chains + observations) - |U|``.
+
+    Parameters
+    ----------
+    ctr : ndarray of int64, shape (N_COUNTERS,)
+        The run's counters (chains, stale runs and the stale flag updated).
+    cctr : ndarray of int64
+        The closing chain's counters.
+    stale_mode : int
+        The stale reading's code (``rankedassign.validation``; 0 off).
+    tau_stale : int
+        The threshold.
+
+    Returns
+    -------
+    bool
+        True when the run stops.
     """
     ctr[NCHAINS] += 1
     if cctr[_NEW_IN_CHAIN] > 0:
@@ -842,6 +1179,20 @@ def _prefix_length(used_hist, chain_length, workers):
     Speculating ``s`` sweeps costs ``s / workers`` per chain in parallel; each sweep a chain
     needs beyond ``s`` costs 1 in the (sequential) replay. The expected time is minimal where
     ``P(length > s) = 1 / workers``. Before any chain has finished, speculate everything.
+
+    Parameters
+    ----------
+    used_hist : ndarray of int64, shape (chain_length + 1,)
+        Number of finished chains by the sweeps they used.
+    chain_length : int
+        Sweeps of a full chain.
+    workers : int
+        Threads of the speculation (``>= 1``).
+
+    Returns
+    -------
+    int
+        Sweeps to speculate, in ``1..chain_length``.
     """
     n = used_hist.sum()
     if n == 0:
@@ -876,6 +1227,21 @@ def _speculate(data, work, zkeys, slab, x0, step):
     The chain index is passed as ``int64``: numba's parallel lowering types a ``prange`` index
     as ``uint64`` where the loop's typing saw ``int64``, and the call would otherwise compile
     the chain's function (with the kind's whole sweep in it) a second time.
+
+    Parameters
+    ----------
+    data : record
+        The kind's data record of the call.
+    work : record
+        The kind's workspace, one slab per chain of the batch.
+    zkeys : ndarray of uint64, shape (L, K)
+        Zobrist keys.
+    slab : Slab
+        The chains' simulation slabs.
+    x0 : ndarray of int32, shape (L,)
+        The start state.
+    step : Step
+        What to simulate.
     """
     n_batch = step.n_batch
     for b in prange(n_batch):
@@ -883,7 +1249,15 @@ def _speculate(data, work, zkeys, slab, x0, step):
 
 
 def _speculate_chain(data, work, zkeys, slab, x0, step, b):
-    """The sweeps of ``step`` (a :class:`Step`) of the chain of slab row ``b``."""
+    """The sweeps of ``step`` (a :class:`Step`) of the chain of slab row ``b``.
+
+    Parameters
+    ----------
+    data, work, zkeys, slab, x0, step
+        As in :func:`_speculate`.
+    b : int64
+        The slab row (chain ``step.c_first + b``).
+    """
     state = slab.states[b]
     rs = slab.rs[b, 0:1]
     if step.j_from == 0:
@@ -923,6 +1297,21 @@ def _advance(data, work, zkeys, slab, U, ctr, cctr, rules, span):
     would otherwise cost an atomic reference-count update per array, row and sweep (the
     multi-sensor sweep split into phases ran twice as slowly with them). Neither allocates,
     and the run keeps every array they touch alive.
+
+    Parameters
+    ----------
+    data, work, zkeys, slab
+        As in :func:`_speculate`.
+    U : UniqueSet
+        The unique set, with room for ``j1 - j0`` more states.
+    ctr : ndarray of int64, shape (N_COUNTERS,)
+        The run's counters.
+    cctr : ndarray of int64
+        The chain's counters.
+    rules : Rules
+        The stall and stale readings and thresholds.
+    span : Span
+        The chain's slab row, index, observations and sweeps simulated.
 
     Returns
     -------
@@ -979,6 +1368,16 @@ def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
 
     ``batch`` and ``workers`` as in :func:`_run_slice`; they size the slab (``nb`` chains and,
     when speculating, ``chain_length`` sweeps of each) and the first speculation batch.
+
+    Parameters
+    ----------
+    data, zkeys, x0, n_chains, chain_length, batch, workers
+        As in :func:`_run_slice`.
+
+    Returns
+    -------
+    tuple
+        The packed run (:func:`_pack`).
     """
     L = x0.shape[0]
     h0 = hash_of(zkeys, x0)
@@ -1138,6 +1537,22 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
     ends within the budget (one call, no state handed back: the common case costs what a run
     in one call costs), else ``(empty, empty, ctr, run)`` with the packed :class:`Run` to
     continue (:func:`_pack`).
+
+    Parameters
+    ----------
+    data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget
+        As in :func:`_run_slice`.
+
+    Returns
+    -------
+    states : ndarray of int32, shape (n, L)
+        The unique states in discovery order (empty when the run continues).
+    counts : ndarray of int64, shape (n,)
+        Their visit counts (empty when the run continues).
+    ctr : ndarray of int64, shape (N_COUNTERS,)
+        The run's counters.
+    run : tuple or None
+        The packed run to continue, or None when it is over.
     """
     run = _new_run_impl(data, zkeys, x0, n_chains, chain_length, batch, workers)
     status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
@@ -1156,13 +1571,34 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
 
 def _as_record(fields):
     """The workspace record ``Work`` of its fields (template of :func:`make_driver`'s
-    ``as_work``)."""
+    ``as_work``).
+
+    Parameters
+    ----------
+    fields : tuple
+        The record's fields, in order.
+
+    Returns
+    -------
+    Work
+    """
     return Work(*fields)
 
 
 @jit()
 def _as_tuple(fields):
-    """A workspace that is a plain tuple, as it is (:func:`make_driver`'s ``as_work``)."""
+    """A workspace that is a plain tuple, as it is (:func:`make_driver`'s ``as_work``).
+
+    Parameters
+    ----------
+    fields : tuple
+        The workspace.
+
+    Returns
+    -------
+    tuple
+        ``fields``.
+    """
     return fields
 
 

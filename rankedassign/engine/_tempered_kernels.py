@@ -93,6 +93,28 @@ def visit(states, hashes, counts, table, state, h, n_u):
     A new state is appended (the caller keeps ``2 (n_u + 1) <= capacity``); a hash hit is
     confirmed on the whole state.
 
+    Parameters
+    ----------
+    states : ndarray of int32, shape (cap, L)
+        The unique states.
+    hashes : ndarray of uint64, shape (cap,)
+        Their hashes.
+    counts : ndarray of int64, shape (cap,)
+        Their visits.
+    table : ndarray of int64, shape (2 cap,)
+        Open-addressing index: ``index + 1``, 0 empty; a power of two long.
+    state : ndarray of int32, shape (L,)
+        The state visited.
+    h : np.uint64
+        Its hash.
+    n_u : int
+        Unique states so far.
+
+    Returns
+    -------
+    int
+        ``n_u``, or ``n_u + 1`` when ``state`` is new.
+
     Examples
     --------
     >>> import numpy as np
@@ -130,6 +152,15 @@ def visit(states, hashes, counts, table, state, h, n_u):
 def rehash(hashes, n_u, table):
     """Insert unique states ``0..n_u-1`` by their ``hashes`` into the empty ``table``.
 
+    Parameters
+    ----------
+    hashes : ndarray of uint64, shape (>= n_u,)
+        The states' hashes.
+    n_u : int
+        Unique states.
+    table : ndarray of int64
+        Zero on entry, a power of two long (more than ``n_u`` entries).
+
     Examples
     --------
     >>> import numpy as np
@@ -150,7 +181,19 @@ def _start(data, work, zkeys, run):
     """The run (a :class:`TemperedRun`) at its start state: its hash, ``U = {x0}`` (count 0),
     the ratios and ``Z``.
 
-    Returns :data:`OK` or :data:`UNDERFLOW`.
+    Parameters
+    ----------
+    data, work : records
+        The kind's data and workspace (read by its row functions).
+    zkeys : ndarray of uint64, shape (L, K)
+        Zobrist keys.
+    run : TemperedRun
+        ``state`` the start state; the rest filled.
+
+    Returns
+    -------
+    int
+        :data:`OK` or :data:`UNDERFLOW`.
     """
     state, p, states, hashes = run.state, run.p, run.states, run.hashes
     counts, table, hu, fs = run.counts, run.table, run.hu, run.fs
@@ -176,6 +219,18 @@ def _steps(data, work, zkeys, run, t0, t1):
     Returns ``(status, t)``: :data:`OK` with ``t = t1``; :data:`NEED_ROOM` with the move
     ``t`` not yet made when the unique set may not hold one more state (grow it, then go on
     from ``t``); :data:`UNDERFLOW` when a ratio is not representable.
+
+    Parameters
+    ----------
+    data, work, zkeys, run
+        As in :func:`_start` (``run`` as the last call left it).
+    t0, t1 : int
+        The moves to make.
+
+    Returns
+    -------
+    (int, int)
+        The status and the next move ``t``.
     """
     state, p, acc, states, hashes = run.state, run.p, run.acc, run.states, run.hashes
     counts, table, hu, fs = run.counts, run.table, run.hu, run.fs

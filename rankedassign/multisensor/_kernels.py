@@ -44,6 +44,25 @@ EXACT, MM, MM_FIXED, COMPONENTWISE = 0, 1, 2, 3
 def pick(w, b, n, total, u):
     """Twin of :func:`rankedassign.multisensor.reference.pick` on ``w[b, :n]``.
 
+    Parameters
+    ----------
+    w : ndarray of float64, shape (nb, C)
+        Candidate weights, slab by slab.
+    b : int
+        The slab.
+    n : int
+        Candidates (``n <= C``).
+    total : float
+        ``sum(w[b, :n])``, positive.
+    u : float
+        A uniform in ``[0, 1)``.
+
+    Returns
+    -------
+    int
+        The first candidate whose running sum exceeds ``u * total``, else the last one of
+        positive weight.
+
     Examples
     --------
     >>> import numpy as np
@@ -68,6 +87,18 @@ def draw(w, lw, b, n, u):
     """Twin of :func:`rankedassign.multisensor.reference.draw` on ``w[b, :n]``, ``lw[b, :n]``.
 
     Overwrites ``w[b]`` on the underflow fall-back.
+
+    Parameters
+    ----------
+    w, b, n, u
+        As in :func:`pick` (``w`` may sum to 0: underflow).
+    lw : ndarray of float64, shape (nb, C)
+        The candidates' log-weights, for the fall-back.
+
+    Returns
+    -------
+    int
+        The candidate drawn, ``-1`` when every log-weight is ``-inf``.
 
     Examples
     --------
@@ -129,7 +160,18 @@ class MultiSensorWork(NamedTuple):
 
 @jit()
 def _widths(data):
-    """``K = max_v M_v + 1`` and ``C = max(1 + T, K, 2)`` of the workspace."""
+    """``K = max_v M_v + 1`` and ``C = max(1 + T, K, 2)`` of the workspace.
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data (``T`` is ``data.Wa.shape[1]``, 0 for the MM methods).
+
+    Returns
+    -------
+    (int, int)
+        ``K`` and ``C``.
+    """
     n_meas = data.n_meas
     K = 1
     for v in range(data.V):
@@ -140,7 +182,20 @@ def _widths(data):
 
 @jit()
 def alloc_work(data, nb):
-    """Work arrays for ``nb`` chains simulated at once (a :class:`MultiSensorWork`)."""
+    """Work arrays for ``nb`` chains simulated at once (a :class:`MultiSensorWork`).
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data.
+    nb : int
+        Chains.
+
+    Returns
+    -------
+    MultiSensorWork
+        Zero arrays of the shapes listed there.
+    """
     V = data.V
     K, C = _widths(data)
     return MultiSensorWork(
@@ -153,7 +208,19 @@ def alloc_work(data, nb):
 
 @jit()
 def reset_work(data, work, b, x0):
-    """Slab ``b`` to the start state ``x0``: the occupancy table of ``x0``."""
+    """Slab ``b`` to the start state ``x0``: the occupancy table of ``x0``.
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data.
+    work : MultiSensorWork
+        ``occ[b]`` rebuilt.
+    b : int
+        The slab.
+    x0 : ndarray of int32, shape (P * V,)
+        The start state (``gamma + 1``; a value ``>= 2`` holds measurement ``value - 1``).
+    """
     V = data.V
     occ = work.occ
     occ[b, :, :] = 0
@@ -166,7 +233,30 @@ def reset_work(data, work, b, x0):
 @jit()
 def _mm_log_alive(lth, las, avail, navail, b, n, V):
     """``log(s_n^alpha prod_v sum_{j in A_n^(v)} theta_n^(v)(j))`` on exact log-weights (the
-    MM underflow fall-back)."""
+    MM underflow fall-back).
+
+    Parameters
+    ----------
+    lth : ndarray of float64, shape (P, V, K)
+        ``log theta_n^(v)(j)``.
+    las : ndarray of float64, shape (P,)
+        ``alpha log s_n``.
+    avail : ndarray of int64, shape (nb, V, K)
+        The available entries ``A_n^(v)`` (:func:`_available`).
+    navail : ndarray of int64, shape (nb, V)
+        Their numbers.
+    b : int
+        The slab.
+    n : int
+        The row.
+    V : int
+        Sensors.
+
+    Returns
+    -------
+    float
+        The log-weight, ``-inf`` when some sensor has no available entry of finite weight.
+    """
     lal = las[n]
     for v in range(V):
         m = -np.inf
@@ -186,7 +276,19 @@ def _mm_log_alive(lth, las, avail, navail, b, n, V):
 @jit(inline="always")
 def _scan_order(data, work, b, rs):
     """Slab ``b``'s row order ``perm[b]``: ``0..P-1``, for the random scan shuffled by
-    Fisher-Yates from the identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``)."""
+    Fisher-Yates from the identity (``t = P-1..1``: ``j = min(floor(u (t + 1)), t)``).
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data (``P``, ``random_scan``).
+    work : MultiSensorWork
+        ``perm[b]`` written.
+    b : int
+        The slab.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (``P - 1`` uniforms for the random scan, none otherwise).
+    """
     perm = work.perm
     P = data.P
     for t in range(P):
@@ -204,7 +306,21 @@ def _scan_order(data, work, b, rs):
 @jit(inline="always")
 def _available(data, work, b, state, n):
     """``A_n^(v)`` of row ``n`` for every sensor into ``avail[b]``, ``navail[b]``: missed, and
-    the measurements free of the other rows."""
+    the measurements free of the other rows.
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data.
+    work : MultiSensorWork
+        ``avail[b]`` and ``navail[b]`` written (entry 0 is always missed, 0).
+    b : int
+        The slab.
+    state : ndarray of int32, shape (P * V,)
+        The current state (``gamma + 1``).
+    n : int
+        The row.
+    """
     n_meas, occ, avail, navail = data.n_meas, work.occ, work.avail, work.navail
     V = data.V
     for v in range(V):
@@ -225,7 +341,26 @@ def _available(data, work, b, state, n):
 @jit(inline="always")
 def _row_exact(data, work, b, n, rs):
     """Row ``n`` from its exact conditional (spec eq. 2.1): dead, then ``A_1 x ... x A_V`` in
-    C order (an odometer, the last sensor fastest)."""
+    C order (an odometer, the last sensor fastest).
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data (exact method).
+    work : MultiSensorWork
+        ``avail[b]`` as :func:`_available` left it; the new row written to ``row[b]``.
+    b : int
+        The slab.
+    n : int
+        The row.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (one uniform).
+
+    Returns
+    -------
+    bool
+        False when no candidate has weight (the row stays).
+    """
     V, strides, Wd, ld, Wa, la = data.V, data.strides, data.Wd, data.ld, data.Wa, data.la
     avail, navail, idx, wbuf, lbuf, row = (work.avail, work.navail, work.idx, work.wbuf,
                                            work.lbuf, work.row)
@@ -283,7 +418,22 @@ def _row_exact(data, work, b, n, rs):
 @jit(inline="always")
 def _row_componentwise(data, work, b, state, n, rs):
     """Row ``n``'s components, each from its exact conditional under ``eta'`` in turn
-    (spec §2.4)."""
+    (spec §2.4).
+
+    Parameters
+    ----------
+    data, work, b, n
+        As in :func:`_row_exact` (componentwise method).
+    state : ndarray of int32, shape (P * V,)
+        The current state (``gamma + 1``), row ``n``'s start.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (one uniform per sensor).
+
+    Returns
+    -------
+    bool
+        Always True; a sensor without a candidate keeps its value.
+    """
     V, strides, Wa, la = data.V, data.strides, data.Wa, data.la
     avail, navail, wbuf, lbuf, row = work.avail, work.navail, work.wbuf, work.lbuf, work.row
     for v in range(V):
@@ -324,7 +474,20 @@ def _row_componentwise(data, work, b, state, n, rs):
 @jit(inline="always")
 def _row_mm(data, work, b, n, rs):
     """Row ``n`` by MM (spec §3.2): dead with probability ``Q_n``, else independent
-    per-sensor draws ``j ~ theta_n^(v)(j) 1[j in A_n^(v)]``."""
+    per-sensor draws ``j ~ theta_n^(v)(j) 1[j in A_n^(v)]``.
+
+    Parameters
+    ----------
+    data, work, b, n
+        As in :func:`_row_exact` (the MM methods).
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state (one uniform for dead or alive, then one per sensor).
+
+    Returns
+    -------
+    bool
+        False when the row stays.
+    """
     V, ld, Th, lth, las = data.V, data.ld, data.Th, data.lth, data.las
     avail, navail, wbuf, lbuf, row = work.avail, work.navail, work.wbuf, work.lbuf, work.row
     u = next_uniform(rs)
@@ -396,7 +559,29 @@ def _row_mm(data, work, b, n, rs):
 @jit(inline="always")
 def _write_row(data, work, b, zkeys, state, n, h):
     """Row ``n``'s new values ``row[b]`` into ``state``, the occupancy table and the hash;
-    return the hash."""
+    return the hash.
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data.
+    work : MultiSensorWork
+        ``row[b]`` read (``gamma`` values), ``occ[b]`` updated.
+    b : int
+        The slab.
+    zkeys : ndarray of uint64, shape (P * V, K)
+        Zobrist keys.
+    state : ndarray of int32, shape (P * V,)
+        Updated in place (``gamma + 1``).
+    n : int
+        The row.
+    h : np.uint64
+        The hash of ``state`` before.
+
+    Returns
+    -------
+    np.uint64
+    """
     V = data.V
     occ, row = work.occ, work.row
     for v in range(V):
@@ -482,6 +667,19 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
     The sweep kernel alone, for timing it and for tests that need many independent chains;
     the samplers run it through the generic chain driver instead.
 
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data.
+    zkeys : ndarray of uint64, shape (P * V, K)
+        Zobrist keys.
+    x0 : ndarray of int32, shape (P * V,)
+        The start state (not modified).
+    seed : np.uint64
+        The stream state before the first uniform.
+    n_sweeps : int
+        Sweeps.
+
     Returns
     -------
     state : ndarray, shape (P * V,), int32
@@ -521,7 +719,24 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
 def _sweeps(data, work, zkeys, state, h, rs, n_sweeps):
     """``n_sweeps`` sweeps of slab 0 (:func:`run_sweeps`); the loop the sweep is written into
     runs without reference counting, as the chain driver's do
-    (:func:`rankedassign.engine._kernels.make_driver`)."""
+    (:func:`rankedassign.engine._kernels.make_driver`).
+
+    Parameters
+    ----------
+    data : MultiSensorData
+        The call's data.
+    work : MultiSensorWork
+        One slab.
+    zkeys, state, h, rs
+        As in :func:`sweep`.
+    n_sweeps : int
+        Sweeps.
+
+    Returns
+    -------
+    np.uint64
+        The hash of the final state.
+    """
     for _ in range(n_sweeps):
         h = sweep(data, work, 0, zkeys, state, h, rs)
     return h
@@ -542,7 +757,23 @@ run_chains = make_driver("multisensor", alloc_work, reset_work, sweep, work=Mult
 def _row_key(data, work, b, state, n, vlo, vhi):
     """Row ``n``'s key vector into ``keyv[b]`` (twin of the reference's ``herd_key``): the
     state with row ``n`` as -1 (full), or the codes ``v K + j`` of the gated measurements of
-    sensors ``vlo..vhi-1`` that other rows hold (shared)."""
+    sensors ``vlo..vhi-1`` that other rows hold (shared).
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (``key_mode`` 0 full, else shared; ``gate`` (P, V, Kc) bool).
+    work : MultiSensorHerdedWork
+        ``keyv[b]`` written, padded with -1.
+    b : int
+        The slab.
+    state : ndarray of int32, shape (P * V,)
+        The current state (``gamma + 1``).
+    n : int
+        The row.
+    vlo, vhi : int
+        The sensors of the shared key.
+    """
     n_meas = data.n_meas
     P = data.P
     V = data.V
@@ -568,7 +799,17 @@ def _row_key(data, work, b, state, n, vlo, vhi):
 @jit(inline="always")
 def _component_key(data, work, b, state, n, v, off):
     """Component ``v`` of row ``n``'s key vector (twin of the reference's
-    ``_component_key``); ``off`` is the tuple offset of the row's other components."""
+    ``_component_key``); ``off`` is the tuple offset of the row's other components.
+
+    Parameters
+    ----------
+    data, work, b, state, n
+        As in :func:`_row_key` (``row[b]`` holds the row's current components).
+    v : int
+        The component (sensor).
+    off : int
+        Offset in the flat tuple index of the row's other components.
+    """
     n_meas, strides, la = data.n_meas, data.strides, data.la
     P = data.P
     V = data.V
@@ -599,7 +840,32 @@ def _component_key(data, work, b, state, n, v, off):
 def _herd_stage(data, work, b, rid, nc, K, rs):
     """One herded draw (twin of the reference's ``_herd_stage``) over ``K`` candidates, the
     ``nc`` available ones in ``wbuf/lbuf/cand[b]``, key in ``keyv[b]``: the candidate, -1 if
-    none has weight, or the Gibbs draw of the same lists when the table is full."""
+    none has weight, or the Gibbs draw of the same lists when the table is full.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (``capacity``, ``init_mode``).
+    work : MultiSensorHerdedWork
+        ``wbuf[b]``, ``lbuf[b]``, ``cand[b]`` the available candidates' weights,
+        log-weights and full indices, ``keyv[b]`` the key; ``p[b]`` and the key table
+        updated.
+    b : int
+        The slab.
+    rid : int
+        The key's row id (``n (V + 1) + stage``).
+    nc : int
+        Available candidates.
+    K : int
+        Width of the full candidate range.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state.
+
+    Returns
+    -------
+    int
+        The full candidate index drawn, or -1.
+    """
     wbuf, lbuf, cand, p, keyv = work.wbuf, work.lbuf, work.cand, work.p[b], work.keyv[b]
     for k in range(K):
         p[k] = 0.0
@@ -634,7 +900,28 @@ def _herd_stage(data, work, b, rid, nc, K, rs):
 
 @jit(inline="always")
 def _herd_row_exact(data, work, b, state, n, rs):
-    """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``."""
+    """Row ``n`` herded over dead (0) and every tuple (``1 + offset``) into ``row[b]``.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (exact method).
+    work : MultiSensorHerdedWork
+        ``avail[b]`` as :func:`_available` left it.
+    b : int
+        The slab.
+    state : ndarray of int32, shape (P * V,)
+        The current state (``gamma + 1``).
+    n : int
+        The row.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state.
+
+    Returns
+    -------
+    bool
+        False when no candidate has weight (the row stays).
+    """
     n_meas, strides, Wd, ld, Wa, la = (data.n_meas, data.strides, data.Wd, data.ld, data.Wa,
                                        data.la)
     V = data.V
@@ -674,7 +961,18 @@ def _herd_row_exact(data, work, b, state, n, rs):
 
 @jit(inline="always")
 def _herd_row_mm(data, work, b, state, n, rs):
-    """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``."""
+    """Row ``n`` herded as MM does it (dead/alive, then each sensor) into ``row[b]``.
+
+    Parameters
+    ----------
+    data, work, b, state, n, rs
+        As in :func:`_herd_row_exact` (the MM methods).
+
+    Returns
+    -------
+    bool
+        False when the row stays.
+    """
     n_meas, ld, Th, lth, las = data.n_meas, data.ld, data.Th, data.lth, data.las
     Ea, Ed, qdead = data.Ea, data.Ed, data.qdead
     V = data.V
@@ -735,7 +1033,18 @@ def _herd_row_mm(data, work, b, state, n, rs):
 
 @jit(inline="always")
 def _herd_row_componentwise(data, work, b, state, n, rs):
-    """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``."""
+    """Row ``n``'s components herded in turn (collapsed target) into ``row[b]``.
+
+    Parameters
+    ----------
+    data, work, b, state, n, rs
+        As in :func:`_herd_row_exact` (componentwise method).
+
+    Returns
+    -------
+    bool
+        Always True; a component without a candidate keeps its value.
+    """
     n_meas, strides, Wa, la = data.n_meas, data.strides, data.Wa, data.la
     V = data.V
     avail, navail, wbuf, lbuf, row, cand = (work.avail, work.navail, work.wbuf, work.lbuf,
@@ -768,6 +1077,20 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     :func:`_herd_row_exact`, :func:`_herd_row_mm` or :func:`_herd_row_componentwise` by the
     method, then the row is written back as in :func:`sweep`. The chain's tallies are
     ``cnt[b]`` (keys, fall-backs, sweeps) and, when chains are speculated, ``hist``.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data.
+    work : MultiSensorHerdedWork
+        Slab ``b`` used and kept up to date.
+    b, zkeys, state, h, rs
+        As in :func:`sweep`.
+
+    Returns
+    -------
+    np.uint64
+        The hash of the updated state.
     """
     method = data.method
     _scan_order(data, work, b, rs)
@@ -807,7 +1130,19 @@ class MultiSensorHerdedWork(record(MultiSensorWork, {"cand": np.ndarray}, KeyTab
 
 @jit()
 def alloc_work_herded(data, nb):
-    """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables."""
+    """Workspace of ``nb`` herded chains: the Gibbs workspace, scratch rows and key tables.
+
+    Parameters
+    ----------
+    data : MultiSensorHerdedData
+        The call's data (``width``, ``capacity``, ``chain_length``).
+    nb : int
+        Chains.
+
+    Returns
+    -------
+    MultiSensorHerdedWork
+    """
     g = alloc_work(data, nb)
     cand = np.zeros((nb, g.wbuf.shape[1]), dtype=np.int64)
     table = alloc_key_table(nb, data.width, max(data.P * data.V, 1), data.capacity,
@@ -817,7 +1152,15 @@ def alloc_work_herded(data, nb):
 
 @jit()
 def reset_work_herded(data, work, b, x0):
-    """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies."""
+    """Slab ``b`` for a new chain from ``x0``: occupancy, an empty key table, zero tallies.
+
+    Parameters
+    ----------
+    data, b, x0
+        As in :func:`reset_work`.
+    work : MultiSensorHerdedWork
+        Slab ``b`` reset.
+    """
     reset_work(data, work, b, x0)
     reset_key_table(work, b)
 

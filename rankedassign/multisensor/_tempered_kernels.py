@@ -77,6 +77,13 @@ class MultiSensorTemperedWork(NamedTuple):
 def occupancy(occ, x0):
     """The occupancy table ``occ`` (V, K) of the state ``x0`` (``gamma + 1`` per row, sensor).
 
+    Parameters
+    ----------
+    occ : ndarray of int64, shape (V, K)
+        Overwritten: rows holding measurement ``j`` of sensor ``v``.
+    x0 : ndarray of int32, shape (P * V,)
+        The state.
+
     Examples
     --------
     >>> import numpy as np
@@ -94,7 +101,23 @@ def occupancy(occ, x0):
 
 @jit()
 def _available(n_meas, occ, state, n, avail, navail):
-    """``A_n^(v)`` for every sensor: missed, and the measurements free of the other rows."""
+    """``A_n^(v)`` for every sensor: missed, and the measurements free of the other rows.
+
+    Parameters
+    ----------
+    n_meas : ndarray of int64, shape (V,)
+        ``M_v``.
+    occ : ndarray of int64, shape (V, K)
+        The occupancy table of ``state``.
+    state : ndarray of int32, shape (P * V,)
+        The state (``gamma + 1``).
+    n : int
+        The row.
+    avail : ndarray of int64, shape (V, K)
+        Receives the available entries (entry 0 missed, 0).
+    navail : ndarray of int64, shape (V,)
+        Receives their numbers.
+    """
     V = n_meas.shape[0]
     for v in range(V):
         own = state[n * V + v] - 1
@@ -109,7 +132,23 @@ def _available(n_meas, occ, state, n, avail, navail):
 
 @jit()
 def _code(strides, state, n, V):
-    """Candidate code of row ``n``: 0 dead, ``1 + offset`` of its tuple."""
+    """Candidate code of row ``n``: 0 dead, ``1 + offset`` of its tuple.
+
+    Parameters
+    ----------
+    strides : ndarray of int64, shape (V,)
+        C-order strides of the tuple axes.
+    state : ndarray of int32, shape (P * V,)
+        The state (``gamma + 1``).
+    n : int
+        The row.
+    V : int
+        Sensors.
+
+    Returns
+    -------
+    int
+    """
     if state[n * V] == 0:
         return 0
     off = 0
@@ -120,7 +159,21 @@ def _code(strides, state, n, V):
 
 @jit()
 def _advance(idx, navail, V):
-    """Next digit vector of the odometer (last sensor fastest); False when it wrapped."""
+    """Next digit vector of the odometer (last sensor fastest); False when it wrapped.
+
+    Parameters
+    ----------
+    idx : ndarray of int64, shape (V,)
+        The digits, advanced in place (all zero again when it wrapped).
+    navail : ndarray of int64, shape (V,)
+        Each digit's base.
+    V : int
+        Sensors.
+
+    Returns
+    -------
+    bool
+    """
     v = V - 1
     while v >= 0:
         idx[v] += 1
@@ -133,7 +186,26 @@ def _advance(idx, navail, V):
 
 @jit()
 def row_weights(data, work, state, p):
-    """``p[n] = (R(gamma_n) S_n) / Sb_n`` for every row; ``Z`` or -1.0 (not representable)."""
+    """``p[n] = (R(gamma_n) S_n) / Sb_n`` for every row; ``Z`` or -1.0 (not representable).
+
+    The kind's ``row_weights`` (:mod:`rankedassign.engine._tempered_kernels`).
+
+    Parameters
+    ----------
+    data : MultiSensorTemperedData
+        The call's weights.
+    work : MultiSensorTemperedWork
+        ``occ`` the occupancy of ``state``; ``Sb`` written.
+    state : ndarray of int32, shape (P * V,)
+        The state (``gamma + 1``).
+    p : ndarray of float64, shape (P,)
+        Receives the ratios.
+
+    Returns
+    -------
+    float
+        ``Z``, summed left to right, or -1.0.
+    """
     n_meas, strides, Wd, Wbd, Wa, Wba = (data.n_meas, data.strides, data.Wd, data.Wbd,
                                          data.Wa, data.Wba)
     Rd, Ra = data.Rd, data.Ra
@@ -170,7 +242,32 @@ def row_weights(data, work, state, p):
 
 @jit()
 def move(data, work, zkeys, state, r, h, rs):
-    """Row ``r`` drawn from its tempered conditional; ``(hash, changed)``."""
+    """Row ``r`` drawn from its tempered conditional; ``(hash, changed)``.
+
+    The kind's ``move`` (:mod:`rankedassign.engine._tempered_kernels`).
+
+    Parameters
+    ----------
+    data : MultiSensorTemperedData
+        The call's weights.
+    work : MultiSensorTemperedWork
+        ``Sb`` from :func:`row_weights`; ``occ`` updated.
+    zkeys : ndarray of uint64, shape (P * V, K)
+        Zobrist keys.
+    state : ndarray of int32, shape (P * V,)
+        Updated in place.
+    r : int
+        The row.
+    h : np.uint64
+        The hash of ``state``.
+    rs : ndarray of uint64, shape (1,)
+        The stream state (one uniform).
+
+    Returns
+    -------
+    (np.uint64, bool)
+        The new hash and whether a position changed.
+    """
     n_meas, strides, Wbd, Wba = data.n_meas, data.strides, data.Wbd, data.Wba
     occ, avail, navail, idx, Sb, row = (work.occ, work.avail, work.navail, work.idx, work.Sb,
                                         work.row)
@@ -229,7 +326,21 @@ def move(data, work, zkeys, state, r, h, rs):
 
 @jit()
 def accumulate(data, work, state, acc, w):
-    """``acc[n, code(gamma_n)] += w`` for every row."""
+    """``acc[n, code(gamma_n)] += w`` for every row.
+
+    Parameters
+    ----------
+    data : MultiSensorTemperedData
+        The call's weights (``strides``).
+    work : MultiSensorTemperedWork
+        Unused.
+    state : ndarray of int32, shape (P * V,)
+        The state.
+    acc : ndarray of float64, shape (P, 1 + T)
+        The accumulator: column 0 dead, ``1 + offset`` a tuple.
+    w : float
+        The state's importance weight.
+    """
     strides = data.strides
     V = strides.shape[0]
     for n in range(acc.shape[0]):

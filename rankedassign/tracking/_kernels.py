@@ -46,7 +46,22 @@ _VO_MA = 1
 # ------------------------------------------------------------------ mixture reduction phases
 @jit()
 def _prune_components(w, a, b, elim):
-    """Components ``a <= c < b`` with ``w[c] > elim``, and always the heaviest (first maximum)."""
+    """Components ``a <= c < b`` with ``w[c] > elim``, and always the heaviest (first maximum).
+
+    Parameters
+    ----------
+    w : ndarray of float64, shape (C,)
+        Component weights.
+    a, b : int
+        The track's component range ``a:b`` (``a < b``).
+    elim : float
+        Pruning threshold.
+
+    Returns
+    -------
+    ndarray of int64
+        The kept components, increasing.
+    """
     best = a
     for c in range(a, b):
         if w[c] > w[best]:
@@ -64,14 +79,45 @@ def _prune_components(w, a, b, elim):
 def _merge_prepare(idx):
     """Room for ``P⁻¹`` (the Mahalanobis rules) or ``ln|P|`` (Bhattacharyya) of every kept
     component, filled on first use (:func:`_component_inverse`, :func:`_component_logdet`):
-    most pairs are decided by a cheap bound and never need them."""
+    most pairs are decided by a cheap bound and never need them.
+
+    Parameters
+    ----------
+    idx : ndarray of int64, shape (n,)
+        The kept components (:func:`_prune_components`).
+
+    Returns
+    -------
+    inv : ndarray of float64, shape (n, 4, 4)
+        Uninitialised room for the inverses.
+    logdet : ndarray of float64, shape (n,)
+        ``nan`` (not yet computed).
+    have_inv : ndarray of bool, shape (n,)
+        False (no inverse yet).
+    """
     n = idx.size
     return np.empty((n, 4, 4)), np.full(n, np.nan), np.zeros(n, dtype=np.bool_)
 
 
 @jit()
 def _component_logdet(P, idx, logdet, q):
-    """``ln|P_q|``, computed once."""
+    """``ln|P_q|``, computed once.
+
+    Parameters
+    ----------
+    P : ndarray of float64, shape (C, 4, 4)
+        Component covariances.
+    idx : ndarray of int64, shape (n,)
+        The kept components.
+    logdet : ndarray of float64, shape (n,)
+        Cache (:func:`_merge_prepare`), ``nan`` where not yet computed; filled at ``q``.
+    q : int
+        Position in ``idx``.
+
+    Returns
+    -------
+    float
+    """
     if np.isnan(logdet[q]):
         logdet[q] = np.linalg.slogdet(P[idx[q]])[1]
     return logdet[q]
@@ -79,7 +125,22 @@ def _component_logdet(P, idx, logdet, q):
 
 @jit()
 def _component_inverse(P, idx, inv, have_inv, q):
-    """``P_q⁻¹``, computed once."""
+    """``P_q⁻¹``, computed once.
+
+    Parameters
+    ----------
+    P, idx, q
+        As in :func:`_component_logdet`.
+    inv : ndarray of float64, shape (n, 4, 4)
+        Cache of the inverses (:func:`_merge_prepare`); filled at ``q``.
+    have_inv : ndarray of bool, shape (n,)
+        Which entries of ``inv`` are computed; set at ``q``.
+
+    Returns
+    -------
+    ndarray of float64, shape (4, 4)
+        ``inv[q]`` (a view).
+    """
     if not have_inv[q]:
         iq = np.linalg.inv(P[idx[q]])
         for u in range(4):  # element by element: see "Compile cost" above
@@ -95,6 +156,17 @@ def _position_bound(d, A):
 
     A lower bound of ``dᵀ A⁻¹ d``: the Mahalanobis distance of a sub-vector under its marginal
     covariance never exceeds the full one (the Schur complement is positive definite).
+
+    Parameters
+    ----------
+    d : ndarray of float64, shape (4,)
+        Difference of two means.
+    A : ndarray of float64, shape (4, 4)
+        Symmetric positive definite.
+
+    Returns
+    -------
+    float
     """
     a = A[0, 0]
     b = A[0, 2]
@@ -110,7 +182,22 @@ _BOUND_MARGIN = 1e-9
 
 @jit()
 def _heaviest(w, idx, alive):
-    """Position in ``idx`` of the heaviest alive component (the first one on ties)."""
+    """Position in ``idx`` of the heaviest alive component (the first one on ties).
+
+    Parameters
+    ----------
+    w : ndarray of float64, shape (C,)
+        Component weights.
+    idx : ndarray of int64, shape (n,)
+        The kept components.
+    alive : ndarray of bool, shape (n,)
+        The components not yet merged.
+
+    Returns
+    -------
+    int
+        The position, ``-1`` when none is alive.
+    """
     jq = -1
     for q in range(idx.size):
         if alive[q] and (jq < 0 or w[idx[q]] > w[idx[jq]]):
@@ -120,7 +207,19 @@ def _heaviest(w, idx, alive):
 
 @jit()
 def _difference(m, a, b):
-    """``m[a] − m[b]`` (4,), element by element."""
+    """``m[a] − m[b]`` (4,), element by element.
+
+    Parameters
+    ----------
+    m : ndarray of float64, shape (C, 4)
+        Component means.
+    a, b : int
+        Components.
+
+    Returns
+    -------
+    ndarray of float64, shape (4,)
+    """
     d = np.empty(4)
     for u in range(4):
         d[u] = m[a, u] - m[b, u]
@@ -135,6 +234,26 @@ def _merge_distance(m, P, idx, inv, have_inv, logdet, q, jq, rule,
     ``d = m_q − m_j``; rule 0: ``dᵀ P̄⁻¹ d + 4 ln(|P̄| / √(|P_q| |P_j|))``, ``P̄ = (P_q + P_j)/2``;
     rule 1: ``dᵀ P_q⁻¹ d``; rule 2: ``dᵀ P_j⁻¹ d``. Pairs that a lower bound of the statistic
     puts clearly above ``merge_thr`` return ``inf`` without the 4 x 4 algebra.
+
+    Parameters
+    ----------
+    m : ndarray of float64, shape (C, 4)
+        Component means.
+    P, idx, logdet
+        As in :func:`_component_logdet`.
+    inv, have_inv
+        As in :func:`_component_inverse`.
+    q, jq : int
+        Positions in ``idx`` of the candidate and of the heaviest component.
+    rule : int
+        Merging criterion, as in :func:`reduce_mixtures`.
+    merge_thr : float
+        Merging threshold ``U``.
+
+    Returns
+    -------
+    float
+        The statistic (0 when ``q == jq``), or ``inf``.
     """
     if q == jq:
         return 0.0
@@ -182,7 +301,23 @@ def _merge_distance(m, P, idx, inv, have_inv, logdet, q, jq, rule,
 @jit()
 def _moment_match(w, m, P, idx, members, nm, ow, om, oP, o):
     """``w = Σ w_i``, ``m = Σ w_i m_i / w``, ``P = Σ w_i (P_i + (m − m_i)(m − m_i)ᵀ) / w``,
-    written into ``ow[o], om[o], oP[o]``."""
+    written into ``ow[o], om[o], oP[o]``.
+
+    Parameters
+    ----------
+    w, m, P : ndarray of float64, shapes (C,), (C, 4), (C, 4, 4)
+        Component weights, means and covariances.
+    idx : ndarray of int64, shape (n,)
+        The kept components.
+    members : ndarray of int64, shape (n,)
+        ``members[:nm]``: positions in ``idx`` of the components to merge.
+    nm : int
+        Their number (at least 1).
+    ow, om, oP : ndarray of float64, shapes (C,), (C, 4), (C, 4, 4)
+        Output components; entry ``o`` is written (``oP[o]`` symmetrised).
+    o : int
+        The output entry.
+    """
     wsum = 0.0
     mean = np.zeros(4)
     for s in range(nm):
@@ -213,7 +348,22 @@ def _moment_match(w, m, P, idx, members, nm, ow, om, oP, o):
 
 @jit()
 def _sort_cap_normalise(ow, om, oP, start, stop, cap):
-    """Sort ``start:stop`` by decreasing weight (stable), keep ``cap``, renormalise; new stop."""
+    """Sort ``start:stop`` by decreasing weight (stable), keep ``cap``, renormalise; new stop.
+
+    Parameters
+    ----------
+    ow, om, oP : ndarray of float64, shapes (C,), (C, 4), (C, 4, 4)
+        Output components, sorted in place in ``start:stop``.
+    start, stop : int
+        One track's output range.
+    cap : int
+        Maximum number of components kept.
+
+    Returns
+    -------
+    int
+        The new stop, ``start + min(stop - start, cap)``; the kept weights sum to 1.
+    """
     n = stop - start
     key = np.empty(n)
     for i in range(n):
@@ -434,7 +584,16 @@ def gate_and_distances(m, P, R, z, offsets, gate, use_gate):
 
 @jit()
 def _logaddexp(x, y):
-    """``ln(eˣ + eʸ)`` by the same steps as numpy's ``logaddexp`` (so, bit for bit, the same)."""
+    """``ln(eˣ + eʸ)`` by the same steps as numpy's ``logaddexp`` (so, bit for bit, the same).
+
+    Parameters
+    ----------
+    x, y : float
+
+    Returns
+    -------
+    float
+    """
     if x == y:
         return x + _LOGE2
     tmp = x - y
@@ -516,8 +675,19 @@ def detection_log_weights(maha, log_det_S, log_w, offsets, used, gated, log_r, l
 def connected_groups(gated):
     """Connected components of the bipartite track–measurement graph of ``gated`` (T, M).
 
-    Returns ``(track_group (T,), meas_group (M,), n_groups)``: groups are numbered in the order
-    of their first track; a measurement no track gates has group ``-1``.
+    Parameters
+    ----------
+    gated : ndarray of bool, shape (T, M)
+        ``gated[t, j]``: measurement ``j`` lies in the gate of track ``t``.
+
+    Returns
+    -------
+    track_group : ndarray of int64, shape (T,)
+        Group of every track; groups are numbered in the order of their first track.
+    meas_group : ndarray of int64, shape (M,)
+        Group of every measurement, ``-1`` for a measurement no track gates.
+    n_groups : int
+        Number of groups (a track that gates nothing is a group of its own).
     """
     T, M = gated.shape
     tg = np.full(T, -1, dtype=np.int64)
@@ -551,6 +721,21 @@ def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):
 
     ``C[i, j] = −log_det[rows[i], cols[j]]``, ``C[i, M + i] = −log_miss[rows[i]]``,
     ``C[i, M + P + i] = −log_dead[rows[i]]``, ``+inf`` elsewhere (spec §1.5).
+
+    Parameters
+    ----------
+    log_det : ndarray of float64, shape (T, U)
+        ``ln η_t(j)`` of every track and kept measurement (:func:`detection_log_weights`).
+    log_miss, log_dead : ndarray of float64, shape (T,)
+        ``ln η`` of a missed detection and of non-existence, per track.
+    rows : ndarray of int64, shape (P,)
+        The group's tracks.
+    cols : ndarray of int64, shape (M,)
+        The group's measurements (columns of ``log_det``).
+
+    Returns
+    -------
+    ndarray of float64, shape (P, M + 2 P)
     """
     P = rows.size
     M = cols.size
@@ -568,8 +753,21 @@ def group_cost_matrix(log_det, log_miss, log_dead, rows, cols):
 def truncated_marginals(a, w, M):
     """``β[i, j] = Σ_h w_h 1[γ_i^(h) = j]`` in compact columns ``[meas | missed | dead]``.
 
-    ``a`` (H, P): assignments as cost-matrix columns; ``w`` (H,): normalised weights. The sum
-    runs over ``h`` in order, as ``numpy.bincount`` does.
+    The sum runs over ``h`` in order, as ``numpy.bincount`` does.
+
+    Parameters
+    ----------
+    a : ndarray of integers, shape (H, P)
+        Assignments as columns of the paper-layout cost matrix (``M + 2 P`` columns).
+    w : ndarray of float64, shape (H,)
+        Normalised weights of the assignments.
+    M : int
+        Number of measurements.
+
+    Returns
+    -------
+    ndarray of float64, shape (P, M + 2)
+        ``β``: columns ``0..M-1`` the measurements, ``M`` missed, ``M + 1`` dead.
     """
     H, P = a.shape
     beta = np.zeros((P, M + 2))
@@ -593,6 +791,16 @@ def cardinality_distribution(r):
 
     ``ρ ← ρ (1 − r_i)`` shifted-added ``ρ r_i`` for every track in turn (the convolution
     recursion).
+
+    Parameters
+    ----------
+    r : ndarray of float64, shape (T,)
+        Existence probabilities.
+
+    Returns
+    -------
+    ndarray of float64, shape (T + 1,)
+        ``ρ[n]``: probability that exactly ``n`` tracks exist.
     """
     n = r.size
     rho = np.zeros(n + 1)
@@ -676,6 +884,28 @@ def posterior_components(comp, track, meas, ratio, rel, w, m, P, K, nu,
     measurement ``j``: ``(ratio · rel[t, j], m_c + K_c ν_cj, P'_c)`` with ``ratio = w_c N_cj /
     Σ_c' w_c' N_c'j`` and ``K_c``, ``P'_c`` the Kalman gain and updated covariance (computed by
     the caller; ``K`` and ``P_upd`` may be empty when there is no update).
+
+    Parameters
+    ----------
+    comp, track, meas : ndarray of int64, shape (N,)
+        Sources of the posterior components (:func:`posterior_sources`).
+    ratio : ndarray of float64, shape (N,)
+        ``exp`` of :func:`posterior_sources`' ``log_ratio``.
+    rel : ndarray of float64, shape (T, M + 1)
+        ``β_ij / r_i``; column ``M`` is the missed detection.
+    w, m, P : ndarray of float64, shapes (C,), (C, 4), (C, 4, 4)
+        Predicted component weights, means and covariances.
+    K : ndarray of float64, shape (C, 4, 2)
+        Kalman gains (or empty).
+    nu : ndarray of float64, shape (C, M, 2)
+        Innovations (:func:`gate_and_distances`, restricted to the kept columns).
+    P_upd : ndarray of float64, shape (C, 4, 4)
+        Updated covariances (or empty).
+
+    Returns
+    -------
+    w, m, P : ndarray of float64, shapes (N,), (N, 4), (N, 4, 4)
+        The posterior components, in the order of ``comp``.
     """
     n = comp.size
     M = rel.shape[1] - 1

@@ -75,7 +75,25 @@ class AssociationResult(NamedTuple):
 def _rao_blackwell_single(cost, a, w, M, ptr, cols):  # pragma: no cover (jit)
     """Σ_h w_h π(γ_i = · | γ_{−i}^(h)) for every row ``i``, compact columns.
 
-    ``ptr``/``cols``: CSR lists of the finite measurement columns of every row.
+    Parameters
+    ----------
+    cost : ndarray of float64, shape (P, M + 2 P)
+        The problem's cost matrix (paper layout).
+    a : ndarray of int64, shape (H, P)
+        The hypotheses, as cost-matrix columns.
+    w : ndarray of float64, shape (H,)
+        Their normalised weights.
+    M : int
+        Number of measurements.
+    ptr : ndarray of int64, shape (P + 1,)
+        CSR offsets: row ``i``'s finite measurement columns are ``cols[ptr[i]:ptr[i + 1]]``.
+    cols : ndarray of int64
+        Those columns, increasing within a row.
+
+    Returns
+    -------
+    ndarray of float64, shape (P, M + 2)
+        ``β``: columns ``0..M-1`` the measurements, ``M`` missed, ``M + 1`` dead.
     """
     H, P = a.shape
     beta = np.zeros((P, M + 2))
@@ -285,7 +303,26 @@ class MultiSensorAssociationResult(NamedTuple):
 
 @jit()
 def _truncated(flat, dead_h, w, n_t):  # pragma: no cover (jit)
-    """Σ_h w_h 1[γ_n^(h) = t] for flat tuple indices ``flat`` (H, P); ``dead_h`` marks −1."""
+    """Σ_h w_h 1[γ_n^(h) = t] for flat tuple indices ``flat`` (H, P); ``dead_h`` marks −1.
+
+    Parameters
+    ----------
+    flat : ndarray of int64, shape (H, P)
+        Flat index of each row's measurement tuple in each hypothesis (ignored where dead).
+    dead_h : ndarray of bool, shape (H, P)
+        The row is dead in the hypothesis.
+    w : ndarray of float64, shape (H,)
+        Normalised weights of the hypotheses.
+    n_t : int
+        Number of tuples (flat indices ``0..n_t-1``).
+
+    Returns
+    -------
+    dead : ndarray of float64, shape (P,)
+        Weight of each row being dead.
+    tup : ndarray of float64, shape (P, n_t)
+        Weight of each row taking each tuple.
+    """
     H, P = flat.shape
     dead = np.zeros(P)
     tup = np.zeros((P, n_t))
@@ -303,8 +340,35 @@ def _rao_blackwell_multi(g, w, log_dead, ptr, opt_tuple, opt_flat, opt_logw, n_t
     # pragma: no cover (jit)
     """Σ_h w_h π(γ_n = · | γ_{−n}^(h)) over the finite options of every row.
 
-    ``g`` (H, P, V) hypotheses; ``ptr`` CSR offsets of each row's options ``opt_tuple`` (K, V),
-    their flat tensor indices ``opt_flat`` and log-weights ``opt_logw``.
+    Parameters
+    ----------
+    g : ndarray of int64, shape (H, P, V)
+        The hypotheses: per row and sensor ``j >= 1`` measurement ``j``, 0 missed; ``-1`` in
+        sensor 0's entry marks a dead row.
+    w : ndarray of float64, shape (H,)
+        Their normalised weights.
+    log_dead : ndarray of float64, shape (P,)
+        Log-weight of each row being dead.
+    ptr : ndarray of int64, shape (P + 1,)
+        CSR offsets: row ``n``'s finite options are ``ptr[n]:ptr[n + 1]`` of the three arrays
+        below.
+    opt_tuple : ndarray of int64, shape (K, V)
+        Each option's measurement tuple.
+    opt_flat : ndarray of int64, shape (K,)
+        Its flat tensor index (``0..n_t-1``).
+    opt_logw : ndarray of float64, shape (K,)
+        Its log-weight.
+    n_t : int
+        Number of tuples.
+    n_meas : ndarray of int64, shape (V,)
+        Measurements per sensor.
+
+    Returns
+    -------
+    dead : ndarray of float64, shape (P,)
+        Rao-Blackwellised weight of each row being dead.
+    tup : ndarray of float64, shape (P, n_t)
+        Rao-Blackwellised weight of each row taking each tuple.
     """
     H, P, V = g.shape
     dead = np.zeros(P)

@@ -125,6 +125,11 @@ def component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
         Filled with the ``P`` rows (births first, then the component's entries in their order)
         and the ``M`` columns (increasing: every measurement some row gates).
 
+    Returns
+    -------
+    (int, int)
+        ``P`` and ``M``.
+
     Examples
     --------
     >>> import numpy as np
