@@ -155,5 +155,5 @@ def versus(ours: float, se, paper: float) -> str:
     return text
 
 
-__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "pm_count", "runs_note", "integer", "plural", "table",
-           "versus"]
+__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "pm_count", "runs_note", "integer", "plural",
+           "table", "versus"]
