@@ -142,6 +142,8 @@ class PairedStats:
     obs_original_se, obs_proposed_se, unique_original_se, unique_proposed_se : float or None
         Standard errors of the mean observations and of the mean distinct assignments of each
         sampler (``None`` for one run, and where a caller built the record without them).
+    stale_stop_se : float or None
+        Standard error of ``stale_stop_fraction`` (the mean of a 0/1 outcome per run).
     """
 
     n_mc: int
@@ -167,6 +169,7 @@ class PairedStats:
     obs_proposed_se: float | None = None
     unique_original_se: float | None = None
     unique_proposed_se: float | None = None
+    stale_stop_se: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -301,6 +304,7 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
     es = 100.0 * np.array([r["error"] for r in proposed])
     Uo = np.array([r["n_unique"] for r in original], dtype=float)
     Us = np.array([r["n_unique"] for r in proposed], dtype=float)
+    stale = np.array([r["stop_reason"] == "stale" for r in proposed], dtype=float)
     mo, ms = No.mean(), Ns.mean()
     d = es - eo
     out = {
@@ -332,6 +336,7 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
             "obs_proposed_se": float(Ns.std(ddof=1) / math.sqrt(n)),
             "unique_original_se": float(Uo.std(ddof=1) / math.sqrt(n)),
             "unique_proposed_se": float(Us.std(ddof=1) / math.sqrt(n)),
+            "stale_stop_se": float(stale.std(ddof=1) / math.sqrt(n)),
         }
     else:
         se = dict.fromkeys(
@@ -345,6 +350,7 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
                 "obs_proposed_se",
                 "unique_original_se",
                 "unique_proposed_se",
+                "stale_stop_se",
             )
         )
     out.update(se)

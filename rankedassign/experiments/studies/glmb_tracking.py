@@ -530,6 +530,9 @@ class GLMBMethodSummary:
         ``sweeps_per_scan``, ``hypotheses_per_scan`` and ``components_mean`` (NaN for one run).
     seconds_se : float
         Standard error of ``seconds`` over the runs (NaN for one run).
+    retained_mass_se, carried_mass_se : float
+        Standard errors over the runs' mean masses of ``retained_mass_mean`` and
+        ``carried_mass_mean`` (NaN for one run or without masses).
     """
 
     preset: str
@@ -567,6 +570,8 @@ class GLMBMethodSummary:
     hypotheses_per_scan_se: float = math.nan
     components_se: float = math.nan
     seconds_se: float = math.nan
+    retained_mass_se: float = math.nan
+    carried_mass_se: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -692,6 +697,18 @@ def _mean_min(rs, key) -> tuple[float, float]:
     return (float(v.mean()), float(v.min())) if v.size else (math.nan, math.nan)
 
 
+def _run_means(rs, key) -> list[float]:
+    """Each run's mean of ``key`` over the scans that have a value (runs without one left
+    out): the per-run values behind the standard error of :func:`_mean_min`'s mean."""
+    out = []
+    for r in rs:
+        v = _values(r, key)
+        v = v[np.isfinite(v)]
+        if v.size:
+            out.append(float(v.mean()))
+    return out
+
+
 def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummary:
     rs = [r for r in all_runs if not r["failed"]]
     nan = math.nan
@@ -736,7 +753,9 @@ def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummar
         sweeps_per_scan_se=_se(runs_mean("sweeps")),
         hypotheses_per_scan_se=_se(runs_mean("hypotheses")),
         components_se=_se(runs_mean("components")),
-        seconds_se=_se([r["seconds"] for r in rs]))
+        seconds_se=_se([r["seconds"] for r in rs]),
+        retained_mass_se=_se(_run_means(rs, "retained_mass")),
+        carried_mass_se=_se(_run_means(rs, "carried_mass")))
 
 
 def _curves(by: dict, n_scans: int) -> dict:
@@ -1001,7 +1020,8 @@ def _table(s: GLMBPresetSummary) -> str:
             "– (marginals)" if m == ("lmb", "exact")
             else fmt.pm_count(r.hypotheses_per_scan, r.hypotheses_per_scan_se, n_runs=r.n_runs),
             fmt.pm(r.components_mean, r.components_se, 1, n_runs=r.n_runs) if glmb else "–",
-            (f"{fmt.num(r.retained_mass_mean, 4)} / {fmt.num(r.carried_mass_mean, 4)}"
+            (f"{fmt.pm(r.retained_mass_mean, r.retained_mass_se, 4, n_runs=r.n_runs)} / "
+             f"{fmt.pm(r.carried_mass_mean, r.carried_mass_se, 4, n_runs=r.n_runs)}"
              if math.isfinite(r.retained_mass_mean) else "–"),
             # the spec (§2.2) keeps the all-missed assignment of a component with T_h = 0;
             # Murty keeps its best one: a deviation, stated where the numbers are

@@ -416,7 +416,9 @@ def render_multisensor(summary: MultiSensorSummary, cfg: MultiSensorConfig) -> s
              fmt.pm(r.error_original_mean, r.error_original_se, n_runs=r.n_mc),
              fmt.pm(r.error_proposed_mean, r.error_proposed_se, n_runs=r.n_mc),
              fmt.pm_count(r.obs_proposed_mean, r.obs_proposed_se, n_runs=r.n_mc),
-             fmt.num(100 * r.stale_stop_fraction, 1)]
+             fmt.pm(100 * r.stale_stop_fraction,
+                    None if r.stale_stop_se is None else 100 * r.stale_stop_se, 1,
+                    n_runs=r.n_mc)]
             for r in summary.rows]
     acc = [[a.case, a.method, fmt.pm(a.error_mean, a.error_se, n_runs=a.n_mc),
             fmt.pm(a.vs_exact_pp, a.vs_exact_pp_se, n_runs=a.n_mc),

@@ -187,7 +187,8 @@ def render_table1(rows: list[Table1Row], cfg: Table1Config) -> str:
          fmt.pm_count(r.obs_original_mean, r.obs_original_se, n_runs=r.n_mc),
          fmt.pm_count(r.obs_proposed_mean, r.obs_proposed_se, n_runs=r.n_mc),
          fmt.pm_count(r.unique_proposed_mean, r.unique_proposed_se, n_runs=r.n_mc),
-         fmt.num(100 * r.stale_stop_fraction, 1)]
+         fmt.pm(100 * r.stale_stop_fraction,
+                None if r.stale_stop_se is None else 100 * r.stale_stop_se, 1, n_runs=r.n_mc)]
         for r in rows
     ]
     if not paper_settings(cfg):
