@@ -295,6 +295,9 @@ class NonlinearComparison:
     ratio : float
         ``b / a`` of the cost: sweeps per scan (short vs long) or the single-object time per
         scan (prediction, cost terms, update: UKF vs EKF).
+    ratio_se : float
+        Standard error of ``ratio`` over the pairs (delta method for the ratio of the paired
+        means; NaN with one pair).
     """
 
     what: str
@@ -306,6 +309,7 @@ class NonlinearComparison:
     ci_low: float
     ci_high: float
     ratio: float
+    ratio_se: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -330,6 +334,19 @@ class NonlinearSummary:
 def _se(x) -> float:
     x = np.asarray(x, dtype=float)
     return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else math.nan
+
+
+def _ratio_se(a: np.ndarray, b: np.ndarray) -> float:
+    """Standard error of ``mean b / mean a`` over paired runs (delta method; NaN for one pair
+    or ``mean a <= 0``): the pairs share their measurements, so their covariance enters."""
+    n = a.size
+    ma, mb = (a.mean(), b.mean()) if n else (math.nan, math.nan)
+    if n < 2 or not ma > 0:
+        return math.nan
+    cov = np.cov(np.vstack([a, b]), ddof=1)
+    # Var(mb / ma) ~ grad' Cov grad / n, grad = (-mb / ma^2, 1 / ma)
+    var = (cov[1, 1] / ma**2 + mb**2 * cov[0, 0] / ma**4 - 2 * mb * cov[0, 1] / ma**3) / n
+    return float(math.sqrt(max(var, 0.0)))
 
 
 def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
@@ -386,11 +403,12 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
         both = [(by_a[r["run"]], r) for r in b if r["run"] in by_a]
         d = [np.mean(rb["ospa2"]) - np.mean(ra["ospa2"]) for ra, rb in both]
         m, lo, hi = paired_interval(d)
-        ca = np.mean([np.mean(ra[cost]) for ra, _ in both])
-        cb = np.mean([np.mean(rb[cost]) for _, rb in both])
+        xa = np.array([np.mean(ra[cost]) for ra, _ in both], dtype=float)
+        xb = np.array([np.mean(rb[cost]) for _, rb in both], dtype=float)
+        ca, cb = np.mean(xa), np.mean(xb)
         comparisons.append(NonlinearComparison(
             what=what, **fixed, n_runs=len(both), delta_ospa2=m, ci_low=lo, ci_high=hi,
-            ratio=float(cb / ca) if ca > 0 else math.nan))
+            ratio=float(cb / ca) if ca > 0 else math.nan, ratio_se=_ratio_se(xa, xb)))
 
     for p in cfg.presets:
         for f in cfg.filters:
@@ -515,7 +533,7 @@ def render_nonlinear(summary: NonlinearSummary, cfg: NonlinearConfig) -> str:
                   "retained mass.", ""]
         body = [[c.what, _LABEL[c.preset] if c.what == "short vs long" else "",
                  _LABEL[c.filter], _LABEL[c.truncation], str(c.n_runs), _ci(c),
-                 f"{c.ratio:.3f}"] for c in summary.comparisons]
+                 fmt.pm(c.ratio, c.ratio_se, 3, n_runs=c.n_runs)] for c in summary.comparisons]
         lines += [fmt.table(["comparison", "preset", "filter", "truncation", "pairs",
                              "Δ OSPA(2)", "cost ratio"], body), ""]
     lines += ["![OSPA(2) per scan on the non-linear examples](nonlinear_tracking.png)", ""]
