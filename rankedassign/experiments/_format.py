@@ -53,6 +53,29 @@ def pm(x, se, digits: int | None = None, *, n_runs: int | None = None) -> str:
     return f"{x:.{d}f} (1 run)" if n_runs == 1 else f"{x:.{d}f}"
 
 
+def pm_count(x, se, *, n_runs: int | None = None) -> str:
+    """A mean count ``x ± se`` with thousands separators, as :func:`pm` otherwise.
+
+    Counts (observations, sweeps, assignments) are shown without decimals unless the
+    standard error needs them (two significant digits of it), so a column of large counts
+    stays as readable as :func:`integer` made it.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments._format import pm_count
+    >>> pm_count(12345.6, 789.0), pm_count(3.25, 0.42), pm_count(250000.0, 0.0)
+    ('12,346 ± 789', '3.25 ± 0.42', '250,000 ± 0')
+    >>> pm_count(9120.0, None, n_runs=1), pm_count(9120.0, None), pm_count(None, 1.0)
+    ('9,120 (1 run)', '9,120', '–')
+    """
+    if not finite(x):
+        return "–"
+    d = decimals_for(x, se, least=0)
+    if finite(se):
+        return f"{x:,.{d}f} ± {se:,.{d}f}"
+    return f"{x:,.0f} (1 run)" if n_runs == 1 else f"{x:,.0f}"
+
+
 def runs_note(counts) -> str:
     """How many runs stand behind a table's means, and what its ``±`` is, in one sentence.
 
@@ -132,5 +155,5 @@ def versus(ours: float, se, paper: float) -> str:
     return text
 
 
-__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "runs_note", "integer", "plural", "table",
-           "versus"]
+__all__ = ["Z_LIMIT", "decimals_for", "num", "pm", "pm_count", "runs_note", "integer", "plural",
+           "table", "versus"]

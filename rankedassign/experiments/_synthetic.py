@@ -139,6 +139,11 @@ class PairedStats:
         Standard error of ``mean_abs_delta_error_pp``.
     error_original_se, error_proposed_se : float or None
         Standard errors of ``error_original_mean`` and ``error_proposed_mean``.
+    obs_original_se, obs_proposed_se, unique_original_se, unique_proposed_se : float or None
+        Standard errors of the mean observations and of the mean distinct assignments of each
+        sampler (``None`` for one run, and where a caller built the record without them).
+    stale_stop_se : float or None
+        Standard error of ``stale_stop_fraction`` (the mean of a 0/1 outcome per run).
     """
 
     n_mc: int
@@ -159,6 +164,12 @@ class PairedStats:
     mean_abs_delta_error_pp_se: float | None
     error_original_se: float | None
     error_proposed_se: float | None
+    # defaults: records built before these standard errors existed stay valid
+    obs_original_se: float | None = None
+    obs_proposed_se: float | None = None
+    unique_original_se: float | None = None
+    unique_proposed_se: float | None = None
+    stale_stop_se: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -291,6 +302,9 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
     Ns = np.array([r["n_obs"] for r in proposed], dtype=float)
     eo = 100.0 * np.array([r["error"] for r in original])
     es = 100.0 * np.array([r["error"] for r in proposed])
+    Uo = np.array([r["n_unique"] for r in original], dtype=float)
+    Us = np.array([r["n_unique"] for r in proposed], dtype=float)
+    stale = np.array([r["stop_reason"] == "stale" for r in proposed], dtype=float)
     mo, ms = No.mean(), Ns.mean()
     d = es - eo
     out = {
@@ -318,6 +332,11 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
             "mean_abs_delta_error_pp_se": float(np.abs(d).std(ddof=1) / math.sqrt(n)),
             "error_original_se": float(eo.std(ddof=1) / math.sqrt(n)),
             "error_proposed_se": float(es.std(ddof=1) / math.sqrt(n)),
+            "obs_original_se": float(No.std(ddof=1) / math.sqrt(n)),
+            "obs_proposed_se": float(Ns.std(ddof=1) / math.sqrt(n)),
+            "unique_original_se": float(Uo.std(ddof=1) / math.sqrt(n)),
+            "unique_proposed_se": float(Us.std(ddof=1) / math.sqrt(n)),
+            "stale_stop_se": float(stale.std(ddof=1) / math.sqrt(n)),
         }
     else:
         se = dict.fromkeys(
@@ -327,6 +346,11 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
                 "mean_abs_delta_error_pp_se",
                 "error_original_se",
                 "error_proposed_se",
+                "obs_original_se",
+                "obs_proposed_se",
+                "unique_original_se",
+                "unique_proposed_se",
+                "stale_stop_se",
             )
         )
     out.update(se)

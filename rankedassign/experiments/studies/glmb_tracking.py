@@ -541,6 +541,14 @@ class GLMBMethodSummary:
         Filter time per run (s), mean over runs.
     failed : str
         ``""``, or how many runs did not fit and the first one's scan and error.
+    cardinality_error_se, sweeps_per_scan_se, hypotheses_per_scan_se, components_se : float
+        Standard errors over the runs' means of ``cardinality_error_mean``,
+        ``sweeps_per_scan``, ``hypotheses_per_scan`` and ``components_mean`` (NaN for one run).
+    seconds_se : float
+        Standard error of ``seconds`` over the runs (NaN for one run).
+    retained_mass_se, carried_mass_se : float
+        Standard errors over the runs' mean masses of ``retained_mass_mean`` and
+        ``carried_mass_mean`` (NaN for one run or without masses).
     """
 
     preset: str
@@ -572,6 +580,14 @@ class GLMBMethodSummary:
     small_sweep_share: float
     seconds: float
     failed: str
+    # last and with defaults, so the positional record of a method without runs stays valid
+    cardinality_error_se: float = math.nan
+    sweeps_per_scan_se: float = math.nan
+    hypotheses_per_scan_se: float = math.nan
+    components_se: float = math.nan
+    seconds_se: float = math.nan
+    retained_mass_se: float = math.nan
+    carried_mass_se: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -697,6 +713,18 @@ def _mean_min(rs, key) -> tuple[float, float]:
     return (float(v.mean()), float(v.min())) if v.size else (math.nan, math.nan)
 
 
+def _run_means(rs, key) -> list[float]:
+    """Each run's mean of ``key`` over the scans that have a value (runs without one left
+    out): the per-run values behind the standard error of :func:`_mean_min`'s mean."""
+    out = []
+    for r in rs:
+        v = _values(r, key)
+        v = v[np.isfinite(v)]
+        if v.size:
+            out.append(float(v.mean()))
+    return out
+
+
 def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummary:
     rs = [r for r in all_runs if not r["failed"]]
     nan = math.nan
@@ -736,7 +764,14 @@ def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummar
                                / sum(sum(r["problems"]) for r in split)) if split else nan,
         small_sweep_share=(sum(sum(r["small_sweeps"]) for r in split) / budget) if split
         else nan,
-        seconds=float(np.mean([r["seconds"] for r in rs])), failed=_failures(all_runs))
+        seconds=float(np.mean([r["seconds"] for r in rs])), failed=_failures(all_runs),
+        cardinality_error_se=_se(runs_mean("cardinality_error")),
+        sweeps_per_scan_se=_se(runs_mean("sweeps")),
+        hypotheses_per_scan_se=_se(runs_mean("hypotheses")),
+        components_se=_se(runs_mean("components")),
+        seconds_se=_se([r["seconds"] for r in rs]),
+        retained_mass_se=_se(_run_means(rs, "retained_mass")),
+        carried_mass_se=_se(_run_means(rs, "carried_mass")))
 
 
 def _curves(by: dict, n_scans: int) -> dict:
@@ -995,18 +1030,20 @@ def _table(s: GLMBPresetSummary) -> str:
             _label(m), str(r.n_runs), fmt.pm(r.ospa_mean, r.ospa_se, n_runs=r.n_runs),
             fmt.pm(r.ospa2_mean, r.ospa2_se, n_runs=r.n_runs),
             fmt.pm(r.gospa_mean, r.gospa_se, n_runs=r.n_runs),
-            fmt.num(r.cardinality_error_mean, 3),
+            fmt.pm(r.cardinality_error_mean, r.cardinality_error_se, 3, n_runs=r.n_runs),
             f"{fmt.pm(r.alt_ospa2_mean, r.alt_ospa2_se, n_runs=r.n_runs)} ({r.alt_estimator})",
-            fmt.integer(r.sweeps_per_scan),
-            "– (marginals)" if m == ("lmb", "exact") else fmt.integer(r.hypotheses_per_scan),
-            fmt.num(r.components_mean, 1) if glmb else "–",
-            (f"{fmt.num(r.retained_mass_mean, 4)} / {fmt.num(r.carried_mass_mean, 4)}"
+            fmt.pm_count(r.sweeps_per_scan, r.sweeps_per_scan_se, n_runs=r.n_runs),
+            "– (marginals)" if m == ("lmb", "exact")
+            else fmt.pm_count(r.hypotheses_per_scan, r.hypotheses_per_scan_se, n_runs=r.n_runs),
+            fmt.pm(r.components_mean, r.components_se, 1, n_runs=r.n_runs) if glmb else "–",
+            (f"{fmt.pm(r.retained_mass_mean, r.retained_mass_se, 4, n_runs=r.n_runs)} / "
+             f"{fmt.pm(r.carried_mass_mean, r.carried_mass_se, 4, n_runs=r.n_runs)}"
              if math.isfinite(r.retained_mass_mean) else "–"),
             # the spec (§2.2) keeps the all-missed assignment of a component with T_h = 0;
             # Murty keeps its best one: a deviation, stated where the numbers are
             ("best (deviation)" if r.truncation in ("murty", "murty-matched") else "all-missed")
             if glmb else "–",
-            fmt.num(r.seconds, 2)])
+            fmt.pm(r.seconds, r.seconds_se, 2, n_runs=r.n_runs)])
     return fmt.table(header, rows)
 
 

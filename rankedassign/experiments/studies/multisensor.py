@@ -284,6 +284,8 @@ class MethodAccuracyRow:
     seconds_min : float or None
         The shortest of those times (the one the machine's load disturbed least: what the
         report shows); ``None`` in records written before it was kept.
+    unique_se : float or None
+        Standard error of ``unique_mean``; ``None`` for one run (and in older records).
     """
 
     case: str
@@ -297,6 +299,7 @@ class MethodAccuracyRow:
     unique_mean: float
     seconds_mean: float
     seconds_min: float | None = None
+    unique_se: float | None = None
 
 
 @dataclass(frozen=True)
@@ -360,7 +363,8 @@ def summarise_multisensor(runs: list[dict], cfg: MultiSensorConfig) -> MultiSens
                 vs_exact_pp_se=None if d is None else _se(d),
                 unique_mean=float(np.mean([o["n_unique"] for o in orig])),
                 seconds_mean=float(np.mean([o["seconds"] for o in orig])),
-                seconds_min=float(np.min([o["seconds"] for o in orig]))))
+                seconds_min=float(np.min([o["seconds"] for o in orig])),
+                unique_se=_se([o["n_unique"] for o in orig])))
     return MultiSensorSummary(rows=tuple(rows), accuracy=tuple(acc),
                               verdict=verdict(rows))
 
@@ -411,10 +415,14 @@ def render_multisensor(summary: MultiSensorSummary, cfg: MultiSensorConfig) -> s
              fmt.pm(r.delta_error_signed_pp, r.delta_error_pp_se, n_runs=r.n_mc),
              fmt.pm(r.error_original_mean, r.error_original_se, n_runs=r.n_mc),
              fmt.pm(r.error_proposed_mean, r.error_proposed_se, n_runs=r.n_mc),
-             fmt.integer(r.obs_proposed_mean), fmt.num(100 * r.stale_stop_fraction, 1)]
+             fmt.pm_count(r.obs_proposed_mean, r.obs_proposed_se, n_runs=r.n_mc),
+             fmt.pm(100 * r.stale_stop_fraction,
+                    None if r.stale_stop_se is None else 100 * r.stale_stop_se, 1,
+                    n_runs=r.n_mc)]
             for r in summary.rows]
     acc = [[a.case, a.method, fmt.pm(a.error_mean, a.error_se, n_runs=a.n_mc),
-            fmt.pm(a.vs_exact_pp, a.vs_exact_pp_se, n_runs=a.n_mc), fmt.integer(a.unique_mean),
+            fmt.pm(a.vs_exact_pp, a.vs_exact_pp_se, n_runs=a.n_mc),
+            fmt.pm_count(a.unique_mean, a.unique_se, n_runs=a.n_mc),
             fmt.num(a.seconds_min if a.seconds_min is not None else a.seconds_mean, 3)]
            for a in summary.accuracy]
     return f"""## Multi-sensor Table I — original vs short-chain sampler, per multi-sensor sampler

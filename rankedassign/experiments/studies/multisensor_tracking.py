@@ -489,6 +489,9 @@ class MultiSensorTrackingSummary:
     gospa_mean, gospa_se : float
         Mean GOSPA over scans and runs and its standard error over runs (NaN when a run's
         record has no GOSPA).
+    sweeps_se, row_updates_se, invocations_se, seconds_se, births_per_scan_se : float
+        Standard errors over runs of ``sweeps``, ``row_updates``, ``invocations``,
+        ``seconds`` and ``births_per_scan`` (NaN for one run).
     """
 
     sensors: tuple
@@ -514,6 +517,11 @@ class MultiSensorTrackingSummary:
     filter: str = "lmb"
     gospa_mean: float = float("nan")
     gospa_se: float = float("nan")
+    sweeps_se: float = float("nan")
+    row_updates_se: float = float("nan")
+    invocations_se: float = float("nan")
+    seconds_se: float = float("nan")
+    births_per_scan_se: float = float("nan")
 
 
 def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
@@ -585,6 +593,10 @@ def summarise_multisensor_tracking(records) -> list[MultiSensorTrackingSummary]:
             birth=birth, births_per_scan=float(np.mean([r.births_per_scan for r in rs])),
             birth_seconds=float(np.mean([r.birth_seconds for r in rs])), filter=filt,
             gospa_mean=float(g.mean()), gospa_se=_se(g.mean(axis=1)),
+            sweeps_se=_se([r.sweeps for r in rs]), row_updates_se=_se([r.row_updates for r in rs]),
+            invocations_se=_se([r.invocations for r in rs]),
+            seconds_se=_se([r.seconds for r in rs]),
+            births_per_scan_se=_se([r.births_per_scan for r in rs]),
         ))
     return out
 
@@ -604,8 +616,9 @@ def multisensor_tracking_table(summaries) -> str:
         OSPA(2),
         GOSPA and cardinality error with their standard errors — ``(1 run)`` instead of one
         for a cell of one run —, sweeps, row updates and calls per run, sweep reduction in percent,
-        births per scan, targets lost, seconds per run): the header, the rule, then one line
-        per summary. A NaN sweep reduction or births per scan is left blank.
+        births per scan, targets lost, seconds per run, the means with their standard errors
+        too): the header, the rule, then one line per summary. A NaN sweep reduction or
+        births per scan is left blank.
 
     Examples
     --------
@@ -620,15 +633,19 @@ def multisensor_tracking_table(summaries) -> str:
     lines = [head, "|" + "---|" * 16]
     for s in summaries:
         red = "" if math.isnan(s.sweep_reduction) else f"{100 * s.sweep_reduction:.1f} %"
-        births = "" if math.isnan(s.births_per_scan) else f"{s.births_per_scan:.1f}"
+        births = ("" if math.isnan(s.births_per_scan)
+                  else fmt.pm(s.births_per_scan, s.births_per_scan_se, 1, n_runs=s.n_runs))
         lines.append(
             f"| {s.filter.upper()} | {','.join(map(str, s.sensors))} | {len(s.sensors)} | "
             f"{s.truncation} | {s.method} | {s.birth} | "
             f"{fmt.pm(s.ospa2_mean, s.ospa2_se, 1, n_runs=s.n_runs)} | "
             f"{fmt.pm(s.gospa_mean, s.gospa_se, 1, n_runs=s.n_runs)} | "
             f"{fmt.pm(s.card_mean, s.card_se, 2, n_runs=s.n_runs)} | "
-            f"{s.sweeps:,.0f} | {s.row_updates:,.0f} | {s.invocations:,.0f} | {red} | "
-            f"{births} | {s.targets_lost} | {s.seconds:.1f} |"
+            f"{fmt.pm_count(s.sweeps, s.sweeps_se, n_runs=s.n_runs)} | "
+            f"{fmt.pm_count(s.row_updates, s.row_updates_se, n_runs=s.n_runs)} | "
+            f"{fmt.pm_count(s.invocations, s.invocations_se, n_runs=s.n_runs)} | {red} | "
+            f"{births} | {s.targets_lost} | "
+            f"{fmt.pm(s.seconds, s.seconds_se, 1, n_runs=s.n_runs)} |"
         )
     return "\n".join(lines)
 

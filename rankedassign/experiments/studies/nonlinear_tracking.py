@@ -248,6 +248,9 @@ class NonlinearRow:
         Mean exact retained mass per scan (δ-GLMB; NaN otherwise).
     retained_mass_min : float
         Its smallest value over every scan and run.
+    cardinality_error_se, exact_cardinality_se, sweeps_per_scan_se, retained_mass_se : float
+        Standard errors over the runs' means of ``cardinality_error``, ``exact_cardinality``,
+        ``sweeps_per_scan`` and ``retained_mass`` (NaN for one run).
     """
 
     preset: str
@@ -265,6 +268,11 @@ class NonlinearRow:
     ms_per_scan_se: float
     retained_mass: float
     retained_mass_min: float
+    # last and with defaults, so a record built with the fields above stays valid
+    cardinality_error_se: float = math.nan
+    exact_cardinality_se: float = math.nan
+    sweeps_per_scan_se: float = math.nan
+    retained_mass_se: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -287,6 +295,9 @@ class NonlinearComparison:
     ratio : float
         ``b / a`` of the cost: sweeps per scan (short vs long) or the single-object time per
         scan (prediction, cost terms, update: UKF vs EKF).
+    ratio_se : float
+        Standard error of ``ratio`` over the pairs (delta method for the ratio of the paired
+        means; NaN with one pair).
     """
 
     what: str
@@ -298,6 +309,7 @@ class NonlinearComparison:
     ci_low: float
     ci_high: float
     ratio: float
+    ratio_se: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -322,6 +334,19 @@ class NonlinearSummary:
 def _se(x) -> float:
     x = np.asarray(x, dtype=float)
     return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else math.nan
+
+
+def _ratio_se(a: np.ndarray, b: np.ndarray) -> float:
+    """Standard error of ``mean b / mean a`` over paired runs (delta method; NaN for one pair
+    or ``mean a <= 0``): the pairs share their measurements, so their covariance enters."""
+    n = a.size
+    ma, mb = (a.mean(), b.mean()) if n else (math.nan, math.nan)
+    if n < 2 or not ma > 0:
+        return math.nan
+    cov = np.cov(np.vstack([a, b]), ddof=1)
+    # Var(mb / ma) ~ grad' Cov grad / n, grad = (-mb / ma^2, 1 / ma)
+    var = (cov[1, 1] / ma**2 + mb**2 * cov[0, 0] / ma**4 - 2 * mb * cov[0, 1] / ma**3) / n
+    return float(math.sqrt(max(var, 0.0)))
 
 
 def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
@@ -351,6 +376,12 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
         ms = [1e3 * float(np.mean(r["seconds"])) for r in rs]
         card = np.concatenate([r["cardinality_error"] for r in rs]).astype(float)
         mass = np.array([m for r in rs for m in r["retained_mass"] if m is not None])
+        # the standard errors are over the runs' means (every run has the same scans)
+        card_runs = [float(np.mean(r["cardinality_error"])) for r in rs]
+        right_runs = [float(np.mean(np.asarray(r["cardinality_error"]) == 0)) for r in rs]
+        sweeps_runs = [float(np.mean(r["sweeps"])) for r in rs]
+        mass_runs = [float(np.mean(m)) for m in ([v for v in r["retained_mass"] if v is not None]
+                                                 for r in rs) if m]
         rows.append(NonlinearRow(
             preset=p, filter=f, truncation=t, n_runs=len(rs), ospa=float(np.mean(o1)),
             ospa_se=_se(o1), ospa2=float(np.mean(o2)), ospa2_se=_se(o2),
@@ -358,7 +389,9 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
             sweeps_per_scan=float(np.mean([np.mean(r["sweeps"]) for r in rs])),
             ms_per_scan=float(np.mean(ms)), ms_per_scan_se=_se(ms),
             retained_mass=float(mass.mean()) if mass.size else math.nan,
-            retained_mass_min=float(mass.min()) if mass.size else math.nan))
+            retained_mass_min=float(mass.min()) if mass.size else math.nan,
+            cardinality_error_se=_se(card_runs), exact_cardinality_se=_se(right_runs),
+            sweeps_per_scan_se=_se(sweeps_runs), retained_mass_se=_se(mass_runs)))
         curves[f"{p}/{f}/{t}"] = np.mean([r["ospa2"] for r in rs], axis=0).tolist()
     comparisons = []
 
@@ -370,11 +403,12 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
         both = [(by_a[r["run"]], r) for r in b if r["run"] in by_a]
         d = [np.mean(rb["ospa2"]) - np.mean(ra["ospa2"]) for ra, rb in both]
         m, lo, hi = paired_interval(d)
-        ca = np.mean([np.mean(ra[cost]) for ra, _ in both])
-        cb = np.mean([np.mean(rb[cost]) for _, rb in both])
+        xa = np.array([np.mean(ra[cost]) for ra, _ in both], dtype=float)
+        xb = np.array([np.mean(rb[cost]) for _, rb in both], dtype=float)
+        ca, cb = np.mean(xa), np.mean(xb)
         comparisons.append(NonlinearComparison(
             what=what, **fixed, n_runs=len(both), delta_ospa2=m, ci_low=lo, ci_high=hi,
-            ratio=float(cb / ca) if ca > 0 else math.nan))
+            ratio=float(cb / ca) if ca > 0 else math.nan, ratio_se=_ratio_se(xa, xb)))
 
     for p in cfg.presets:
         for f in cfg.filters:
@@ -480,10 +514,14 @@ def render_nonlinear(summary: NonlinearSummary, cfg: NonlinearConfig) -> str:
         body = [[_LABEL[r.filter], _LABEL[r.truncation],
                  fmt.pm(r.ospa, r.ospa_se, 1, n_runs=r.n_runs),
                  fmt.pm(r.ospa2, r.ospa2_se, 1, n_runs=r.n_runs),
-                 fmt.num(r.cardinality_error, 2), f"{100 * r.exact_cardinality:.0f} %",
-                 fmt.num(r.sweeps_per_scan, 0), fmt.num(r.ms_per_scan, 1),
-                 (f"{r.retained_mass:.4f} ({r.retained_mass_min:.4f})"
-                  if fmt.finite(r.retained_mass) else "–")] for r in rows]
+                 fmt.pm(r.cardinality_error, r.cardinality_error_se, 2, n_runs=r.n_runs),
+                 fmt.pm(100 * r.exact_cardinality, 100 * r.exact_cardinality_se, 0,
+                        n_runs=r.n_runs) + " %",
+                 fmt.pm_count(r.sweeps_per_scan, r.sweeps_per_scan_se, n_runs=r.n_runs),
+                 fmt.pm(r.ms_per_scan, r.ms_per_scan_se, 1, n_runs=r.n_runs),
+                 (f"{fmt.pm(r.retained_mass, r.retained_mass_se, 4, n_runs=r.n_runs)} "
+                  f"({r.retained_mass_min:.4f})" if fmt.finite(r.retained_mass) else "–")]
+                for r in rows]
         lines += [fmt.table(header, body), ""]
     if summary.comparisons:
         lines += ["Paired differences of the runs' mean OSPA(2), `b − a` on the same "
@@ -495,7 +533,7 @@ def render_nonlinear(summary: NonlinearSummary, cfg: NonlinearConfig) -> str:
                   "retained mass.", ""]
         body = [[c.what, _LABEL[c.preset] if c.what == "short vs long" else "",
                  _LABEL[c.filter], _LABEL[c.truncation], str(c.n_runs), _ci(c),
-                 f"{c.ratio:.3f}"] for c in summary.comparisons]
+                 fmt.pm(c.ratio, c.ratio_se, 3, n_runs=c.n_runs)] for c in summary.comparisons]
         lines += [fmt.table(["comparison", "preset", "filter", "truncation", "pairs",
                              "Δ OSPA(2)", "cost ratio"], body), ""]
     lines += ["![OSPA(2) per scan on the non-linear examples](nonlinear_tracking.png)", ""]

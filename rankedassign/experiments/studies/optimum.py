@@ -170,6 +170,8 @@ class OptimumRow:
         Mean per-run excess ``eps - eps*(k)``, in percentage points.
     excess_error_pp_se : float or None
         Its standard error.
+    obs_se, n_unique_se : float or None
+        Standard errors of ``obs_mean`` and ``n_unique_mean``; ``None`` for one run.
     """
 
     family: str
@@ -183,6 +185,9 @@ class OptimumRow:
     best_error_pct_se: float | None
     excess_error_pp_mean: float
     excess_error_pp_se: float | None
+    # last and with defaults, so a record built with the fields above stays valid
+    obs_se: float | None = None
+    n_unique_se: float | None = None
 
 
 def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
@@ -227,6 +232,8 @@ def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
                 best_error_pct_se=se(b),
                 excess_error_pp_mean=float((e - b).mean()),
                 excess_error_pp_se=se(e - b),
+                obs_se=se(obs),
+                n_unique_se=se(k),
             ))
     return rows
 
@@ -256,7 +263,8 @@ def _verdict(rows: list[OptimumRow]) -> str:
 def render_optimum(rows: list[OptimumRow], cfg: OptimumConfig) -> str:
     """The optimum section (the paper has no such study)."""
     body = [
-        [r.family, r.sampler, fmt.integer(r.obs_mean), fmt.integer(r.n_unique_mean),
+        [r.family, r.sampler, fmt.pm_count(r.obs_mean, r.obs_se, n_runs=r.n_mc),
+         fmt.pm_count(r.n_unique_mean, r.n_unique_se, n_runs=r.n_mc),
          fmt.pm(r.error_pct_mean, r.error_pct_se, n_runs=r.n_mc),
          fmt.pm(r.best_error_pct_mean, r.best_error_pct_se, n_runs=r.n_mc),
          fmt.pm(r.excess_error_pp_mean, r.excess_error_pp_se, n_runs=r.n_mc)]

@@ -258,6 +258,12 @@ class ScalingRow:
         Mean ``log10`` of the scene's exact retained mass at the last scan (NaN for the LMB).
     clusters_beyond_dp : int
         Clusters whose mass the DP could not reach, over all runs.
+    ms_per_target_se, false_per_target_se, gospa_per_target_se, n_clusters_se : float
+        Standard errors over the runs of ``ms_per_target``, ``false_per_target``,
+        ``gospa_per_target`` and ``n_clusters`` (over the runs that have the value; NaN with
+        fewer than two).
+    log10_retained_mass_se : float
+        The same for ``log10_retained_mass``.
     """
 
     filter: str
@@ -277,6 +283,12 @@ class ScalingRow:
     largest_cluster: float
     log10_retained_mass: float
     clusters_beyond_dp: int
+    # last and with defaults, so a record built with the fields above stays valid
+    ms_per_target_se: float = math.nan
+    false_per_target_se: float = math.nan
+    gospa_per_target_se: float = math.nan
+    n_clusters_se: float = math.nan
+    log10_retained_mass_se: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -300,6 +312,11 @@ def _se(x) -> float:
 def _mean(values) -> float:
     v = [x for x in values if x is not None]
     return float(np.mean(v)) if v else math.nan
+
+
+def _se_present(values) -> float:
+    """:func:`_se` over the values that are not ``None`` (those :func:`_mean` averages)."""
+    return _se([x for x in values if x is not None])
 
 
 def summarise_scaling(runs: list[dict], cfg: ScalingConfig) -> ScalingSummary:
@@ -343,7 +360,12 @@ def summarise_scaling(runs: list[dict], cfg: ScalingConfig) -> ScalingSummary:
                 n_clusters=_mean(r["n_clusters"] for r in rs),
                 largest_cluster=float(max(largest)) if largest else math.nan,
                 log10_retained_mass=_mean(r["log10_retained_mass"] for r in rs),
-                clusters_beyond_dp=int(sum(r["clusters_beyond_dp"] or 0 for r in rs))))
+                clusters_beyond_dp=int(sum(r["clusters_beyond_dp"] or 0 for r in rs)),
+                ms_per_target_se=1e3 * _se(secs) / max(n, 1),
+                false_per_target_se=_se_present(r["false_per_target"] for r in rs),
+                gospa_per_target_se=_se_present(r["gospa_per_target"] for r in rs),
+                n_clusters_se=_se_present(r["n_clusters"] for r in rs),
+                log10_retained_mass_se=_se_present(r["log10_retained_mass"] for r in rs)))
     return ScalingSummary(rows=rows)
 
 
@@ -412,14 +434,15 @@ def render_scaling(summary: ScalingSummary, cfg: ScalingConfig) -> str:
     body = [[_LABEL[r.filter], f"{r.N:,}",
              fmt.pm(r.row_updates_per_target, r.row_updates_per_target_se, 1, n_runs=r.n_runs),
              fmt.pm(r.seconds_per_scan, r.seconds_per_scan_se, 3, n_runs=r.n_runs),
-             fmt.num(r.ms_per_target, 3), fmt.num(r.peak_rss_gib, 2),
+             fmt.pm(r.ms_per_target, r.ms_per_target_se, 3, n_runs=r.n_runs),
+             fmt.num(r.peak_rss_gib, 2),
              fmt.pm(r.error_per_target, r.error_per_target_se, 2, n_runs=r.n_runs),
-             fmt.num(r.false_per_target, 3),
-             fmt.num(r.gospa_per_target, 2) if fmt.finite(r.gospa_per_target) else "–",
-             (f"{fmt.num(r.n_clusters, 0)} ({int(r.largest_cluster)})"
-              if fmt.finite(r.n_clusters) else "–"),
-             (fmt.num(r.log10_retained_mass, 2) if fmt.finite(r.log10_retained_mass)
-              else "–")] for r in summary.rows]
+             fmt.pm(r.false_per_target, r.false_per_target_se, 3, n_runs=r.n_runs),
+             fmt.pm(r.gospa_per_target, r.gospa_per_target_se, 2, n_runs=r.n_runs),
+             (f"{fmt.pm_count(r.n_clusters, r.n_clusters_se, n_runs=r.n_runs)} "
+              f"({int(r.largest_cluster)})" if fmt.finite(r.n_clusters) else "–"),
+             fmt.pm(r.log10_retained_mass, r.log10_retained_mass_se, 2, n_runs=r.n_runs)]
+            for r in summary.rows]
     lines += [fmt.table(header, body), ""]
     beyond = sum(r.clusters_beyond_dp for r in summary.rows)
     lines += [f"The exact retained mass is computed up to N = {cfg.mass_max_n:,} (in an "

@@ -121,6 +121,8 @@ class SweepRow:
         Its standard error.
     n_mc : int
         Monte Carlo runs.
+    n_obs_se, n_unique_se : float or None
+        Standard errors of ``n_obs_mean`` and ``n_unique_mean``; ``None`` for one run.
     """
 
     family: str
@@ -136,6 +138,9 @@ class SweepRow:
     diff_vs_original_pp_mean: float
     diff_vs_original_pp_se: float | None
     n_mc: int
+    # last and with defaults, so a record built with the fields above stays valid
+    n_obs_se: float | None = None
+    n_unique_se: float | None = None
 
 
 @dataclass(frozen=True)
@@ -195,6 +200,12 @@ def sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> dict:
     return out
 
 
+def _se(x) -> float | None:
+    """Standard error of the mean of ``x``; ``None`` for one value."""
+    x = np.asarray(x, dtype=float)
+    return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else None
+
+
 def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
     """Rows ``(family, sampler, budget)``: error statistics over runs (percent).
 
@@ -241,6 +252,8 @@ def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
             diff_vs_original_pp_mean=float(d.mean()),
             diff_vs_original_pp_se=float(d.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
             n_mc=n,
+            n_obs_se=_se([p["n_obs"] for p in ps]),
+            n_unique_se=_se([p["n_unique"] for p in ps]),
         ))
     return rows
 
@@ -332,7 +345,8 @@ def render_sweep(rows: list[SweepRow], cfg: SweepConfig) -> str:
     """The sweep section: the error at the largest budget and the chain-length check."""
     top = max(cfg.obs_grid)
     body = [
-        [r.family, r.sampler, fmt.integer(r.n_obs_mean), fmt.integer(r.n_unique_mean),
+        [r.family, r.sampler, fmt.pm_count(r.n_obs_mean, r.n_obs_se, n_runs=r.n_mc),
+         fmt.pm_count(r.n_unique_mean, r.n_unique_se, n_runs=r.n_mc),
          fmt.pm(r.error_pct_mean, r.error_pct_se, n_runs=r.n_mc),
          f"{fmt.num(r.error_pct_q10, 3)} – {fmt.num(r.error_pct_q90, 3)}",
          fmt.pm(r.diff_vs_original_pp_mean, r.diff_vs_original_pp_se, n_runs=r.n_mc)]

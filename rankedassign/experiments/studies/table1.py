@@ -184,8 +184,11 @@ def render_table1(rows: list[Table1Row], cfg: Table1Config) -> str:
          fmt.pm(r.error_original_mean, r.error_original_se, n_runs=r.n_mc),
          fmt.pm(r.error_proposed_mean, r.error_proposed_se, n_runs=r.n_mc),
          fmt.pm(r.mean_abs_delta_error_pp, r.mean_abs_delta_error_pp_se, n_runs=r.n_mc),
-         fmt.integer(r.obs_original_mean), fmt.integer(r.obs_proposed_mean),
-         fmt.integer(r.unique_proposed_mean), fmt.num(100 * r.stale_stop_fraction, 1)]
+         fmt.pm_count(r.obs_original_mean, r.obs_original_se, n_runs=r.n_mc),
+         fmt.pm_count(r.obs_proposed_mean, r.obs_proposed_se, n_runs=r.n_mc),
+         fmt.pm_count(r.unique_proposed_mean, r.unique_proposed_se, n_runs=r.n_mc),
+         fmt.pm(100 * r.stale_stop_fraction,
+                None if r.stale_stop_se is None else 100 * r.stale_stop_se, 1, n_runs=r.n_mc)]
         for r in rows
     ]
     if not paper_settings(cfg):

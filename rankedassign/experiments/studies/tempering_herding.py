@@ -534,6 +534,8 @@ class THRow:
     seconds_min : float or None
         The shortest call over the runs: the wall time the machine's load disturbed least,
         which the report shows (None in records written before it was kept).
+    unique_se : float or None
+        Standard error of ``unique_mean`` (None for one run, without it, or in older records).
     """
 
     family: str
@@ -549,6 +551,7 @@ class THRow:
     l1_mean: float | None
     l1_se: float | None
     seconds_min: float | None = None
+    unique_se: float | None = None
 
 
 @dataclass(frozen=True)
@@ -570,6 +573,9 @@ class THTrackingRow:
     gospa_mean, gospa_se : float or None
         GOSPA (``α = 2``, the same ``c`` and ``p``) averaged over scans (m), its mean over
         runs and standard error (None for runs recorded without it).
+    sweeps_se, seconds_se, association_seconds_se : float or None
+        Standard errors of ``sweeps_mean``, ``seconds_mean`` and
+        ``association_seconds_mean`` over the runs (None for one run, or in older records).
     """
 
     preset: str
@@ -582,6 +588,9 @@ class THTrackingRow:
     association_seconds_mean: float
     gospa_mean: float | None = None
     gospa_se: float | None = None
+    sweeps_se: float | None = None
+    seconds_se: float | None = None
+    association_seconds_se: float | None = None
 
 
 @dataclass(frozen=True)
@@ -683,7 +692,9 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
                                  float(np.mean([c["n_unique"] for c in cell]))),
                     seconds_mean=float(np.mean([c["seconds"] for c in cell])),
                     l1_mean=lm, l1_se=ls,
-                    seconds_min=float(np.min([c["seconds"] for c in cell]))))
+                    seconds_min=float(np.min([c["seconds"] for c in cell])),
+                    unique_se=(None if "n_unique" not in cell[0] else
+                               _mean_se([c["n_unique"] for c in cell])[1])))
         g = [r["methods"].get("original") for r in rs]
         h = [r["methods"].get("herded-shared") for r in rs]
         if all(x is not None for x in g + h):
@@ -723,7 +734,10 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
                 seconds_mean=float(np.mean([r["seconds"] for r in rs])),
                 association_seconds_mean=float(np.mean([r["association_seconds"]
                                                         for r in rs])),
-                gospa_mean=gm, gospa_se=gs))
+                gospa_mean=gm, gospa_se=gs,
+                sweeps_se=_mean_se([r["sweeps"] for r in rs])[1],
+                seconds_se=_mean_se([r["seconds"] for r in rs])[1],
+                association_seconds_se=_mean_se([r["association_seconds"] for r in rs])[1]))
     return THSummary(rows=rows, tracking=trk, verdicts=verdicts,
                      herded_vs_gibbs=herded_vs_gibbs)
 
@@ -733,7 +747,8 @@ def _cell(r: THRow | None) -> str:
     if r is None:
         return "–"
     return (f"{fmt.pm(r.error_pct_mean, r.error_pct_se, n_runs=r.n_runs)} · "
-            f"{fmt.integer(r.unique_mean)} · {1e3 * _secs(r):.3g} ms")
+            f"{fmt.pm_count(r.unique_mean, r.unique_se, n_runs=r.n_runs)} · "
+            f"{1e3 * _secs(r):.3g} ms")
 
 
 def _family_title(fam: str) -> str:
@@ -881,7 +896,7 @@ weights; Zanella–Roberts runs budget × P moves (P = V sensors for adaptive bi
 
 **Verdict.** {_overall_verdict(s, cfg)}
 
-Each cell is **truncation error (%) ± SE · unique assignments · time per call** (the time is
+Each cell is **truncation error (%) ± SE · unique assignments ± SE · time per call** (the time is
 the shortest call over the runs, the one the machine's load disturbed least; it is
 secondary to the sweeps, which are the same for every method of a column). {fmt.runs_note(
     r.n_runs for r in s.rows)} "–" means
@@ -925,8 +940,10 @@ Zanella–Roberts's its importance-weighted ones.
         body = [[f"`{r.preset}`", label(r.method),
                  fmt.pm(r.ospa2_mean, r.ospa2_se, 2, n_runs=r.n_runs),
                  fmt.pm(r.gospa_mean, r.gospa_se, 2, n_runs=r.n_runs),
-                 fmt.integer(r.sweeps_mean),
-                 f"{r.seconds_mean:.2f}", f"{r.association_seconds_mean:.2f}"]
+                 fmt.pm_count(r.sweeps_mean, r.sweeps_se, n_runs=r.n_runs),
+                 fmt.pm(r.seconds_mean, r.seconds_se, 2, n_runs=r.n_runs),
+                 fmt.pm(r.association_seconds_mean, r.association_seconds_se, 2,
+                        n_runs=r.n_runs)]
                 for r in s.tracking]
         n = s.tracking[0].n_runs
         out.append(f"""### Tracking

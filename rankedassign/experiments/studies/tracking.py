@@ -227,6 +227,22 @@ def _se(x: np.ndarray):
     return float(x.std(ddof=1) / math.sqrt(len(x))) if len(x) > 1 else None
 
 
+def _reduction_se(a: np.ndarray, b: np.ndarray):
+    """Standard error of ``100 (1 - mean b / mean a)`` over paired runs (delta method).
+
+    The runs of a pair share their measurements, so the covariance of ``a`` and ``b`` enters
+    (as for Table I's ΔObs); ``None`` for one run.
+    """
+    n = len(a)
+    if n < 2:
+        return None
+    ma, mb = a.mean(), b.mean()
+    cov = np.cov(np.vstack([a, b]), ddof=1)
+    # Var(mb / ma) ~ grad' Cov grad / n, grad = (-mb / ma^2, 1 / ma)
+    var = (cov[1, 1] / ma**2 + mb**2 * cov[0, 0] / ma**4 - 2 * mb * cov[0, 1] / ma**3) / n
+    return float(100.0 * math.sqrt(max(var, 0.0)))
+
+
 @dataclass(frozen=True)
 class TrackingSummary:
     """Totals, reductions, OSPA(2), GOSPA and per-scan curves of a tracking study (run means).
@@ -302,6 +318,16 @@ class TrackingSummary:
         (10.76).
     paper_sweeps_per_call_proposed : float
         Short-chain sweeps per call implied by the paper's proposed total at that many calls.
+    row_updates_original_se, row_updates_proposed_se : float or None
+        Standard errors of the mean row updates per run (``None`` for one run; the same for
+        the standard errors below).
+    invocations_original_se, invocations_proposed_se : float or None
+        Standard errors of the mean sampler calls per run.
+    association_seconds_original_se, association_seconds_proposed_se : float or None
+        Standard errors of the mean association wall time per run.
+    reduction_pct_se, reduction_row_updates_pct_se : float or None
+        Standard errors of ``reduction_pct`` and ``reduction_row_updates_pct`` (delta method
+        for the ratio of the paired means).
     curves : dict of str to list of float
         Per-scan means over the runs, each a list of ``n_scans`` values: ``"scan"`` (1-based
         scan numbers), ``"ospa2_<m>"``, ``"ospa2_localisation_<m>"``,
@@ -352,6 +378,15 @@ class TrackingSummary:
     paper_calls_per_scan: float
     paper_sweeps_per_call_proposed: float
     curves: dict
+    # last and with defaults, so a summary built with the fields above stays valid
+    row_updates_original_se: float | None = None
+    row_updates_proposed_se: float | None = None
+    invocations_original_se: float | None = None
+    invocations_proposed_se: float | None = None
+    association_seconds_original_se: float | None = None
+    association_seconds_proposed_se: float | None = None
+    reduction_pct_se: float | None = None
+    reduction_row_updates_pct_se: float | None = None
 
 
 def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary:
@@ -407,6 +442,10 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
         out[f"gospa_mean_{names[m]}_se"] = _se(g.mean(axis=1))
         out[f"association_seconds_{names[m]}"] = float(per_scan(m, "association_seconds")
                                                        .sum(axis=1).mean())
+        out[f"row_updates_{names[m]}_se"] = _se(totals[m, "row_updates"])
+        out[f"invocations_{names[m]}_se"] = _se(totals[m, "invocations"])
+        out[f"association_seconds_{names[m]}_se"] = _se(
+            per_scan(m, "association_seconds").sum(axis=1))
         # targets lost: coverage below LOST_BELOW (targets too short-lived to count are None)
         lost = np.array([sum(v is not None and v < LOST_BELOW for v in r.get("coverage", []))
                          for r in by[m]])
@@ -416,6 +455,11 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
     out["reduction_row_updates_pct"] = 100.0 * (
         1.0 - out["row_updates_proposed"] / out["row_updates_original"]
     )
+    # the runs of a pair share their measurements (sorted by run above)
+    out["reduction_pct_se"] = _reduction_se(totals["original", "sweeps"],
+                                            totals["short-chain", "sweeps"])
+    out["reduction_row_updates_pct_se"] = _reduction_se(totals["original", "row_updates"],
+                                                        totals["short-chain", "row_updates"])
     # Paired per-run OSPA(2) difference (same measurements in both runs of a pair).
     d = (per_scan("short-chain", "ospa2").mean(axis=1)
          - per_scan("original", "ospa2").mean(axis=1))
@@ -511,15 +555,21 @@ def render_tracking(s: TrackingSummary, cfg: TrackingConfig, study: str = "track
     """The tracking section: our totals beside the paper's, OSPA(2), the plots."""
     c = s.config
     paper_calls = 100 * s.paper_calls_per_scan
+    n = s.n_mc
     rows = [
-        ["sweeps (observations)", fmt.integer(s.obs_original), fmt.integer(s.obs_proposed),
-         fmt.num(s.reduction_pct, 2),
+        ["sweeps (observations)", fmt.pm_count(s.obs_original, s.obs_original_se, n_runs=n),
+         fmt.pm_count(s.obs_proposed, s.obs_proposed_se, n_runs=n),
+         fmt.pm(s.reduction_pct, s.reduction_pct_se, 2, n_runs=n),
          f"{s.paper_obs_original:,} / {s.paper_obs_proposed:,} → "
          f"{fmt.num(s.paper_reduction_pct, 2)}"],
-        ["row updates", fmt.integer(s.row_updates_original),
-         fmt.integer(s.row_updates_proposed), fmt.num(s.reduction_row_updates_pct, 2), "–"],
-        ["sampler invocations", fmt.integer(s.invocations_original),
-         fmt.integer(s.invocations_proposed), "", f"{fmt.integer(paper_calls)} (implied)"],
+        ["row updates", fmt.pm_count(s.row_updates_original, s.row_updates_original_se,
+                                     n_runs=n),
+         fmt.pm_count(s.row_updates_proposed, s.row_updates_proposed_se, n_runs=n),
+         fmt.pm(s.reduction_row_updates_pct, s.reduction_row_updates_pct_se, 2, n_runs=n), "–"],
+        ["sampler invocations", fmt.pm_count(s.invocations_original, s.invocations_original_se,
+                                             n_runs=n),
+         fmt.pm_count(s.invocations_proposed, s.invocations_proposed_se, n_runs=n), "",
+         f"{fmt.integer(paper_calls)} (implied)"],
         ["sweeps per invocation", fmt.num(s.sweeps_per_call_original, 1),
          fmt.num(s.sweeps_per_call_proposed, 1), "",
          f"{fmt.integer(s.paper_obs_original / paper_calls)} / "
@@ -527,8 +577,10 @@ def render_tracking(s: TrackingSummary, cfg: TrackingConfig, study: str = "track
         # wall time moves with the machine's load: the sweeps and row updates above are the
         # load-free comparison, this row a secondary one
         ["association wall time (s; secondary, depends on the load)",
-         fmt.num(s.association_seconds_original, 2),
-         fmt.num(s.association_seconds_proposed, 2),
+         fmt.pm(s.association_seconds_original, s.association_seconds_original_se, 2,
+                n_runs=n),
+         fmt.pm(s.association_seconds_proposed, s.association_seconds_proposed_se, 2,
+                n_runs=n),
          fmt.num(100 * (1 - s.association_seconds_proposed
                         / max(s.association_seconds_original, 1e-300)), 1), "–"],
         [f"mean GOSPA (m; c = {c['ospa_c']:g}, p = {c['ospa_p']:g})",
