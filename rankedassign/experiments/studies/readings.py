@@ -141,6 +141,11 @@ class ReadingRow(Table1Row):
         Standard error of ``mean_abs_delta_error_pp``.
     error_original_se, error_proposed_se : float or None
         Standard errors of ``error_original_mean`` and ``error_proposed_mean``.
+    obs_original_se, obs_proposed_se, unique_original_se, unique_proposed_se : float or None
+        Standard errors of the mean observations and of the mean distinct assignments of each
+        sampler (``None`` for one run, and where a caller built the record without them).
+    stale_stop_se : float or None
+        Standard error of ``stale_stop_fraction`` (the mean of a 0/1 outcome per run).
     family : str
         Matrix family (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
     criterion : {"stall", "stale", "full"}
