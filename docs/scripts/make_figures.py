@@ -285,12 +285,16 @@ def glmb_tradeoff_full(out: Path) -> None:
         GLMBStudySummary,
         plot_glmb_tradeoff,
     )
+    from rankedassign.experiments.vocabulary import DEPRECATED_FILTER_TRUNCATIONS
 
     data = json.loads(GLMB_TRADEOFF_SUMMARY.read_text())
 
     def point(q):
         # the JSON has null for NaN (the LMB points' carried mass); "h_upd" is None on purpose
-        return {k: math.nan if v is None and k != "h_upd" else v for k, v in q.items()}
+        q = {k: math.nan if v is None and k != "h_upd" else v for k, v in q.items()}
+        if "method" in q:  # written before the studies' vocabulary: "glmb-long", ...
+            q["filter"], q["truncation"] = DEPRECATED_FILTER_TRUNCATIONS[q.pop("method")]
+        return q
 
     presets = tuple(GLMBPresetSummary(
         preset=p["preset"], rows=(), comparisons=(), glmb_savings_pct=math.nan,
