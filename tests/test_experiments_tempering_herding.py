@@ -77,21 +77,21 @@ def test_every_applicable_method_at_every_budget(result):
 def test_records_are_the_oracle_s_numbers_on_the_same_data(result):
     """One cell recomputed from the public functions: the same problem, stream and grade."""
     _, runs = result
-    rec = next(r for r in runs if r["part"] == "synthetic" and r["family"] == "random"
-               and r["run"] == 1)
+    rec = next(r for r in runs if r.part == "synthetic" and r.family == "random"
+               and r.run == 1)
     s = run_seed(5, 1)
     problem = TH.make_problem("random", s, TINY)
     rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index("random"),
                      TH_METHODS.index("original"), 200)
     res = sample_original(problem, 200, rng=rng)
-    cell = rec["methods"]["original"]["200"]
-    assert cell["n_unique"] == len(res.costs)
-    assert cell["error"] == oracle.truncation_error(problem, res.assignments)
+    cell = rec.methods["original"]["200"]
+    assert cell.n_unique == len(res.costs)
+    assert cell.error == oracle.truncation_error(problem, res.assignments)
     exact = oracle.marginals(problem)
     lb = lbp_marginals(problem)
-    assert_allclose(rec["methods"]["lbp"]["0"]["l1"],
+    assert_allclose(rec.methods["lbp"]["0"].l1,
                     np.abs(lb.marginals - exact).sum() / problem.n_rows, rtol=1e-12)
-    assert rec["methods"]["zanella-roberts"]["200"]["n_obs"] == 200
+    assert rec.methods["zanella-roberts"]["200"].n_obs == 200
     # the single-sensor matrices are the Table I studies' of the same run
     from rankedassign.experiments._synthetic import make_problem
 
@@ -104,21 +104,21 @@ def test_zanella_roberts_cells_of_the_other_kinds(result):
     _, runs = result
     s = run_seed(5, 0)
     fam = "ms:A/random_coupled"
-    rec = next(r for r in runs if r["part"] == "synthetic" and r["family"] == fam
-               and r["run"] == 0)
+    rec = next(r for r in runs if r.part == "synthetic" and r.family == fam
+               and r.run == 0)
     problem = TH.make_problem(fam, s, TINY)
     rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index(fam),
                      TH_METHODS.index("zanella-roberts"), 200)
     res = sample_tempered(problem, 200 * problem.n_rows, beta=TINY.zr_beta, rng=rng)
     exact = oracle.marginals(problem)
-    cell = rec["methods"]["zanella-roberts"]["200"]
-    assert cell["n_unique"] == len(res.costs) and cell["n_obs"] == 200
+    cell = rec.methods["zanella-roberts"]["200"]
+    assert cell.n_unique == len(res.costs) and cell.n_obs == 200
     l1 = (np.abs(res.marginals.dead - exact.dead).sum()
           + np.abs(res.marginals.tuples - exact.tuples).sum()) / problem.n_rows
-    assert_allclose(cell["l1"], l1, rtol=1e-12)
-    birth = next(r for r in runs if r["part"] == "synthetic" and r["family"] == "birth:diagonal")
-    assert all(c["l1"] is None and c["n_unique"] >= 1
-               for c in birth["methods"]["zanella-roberts"].values())
+    assert_allclose(cell.l1, l1, rtol=1e-12)
+    birth = next(r for r in runs if r.part == "synthetic" and r.family == "birth:diagonal")
+    assert all(c.l1 is None and c.n_unique >= 1
+               for c in birth.methods["zanella-roberts"].values())
 
 
 def test_the_same_seed_gives_the_same_numbers(result):
@@ -166,20 +166,20 @@ def test_tracking_part_runs_every_association_on_the_same_measurements(result):
         assert (r.sweeps_mean == 0) == (m in ("exact", "lbp"))
     from rankedassign.tracking import Exact, run_scenario
 
-    rec = next(r for r in runs if r["part"] == "tracking" and r["method"] == "exact")
+    rec = next(r for r in runs if r.part == "tracking" and r.method == "exact")
     sr = run_scenario("vo", Exact(), rng=run_seed(5, 0), n_scans=TINY.n_scans)
     from rankedassign.metrics import ospa2
 
     want = ospa2(sr.truth, sr.estimates, TINY.ospa_c, TINY.ospa_p, TINY.ospa_window).value
-    assert_allclose(rec["ospa2"], np.mean(want), rtol=1e-12)
+    assert_allclose(rec.ospa2, np.mean(want), rtol=1e-12)
     # GOSPA beside it, per scan with the same c and p, averaged over the scans
     from rankedassign.metrics import gospa
 
     g = [gospa(x[~np.isnan(x).any(axis=1)], y[~np.isnan(y).any(axis=1)], TINY.ospa_c,
                TINY.ospa_p).value for x, y in zip(sr.truth, sr.estimates, strict=True)]
-    assert_allclose(rec["gospa"], np.mean(g), rtol=1e-12)
+    assert_allclose(rec.gospa, np.mean(g), rtol=1e-12)
     exact = got["exact"]
-    assert exact.gospa_mean == rec["gospa"] and exact.gospa_se is None
+    assert exact.gospa_mean == rec.gospa and exact.gospa_se is None
     assert "GOSPA (m)" in TH.render_tempering_herding(s, TINY)
 
 
@@ -229,3 +229,34 @@ def test_the_old_spellings_of_the_samplers_still_read_with_a_deprecation_warning
                                                 rf"'{new}'"):
         cfg = TemperingHerdingConfig(**{setting: (old, "lbp")})
     assert getattr(cfg, setting) == (new, "lbp")
+
+
+def test_the_run_records_round_trip_through_json_and_pickle(result, tmp_path):
+    # the runs as <study>_runs.json holds them, read back into records: the same JSON again,
+    # and the same summary (the report's numbers) from the records read back
+    import json
+    import pickle
+
+    from rankedassign.experiments.report import write_json
+
+    s, runs = result
+    assert {type(r) for r in runs} == {TH.THSyntheticRun, TH.THTrackingRun}
+    write_json(tmp_path / "runs.json", runs)
+    data = json.loads((tmp_path / "runs.json").read_text())
+    back = [TH.run_from_dict(d) for d in data]
+    write_json(tmp_path / "again.json", back)
+    assert (tmp_path / "again.json").read_text() == (tmp_path / "runs.json").read_text()
+    assert back[0].to_dict() == runs[0].to_dict()
+    assert TH.summarise_tempering_herding(back, TINY) == s
+    assert pickle.loads(pickle.dumps(runs)) == runs  # the workers send them back pickled
+
+
+@pytest.mark.parametrize("data, message", [
+    ({"part": "other"}, "a tempering_herding run has part 'synthetic' or 'tracking', got "
+                        "'other'"),
+    ([1], "a tempering_herding run has part 'synthetic' or 'tracking', got None"),
+    ({"part": "tracking", "runs": 1}, r"THTrackingRun.from_dict: unknown field\(s\) \['runs'\]"),
+])
+def test_a_bad_saved_run_is_refused_by_name(data, message):
+    with pytest.raises(ValueError, match=message):
+        TH.run_from_dict(data)

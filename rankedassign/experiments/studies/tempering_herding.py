@@ -59,6 +59,7 @@ from ...validation import MAX_COUNT, check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._plots import LINESTYLES, MARKERS, PALETTE, figure, legend_below
+from .._records import RunRecord
 from .._synthetic import make_problem as make_single
 from ..config import (
     DEFAULT_DIAGONAL_PBAR_D,
@@ -205,6 +206,7 @@ class TemperingHerdingConfig:
         check_ospa(self.ospa_c, self.ospa_p)  # p >= 1, as the metric requires (spec §7)
 
 __all__ = ["TEMPERING_HERDING", "THRow", "THTrackingRow", "THSummary", "FUTURE_WORK",
+           "THCall", "THLBPCall", "THSyntheticRun", "THTrackingRun", "run_from_dict",
            "summarise_tempering_herding", "make_problem", "applies"]
 
 #: The paper's closing sentence, quoted by the report in place of a paper column.
@@ -392,23 +394,175 @@ def _warm(problem, cfg) -> None:
     _WARM.add(kind)
 
 
-def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str) -> dict:
+# ------------------------------------------------------------------------------- run records
+@dataclass(frozen=True)
+class THCall(RunRecord):
+    """One sampler's call at one budget in one run of :func:`synthetic_task`.
+
+    Attributes
+    ----------
+    n_obs : int
+        Sweeps spent (Zanella–Roberts: the budget, its moves / P).
+    n_unique : int
+        Unique assignments found.
+    seconds : float
+        Wall time of the call.
+    error : float
+        Exact truncation error (spec eq. 1.9) of the unique assignments, a fraction.
+    l1 : float or None
+        Mean row L1 error of the marginals (None where not computed: adaptive birth).
+    """
+
+    n_obs: int
+    n_unique: int
+    seconds: float
+    error: float
+    l1: float | None
+
+
+@dataclass(frozen=True)
+class THLBPCall(RunRecord):
+    """Loopy BP's one call in one run of :func:`synthetic_task` (it has no budget).
+
+    Attributes
+    ----------
+    l1 : float or None
+        Mean row L1 error of its beliefs against the exact marginals.
+    seconds : float
+        Wall time of the call.
+    iterations : int
+        Message-passing iterations.
+    converged : bool
+        Whether the messages converged within the iteration limit.
+    """
+
+    l1: float | None
+    seconds: float
+    iterations: int
+    converged: bool
+
+
+@dataclass(frozen=True)
+class THSyntheticRun(RunRecord):
+    """One run of one family: every method at every budget (:func:`synthetic_task`).
+
+    Attributes
+    ----------
+    part : str
+        ``"synthetic"``.
+    run : int
+        Monte Carlo run.
+    family : str
+        Problem family (:data:`TH_FAMILIES`).
+    kind : str
+        The problem's kind (``"single"``, ``"multisensor"``, ``"adaptive_birth"``).
+    methods : dict
+        Method -> None (not applicable to the kind) or ``{str(budget): THCall}``; LBP's one
+        call under the key ``"0"`` (a :class:`THLBPCall`).
+    """
+
+    part: str
+    run: int
+    family: str
+    kind: str
+    methods: dict
+
+    @classmethod
+    def from_dict(cls, data: dict) -> THSyntheticRun:
+        """The record of a ``"synthetic"`` object of ``tempering_herding_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            The record's fields; the calls as objects.
+
+        Returns
+        -------
+        THSyntheticRun
+        """
+        def call(c):
+            return (THCall if "error" in c else THLBPCall).from_dict(c)
+
+        methods = {m: None if recs is None else {b: call(c) for b, c in recs.items()}
+                   for m, recs in data["methods"].items()}
+        return super().from_dict({**data, "methods": methods})
+
+
+@dataclass(frozen=True)
+class THTrackingRun(RunRecord):
+    """One tracking run of one association on one preset (:func:`tracking_task`).
+
+    Attributes
+    ----------
+    part : str
+        ``"tracking"``.
+    run : int
+        Monte Carlo run.
+    preset : str
+        Tracking preset.
+    method : str
+        The LMB association (:data:`TH_TRACKING_METHODS`).
+    ospa2, gospa : float
+        OSPA(2) and GOSPA (``α = 2``, OSPA(2)'s ``c`` and ``p``) averaged over the scans (m).
+    sweeps : int
+        Sweeps over the run.
+    seconds : float
+        Wall time of the whole run.
+    association_seconds : float
+        The part of it spent in the association.
+    """
+
+    part: str
+    run: int
+    preset: str
+    method: str
+    ospa2: float
+    gospa: float
+    sweeps: int
+    seconds: float
+    association_seconds: float
+
+
+def run_from_dict(data: dict) -> THSyntheticRun | THTrackingRun:
+    """The record of one object of ``tempering_herding_runs.json``, by its ``part``.
+
+    Parameters
+    ----------
+    data : dict
+        A synthetic or a tracking run's fields.
+
+    Returns
+    -------
+    THSyntheticRun or THTrackingRun
+
+    Raises
+    ------
+    ValueError
+        If ``part`` is neither ``"synthetic"`` nor ``"tracking"``.
+    """
+    part = data.get("part") if isinstance(data, dict) else None
+    if part not in ("synthetic", "tracking"):
+        raise ValueError(f"a tempering_herding run has part 'synthetic' or 'tracking', got "
+                         f"{part!r}")
+    return (THSyntheticRun if part == "synthetic" else THTrackingRun).from_dict(data)
+
+
+def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int,
+                   family: str) -> THSyntheticRun:
     """One run of one family: every method at every budget, graded by the oracle.
 
     Returns
     -------
-    dict
-        ``part="synthetic"``, ``run``, ``family``, ``kind`` and ``methods``: per method either
-        ``None`` (not applicable) or ``{budget: record}`` with ``n_obs``, ``n_unique``,
-        ``error`` (fraction), ``seconds`` and ``l1`` (``None`` where not computed); LBP's single
-        record (key ``"0"``) has ``l1``, ``seconds``, ``iterations`` and ``converged``.
+    THSyntheticRun
+        Per method None (not applicable) or ``{str(budget): THCall}``; LBP's single call
+        (key ``"0"``) a :class:`THLBPCall`.
 
     Examples
     --------
     >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
     >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=("original", "lbp"))
     >>> out = synthetic_task(cfg, 0, 0, "uniform")
-    >>> out["methods"]["original"]["50"]["n_obs"], out["methods"]["lbp"]["0"]["converged"]
+    >>> out.methods["original"]["50"].n_obs, out.methods["lbp"]["0"].converged
     (50, True)
     """
     s = run_seed(seed, run)
@@ -417,19 +571,19 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str
     kind = kind_of(problem).name
     exact = None if kind == "adaptive_birth" else oracle.marginals(problem)
     fi = TH_FAMILIES.index(family)
-    out = {"part": "synthetic", "run": run, "family": family, "kind": kind, "methods": {}}
+    methods = {}
     for method in cfg.methods:
         if not applies(method, problem):
-            out["methods"][method] = None
+            methods[method] = None
             continue
         mi = TH_METHODS.index(method)
         if method == "lbp":
             t0 = time.perf_counter()
             lb = lbp_marginals(problem)
             dt = time.perf_counter() - t0
-            out["methods"][method] = {"0": {
-                "l1": _l1(problem, exact, marginals=lb.marginals), "seconds": dt,
-                "iterations": int(lb.iterations), "converged": bool(lb.converged)}}
+            methods[method] = {"0": THLBPCall(
+                l1=_l1(problem, exact, marginals=lb.marginals), seconds=dt,
+                iterations=int(lb.iterations), converged=bool(lb.converged))}
             continue
         recs = {}
         for budget in cfg.budgets:
@@ -441,11 +595,11 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str
                 l1 = _l1(problem, exact, marginals=res.marginals)
             else:
                 l1 = _l1(problem, exact, res.assignments, res.costs)
-            recs[str(budget)] = {
-                "n_obs": n_obs, "n_unique": int(len(res.costs)), "seconds": dt,
-                "error": float(oracle.truncation_error(problem, res.assignments)), "l1": l1}
-        out["methods"][method] = recs
-    return out
+            recs[str(budget)] = THCall(
+                n_obs=n_obs, n_unique=int(len(res.costs)), seconds=dt,
+                error=float(oracle.truncation_error(problem, res.assignments)), l1=l1)
+        methods[method] = recs
+    return THSyntheticRun(part="synthetic", run=run, family=family, kind=kind, methods=methods)
 
 
 def _association(method: str, cfg: TemperingHerdingConfig):
@@ -465,15 +619,14 @@ def _association(method: str, cfg: TemperingHerdingConfig):
 
 
 def tracking_task(cfg: TemperingHerdingConfig, seed: int, run: int, preset: str,
-                  method: str) -> dict:
+                  method: str) -> THTrackingRun:
     """One tracking run of one association on one preset (every method sees the same data).
 
     Returns
     -------
-    dict
-        ``part="tracking"``, ``run``, ``preset``, ``method``, ``ospa2`` and ``gospa`` (means
-        over scans; GOSPA with ``α = 2`` and OSPA(2)'s ``c`` and ``p``), ``sweeps`` (total),
-        ``seconds`` (the whole run) and ``association_seconds``.
+    THTrackingRun
+        OSPA(2) and GOSPA averaged over the scans, the sweeps, the seconds of the run and of
+        its association.
     """
     t0 = time.perf_counter()
     sr = tracking.run_scenario(preset, _association(method, cfg), rng=run_seed(seed, run),
@@ -481,11 +634,10 @@ def tracking_task(cfg: TemperingHerdingConfig, seed: int, run: int, preset: str,
     seconds = time.perf_counter() - t0
     o2 = metrics.ospa2(sr.truth, sr.estimates, cfg.ospa_c, cfg.ospa_p, cfg.ospa_window)
     g = metrics.gospa_series(sr.truth, sr.estimates, cfg.ospa_c, cfg.ospa_p)
-    return {"part": "tracking", "run": run, "preset": preset, "method": method,
-            "ospa2": float(np.mean(o2.value)), "gospa": float(np.mean(g.value)),
-            "sweeps": int(np.sum(sr.sweeps)),
-            "seconds": seconds,
-            "association_seconds": float(np.sum(sr.timings["association"]))}
+    return THTrackingRun(part="tracking", run=run, preset=preset, method=method,
+                         ospa2=float(np.mean(o2.value)), gospa=float(np.mean(g.value)),
+                         sweeps=int(np.sum(sr.sweeps)), seconds=seconds,
+                         association_seconds=float(np.sum(sr.timings["association"])))
 
 
 def th_tasks(cfg: TemperingHerdingConfig, seed: int) -> list[tuple]:
@@ -506,7 +658,7 @@ def _warm_group(task: tuple):
     return ("tracking", task[5])
 
 
-def th_task(part: str, *args) -> dict:
+def th_task(part: str, *args) -> THSyntheticRun | THTrackingRun:
     """Run one task of :func:`th_tasks` (the registry's single task function)."""
     return synthetic_task(*args) if part == "synthetic" else tracking_task(*args)
 
@@ -654,12 +806,12 @@ def _best(cands: dict) -> str | None:
     return min(cands, key=lambda k: (cands[k], TH_METHODS.index(k))) if cands else None
 
 
-def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -> THSummary:
+def summarise_tempering_herding(runs: list, cfg: TemperingHerdingConfig) -> THSummary:
     """Average the runs into rows, and name the best method per family and budget.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of THSyntheticRun and THTrackingRun
         Records of :func:`synthetic_task` and :func:`tracking_task`.
     cfg : TemperingHerdingConfig
 
@@ -667,39 +819,40 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
     -------
     THSummary
     """
-    syn = [r for r in runs if r["part"] == "synthetic"]
+    syn = [r for r in runs if isinstance(r, THSyntheticRun)]
     rows = []
     herded_vs_gibbs = {}
     for fam in cfg.families:
-        rs = sorted((r for r in syn if r["family"] == fam), key=lambda r: r["run"])
+        rs = sorted((r for r in syn if r.family == fam), key=lambda r: r.run)
         if not rs:
             continue
-        kind = rs[0]["kind"]
+        kind = rs[0].kind
         for method in cfg.methods:
-            recs = [r["methods"][method] for r in rs if r["methods"].get(method) is not None]
+            recs = [r.methods[method] for r in rs if r.methods.get(method) is not None]
             if not recs:
                 continue
             for key in recs[0]:
                 cell = [rec[key] for rec in recs]
-                err = [None if "error" not in c else 100.0 * c["error"] for c in cell]
-                em, es = _mean_se(err)
-                lm, ls = _mean_se([c["l1"] for c in cell])
+                # LBP's call (THLBPCall) has no error, sweeps or unique count
+                sampled = isinstance(cell[0], THCall)
+                em, es = _mean_se([100.0 * c.error if sampled else None for c in cell])
+                lm, ls = _mean_se([c.l1 for c in cell])
                 rows.append(THRow(
                     family=fam, kind=kind, method=method, budget=int(key), n_runs=len(cell),
-                    obs_mean=float(np.mean([c.get("n_obs", 0) for c in cell])),
+                    obs_mean=float(np.mean([c.n_obs if sampled else 0 for c in cell])),
                     error_pct_mean=em, error_pct_se=es,
-                    unique_mean=(None if "n_unique" not in cell[0] else
-                                 float(np.mean([c["n_unique"] for c in cell]))),
-                    seconds_mean=float(np.mean([c["seconds"] for c in cell])),
+                    unique_mean=(float(np.mean([c.n_unique for c in cell])) if sampled
+                                 else None),
+                    seconds_mean=float(np.mean([c.seconds for c in cell])),
                     l1_mean=lm, l1_se=ls,
-                    seconds_min=float(np.min([c["seconds"] for c in cell])),
-                    unique_se=(None if "n_unique" not in cell[0] else
-                               _mean_se([c["n_unique"] for c in cell])[1])))
-        g = [r["methods"].get("original") for r in rs]
-        h = [r["methods"].get("herded-shared") for r in rs]
+                    seconds_min=float(np.min([c.seconds for c in cell])),
+                    unique_se=(_mean_se([c.n_unique for c in cell])[1] if sampled
+                               else None)))
+        g = [r.methods.get("original") for r in rs]
+        h = [r.methods.get("herded-shared") for r in rs]
         if all(x is not None for x in g + h):
             herded_vs_gibbs[fam] = {
-                b: [sum(hh[str(b)]["error"] <= gg[str(b)]["error"]
+                b: [sum(hh[str(b)].error <= gg[str(b)].error
                         for gg, hh in zip(g, h, strict=True)),
                     len(g)] for b in cfg.budgets}
     verdicts = {}
@@ -722,22 +875,22 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
     trk = []
     for preset in cfg.presets:
         for method in cfg.tracking_methods:
-            rs = [r for r in runs if r["part"] == "tracking" and r["preset"] == preset
-                  and r["method"] == method]
+            rs = [r for r in runs if isinstance(r, THTrackingRun) and r.preset == preset
+                  and r.method == method]
             if not rs:
                 continue
-            om, os_ = _mean_se([r["ospa2"] for r in rs])
-            gm, gs = _mean_se([r.get("gospa") for r in rs])
+            om, os_ = _mean_se([r.ospa2 for r in rs])
+            gm, gs = _mean_se([r.gospa for r in rs])
             trk.append(THTrackingRow(
                 preset=preset, method=method, n_runs=len(rs), ospa2_mean=om, ospa2_se=os_,
-                sweeps_mean=float(np.mean([r["sweeps"] for r in rs])),
-                seconds_mean=float(np.mean([r["seconds"] for r in rs])),
-                association_seconds_mean=float(np.mean([r["association_seconds"]
+                sweeps_mean=float(np.mean([r.sweeps for r in rs])),
+                seconds_mean=float(np.mean([r.seconds for r in rs])),
+                association_seconds_mean=float(np.mean([r.association_seconds
                                                         for r in rs])),
                 gospa_mean=gm, gospa_se=gs,
-                sweeps_se=_mean_se([r["sweeps"] for r in rs])[1],
-                seconds_se=_mean_se([r["seconds"] for r in rs])[1],
-                association_seconds_se=_mean_se([r["association_seconds"] for r in rs])[1]))
+                sweeps_se=_mean_se([r.sweeps for r in rs])[1],
+                seconds_se=_mean_se([r.seconds for r in rs])[1],
+                association_seconds_se=_mean_se([r.association_seconds for r in rs])[1]))
     return THSummary(rows=rows, tracking=trk, verdicts=verdicts,
                      herded_vs_gibbs=herded_vs_gibbs)
 
