@@ -814,7 +814,7 @@ def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     st = get_study("tempering_herding")
     groups = [st.warm_group(t) for t in st.tasks(st.warm(study_config(quick, st)), 0)]
     assert {"single", "multisensor", "adaptive_birth"} <= set(groups)
-    assert ("tracking", "herded") in groups
+    assert ("tracking", ("herded", "keys=shared")) in groups
     st = get_study("glmb_tracking")
     tasks = st.tasks(st.warm(study_config(quick, st)), 0)
     groups = {st.warm_group(t) for t in tasks}
