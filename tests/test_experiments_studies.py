@@ -62,7 +62,7 @@ def test_table1_structure_and_ranges(table1):
         assert r.delta_obs_pct_se is not None and r.delta_obs_pct_se >= 0
     for run in runs:
         for k in ("original", *CRITERIA):
-            assert 0.0 <= run[k]["error"] <= 1.0
+            assert 0.0 <= getattr(run, k).error <= 1.0
     by = {(r.family, r.criterion): r for r in rows}
     # One dominant assignment: every rule stops early (spec §3.4, Table I diagonal row).
     for c in CRITERIA:
@@ -86,11 +86,11 @@ def test_table1_no_rule_active_gives_zero_delta_obs():
 def test_table1_statistics_by_hand(table1):
     rows, runs = table1
     fam, crit = "random", "stall"
-    rs = sorted((r for r in runs if r["family"] == fam), key=lambda r: r["run"])
-    No = np.array([r["original"]["n_obs"] for r in rs], float)
-    Ns = np.array([r[crit]["n_obs"] for r in rs], float)
-    eo = 100 * np.array([r["original"]["error"] for r in rs])
-    es = 100 * np.array([r[crit]["error"] for r in rs])
+    rs = sorted((r for r in runs if r.family == fam), key=lambda r: r.run)
+    No = np.array([r.original.n_obs for r in rs], float)
+    Ns = np.array([r.criterion(crit).n_obs for r in rs], float)
+    eo = 100 * np.array([r.original.error for r in rs])
+    es = 100 * np.array([r.criterion(crit).error for r in rs])
     row = next(r for r in rows if (r.family, r.criterion) == (fam, crit))
     assert_allclose(row.delta_obs_pct, 100 * (No.mean() - Ns.mean()) / No.mean(), rtol=1e-12)
     assert_allclose(row.delta_error_pp, abs(eo.mean() - es.mean()), rtol=1e-12)
@@ -103,9 +103,9 @@ def test_table1_statistics_by_hand(table1):
 
 def test_table1_random_matrix_redrawn_and_errors_exact(table1):
     _, runs = table1
-    rs = [r for r in runs if r["family"] == "random"]
+    rs = [r for r in runs if r.family == "random"]
     # Different matrices per run: the original error differs between runs.
-    assert rs[0]["original"]["error"] != rs[1]["original"]["error"]
+    assert rs[0].original.error != rs[1].original.error
     # The matrix of run r is synthetic.random(rng=child 0 of run seed r): recompute one error.
     from rankedassign import sample_original
     from rankedassign.experiments import child_seed, run_seed
@@ -113,7 +113,7 @@ def test_table1_random_matrix_redrawn_and_errors_exact(table1):
     s = run_seed(11, 1)
     p = synthetic.random(pbar_d="pd", granularity="matrix", rng=child_seed(s, 0))  # A2, A5
     res = sample_original(p, 5_000, rng=child_seed(s, 1, 2))
-    assert rs[1]["original"]["error"] == oracle.truncation_error(p, res.assignments)
+    assert rs[1].original.error == oracle.truncation_error(p, res.assignments)
 
 
 def test_table1_same_seed_same_numbers_any_executor(table1):
@@ -211,18 +211,18 @@ def test_sweep_structure_and_monotone_original():
             assert r.diff_vs_original_pp_mean == 0.0
         else:
             paired = [
-                100 * (p["error"] - q["error"])
-                for run in runs if run["family"] == fam
-                for p in run["points"] if (p["sampler"], p["budget"]) == (sampler, budget)
-                for q in run["points"] if (q["sampler"], q["budget"]) == ("original", budget)
+                100 * (p.error - q.error)
+                for run in runs if run.family == fam
+                for p in run.points if (p.sampler, p.budget) == (sampler, budget)
+                for q in run.points if (q.sampler, q.budget) == ("original", budget)
             ]
             assert_allclose(r.diff_vs_original_pp_mean, np.mean(paired), rtol=1e-12,
                             atol=1e-12)
     for run in runs:
         # Same stream at every budget: the original chain's unique set only grows.
-        errs = [p["error"] for p in run["points"] if p["sampler"] == "original"]
+        errs = [p.error for p in run.points if p.sampler == "original"]
         assert errs == sorted(errs, reverse=True)
-        uniq = [p["n_unique"] for p in run["points"] if p["sampler"] == "short-5"]
+        uniq = [p.n_unique for p in run.points if p.sampler == "short-5"]
         assert uniq == sorted(uniq)
 
 
@@ -244,10 +244,10 @@ def test_optimum_bounds():
         (f, s) for f in ("diagonal", "uniform", "random") for s in ("original", "proposed")]
     for run in runs:
         for s in ("original", "proposed"):
-            rec = run[s]
-            assert rec["best_error"] <= rec["error"] + 1e-12
-            if run["family"] == "uniform":  # equal weights: any k solutions are optimal
-                assert_allclose(rec["error"], rec["best_error"], rtol=1e-9)
+            rec = getattr(run, s)
+            assert rec.best_error <= rec.error + 1e-12
+            if run.family == "uniform":  # equal weights: any k solutions are optimal
+                assert_allclose(rec.error, rec.best_error, rtol=1e-9)
     for r in rows:
         assert r.excess_error_pp_mean >= -1e-9
 
@@ -821,3 +821,62 @@ def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     # one group per method run (the same method on both presets compiles the same kernels)
     assert groups <= set(study_config(quick, st).methods) and len(groups) >= 7
     assert len(tasks) > len(groups)
+
+
+#: Studies whose per-run results are records, with their tiny settings (a run in seconds).
+RECORD_STUDIES = {
+    "table1": lambda c: dataclasses.replace(c, n_mc=2, original_obs=200, n_chains=8),
+    "random_readings": lambda c: dataclasses.replace(c, n_mc=2, original_obs=200, n_chains=8),
+    "ablation": lambda c: dataclasses.replace(c, n_mc=2, original_obs=200, n_chains=8,
+                                              families=("uniform", "random")),
+    "optimum": lambda c: dataclasses.replace(c, n_mc=2, original_obs=200, n_chains=8),
+    "sweep": lambda c: dataclasses.replace(c, n_mc=2, obs_grid=(10, 100),
+                                           chain_lengths=(5,)),
+}
+
+
+@pytest.mark.parametrize("name", list(RECORD_STUDIES))
+def test_the_run_records_round_trip_through_json_and_pickle(name, tmp_path):
+    # the runs as <study>_runs.json holds them, read back into records by the study's
+    # run_from_dict: the same JSON again, and the same summary from the records read back
+    import json
+    import pickle
+
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments._records import RunRecord
+    from rankedassign.experiments.report import write_json
+
+    st = get_study(name)
+    cfg = RECORD_STUDIES[name](st.quick())
+    summary, runs = run_study(st, cfg, seed=2, progress=False, return_runs=True)
+    assert all(isinstance(r, RunRecord) and dataclasses.is_dataclass(r) for r in runs)
+    write_json(tmp_path / "runs.json", runs)
+    back = [st.run_from_dict(d) for d in json.loads((tmp_path / "runs.json").read_text())]
+    assert back == runs
+    write_json(tmp_path / "again.json", back)
+    assert (tmp_path / "again.json").read_text() == (tmp_path / "runs.json").read_text()
+    assert st.summarise(back, cfg) == summary
+    assert pickle.loads(pickle.dumps(runs)) == runs  # the workers send them back pickled
+
+
+def test_a_saved_run_with_an_unknown_field_is_refused_by_name():
+    from rankedassign.experiments.studies.table1 import Table1Run
+
+    with pytest.raises(ValueError, match=r"^Table1Run.from_dict: unknown field\(s\) \['runs'\]$"):
+        Table1Run.from_dict({"run": 0, "runs": 1})
+    with pytest.raises(ValueError, match=r"^SamplerRun.from_dict needs a mapping of its "
+                                         r"fields, got list$"):
+        Table1Run.from_dict({"original": []})
+
+
+def test_a_table1_run_names_its_criteria():
+    from rankedassign.experiments.studies.table1 import Table1Run
+
+    rec = Table1Run.from_dict(
+        {"run": 0, "family": "uniform", **{k: {
+            "n_obs": i, "n_row_updates": 0, "n_unique": 1, "n_chains": 1,
+            "stop_reason": "budget", "error": 0.5} for i, k in enumerate(
+                ("original", "stall", "stale", "full"))}})
+    assert [rec.criterion(c).n_obs for c in CRITERIA] == [1, 2, 3]
+    with pytest.raises(ValueError, match=r"^unknown criterion 'original'; expected one of "):
+        rec.criterion("original")

@@ -1444,6 +1444,7 @@ TEMPERING_HERDING = register_study(Study(
                                      budgets=QUICK_BUDGETS),
     tasks=th_tasks,
     task=th_task,
+    run_from_dict=run_from_dict,
     summarise=summarise_tempering_herding,
     render=render_tempering_herding,
     plot=plot_tempering_herding,
