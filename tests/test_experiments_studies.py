@@ -832,6 +832,8 @@ RECORD_STUDIES = {
                                               n_chains=4),
     "tracking_var": lambda c: dataclasses.replace(c, n_mc=1, n_scans=3, original_obs=50,
                                                   n_chains=4),
+    "multisensor": lambda c: dataclasses.replace(c, n_mc=2, cases=("A/diagonal", "B/random"),
+                                                 original_obs=100, n_chains=4),
     # the δ-GLMB exact truncation stops at the first scan of "paper" (a failed record)
     "glmb_tracking": lambda c: dataclasses.replace(
         c, n_mc=1, n_scans=3, murty_runs=1, h_upd=40, h_max=20, n_chains=10, murty_k=20,

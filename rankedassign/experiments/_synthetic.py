@@ -328,6 +328,8 @@ def paired_summary(original: list[SamplerRun], proposed: list[SamplerRun]) -> Pa
     ``|mean eps_o - mean eps_s|``) with the standard error of the mean per-run paired difference;
     ``mean_abs_delta_error_pp`` is the mean of per-run ``|eps_s - eps_o|`` (spec A7) with its
     standard error. Errors are in percentage points. Standard errors are ``None`` for one run.
+    A record is a :class:`SamplerRun` or any with its ``n_obs``, ``n_unique``, ``n_chains``,
+    ``stop_reason`` and ``error`` (the multi-sensor study's calls).
     """
     n = len(original)
     if n != len(proposed) or n == 0:
