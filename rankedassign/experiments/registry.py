@@ -88,8 +88,9 @@ class Study:
         core, and only then the rest, which load them from the cache; so no two workers
         compile the same kernels side by side. None: every task is a group of its own.
     run_from_dict : callable, optional
-        ``dict -> record``: one object of ``<study>_runs.json`` read back into the record
-        ``task`` returned (e.g. ``Table1Run.from_dict``). None: not provided.
+        One item of ``<study>_runs.json`` read back into what ``task`` returned: a record
+        (e.g. ``Table1Run.from_dict``), or the list of a task's records
+        (``nonlinear_tracking``). None: not provided.
 
     Examples
     --------
