@@ -162,7 +162,7 @@ def test_multisensor_config_from_dict():
 
 def test_adaptive_birth_wraps_the_study_functions(ab_result):
     summary, runs = ab_result
-    table = [{k: v for k, v in r.items() if k != "kind"} for r in runs if r["kind"] == "run"]
+    table = [r for r in runs if r.kind == "run"]
     assert table == [S.run_task(TINY_AB, 3, r, f, 2) for f in S.FAMILIES
                      for r in range(TINY_AB.n_mc)]
     raw = S.summarise(table)
