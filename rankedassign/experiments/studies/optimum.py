@@ -134,7 +134,7 @@ class OptimumCall(SamplerRun):
     Attributes
     ----------
     n_obs, n_row_updates, n_unique, n_chains, stop_reason, error
-        As in :class:`~rankedassign.experiments._synthetic.SamplerRun`.
+        As in ``SamplerRun`` (``rankedassign.experiments._synthetic``).
     best_error : float
         ``eps*(k)`` for ``k = n_unique`` (:func:`best_error`), a fraction.
     """

@@ -192,7 +192,7 @@ class SweepPoint(RunRecord):
     budget : int
         Sweeps of the grid point.
     n_obs, n_row_updates, n_unique, n_chains, stop_reason, error
-        The sampler's call (:class:`~rankedassign.experiments._synthetic.SamplerRun`).
+        The sampler's call, as in ``SamplerRun`` (``rankedassign.experiments._synthetic``).
     """
 
     sampler: str
