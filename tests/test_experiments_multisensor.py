@@ -62,21 +62,22 @@ def test_multisensor_task_records(ms_result):
     _, runs = ms_result
     assert len(runs) == TINY_MS.n_mc * len(TINY_MS.cases)
     for out in runs:
-        assert set(out["methods"]) == set(TINY_MS.methods)
-        for recs in out["methods"].values():
-            assert recs["original"]["n_obs"] == TINY_MS.original_obs
+        assert set(out.methods) == set(TINY_MS.methods)
+        for recs in out.methods.values():
+            assert recs.original.n_obs == TINY_MS.original_obs
             for crit in ("stall", "stale", "full"):
-                assert 0 < recs[crit]["n_obs"] <= TINY_MS.n_chains * TINY_MS.chain_length
-            for rec in recs.values():
-                assert 0.0 <= rec["error"] <= 1.0 and rec["seconds"] >= 0.0
+                assert 0 < getattr(recs, crit).n_obs <= TINY_MS.n_chains * TINY_MS.chain_length
+            for rec in (recs.original, recs.stall, recs.stale, recs.full):
+                assert 0.0 <= rec.error <= 1.0 and rec.seconds >= 0.0
     # same seed, same records (up to the wall times)
     again = MS.multisensor_task(TINY_MS, 5, 1, "B/random")
 
     def strip(out):
-        return {m: {k: {f: v for f, v in r.items() if f != "seconds"} for k, r in recs.items()}
-                for m, recs in out["methods"].items()}
+        return {m: {k: {f: v for f, v in r.items() if f != "seconds"}
+                    for k, r in recs.to_dict().items()}
+                for m, recs in out.methods.items()}
 
-    ref = next(r for r in runs if r["case"] == "B/random" and r["run"] == 1)
+    ref = next(r for r in runs if r.case == "B/random" and r.run == 1)
     assert strip(again) == strip(ref)
 
 
@@ -86,7 +87,7 @@ def test_componentwise_error_is_the_uncovered_mass():
     p = synthetic.random(2, (3, 3), rng=4)
     res = sample_short_chains(p, 20, 10, rng=1, method="exact")
     rec = MS._record(p, res, 0.0, oracle.log_normalizer(p), "componentwise")
-    assert rec["error"] == pytest.approx(oracle.truncation_error(p, res.assignments), abs=1e-12)
+    assert rec.error == pytest.approx(oracle.truncation_error(p, res.assignments), abs=1e-12)
 
 
 def test_multisensor_summary_definitions(ms_result):
@@ -95,11 +96,11 @@ def test_multisensor_summary_definitions(ms_result):
         (c, m, k) for c in TINY_MS.cases for m in TINY_MS.methods
         for k in ("stall", "stale", "full")]
     for row in summary.rows:
-        rs = [r["methods"][row.method] for r in runs if r["case"] == row.case]
-        no = np.mean([r["original"]["n_obs"] for r in rs])
-        ns = np.mean([r[row.criterion]["n_obs"] for r in rs])
-        eo = np.mean([r["original"]["error"] for r in rs])
-        es = np.mean([r[row.criterion]["error"] for r in rs])
+        rs = [r.methods[row.method] for r in runs if r.case == row.case]
+        no = np.mean([r.original.n_obs for r in rs])
+        ns = np.mean([getattr(r, row.criterion).n_obs for r in rs])
+        eo = np.mean([r.original.error for r in rs])
+        es = np.mean([getattr(r, row.criterion).error for r in rs])
         assert row.delta_obs_pct == pytest.approx(100 * (no - ns) / no)
         assert row.delta_error_pp == pytest.approx(100 * abs(eo - es))
         assert row.n_mc == 2 and row.delta_error_pp_se is not None
@@ -161,7 +162,7 @@ def test_multisensor_config_from_dict():
 
 def test_adaptive_birth_wraps_the_study_functions(ab_result):
     summary, runs = ab_result
-    table = [{k: v for k, v in r.items() if k != "kind"} for r in runs if r["kind"] == "run"]
+    table = [r for r in runs if r.kind == "run"]
     assert table == [S.run_task(TINY_AB, 3, r, f, 2) for f in S.FAMILIES
                      for r in range(TINY_AB.n_mc)]
     raw = S.summarise(table)

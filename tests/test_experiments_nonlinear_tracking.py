@@ -28,31 +28,31 @@ def runs():
 
 def test_every_row_sees_the_same_measurements_and_records_every_scan(runs):
     for task in runs:
-        assert [r["truncation"] for r in task] == ["original", "short-chain", "murty"]
+        assert [r.truncation for r in task] == ["original", "short-chain", "murty"]
         for r in task:
             for key in ("ospa", "ospa2", "cardinality_error", "sweeps", "seconds",
                         "single_object_seconds", "retained_mass"):
-                assert len(r[key]) == TINY.n_scans, key
-            assert all(0.0 <= v <= TINY.ospa_c for v in r["ospa"])
-            masses = [m for m in r["retained_mass"] if m is not None]
-            if r["filter"] == "glmb":
+                assert len(getattr(r, key)) == TINY.n_scans, key
+            assert all(0.0 <= v <= TINY.ospa_c for v in r.ospa)
+            masses = [m for m in r.retained_mass if m is not None]
+            if r.filter == "glmb":
                 assert len(masses) == TINY.n_scans and all(0.0 < m <= 1.0 + 1e-12 for m in masses)
             else:
                 assert masses == []
-        assert task[2]["sweeps"] == [0] * TINY.n_scans  # Murty draws no sweeps
+        assert task[2].sweeps == [0] * TINY.n_scans  # Murty draws no sweeps
     # EKF and UKF runs of one seed are the same measurements: the exact truncation's first
     # scans (no track yet) give the same OSPA
-    ekf = [t for t in runs if t[0]["preset"] == "vo-ekf" and t[0]["filter"] == "lmb"][0]
-    ukf = [t for t in runs if t[0]["preset"] == "vo-ukf" and t[0]["filter"] == "lmb"][0]
-    assert ekf[0]["ospa"][0] == ukf[0]["ospa"][0]
+    ekf = [t for t in runs if t[0].preset == "vo-ekf" and t[0].filter == "lmb"][0]
+    ukf = [t for t in runs if t[0].preset == "vo-ukf" and t[0].filter == "lmb"][0]
+    assert ekf[0].ospa[0] == ukf[0].ospa[0]
 
 
 def test_the_same_seed_gives_the_same_records():
     a = nonlinear_task(TINY, 3, 1, "vo-ukf", "glmb")
     b = nonlinear_task(TINY, 3, 1, "vo-ukf", "glmb")
     for ra, rb in zip(a, b, strict=True):
-        assert ra["ospa2"] == rb["ospa2"] and ra["sweeps"] == rb["sweeps"]
-        assert ra["retained_mass"] == rb["retained_mass"]
+        assert ra.ospa2 == rb.ospa2 and ra.sweeps == rb.sweeps
+        assert ra.retained_mass == rb.retained_mass
 
 
 def test_summary_rows_comparisons_and_report(runs):
@@ -104,3 +104,18 @@ def test_the_old_spelling_of_the_short_chains_still_reads_with_a_deprecation_war
         cfg = config_from_dict(Config.quick(),
                                {"nonlinear_tracking": {"truncations": ["original", "short"]}})
     assert cfg.nonlinear_tracking.truncations == ("original", "short-chain")
+
+
+def test_a_saved_task_item_reads_back_as_its_records(runs, tmp_path):
+    import json
+
+    from rankedassign.experiments.report import write_json
+    from rankedassign.experiments.studies.nonlinear_tracking import NonlinearRun, task_from_json
+
+    write_json(tmp_path / "runs.json", runs)
+    back = [task_from_json(item) for item in json.loads((tmp_path / "runs.json").read_text())]
+    assert back == runs and isinstance(back[0][0], NonlinearRun)
+    assert summarise_nonlinear(back, TINY) == summarise_nonlinear(runs, TINY)
+    with pytest.raises(ValueError, match=r"^a nonlinear_tracking task's item is a list of its "
+                                         r"records, got dict$"):
+        task_from_json({"run": 0})

@@ -36,19 +36,19 @@ def _tempering_herding_summary():
     for fam in cfg.families:
         kind = th.kind_name(fam)
         for m in cfg.methods:
-            if m == "lbp":
+            if m == th.LBP:
                 if kind == "single":
-                    rows.append(th.THRow(fam, kind, m, 0, 3, 0, None, None, None, 1e-3, 0.01,
+                    rows.append(th.THRow(fam, kind, *m, 0, 3, 0, None, None, None, 1e-3, 0.01,
                                          1e-3, 1e-3))
                 continue
             base = rng.uniform(5, 99)
             for b in cfg.budgets:
                 e = base * (100 / b) ** rng.uniform(0.05, 0.5)
-                rows.append(th.THRow(fam, kind, m, b, 3, b * rng.uniform(0.3, 1), e, e / 20,
+                rows.append(th.THRow(fam, kind, *m, b, 3, b * rng.uniform(0.3, 1), e, e / 20,
                                      100.0, b * 1e-6 * rng.uniform(1, 3),
                                      None if kind == "adaptive_birth" else e / 100, 1e-3,
                                      b * 1e-6))
-    tracking = [th.THTrackingRow(p, m, 1, 35.0, None, 1e3, 1.0, 0.5)
+    tracking = [th.THTrackingRow(p, *m, 1, 35.0, None, 1e3, 1.0, 0.5)
                 for p in cfg.presets for m in cfg.tracking_methods]
     return th.THSummary(rows=rows, tracking=tracking)
 

@@ -44,32 +44,34 @@ def test_every_applicable_method_at_every_budget(result):
     for fam in TINY.families:
         problem = TH.make_problem(fam, run_seed(5, 0), TINY)
         for m in TH_METHODS:
-            rows = [r for r in s.rows if r.family == fam and r.method == m]
+            rows = [r for r in s.rows if r.family == fam and r.cell == m]
             if not TH.applies(m, problem):
                 assert rows == [], (fam, m)
                 continue
-            budgets = [0] if m == "lbp" else list(TINY.budgets)
+            budgets = [0] if m == TH.LBP else list(TINY.budgets)
             assert [r.budget for r in rows] == budgets, (fam, m)
             for r in rows:
                 assert r.n_runs == TINY.n_mc and r.seconds_mean > 0
-                if m == "lbp":
+                if m == TH.LBP:
                     assert r.error_pct_mean is None and 0 <= r.l1_mean < 0.05
                     continue
                 assert 0 <= r.error_pct_mean <= 100 and r.unique_mean >= 1
                 assert (r.l1_mean is None) == (TH.kind_name(fam) == "adaptive_birth")
                 if r.l1_mean is not None:
                     assert 0 <= r.l1_mean <= 2
-                if m in ("original", "herded-shared", "herded-full") or m.startswith("beta"):
+                if m in (("original", ""), ("herded", "keys=shared"), ("herded", "keys=full"),
+                         ("tempered", "beta=0.5"), ("tempered", "beta=0.7"),
+                         ("tempered", "beta=0.9")):
                     assert r.obs_mean == r.budget  # one chain runs the budget
-                if "short" in m:
+                if "short" in m[0] + m[1]:
                     assert r.obs_mean <= r.budget  # the rules may stop short chains early
     # Zanella-Roberts runs on every kind, LBP on single-sensor problems only
     for fam in TINY.families:
-        assert TH.applies("zanella-roberts", TH.make_problem(fam, run_seed(5, 0), TINY)), fam
-    assert not TH.applies("lbp", TH.make_problem("ms:A/random_coupled", run_seed(5, 0), TINY))
-    assert not TH.applies("lbp", TH.make_problem("birth:diagonal", run_seed(5, 0), TINY))
+        assert TH.applies(TH.ZANELLA_ROBERTS, TH.make_problem(fam, run_seed(5, 0), TINY)), fam
+    assert not TH.applies(TH.LBP, TH.make_problem("ms:A/random_coupled", run_seed(5, 0), TINY))
+    assert not TH.applies(TH.LBP, TH.make_problem("birth:diagonal", run_seed(5, 0), TINY))
     for fam in ("ms:A/random_coupled", "birth:diagonal"):
-        rows = [r for r in s.rows if r.family == fam and r.method == "zanella-roberts"]
+        rows = [r for r in s.rows if r.family == fam and r.cell == TH.ZANELLA_ROBERTS]
         assert [r.budget for r in rows] == list(TINY.budgets) and all(
             r.obs_mean == r.budget for r in rows), fam
 
@@ -77,21 +79,21 @@ def test_every_applicable_method_at_every_budget(result):
 def test_records_are_the_oracle_s_numbers_on_the_same_data(result):
     """One cell recomputed from the public functions: the same problem, stream and grade."""
     _, runs = result
-    rec = next(r for r in runs if r["part"] == "synthetic" and r["family"] == "random"
-               and r["run"] == 1)
+    rec = next(r for r in runs if r.part == "synthetic" and r.family == "random"
+               and r.run == 1)
     s = run_seed(5, 1)
     problem = TH.make_problem("random", s, TINY)
     rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index("random"),
-                     TH_METHODS.index("original"), 200)
+                     TH_METHODS.index(("original", "")), 200)
     res = sample_original(problem, 200, rng=rng)
-    cell = rec["methods"]["original"]["200"]
-    assert cell["n_unique"] == len(res.costs)
-    assert cell["error"] == oracle.truncation_error(problem, res.assignments)
+    cell = rec.calls(("original", ""))["200"]
+    assert cell.n_unique == len(res.costs)
+    assert cell.error == oracle.truncation_error(problem, res.assignments)
     exact = oracle.marginals(problem)
     lb = lbp_marginals(problem)
-    assert_allclose(rec["methods"]["lbp"]["0"]["l1"],
+    assert_allclose(rec.calls(("lbp", ""))["0"].l1,
                     np.abs(lb.marginals - exact).sum() / problem.n_rows, rtol=1e-12)
-    assert rec["methods"]["zanella-roberts"]["200"]["n_obs"] == 200
+    assert rec.calls(("tempered", "scheme=zanella-roberts"))["200"].n_obs == 200
     # the single-sensor matrices are the Table I studies' of the same run
     from rankedassign.experiments._synthetic import make_problem
 
@@ -104,21 +106,21 @@ def test_zanella_roberts_cells_of_the_other_kinds(result):
     _, runs = result
     s = run_seed(5, 0)
     fam = "ms:A/random_coupled"
-    rec = next(r for r in runs if r["part"] == "synthetic" and r["family"] == fam
-               and r["run"] == 0)
+    rec = next(r for r in runs if r.part == "synthetic" and r.family == fam
+               and r.run == 0)
     problem = TH.make_problem(fam, s, TINY)
     rng = child_seed(s, TH.KEY_METHOD, TH.TH_FAMILIES.index(fam),
-                     TH_METHODS.index("zanella-roberts"), 200)
+                     TH_METHODS.index(("tempered", "scheme=zanella-roberts")), 200)
     res = sample_tempered(problem, 200 * problem.n_rows, beta=TINY.zr_beta, rng=rng)
     exact = oracle.marginals(problem)
-    cell = rec["methods"]["zanella-roberts"]["200"]
-    assert cell["n_unique"] == len(res.costs) and cell["n_obs"] == 200
+    cell = rec.calls(("tempered", "scheme=zanella-roberts"))["200"]
+    assert cell.n_unique == len(res.costs) and cell.n_obs == 200
     l1 = (np.abs(res.marginals.dead - exact.dead).sum()
           + np.abs(res.marginals.tuples - exact.tuples).sum()) / problem.n_rows
-    assert_allclose(cell["l1"], l1, rtol=1e-12)
-    birth = next(r for r in runs if r["part"] == "synthetic" and r["family"] == "birth:diagonal")
-    assert all(c["l1"] is None and c["n_unique"] >= 1
-               for c in birth["methods"]["zanella-roberts"].values())
+    assert_allclose(cell.l1, l1, rtol=1e-12)
+    birth = next(r for r in runs if r.part == "synthetic" and r.family == "birth:diagonal")
+    assert all(c.l1 is None and c.n_unique >= 1
+               for c in birth.calls(("tempered", "scheme=zanella-roberts")).values())
 
 
 def test_the_same_seed_gives_the_same_numbers(result):
@@ -138,18 +140,18 @@ def test_verdicts_name_the_best_measured_method(result):
     for fam, v in s.verdicts.items():
         rows = [r for r in s.rows if r.family == fam]
         for b, m in v["obs"].items():
-            at = {r.method: r.error_pct_mean for r in rows if r.budget == b}
+            at = {r.cell: r.error_pct_mean for r in rows if r.budget == b}
             assert at[m] == min(at.values())
         assert set(v["time"]) <= set(TINY.budgets)
         for m in v["time"].values():
-            assert m is None or m in {r.method for r in rows}
+            assert m is None or m in {r.cell for r in rows}
     for counts in s.herded_vs_gibbs.values():
         for k, n in counts.values():
             assert 0 <= k <= n == TINY.n_mc
 
 
 def test_equal_time_reads_each_curve_without_extrapolating():
-    rows = [TH.THRow("f", "single", "m", b, 1, b, e, None, 1, t, None, None)
+    rows = [TH.THRow("f", "single", "m", "", b, 1, b, e, None, 1, t, None, None)
             for b, e, t in ((10, 50.0, 0.001), (100, 10.0, 0.01))]
     assert TH._at_time(rows, 0.001) == 50.0
     assert math.isclose(TH._at_time(rows, math.sqrt(1e-5)), 30.0)  # halfway in log time
@@ -159,27 +161,27 @@ def test_equal_time_reads_each_curve_without_extrapolating():
 
 def test_tracking_part_runs_every_association_on_the_same_measurements(result):
     s, runs = result
-    got = {r.method: r for r in s.tracking}
+    got = {r.cell: r for r in s.tracking}
     assert list(got) == list(TINY.tracking_methods)
     for m, r in got.items():
         assert r.preset == "vo" and r.n_runs == 1 and 0 <= r.ospa2_mean <= TINY.ospa_c
-        assert (r.sweeps_mean == 0) == (m in ("exact", "lbp"))
+        assert (r.sweeps_mean == 0) == (m in (("exact", ""), ("lbp", "")))
     from rankedassign.tracking import Exact, run_scenario
 
-    rec = next(r for r in runs if r["part"] == "tracking" and r["method"] == "exact")
+    rec = next(r for r in runs if r.part == "tracking" and r.truncation == "exact")
     sr = run_scenario("vo", Exact(), rng=run_seed(5, 0), n_scans=TINY.n_scans)
     from rankedassign.metrics import ospa2
 
     want = ospa2(sr.truth, sr.estimates, TINY.ospa_c, TINY.ospa_p, TINY.ospa_window).value
-    assert_allclose(rec["ospa2"], np.mean(want), rtol=1e-12)
+    assert_allclose(rec.ospa2, np.mean(want), rtol=1e-12)
     # GOSPA beside it, per scan with the same c and p, averaged over the scans
     from rankedassign.metrics import gospa
 
     g = [gospa(x[~np.isnan(x).any(axis=1)], y[~np.isnan(y).any(axis=1)], TINY.ospa_c,
                TINY.ospa_p).value for x, y in zip(sr.truth, sr.estimates, strict=True)]
-    assert_allclose(rec["gospa"], np.mean(g), rtol=1e-12)
-    exact = got["exact"]
-    assert exact.gospa_mean == rec["gospa"] and exact.gospa_se is None
+    assert_allclose(rec.gospa, np.mean(g), rtol=1e-12)
+    exact = got[("exact", "")]
+    assert exact.gospa_mean == rec.gospa and exact.gospa_se is None
     assert "GOSPA (m)" in TH.render_tempering_herding(s, TINY)
 
 
@@ -228,4 +230,87 @@ def test_the_old_spellings_of_the_samplers_still_read_with_a_deprecation_warning
     with pytest.warns(DeprecationWarning, match=rf"^{setting}: '{old}' is deprecated; write "
                                                 rf"'{new}'"):
         cfg = TemperingHerdingConfig(**{setting: (old, "lbp")})
-    assert getattr(cfg, setting) == (new, "lbp")
+    assert getattr(cfg, setting) == ((new, ""), ("lbp", ""))
+
+
+#: Every old method string of the study and the (truncation, variant) pair it reads as.
+OLD_METHODS = {
+    "methods": {"herded-shared": ("herded", "keys=shared"),
+                "herded-full": ("herded", "keys=full"),
+                "herded-short-shared": ("herded", "chains=short,keys=shared"),
+                "herded-short-full": ("herded", "chains=short,keys=full"),
+                "beta-0.5": ("tempered", "beta=0.5"), "beta-0.7": ("tempered", "beta=0.7"),
+                "beta-0.9": ("tempered", "beta=0.9"),
+                "zanella-roberts": ("tempered", "scheme=zanella-roberts")},
+    "tracking_methods": {"herded": ("herded", "keys=shared"),
+                         "herded-short": ("herded", "chains=short,keys=shared")}}
+
+
+@pytest.mark.parametrize(("setting", "old", "new"), [
+    (setting, old, new) for setting, table in OLD_METHODS.items()
+    for old, new in table.items()])
+def test_the_old_method_strings_read_as_their_pairs_with_a_warning_naming_them(setting, old,
+                                                                               new):
+    shown = f'["{new[0]}", "{new[1]}"]'
+    with pytest.warns(DeprecationWarning, match=rf"^{setting}: '{old}' is deprecated; write "
+                                                rf"{shown.replace('[', chr(92) + '[')}$"):
+        cfg = TemperingHerdingConfig(**{setting: (old,)})
+    assert getattr(cfg, setting) == (new,)
+    # the pairs are the study's methods, in the old strings' order (their streams are keyed
+    # by the place in TH_METHODS, so the numbers are those of the old spelling)
+    assert new in (TH_METHODS if setting == "methods" else TH.TH_TRACKING_METHODS)
+
+
+def test_the_defaults_are_the_old_methods_in_their_order():
+    old = ("original", "short-chain", "herded-shared", "herded-full", "herded-short-shared",
+           "herded-short-full", "beta-0.5", "beta-0.7", "beta-0.9", "zanella-roberts", "lbp")
+    with pytest.warns(DeprecationWarning):
+        cfg = TemperingHerdingConfig(methods=old, tracking_methods=(
+            "exact", "original", "short-chain", "herded", "herded-short", "lbp"))
+    assert cfg == TemperingHerdingConfig()
+    # a --config file: pairs as two-element lists, a plain truncation by its name alone
+    from rankedassign.experiments import config_from_dict
+
+    got = config_from_dict(Config.quick(), {"tempering_herding": {
+        "methods": [["herded", "keys=full"], "lbp"], "tracking_methods": [["exact", ""]]}})
+    assert got.tempering_herding.methods == (("herded", "keys=full"), ("lbp", ""))
+    assert got.tempering_herding.tracking_methods == (("exact", ""),)
+
+
+@pytest.mark.parametrize("bad", [("herded", "keys=other"), ("herded",), ("tempered", ""),
+                                 ("exact", "")])
+def test_a_pair_outside_the_study_is_refused_listing_the_pairs(bad):
+    with pytest.raises(ValueError, match=r"^unknown methods: method .*; expected one of "
+                                         r'\["original", ""\], \["short-chain", ""\]'):
+        TemperingHerdingConfig(methods=(bad,))
+
+
+def test_the_run_records_round_trip_through_json_and_pickle(result, tmp_path):
+    # the runs as <study>_runs.json holds them, read back into records: the same JSON again,
+    # and the same summary (the report's numbers) from the records read back
+    import json
+    import pickle
+
+    from rankedassign.experiments.report import write_json
+
+    s, runs = result
+    assert {type(r) for r in runs} == {TH.THSyntheticRun, TH.THTrackingRun}
+    write_json(tmp_path / "runs.json", runs)
+    data = json.loads((tmp_path / "runs.json").read_text())
+    back = [TH.run_from_dict(d) for d in data]
+    write_json(tmp_path / "again.json", back)
+    assert (tmp_path / "again.json").read_text() == (tmp_path / "runs.json").read_text()
+    assert back[0].to_dict() == runs[0].to_dict()
+    assert TH.summarise_tempering_herding(back, TINY) == s
+    assert pickle.loads(pickle.dumps(runs)) == runs  # the workers send them back pickled
+
+
+@pytest.mark.parametrize("data, message", [
+    ({"part": "other"}, "a tempering_herding run has part 'synthetic' or 'tracking', got "
+                        "'other'"),
+    ([1], "a tempering_herding run has part 'synthetic' or 'tracking', got None"),
+    ({"part": "tracking", "runs": 1}, r"THTrackingRun.from_dict: unknown field\(s\) \['runs'\]"),
+])
+def test_a_bad_saved_run_is_refused_by_name(data, message):
+    with pytest.raises(ValueError, match=message):
+        TH.run_from_dict(data)

@@ -13,11 +13,15 @@ from rankedassign.experiments.vocabulary import (
     DEPRECATED_GLMB_TRUNCATIONS,
     DEPRECATED_TRACKING_SAMPLERS,
     DEPRECATED_TRUNCATIONS,
+    DEPRECATED_VARIANTS,
+    PLAIN_TRUNCATIONS,
     ROW_METHODS,
     TRUNCATIONS,
     canonical_pair,
     canonical_truncation,
     canonical_value,
+    canonical_variant,
+    variant,
 )
 from rankedassign.multisensor.prepare import METHODS
 
@@ -89,3 +93,45 @@ def test_a_deprecated_value_warns_with_the_replacement_as_a_config_file_writes_i
                                                 r"'short-chain'$"):
         assert canonical_value("proposed", "truncation", DEPRECATED_TRACKING_SAMPLERS) == \
             "short-chain"
+
+
+def test_a_variant_is_its_class_settings_written_out():
+    assert variant() == ""
+    assert variant(keys="full") == "keys=full"
+    assert variant(chains="short", keys="shared") == "chains=short,keys=shared"
+    assert variant(beta=0.5) == "beta=0.5" and variant(scheme="zanella-roberts") == \
+        "scheme=zanella-roberts"
+
+
+def test_every_old_method_string_of_tempering_herding_is_a_class_name_and_a_variant():
+    for truncation, v in DEPRECATED_VARIANTS.values():
+        assert truncation in ("herded", "tempered") and truncation in TRUNCATIONS and v
+    assert set(PLAIN_TRUNCATIONS) <= set(TRUNCATIONS)
+    # the one herded chain of the tracking part ran with the class's default keys
+    assert DEPRECATED_VARIANTS["herded"] == DEPRECATED_VARIANTS["herded-shared"]
+
+
+@pytest.mark.parametrize(("old", "new"), sorted(DEPRECATED_VARIANTS.items()))
+def test_an_old_method_string_reads_as_its_pair_with_a_warning_naming_it(old, new):
+    shown = f'\\["{new[0]}", "{new[1]}"\\]'
+    with pytest.warns(DeprecationWarning, match=rf"^methods: '{old}' is deprecated; write "
+                                                rf"{shown}$"):
+        assert canonical_variant(old, "methods") == new
+
+
+@pytest.mark.parametrize(("value", "want"), [
+    ("lbp", ("lbp", "")), ("exact", ("exact", "")), ("original", ("original", "")),
+    (["herded", "keys=full"], ("herded", "keys=full")), (("lbp", ""), ("lbp", "")),
+    ("tempered", "tempered"), (3, 3)])
+def test_a_pair_or_a_plain_truncation_reads_silently(value, want):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert canonical_variant(value, "methods") == want
+
+
+def test_the_old_truncation_spellings_read_in_a_variant_too():
+    with pytest.warns(DeprecationWarning, match=r"^methods: 'gibbs' is deprecated; write "
+                                                r"'original' \(the OriginalGibbs class's name\)$"):
+        assert canonical_variant("gibbs", "methods") == ("original", "")
+    with pytest.warns(DeprecationWarning, match=r"^methods: 'short' is deprecated"):
+        assert canonical_variant(["short", ""], "methods") == ("short-chain", "")

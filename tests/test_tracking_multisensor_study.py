@@ -198,3 +198,25 @@ def test_plot_errors(tmp_path):
     assert _panels(fig)[0] == ("original (exact)", 4)
     with pytest.raises(ValueError, match="nothing to plot: summaries is empty"):
         plot_multisensor_tracking([], tmp_path / "x.png")
+
+
+def test_the_run_records_round_trip_through_json(tmp_path):
+    # <study>_runs.json read back into records: the same JSON again (NaN coverage included)
+    # and the same summary
+    import json
+
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments.report import write_json
+
+    recs = [multisensor_tracking_task(TINY, 0, (0,), m) for m in (LONG, SHORT)]
+    write_json(tmp_path / "runs.json", recs)
+    back = [get_study("multisensor_tracking").run_from_dict(d)
+            for d in json.loads((tmp_path / "runs.json").read_text())]
+    assert all(isinstance(r, MultiSensorTrackingRecord) for r in back)
+    assert back[0].sensors == (0,) and back[0].coverage.dtype == float
+    assert np.isnan(back[0].coverage).any()  # short-lived targets: null in the JSON
+    write_json(tmp_path / "again.json", back)
+    assert (tmp_path / "again.json").read_text() == (tmp_path / "runs.json").read_text()
+    write_json(tmp_path / "s0.json", summarise_multisensor_tracking(recs))
+    write_json(tmp_path / "s1.json", summarise_multisensor_tracking(back))
+    assert (tmp_path / "s0.json").read_text() == (tmp_path / "s1.json").read_text()

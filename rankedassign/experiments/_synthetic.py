@@ -25,6 +25,7 @@ import oracle
 from .. import sample_original, sample_short_chains
 from ..single import synthetic
 from ._executor import child_seed
+from ._records import RunRecord
 from .config import ALL_FAMILIES, STALE_READINGS, STALL_READINGS
 from .paper import PAPER_TABLE1, agrees, distance_in_se
 
@@ -60,23 +61,51 @@ def make_problem(family: str, run_ss: np.random.SeedSequence, cfg):
     raise ValueError(f"unknown family {family!r}; choose from {ALL_FAMILIES}")
 
 
-def record(problem, res) -> dict:
+@dataclass(frozen=True)
+class SamplerRun(RunRecord):
+    """What a synthetic study keeps of one sampler call: counts and the exact truncation error.
+
+    Attributes
+    ----------
+    n_obs : int
+        Observations (sweeps) spent.
+    n_row_updates : int
+        Row updates spent.
+    n_unique : int
+        Unique assignments found.
+    n_chains : int
+        Chains run.
+    stop_reason : str
+        Why the sampler stopped (``"budget"``, ``"stall"``, ``"stale"``, ...).
+    error : float
+        Exact truncation error (spec eq. 1.9) of the unique assignments, a fraction.
+    """
+
+    n_obs: int
+    n_row_updates: int
+    n_unique: int
+    n_chains: int
+    stop_reason: str
+    error: float
+
+
+def record(problem, res) -> SamplerRun:
     """What a study keeps of one sampler run: counts and the exact truncation error (1.9)."""
-    return {
-        "n_obs": int(res.n_observations),
-        "n_row_updates": int(res.n_row_updates),
-        "n_unique": int(len(res.costs)),
-        "n_chains": int(res.n_chains_run),
-        "stop_reason": str(res.stop_reason),
-        "error": float(oracle.truncation_error(problem, res.assignments)),
-    }
+    return SamplerRun(
+        n_obs=int(res.n_observations),
+        n_row_updates=int(res.n_row_updates),
+        n_unique=int(len(res.costs)),
+        n_chains=int(res.n_chains_run),
+        stop_reason=str(res.stop_reason),
+        error=float(oracle.truncation_error(problem, res.assignments)),
+    )
 
 
-def run_original(problem, n_obs: int, rng) -> dict:
+def run_original(problem, n_obs: int, rng) -> SamplerRun:
     return record(problem, sample_original(problem, n_obs, rng=rng))
 
 
-def run_proposed(problem, cfg, rng, *, stall: str | None, stale: str | None) -> dict:
+def run_proposed(problem, cfg, rng, *, stall: str | None, stale: str | None) -> SamplerRun:
     """The short-chain sampler with the paper's settings; a ``None`` reading turns its rule off."""
     res = sample_short_chains(
         problem,
@@ -291,7 +320,7 @@ def with_paper(family: str, criterion: str, stats: PairedStats, cls=Table1Row, *
     )
 
 
-def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
+def paired_summary(original: list[SamplerRun], proposed: list[SamplerRun]) -> PairedStats:
     """Table I statistics of one (family, criterion) cell from paired per-run records.
 
     ``delta_obs_pct = 100 (mean N_o - mean N_s) / mean N_o`` with a delta-method standard error
@@ -299,17 +328,19 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
     ``|mean eps_o - mean eps_s|``) with the standard error of the mean per-run paired difference;
     ``mean_abs_delta_error_pp`` is the mean of per-run ``|eps_s - eps_o|`` (spec A7) with its
     standard error. Errors are in percentage points. Standard errors are ``None`` for one run.
+    A record is a :class:`SamplerRun` or any with its ``n_obs``, ``n_unique``, ``n_chains``,
+    ``stop_reason`` and ``error`` (the multi-sensor study's calls).
     """
     n = len(original)
     if n != len(proposed) or n == 0:
         raise ValueError("need the same positive number of original and proposed runs")
-    No = np.array([r["n_obs"] for r in original], dtype=float)
-    Ns = np.array([r["n_obs"] for r in proposed], dtype=float)
-    eo = 100.0 * np.array([r["error"] for r in original])
-    es = 100.0 * np.array([r["error"] for r in proposed])
-    Uo = np.array([r["n_unique"] for r in original], dtype=float)
-    Us = np.array([r["n_unique"] for r in proposed], dtype=float)
-    stale = np.array([r["stop_reason"] == "stale" for r in proposed], dtype=float)
+    No = np.array([r.n_obs for r in original], dtype=float)
+    Ns = np.array([r.n_obs for r in proposed], dtype=float)
+    eo = 100.0 * np.array([r.error for r in original])
+    es = 100.0 * np.array([r.error for r in proposed])
+    Uo = np.array([r.n_unique for r in original], dtype=float)
+    Us = np.array([r.n_unique for r in proposed], dtype=float)
+    stale = np.array([r.stop_reason == "stale" for r in proposed], dtype=float)
     mo, ms = No.mean(), Ns.mean()
     d = es - eo
     out = {
@@ -322,10 +353,10 @@ def paired_summary(original: list[dict], proposed: list[dict]) -> PairedStats:
         "delta_error_pp": float(abs(d.mean())),
         "delta_error_signed_pp": float(d.mean()),
         "mean_abs_delta_error_pp": float(np.abs(d).mean()),
-        "unique_original_mean": float(np.mean([r["n_unique"] for r in original])),
-        "unique_proposed_mean": float(np.mean([r["n_unique"] for r in proposed])),
-        "chains_proposed_mean": float(np.mean([r["n_chains"] for r in proposed])),
-        "stale_stop_fraction": float(np.mean([r["stop_reason"] == "stale" for r in proposed])),
+        "unique_original_mean": float(np.mean([r.n_unique for r in original])),
+        "unique_proposed_mean": float(np.mean([r.n_unique for r in proposed])),
+        "chains_proposed_mean": float(np.mean([r.n_chains for r in proposed])),
+        "stale_stop_fraction": float(np.mean([r.stop_reason == "stale" for r in proposed])),
     }
     if n > 1:
         cov = np.cov(np.vstack([No, Ns]), ddof=1)

@@ -59,7 +59,8 @@ class Study:
     tasks : callable
         ``(config, seed) -> list of tuple``: arguments of every call of ``task``.
     task : callable
-        Module-level (picklable) function run once per task, returning a plain-data record.
+        Module-level (picklable) function run once per task, returning the run's record (a
+        frozen dataclass of the study's module, written to JSON field by field).
     summarise : callable
         ``(runs, config) -> summary`` (typed records).
     render : callable
@@ -86,6 +87,10 @@ class Study:
         the first task of every group at once, each compiling its own kernels on its own
         core, and only then the rest, which load them from the cache; so no two workers
         compile the same kernels side by side. None: every task is a group of its own.
+    run_from_dict : callable, optional
+        One item of ``<study>_runs.json`` read back into what ``task`` returned: a record
+        (e.g. ``Table1Run.from_dict``), or the list of a task's records
+        (``nonlinear_tracking``). None: not provided.
 
     Examples
     --------
@@ -110,6 +115,7 @@ class Study:
     order: float = 100.0
     warm: Callable[[Any], Any] | None = None
     warm_group: Callable[[tuple], Hashable] | None = None
+    run_from_dict: Callable[[dict], Any] | None = None
 
 
 _REGISTRY: dict[str, Study] = {}

@@ -12,6 +12,13 @@ The studies grew their own spellings of the same sampler (``"long"``, ``"gibbs"`
 conditional into one string (``"short-mm"``, ``"glmb-long"``); they now name a cell by a pair
 of names, and :func:`canonical_pair` reads an old string as its pair, with the same warning
 (:data:`DEPRECATED_ASSOCIATIONS`, :data:`DEPRECATED_FILTER_TRUNCATIONS`).
+
+``tempering_herding`` runs several variants of one class (herded keys, herded short chains,
+β values, the Zanella–Roberts scheme): it names each by a ``(truncation, variant)`` pair, the
+variant the class's settings written out (``("herded", "keys=full")``,
+``("tempered", "scheme=zanella-roberts")``, ``""`` for none), and :func:`canonical_variant`
+reads its old strings (``"herded-full"``, ``"beta-0.5"``) as their pairs
+(:data:`DEPRECATED_VARIANTS`).
 """
 
 from __future__ import annotations
@@ -25,7 +32,8 @@ from ..multisensor.prepare import METHODS as ROW_METHODS
 __all__ = ["TRUNCATIONS", "DEPRECATED_TRUNCATIONS", "canonical_truncation", "ROW_METHODS",
            "DEPRECATED_ASSOCIATIONS", "DEPRECATED_FILTER_TRUNCATIONS",
            "DEPRECATED_GLMB_TRUNCATIONS", "DEPRECATED_TRACKING_SAMPLERS", "canonical_pair",
-           "canonical_value"]
+           "canonical_value", "variant", "DEPRECATED_VARIANTS", "PLAIN_TRUNCATIONS",
+           "canonical_variant"]
 
 #: Every truncation, by its association class's ``name``.
 TRUNCATIONS = tuple(cls.name for cls in (
@@ -63,6 +71,50 @@ DEPRECATED_TRACKING_SAMPLERS = {"proposed": tracking.ShortChainGibbs.name}
 #: stands for.
 DEPRECATED_GLMB_TRUNCATIONS = {old: t for old, (f, t) in DEPRECATED_FILTER_TRUNCATIONS.items()
                                if f == "glmb"}
+
+
+def variant(**settings) -> str:
+    """A variant's name: its class settings written out, ``key=value`` joined by commas.
+
+    Parameters
+    ----------
+    **settings
+        The settings that tell the variant from the class's defaults, in the order they are
+        written (``chains``, ``keys``; ``beta``; ``scheme``).
+
+    Returns
+    -------
+    str
+        ``""`` for none.
+
+    Examples
+    --------
+    >>> variant(chains="short", keys="full"), variant(beta=0.5), variant()
+    ('chains=short,keys=full', 'beta=0.5', '')
+    """
+    return ",".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
+                    for k, v in settings.items())
+
+
+#: The ``tempering_herding`` study's old method strings (its ``methods`` and
+#: ``tracking_methods``) and the ``(truncation, variant)`` pair each stands for: one herded
+#: chain (``"herded"`` of the tracking part: shared keys), herded short chains (``"short"``
+#: chains), a β-chain, the Zanella–Roberts scheme (its β is the study's ``zr_beta``).
+DEPRECATED_VARIANTS = {
+    "herded-shared": (tracking.HerdedGibbs.name, variant(keys="shared")),
+    "herded-full": (tracking.HerdedGibbs.name, variant(keys="full")),
+    "herded-short-shared": (tracking.HerdedGibbs.name, variant(chains="short", keys="shared")),
+    "herded-short-full": (tracking.HerdedGibbs.name, variant(chains="short", keys="full")),
+    **{f"beta-{b}": (tracking.TemperedGibbs.name, variant(beta=float(b)))
+       for b in ("0.5", "0.7", "0.9")},
+    "zanella-roberts": (tracking.TemperedGibbs.name, variant(scheme="zanella-roberts")),
+    "herded": (tracking.HerdedGibbs.name, variant(keys="shared")),
+    "herded-short": (tracking.HerdedGibbs.name, variant(chains="short", keys="shared")),
+}
+#: Truncations that ``tempering_herding`` runs without a variant: a ``--config`` file may name
+#: one alone (``"lbp"`` for ``["lbp", ""]``).
+PLAIN_TRUNCATIONS = (tracking.OriginalGibbs.name, tracking.ShortChainGibbs.name,
+                     tracking.Exact.name, tracking.LBP.name)
 
 
 def canonical_truncation(value, setting: str):
@@ -203,3 +255,50 @@ def canonical_value(value, setting: str, deprecated: dict, *, stacklevel: int = 
     warnings.warn(f"{setting}: {value!r} is deprecated; write {shown}", DeprecationWarning,
                   stacklevel=stacklevel)
     return new
+
+
+def canonical_variant(value, setting: str):
+    """The ``(truncation, variant)`` pair ``value`` stands for, in ``tempering_herding``.
+
+    Parameters
+    ----------
+    value : object
+        A ``methods`` or ``tracking_methods`` entry as read (checked against the study's
+        choices afterwards).
+    setting : str
+        The setting's name, for the warning.
+
+    Returns
+    -------
+    object
+        A list or tuple of two as a tuple (a deprecated truncation spelling in it replaced);
+        the name of a truncation without variants (:data:`PLAIN_TRUNCATIONS`) as
+        ``(name, "")``; for a key of :data:`DEPRECATED_VARIANTS` its pair; any other value
+        unchanged.
+
+    Warns
+    -----
+    DeprecationWarning
+        For an old string, naming the pair that replaces it (as a ``--config`` file writes it),
+        and for ``"gibbs"``, ``"short"`` (:func:`canonical_truncation`).
+
+    Examples
+    --------
+    >>> canonical_variant("lbp", "methods"), canonical_variant(["herded", "keys=full"], "methods")
+    (('lbp', ''), ('herded', 'keys=full'))
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     new = canonical_variant("herded-short-full", "methods")
+    >>> new
+    ('herded', 'chains=short,keys=full')
+    >>> print(w[0].message)
+    methods: 'herded-short-full' is deprecated; write ["herded", "chains=short,keys=full"]
+    """
+    if isinstance(value, (list, tuple)):
+        return canonical_pair(value, setting, {})
+    if isinstance(value, str) and value in DEPRECATED_TRUNCATIONS:
+        value = canonical_truncation(value, setting)
+    if isinstance(value, str) and value in PLAIN_TRUNCATIONS:
+        return (value, "")
+    return canonical_value(value, setting, DEPRECATED_VARIANTS, stacklevel=4)

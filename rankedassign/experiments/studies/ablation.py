@@ -6,7 +6,9 @@ from dataclasses import dataclass, replace
 
 from .. import _format as fmt
 from .._executor import run_seed
+from .._records import RunRecord
 from .._synthetic import (
+    SamplerRun,
     Table1Row,
     make_problem,
     original_seed,
@@ -70,7 +72,7 @@ class AblationConfig(SyntheticConfig):
             if not given or any(r not in allowed for r in given):
                 raise ValueError(f"{name} must be a non-empty subset of {allowed}, got {given!r}")
 
-__all__ = ["ABLATION", "AblationRow", "summarise_ablation", "consistency"]
+__all__ = ["ABLATION", "AblationRow", "AblationRun", "summarise_ablation", "consistency"]
 
 #: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
 QUICK_MC = 10
@@ -150,7 +152,54 @@ class AblationRow(Table1Row):
     stale: str
 
 
-def ablation_task(cfg: AblationConfig, seed: int, run: int, family: str) -> dict:
+@dataclass(frozen=True)
+class AblationRun(RunRecord):
+    """One run of one family: the original sampler and the short chains under every reading.
+
+    Attributes
+    ----------
+    run : int
+        Monte Carlo run.
+    family : str
+        Matrix family.
+    original : SamplerRun
+        The original sampler.
+    stall : dict of str to SamplerRun
+        The stall rule alone, by stall reading.
+    stale : dict of str to SamplerRun
+        The stale rule alone, by stale reading.
+    full : dict of str to SamplerRun
+        Both rules, by ``"<stall reading>|<stale reading>"``.
+    """
+
+    run: int
+    family: str
+    original: SamplerRun
+    stall: dict
+    stale: dict
+    full: dict
+
+    @classmethod
+    def from_dict(cls, data: dict) -> AblationRun:
+        """The record of one object of ``ablation_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, each sampler's call as an object.
+
+        Returns
+        -------
+        AblationRun
+        """
+        calls = {k: {a: SamplerRun.from_dict(c) for a, c in data[k].items()}
+                 for k in ("stall", "stale", "full") if k in data}
+        if "original" in data:
+            calls["original"] = SamplerRun.from_dict(data["original"])
+        return super().from_dict({**data, **calls})
+
+
+def ablation_task(cfg: AblationConfig, seed: int, run: int, family: str) -> AblationRun:
     """One run of one family: the original sampler and every reading (pair).
 
     Stall-only runs depend on the stall reading alone and stale-only runs on the stale reading
@@ -163,19 +212,19 @@ def ablation_task(cfg: AblationConfig, seed: int, run: int, family: str) -> dict
         rng = proposed_seed(s, family, stall, stale)
         return run_proposed(problem, cfg, rng, stall=stall, stale=stale)
 
-    return {
-        "run": run,
-        "family": family,
-        "original": run_original(problem, cfg.original_obs, original_seed(s, family)),
-        "stall": {a: proposed(a, None) for a in cfg.stall_readings},
-        "stale": {b: proposed(None, b) for b in cfg.stale_readings},
-        "full": {
+    return AblationRun(
+        run=run,
+        family=family,
+        original=run_original(problem, cfg.original_obs, original_seed(s, family)),
+        stall={a: proposed(a, None) for a in cfg.stall_readings},
+        stale={b: proposed(None, b) for b in cfg.stale_readings},
+        full={
             f"{a}|{b}": proposed(a, b) for a in cfg.stall_readings for b in cfg.stale_readings
         },
-    }
+    )
 
 
-def summarise_ablation(runs: list[dict], cfg: AblationConfig) -> list[AblationRow]:
+def summarise_ablation(runs: list[AblationRun], cfg: AblationConfig) -> list[AblationRow]:
     """Rows ``(stall, stale, family, criterion)`` with the Table I statistics and the paper's.
 
     The ``"stall"`` criterion rows of one stall reading are the same runs for every stale
@@ -184,7 +233,7 @@ def summarise_ablation(runs: list[dict], cfg: AblationConfig) -> list[AblationRo
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of AblationRun
         Per-run records of the study's task: per run and family the original sampler's
         record and the short chains' under every reading (``"stall"``, ``"stale"`` by
         reading, ``"full"`` by ``"<stall>|<stale>"``).
@@ -203,10 +252,10 @@ def summarise_ablation(runs: list[dict], cfg: AblationConfig) -> list[AblationRo
     for a in cfg.stall_readings:
         for b in cfg.stale_readings:
             for fam in cfg.families:
-                rs = sorted((r for r in runs if r["family"] == fam), key=lambda r: r["run"])
-                orig = [r["original"] for r in rs]
+                rs = sorted((r for r in runs if r.family == fam), key=lambda r: r.run)
+                orig = [r.original for r in rs]
                 for crit, key in (("stall", a), ("stale", b), ("full", f"{a}|{b}")):
-                    stats = paired_summary(orig, [r[crit][key] for r in rs])
+                    stats = paired_summary(orig, [getattr(r, crit)[key] for r in rs])
                     rows.append(with_paper(fam, crit, stats, AblationRow, judge=judge,
                                            stall=a, stale=b))
     return rows
@@ -310,6 +359,7 @@ ABLATION = register_study(Study(
     quick=lambda: AblationConfig(n_mc=QUICK_MC),
     tasks=per_family_tasks,
     task=ablation_task,
+    run_from_dict=AblationRun.from_dict,
     summarise=summarise_ablation,
     render=render_ablation,
     plot=None,

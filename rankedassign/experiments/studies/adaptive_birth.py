@@ -39,11 +39,13 @@ from ...samplers import sample_original, sample_short_chains
 from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._plots import MARKERS, PALETTE, figure, legend_below
+from .._records import RunRecord
 from ..registry import Study, register_study
 
 __all__ = ["ADAPTIVE_BIRTH", "AdaptiveBirthRow", "AdaptiveBirthSummary",
            "summarise_adaptive_birth", "CRITERIA", "AdaptiveBirthStudyConfig", "QUICK", "FULL",
-           "run_task", "summarise", "curve", "format_table", "plot"]
+           "run_task", "summarise", "curve", "format_table", "plot", "ABCall",
+           "AdaptiveBirthRun", "CurvePoint", "AdaptiveBirthCurve", "task_from_dict"]
 
 CRITERIA = ("stall", "stale", "full")
 
@@ -109,16 +111,170 @@ def _seeds(seed: int, run: int, family: str, V: int) -> list:
     return ss.spawn(2 + len(CRITERIA) + 1)
 
 
-def _record(problem, res) -> dict:
-    return {"n_obs": int(res.n_observations), "n_unique": len(res),
-            "n_chains": int(res.n_chains_run), "stop_reason": res.stop_reason,
-            "error": float(oracle.truncation_error(problem, res.assignments))}
+@dataclass(frozen=True)
+class ABCall(RunRecord):
+    """One sampler call of :func:`run_task`.
+
+    Attributes
+    ----------
+    n_obs : int
+        Observations (sweeps) spent.
+    n_unique : int
+        Unique assignments found.
+    n_chains : int
+        Chains run.
+    stop_reason : str
+        Why the sampler stopped.
+    error : float
+        Exact truncation error of the unique assignments, a fraction.
+    """
+
+    n_obs: int
+    n_unique: int
+    n_chains: int
+    stop_reason: str
+    error: float
+
+
+@dataclass(frozen=True)
+class AdaptiveBirthRun(RunRecord):
+    """One Monte Carlo run of one family and ``V`` (:func:`run_task`).
+
+    Attributes
+    ----------
+    kind : str
+        ``"run"`` (a task of the study is a run or a curve, :class:`AdaptiveBirthCurve`).
+    run : int
+        Monte Carlo run.
+    family : str
+        Problem family.
+    V : int
+        Sensors.
+    original : ABCall
+        The original chain (``original_obs`` sweeps).
+    stall, stale, full : ABCall
+        The short chains under each criterion.
+    """
+
+    kind: str
+    run: int
+    family: str
+    V: int
+    original: ABCall
+    stall: ABCall
+    stale: ABCall
+    full: ABCall
+
+    @classmethod
+    def from_dict(cls, data: dict) -> AdaptiveBirthRun:
+        """The record of a ``"run"`` object of ``adaptive_birth_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, each call as an object.
+
+        Returns
+        -------
+        AdaptiveBirthRun
+        """
+        calls = {k: ABCall.from_dict(data[k]) for k in ("original", *CRITERIA) if k in data}
+        return super().from_dict({**data, **calls})
+
+
+@dataclass(frozen=True)
+class CurvePoint(RunRecord):
+    """One budget of :func:`curve`.
+
+    Attributes
+    ----------
+    n_obs : int
+        The budget (sweeps).
+    error_original, error_short : float
+        Mean truncation errors (fractions) over the problems.
+    error_original_se, error_short_se : float
+        Their standard errors (NaN for one problem).
+    """
+
+    n_obs: int
+    error_original: float
+    error_short: float
+    error_original_se: float
+    error_short_se: float
+
+
+@dataclass(frozen=True)
+class AdaptiveBirthCurve(RunRecord):
+    """The error-against-observations curve of one family and ``V`` (a task of the study).
+
+    Attributes
+    ----------
+    kind : str
+        ``"curve"``.
+    family : str
+        Problem family.
+    V : int
+        Sensors.
+    points : list of CurvePoint
+        One per budget of ``curve_obs``.
+    """
+
+    kind: str
+    family: str
+    V: int
+    points: list
+
+    @classmethod
+    def from_dict(cls, data: dict) -> AdaptiveBirthCurve:
+        """The record of a ``"curve"`` object of ``adaptive_birth_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, the points as objects.
+
+        Returns
+        -------
+        AdaptiveBirthCurve
+        """
+        return super().from_dict({**data, "points": [
+            CurvePoint.from_dict(q) for q in data.get("points", [])]})
+
+
+def task_from_dict(data: dict) -> AdaptiveBirthRun | AdaptiveBirthCurve:
+    """One object of ``adaptive_birth_runs.json`` read back, by its ``kind``.
+
+    Parameters
+    ----------
+    data : dict
+        A run's or a curve's fields.
+
+    Returns
+    -------
+    AdaptiveBirthRun or AdaptiveBirthCurve
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is neither ``"run"`` nor ``"curve"``.
+    """
+    kind = data.get("kind") if isinstance(data, dict) else None
+    if kind not in ("run", "curve"):
+        raise ValueError(f"an adaptive_birth task has kind 'run' or 'curve', got {kind!r}")
+    return (AdaptiveBirthRun if kind == "run" else AdaptiveBirthCurve).from_dict(data)
+
+
+def _record(problem, res) -> ABCall:
+    return ABCall(n_obs=int(res.n_observations), n_unique=len(res),
+                  n_chains=int(res.n_chains_run), stop_reason=res.stop_reason,
+                  error=float(oracle.truncation_error(problem, res.assignments)))
 
 
 _RULES = {"stall": (True, False), "stale": (False, True), "full": (True, True)}
 
 
-def run_task(cfg: AdaptiveBirthStudyConfig, seed: int, run: int, family: str, V: int) -> dict:
+def run_task(cfg: AdaptiveBirthStudyConfig, seed: int, run: int, family: str,
+             V: int) -> AdaptiveBirthRun:
     """One Monte Carlo run: original chain and the three short-chain criteria on one problem.
 
     Parameters
@@ -140,28 +296,27 @@ def run_task(cfg: AdaptiveBirthStudyConfig, seed: int, run: int, family: str, V:
 
     Returns
     -------
-    dict
-        ``run, family, V, original, stall, stale, full`` (each a record with ``n_obs``,
-        ``n_unique``, ``n_chains``, ``stop_reason``, ``error``).
+    AdaptiveBirthRun
+        The original chain's call and the three criteria's (:class:`ABCall`).
 
     Examples
     --------
     >>> cfg = AdaptiveBirthStudyConfig(n_mc=1, original_obs=100, n_chains=4)
     >>> out = run_task(cfg, 0, 0, "diagonal", 4)
-    >>> out["original"]["n_obs"], out["full"]["n_obs"] <= 100
+    >>> out.original.n_obs, out.full.n_obs <= 100
     (100, True)
     """
     s = _seeds(seed, run, family, V)
     problem = make_family(family, V, rng=s[0])
-    out = {"run": run, "family": family, "V": V,
-           "original": _record(problem, sample_original(problem, cfg.original_obs, rng=s[1]))}
+    original = _record(problem, sample_original(problem, cfg.original_obs, rng=s[1]))
+    out = {}
     for i, crit in enumerate(CRITERIA):
         stall, stale = _RULES[crit]
         res = sample_short_chains(problem, cfg.n_chains, cfg.chain_length,
                                   tau_stall=cfg.tau_stall if stall else None,
                                   tau_stale=cfg.tau_stale if stale else None, rng=s[2 + i])
         out[crit] = _record(problem, res)
-    return out
+    return AdaptiveBirthRun(kind="run", run=run, family=family, V=V, original=original, **out)
 
 
 def _se(x) -> float:
@@ -190,10 +345,9 @@ def summarise(runs: list) -> list:
 
     Parameters
     ----------
-    runs : list of dict
-        Records of :func:`run_task`, in any order; each needs ``family``, ``V``, ``run`` and,
-        under ``"original"`` and each of :data:`CRITERIA`, a record with ``n_obs`` and
-        ``error``. Runs are grouped by ``(family, V)`` in order of first appearance.
+    runs : list of AdaptiveBirthRun
+        Records of :func:`run_task`, in any order (each call's ``n_obs`` and ``error`` are
+        read). Runs are grouped by ``(family, V)`` in order of first appearance.
 
     Returns
     -------
@@ -208,22 +362,22 @@ def summarise(runs: list) -> list:
 
     Examples
     --------
-    >>> rec = {"n_obs": 100, "error": 0.1}
-    >>> runs = [{"family": "uniform", "V": 4, "run": 0, "original": rec,
-    ...          "stall": {"n_obs": 50, "error": 0.2}, "stale": rec, "full": rec}]
+    >>> rec = ABCall(n_obs=100, n_unique=3, n_chains=1, stop_reason="budget", error=0.1)
+    >>> stall = ABCall(n_obs=50, n_unique=2, n_chains=2, stop_reason="stall", error=0.2)
+    >>> runs = [AdaptiveBirthRun(kind="run", run=0, family="uniform", V=4, original=rec,
+    ...                          stall=stall, stale=rec, full=rec)]
     >>> summarise(runs)[0]["delta_obs_pct"], round(summarise(runs)[0]["delta_error_pp"], 9)
     (50.0, 10.0)
     """
     rows = []
-    keys = list(dict.fromkeys((r["family"], r["V"]) for r in runs))
+    keys = list(dict.fromkeys((r.family, r.V) for r in runs))
     for fam, V in keys:
-        rs = sorted((r for r in runs if r["family"] == fam and r["V"] == V),
-                    key=lambda r: r["run"])
-        no = np.array([r["original"]["n_obs"] for r in rs], dtype=float)
-        eo = np.array([r["original"]["error"] for r in rs])
+        rs = sorted((r for r in runs if r.family == fam and r.V == V), key=lambda r: r.run)
+        no = np.array([r.original.n_obs for r in rs], dtype=float)
+        eo = np.array([r.original.error for r in rs])
         for crit in CRITERIA:
-            ns = np.array([r[crit]["n_obs"] for r in rs], dtype=float)
-            es = np.array([r[crit]["error"] for r in rs])
+            ns = np.array([getattr(r, crit).n_obs for r in rs], dtype=float)
+            es = np.array([getattr(r, crit).error for r in rs])
             rows.append({
                 "family": fam, "V": V, "criterion": crit, "n_mc": len(rs),
                 "delta_obs_pct": float(100 * (no.mean() - ns.mean()) / no.mean()),
@@ -237,7 +391,7 @@ def summarise(runs: list) -> list:
     return rows
 
 
-def curve(cfg: AdaptiveBirthStudyConfig, seed: int, family: str, V: int) -> list:
+def curve(cfg: AdaptiveBirthStudyConfig, seed: int, family: str, V: int) -> list[CurvePoint]:
     """Mean truncation error against the observation budget (original vs short chains).
 
     Short chains run without termination rules, ``N_C = cfg.chain_length`` and
@@ -257,7 +411,7 @@ def curve(cfg: AdaptiveBirthStudyConfig, seed: int, family: str, V: int) -> list
 
     Returns
     -------
-    list of dict
+    list of CurvePoint
         One point per budget of ``cfg.curve_obs``, in that order: ``n_obs`` (the budget),
         ``error_original``, ``error_short`` (mean truncation errors as fractions over
         ``cfg.n_mc`` problems) and their standard errors ``error_original_se``,
@@ -266,7 +420,7 @@ def curve(cfg: AdaptiveBirthStudyConfig, seed: int, family: str, V: int) -> list
     Examples
     --------
     >>> cfg = AdaptiveBirthStudyConfig(n_mc=1, curve_obs=(25, 50))
-    >>> [r["n_obs"] for r in curve(cfg, 0, "uniform", 4)]
+    >>> [p.n_obs for p in curve(cfg, 0, "uniform", 4)]
     [25, 50]
     """
     seeds = [_seeds(seed, run, family, V) for run in range(cfg.n_mc)]
@@ -275,13 +429,13 @@ def curve(cfg: AdaptiveBirthStudyConfig, seed: int, family: str, V: int) -> list
     for budget in cfg.curve_obs:
         eo, es = [], []
         for s, problem in zip(seeds, problems, strict=True):
-            eo.append(_record(problem, sample_original(problem, budget, rng=s[-1]))["error"])
+            eo.append(_record(problem, sample_original(problem, budget, rng=s[-1])).error)
             res = sample_short_chains(problem, max(1, budget // cfg.chain_length),
                                       cfg.chain_length, rng=s[-1])
-            es.append(_record(problem, res)["error"])
-        out.append({"n_obs": budget, "error_original": float(np.mean(eo)),
-                    "error_short": float(np.mean(es)),
-                    "error_original_se": _se(eo), "error_short_se": _se(es)})
+            es.append(_record(problem, res).error)
+        out.append(CurvePoint(n_obs=budget, error_original=float(np.mean(eo)),
+                              error_short=float(np.mean(es)),
+                              error_original_se=_se(eo), error_short_se=_se(es)))
     return out
 
 
@@ -381,7 +535,7 @@ def plot(curves: dict, path) -> None:
     Parameters
     ----------
     curves : dict
-        ``{(family, V): curve(...)}``.
+        ``{(family, V): curve(...)}`` (lists of :class:`CurvePoint`).
     path : str or Path
         Output file (PNG/SVG).
 
@@ -403,14 +557,14 @@ def plot(curves: dict, path) -> None:
             if f != fam:
                 continue
             i = vs.index(V)
-            n = [p["n_obs"] for p in pts]
-            same &= all(abs(p["error_short"] - p["error_original"])
-                        <= 0.005 * max(abs(p["error_original"]), 1e-12) for p in pts)
+            n = [p.n_obs for p in pts]
+            same &= all(abs(p.error_short - p.error_original)
+                        <= 0.005 * max(abs(p.error_original), 1e-12) for p in pts)
             # the short chains' markers are larger hollow rings drawn below the originals'
             # filled ones: where a dashed line lies on its solid twin, both still show
             for key, ls, who, face in (("error_original", "-", "original", None),
                                        ("error_short", "--", "short chains", "white")):
-                y = [max(100 * p[key], 1e-14) for p in pts]
+                y = [max(100 * getattr(p, key), 1e-14) for p in pts]
                 ys += y
                 colour = PALETTE[(i + 1) % len(PALETTE)]
                 ax.plot(n, y, ls=ls, color=colour, marker=MARKERS[i % len(MARKERS)],
@@ -489,9 +643,8 @@ class AdaptiveBirthSummary:
     rows : tuple of AdaptiveBirthRow
         Per family and ``V`` (in the settings' order), the ``"stall"``, ``"stale"`` and
         ``"full"`` rows.
-    curves : dict of str to list of dict
-        Keyed ``"<family>, V=<V>"``: the points of :func:`curve`, each with ``n_obs``,
-        ``error_original`` and ``error_short`` (mean errors as fractions).
+    curves : dict of str to list of CurvePoint
+        Keyed ``"<family>, V=<V>"``: the points of :func:`curve`.
     verdict : str
         One sentence per family (:func:`verdict`), judged on the ``"full"`` rows; empty when
         no run was summarised.
@@ -510,21 +663,21 @@ def adaptive_birth_tasks(cfg: AdaptiveBirthStudyConfig, seed: int) -> list[tuple
 
 
 def adaptive_birth_task(kind: str, cfg: AdaptiveBirthStudyConfig, seed: int, run: int, family: str,
-                        V: int) -> dict:
+                        V: int) -> AdaptiveBirthRun | AdaptiveBirthCurve:
     """One task: a Monte Carlo run (:func:`~.run_task`) or a curve."""
     if kind == "run":
-        return {"kind": "run", **run_task(cfg, seed, run, family, V)}
-    return {"kind": "curve", "family": family, "V": V,
-            "points": curve(cfg, seed, family, V)}
+        return run_task(cfg, seed, run, family, V)
+    return AdaptiveBirthCurve(kind="curve", family=family, V=V,
+                              points=curve(cfg, seed, family, V))
 
 
-def summarise_adaptive_birth(runs: list[dict],
+def summarise_adaptive_birth(runs: list,
                              cfg: AdaptiveBirthStudyConfig) -> AdaptiveBirthSummary:
     """Typed rows of :func:`~.summarise`, the curves and the verdict.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of AdaptiveBirthRun and AdaptiveBirthCurve
         Records of :func:`adaptive_birth_task` (Monte Carlo runs and curves).
     cfg : AdaptiveBirthStudyConfig
         The settings of the runs (not read: the records carry what the summary needs).
@@ -534,12 +687,11 @@ def summarise_adaptive_birth(runs: list[dict],
     AdaptiveBirthSummary
         The typed rows, the curves by ``"<family>, V=<V>"`` and the verdict.
     """
-    table = [{k: v for k, v in r.items() if k != "kind"} for r in runs if r["kind"] == "run"]
-    raw = summarise(table)
+    raw = summarise([r for r in runs if r.kind == "run"])
     ses = ("delta_error_se_pp", "delta_obs_se_pct", "error_original_se_pp", "error_short_se_pp")
     rows = tuple(AdaptiveBirthRow(**{**r, **{k: None if math.isnan(r[k]) else r[k]
                                               for k in ses}}) for r in raw)
-    curves = {f"{r['family']}, V={r['V']}": r["points"] for r in runs if r["kind"] == "curve"}
+    curves = {f"{r.family}, V={r.V}": r.points for r in runs if r.kind == "curve"}
     return AdaptiveBirthSummary(rows=rows, curves=curves,
                                 verdict=verdict(raw) if raw else "")
 
@@ -559,8 +711,8 @@ FULL_RESULT = ("the full run (20 Monte Carlo runs per family and V, documented o
                "difference on the uniform family")
 
 
-def _curve_cell(p: dict, n: int) -> str:
-    return " / ".join(fmt.pm(100 * p[k], 100 * p.get(f"{k}_se", math.nan), n_runs=n)
+def _curve_cell(p: CurvePoint, n: int) -> str:
+    return " / ".join(fmt.pm(100 * getattr(p, k), 100 * getattr(p, f"{k}_se"), n_runs=n)
                       for k in ("error_original", "error_short"))
 
 
@@ -625,6 +777,7 @@ ADAPTIVE_BIRTH = register_study(Study(
     quick=lambda: QUICK,
     tasks=adaptive_birth_tasks,
     task=adaptive_birth_task,
+    run_from_dict=task_from_dict,
     summarise=summarise_adaptive_birth,
     render=render_adaptive_birth,
     plot=plot_adaptive_birth,

@@ -34,6 +34,7 @@ from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
+from .._records import RunRecord
 from .._stats import paired_interval
 from ..config import check_ospa
 from ..paper import PAPER_TOTALS
@@ -45,7 +46,8 @@ from ..vocabulary import (
     canonical_value,
 )
 
-__all__ = ["GLMB_METHODS", "GLMB_TRUNCATIONS", "TRADEOFF_METHODS", "GLMBStudyConfig",
+__all__ = ["GLMB_METHODS", "GLMB_TRUNCATIONS", "TRADEOFF_METHODS", "GLMBStudyConfig", "GLMBRun",
+           "GLMBScores", "GLMBFailure",
            "GLMBMethodSummary", "GLMBPresetSummary", "GLMBStudySummary", "PairedComparison",
            "check_method", "cell_name",
            "glmb_tracking_task", "summarise_glmb_tracking", "GLMB_TRACKING"]
@@ -356,6 +358,122 @@ def _chain_budgets(filt, cfg: GLMBStudyConfig) -> np.ndarray:
     return np.clip(filt._counts() - 1, 0, cfg.original_obs)
 
 
+@dataclass(frozen=True)
+class GLMBScores(RunRecord):
+    """Per-scan scores of one estimator's estimates in one run.
+
+    Attributes
+    ----------
+    ospa, ospa2, gospa : list of float
+        OSPA (window 1), OSPA(2) (window ``ospa_window``) and GOSPA per scan (m).
+    cardinality_error : list of int
+        ``|#estimates − #targets|`` per scan.
+    """
+
+    ospa: list
+    ospa2: list
+    gospa: list
+    cardinality_error: list
+
+
+@dataclass(frozen=True)
+class GLMBFailure(RunRecord):
+    """Where a run stopped: its truncation did not fit a scan's problem (``Exact``).
+
+    Attributes
+    ----------
+    scan : int
+        The scan (1-based).
+    error : str
+        The error's message.
+    """
+
+    scan: int
+    error: str
+
+
+@dataclass(frozen=True)
+class GLMBRun(RunRecord):
+    """One run of one method on one preset (:func:`glmb_tracking_task`).
+
+    Attributes
+    ----------
+    preset : str
+        The scenario's preset.
+    run : int
+        Monte Carlo run (every method of a run sees the same measurements).
+    filter, truncation : str
+        The method (:data:`GLMB_METHODS`).
+    h_upd : int
+        The δ-GLMB filter's ``H_upd``.
+    failed : GLMBFailure or None
+        None, or where the run stopped (its per-scan lists are then empty).
+    alt_estimator : str
+        The filter's other estimator (:data:`ESTIMATORS`), scored in ``alt``.
+    ospa, ospa2, gospa, cardinality_error : list
+        The MAP estimate's scores per scan (:class:`GLMBScores`).
+    sweeps, hypotheses, problems, components : list of int
+        Per scan: sweeps, unique assignments, assignment problems solved, components kept.
+    retained_mass, carried_mass : list of float or None
+        Per scan: the posterior mass kept by the truncation and carried into the next scan
+        (None where not computed).
+    small_components, small_sweeps, budget_sweeps : list of int
+        The δ-GLMB chains per scan: components whose long-chain budget is at most
+        :data:`SMALL_BUDGET` sweeps, their sweeps, and the budget's sweeps (empty otherwise).
+    matched_target : list of int
+        ``("glmb", "murty-matched")`` per scan: the short chains' hypotheses Murty is matched
+        to (empty otherwise).
+    alt : GLMBScores
+        The other estimator's scores.
+    seconds : float
+        Filter time of the run.
+    """
+
+    preset: str
+    run: int
+    filter: str
+    truncation: str
+    h_upd: int
+    failed: GLMBFailure | None
+    alt_estimator: str
+    ospa: list
+    ospa2: list
+    gospa: list
+    cardinality_error: list
+    sweeps: list
+    hypotheses: list
+    problems: list
+    components: list
+    retained_mass: list
+    carried_mass: list
+    small_components: list
+    small_sweeps: list
+    budget_sweeps: list
+    matched_target: list
+    alt: GLMBScores
+    seconds: float
+
+    @classmethod
+    def from_dict(cls, data: dict) -> GLMBRun:
+        """The record of one object of ``glmb_tracking_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields; ``alt`` and ``failed`` as objects.
+
+        Returns
+        -------
+        GLMBRun
+        """
+        data = dict(data)
+        if "alt" in data:
+            data["alt"] = GLMBScores.from_dict(data["alt"])
+        if data.get("failed") is not None:
+            data["failed"] = GLMBFailure.from_dict(data["failed"])
+        return super().from_dict(data)
+
+
 def _score(cfg: GLMBStudyConfig, truth, est: list) -> dict:
     """Per-scan OSPA, OSPA(2), GOSPA and absolute cardinality error of estimates ``est``
     (one ``{label: state}`` per scan)."""
@@ -384,7 +502,7 @@ def _nan_none(v) -> list:
 
 
 def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
-                       preset: str = "vo", h_upd: int | None = None) -> dict:
+                       preset: str = "vo", h_upd: int | None = None) -> GLMBRun:
     """One run of one method on one preset; every method of a run sees the same measurements.
 
     Parameters
@@ -410,9 +528,8 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
 
     Returns
     -------
-    dict
-        Plain data for JSON: ``preset``, ``run``, ``filter``, ``truncation``, ``h_upd``; per
-        scan the MAP
+    GLMBRun
+        ``preset``, ``run``, ``filter``, ``truncation``, ``h_upd``; per scan the MAP
         estimate's ``ospa``, ``ospa2``, ``gospa`` and ``cardinality_error`` (absolute), and
         the same of the filter's other estimator under ``alt`` (with its name in
         ``alt_estimator``); ``sweeps``, ``hypotheses`` (unique assignments), ``problems``
@@ -461,8 +578,9 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
             if truncation != tracking.Exact.name:
                 raise
             empty = {k: [] for k in ("ospa", "ospa2", "gospa", "cardinality_error")}
-            return {**out, "failed": {"scan": k + 1, "error": str(err)}, **empty,
-                    **{k: [] for k in keys}, "alt": empty, "seconds": secs}
+            return GLMBRun(**{**out, "failed": GLMBFailure(scan=k + 1, error=str(err))},
+                           **empty, **{k: [] for k in keys}, alt=GLMBScores(**empty),
+                           seconds=secs)
         est.append(dict(zip(map(tuple, rec.labels.tolist()), rec.states, strict=True)))
         if not glmb:
             alt.append(_lmb_hysteresis(filt))
@@ -479,8 +597,8 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
         secs += perf_counter() - t0
     for name in ("retained_mass", "carried_mass"):
         col[name] = _nan_none(col[name])
-    return {**out, **_score(cfg, sc.truth, est), **col,
-            "alt": _score(cfg, sc.truth, alt), "seconds": secs}
+    return GLMBRun(**out, **_score(cfg, sc.truth, est), **col,
+                   alt=GLMBScores(**_score(cfg, sc.truth, alt)), seconds=secs)
 
 
 def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
@@ -695,16 +813,16 @@ def _se(x) -> float:
 
 
 def _values(r, key) -> np.ndarray:
-    return np.array([math.nan if v is None else v for v in r[key]], dtype=float)
+    return np.array([math.nan if v is None else v for v in getattr(r, key)], dtype=float)
 
 
-def _failures(rs: list[dict]) -> str:
-    bad = [r for r in rs if r["failed"]]
+def _failures(rs: list[GLMBRun]) -> str:
+    bad = [r for r in rs if r.failed]
     if not bad:
         return ""
-    f = bad[0]["failed"]
-    return (f"{len(bad)} of {len(rs)} runs do not fit; run {bad[0]['run']} stopped at scan "
-            f"{f['scan']}: {f['error']}")
+    f = bad[0].failed
+    return (f"{len(bad)} of {len(rs)} runs do not fit; run {bad[0].run} stopped at scan "
+            f"{f.scan}: {f.error}")
 
 
 def _mean_min(rs, key) -> tuple[float, float]:
@@ -725,8 +843,8 @@ def _run_means(rs, key) -> list[float]:
     return out
 
 
-def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummary:
-    rs = [r for r in all_runs if not r["failed"]]
+def _method_row(preset: str, m: tuple, all_runs: list[GLMBRun]) -> GLMBMethodSummary:
+    rs = [r for r in all_runs if not r.failed]
     nan = math.nan
     alt_name = ESTIMATORS[m[0]][1]
     if not rs:
@@ -734,10 +852,10 @@ def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummar
                                  _failures(all_runs))
 
     def runs_mean(key, sub=None):
-        return np.array([np.mean((r[sub] if sub else r)[key]) for r in rs])
+        return np.array([np.mean(getattr(r.alt if sub else r, key)) for r in rs])
 
-    split = [r for r in rs if r.get("budget_sweeps")]
-    budget = sum(sum(r["budget_sweeps"]) for r in split) or nan
+    split = [r for r in rs if r.budget_sweeps]
+    budget = sum(sum(r.budget_sweeps) for r in split) or nan
     retained = _mean_min(rs, "retained_mass")
     carried = _mean_min(rs, "carried_mass")
     return GLMBMethodSummary(
@@ -751,7 +869,7 @@ def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummar
         alt_ospa2_se=_se(runs_mean("ospa2", "alt")),
         alt_gospa_mean=float(runs_mean("gospa", "alt").mean()),
         alt_cardinality_error_mean=float(runs_mean("cardinality_error", "alt").mean()),
-        sweeps=float(np.mean([sum(r["sweeps"]) for r in rs])),
+        sweeps=float(np.mean([sum(r.sweeps) for r in rs])),
         sweeps_per_scan=float(runs_mean("sweeps").mean()),
         hypotheses_per_scan=float(runs_mean("hypotheses").mean()),
         problems_per_scan=float(runs_mean("problems").mean()),
@@ -760,16 +878,16 @@ def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummar
         carried_mass_mean=carried[0], carried_mass_min=carried[1],
         # the split of the components (prior components: one problem each) and of the sweeps
         # of their long-chain budgets min(T_h − 1, obs)
-        small_component_share=(sum(sum(r["small_components"]) for r in split)
-                               / sum(sum(r["problems"]) for r in split)) if split else nan,
-        small_sweep_share=(sum(sum(r["small_sweeps"]) for r in split) / budget) if split
+        small_component_share=(sum(sum(r.small_components) for r in split)
+                               / sum(sum(r.problems) for r in split)) if split else nan,
+        small_sweep_share=(sum(sum(r.small_sweeps) for r in split) / budget) if split
         else nan,
-        seconds=float(np.mean([r["seconds"] for r in rs])), failed=_failures(all_runs),
+        seconds=float(np.mean([r.seconds for r in rs])), failed=_failures(all_runs),
         cardinality_error_se=_se(runs_mean("cardinality_error")),
         sweeps_per_scan_se=_se(runs_mean("sweeps")),
         hypotheses_per_scan_se=_se(runs_mean("hypotheses")),
         components_se=_se(runs_mean("components")),
-        seconds_se=_se([r["seconds"] for r in rs]),
+        seconds_se=_se([r.seconds for r in rs]),
         retained_mass_se=_se(_run_means(rs, "retained_mass")),
         carried_mass_se=_se(_run_means(rs, "carried_mass")))
 
@@ -777,11 +895,12 @@ def _method_row(preset: str, m: tuple, all_runs: list[dict]) -> GLMBMethodSummar
 def _curves(by: dict, n_scans: int) -> dict:
     curves = {"scan": list(range(1, n_scans + 1))}
     for m, all_runs in by.items():
-        rs = [r for r in all_runs if not r["failed"]]
+        rs = [r for r in all_runs if not r.failed]
         if not rs:
             continue
         for key in ("ospa", "ospa2", "cardinality_error", "components", "sweeps"):
-            curves[f"{key}_{cell_name(m)}"] = np.mean([r[key] for r in rs], axis=0).tolist()
+            curves[f"{key}_{cell_name(m)}"] = np.mean([getattr(r, key) for r in rs],
+                                                      axis=0).tolist()
         for key in ("retained_mass", "carried_mass"):
             mass = np.array([_values(r, key) for r in rs])
             if np.isfinite(mass).any():
@@ -791,11 +910,11 @@ def _curves(by: dict, n_scans: int) -> dict:
     return curves
 
 
-def _per_run(rs: list[dict], key: str = "ospa2", estimator: str = "map") -> dict:
+def _per_run(rs: list[GLMBRun], key: str = "ospa2", estimator: str = "map") -> dict:
     """``{run: that run's mean of key}`` over the finished runs (``estimator`` "alt": the
     filter's other estimator)."""
-    return {r["run"]: float(np.mean(r[key] if estimator == "map" else r["alt"][key]))
-            for r in rs if not r["failed"]}
+    return {r.run: float(np.mean(getattr(r if estimator == "map" else r.alt, key)))
+            for r in rs if not r.failed}
 
 
 def _compare(xa: dict, xb: dict, a: str, b: str, estimator: str = "map",
@@ -818,11 +937,11 @@ def _savings(by: dict, a: str, b: str) -> float:
     return 100.0 * (1 - np.mean([xa[i] for i in common]) / np.mean([xb[i] for i in common]))
 
 
-def _best(rs: list[dict]) -> tuple[str, dict]:
+def _best(rs: list[GLMBRun]) -> tuple[str, dict]:
     """The filter's estimator of lower mean OSPA(2) on these runs, and its per-run means."""
     fits = {e: _per_run(rs, estimator=e) for e in ("map", "alt")}
     name = min(fits, key=lambda e: np.mean(list(fits[e].values())) if fits[e] else math.inf)
-    label = "MAP" if name == "map" else (rs[0]["alt_estimator"] if rs else "")
+    label = "MAP" if name == "map" else (rs[0].alt_estimator if rs else "")
     return label, fits[name]
 
 
@@ -847,30 +966,30 @@ def _comparisons(by: dict) -> tuple:
                                 two))
     # each filter with its best estimator, long chain against long chain
     if by.get(_GLMB_LONG) and by.get(_LMB_LONG):
-        ea, xa = _best([r for r in by[_GLMB_LONG] if not r["failed"]])
-        eb, xb = _best([r for r in by[_LMB_LONG] if not r["failed"]])
+        ea, xa = _best([r for r in by[_GLMB_LONG] if not r.failed])
+        eb, xb = _best([r for r in by[_LMB_LONG] if not r.failed])
         out.append(_compare(xa, xb, f"{cell_name(_GLMB_LONG)}:{ea}",
                             f"{cell_name(_LMB_LONG)}:{eb}", "best", GLMB_VS_LMB_TARGET, False))
     return tuple(out)
 
 
-def _tradeoff(runs: list[dict], cfg: GLMBStudyConfig, preset: str, rows: tuple) -> tuple:
+def _tradeoff(runs: list[GLMBRun], cfg: GLMBStudyConfig, preset: str, rows: tuple) -> tuple:
     n = cfg.tradeoff_runs
     points = []
     hs = sorted({cfg.h_upd, *cfg.tradeoff_h_upd})
     for t in TRADEOFF_METHODS:
         for h in hs:
-            rs = [r for r in runs if (r["filter"], r["truncation"]) == ("glmb", t)
-                  and r.get("preset") == preset
-                  and r.get("h_upd", cfg.h_upd) == h and not r["failed"] and r["run"] < max(n, 1)]
+            rs = [r for r in runs if (r.filter, r.truncation) == ("glmb", t)
+                  and r.preset == preset
+                  and r.h_upd == h and not r.failed and r.run < max(n, 1)]
             if not rs:
                 continue
             carried = _mean_min(rs, "carried_mass")[0]
             points.append({"filter": "glmb", "truncation": t, "h_upd": h, "n_runs": len(rs),
-                           "sweeps_per_scan": float(np.mean([np.mean(r["sweeps"]) for r in rs])),
-                           "hypotheses_per_scan": float(np.mean([np.mean(r["hypotheses"])
+                           "sweeps_per_scan": float(np.mean([np.mean(r.sweeps) for r in rs])),
+                           "hypotheses_per_scan": float(np.mean([np.mean(r.hypotheses)
                                                                  for r in rs])),
-                           "ospa2": float(np.mean([np.mean(r["ospa2"]) for r in rs])),
+                           "ospa2": float(np.mean([np.mean(r.ospa2) for r in rs])),
                            "carried_mass": carried})
     for r in rows:
         if r.filter == "lmb" and r.n_runs:
@@ -882,7 +1001,7 @@ def _tradeoff(runs: list[dict], cfg: GLMBStudyConfig, preset: str, rows: tuple) 
     return tuple(points)
 
 
-def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudySummary:
+def summarise_glmb_tracking(runs: list[GLMBRun], cfg: GLMBStudyConfig) -> GLMBStudySummary:
     """Per-preset, per-method rows, the paired comparisons, the trade-off points and the
     per-scan means.
 
@@ -899,9 +1018,9 @@ def summarise_glmb_tracking(runs: list[dict], cfg: GLMBStudyConfig) -> GLMBStudy
     """
     out = []
     for preset in cfg.presets:
-        by = {m: sorted((r for r in runs if (r["filter"], r["truncation"]) == m
-                         and r.get("preset", "vo") == preset
-                         and r.get("h_upd", cfg.h_upd) == cfg.h_upd), key=lambda r: r["run"])
+        by = {m: sorted((r for r in runs if (r.filter, r.truncation) == m
+                         and r.preset == preset
+                         and r.h_upd == cfg.h_upd), key=lambda r: r.run)
               for m in cfg.methods}
         by = {m: rs for m, rs in by.items() if rs}
         rows = tuple(_method_row(preset, m, rs) for m, rs in by.items())
@@ -1216,6 +1335,7 @@ GLMB_TRACKING = register_study(Study(
     quick=GLMBStudyConfig.quick,
     tasks=glmb_tasks,
     task=glmb_tracking_task,
+    run_from_dict=GLMBRun.from_dict,
     summarise=summarise_glmb_tracking,
     render=render_glmb_tracking,
     plot=plot_glmb_tracking,

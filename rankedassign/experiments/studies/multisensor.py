@@ -48,12 +48,14 @@ from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._plots import bar_style, figure, legend_below
+from .._records import RunRecord
 from .._synthetic import PairedStats, paired_summary
 from ..config import CRITERIA
 from ..registry import Study, as_rows, register_study
 from ..vocabulary import ROW_METHODS
 
 __all__ = ["MULTISENSOR", "MultiSensorConfig", "MultiSensorRow", "MethodAccuracyRow",
+           "MultiSensorRun", "MultiSensorCalls", "MultiSensorCall",
            "MultiSensorSummary", "CASES", "METHODS", "summarise_multisensor"]
 
 #: The cases of the study: ``"<size>/<family>"`` (sizes of spec §6.5, families of
@@ -141,15 +143,112 @@ def make_problem(case: str, run_ss: np.random.SeedSequence):
     return build(P, M, rng=child_seed(run_ss, 0))
 
 
-def _record(problem, res, seconds: float, log_z: float, method: str) -> dict:
+@dataclass(frozen=True)
+class MultiSensorCall(RunRecord):
+    """One sampler call of :func:`multisensor_task`.
+
+    Attributes
+    ----------
+    n_obs : int
+        Observations (sweeps) spent.
+    n_unique : int
+        Unique assignments found.
+    n_chains : int
+        Chains run.
+    stop_reason : str
+        Why the sampler stopped.
+    error : float
+        Truncation error of the unique assignments, a fraction (``"componentwise"``: one
+        minus the exact posterior mass of what it found, clipped to ``[0, 1]``).
+    seconds : float
+        Wall time of the call.
+    """
+
+    n_obs: int
+    n_unique: int
+    n_chains: int
+    stop_reason: str
+    error: float
+    seconds: float
+
+
+@dataclass(frozen=True)
+class MultiSensorCalls(RunRecord):
+    """One row conditional's calls in one run: the original chain and the three criteria.
+
+    Attributes
+    ----------
+    original : MultiSensorCall
+        The original chain (``original_obs`` sweeps).
+    stall, stale, full : MultiSensorCall
+        The short chains under each criterion (:data:`RULES`).
+    """
+
+    original: MultiSensorCall
+    stall: MultiSensorCall
+    stale: MultiSensorCall
+    full: MultiSensorCall
+
+    @classmethod
+    def from_dict(cls, data: dict) -> MultiSensorCalls:
+        """The record of one method's object of a saved run.
+
+        Parameters
+        ----------
+        data : dict
+            The four calls as objects.
+
+        Returns
+        -------
+        MultiSensorCalls
+        """
+        return super().from_dict({k: MultiSensorCall.from_dict(v) for k, v in data.items()})
+
+
+@dataclass(frozen=True)
+class MultiSensorRun(RunRecord):
+    """One Monte Carlo run of one case (:func:`multisensor_task`).
+
+    Attributes
+    ----------
+    run : int
+        Monte Carlo run.
+    case : str
+        The case (:data:`CASES` or ``"<size>/<family>"``).
+    methods : dict of str to MultiSensorCalls
+        Per row conditional of the settings (:data:`METHODS`), its calls.
+    """
+
+    run: int
+    case: str
+    methods: dict
+
+    @classmethod
+    def from_dict(cls, data: dict) -> MultiSensorRun:
+        """The record of one object of ``multisensor_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, the calls as objects.
+
+        Returns
+        -------
+        MultiSensorRun
+        """
+        return super().from_dict({**data, "methods": {
+            m: MultiSensorCalls.from_dict(c) for m, c in data.get("methods", {}).items()}})
+
+
+def _record(problem, res, seconds: float, log_z: float, method: str) -> MultiSensorCall:
     if method == "componentwise":
         covered = float(np.exp(-np.asarray(res.costs, dtype=float) - log_z).sum())
         error = min(1.0, max(0.0, 1.0 - covered))
     else:
         error = float(oracle.truncation_error(problem, res.assignments))
-    return {"n_obs": int(res.n_observations), "n_unique": int(len(res.costs)),
-            "n_chains": int(res.n_chains_run), "stop_reason": str(res.stop_reason),
-            "error": error, "seconds": float(seconds)}
+    return MultiSensorCall(n_obs=int(res.n_observations), n_unique=int(len(res.costs)),
+                           n_chains=int(res.n_chains_run), stop_reason=str(res.stop_reason),
+                           error=error, seconds=float(seconds))
 
 
 def multisensor_tasks(cfg: MultiSensorConfig, seed: int) -> list[tuple]:
@@ -157,28 +256,29 @@ def multisensor_tasks(cfg: MultiSensorConfig, seed: int) -> list[tuple]:
     return [(cfg, seed, r, c) for c in cfg.cases for r in range(cfg.n_mc)]
 
 
-def multisensor_task(cfg: MultiSensorConfig, seed: int, run: int, case: str) -> dict:
+def multisensor_task(cfg: MultiSensorConfig, seed: int, run: int,
+                     case: str) -> MultiSensorRun:
     """One Monte Carlo run of one case: for every method, the original chain and the criteria.
 
     Returns
     -------
-    dict
-        ``run, case, methods: {method: {"original", "stall", "stale", "full"}}``, each a record
-        with ``n_obs, n_unique, n_chains, stop_reason, error, seconds``.
+    MultiSensorRun
+        Per method its :class:`MultiSensorCalls` (``original``, ``stall``, ``stale``,
+        ``full``).
 
     Examples
     --------
     >>> cfg = MultiSensorConfig(n_mc=1, cases=("A/diagonal",), methods=("mm",),
     ...                         original_obs=100, n_chains=4)
     >>> out = multisensor_task(cfg, 0, 0, "A/diagonal")
-    >>> out["methods"]["mm"]["original"]["n_obs"], out["methods"]["mm"]["full"]["n_obs"] <= 100
+    >>> out.methods["mm"].original.n_obs, out.methods["mm"].full.n_obs <= 100
     (100, True)
     """
     s = run_seed(seed, run)
     problem = make_problem(case, s)
     log_z = float(oracle.log_normalizer(problem))
     ci = cfg.cases.index(case)
-    out = {"run": run, "case": case, "methods": {}}
+    methods = {}
     for method in cfg.methods:
         mi = METHODS.index(method)
         t = time.perf_counter()
@@ -194,8 +294,8 @@ def multisensor_task(cfg: MultiSensorConfig, seed: int, run: int, case: str) -> 
                 tau_stale=cfg.tau_stale if stale else None,
                 rng=child_seed(s, 2, ci, mi, k), method=method)
             recs[crit] = _record(problem, res, time.perf_counter() - t, log_z, method)
-        out["methods"][method] = recs
-    return out
+        methods[method] = MultiSensorCalls(**recs)
+    return MultiSensorRun(run=run, case=case, methods=methods)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -333,12 +433,13 @@ def _se(x) -> float | None:
     return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else None
 
 
-def summarise_multisensor(runs: list[dict], cfg: MultiSensorConfig) -> MultiSensorSummary:
+def summarise_multisensor(runs: list[MultiSensorRun],
+                          cfg: MultiSensorConfig) -> MultiSensorSummary:
     """Table I rows (case x method x criterion), accuracy rows (case x method), verdict.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of MultiSensorRun
         Records of :func:`multisensor_task`.
     cfg : MultiSensorConfig
 
@@ -348,28 +449,28 @@ def summarise_multisensor(runs: list[dict], cfg: MultiSensorConfig) -> MultiSens
     """
     rows, acc = [], []
     for case in cfg.cases:
-        rs = sorted((r for r in runs if r["case"] == case), key=lambda r: r["run"])
+        rs = sorted((r for r in runs if r.case == case), key=lambda r: r.run)
         if not rs:
             continue
-        exact = ([100 * r["methods"]["exact"]["original"]["error"] for r in rs]
+        exact = ([100 * r.methods["exact"].original.error for r in rs]
                  if "exact" in cfg.methods else None)
         for method in cfg.methods:
-            orig = [r["methods"][method]["original"] for r in rs]
+            orig = [r.methods[method].original for r in rs]
             for crit in CRITERIA:
-                stats = paired_summary(orig, [r["methods"][method][crit] for r in rs])
+                stats = paired_summary(orig, [getattr(r.methods[method], crit) for r in rs])
                 rows.append(MultiSensorRow(case=case, method=method, criterion=crit,
                                            **stats.__dict__))
-            e = np.array([100 * o["error"] for o in orig])
+            e = np.array([100 * o.error for o in orig])
             d = None if exact is None else e - np.array(exact)
             acc.append(MethodAccuracyRow(
                 case=case, method=method, n_mc=len(rs), n_obs=cfg.original_obs,
                 error_mean=float(e.mean()), error_se=_se(e),
                 vs_exact_pp=None if d is None else float(d.mean()),
                 vs_exact_pp_se=None if d is None else _se(d),
-                unique_mean=float(np.mean([o["n_unique"] for o in orig])),
-                seconds_mean=float(np.mean([o["seconds"] for o in orig])),
-                seconds_min=float(np.min([o["seconds"] for o in orig])),
-                unique_se=_se([o["n_unique"] for o in orig])))
+                unique_mean=float(np.mean([o.n_unique for o in orig])),
+                seconds_mean=float(np.mean([o.seconds for o in orig])),
+                seconds_min=float(np.min([o.seconds for o in orig])),
+                unique_se=_se([o.n_unique for o in orig])))
     return MultiSensorSummary(rows=tuple(rows), accuracy=tuple(acc),
                               verdict=verdict(rows))
 
@@ -517,6 +618,7 @@ MULTISENSOR = register_study(Study(
     quick=lambda: MultiSensorConfig(n_mc=QUICK_MC),
     tasks=multisensor_tasks,
     task=multisensor_task,
+    run_from_dict=MultiSensorRun.from_dict,
     summarise=summarise_multisensor,
     render=render_multisensor,
     plot=plot_multisensor,

@@ -41,6 +41,7 @@ from ...tracking.run import run_multisensor_scenario
 from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._plots import legend_below, series_style
+from .._records import RunRecord
 from ..registry import Study, register_study
 from ..vocabulary import DEPRECATED_ASSOCIATIONS, ROW_METHODS, canonical_pair
 
@@ -316,7 +317,7 @@ def make_association(cfg: MultiSensorStudyConfig, association):
 
 
 @dataclass(frozen=True)
-class MultiSensorTrackingRecord:
+class MultiSensorTrackingRecord(RunRecord):
     """One run of one association on one sensor set.
 
     Attributes
@@ -366,6 +367,28 @@ class MultiSensorTrackingRecord:
     birth_seconds: float = 0.0
     filter: str = "lmb"
     gospa: np.ndarray | None = None
+
+    @classmethod
+    def from_dict(cls, data: dict) -> MultiSensorTrackingRecord:
+        """The record of one object of ``multisensor_tracking_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields; the per-scan and per-target series as lists (``null`` for NaN).
+
+        Returns
+        -------
+        MultiSensorTrackingRecord
+            With the series as float arrays (NaN again) and ``sensors`` a tuple.
+        """
+        data = dict(data)
+        for name in ("ospa2", "cardinality_error", "coverage", "gospa"):
+            if data.get(name) is not None:
+                data[name] = np.array(data[name], dtype=float)
+        if "sensors" in data:
+            data["sensors"] = tuple(data["sensors"])
+        return super().from_dict(data)
 
     @property
     def targets_lost(self) -> int:
@@ -955,6 +978,7 @@ MULTISENSOR_TRACKING = register_study(Study(
     quick=MultiSensorStudyConfig.quick,
     tasks=_tasks,
     task=multisensor_tracking_task,
+    run_from_dict=MultiSensorTrackingRecord.from_dict,
     summarise=_summarise,
     render=_render,
     plot=_plot,

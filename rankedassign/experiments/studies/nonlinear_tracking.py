@@ -33,13 +33,15 @@ from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
+from .._records import RunRecord
 from .._stats import paired_interval
 from ..config import check_ospa, check_positive
 from ..registry import Study, register_study
 from ..vocabulary import canonical_truncation
 
 __all__ = ["NONLINEAR", "NonlinearConfig", "NonlinearRow", "NonlinearComparison",
-           "NonlinearSummary", "nonlinear_task", "summarise_nonlinear"]
+           "NonlinearSummary", "NonlinearRun", "nonlinear_task", "task_from_json",
+           "summarise_nonlinear"]
 
 #: Vo's non-linear presets: the same model and measurements, filtered by the EKF or the UKF.
 PRESETS = ("vo-ekf", "vo-ukf")
@@ -144,8 +146,68 @@ def _filter(cfg: NonlinearConfig, model, filter_name: str, truncation: str):
     return tracking.GLMBFilter(model, assoc, **options)
 
 
+@dataclass(frozen=True)
+class NonlinearRun(RunRecord):
+    """One run of one preset, filter and truncation (one of :func:`nonlinear_task`'s records).
+
+    Attributes
+    ----------
+    preset, filter, truncation : str
+        The cell.
+    run : int
+        Monte Carlo run (every truncation and filter of a run sees the same measurements).
+    ospa, ospa2 : list of float
+        OSPA (window 1) and OSPA(2) per scan (m).
+    cardinality_error : list of int
+        ``|#estimates − #targets|`` per scan.
+    sweeps : list of int
+        Sweeps per scan.
+    seconds : list of float
+        Seconds of each step (with the δ-GLMB filter's exact retained mass).
+    single_object_seconds : list of float
+        Per step, the prediction, cost terms and update (the work EKF and UKF change).
+    retained_mass : list of float or None
+        Exact retained mass per scan (None where not computed).
+    """
+
+    preset: str
+    filter: str
+    truncation: str
+    run: int
+    ospa: list
+    ospa2: list
+    cardinality_error: list
+    sweeps: list
+    seconds: list
+    single_object_seconds: list
+    retained_mass: list
+
+
+def task_from_json(items: list) -> list[NonlinearRun]:
+    """What one task returned, read back from ``nonlinear_tracking_runs.json``.
+
+    Parameters
+    ----------
+    items : list of dict
+        One item of the file: the task's records as objects.
+
+    Returns
+    -------
+    list of NonlinearRun
+
+    Raises
+    ------
+    ValueError
+        If ``items`` is not a list.
+    """
+    if not isinstance(items, list):
+        raise ValueError(f"a nonlinear_tracking task's item is a list of its records, got "
+                         f"{type(items).__name__}")
+    return [NonlinearRun.from_dict(d) for d in items]
+
+
 def nonlinear_task(cfg: NonlinearConfig, seed: int, run: int, preset: str,
-                   filter_name: str) -> list[dict]:
+                   filter_name: str) -> list[NonlinearRun]:
     """One run of one preset and filter, every truncation on the same measurements.
 
     Parameters
@@ -165,18 +227,14 @@ def nonlinear_task(cfg: NonlinearConfig, seed: int, run: int, preset: str,
 
     Returns
     -------
-    list of dict
-        One record per truncation: ``preset``, ``filter``, ``truncation``, ``run``, the
-        per-scan ``ospa``, ``ospa2``, ``cardinality_error``, ``sweeps``, ``seconds`` (the
-        whole step, with the δ-GLMB filter's exact retained mass), ``single_object_seconds``
-        (prediction, cost terms and update: the work EKF and UKF change) and
-        ``retained_mass`` (None where not computed).
+    list of NonlinearRun
+        One record per truncation of ``cfg.truncations``.
 
     Examples
     --------
     >>> cfg = NonlinearConfig(n_mc=1, n_scans=3, lmb_budget=20, glmb_budget=20,
     ...                       truncations=("short-chain",))
-    >>> [r["truncation"] for r in nonlinear_task(cfg, 0, 0, "vo-ekf", "lmb")]
+    >>> [r.truncation for r in nonlinear_task(cfg, 0, 0, "vo-ekf", "lmb")]
     ['short-chain']
     """
     meas_rng, filter_rng = spawning_generator(run_seed(seed, run)).spawn(2)
@@ -206,16 +264,16 @@ def nonlinear_task(cfg: NonlinearConfig, seed: int, run: int, preset: str,
             e = np.full((K, 0, 2), np.nan)
         o1 = metrics.ospa2(sc.truth.positions, e, cfg.ospa_c, cfg.ospa_p, 1)
         o2 = metrics.ospa2(sc.truth.positions, e, cfg.ospa_c, cfg.ospa_p, cfg.ospa_window)
-        out.append({
-            "preset": preset, "filter": filter_name, "truncation": truncation, "run": run,
-            "ospa": np.asarray(o1.value, dtype=float).tolist(),
-            "ospa2": np.asarray(o2.value, dtype=float).tolist(),
-            "cardinality_error": np.abs(np.array(n_est) - sc.truth.n_targets).astype(int)
+        out.append(NonlinearRun(
+            preset=preset, filter=filter_name, truncation=truncation, run=run,
+            ospa=np.asarray(o1.value, dtype=float).tolist(),
+            ospa2=np.asarray(o2.value, dtype=float).tolist(),
+            cardinality_error=np.abs(np.array(n_est) - sc.truth.n_targets).astype(int)
             .tolist(),
-            "sweeps": sweeps, "seconds": secs, "single_object_seconds": single,
+            sweeps=sweeps, seconds=secs, single_object_seconds=single,
             # JSON has no NaN: None where the mass is not computed
-            "retained_mass": [None if math.isnan(v) else v for v in kept],
-        })
+            retained_mass=[None if math.isnan(v) else v for v in kept],
+        ))
     return out
 
 
@@ -355,7 +413,8 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
     Parameters
     ----------
     runs : list
-        What :func:`nonlinear_task` returned, one list per task (or the records flat).
+        What :func:`nonlinear_task` returned, one list of :class:`NonlinearRun` per task (or
+        the records flat).
     cfg : NonlinearConfig
         The study's settings.
 
@@ -366,45 +425,45 @@ def summarise_nonlinear(runs: list, cfg: NonlinearConfig) -> NonlinearSummary:
     recs = [r for item in runs for r in (item if isinstance(item, list) else [item])]
     cells: dict = {}
     for r in recs:
-        cells.setdefault((r["preset"], r["filter"], r["truncation"]), []).append(r)
+        cells.setdefault((r.preset, r.filter, r.truncation), []).append(r)
     for v in cells.values():
-        v.sort(key=lambda r: r["run"])
+        v.sort(key=lambda r: r.run)
     rows, curves = [], {}
     for (p, f, t), rs in cells.items():
-        o1 = [float(np.mean(r["ospa"])) for r in rs]
-        o2 = [float(np.mean(r["ospa2"])) for r in rs]
-        ms = [1e3 * float(np.mean(r["seconds"])) for r in rs]
-        card = np.concatenate([r["cardinality_error"] for r in rs]).astype(float)
-        mass = np.array([m for r in rs for m in r["retained_mass"] if m is not None])
+        o1 = [float(np.mean(r.ospa)) for r in rs]
+        o2 = [float(np.mean(r.ospa2)) for r in rs]
+        ms = [1e3 * float(np.mean(r.seconds)) for r in rs]
+        card = np.concatenate([r.cardinality_error for r in rs]).astype(float)
+        mass = np.array([m for r in rs for m in r.retained_mass if m is not None])
         # the standard errors are over the runs' means (every run has the same scans)
-        card_runs = [float(np.mean(r["cardinality_error"])) for r in rs]
-        right_runs = [float(np.mean(np.asarray(r["cardinality_error"]) == 0)) for r in rs]
-        sweeps_runs = [float(np.mean(r["sweeps"])) for r in rs]
-        mass_runs = [float(np.mean(m)) for m in ([v for v in r["retained_mass"] if v is not None]
+        card_runs = [float(np.mean(r.cardinality_error)) for r in rs]
+        right_runs = [float(np.mean(np.asarray(r.cardinality_error) == 0)) for r in rs]
+        sweeps_runs = [float(np.mean(r.sweeps)) for r in rs]
+        mass_runs = [float(np.mean(m)) for m in ([v for v in r.retained_mass if v is not None]
                                                  for r in rs) if m]
         rows.append(NonlinearRow(
             preset=p, filter=f, truncation=t, n_runs=len(rs), ospa=float(np.mean(o1)),
             ospa_se=_se(o1), ospa2=float(np.mean(o2)), ospa2_se=_se(o2),
             cardinality_error=float(card.mean()), exact_cardinality=float(np.mean(card == 0)),
-            sweeps_per_scan=float(np.mean([np.mean(r["sweeps"]) for r in rs])),
+            sweeps_per_scan=float(np.mean([np.mean(r.sweeps) for r in rs])),
             ms_per_scan=float(np.mean(ms)), ms_per_scan_se=_se(ms),
             retained_mass=float(mass.mean()) if mass.size else math.nan,
             retained_mass_min=float(mass.min()) if mass.size else math.nan,
             cardinality_error_se=_se(card_runs), exact_cardinality_se=_se(right_runs),
             sweeps_per_scan_se=_se(sweeps_runs), retained_mass_se=_se(mass_runs)))
-        curves[f"{p}/{f}/{t}"] = np.mean([r["ospa2"] for r in rs], axis=0).tolist()
+        curves[f"{p}/{f}/{t}"] = np.mean([r.ospa2 for r in rs], axis=0).tolist()
     comparisons = []
 
     def pair(what, a_key, b_key, fixed, cost):
         a, b = cells.get(a_key), cells.get(b_key)
         if not a or not b:
             return
-        by_a = {r["run"]: r for r in a}
-        both = [(by_a[r["run"]], r) for r in b if r["run"] in by_a]
-        d = [np.mean(rb["ospa2"]) - np.mean(ra["ospa2"]) for ra, rb in both]
+        by_a = {r.run: r for r in a}
+        both = [(by_a[r.run], r) for r in b if r.run in by_a]
+        d = [np.mean(rb.ospa2) - np.mean(ra.ospa2) for ra, rb in both]
         m, lo, hi = paired_interval(d)
-        xa = np.array([np.mean(ra[cost]) for ra, _ in both], dtype=float)
-        xb = np.array([np.mean(rb[cost]) for _, rb in both], dtype=float)
+        xa = np.array([np.mean(getattr(ra, cost)) for ra, _ in both], dtype=float)
+        xb = np.array([np.mean(getattr(rb, cost)) for _, rb in both], dtype=float)
         ca, cb = np.mean(xa), np.mean(xb)
         comparisons.append(NonlinearComparison(
             what=what, **fixed, n_runs=len(both), delta_ospa2=m, ci_low=lo, ci_high=hi,
@@ -593,6 +652,7 @@ NONLINEAR = register_study(Study(
     quick=lambda: QUICK,
     tasks=nonlinear_tasks,
     task=nonlinear_task,
+    run_from_dict=task_from_json,
     summarise=summarise_nonlinear,
     render=render_nonlinear,
     plot=plot_nonlinear,

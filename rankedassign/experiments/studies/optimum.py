@@ -19,7 +19,15 @@ import oracle
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import bar_style, figure, legend_below
-from .._synthetic import make_problem, original_seed, proposed_seed, run_original, run_proposed
+from .._records import RunRecord
+from .._synthetic import (
+    SamplerRun,
+    make_problem,
+    original_seed,
+    proposed_seed,
+    run_original,
+    run_proposed,
+)
 from ..config import STALE_READINGS, STALL_READINGS, SyntheticConfig
 from ..registry import Study, as_rows, per_family_tasks, register_study
 
@@ -44,7 +52,7 @@ class OptimumConfig(SyntheticConfig):
     25
     """
 
-__all__ = ["OPTIMUM", "OptimumRow", "best_error", "summarise_optimum"]
+__all__ = ["OPTIMUM", "OptimumRow", "OptimumRun", "OptimumCall", "best_error", "summarise_optimum"]
 
 #: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
 QUICK_MC = 20
@@ -119,12 +127,65 @@ def best_error(problem, k: int, *, _tail=None) -> float:
     return float(tail[min(int(k), len(tail) - 1)])
 
 
-def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
+@dataclass(frozen=True)
+class OptimumCall(SamplerRun):
+    """One sampler's call with the best error for as many distinct assignments.
+
+    Attributes
+    ----------
+    n_obs, n_row_updates, n_unique, n_chains, stop_reason, error
+        As in ``SamplerRun`` (``rankedassign.experiments._synthetic``).
+    best_error : float
+        ``eps*(k)`` for ``k = n_unique`` (:func:`best_error`), a fraction.
+    """
+
+    best_error: float
+
+
+@dataclass(frozen=True)
+class OptimumRun(RunRecord):
+    """One run of one family: both samplers, each beside its best error.
+
+    Attributes
+    ----------
+    run : int
+        Monte Carlo run.
+    family : str
+        Matrix family.
+    original, proposed : OptimumCall
+        The original sampler and the short chains with both rules (S3, T3).
+    """
+
+    run: int
+    family: str
+    original: OptimumCall
+    proposed: OptimumCall
+
+    @classmethod
+    def from_dict(cls, data: dict) -> OptimumRun:
+        """The record of one object of ``optimum_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, each sampler's call as an object.
+
+        Returns
+        -------
+        OptimumRun
+        """
+        calls = {k: OptimumCall.from_dict(data[k]) for k in ("original", "proposed")
+                 if k in data}
+        return super().from_dict({**data, **calls})
+
+
+def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> OptimumRun:
+    """One run of one family: both samplers and the best error for their distinct count."""
     s = run_seed(seed, run)
     problem = make_problem(family, s, cfg)
     tail = _cached_tail(problem) if family in ("diagonal", "uniform") else _tail_weights(problem)
     stall, stale = STALL_READINGS[0], STALE_READINGS[0]
-    out = {"run": run, "family": family}
+    out = {}
     for name, rec in (
         ("original", run_original(problem, cfg.original_obs, original_seed(s, family))),
         (
@@ -134,9 +195,9 @@ def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> dict:
             ),
         ),
     ):
-        rec["best_error"] = best_error(problem, rec["n_unique"], _tail=tail)
-        out[name] = rec
-    return out
+        out[name] = OptimumCall(**rec.to_dict(),
+                                best_error=best_error(problem, rec.n_unique, _tail=tail))
+    return OptimumRun(run=run, family=family, **out)
 
 
 @dataclass(frozen=True)
@@ -190,15 +251,14 @@ class OptimumRow:
     n_unique_se: float | None = None
 
 
-def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
+def summarise_optimum(runs: list[OptimumRun], families) -> list[OptimumRow]:
     """Rows ``(family, sampler)``: mean distinct solutions, error and best error (in %).
 
     Parameters
     ----------
-    runs : list of dict
-        Per-run records of the study's task: ``{"run", "family", "original", "proposed"}``,
-        each sampler's record holding ``n_obs``, ``n_unique``, ``error`` and ``best_error``
-        (fractions).
+    runs : list of OptimumRun
+        Per-run records of the study's task, each sampler's call holding ``n_obs``,
+        ``n_unique``, ``error`` and ``best_error`` (fractions).
     families : sequence of str
         Families to summarise, in report order.
 
@@ -209,13 +269,14 @@ def summarise_optimum(runs: list[dict], families) -> list[OptimumRow]:
     """
     rows = []
     for fam in families:
-        rs = [r for r in runs if r["family"] == fam]
+        rs = [r for r in runs if r.family == fam]
         n = len(rs)
         for sampler in ("original", "proposed"):
-            e = 100.0 * np.array([r[sampler]["error"] for r in rs])
-            b = 100.0 * np.array([r[sampler]["best_error"] for r in rs])
-            k = np.array([r[sampler]["n_unique"] for r in rs], dtype=float)
-            obs = np.array([r[sampler]["n_obs"] for r in rs], dtype=float)
+            calls = [getattr(r, sampler) for r in rs]
+            e = 100.0 * np.array([c.error for c in calls])
+            b = 100.0 * np.array([c.best_error for c in calls])
+            k = np.array([c.n_unique for c in calls], dtype=float)
+            obs = np.array([c.n_obs for c in calls], dtype=float)
 
             def se(x, n=n):
                 return float(x.std(ddof=1) / math.sqrt(n)) if n > 1 else None
@@ -318,6 +379,7 @@ OPTIMUM = register_study(Study(
     quick=lambda: OptimumConfig(n_mc=QUICK_MC),
     tasks=per_family_tasks,
     task=optimum_task,
+    run_from_dict=OptimumRun.from_dict,
     summarise=lambda runs, cfg: summarise_optimum(runs, cfg.families),
     render=render_optimum,
     plot=plot_optimum,

@@ -12,7 +12,7 @@ family depends on neither choice and is run once; each family's runs are those o
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 from ...validation import check_fields
 from .. import _format as fmt
@@ -28,7 +28,7 @@ from ..config import (
 )
 from ..paper import Z_LIMIT
 from ..registry import Study, as_rows, register_study
-from .table1 import Table1Config, table1_task
+from .table1 import Table1Config, Table1Run, table1_task
 
 #: Readings of the random family the paper's text admits (spec A2, A5): ``(pbar_d,
 #: granularity)`` with ``Pbar_D`` = ``r P_d`` or ``P_d`` and ``P_s, P_d`` drawn per row or once
@@ -92,7 +92,7 @@ class ReadingsConfig:
             raise ValueError(f"diagonal_readings must be a non-empty subset of "
                              f"{PBAR_D_READINGS}, got {diag!r}")
 
-__all__ = ["READINGS", "ReadingRow", "summarise_readings", "reading_verdicts"]
+__all__ = ["READINGS", "ReadingRow", "ReadingsRun", "summarise_readings", "reading_verdicts"]
 
 #: Quick mode: Monte Carlo runs (the per-run settings are the paper's).
 QUICK_MC = 20
@@ -205,19 +205,37 @@ def readings_tasks(cfg: ReadingsConfig, seed: int) -> list[tuple]:
     return [(_table1_config(cfg, *k), seed, r, k[0]) for k in keys for r in range(cfg.n_mc)]
 
 
-def readings_task(t1cfg: Table1Config, seed: int, run: int, family: str) -> dict:
+@dataclass(frozen=True)
+class ReadingsRun(Table1Run):
+    """A Table I run of one family under one reading, labelled with it.
+
+    Attributes
+    ----------
+    run, family, original, stall, stale, full
+        As in :class:`~rankedassign.experiments.studies.table1.Table1Run`.
+    key : list
+        ``[family, Pbar_D reading, granularity]``: the reading the family's matrix depends on
+        (None where it does not: the uniform family reads neither, the diagonal family its
+        ``diagonal_pbar_d`` alone).
+    """
+
+    key: list
+
+
+def readings_task(t1cfg: Table1Config, seed: int, run: int, family: str) -> ReadingsRun:
     """A Table I run of one family under the reading in ``t1cfg``, labelled with it."""
     out = table1_task(t1cfg, seed, run, family)
-    out["key"] = list(_key(family, t1cfg.diagonal_pbar_d, t1cfg.pbar_d, t1cfg.granularity))
-    return out
+    return ReadingsRun(
+        **{f.name: getattr(out, f.name) for f in fields(out)},
+        key=list(_key(family, t1cfg.diagonal_pbar_d, t1cfg.pbar_d, t1cfg.granularity)))
 
 
-def summarise_readings(runs: list[dict], cfg: ReadingsConfig) -> list[ReadingRow]:
+def summarise_readings(runs: list[ReadingsRun], cfg: ReadingsConfig) -> list[ReadingRow]:
     """Nine Table I rows (with the paper's cells) per combination of readings.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of ReadingsRun
         Per-run Table I records of the study's tasks, each labelled with the ``key`` of the
         reading its family depends on.
     cfg : ReadingsConfig
@@ -236,9 +254,10 @@ def summarise_readings(runs: list[dict], cfg: ReadingsConfig) -> list[ReadingRow
     for d, a, b in _combinations(cfg):
         for fam in FAMILIES:
             key = list(_key(fam, d, a, b))
-            rs = sorted((r for r in runs if r["key"] == key), key=lambda r: r["run"])
+            rs = sorted((r for r in runs if r.key == key), key=lambda r: r.run)
             for crit in CRITERIA:
-                stats = paired_summary([r["original"] for r in rs], [r[crit] for r in rs])
+                stats = paired_summary([r.original for r in rs],
+                                       [r.criterion(crit) for r in rs])
                 rows.append(with_paper(fam, crit, stats, ReadingRow, judge=judge,
                                            diagonal_pbar_d=d, pbar_d=a, granularity=b))
     return rows
@@ -375,6 +394,7 @@ READINGS = register_study(Study(
     quick=lambda: ReadingsConfig(n_mc=QUICK_MC),
     tasks=readings_tasks,
     task=readings_task,
+    run_from_dict=ReadingsRun.from_dict,
     summarise=summarise_readings,
     render=render_readings,
     plot=None,

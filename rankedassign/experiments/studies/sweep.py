@@ -13,6 +13,7 @@ from ...validation import check_fields
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._plots import legend_below, series_style
+from .._records import RunRecord
 from .._synthetic import KEY_SWEEP, family_index, make_problem, record
 from ..config import (
     DEFAULT_GRANULARITY,
@@ -80,7 +81,8 @@ class SweepConfig:
         if self.granularity not in ("row", "matrix"):
             raise ValueError(f"granularity must be 'row' or 'matrix', got {self.granularity!r}")
 
-__all__ = ["SWEEP", "SweepRow", "ChainLengthCheck", "summarise_sweep", "chain_length_checks"]
+__all__ = ["SWEEP", "SweepRow", "SweepRun", "SweepPoint", "ChainLengthCheck", "summarise_sweep",
+           "chain_length_checks"]
 
 #: Quick mode: Monte Carlo runs and observation budgets (the per-run settings are the paper's).
 QUICK_MC, QUICK_GRID = 10, (100, 1_000, 10_000, 100_000, 250_000)
@@ -177,7 +179,69 @@ class ChainLengthCheck:
     holds: bool
 
 
-def sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> dict:
+@dataclass(frozen=True)
+class SweepPoint(RunRecord):
+    """One sampler at one budget of a sweep run.
+
+    Attributes
+    ----------
+    sampler : str
+        ``"original"`` or ``"short-<L>"``.
+    chain_length : int or None
+        ``L`` of the short chains (None for the original sampler).
+    budget : int
+        Sweeps of the grid point.
+    n_obs, n_row_updates, n_unique, n_chains, stop_reason, error
+        The sampler's call, as in ``SamplerRun`` (``rankedassign.experiments._synthetic``).
+    """
+
+    sampler: str
+    chain_length: int | None
+    budget: int
+    n_obs: int
+    n_row_updates: int
+    n_unique: int
+    n_chains: int
+    stop_reason: str
+    error: float
+
+
+@dataclass(frozen=True)
+class SweepRun(RunRecord):
+    """Every grid point of one run and family (:func:`sweep_task`).
+
+    Attributes
+    ----------
+    run : int
+        Monte Carlo run.
+    family : str
+        Matrix family.
+    points : list of SweepPoint
+        In grid order, the original sampler first at each budget.
+    """
+
+    run: int
+    family: str
+    points: list
+
+    @classmethod
+    def from_dict(cls, data: dict) -> SweepRun:
+        """The record of one object of ``sweep_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, the points as objects.
+
+        Returns
+        -------
+        SweepRun
+        """
+        return super().from_dict({**data, "points": [
+            SweepPoint.from_dict(p) for p in data.get("points", [])]})
+
+
+def sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> SweepRun:
     """Every grid point of one run and family.
 
     Each sampler keeps one stream across the grid, so a run's curve follows one sampler
@@ -186,18 +250,18 @@ def sweep_task(cfg: SweepConfig, seed: int, run: int, family: str) -> dict:
     s = run_seed(seed, run)
     problem = make_problem(family, s, cfg)
     fi = family_index(family)
-    out = {"run": run, "family": family, "points": []}
+    points = []
     for n in cfg.obs_grid:
         res = sample_original(problem, n, rng=child_seed(s, KEY_SWEEP, fi, 0))
-        out["points"].append({"sampler": "original", "chain_length": None, "budget": n,
-                              **record(problem, res)})
+        points.append(SweepPoint(sampler="original", chain_length=None, budget=n,
+                                 **record(problem, res).to_dict()))
         for L in cfg.chain_lengths:
             if n < L:
                 continue
             res = sample_short_chains(problem, n // L, L, rng=child_seed(s, KEY_SWEEP, fi, L))
-            out["points"].append({"sampler": f"short-{L}", "chain_length": L, "budget": n,
-                                  **record(problem, res)})
-    return out
+            points.append(SweepPoint(sampler=f"short-{L}", chain_length=L, budget=n,
+                                     **record(problem, res).to_dict()))
+    return SweepRun(run=run, family=family, points=points)
 
 
 def _se(x) -> float | None:
@@ -206,15 +270,14 @@ def _se(x) -> float | None:
     return float(x.std(ddof=1) / math.sqrt(x.size)) if x.size > 1 else None
 
 
-def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
+def summarise_sweep(runs: list[SweepRun], cfg=None) -> list[SweepRow]:
     """Rows ``(family, sampler, budget)``: error statistics over runs (percent).
 
     Parameters
     ----------
-    runs : list of dict
-        Per-run records of the study's task, ``{"run", "family", "points"}``, each point a
-        sampler record (``sampler``, ``chain_length``, ``budget``, ``n_obs``, ``n_unique``,
-        ``error`` as a fraction).
+    runs : list of SweepRun
+        Per-run records of the study's task, each point a :class:`SweepPoint` (``sampler``,
+        ``chain_length``, ``budget``, ``n_obs``, ``n_unique``, ``error`` as a fraction).
     cfg : SweepConfig, optional
         Not used: the rows follow from the records alone. Accepted so the function has the
         ``summarise(runs, cfg)`` signature of every study.
@@ -224,27 +287,27 @@ def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
     list of SweepRow
         One row per (family, sampler, budget), in the order the records first name them.
     """
-    groups: dict[tuple, list[dict]] = {}
+    groups: dict[tuple, list[SweepPoint]] = {}
     diffs: dict[tuple, list[float]] = {}
     for r in runs:
-        ref = {p["budget"]: p["error"] for p in r["points"] if p["sampler"] == "original"}
-        for p in r["points"]:
-            key = (r["family"], p["sampler"], p["budget"])
+        ref = {p.budget: p.error for p in r.points if p.sampler == "original"}
+        for p in r.points:
+            key = (r.family, p.sampler, p.budget)
             groups.setdefault(key, []).append(p)
             # Paired with the original sampler of the same run (same matrix) and budget.
-            diffs.setdefault(key, []).append(100.0 * (p["error"] - ref[p["budget"]]))
+            diffs.setdefault(key, []).append(100.0 * (p.error - ref[p.budget]))
     rows = []
     for (fam, sampler, budget), ps in groups.items():
-        e = 100.0 * np.array([p["error"] for p in ps])
+        e = 100.0 * np.array([p.error for p in ps])
         d = np.array(diffs[fam, sampler, budget])
         n = len(ps)
         rows.append(SweepRow(
             family=fam,
             sampler=sampler,
-            chain_length=ps[0]["chain_length"],
+            chain_length=ps[0].chain_length,
             budget=budget,
-            n_obs_mean=float(np.mean([p["n_obs"] for p in ps])),
-            n_unique_mean=float(np.mean([p["n_unique"] for p in ps])),
+            n_obs_mean=float(np.mean([p.n_obs for p in ps])),
+            n_unique_mean=float(np.mean([p.n_unique for p in ps])),
             error_pct_mean=float(e.mean()),
             error_pct_se=float(e.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
             error_pct_q10=float(np.quantile(e, 0.1)),
@@ -252,8 +315,8 @@ def summarise_sweep(runs: list[dict], cfg=None) -> list[SweepRow]:
             diff_vs_original_pp_mean=float(d.mean()),
             diff_vs_original_pp_se=float(d.std(ddof=1) / math.sqrt(n)) if n > 1 else None,
             n_mc=n,
-            n_obs_se=_se([p["n_obs"] for p in ps]),
-            n_unique_se=_se([p["n_unique"] for p in ps]),
+            n_obs_se=_se([p.n_obs for p in ps]),
+            n_unique_se=_se([p.n_unique for p in ps]),
         ))
     return rows
 
@@ -429,6 +492,7 @@ SWEEP = register_study(Study(
     quick=lambda: SweepConfig(n_mc=QUICK_MC, obs_grid=QUICK_GRID),
     tasks=per_family_tasks,
     task=sweep_task,
+    run_from_dict=SweepRun.from_dict,
     summarise=summarise_sweep,
     render=render_sweep,
     plot=plot_sweep,

@@ -8,10 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ...validation import check_choice
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import bar_style, figure, legend_below
+from .._records import RunRecord
 from .._synthetic import (
+    SamplerRun,
     Table1Row,
     make_problem,
     original_seed,
@@ -57,7 +60,7 @@ class Table1Config(SyntheticConfig):
 
     families: tuple[str, ...] = (*FAMILIES, OTHER_RANDOM)
 
-__all__ = ["TABLE1", "summarise_table1", "family_label"]
+__all__ = ["TABLE1", "Table1Run", "summarise_table1", "family_label"]
 
 #: Active termination rules (stall reading, stale reading) of each Table I column, with the
 #: recommended readings S3 / T3 of spec §3.3.
@@ -70,29 +73,88 @@ CRITERION_RULES = {
 QUICK_MC = 40
 
 
-def table1_task(cfg: Table1Config, seed: int, run: int, family: str) -> dict:
+@dataclass(frozen=True)
+class Table1Run(RunRecord):
+    """One Monte Carlo run of one family: the original sampler and the three criteria.
+
+    Attributes
+    ----------
+    run : int
+        Monte Carlo run.
+    family : str
+        Matrix family.
+    original : SamplerRun
+        The original sampler (``original_obs`` sweeps).
+    stall, stale, full : SamplerRun
+        The short chains under each Table I criterion (:data:`CRITERION_RULES`).
+    """
+
+    run: int
+    family: str
+    original: SamplerRun
+    stall: SamplerRun
+    stale: SamplerRun
+    full: SamplerRun
+
+    @classmethod
+    def from_dict(cls, data: dict):
+        """The record of one object of ``table1_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields, each sampler's call as an object.
+
+        Returns
+        -------
+        Table1Run
+            (or the subclass it is called on).
+        """
+        calls = {k: SamplerRun.from_dict(data[k]) for k in ("original", *CRITERIA) if k in data}
+        return super().from_dict({**data, **calls})
+
+    def criterion(self, crit: str) -> SamplerRun:
+        """The short chains' call under one Table I criterion.
+
+        Parameters
+        ----------
+        crit : {"stall", "stale", "full"}
+            The criterion (:data:`~rankedassign.experiments.CRITERIA`).
+
+        Returns
+        -------
+        SamplerRun
+            Its field of that name.
+
+        Raises
+        ------
+        ValueError
+            For another criterion.
+        """
+        return getattr(self, check_choice(crit, "criterion", CRITERIA))
+
+
+def table1_task(cfg: Table1Config, seed: int, run: int, family: str) -> Table1Run:
     """One Monte Carlo run of one family: the original sampler and the three criteria."""
     s = run_seed(seed, run)
     problem = make_problem(family, s, cfg)
-    out = {
-        "run": run,
-        "family": family,
-        "original": run_original(problem, cfg.original_obs, original_seed(s, family)),
-    }
+    calls = {}
     for crit in CRITERIA:
         stall, stale = CRITERION_RULES[crit]
-        out[crit] = run_proposed(
+        calls[crit] = run_proposed(
             problem, cfg, proposed_seed(s, family, stall, stale), stall=stall, stale=stale
         )
-    return out
+    return Table1Run(
+        run=run, family=family,
+        original=run_original(problem, cfg.original_obs, original_seed(s, family)), **calls)
 
 
-def summarise_table1(runs: list[dict], cfg: Table1Config) -> list[Table1Row]:
+def summarise_table1(runs: list[Table1Run], cfg: Table1Config) -> list[Table1Row]:
     """Table I rows (one per family x criterion) from per-run records, with the paper's cells.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of Table1Run
         Per-run records (``run_study("table1", ..., return_runs=True)[1]``).
     cfg : Table1Config
         The settings of the runs (row order: ``cfg.families``; the cells are judged against
@@ -106,9 +168,9 @@ def summarise_table1(runs: list[dict], cfg: Table1Config) -> list[Table1Row]:
     rows = []
     judge = paper_settings(cfg)
     for fam in cfg.families:
-        rs = sorted((r for r in runs if r["family"] == fam), key=lambda r: r["run"])
+        rs = sorted((r for r in runs if r.family == fam), key=lambda r: r.run)
         for crit in CRITERIA:
-            stats = paired_summary([r["original"] for r in rs], [r[crit] for r in rs])
+            stats = paired_summary([r.original for r in rs], [r.criterion(crit) for r in rs])
             rows.append(with_paper(fam, crit, stats, judge=judge))
     return rows
 
@@ -313,6 +375,7 @@ TABLE1 = register_study(Study(
     quick=lambda: Table1Config(n_mc=QUICK_MC),
     tasks=per_family_tasks,
     task=table1_task,
+    run_from_dict=Table1Run.from_dict,
     summarise=summarise_table1,
     render=render_table1,
     plot=plot_table1,

@@ -25,6 +25,7 @@ theirs), ``child_seed(s, 7, family, method, budget)`` drives one method at one b
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import time
 from dataclasses import dataclass, field, replace
@@ -59,6 +60,7 @@ from ...validation import MAX_COUNT, check_choice, check_fields, check_real
 from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._plots import LINESTYLES, MARKERS, PALETTE, figure, legend_below
+from .._records import RunRecord
 from .._synthetic import make_problem as make_single
 from ..config import (
     DEFAULT_DIAGONAL_PBAR_D,
@@ -70,7 +72,7 @@ from ..config import (
     check_positive,
 )
 from ..registry import Study, register_study
-from ..vocabulary import canonical_truncation
+from ..vocabulary import canonical_variant, variant
 
 #: Problems of the ``tempering_herding`` study: the paper's three families, the multi-sensor
 #: cases A/B/C (``"ms:<size>/<family>"``, :mod:`rankedassign.multisensor.synthetic`) and the
@@ -78,14 +80,69 @@ from ..vocabulary import canonical_truncation
 #: :func:`rankedassign.adaptive_birth.synthetic.make_family`).
 TH_FAMILIES = (*FAMILIES, "ms:A/random_coupled", "ms:B/random", "ms:C/uniform",
                "birth:diagonal", "birth:uniform", "birth:random")
-#: Methods of the ``tempering_herding`` study, in report order (``lbp``: marginals only).
-#: The samplers by their classes' ``name`` (:mod:`rankedassign.experiments.vocabulary`; the old
-#: ``"gibbs"`` and ``"short"`` still read, deprecated).
-TH_METHODS = ("original", "short-chain", "herded-shared", "herded-full",
-              "herded-short-shared", "herded-short-full", "beta-0.5", "beta-0.7", "beta-0.9",
-              "zanella-roberts", "lbp")
-#: LMB associations of the study's tracking part, in report order.
-TH_TRACKING_METHODS = ("exact", "original", "short-chain", "herded", "herded-short", "lbp")
+#: The study's variants of one truncation class: ``(truncation, variant) -> settings``, the
+#: truncation by its class's ``name``, the variant the settings that tell it from the class's
+#: defaults written out (:func:`~rankedassign.experiments.vocabulary.variant`): herded
+#: ``keys`` and short ``chains`` (:class:`~rankedassign.tracking.HerdedGibbs`'s ``keys`` and
+#: ``n_chains``), a β-chain's ``beta`` and the Zanella–Roberts ``scheme`` (its β the study's
+#: ``zr_beta``; :class:`~rankedassign.tracking.TemperedGibbs`).
+TH_VARIANTS = {
+    (tracking.OriginalGibbs.name, ""): {},
+    (tracking.ShortChainGibbs.name, ""): {},
+    **{(tracking.HerdedGibbs.name, variant(**v)): v for v in (
+        {"keys": "shared"}, {"keys": "full"}, {"chains": "short", "keys": "shared"},
+        {"chains": "short", "keys": "full"})},
+    **{(tracking.TemperedGibbs.name, variant(**v)): v for v in (
+        {"beta": 0.5}, {"beta": 0.7}, {"beta": 0.9}, {"scheme": "zanella-roberts"})},
+    (tracking.Exact.name, ""): {},
+    (tracking.LBP.name, ""): {},
+}
+#: Methods of the ``tempering_herding`` study, in report order (LBP: marginals only), each a
+#: ``(truncation, variant)`` pair of :data:`TH_VARIANTS` (a ``--config`` file writes
+#: ``["herded", "keys=full"]``, or ``"lbp"`` alone for a truncation without variant; the old
+#: strings ``"herded-full"``, ``"beta-0.5"``, ... still read, deprecated:
+#: :data:`~rankedassign.experiments.vocabulary.DEPRECATED_VARIANTS`).
+TH_METHODS = tuple(m for m in TH_VARIANTS if m[0] != tracking.Exact.name)
+#: LMB associations of the study's tracking part, in report order (the same pairs).
+TH_TRACKING_METHODS = (("exact", ""), ("original", ""), ("short-chain", ""),
+                       ("herded", "keys=shared"), ("herded", "chains=short,keys=shared"),
+                       ("lbp", ""))
+ORIGINAL, LBP = ("original", ""), ("lbp", "")
+ZANELLA_ROBERTS = ("tempered", "scheme=zanella-roberts")
+HERDED_SHARED = ("herded", "keys=shared")
+
+
+def check_th_method(method, setting: str, choices) -> tuple:
+    """``method`` as a tuple if it is a ``(truncation, variant)`` pair of ``choices``.
+
+    Parameters
+    ----------
+    method : object
+        A ``methods`` or ``tracking_methods`` entry, after
+        :func:`~rankedassign.experiments.vocabulary.canonical_variant`.
+    setting : str
+        The setting's name, for the message.
+    choices : tuple of (str, str)
+        :data:`TH_METHODS` or :data:`TH_TRACKING_METHODS`.
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    ValueError
+        For anything else, listing the choices as a ``--config`` file writes them.
+
+    Examples
+    --------
+    >>> check_th_method(("herded", "keys=full"), "methods", TH_METHODS)
+    ('herded', 'keys=full')
+    """
+    if isinstance(method, (list, tuple)) and tuple(method) in choices:
+        return tuple(method)
+    shown = ", ".join(json.dumps(list(m)) for m in choices)
+    raise ValueError(f"unknown {setting}: method {method!r}; expected one of {shown}")
 
 
 @dataclass(frozen=True)
@@ -98,9 +155,10 @@ class TemperingHerdingConfig:
         Monte Carlo runs per problem family (random families re-drawn every run).
     families : tuple of str
         Problem families (:data:`TH_FAMILIES`).
-    methods : tuple of str
-        Methods (:data:`TH_METHODS`); a method that does not apply to a family's problem kind
-        (LBP is single-sensor only) is reported as not applicable.
+    methods : tuple of (str, str)
+        Methods, ``(truncation, variant)`` pairs (:data:`TH_METHODS`); a method that does not
+        apply to a family's problem kind (LBP is single-sensor only) is reported as not
+        applicable.
     budgets : tuple of int
         Sweeps per call, strictly increasing. One chain runs the budget; short chains run
         ``budget // L`` chains of ``L = min(chain_length, budget)`` sweeps (the stall and
@@ -119,8 +177,8 @@ class TemperingHerdingConfig:
         Monte Carlo runs of the tracking part per preset (0: no tracking part).
     presets : tuple of str
         Tracking presets (:data:`~rankedassign.tracking.models.PRESETS`).
-    tracking_methods : tuple of str
-        LMB associations (:data:`TH_TRACKING_METHODS`).
+    tracking_methods : tuple of (str, str)
+        LMB associations, ``(truncation, variant)`` pairs (:data:`TH_TRACKING_METHODS`).
     n_scans : int
         Scans per tracking run.
     tracking_obs : int
@@ -140,7 +198,7 @@ class TemperingHerdingConfig:
     >>> TemperingHerdingConfig(methods=("tempered",))  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: unknown methods: method 'tempered'; expected one of (...)
+    ValueError: unknown methods: method 'tempered'; expected one of ["original", ""], ...
     """
 
     n_mc: int = 20
@@ -185,9 +243,12 @@ class TemperingHerdingConfig:
             values = getattr(self, name)
             if not isinstance(values, tuple) or (not values and name != "presets"):
                 raise ValueError(f"{name} must be a non-empty tuple, got {values!r}")
-            if name in ("methods", "tracking_methods"):  # the old spellings, deprecated
-                values = tuple(canonical_truncation(v, name) for v in values)
-                object.__setattr__(self, name, values)
+            if name in ("methods", "tracking_methods"):
+                # pairs; a plain truncation's name alone; the old strings, deprecated
+                object.__setattr__(self, name, tuple(
+                    check_th_method(canonical_variant(v, name), name, allowed)
+                    for v in values))
+                continue
             for v in values:
                 check_choice(v, f"{name}: {one}", allowed)
         b = self.budgets
@@ -205,6 +266,8 @@ class TemperingHerdingConfig:
         check_ospa(self.ospa_c, self.ospa_p)  # p >= 1, as the metric requires (spec §7)
 
 __all__ = ["TEMPERING_HERDING", "THRow", "THTrackingRow", "THSummary", "FUTURE_WORK",
+           "THCall", "THLBPCall", "THMethodCalls", "THSyntheticRun", "THTrackingRun",
+           "run_from_dict", "TH_VARIANTS", "check_th_method",
            "summarise_tempering_herding", "make_problem", "applies"]
 
 #: The paper's closing sentence, quoted by the report in place of a paper column.
@@ -220,27 +283,48 @@ QUICK_MC, QUICK_TRACKING_MC, QUICK_BUDGETS = 3, 1, (100, 1_000, 10_000)
 BIRTH_SENSORS = 4
 
 _LABELS = {
-    "original": "Gibbs, one chain",
-    "short-chain": "short chains",
-    "herded-shared": "herded, shared keys",
-    "herded-full": "herded, full keys",
-    "herded-short-shared": "herded short chains, shared keys",
-    "herded-short-full": "herded short chains, full keys",
-    "beta-0.5": "Gibbs at β = 0.5",
-    "beta-0.7": "Gibbs at β = 0.7",
-    "beta-0.9": "Gibbs at β = 0.9",
-    "zanella-roberts": "Zanella–Roberts",
-    "lbp": "loopy BP (marginals only)",
-    # the tracking part's associations
-    "exact": "exact",
-    "herded": "herded, one chain",
-    "herded-short": "herded short chains",
+    ORIGINAL: "Gibbs, one chain",
+    ("short-chain", ""): "short chains",
+    HERDED_SHARED: "herded, shared keys",
+    ("herded", "keys=full"): "herded, full keys",
+    ("herded", "chains=short,keys=shared"): "herded short chains, shared keys",
+    ("herded", "chains=short,keys=full"): "herded short chains, full keys",
+    ("tempered", "beta=0.5"): "Gibbs at β = 0.5",
+    ("tempered", "beta=0.7"): "Gibbs at β = 0.7",
+    ("tempered", "beta=0.9"): "Gibbs at β = 0.9",
+    ZANELLA_ROBERTS: "Zanella–Roberts",
+    LBP: "loopy BP (marginals only)",
+    ("exact", ""): "exact",
 }
+# the tracking part's herded associations (its keys are the class's default, shared)
+_TRACKING_LABELS = {HERDED_SHARED: "herded, one chain",
+                    ("herded", "chains=short,keys=shared"): "herded short chains"}
 
 
-def label(method: str) -> str:
-    """The report's name of a method."""
-    return _LABELS.get(method, method)
+def label(method: tuple, tracking_part: bool = False) -> str:
+    """The report's name of a method.
+
+    Parameters
+    ----------
+    method : (str, str)
+        A ``(truncation, variant)`` pair.
+    tracking_part : bool, optional
+        Name it as the tracking part's association (where the herded keys are the default).
+
+    Returns
+    -------
+    str
+        Its label ("herded, full keys"), or the pair as ``truncation (variant)``.
+
+    Examples
+    --------
+    >>> label(("tempered", "scheme=zanella-roberts")), label(("herded", "keys=shared"), True)
+    ('Zanella–Roberts', 'herded, one chain')
+    """
+    method = tuple(method)
+    if tracking_part and method in _TRACKING_LABELS:
+        return _TRACKING_LABELS[method]
+    return _LABELS.get(method, f"{method[0]} ({method[1]})" if method[1] else method[0])
 
 
 def kind_name(family: str) -> str:
@@ -290,12 +374,12 @@ def make_problem(family: str, run_ss, cfg: TemperingHerdingConfig):
     return make_family(family[6:], BIRTH_SENSORS, rng=child_seed(run_ss, 0))
 
 
-def applies(method: str, problem) -> bool:
+def applies(method: tuple, problem) -> bool:
     """Whether ``method`` runs on ``problem``'s kind.
 
     Parameters
     ----------
-    method : str
+    method : (str, str)
         One of :data:`TH_METHODS`.
     problem : AssignmentProblem, MultiSensorProblem or AdaptiveBirthProblem
 
@@ -309,14 +393,14 @@ def applies(method: str, problem) -> bool:
     Examples
     --------
     >>> from rankedassign import synthetic
-    >>> applies("lbp", synthetic.diagonal()), applies("original", synthetic.diagonal())
+    >>> applies(("lbp", ""), synthetic.diagonal()), applies(("original", ""), synthetic.diagonal())
     (True, True)
     """
-    if method == "zanella-roberts":
+    if tuple(method) == ZANELLA_ROBERTS:
         return kind_of(problem).tempered is not None
-    if method == "lbp":
+    if tuple(method) == LBP:
         return isinstance(problem, AssignmentProblem)
-    if method.startswith("herded"):
+    if method[0] == tracking.HerdedGibbs.name:
         return "herded" in kind_of(problem).draws
     return True
 
@@ -332,21 +416,24 @@ def _short(problem, budget, cfg, rng, **extra):
                                **_options(problem, cfg))
 
 
-def _call(method: str, problem, budget: int, cfg, rng):
-    """Run one method; ``(result, sweeps spent)``."""
+def _call(method: tuple, problem, budget: int, cfg, rng):
+    """Run one method; ``(result, sweeps spent)`` (LBP: its beliefs, 0 sweeps)."""
     opts = _options(problem, cfg)
-    if method == "original":
+    truncation, settings = method[0], TH_VARIANTS[tuple(method)]
+    if truncation == tracking.LBP.name:
+        return lbp_marginals(problem), 0
+    if truncation == tracking.OriginalGibbs.name:
         res = sample_original(problem, budget, rng=rng, **opts)
-    elif method == "short-chain":
+    elif truncation == tracking.ShortChainGibbs.name:
         res = _short(problem, budget, cfg, rng)
-    elif method in ("herded-shared", "herded-full"):
-        res = sample_herded(problem, budget, keys=method.split("-")[1], rng=rng, **opts)
-    elif method.startswith("herded-short-"):
+    elif truncation == tracking.HerdedGibbs.name and "chains" not in settings:
+        res = sample_herded(problem, budget, keys=settings["keys"], rng=rng, **opts)
+    elif truncation == tracking.HerdedGibbs.name:  # short chains, seeded uniform weights
         res = _short(problem, budget, cfg, rng,
-                     herding=Herding(keys=method.rsplit("-", 1)[1], init="uniform"))
-    elif method.startswith("beta-"):
-        res = sample_original(problem, budget, rng=rng, beta=float(method[5:]), **opts)
-    elif method == "zanella-roberts":
+                     herding=Herding(keys=settings["keys"], init="uniform"))
+    elif "beta" in settings:
+        res = sample_original(problem, budget, rng=rng, beta=settings["beta"], **opts)
+    elif settings == {"scheme": "zanella-roberts"}:
         # budget x (row updates per sweep) moves; its target is the exact posterior, so the
         # multi-sensor Gibbs method option does not apply to it
         rows = problem.n_sensors if isinstance(problem, AdaptiveBirthProblem) else problem.n_rows
@@ -392,23 +479,225 @@ def _warm(problem, cfg) -> None:
     _WARM.add(kind)
 
 
-def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str) -> dict:
+# ------------------------------------------------------------------------------- run records
+@dataclass(frozen=True)
+class THCall(RunRecord):
+    """One sampler's call at one budget in one run of :func:`synthetic_task`.
+
+    Attributes
+    ----------
+    n_obs : int
+        Sweeps spent (Zanella–Roberts: the budget, its moves / P).
+    n_unique : int
+        Unique assignments found.
+    seconds : float
+        Wall time of the call.
+    error : float
+        Exact truncation error (spec eq. 1.9) of the unique assignments, a fraction.
+    l1 : float or None
+        Mean row L1 error of the marginals (None where not computed: adaptive birth).
+    """
+
+    n_obs: int
+    n_unique: int
+    seconds: float
+    error: float
+    l1: float | None
+
+
+@dataclass(frozen=True)
+class THLBPCall(RunRecord):
+    """Loopy BP's one call in one run of :func:`synthetic_task` (it has no budget).
+
+    Attributes
+    ----------
+    l1 : float or None
+        Mean row L1 error of its beliefs against the exact marginals.
+    seconds : float
+        Wall time of the call.
+    iterations : int
+        Message-passing iterations.
+    converged : bool
+        Whether the messages converged within the iteration limit.
+    """
+
+    l1: float | None
+    seconds: float
+    iterations: int
+    converged: bool
+
+
+@dataclass(frozen=True)
+class THMethodCalls(RunRecord):
+    """One method's calls in one run of :func:`synthetic_task`.
+
+    Attributes
+    ----------
+    truncation, variant : str
+        The method (:data:`TH_METHODS`).
+    calls : dict or None
+        ``{str(budget): THCall}``; LBP's one call under the key ``"0"`` (a
+        :class:`THLBPCall`); None if the method does not apply to the problem's kind.
+    """
+
+    truncation: str
+    variant: str
+    calls: dict | None
+
+    @classmethod
+    def from_dict(cls, data: dict) -> THMethodCalls:
+        """The record of one method's object of a saved run.
+
+        Parameters
+        ----------
+        data : dict
+            Its fields; the calls as objects.
+
+        Returns
+        -------
+        THMethodCalls
+        """
+        def call(c):
+            return (THCall if "error" in c else THLBPCall).from_dict(c)
+
+        calls = data.get("calls")
+        return super().from_dict({**data, "calls": None if calls is None else {
+            b: call(c) for b, c in calls.items()}})
+
+
+@dataclass(frozen=True)
+class THSyntheticRun(RunRecord):
+    """One run of one family: every method at every budget (:func:`synthetic_task`).
+
+    Attributes
+    ----------
+    part : str
+        ``"synthetic"``.
+    run : int
+        Monte Carlo run.
+    family : str
+        Problem family (:data:`TH_FAMILIES`).
+    kind : str
+        The problem's kind (``"single"``, ``"multisensor"``, ``"adaptive_birth"``).
+    methods : tuple of THMethodCalls
+        Every method of the settings, in their order.
+    """
+
+    part: str
+    run: int
+    family: str
+    kind: str
+    methods: tuple
+
+    @classmethod
+    def from_dict(cls, data: dict) -> THSyntheticRun:
+        """The record of a ``"synthetic"`` object of ``tempering_herding_runs.json``.
+
+        Parameters
+        ----------
+        data : dict
+            The record's fields; the methods as objects.
+
+        Returns
+        -------
+        THSyntheticRun
+        """
+        return super().from_dict({**data, "methods": tuple(
+            THMethodCalls.from_dict(m) for m in data.get("methods", ()))})
+
+    def calls(self, method: tuple) -> dict | None:
+        """The calls of ``method``, a ``(truncation, variant)`` pair (None: not run).
+
+        Parameters
+        ----------
+        method : (str, str)
+            One of :data:`TH_METHODS`.
+
+        Returns
+        -------
+        dict or None
+            :attr:`THMethodCalls.calls`, or None if the method did not apply or was not run.
+        """
+        return next((m.calls for m in self.methods
+                     if (m.truncation, m.variant) == tuple(method)), None)
+
+
+@dataclass(frozen=True)
+class THTrackingRun(RunRecord):
+    """One tracking run of one association on one preset (:func:`tracking_task`).
+
+    Attributes
+    ----------
+    part : str
+        ``"tracking"``.
+    run : int
+        Monte Carlo run.
+    preset : str
+        Tracking preset.
+    truncation, variant : str
+        The LMB association (:data:`TH_TRACKING_METHODS`).
+    ospa2, gospa : float
+        OSPA(2) and GOSPA (``α = 2``, OSPA(2)'s ``c`` and ``p``) averaged over the scans (m).
+    sweeps : int
+        Sweeps over the run.
+    seconds : float
+        Wall time of the whole run.
+    association_seconds : float
+        The part of it spent in the association.
+    """
+
+    part: str
+    run: int
+    preset: str
+    truncation: str
+    variant: str
+    ospa2: float
+    gospa: float
+    sweeps: int
+    seconds: float
+    association_seconds: float
+
+
+def run_from_dict(data: dict) -> THSyntheticRun | THTrackingRun:
+    """The record of one object of ``tempering_herding_runs.json``, by its ``part``.
+
+    Parameters
+    ----------
+    data : dict
+        A synthetic or a tracking run's fields.
+
+    Returns
+    -------
+    THSyntheticRun or THTrackingRun
+
+    Raises
+    ------
+    ValueError
+        If ``part`` is neither ``"synthetic"`` nor ``"tracking"``.
+    """
+    part = data.get("part") if isinstance(data, dict) else None
+    if part not in ("synthetic", "tracking"):
+        raise ValueError(f"a tempering_herding run has part 'synthetic' or 'tracking', got "
+                         f"{part!r}")
+    return (THSyntheticRun if part == "synthetic" else THTrackingRun).from_dict(data)
+
+
+def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int,
+                   family: str) -> THSyntheticRun:
     """One run of one family: every method at every budget, graded by the oracle.
 
     Returns
     -------
-    dict
-        ``part="synthetic"``, ``run``, ``family``, ``kind`` and ``methods``: per method either
-        ``None`` (not applicable) or ``{budget: record}`` with ``n_obs``, ``n_unique``,
-        ``error`` (fraction), ``seconds`` and ``l1`` (``None`` where not computed); LBP's single
-        record (key ``"0"``) has ``l1``, ``seconds``, ``iterations`` and ``converged``.
+    THSyntheticRun
+        Per method (:class:`THMethodCalls`) None (not applicable) or
+        ``{str(budget): THCall}``; LBP's single call (key ``"0"``) a :class:`THLBPCall`.
 
     Examples
     --------
     >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
-    >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=("original", "lbp"))
+    >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=(("original", ""), ("lbp", "")))
     >>> out = synthetic_task(cfg, 0, 0, "uniform")
-    >>> out["methods"]["original"]["50"]["n_obs"], out["methods"]["lbp"]["0"]["converged"]
+    >>> out.calls(("original", ""))["50"].n_obs, out.calls(("lbp", ""))["0"].converged
     (50, True)
     """
     s = run_seed(seed, run)
@@ -417,63 +706,72 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int, family: str
     kind = kind_of(problem).name
     exact = None if kind == "adaptive_birth" else oracle.marginals(problem)
     fi = TH_FAMILIES.index(family)
-    out = {"part": "synthetic", "run": run, "family": family, "kind": kind, "methods": {}}
+    methods = []
     for method in cfg.methods:
-        if not applies(method, problem):
-            out["methods"][method] = None
-            continue
-        mi = TH_METHODS.index(method)
-        if method == "lbp":
-            t0 = time.perf_counter()
-            lb = lbp_marginals(problem)
-            dt = time.perf_counter() - t0
-            out["methods"][method] = {"0": {
-                "l1": _l1(problem, exact, marginals=lb.marginals), "seconds": dt,
-                "iterations": int(lb.iterations), "converged": bool(lb.converged)}}
-            continue
-        recs = {}
-        for budget in cfg.budgets:
-            rng = child_seed(s, KEY_METHOD, fi, mi, budget)
-            t0 = time.perf_counter()
-            res, n_obs = _call(method, problem, budget, cfg, rng)
-            dt = time.perf_counter() - t0
-            if method == "zanella-roberts":
-                l1 = _l1(problem, exact, marginals=res.marginals)
-            else:
-                l1 = _l1(problem, exact, res.assignments, res.costs)
-            recs[str(budget)] = {
-                "n_obs": n_obs, "n_unique": int(len(res.costs)), "seconds": dt,
-                "error": float(oracle.truncation_error(problem, res.assignments)), "l1": l1}
-        out["methods"][method] = recs
-    return out
+        calls = _method_calls(method, problem, exact, cfg, s, fi)
+        methods.append(THMethodCalls(truncation=method[0], variant=method[1], calls=calls))
+    return THSyntheticRun(part="synthetic", run=run, family=family, kind=kind,
+                          methods=tuple(methods))
 
 
-def _association(method: str, cfg: TemperingHerdingConfig):
-    if method == "exact":
+def _method_calls(method: tuple, problem, exact, cfg, s, fi) -> dict | None:
+    """One method's calls at every budget (:attr:`THMethodCalls.calls`)."""
+    if not applies(method, problem):
+        return None
+    # the stream of (family, method, budget) is keyed by the method's place in TH_METHODS
+    mi = TH_METHODS.index(method)
+    if method == LBP:
+        t0 = time.perf_counter()
+        lb, _ = _call(method, problem, 0, cfg, None)
+        dt = time.perf_counter() - t0
+        return {"0": THLBPCall(
+            l1=_l1(problem, exact, marginals=lb.marginals), seconds=dt,
+            iterations=int(lb.iterations), converged=bool(lb.converged))}
+    recs = {}
+    for budget in cfg.budgets:
+        rng = child_seed(s, KEY_METHOD, fi, mi, budget)
+        t0 = time.perf_counter()
+        res, n_obs = _call(method, problem, budget, cfg, rng)
+        dt = time.perf_counter() - t0
+        if method == ZANELLA_ROBERTS:
+            l1 = _l1(problem, exact, marginals=res.marginals)
+        else:
+            l1 = _l1(problem, exact, res.assignments, res.costs)
+        recs[str(budget)] = THCall(
+            n_obs=n_obs, n_unique=int(len(res.costs)), seconds=dt,
+            error=float(oracle.truncation_error(problem, res.assignments)), l1=l1)
+    return recs
+
+
+def _association(method: tuple, cfg: TemperingHerdingConfig):
+    truncation, settings = method[0], TH_VARIANTS[tuple(method)]
+    if truncation == tracking.Exact.name:
         return tracking.Exact()
-    if method == "original":
+    if truncation == tracking.OriginalGibbs.name:
         return tracking.OriginalGibbs(cfg.tracking_obs)
-    if method == "short-chain":
+    if truncation == tracking.ShortChainGibbs.name:
         return tracking.ShortChainGibbs(cfg.tracking_chains, cfg.chain_length,
                                         tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale)
-    if method == "herded":
-        return tracking.HerdedGibbs(cfg.tracking_obs)
-    if method == "herded-short":
-        return tracking.HerdedGibbs(cfg.chain_length, n_chains=cfg.tracking_chains,
+    if truncation == tracking.HerdedGibbs.name and "chains" not in settings:
+        return tracking.HerdedGibbs(cfg.tracking_obs, keys=settings["keys"])
+    if truncation == tracking.HerdedGibbs.name:
+        return tracking.HerdedGibbs(cfg.chain_length, keys=settings["keys"],
+                                    n_chains=cfg.tracking_chains,
                                     tau_stall=cfg.tau_stall, tau_stale=cfg.tau_stale)
     return tracking.LBP()
 
 
 def tracking_task(cfg: TemperingHerdingConfig, seed: int, run: int, preset: str,
-                  method: str) -> dict:
+                  method: tuple) -> THTrackingRun:
     """One tracking run of one association on one preset (every method sees the same data).
+
+    ``method`` is a ``(truncation, variant)`` pair of :data:`TH_TRACKING_METHODS`.
 
     Returns
     -------
-    dict
-        ``part="tracking"``, ``run``, ``preset``, ``method``, ``ospa2`` and ``gospa`` (means
-        over scans; GOSPA with ``α = 2`` and OSPA(2)'s ``c`` and ``p``), ``sweeps`` (total),
-        ``seconds`` (the whole run) and ``association_seconds``.
+    THTrackingRun
+        OSPA(2) and GOSPA averaged over the scans, the sweeps, the seconds of the run and of
+        its association.
     """
     t0 = time.perf_counter()
     sr = tracking.run_scenario(preset, _association(method, cfg), rng=run_seed(seed, run),
@@ -481,11 +779,11 @@ def tracking_task(cfg: TemperingHerdingConfig, seed: int, run: int, preset: str,
     seconds = time.perf_counter() - t0
     o2 = metrics.ospa2(sr.truth, sr.estimates, cfg.ospa_c, cfg.ospa_p, cfg.ospa_window)
     g = metrics.gospa_series(sr.truth, sr.estimates, cfg.ospa_c, cfg.ospa_p)
-    return {"part": "tracking", "run": run, "preset": preset, "method": method,
-            "ospa2": float(np.mean(o2.value)), "gospa": float(np.mean(g.value)),
-            "sweeps": int(np.sum(sr.sweeps)),
-            "seconds": seconds,
-            "association_seconds": float(np.sum(sr.timings["association"]))}
+    return THTrackingRun(part="tracking", run=run, preset=preset, truncation=method[0],
+                         variant=method[1],
+                         ospa2=float(np.mean(o2.value)), gospa=float(np.mean(g.value)),
+                         sweeps=int(np.sum(sr.sweeps)), seconds=seconds,
+                         association_seconds=float(np.sum(sr.timings["association"])))
 
 
 def th_tasks(cfg: TemperingHerdingConfig, seed: int) -> list[tuple]:
@@ -506,7 +804,7 @@ def _warm_group(task: tuple):
     return ("tracking", task[5])
 
 
-def th_task(part: str, *args) -> dict:
+def th_task(part: str, *args) -> THSyntheticRun | THTrackingRun:
     """Run one task of :func:`th_tasks` (the registry's single task function)."""
     return synthetic_task(*args) if part == "synthetic" else tracking_task(*args)
 
@@ -518,7 +816,9 @@ class THRow:
 
     Attributes
     ----------
-    family, kind, method : str
+    family, kind : str
+    truncation, variant : str
+        The method (:data:`TH_METHODS`; :attr:`cell` the pair).
     budget : int
         Sweeps per call (0 for LBP, which has no budget).
     n_runs : int
@@ -540,7 +840,8 @@ class THRow:
 
     family: str
     kind: str
-    method: str
+    truncation: str
+    variant: str
     budget: int
     n_runs: int
     obs_mean: float
@@ -553,6 +854,11 @@ class THRow:
     seconds_min: float | None = None
     unique_se: float | None = None
 
+    @property
+    def cell(self) -> tuple:
+        """The method: ``(truncation, variant)``."""
+        return (self.truncation, self.variant)
+
 
 @dataclass(frozen=True)
 class THTrackingRow:
@@ -560,9 +866,10 @@ class THTrackingRow:
 
     Attributes
     ----------
-    preset, method : str
-        Tracking preset and association
-        (:data:`TH_TRACKING_METHODS`).
+    preset : str
+        Tracking preset.
+    truncation, variant : str
+        The association (:data:`TH_TRACKING_METHODS`; :attr:`cell` the pair).
     n_runs : int
     ospa2_mean, ospa2_se : float or None
         OSPA(2) averaged over scans (m), its mean over runs and standard error.
@@ -579,7 +886,8 @@ class THTrackingRow:
     """
 
     preset: str
-    method: str
+    truncation: str
+    variant: str
     n_runs: int
     ospa2_mean: float
     ospa2_se: float | None
@@ -592,6 +900,11 @@ class THTrackingRow:
     seconds_se: float | None = None
     association_seconds_se: float | None = None
 
+    @property
+    def cell(self) -> tuple:
+        """The association: ``(truncation, variant)``."""
+        return (self.truncation, self.variant)
+
 
 @dataclass(frozen=True)
 class THSummary:
@@ -603,11 +916,12 @@ class THSummary:
     tracking : list of THTrackingRow
     verdicts : dict
         Family -> ``{"obs": {budget: method}, "time": {budget: method}, "l1": {budget:
-        method}}``: the best method at equal observations (lowest mean error at that
-        budget), at equal wall time (secondary: lowest error at the time the Gibbs chain
-        takes for that budget, each method read off its own curve of error against its
-        minimum time over the runs, a method that finished sooner keeping the error of its
-        slowest call) and the lowest marginal error at that budget.
+        method}}``, each method a ``(truncation, variant)`` pair: the best method at equal
+        observations (lowest mean error at that budget), at equal wall time (secondary:
+        lowest error at the time the Gibbs chain takes for that budget, each method read off
+        its own curve of error against its minimum time over the runs, a method that finished
+        sooner keeping the error of its slowest call) and the lowest marginal error at that
+        budget.
     herded_vs_gibbs : dict
         Family -> ``{budget: [k, n]}``: runs in which the herded chain with shared keys is at
         or below the Gibbs chain's truncation error, of ``n``.
@@ -654,12 +968,12 @@ def _best(cands: dict) -> str | None:
     return min(cands, key=lambda k: (cands[k], TH_METHODS.index(k))) if cands else None
 
 
-def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -> THSummary:
+def summarise_tempering_herding(runs: list, cfg: TemperingHerdingConfig) -> THSummary:
     """Average the runs into rows, and name the best method per family and budget.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of THSyntheticRun and THTrackingRun
         Records of :func:`synthetic_task` and :func:`tracking_task`.
     cfg : TemperingHerdingConfig
 
@@ -667,39 +981,41 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
     -------
     THSummary
     """
-    syn = [r for r in runs if r["part"] == "synthetic"]
+    syn = [r for r in runs if isinstance(r, THSyntheticRun)]
     rows = []
     herded_vs_gibbs = {}
     for fam in cfg.families:
-        rs = sorted((r for r in syn if r["family"] == fam), key=lambda r: r["run"])
+        rs = sorted((r for r in syn if r.family == fam), key=lambda r: r.run)
         if not rs:
             continue
-        kind = rs[0]["kind"]
+        kind = rs[0].kind
         for method in cfg.methods:
-            recs = [r["methods"][method] for r in rs if r["methods"].get(method) is not None]
+            recs = [r.calls(method) for r in rs if r.calls(method) is not None]
             if not recs:
                 continue
             for key in recs[0]:
                 cell = [rec[key] for rec in recs]
-                err = [None if "error" not in c else 100.0 * c["error"] for c in cell]
-                em, es = _mean_se(err)
-                lm, ls = _mean_se([c["l1"] for c in cell])
+                # LBP's call (THLBPCall) has no error, sweeps or unique count
+                sampled = isinstance(cell[0], THCall)
+                em, es = _mean_se([100.0 * c.error if sampled else None for c in cell])
+                lm, ls = _mean_se([c.l1 for c in cell])
                 rows.append(THRow(
-                    family=fam, kind=kind, method=method, budget=int(key), n_runs=len(cell),
-                    obs_mean=float(np.mean([c.get("n_obs", 0) for c in cell])),
+                    family=fam, kind=kind, truncation=method[0], variant=method[1],
+                    budget=int(key), n_runs=len(cell),
+                    obs_mean=float(np.mean([c.n_obs if sampled else 0 for c in cell])),
                     error_pct_mean=em, error_pct_se=es,
-                    unique_mean=(None if "n_unique" not in cell[0] else
-                                 float(np.mean([c["n_unique"] for c in cell]))),
-                    seconds_mean=float(np.mean([c["seconds"] for c in cell])),
+                    unique_mean=(float(np.mean([c.n_unique for c in cell])) if sampled
+                                 else None),
+                    seconds_mean=float(np.mean([c.seconds for c in cell])),
                     l1_mean=lm, l1_se=ls,
-                    seconds_min=float(np.min([c["seconds"] for c in cell])),
-                    unique_se=(None if "n_unique" not in cell[0] else
-                               _mean_se([c["n_unique"] for c in cell])[1])))
-        g = [r["methods"].get("original") for r in rs]
-        h = [r["methods"].get("herded-shared") for r in rs]
+                    seconds_min=float(np.min([c.seconds for c in cell])),
+                    unique_se=(_mean_se([c.n_unique for c in cell])[1] if sampled
+                               else None)))
+        g = [r.calls(ORIGINAL) for r in rs]
+        h = [r.calls(HERDED_SHARED) for r in rs]
         if all(x is not None for x in g + h):
             herded_vs_gibbs[fam] = {
-                b: [sum(hh[str(b)]["error"] <= gg[str(b)]["error"]
+                b: [sum(hh[str(b)].error <= gg[str(b)].error
                         for gg, hh in zip(g, h, strict=True)),
                     len(g)] for b in cfg.budgets}
     verdicts = {}
@@ -707,12 +1023,12 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
         fr = [r for r in rows if r.family == fam and r.error_pct_mean is not None]
         by_m = {}
         for r in fr:
-            by_m.setdefault(r.method, []).append(r)
+            by_m.setdefault(r.cell, []).append(r)
         v = {"obs": {}, "time": {}, "l1": {}}
-        gibbs = {r.budget: r for r in by_m.get("original", [])}
+        gibbs = {r.budget: r for r in by_m.get(ORIGINAL, [])}
         for b in cfg.budgets:
-            v["obs"][b] = _best({r.method: r.error_pct_mean for r in fr if r.budget == b})
-            v["l1"][b] = _best({r.method: r.l1_mean for r in rows
+            v["obs"][b] = _best({r.cell: r.error_pct_mean for r in fr if r.budget == b})
+            v["l1"][b] = _best({r.cell: r.l1_mean for r in rows
                                 if r.family == fam and r.budget in (b, 0)})
             if b in gibbs:
                 # the minimum over runs: the time the machine's load disturbed least
@@ -722,22 +1038,23 @@ def summarise_tempering_herding(runs: list[dict], cfg: TemperingHerdingConfig) -
     trk = []
     for preset in cfg.presets:
         for method in cfg.tracking_methods:
-            rs = [r for r in runs if r["part"] == "tracking" and r["preset"] == preset
-                  and r["method"] == method]
+            rs = [r for r in runs if isinstance(r, THTrackingRun) and r.preset == preset
+                  and (r.truncation, r.variant) == method]
             if not rs:
                 continue
-            om, os_ = _mean_se([r["ospa2"] for r in rs])
-            gm, gs = _mean_se([r.get("gospa") for r in rs])
+            om, os_ = _mean_se([r.ospa2 for r in rs])
+            gm, gs = _mean_se([r.gospa for r in rs])
             trk.append(THTrackingRow(
-                preset=preset, method=method, n_runs=len(rs), ospa2_mean=om, ospa2_se=os_,
-                sweeps_mean=float(np.mean([r["sweeps"] for r in rs])),
-                seconds_mean=float(np.mean([r["seconds"] for r in rs])),
-                association_seconds_mean=float(np.mean([r["association_seconds"]
+                preset=preset, truncation=method[0], variant=method[1], n_runs=len(rs),
+                ospa2_mean=om, ospa2_se=os_,
+                sweeps_mean=float(np.mean([r.sweeps for r in rs])),
+                seconds_mean=float(np.mean([r.seconds for r in rs])),
+                association_seconds_mean=float(np.mean([r.association_seconds
                                                         for r in rs])),
                 gospa_mean=gm, gospa_se=gs,
-                sweeps_se=_mean_se([r["sweeps"] for r in rs])[1],
-                seconds_se=_mean_se([r["seconds"] for r in rs])[1],
-                association_seconds_se=_mean_se([r["association_seconds"] for r in rs])[1]))
+                sweeps_se=_mean_se([r.sweeps for r in rs])[1],
+                seconds_se=_mean_se([r.seconds for r in rs])[1],
+                association_seconds_se=_mean_se([r.association_seconds for r in rs])[1]))
     return THSummary(rows=rows, tracking=trk, verdicts=verdicts,
                      herded_vs_gibbs=herded_vs_gibbs)
 
@@ -776,7 +1093,7 @@ def _resolved(best: THRow, rows: list) -> THRow | None:
 
 def _verdict_text(fam: str, s: THSummary, cfg) -> str:
     v = s.verdicts.get(fam, {})
-    by = {(r.method, r.budget): r for r in s.rows if r.family == fam}
+    by = {(r.cell, r.budget): r for r in s.rows if r.family == fam}
 
     def said(kind):
         parts = []
@@ -791,7 +1108,7 @@ def _verdict_text(fam: str, s: THSummary, cfg) -> str:
             if kind == "obs":
                 near = _resolved(r, [x for (_, bb), x in by.items() if bb == b])
                 if near is not None:
-                    tie = f", not resolved from {label(near.method)}"
+                    tie = f", not resolved from {label(near.cell)}"
             parts.append(f"{b:,}: **{label(m)}**" + (f" ({val}{tie})" if val else ""))
         return "; ".join(parts) if parts else "–"
 
@@ -836,9 +1153,9 @@ def _overall_verdict(s: THSummary, cfg) -> str:
                 and r.error_pct_mean is not None]
         if not rows:
             continue
-        best = min(rows, key=lambda r: (r.error_pct_mean, TH_METHODS.index(r.method)))
-        gibbs = next((r for r in rows if r.method == "original"), None)
-        text = (f"{_family_title(fam)}: {label(best.method)} "
+        best = min(rows, key=lambda r: (r.error_pct_mean, TH_METHODS.index(r.cell)))
+        gibbs = next((r for r in rows if r.cell == ORIGINAL), None)
+        text = (f"{_family_title(fam)}: {label(best.cell)} "
                 f"{fmt.pm(best.error_pct_mean, best.error_pct_se)} %")
         if gibbs is not None and gibbs is not best:
             text += f" (Gibbs {fmt.pm(gibbs.error_pct_mean, gibbs.error_pct_se)} %)"
@@ -854,7 +1171,7 @@ def _overall_verdict(s: THSummary, cfg) -> str:
         out += (f" The herded chain with shared keys is at or below the Gibbs chain at {top:,} "
                 "sweeps in " + ", ".join(f"{k} of {m} runs ({_family_title(f)})"
                                          for f, k, m in hv) + ".")
-    lbp = [r for r in s.rows if r.method == "lbp" and r.l1_mean is not None]
+    lbp = [r for r in s.rows if r.cell == LBP and r.l1_mean is not None]
     if lbp:
         wins = [r.family for r in lbp
                 if all(x.l1_mean is None or r.l1_mean <= x.l1_mean
@@ -870,10 +1187,10 @@ def _overall_verdict(s: THSummary, cfg) -> str:
         nt = min(r.n_runs for r in s.tracking)
         worst = max(s.tracking, key=lambda r: r.ospa2_mean)
         exact = next((r for r in s.tracking if r.preset == worst.preset
-                      and r.method == "exact"), None)
+                      and r.cell == ("exact", "")), None)
         if exact is not None and worst is not exact:
             out += (f" In the tracking part ({fmt.plural(nt, 'run')} per preset) the largest "
-                    f"OSPA(2) is that of the {label(worst.method)} on `{worst.preset}`, "
+                    f"OSPA(2) is that of the {label(worst.cell, True)} on `{worst.preset}`, "
                     f"{fmt.pm(worst.ospa2_mean, worst.ospa2_se, 1)} m against the exact "
                     f"update's {fmt.pm(exact.ospa2_mean, exact.ospa2_se, 1)} m")
             out += ("; one run has no standard error, and " + FULL_TRACKING + "."
@@ -913,16 +1230,16 @@ Zanella–Roberts's its importance-weighted ones.
 ![Marginal L1 error against observations, per family (LBP dotted)](tempering_herding_marginals.png)
 """]
     for fam in dict.fromkeys(r.family for r in s.rows):
-        fr = {(r.method, r.budget): r for r in s.rows if r.family == fam}
-        methods = list(dict.fromkeys(r.method for r in s.rows if r.family == fam))
+        fr = {(r.cell, r.budget): r for r in s.rows if r.family == fam}
+        methods = list(dict.fromkeys(r.cell for r in s.rows if r.family == fam))
         body = []
         for m in cfg.methods:
-            if m == "lbp":
+            if m == LBP:
                 continue
             body.append([label(m)] + [_cell(fr.get((m, b))) for b in cfg.budgets])
         l1_body = []
         for m in methods:
-            if m == "lbp":
+            if m == LBP:
                 r = fr[(m, 0)]
                 l1_body.append([label(m)] + [fmt.pm(r.l1_mean, r.l1_se, 4)] * len(cfg.budgets))
             elif any(fr.get((m, b)) is not None and fr[(m, b)].l1_mean is not None
@@ -937,7 +1254,7 @@ Zanella–Roberts's its importance-weighted ones.
                        f"column):\n\n{fmt.table(head, l1_body)}\n")
         out.append(_verdict_text(fam, s, cfg) + "\n")
     if s.tracking:
-        body = [[f"`{r.preset}`", label(r.method),
+        body = [[f"`{r.preset}`", label(r.cell, True),
                  fmt.pm(r.ospa2_mean, r.ospa2_se, 2, n_runs=r.n_runs),
                  fmt.pm(r.gospa_mean, r.gospa_se, 2, n_runs=r.n_runs),
                  fmt.pm_count(r.sweeps_mean, r.sweeps_se, n_runs=r.n_runs),
@@ -965,10 +1282,12 @@ p) the mean over scans of each scan's positions. {fmt.runs_note(
 
 #: The two groups of methods a family's error plot shows side by side (at most six series
 #: each): the Gibbs chain and the short chains appear in both as the references.
-PLOT_GROUPS = (("tempering", ("original", "short-chain", "beta-0.5", "beta-0.7", "beta-0.9",
-                              "zanella-roberts")),
-               ("herding", ("original", "short-chain", "herded-shared", "herded-full",
-                            "herded-short-shared", "herded-short-full")))
+PLOT_GROUPS = (("tempering", (ORIGINAL, ("short-chain", ""), ("tempered", "beta=0.5"),
+                              ("tempered", "beta=0.7"), ("tempered", "beta=0.9"),
+                              ZANELLA_ROBERTS)),
+               ("herding", (ORIGINAL, ("short-chain", ""), HERDED_SHARED, ("herded", "keys=full"),
+                            ("herded", "chains=short,keys=shared"),
+                            ("herded", "chains=short,keys=full"))))
 
 
 def _styles() -> dict:
@@ -1001,17 +1320,17 @@ def _error_figure(s: THSummary, fams: list, y_of: str, ylabel: str):
             ax = axes[i // ncol, 2 * (i % ncol) + g]
             drawn = 0
             for m in methods:
-                rs = sorted((r for r in s.rows if r.family == fam and r.method == m
+                rs = sorted((r for r in s.rows if r.family == fam and r.cell == m
                              and getattr(r, y_of) is not None), key=lambda r: r.budget)
                 if rs:
                     ax.plot([r.obs_mean for r in rs], [getattr(r, y_of) for r in rs],
                             label=label(m), **styles[m])
                     drawn += 1
-            lbp = [r for r in s.rows if r.family == fam and r.method == "lbp"
+            lbp = [r for r in s.rows if r.family == fam and r.cell == LBP
                    and getattr(r, y_of) is not None]
             if lbp and drawn:
                 ax.axhline(getattr(lbp[0], y_of), color="0.35", ls=":", lw=1.2,
-                           label=label("lbp"))
+                           label=label(LBP))
             if not drawn:
                 ax.set_visible(False)
                 continue
@@ -1051,16 +1370,16 @@ def _cost_figure(s: THSummary, fams: list):
 
 
     styles = _styles()
-    methods = [m for m in TH_METHODS if m != "lbp"]
+    methods = [m for m in TH_METHODS if m != LBP]
     ncol = min(3, len(fams))
     nrow = math.ceil(len(fams) / ncol)
     fig, axes = figure(ncol, width=3.4, height=2.8, nrows=nrow, squeeze_row=False)
     y = np.arange(len(methods))[::-1]  # the report's order from the top
     for i, (ax, fam) in enumerate(zip(axes.ravel(), fams, strict=False)):
         top = max(r.budget for r in s.rows if r.family == fam)
-        rows = {r.method: r for r in s.rows if r.family == fam and r.budget == top
+        rows = {r.cell: r for r in s.rows if r.family == fam and r.budget == top
                 and r.obs_mean > 0}
-        gibbs = rows.get("original")
+        gibbs = rows.get(ORIGINAL)
         if gibbs is None:
             ax.set_visible(False)
             continue
@@ -1098,7 +1417,7 @@ def plot_tempering_herding(s: THSummary, directory: Path) -> list[str]:
     families whose marginals were computed)."""
     fams = list(dict.fromkeys(r.family for r in s.rows))
     with_l1 = [f for f in fams if any(r.family == f and r.l1_mean is not None
-                                      and r.method != "lbp" for r in s.rows)]
+                                      and r.cell != LBP for r in s.rows)]
     figures = (("tempering_herding_obs.png",
                 _error_figure(s, fams, "error_pct_mean", "truncation error (%)")),
                ("tempering_herding_time.png", _cost_figure(s, fams)),
@@ -1125,6 +1444,7 @@ TEMPERING_HERDING = register_study(Study(
                                      budgets=QUICK_BUDGETS),
     tasks=th_tasks,
     task=th_task,
+    run_from_dict=run_from_dict,
     summarise=summarise_tempering_herding,
     render=render_tempering_herding,
     plot=plot_tempering_herding,

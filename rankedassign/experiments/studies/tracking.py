@@ -22,6 +22,7 @@ from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
+from .._records import RunRecord
 from ..config import check_ospa, check_positive
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
@@ -138,7 +139,8 @@ class TrackingConfig:
                 f"marginals must be one of {MARGINALS}, got {self.marginals!r}"
             )
 
-__all__ = ["TRACKING", "TRACKING_VAR", "TrackingSummary", "summarise_tracking", "PAPER_TOTALS"]
+__all__ = ["TRACKING", "TRACKING_VAR", "TrackingRun", "TrackingSummary", "summarise_tracking",
+           "PAPER_TOTALS"]
 
 #: The paper's scans and sweeps per original-sampler call, from which its totals imply
 #: 10.76 calls per scan.
@@ -174,7 +176,54 @@ def _association(cfg: TrackingConfig, truncation: str):
     )
 
 
-def tracking_task(cfg: TrackingConfig, seed: int, run: int, truncation: str) -> dict:
+@dataclass(frozen=True)
+class TrackingRun(RunRecord):
+    """One run of one sampler of the tracking studies (:func:`tracking_task`): per-scan lists.
+
+    Attributes
+    ----------
+    run : int
+        Monte Carlo run (both samplers of a run see the same measurements).
+    truncation : str
+        The sampler (:data:`TRUNCATIONS`).
+    ospa2, ospa2_localisation, ospa2_cardinality : list of float
+        OSPA(2) per scan and its two components.
+    gospa, gospa_localisation, gospa_missed, gospa_false : list of float
+        GOSPA (``α = 2``, OSPA(2)'s ``c`` and ``p``) per scan and its three components.
+    coverage : list of float or None
+        Coverage of every target (None for one that lives no longer than
+        :data:`COVERAGE_SETTLE` scans).
+    sweeps, row_updates, invocations, n_unique, n_tracks, n_meas, n_groups : list of int
+        Per scan: the association's sweeps, row updates and calls, the unique assignments,
+        the tracks, the measurements and the groups.
+    association_seconds : list of float
+        Seconds in the association per scan.
+    total_seconds : float
+        Seconds of the filter over the run.
+    """
+
+    run: int
+    truncation: str
+    ospa2: list
+    ospa2_localisation: list
+    ospa2_cardinality: list
+    gospa: list
+    gospa_localisation: list
+    gospa_missed: list
+    gospa_false: list
+    coverage: list
+    sweeps: list
+    row_updates: list
+    invocations: list
+    n_unique: list
+    n_tracks: list
+    n_meas: list
+    n_groups: list
+    association_seconds: list
+    total_seconds: float
+
+
+def tracking_task(cfg: TrackingConfig, seed: int, run: int, truncation: str) -> TrackingRun:
     """One 100-scan run of one sampler (:data:`TRUNCATIONS`); both share the measurements."""
     truncation = _truncation(truncation)
     sr = tracking.run_scenario(
@@ -199,28 +248,28 @@ def tracking_task(cfg: TrackingConfig, seed: int, run: int, truncation: str) -> 
     def floats(x):
         return np.asarray(x, dtype=float).tolist()
 
-    return {
-        "run": run,
-        "truncation": truncation,
-        "ospa2": floats(o2.value),
-        "ospa2_localisation": floats(o2.localisation),
-        "ospa2_cardinality": floats(o2.cardinality),
-        "gospa": floats(g.value),
-        "gospa_localisation": floats(g.localisation),
-        "gospa_missed": floats(g.missed),
-        "gospa_false": floats(g.false),
+    return TrackingRun(
+        run=run,
+        truncation=truncation,
+        ospa2=floats(o2.value),
+        ospa2_localisation=floats(o2.localisation),
+        ospa2_cardinality=floats(o2.cardinality),
+        gospa=floats(g.value),
+        gospa_localisation=floats(g.localisation),
+        gospa_missed=floats(g.missed),
+        gospa_false=floats(g.false),
         # NaN (JSON null) for a target that lives no longer than COVERAGE_SETTLE scans
-        "coverage": [None if np.isnan(v) else float(v) for v in cov],
-        "sweeps": ints(sr.sweeps),
-        "row_updates": ints(sr.row_updates),
-        "invocations": ints(sr.invocations),
-        "n_unique": ints(sr.n_unique),
-        "n_tracks": ints(sr.n_tracks),
-        "n_meas": ints(sr.n_meas),
-        "n_groups": ints(sr.n_groups),
-        "association_seconds": floats(sr.timings["association"]),
-        "total_seconds": float(sum(np.sum(v) for v in sr.timings.values())),
-    }
+        coverage=[None if np.isnan(v) else float(v) for v in cov],
+        sweeps=ints(sr.sweeps),
+        row_updates=ints(sr.row_updates),
+        invocations=ints(sr.invocations),
+        n_unique=ints(sr.n_unique),
+        n_tracks=ints(sr.n_tracks),
+        n_meas=ints(sr.n_meas),
+        n_groups=ints(sr.n_groups),
+        association_seconds=floats(sr.timings["association"]),
+        total_seconds=float(sum(np.sum(v) for v in sr.timings.values())),
+    )
 
 
 def _se(x: np.ndarray):
@@ -389,12 +438,12 @@ class TrackingSummary:
     reduction_row_updates_pct_se: float | None = None
 
 
-def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary:
+def summarise_tracking(runs: list[TrackingRun], cfg: TrackingConfig) -> TrackingSummary:
     """Totals, reductions and per-scan curves (means over runs) from per-run records.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of TrackingRun
         Per-run records of the study's task, one per run and sampler (``truncation``
         ``"original"`` or ``"short-chain"``), each with per-scan lists (``sweeps``, ``row_updates``,
         ``invocations``, ``ospa2`` and its components, ``n_tracks``, ``n_meas``,
@@ -407,12 +456,12 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
     TrackingSummary
         Means over the runs, paired where both methods enter.
     """
-    by = {m: sorted((r for r in runs if r["truncation"] == m), key=lambda r: r["run"])
+    by = {m: sorted((r for r in runs if r.truncation == m), key=lambda r: r.run)
           for m in TRUNCATIONS}
     n = len(by["original"])
 
     def per_scan(m, key):
-        return np.array([r[key] for r in by[m]], dtype=float)  # (n_mc, n_scans)
+        return np.array([getattr(r, key) for r in by[m]], dtype=float)  # (n_mc, n_scans)
 
     out: dict = {"n_mc": n, "n_scans": cfg.n_scans, "config": {
         "preset": cfg.preset, "original_obs": cfg.original_obs, "n_chains": cfg.n_chains,
@@ -447,7 +496,7 @@ def summarise_tracking(runs: list[dict], cfg: TrackingConfig) -> TrackingSummary
         out[f"association_seconds_{names[m]}_se"] = _se(
             per_scan(m, "association_seconds").sum(axis=1))
         # targets lost: coverage below LOST_BELOW (targets too short-lived to count are None)
-        lost = np.array([sum(v is not None and v < LOST_BELOW for v in r.get("coverage", []))
+        lost = np.array([sum(v is not None and v < LOST_BELOW for v in r.coverage)
                          for r in by[m]])
         out[f"targets_lost_{names[m]}"] = int(lost.sum())
         out[f"runs_with_lost_target_{names[m]}"] = int(np.count_nonzero(lost))
@@ -702,6 +751,7 @@ TRACKING = register_study(Study(
     quick=lambda: TrackingConfig(n_mc=QUICK_MC),
     tasks=tracking_tasks,
     task=tracking_task,
+    run_from_dict=TrackingRun.from_dict,
     summarise=summarise_tracking,
     render=lambda s, cfg: render_tracking(s, cfg, "tracking"),
     plot=lambda s, d: plot_tracking(s, d, "tracking"),
@@ -719,6 +769,7 @@ TRACKING_VAR = register_study(Study(
     quick=lambda: TrackingConfig.paper_var(n_mc=QUICK_MC),
     tasks=tracking_tasks,
     task=tracking_task,
+    run_from_dict=TrackingRun.from_dict,
     summarise=summarise_tracking,
     render=lambda s, cfg: render_tracking(s, cfg, "tracking_var"),
     plot=lambda s, d: plot_tracking(s, d, "tracking_var"),
