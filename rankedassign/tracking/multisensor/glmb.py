@@ -18,7 +18,12 @@ component's problem replaced by the multi-sensor one (``../shared/spec/glmb.md``
 2. per component a :class:`~rankedassign.multisensor.MultiSensorProblem` gathered from them
    (births first, then the component's entries; the columns of sensor ``v`` are the
    measurements some row gates), truncated by the multi-sensor long or short chains
-   (``method="exact"``, ``"mm"``, ``"mm-fixed"``) or enumerated;
+   (``method="exact"``, ``"mm"``, ``"mm-fixed"``) or enumerated. Where the truncation's
+   :meth:`~rankedassign.tracking.association.Association.batch_plan` allows it (the chains
+   with ``"exact"`` or ``"mm"``), every component's chains run in one compiled call
+   (:func:`rankedassign.tracking.multisensor._glmb_kernels.sample_components`), which
+   gathers each problem from the shared terms and gives the children of the
+   component-by-component path bit for bit;
 3. children: a row alive in ``γ`` becomes the entry updated with its tuple (the stacked
    Kalman update on ``z_D``, in sensor order) or predicted only; ``ln w = ln w_h − cost(γ)``.
 
@@ -159,6 +164,36 @@ def _segment_logsumexp(x: np.ndarray, seg: np.ndarray, n: int) -> np.ndarray:
     safe = np.where(np.isfinite(top), top, 0.0)
     with np.errstate(divide="ignore"):
         return np.log(np.bincount(seg, weights=np.exp(x - safe[seg]), minlength=n)) + safe
+
+
+def _entry_tuples(gated, T: int, V: int):
+    """Every entry's measurement tuples: the product of its gated lists (0 = missed), the
+    all-missed tuple first, in ``itertools.product``'s order (the last sensor fastest).
+
+    ``gated[v]`` is the ``(T, U_v)`` gate of sensor ``v``. Returns ``tup_off`` (T + 1,), the
+    CSR offsets, ``tup_g`` (N, V), per sensor 0 or ``1 +`` the gated measurement, and
+    ``tup_e`` (N,), the entry of every tuple. Built for all entries at once: tuple ``k`` of an
+    entry has the mixed-radix digits of ``k`` over its lists' lengths (a loop over the entries
+    cost more than the rest of the scan's terms).
+    """
+    nz = [np.nonzero(g) for g in gated]  # per sensor, every entry's gated list (increasing)
+    width = np.ones((T, V), dtype=np.int64)  # 1 + the list's length: missed, then the list
+    for v, (r, _) in enumerate(nz):
+        width[:, v] += np.bincount(r, minlength=T)
+    counts = np.prod(width, axis=1, dtype=np.int64)
+    tup_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    tup_e = np.repeat(np.arange(T), counts)
+    k = np.arange(tup_off[-1], dtype=np.int64) - tup_off[:-1][tup_e]
+    tup_g = np.empty((k.size, V), dtype=np.int64)
+    stride = np.ones(T, dtype=np.int64)
+    for v in range(V - 1, -1, -1):
+        digit = (k // stride[tup_e]) % width[tup_e, v]
+        start = np.concatenate([[0], np.cumsum(width[:, v] - 1)])[:-1]  # the list in nz[v]
+        cols = nz[v][1]
+        pick = cols[np.maximum(start[tup_e] + digit - 1, 0)] + 1 if cols.size else 0
+        tup_g[:, v] = np.where(digit > 0, pick, 0)
+        stride *= width[:, v]
+    return tup_off, tup_g, tup_e
 
 
 def truncate_multisensor(association, problem: MultiSensorProblem, budget: int,
@@ -388,17 +423,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
         # sized before anything per tuple is allocated: without gates (gate_prob=None) an
         # entry has prod_v (M_v + 1) tuples
         _check_tuple_count(gated, T, V)
-        # every entry's tuples: the product of its gated lists (0 = missed), all-missed first,
-        # in itertools.product's order (the last sensor varies fastest)
-        per_entry = []
-        for t in range(T):
-            lists = [np.r_[0, np.flatnonzero(gated[v][t]) + 1] for v in range(V)]
-            grid = np.meshgrid(*lists, indexing="ij")
-            per_entry.append(np.stack([g.reshape(-1) for g in grid], axis=-1).astype(np.int64))
-        counts = np.array([a.shape[0] for a in per_entry], dtype=np.int64)
-        tup_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-        tup_g = np.concatenate(per_entry) if T else np.empty((0, V), dtype=np.int64)
-        tup_e = np.repeat(np.arange(T), counts)
+        tup_off, tup_g, tup_e = _entry_tuples(gated, T, V)
         det = tup_g > 0
         # ln η(t) = ln p + Σ_{v∉D} ln(1 − P_D^v) + Σ_{v∈D} (ln P_D^v − ln κ_v) + ln q(z_D)
         with np.errstate(invalid="ignore"):
