@@ -350,6 +350,16 @@ def test_what_the_compiled_path_cannot_reproduce_runs_per_component(monkeypatch)
     assert calls
 
 
+def test_a_scan_whose_rows_cannot_all_be_missed_is_refused_as_before():
+    # p_d = 1: no row can be missed by sensor 0, so the chains' all-missed start has weight 0;
+    # the compiled path leaves such a scan to the per-component path, whose sampler refuses it
+    f = MultiSensorGLMBFilter(_model(p_d=(1.0, 0.8)), ShortChainGibbs(20, 5))
+    f.set_prior(*_prior())
+    assert f._plan.chains
+    with pytest.raises(ValueError, match=r"start 'all_missed' is infeasible: rows \[0, 1, 2\]"):
+        f.step(ZS1, rng=0)
+
+
 def test_truncate_multisensor_gives_unique_feasible_hypotheses_with_exact_costs():
     model = _model()
     labels, means, covs = _prior()
