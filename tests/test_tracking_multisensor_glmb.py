@@ -38,7 +38,10 @@ from rankedassign.tracking import (
     make_multisensor_model,
     run_multisensor_scenario,
 )
+from rankedassign.tracking.association import BatchPlan
+from rankedassign.tracking.multisensor import glmb as ms_glmb
 from rankedassign.tracking.multisensor.glmb import truncate_multisensor
+from rankedassign.tracking.multisensor.scenario import make_multisensor_scenario
 from rankedassign.tracking.single.glmb import Hypotheses
 
 GATE = gate_threshold(0.9999999)
@@ -282,6 +285,79 @@ def test_the_chains_truncate_with_every_method_and_repeat_with_the_rng(method):
         runs.append((f.components(), [r.sweeps for r in recs]))
     assert runs[0] == runs[1]
     assert sum(runs[0][1]) > 0
+
+
+def _same_record(a, b) -> list:
+    """The fields of two scan records that differ in any bit (the timings aside)."""
+    diff = []
+    for name in a._fields:
+        x, y = getattr(a, name), getattr(b, name)
+        if name == "timings":
+            continue
+        if isinstance(x, np.ndarray):
+            if x.dtype != y.dtype or x.shape != y.shape or x.tobytes() != y.tobytes():
+                diff.append(name)
+        elif isinstance(x, float):
+            if np.float64(x).tobytes() != np.float64(y).tobytes():
+                diff.append(name)
+        elif x != y:
+            diff.append(name)
+    return diff
+
+
+@pytest.mark.parametrize("sensors, seed", [((0, 1, 2), 1), ((0, 2), 2)])
+@pytest.mark.parametrize("assoc", [
+    ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10),           # the default method, mm
+    ShortChainGibbs(30, 6, method="mm", scan="random"),
+    ShortChainGibbs(40, 10, tau_stall=3, tau_stale=4, method="exact", scan="random"),
+    OriginalGibbs(120),
+    OriginalGibbs(80, method="exact"),
+], ids=repr)
+def test_the_compiled_path_gives_the_per_component_records_bit_for_bit(assoc, sensors, seed,
+                                                                       monkeypatch):
+    # the filter runs every component's chains in one compiled call where the truncation's
+    # plan allows it; with the plan withheld it builds each component's MultiSensorProblem and
+    # calls the public sampler. Same hypotheses, same order, same costs: the same records.
+    scen = make_multisensor_scenario(rng=seed, n_scans=6, sensors=sensors, birth="narrow")
+    with monkeypatch.context() as m:
+        m.setattr(type(assoc), "batch_plan",
+                  lambda self, sensors: BatchPlan(start_alone=True))
+        loop = MultiSensorGLMBFilter(scen.model, assoc)
+    compiled = MultiSensorGLMBFilter(scen.model, assoc)
+    assert compiled._plan.chains and not loop._plan.chains
+    for k, scan in enumerate(scen.scans):
+        zs = [s.z for s in scan]
+        want = loop.step(zs, rng=[seed, k])
+        with monkeypatch.context() as m:  # the compiled path never asks per component
+            m.setattr(ms_glmb, "truncate_multisensor",
+                      lambda *a, **kw: pytest.fail("a component truncated in Python"))
+            got = compiled.step(zs, rng=[seed, k])
+        assert _same_record(want, got) == [], f"scan {k}"
+        assert compiled.components() == loop.components()
+    assert want.sweeps > 0 and want.n_unique > 1
+
+
+def test_what_the_compiled_path_cannot_reproduce_runs_per_component(monkeypatch):
+    # mm-fixed's dead probability is the sampler's own sum over the component's columns
+    calls = []
+    real = ms_glmb.truncate_multisensor
+    monkeypatch.setattr(ms_glmb, "truncate_multisensor",
+                        lambda *a, **kw: calls.append(1) or real(*a, **kw))
+    scen = make_multisensor_scenario(rng=3, n_scans=2, sensors=(0, 1), birth="narrow")
+    f = MultiSensorGLMBFilter(scen.model, ShortChainGibbs(20, 5, method="mm-fixed"))
+    for k, scan in enumerate(scen.scans):
+        f.step([s.z for s in scan], rng=k)
+    assert calls
+
+
+def test_a_scan_whose_rows_cannot_all_be_missed_is_refused_as_before():
+    # p_d = 1: no row can be missed by sensor 0, so the chains' all-missed start has weight 0;
+    # the compiled path leaves such a scan to the per-component path, whose sampler refuses it
+    f = MultiSensorGLMBFilter(_model(p_d=(1.0, 0.8)), ShortChainGibbs(20, 5))
+    f.set_prior(*_prior())
+    assert f._plan.chains
+    with pytest.raises(ValueError, match=r"start 'all_missed' is infeasible: rows \[0, 1, 2\]"):
+        f.step(ZS1, rng=0)
 
 
 def test_truncate_multisensor_gives_unique_feasible_hypotheses_with_exact_costs():

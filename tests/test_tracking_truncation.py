@@ -103,7 +103,16 @@ def test_batch_plans_say_what_the_glmb_filters_may_batch():
         "single-sensor") == BatchPlan(chains=True, start_alone=True)
     assert ShortChainGibbs(4, 5, backend="python").batch_plan("single-sensor") == BatchPlan(
         start_alone=True)
-    assert OriginalGibbs(4).batch_plan("multi-sensor") == BatchPlan(start_alone=True)
+    # several sensors: the compiled path for the row conditionals it reproduces bit for bit
+    assert OriginalGibbs(4).batch_plan("multi-sensor") == BatchPlan(
+        chains=True, start_alone=True, method="mm")
+    assert ShortChainGibbs(4, 5, tau_stale=3, method="exact", scan="random").batch_plan(
+        "multi-sensor") == BatchPlan(chains=True, random_scan=True, tau_stale=3,
+                                     start_alone=True, method="exact")
+    assert ShortChainGibbs(4, 5, method="mm-fixed").batch_plan("multi-sensor") == BatchPlan(
+        start_alone=True)
+    assert OriginalGibbs(4, survival_power="V").batch_plan("multi-sensor") == BatchPlan(
+        start_alone=True)
     assert Murty(7).batch_plan("single-sensor") == BatchPlan(ranked=True, k=7)
     assert Murty(7, backend="scipy").batch_plan("single-sensor") is None
     assert Exact().batch_plan("single-sensor") == BatchPlan(ranked=True, k=0)

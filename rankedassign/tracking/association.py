@@ -58,6 +58,7 @@ __all__ = [
     "MULTISENSOR_METHODS",
     "GLMB_METHODS",
     "Association",
+    "BATCH_METHODS",
     "BatchPlan",
     "Exact",
     "HerdedGibbs",
@@ -91,6 +92,12 @@ DEFAULT_METHOD = "mm"
 GLMB_METHODS = ("exact", "mm", "mm-fixed")
 #: Largest enumeration :class:`Exact` runs on one δ-GLMB component.
 EXACT_LIMIT = 200_000
+#: Row conditionals the multi-sensor δ-GLMB filter's compiled path runs for all components
+#: at once (:meth:`Association.batch_plan`). ``"mm-fixed"`` is left to the per-component path:
+#: its dead probability sums a row's factors over the component's own columns and takes their
+#: logarithm, and only the sampler's own numpy operations on the component's problem give
+#: those bits.
+BATCH_METHODS = ("exact", "mm")
 #: The filters' two kinds of problems (the ``sensors`` attribute of an association).
 SENSORS = ("single-sensor", "multi-sensor")
 
@@ -121,6 +128,9 @@ class BatchPlan(NamedTuple):
         (the marginals question) when its marginals are the truncated ones, so that the LMB
         filter's cluster path may run the calls of many problems in one compiled call; None
         otherwise.
+    method : str or None
+        With ``chains`` for the multi-sensor filter: the row conditional the compiled path
+        runs, one of :data:`BATCH_METHODS`; None for one sensor.
     """
 
     chains: bool = False
@@ -131,6 +141,7 @@ class BatchPlan(NamedTuple):
     ranked: bool = False
     k: int = 0
     marginal_chains: tuple | None = None
+    method: str | None = None
 
 
 def association_name(association) -> str:
@@ -568,9 +579,11 @@ class _Sampled(Association):
         return None
 
     def _chain_plan(self, sensors: str, tau_stall, tau_stale, call=None) -> BatchPlan:
-        """The chains' plan: compiled for one sensor with the kernel's readings; ``call`` is
-        ``(chains, sweeps per chain)`` of one marginals call."""
-        if sensors == "multi-sensor":
+        """The chains' plan: compiled with the kernels' readings (for several sensors with a
+        row conditional of :data:`BATCH_METHODS`); ``call`` is ``(chains, sweeps per chain)``
+        of one marginals call."""
+        multi = sensors == "multi-sensor"
+        if multi and self.method not in BATCH_METHODS:
             return BatchPlan(start_alone=True)
         opts = dict(self.options)
         if opts.pop("stall", "global-consecutive") != "global-consecutive" or \
@@ -582,6 +595,10 @@ class _Sampled(Association):
                 or opts.pop("backend", "numba") != "numba"
                 or scan not in ("systematic", "random") or opts):
             return BatchPlan(start_alone=True)
+        if multi:  # the δ-GLMB question only: the multi-sensor LMB filter asks per problem
+            return BatchPlan(chains=True, random_scan=scan == "random",
+                             tau_stall=tau_stall or 0, tau_stale=tau_stale or 0,
+                             start_alone=True, method=self.method)
         return BatchPlan(chains=True, random_scan=scan == "random", tau_stall=tau_stall or 0,
                          tau_stale=tau_stale or 0, start_alone=True,
                          marginal_chains=call if self.marginals == "truncated" else None)

@@ -18,7 +18,12 @@ component's problem replaced by the multi-sensor one (``../shared/spec/glmb.md``
 2. per component a :class:`~rankedassign.multisensor.MultiSensorProblem` gathered from them
    (births first, then the component's entries; the columns of sensor ``v`` are the
    measurements some row gates), truncated by the multi-sensor long or short chains
-   (``method="exact"``, ``"mm"``, ``"mm-fixed"``) or enumerated;
+   (``method="exact"``, ``"mm"``, ``"mm-fixed"``) or enumerated. Where the truncation's
+   :meth:`~rankedassign.tracking.association.Association.batch_plan` allows it (the chains
+   with ``"exact"`` or ``"mm"``), every component's chains run in one compiled call
+   (:func:`rankedassign.tracking.multisensor._glmb_kernels.sample_components`), which
+   gathers each problem from the shared terms and gives the children of the
+   component-by-component path bit for bit;
 3. children: a row alive in ``γ`` becomes the entry updated with its tuple (the stacked
    Kalman update on ``z_D``, in sensor order) or predicted only; ``ln w = ln w_h − cost(γ)``.
 
@@ -29,6 +34,7 @@ scan come from the measurements the posterior does not explain,
 
 from __future__ import annotations
 
+import functools
 import math
 from time import perf_counter
 from typing import NamedTuple
@@ -37,9 +43,18 @@ import numpy as np
 
 import oracle
 
+from ...engine._kernels import Rules, zobrist_keys
+from ...engine.rng import base_key
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
-from ...validation import check_real, check_type
+from ...validation import (
+    STALE_CONSECUTIVE,
+    STALE_OFF,
+    STALL_GLOBAL_CONSECUTIVE,
+    STALL_OFF,
+    check_real,
+    check_type,
+)
 from .. import _kernels
 from ..association import GLMB_METHODS, Hypotheses, truncate
 from ..common import Children as _Children
@@ -52,6 +67,7 @@ from ..nonlinear.step import multi_sensor_path
 from ..nonlinear.vo import NonlinearModel
 from ..single.glmb import EXACT_SCAN_LIMIT, GLMBFilter, GLMBScanRecord
 from ..single.lmb import group_tracks
+from . import _glmb_kernels
 from .adaptive_birth import AdaptiveBirth, empty_birth
 from .lmb import MultiSensorModel, check_scans
 
@@ -65,6 +81,9 @@ __all__ = ["GLMB_METHODS", "TUPLE_LIMIT", "MultiSensorGLMBFilter", "truncate_mul
 TUPLE_LIMIT = 1_000_000
 _POS = [0, 2]  # H picks p_x, p_y
 _LOG_2PI = math.log(2.0 * math.pi)
+#: Seed of the Zobrist keys of the compiled path (the keys only place states in the unique
+#: set's table: the unique states and their order do not depend on them).
+_ZOBRIST_SEED = np.uint64(0x6D5347)
 
 
 class _MSTerms(NamedTuple):
@@ -114,6 +133,30 @@ def _block_diag(Rs) -> np.ndarray:
     return out
 
 
+@functools.lru_cache(maxsize=32)
+def _zobrist(L: int, K: int) -> np.ndarray:
+    """Zobrist keys for states of at most ``L`` positions and values ``0..K − 1`` (cached)."""
+    with interruptible:
+        keys = zobrist_keys(max(L, 1), K, _ZOBRIST_SEED)
+    keys.setflags(write=False)
+    return keys
+
+
+def _shifted(logs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``exp(logs − max)`` along each row (0 where ``logs`` is not finite) and the maxima.
+
+    The operations of the multi-sensor kind's ``prepare_data`` on one row's candidates, run
+    here once per scan for every entry: a row's finite candidates all lie among its
+    component's columns, so its maximum, and each shifted weight, are the same bits in every
+    component.
+    """
+    m = np.max(logs, axis=1, keepdims=True)
+    with np.errstate(invalid="ignore"):
+        W = np.exp(logs - m)
+    W[~np.isfinite(logs)] = 0.0
+    return W, np.squeeze(m, axis=1)
+
+
 def _segment_logsumexp(x: np.ndarray, seg: np.ndarray, n: int) -> np.ndarray:
     """``ln Σ exp(x)`` within each segment ``seg`` (sorted ids ``0..n-1``, all present)."""
     top = np.full(n, -np.inf)
@@ -121,6 +164,36 @@ def _segment_logsumexp(x: np.ndarray, seg: np.ndarray, n: int) -> np.ndarray:
     safe = np.where(np.isfinite(top), top, 0.0)
     with np.errstate(divide="ignore"):
         return np.log(np.bincount(seg, weights=np.exp(x - safe[seg]), minlength=n)) + safe
+
+
+def _entry_tuples(gated, T: int, V: int):
+    """Every entry's measurement tuples: the product of its gated lists (0 = missed), the
+    all-missed tuple first, in ``itertools.product``'s order (the last sensor fastest).
+
+    ``gated[v]`` is the ``(T, U_v)`` gate of sensor ``v``. Returns ``tup_off`` (T + 1,), the
+    CSR offsets, ``tup_g`` (N, V), per sensor 0 or ``1 +`` the gated measurement, and
+    ``tup_e`` (N,), the entry of every tuple. Built for all entries at once: tuple ``k`` of an
+    entry has the mixed-radix digits of ``k`` over its lists' lengths (a loop over the entries
+    cost more than the rest of the scan's terms).
+    """
+    nz = [np.nonzero(g) for g in gated]  # per sensor, every entry's gated list (increasing)
+    width = np.ones((T, V), dtype=np.int64)  # 1 + the list's length: missed, then the list
+    for v, (r, _) in enumerate(nz):
+        width[:, v] += np.bincount(r, minlength=T)
+    counts = np.prod(width, axis=1, dtype=np.int64)
+    tup_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    tup_e = np.repeat(np.arange(T), counts)
+    k = np.arange(tup_off[-1], dtype=np.int64) - tup_off[:-1][tup_e]
+    tup_g = np.empty((k.size, V), dtype=np.int64)
+    stride = np.ones(T, dtype=np.int64)
+    for v in range(V - 1, -1, -1):
+        digit = (k // stride[tup_e]) % width[tup_e, v]
+        start = np.concatenate([[0], np.cumsum(width[:, v] - 1)])[:-1]  # the list in nz[v]
+        cols = nz[v][1]
+        pick = cols[np.maximum(start[tup_e] + digit - 1, 0)] + 1 if cols.size else 0
+        tup_g[:, v] = np.where(digit > 0, pick, 0)
+        stride *= width[:, v]
+    return tup_off, tup_g, tup_e
 
 
 def truncate_multisensor(association, problem: MultiSensorProblem, budget: int,
@@ -350,17 +423,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
         # sized before anything per tuple is allocated: without gates (gate_prob=None) an
         # entry has prod_v (M_v + 1) tuples
         _check_tuple_count(gated, T, V)
-        # every entry's tuples: the product of its gated lists (0 = missed), all-missed first,
-        # in itertools.product's order (the last sensor varies fastest)
-        per_entry = []
-        for t in range(T):
-            lists = [np.r_[0, np.flatnonzero(gated[v][t]) + 1] for v in range(V)]
-            grid = np.meshgrid(*lists, indexing="ij")
-            per_entry.append(np.stack([g.reshape(-1) for g in grid], axis=-1).astype(np.int64))
-        counts = np.array([a.shape[0] for a in per_entry], dtype=np.int64)
-        tup_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-        tup_g = np.concatenate(per_entry) if T else np.empty((0, V), dtype=np.int64)
-        tup_e = np.repeat(np.arange(T), counts)
+        tup_off, tup_g, tup_e = _entry_tuples(gated, T, V)
         det = tup_g > 0
         # ln η(t) = ln p + Σ_{v∉D} ln(1 − P_D^v) + Σ_{v∈D} (ln P_D^v − ln κ_v) + ln q(z_D)
         with np.errstate(invalid="ignore"):
@@ -429,9 +492,88 @@ class MultiSensorGLMBFilter(GLMBFilter):
         theta = [terms.log_theta[v][rows][:, np.r_[0, cols[v] + 1]] for v in range(V)]
         return cols, MultiSensorProblem(terms.log_dead[rows], la, terms.log_p[rows], theta)
 
-    def _truncate(self, terms: _MSTerms, counts: np.ndarray, base: np.ndarray) -> _Children:
-        """The children of every component (spec §2.3), component by component."""
+    def _batch_terms(self, terms: _MSTerms, method: str) -> _glmb_kernels.ScanTerms:
+        """The scan's terms as the compiled path reads them, with the shifted weights of the
+        row conditional ``method`` (``"exact"`` or ``"mm"``) of every entry."""
+        T = self.n_tracks
+        c = np.ascontiguousarray
+        gated = c(np.hstack(terms.gated))
+        goff = np.r_[0, np.cumsum([g.shape[1] for g in terms.gated])].astype(np.int64)
+        toff = np.r_[0, np.cumsum([th.shape[1] for th in terms.log_theta])].astype(np.int64)
+        none = np.empty(0)
+        if method == "exact":
+            # exp(ln η − m) over a row's candidates, dead and its tuples (prepare_data)
+            tup_e = np.repeat(np.arange(T), np.diff(terms.tup_off))
+            top = terms.log_dead.copy()
+            np.maximum.at(top, tup_e, terms.tup_la)
+            with np.errstate(invalid="ignore"):
+                tup_w = np.exp(terms.tup_la - top[tup_e])
+                dead_w = np.exp(terms.log_dead - top)
+            tup_w[~np.isfinite(terms.tup_la)] = 0.0
+            dead_w[~np.isfinite(terms.log_dead)] = 0.0
+            lth = Th = np.zeros((T, 0))
+            Ea = Ed = none
+        else:
+            # MM's factors (prepare_data): θ shifted per sensor; the alive prefactor
+            # s Π_v max_j θ^(v)(j) and dead, shifted together
+            tup_w = dead_w = none
+            parts = [_shifted(np.asarray(th, dtype=np.float64)) for th in terms.log_theta]
+            lth = c(np.hstack(terms.log_theta))
+            Th = c(np.hstack([W for W, _ in parts]))
+            top = np.stack([m for _, m in parts], axis=1)
+            with np.errstate(invalid="ignore"):
+                lalive = terms.log_p + top.sum(axis=1)
+                m = np.maximum(lalive, terms.log_dead)
+                Ea = np.nan_to_num(np.exp(lalive - m), nan=0.0)
+                Ed = np.nan_to_num(np.exp(terms.log_dead - m), nan=0.0)
+        return _glmb_kernels.ScanTerms(
+            comp_off=self.comp_off, comp_tracks=self.comp_tracks,
+            births=c(self._births, dtype=np.int64), gated=gated, goff=goff,
+            tup_off=terms.tup_off, tup_g=c(terms.tup_g), tup_la=terms.tup_la, tup_w=c(tup_w),
+            log_dead=c(terms.log_dead), dead_w=c(dead_w), log_p=c(terms.log_p), toff=toff,
+            lth=lth, Th=Th, Ea=c(Ea), Ed=c(Ed), strides=c(terms.strides))
+
+    def _sample_batch(self, terms: _MSTerms, counts: np.ndarray,
+                      base: np.ndarray) -> _Children:
+        """The chains of every component in one compiled call: the children of
+        :meth:`_truncate`'s component-by-component path, bit for bit."""
+        plan = self._plan
         H = self.n_components
+        chains, length = self.association.budget(counts)
+        # the per-component path seeds each component's sampler with rng=int(base[h]): the
+        # streams are those of that seed's base key
+        keys = np.zeros(H, dtype=np.uint64)
+        for h in np.flatnonzero(chains > 0):
+            keys[h] = base_key(int(base[h]))
+        rules = Rules(STALL_GLOBAL_CONSECUTIVE if plan.tau_stall else STALL_OFF, plan.tau_stall,
+                      STALE_CONSECUTIVE if plan.tau_stale else STALE_OFF, plan.tau_stale)
+        sizes = self.comp_off[1:] - self.comp_off[:-1]
+        P_max = int(self._births.size + (sizes.max() if H else 0))
+        U_max = max((u.size for u in terms.used), default=0)
+        method = _glmb_kernels.EXACT if plan.method == "exact" else _glmb_kernels.MM
+        with interruptible:
+            comp, cost, off, entry, meas, sweeps, n_rows = _glmb_kernels.sample_components(
+                self._batch_terms(terms, plan.method), method, plan.random_scan, chains,
+                length, rules, keys, _zobrist(P_max * self.V, U_max + 2))
+        kept = np.cumsum(np.bincount(comp, minlength=H))
+        if H and kept[-1] > EXACT_SCAN_LIMIT:
+            h = int(np.argmax(kept > EXACT_SCAN_LIMIT))  # where the per-component path stops
+            raise ValueError(
+                f"the truncation keeps more than EXACT_SCAN_LIMIT = {EXACT_SCAN_LIMIT} "
+                f"assignments in one scan (component {h} of {H}); use the chains for "
+                "problems of this size")
+        return _Children(comp, cost, off, entry, meas, int(sweeps.sum()),
+                         int((sweeps * n_rows).sum()))
+
+    def _truncate(self, terms: _MSTerms, counts: np.ndarray, base: np.ndarray) -> _Children:
+        """The children of every component (spec §2.3): in one compiled call where the
+        truncation's plan allows it, else component by component."""
+        H = self.n_components
+        # the chains start with every row missed by every sensor: a row that cannot be (its
+        # all-missed tuple has weight 0) is refused by the sampler's start state, per component
+        if (self._plan is not None and self._plan.chains and self.V
+                and not np.isneginf(terms.tup_la[terms.tup_off[:-1]]).any()):
+            return self._sample_batch(terms, counts, base)
         # a chain truncation keeps its start state alone for a count of 0 or 1
         chains_ok = self._plan is not None and self._plan.start_alone
         comp, cost, off, entry, meas = [], [], [0], [], []
