@@ -1,11 +1,13 @@
-"""numba kernel of the tempered Gibbs sampler of Zanella & Roberts (clean inputs only; validate
-in :mod:`.tempered`).
+"""The single-sensor row functions of the tempered Gibbs sampler of Zanella & Roberts (numba;
+clean inputs only: validate in :mod:`.tempered`).
 
-Mirrors :func:`rankedassign.single.tempered.tempered_reference` operation for operation (same
-sums in the same order, one SplitMix64 stream), so both give the same bits. The unique set is
-an open-addressing hash set keyed by the Zobrist hash of the state (confirmed on the state),
-grown by doubling between two calls; the moves run in slices (:func:`tempered_steps`), so a
-signal ends a long run within one slice.
+The loop is the engine's (:func:`rankedassign.engine._tempered_kernels.make_tempered`: the row
+choice, the weights, the unique set, the slices); this module gives it the single-sensor
+kind's ``row_weights``, ``move`` and ``accumulate``. Each row keeps the sums of its available
+weights and tempered weights (:class:`SingleTemperedWork`), updated by the measurement a move
+releases and the one it takes, so a move costs ``O(P + M)``. Together they mirror
+:func:`rankedassign.single.tempered.tempered_reference` operation for operation (same sums in
+the same order, one SplitMix64 stream), so both give the same bits.
 """
 
 from __future__ import annotations
@@ -15,11 +17,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine._kernels import next_uniform
+from ..engine._tempered_kernels import make_tempered
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
-
-#: Status codes of :func:`tempered_steps`.
-OK, UNDERFLOW, NEED_ROOM = 0, 1, 2
 
 
 class SingleTemperedData(NamedTuple):
@@ -43,47 +43,24 @@ class SingleTemperedData(NamedTuple):
     refresh: int
 
 
-class SingleTemperedRun(NamedTuple):
-    """The state of a tempered run between two slices (built and grown in Python).
+class SingleTemperedWork(NamedTuple):
+    """The single-sensor workspace of a tempered run, kept between the engine's slices.
 
     Attributes
     ----------
-    state : ndarray, shape (P,), int32
-        The chain's compact state.
     free : ndarray, shape (M,), float64
-        Free-measurement mask of ``state``.
+        Free-measurement mask of the run's state.
     S, Sb : ndarray, shape (P,), float64
         Every row's sums of ``W`` and ``Wb`` over its available candidates.
-    p : ndarray, shape (P,), float64
-        Every row's ratio.
-    acc : ndarray, shape (P, M + 2), float64
-        The marginal accumulator.
-    states : ndarray, shape (cap, P), int32
-        The unique states in discovery order.
-    hashes : ndarray, shape (cap,), uint64
-        Their Zobrist hashes.
-    counts : ndarray, shape (cap,), int64
-        Their visits.
-    table : ndarray, shape (2 cap,), int64
-        Open-addressing index of the unique states: ``index + 1`` (0 empty).
-    hu : ndarray, shape (3,), uint64
-        ``[hash of the state, unique states, stream state]``.
-    fs : ndarray, shape (3,), float64
-        ``[Σ w, Σ w², Z]``.
+    ctr : ndarray, shape (2,), int64
+        ``[moves made, underflow]``: the moves count the refresh of the sums; ``underflow`` is
+        set by :func:`move` when a row's available tempered weights all underflowed.
     """
 
-    state: np.ndarray
     free: np.ndarray
     S: np.ndarray
     Sb: np.ndarray
-    p: np.ndarray
-    acc: np.ndarray
-    states: np.ndarray
-    hashes: np.ndarray
-    counts: np.ndarray
-    table: np.ndarray
-    hu: np.ndarray
-    fs: np.ndarray
+    ctr: np.ndarray
 
 
 @jit()
@@ -153,219 +130,170 @@ def _weights(R, S, Sb, state, p):
 
 
 @jit()
-def tempered_start(data, zkeys, run):  # pragma: no cover (jit)
-    """The run's state at its start ``state``: masks, sums, ``p``, ``Z`` and ``U = {x0}``.
-
-    ``data`` is a :class:`SingleTemperedData`, ``run`` a :class:`SingleTemperedRun`. Returns
-    :data:`OK` or :data:`UNDERFLOW`.
+def init_work(data, work, state):
+    """The workspace at the start ``state``: the free-measurement mask and every row's sums.
 
     Parameters
     ----------
     data : SingleTemperedData
-        The call's data record.
-    zkeys : ndarray of uint64, shape (P, M + 2)
-        Zobrist keys.
-    run : SingleTemperedRun
-        The run, its ``state`` the start state; filled in place.
+        The call's weights.
+    work : SingleTemperedWork
+        Filled in place (``ctr`` zeroed).
+    state : ndarray of int32, shape (P,)
+        The start state (compact).
 
-    Returns
-    -------
-    int
-        :data:`OK`, or :data:`UNDERFLOW` when every ratio underflowed.
+    Examples
+    --------
+    >>> import numpy as np
+    >>> W = np.array([[1.0, 0.5, 0.25]])
+    >>> data = SingleTemperedData(W=W, Wb=W, R=np.ones_like(W), refresh=3)
+    >>> work = SingleTemperedWork(free=np.empty(1), S=np.empty(1), Sb=np.empty(1),
+    ...                           ctr=np.ones(2, np.int64))
+    >>> init_work(data, work, np.array([0], np.int32))
+    >>> work.free.tolist(), work.S.tolist(), work.ctr.tolist()
+    ([0.0], [1.75], [0, 0])
     """
-    W, Wb, R = data.W, data.Wb, data.R
-    state, free, S, Sb, p = run.state, run.free, run.S, run.Sb, run.p
-    states, hashes, counts, table, hu, fs = (run.states, run.hashes, run.counts, run.table,
-                                             run.hu, run.fs)
-    P = state.shape[0]
+    W, Wb = data.W, data.Wb
+    free, S, Sb = work.free, work.S, work.Sb
     M = W.shape[1] - 2
     free[:] = 1.0
-    for i in range(P):
+    for i in range(state.shape[0]):
         if state[i] < M:
             free[state[i]] = 0.0
-    h = np.uint64(0)
-    for i in range(P):
-        h ^= zkeys[i, state[i]]
-    states[0] = state
-    hashes[0] = h
-    counts[0] = 0
-    table[np.int64(h & np.uint64(table.shape[0] - 1))] = 1
-    hu[0] = h
-    hu[1] = 1
-    for i in range(P):
+    for i in range(state.shape[0]):
         S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
-    Z = _weights(R, S, Sb, state, p)
-    fs[0] = 0.0
-    fs[1] = 0.0
-    fs[2] = Z
-    return OK if Z > 0.0 else UNDERFLOW
+    work.ctr[0] = 0
+    work.ctr[1] = 0
 
 
 @jit()
-def tempered_steps(data, zkeys, run, t0, t1):  # pragma: no cover (jit)
-    """Moves ``t0 .. t1 - 1`` of a run (:func:`tempered_start`), in place.
-
-    Returns ``(status, t)``: :data:`OK` with ``t = t1``; :data:`NEED_ROOM` with the move ``t``
-    not yet made when the unique set may not hold one more state (grow it, then continue from
-    ``t``); :data:`UNDERFLOW`. Moves in several calls are the moves of one call, bit for bit.
+def row_weights(data, work, state, p):
+    """The kind's ``row_weights`` (:mod:`rankedassign.engine._tempered_kernels`): every row's
+    ratio from the sums the moves keep; ``Z``, or -1.0 (not representable).
 
     Parameters
     ----------
-    data, zkeys, run
-        As in :func:`tempered_start` (``run`` advanced in place).
-    t0, t1 : int
-        The moves to make.
-
-    Returns
-    -------
-    (int, int)
-        ``(status, t)`` as above.
-    """
-    W, Wb, R, refresh = data.W, data.Wb, data.R, data.refresh
-    state, free, S, Sb, p, acc = run.state, run.free, run.S, run.Sb, run.p, run.acc
-    states, hashes, counts, table, hu, fs = (run.states, run.hashes, run.counts, run.table,
-                                             run.hu, run.fs)
-    P = state.shape[0]
-    M = W.shape[1] - 2
-    K = M + 2
-    h = hu[0]
-    n_u = np.int64(hu[1])
-    wsum = fs[0]
-    w2sum = fs[1]
-    Z = fs[2]
-    status = OK
-    t = t0
-    while t < t1:
-        if 2 * (n_u + 1) > states.shape[0]:
-            status = NEED_ROOM
-            break
-        # the row: i with probability p_i / Z
-        target = next_uniform_of(hu) * Z
-        r = P - 1
-        csum = 0.0
-        for i in range(P):
-            csum += p[i]
-            if csum > target:
-                r = i
-                break
-        # release its measurement: available again to the other rows
-        a = state[r]
-        if a < M:
-            free[a] = 1.0
-            for i in range(P):
-                if i != r:
-                    S[i] += W[i, a]
-                    Sb[i] += Wb[i, a]
-        # the new value from the tempered conditional (inverse CDF over the available Wb)
-        tot = 0.0
-        for k in range(M):
-            tot += Wb[r, k] * free[k]
-        tot = (tot + Wb[r, M]) + Wb[r, M + 1]
-        if not tot > 0.0:
-            status = UNDERFLOW
-            break
-        u = next_uniform_of(hu) * tot
-        c = -1
-        csum = 0.0
-        for k in range(K):
-            wk = Wb[r, k] * free[k] if k < M else Wb[r, k]
-            if wk > 0.0:
-                csum += wk
-                c = k
-                if csum > u:
-                    break
-        if c < M:
-            free[c] = 0.0
-            for i in range(P):
-                if i != r:
-                    before = S[i]
-                    beforeb = Sb[i]
-                    S[i] -= W[i, c]
-                    Sb[i] -= Wb[i, c]
-                    if S[i] < CANCEL_GUARD * before or Sb[i] < CANCEL_GUARD * beforeb:
-                        S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
-        if c != a:
-            h ^= zkeys[r, a] ^ zkeys[r, c]
-            state[r] = c
-        if (t + 1) % refresh == 0:
-            for i in range(P):
-                S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
-        t += 1
-        Z = _weights(R, S, Sb, state, p)
-        if not Z > 0.0:
-            status = UNDERFLOW
-            break
-        w = 1.0 / Z
-        wsum += w
-        w2sum += w * w
-        for i in range(P):
-            acc[i, state[i]] += w
-        # the unique set
-        mask = table.shape[0] - 1
-        slot = np.int64(h & np.uint64(mask))
-        found = -1
-        while table[slot] != 0:
-            cand = table[slot] - 1
-            if hashes[cand] == h:
-                same = True
-                for i in range(P):
-                    if states[cand, i] != state[i]:
-                        same = False
-                        break
-                if same:
-                    found = cand
-                    break
-            slot = (slot + 1) & mask
-        if found >= 0:
-            counts[found] += 1
-        else:
-            states[n_u] = state
-            hashes[n_u] = h
-            counts[n_u] = 1
-            table[slot] = n_u + 1
-            n_u += 1
-    hu[0] = h
-    hu[1] = np.uint64(n_u)
-    fs[0] = wsum
-    fs[1] = w2sum
-    fs[2] = Z
-    return status, t
-
-
-@jit()
-def next_uniform_of(hu):  # pragma: no cover (jit)
-    """A uniform from the stream whose state is ``hu[2]`` (the run's record keeps it there).
-
-    Parameters
-    ----------
-    hu : ndarray of uint64, shape (3,)
-        The run's ``hu`` record; ``hu[2]`` is advanced.
+    data : SingleTemperedData
+        The call's weights.
+    work : SingleTemperedWork
+        The sums of ``state`` (:func:`init_work`, :func:`move`).
+    state : ndarray of int32, shape (P,)
+        The chain's compact state.
+    p : ndarray of float64, shape (P,)
+        Receives the ratios.
 
     Returns
     -------
     float
-        A uniform in ``[0, 1)``.
+        ``Z = Σ p``, or -1.0 (also after a move whose row underflowed).
     """
-    return next_uniform(hu[2:3])
+    if work.ctr[1] != 0:
+        return -1.0
+    return _weights(data.R, work.S, work.Sb, state, p)
 
 
 @jit()
-def rehash(hashes, n_u, table):  # pragma: no cover (jit)
-    """Insert unique states ``0..n_u-1`` by their ``hashes`` into the empty ``table``.
+def move(data, work, zkeys, state, r, h, rs):
+    """The kind's ``move``: row ``r`` drawn from its tempered conditional (inverse CDF over its
+    available ``Wb``), the sums updated by the measurement released and the one taken.
+
+    Every move reports a change: the sums move by floating-point additions even when the row
+    keeps its value, so the ratios are formed again after every move, as the specification
+    (:func:`rankedassign.single.tempered.tempered_reference`) does. The sums are formed anew
+    every ``refresh`` moves, and where a subtraction cancels (``CANCEL_GUARD``).
 
     Parameters
     ----------
-    hashes : ndarray of uint64, shape (cap,)
-        Hashes of the unique states, in discovery order.
-    n_u : int
-        Unique states.
-    table : ndarray of int64, shape (T,)
-        Empty open-addressing index (T a power of two, at least ``2 n_u``), filled with
-        ``index + 1``.
+    data : SingleTemperedData
+        The call's weights.
+    work : SingleTemperedWork
+        Updated in place; ``ctr[1]`` set when the row's available weights underflowed.
+    zkeys : ndarray of uint64, shape (P, M + 2)
+        Zobrist keys.
+    state : ndarray of int32, shape (P,)
+        Updated in place.
+    r : int
+        The row.
+    h : np.uint64
+        The hash of ``state``.
+    rs : ndarray of uint64, shape (1,)
+        The stream state (one uniform).
+
+    Returns
+    -------
+    (np.uint64, bool)
+        The new hash and ``True``.
     """
-    mask = table.shape[0] - 1
-    for u in range(n_u):
-        t = np.int64(hashes[u] & np.uint64(mask))
-        while table[t] != 0:
-            t = (t + 1) & mask
-        table[t] = u + 1
+    W, Wb, refresh = data.W, data.Wb, data.refresh
+    free, S, Sb, ctr = work.free, work.S, work.Sb, work.ctr
+    P = state.shape[0]
+    M = W.shape[1] - 2
+    K = M + 2
+    # release its measurement: available again to the other rows
+    a = state[r]
+    if a < M:
+        free[a] = 1.0
+        for i in range(P):
+            if i != r:
+                S[i] += W[i, a]
+                Sb[i] += Wb[i, a]
+    tot = 0.0
+    for k in range(M):
+        tot += Wb[r, k] * free[k]
+    tot = (tot + Wb[r, M]) + Wb[r, M + 1]
+    if not tot > 0.0:
+        ctr[1] = 1
+        return h, True
+    u = next_uniform(rs) * tot
+    c = -1
+    csum = 0.0
+    for k in range(K):
+        wk = Wb[r, k] * free[k] if k < M else Wb[r, k]
+        if wk > 0.0:
+            csum += wk
+            c = k
+            if csum > u:
+                break
+    if c < M:
+        free[c] = 0.0
+        for i in range(P):
+            if i != r:
+                before = S[i]
+                beforeb = Sb[i]
+                S[i] -= W[i, c]
+                Sb[i] -= Wb[i, c]
+                if S[i] < CANCEL_GUARD * before or Sb[i] < CANCEL_GUARD * beforeb:
+                    S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
+    if c != a:
+        h ^= zkeys[r, a] ^ zkeys[r, c]
+        state[r] = c
+    ctr[0] += 1
+    if ctr[0] % refresh == 0:
+        for i in range(P):
+            S[i], Sb[i] = _row_sums(W, Wb, free, state, i)
+    return h, True
+
+
+@jit()
+def accumulate(data, work, state, acc, w):
+    """The kind's ``accumulate``: ``acc[i, x_i] += w`` for every row.
+
+    Parameters
+    ----------
+    data : SingleTemperedData
+        Unused.
+    work : SingleTemperedWork
+        Unused.
+    state : ndarray of int32, shape (P,)
+        The state.
+    acc : ndarray of float64, shape (P, M + 2)
+        The marginal accumulator.
+    w : float
+        The state's importance weight.
+    """
+    for i in range(state.shape[0]):
+        acc[i, state[i]] += w
+
+
+#: The tempered loop compiled for the single-sensor row functions: ``(start, steps)``.
+KERNELS = make_tempered("single", row_weights, move, accumulate)

@@ -9,7 +9,8 @@ unique states serve a truncation as those of the other samplers do (each is re-w
 exact weight).
 
 :func:`tempered_reference` is the specification of record (plain Python); :func:`sample_tempered`
-runs the numba kernel of :mod:`._tempered_kernels`, bit for bit the same. The result record,
+runs the engine's compiled tempered loop with the row functions of :mod:`._tempered_kernels`,
+bit for bit the same. The result record,
 :class:`~rankedassign.engine.tempered.TemperedResult`, is the one every kind's tempered sampler
 returns; :func:`rankedassign.sample_tempered` dispatches to this module for an
 :class:`AssignmentProblem` (:attr:`Kind.tempered <rankedassign.engine.kind.Kind>`).
@@ -21,9 +22,8 @@ import math
 
 import numpy as np
 
-from ..engine._kernels import zobrist_keys
-from ..engine.rng import ZOBRIST_SEED, SplitMix64, base_key, chain_state
-from ..engine.tempered import TemperedResult, ess
+from ..engine.rng import SplitMix64, base_key, chain_state
+from ..engine.tempered import TemperedResult, ess, run_compiled
 from ..numba_options import interruptible
 from ..validation import check_beta, check_choice, check_int, check_type
 from . import _tempered_kernels
@@ -56,23 +56,6 @@ def _inputs(problem, n_steps, beta, start, rng):
 # Candidate evaluations per slice of the kernel (about a few milliseconds of moves); between
 # slices the interpreter runs pending signal handlers. The tests shrink it: same bits.
 _SLICE_WORK = 1 << 22
-
-
-def _grow(run):
-    """``run`` with its unique set doubled (states, hashes, counts and a fresh hash table)."""
-    states, hashes, counts = run.states, run.hashes, run.counts
-    n_u = int(run.hu[1])
-    cap = 2 * states.shape[0]
-    new_states = np.empty((cap, states.shape[1]), dtype=np.int32)
-    new_states[:n_u] = states[:n_u]
-    new_hashes = np.empty(cap, dtype=np.uint64)
-    new_hashes[:n_u] = hashes[:n_u]
-    new_counts = np.zeros(cap, dtype=np.int64)
-    new_counts[:n_u] = counts[:n_u]
-    table = np.zeros(2 * cap, dtype=np.int64)
-    with interruptible:
-        _tempered_kernels.rehash(new_hashes, n_u, table)
-    return run._replace(states=new_states, hashes=new_hashes, counts=new_counts, table=table)
 
 
 def _underflow(problem):
@@ -310,30 +293,17 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None,
         return tempered_reference(problem, n_steps, beta=beta, start=start, rng=rng)
     problem, n_steps, x0, W, Wb, R, refresh, base = _inputs(problem, n_steps, beta, start, rng)
     P, K = W.shape
-    with interruptible:
-        zkeys = zobrist_keys(P, K, np.uint64(ZOBRIST_SEED))
-    cap = 64
     data = _tempered_kernels.SingleTemperedData(W=W, Wb=Wb, R=R, refresh=refresh)
-    run = _tempered_kernels.SingleTemperedRun(
-        state=x0.copy(), free=np.ones(K - 2), S=np.empty(P), Sb=np.empty(P), p=np.empty(P),
-        acc=np.zeros((P, K)), states=np.empty((cap, P), dtype=np.int32),
-        hashes=np.empty(cap, dtype=np.uint64), counts=np.zeros(cap, dtype=np.int64),
-        table=np.zeros(2 * cap, dtype=np.int64),
-        hu=np.array([0, 0, chain_state(base, 0)], dtype=np.uint64), fs=np.zeros(3))
+    work = _tempered_kernels.SingleTemperedWork(free=np.ones(K - 2), S=np.empty(P),
+                                                Sb=np.empty(P), ctr=np.zeros(2, np.int64))
+    x0 = np.ascontiguousarray(x0, dtype=np.int32)
     with interruptible:
-        status = _tempered_kernels.tempered_start(data, zkeys, run)
-    budget = max(1, _SLICE_WORK // (P + K))  # moves per slice: a few ms
-    t = 0
-    while status == _tempered_kernels.OK and t < n_steps:
-        with interruptible:
-            status, t = _tempered_kernels.tempered_steps(data, zkeys, run, t,
-                                                         min(n_steps, t + budget))
-        if status == _tempered_kernels.NEED_ROOM:
-            run = _grow(run)
-            status = _tempered_kernels.OK
-    if status != _tempered_kernels.OK:
+        _tempered_kernels.init_work(data, work, x0)
+    acc = np.zeros((P, K))
+    moves = max(1, _SLICE_WORK // (P + K))  # moves per slice: a few ms
+    out = run_compiled(_tempered_kernels.KERNELS, data, work, x0, K, P, acc, n_steps, base,
+                       moves)
+    if out is None:
         _underflow(problem)
-    n_u = int(run.hu[1])
-    wsum, w2sum = float(run.fs[0]), float(run.fs[1])
-    states, counts, acc = run.states[:n_u], run.counts[:n_u], run.acc
+    states, counts, wsum, w2sum = out
     return _result(problem, states, counts, acc, wsum, w2sum, n_steps)
