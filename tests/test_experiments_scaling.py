@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
+import json
+import os
 import re
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -132,3 +137,23 @@ def test_the_lmb_filter_extracts_per_cluster_by_default():
     assert scaling_task(cfg, 0, 0, "lmb", 5)["N"] == 5
     assert "extraction is `map`" in render_scaling(summarise_scaling(
         [scaling_task(cfg, 0, 0, "lmb", 5)], cfg), cfg)
+
+
+@pytest.mark.slow
+def test_one_scan_at_100_000_targets_stays_under_4_gib():
+    # In a process of its own: the peak resident memory (ru_maxrss) is the process's, and the
+    # session's other tests would count in it. One LMB scan with OSPA(2) and GOSPA by the
+    # sparse route (a dense OSPA(2) would need arrays of 10^10 pairs).
+    root = Path(__file__).resolve().parents[1]
+    code = ("import json\n"
+            "from rankedassign.experiments.studies.scaling import ScalingConfig, scaling_task\n"
+            "cfg = ScalingConfig(n_mc=1, sizes=(100_000,), n_scans=1, filters=('lmb',))\n"
+            "print(json.dumps(scaling_task(cfg, 0, 0, 'lmb', 100_000)))\n")
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, env=env, cwd=root, timeout=1800)
+    rec = json.loads(out.stdout.splitlines()[-1])
+    assert rec["N"] == 100_000 and len(rec["seconds"]) == 1
+    assert rec["peak_rss_gib"] < 4.0
+    # a position sensor with sigma = 10 m: the targets are tracked (OSPA(2) far below c)
+    assert 0.0 < rec["ospa2"] < 0.5 * ScalingConfig().ospa_c
