@@ -878,10 +878,13 @@ SPARSE_MIN_PAIRS = 250_000
 _RADIUS_SLACK = 1e-9
 
 
-#: A connected component with more (row, column) entries than this is solved by SciPy's sparse
-#: LAPJVsp (:func:`scipy.sparse.csgraph.min_weight_full_bipartite_matching`) on its pairs below
-#: the cut-off, not on its dense matrix: on the ``"large"`` scenario's scenes the bipartite graph
-#: of pairs closer than c = 100 m percolates, with one component of most of the tracks.
+#: The sparse route solves each connected component of the pairs closer than the cut-off on
+#: its own dense matrix (as the dense route solves the whole); a component with more (row,
+#: column) entries than this goes to SciPy's LAPJVsp on its pairs instead, or, where the costs
+#: underflow a double, is refused. On the ``"large"`` scenario's scenes (one target per
+#: 200 m × 200 m, c = 100 m) the largest component has 32 tracks at N = 10 000 and 44 at
+#: N = 100 000; a graph that percolates (a much denser scene, or a larger c) has one
+#: component of most of the tracks.
 DENSE_COMPONENT_MAX = 250_000
 
 
@@ -890,15 +893,18 @@ def _sparse_lsap(I: np.ndarray, J: np.ndarray, U: np.ndarray, r: int, s: int) ->
     elsewhere) uses, as a boolean mask over the pairs, by LAPJVsp on ``O(len(I) + r + s)``
     edges.
 
-    The dense problem, ``min(r, s)`` pairs at cost ``U`` or 1, has the optimum of ``min sum U
-    + (r - k) / 2 + (s - k) / 2`` over partial matchings of ``k`` of the given pairs (each
-    unmatched row or column at 1/2; both differ from the dense cost by the constant
-    ``|r - s| / 2``). That is a full matching of rows ``r`` real + ``s`` slots for unmatched
-    columns against columns ``s`` real + ``r`` slots for unmatched rows: row ``i`` to its slot
-    and column ``j`` to its slot at 1/2, slot of ``j`` to slot of ``i`` at 0 for every given
-    pair ``(i, j)`` (the textbook padding, only where a pair may need it). Every weight is
-    raised by 1 (LAPJVsp takes only non-zero weights; every full matching has ``r + s``
-    edges, so the optimum is the same).
+    The dense problem, ``min(r, s)`` pairs at cost ``U`` or 1, has its optimum at the partial
+    matching of ``k`` of the given pairs that minimises ``sum U - k``. That is a full matching
+    of rows (``r`` real, then ``s`` slots for unmatched columns) against columns (``s`` real,
+    then ``r`` slots for unmatched rows): row ``i`` to its slot and column ``j`` to its slot at
+    1, slot of ``j`` to slot of ``i`` at 1 for every given pair ``(i, j)`` (the textbook
+    padding, only where a pair may need it), so that a full matching with ``k`` given pairs
+    costs ``sum U + (r - k) + (s - k) + k``. LAPJVsp takes only non-zero weights: a cost of
+    exactly 0 (two identical points) enters as the smallest subnormal, which only orders it
+    below every positive cost. Its optimum is exact to the solver's absolute precision (about
+    1e-16 of the cut-off's cost), less than the dense LSAP's on costs far below that (orders
+    ``p`` in the hundreds, whose root ``1/p`` magnifies them), hence only for components
+    above :data:`DENSE_COMPONENT_MAX`.
     """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import min_weight_full_bipartite_matching
@@ -906,7 +912,7 @@ def _sparse_lsap(I: np.ndarray, J: np.ndarray, U: np.ndarray, r: int, s: int) ->
     e = I.size
     rows = np.concatenate([I, np.arange(r), r + np.arange(s), r + J])
     cols = np.concatenate([J, s + np.arange(r), np.arange(s), s + I])
-    w = np.concatenate([1.0 + U, np.full(r + s, 1.5), np.ones(e)])
+    w = np.concatenate([np.maximum(U, np.nextafter(0.0, 1.0)), np.ones(r + s + e)])
     graph = coo_matrix((w, (rows, cols)), shape=(r + s, r + s)).tocsr()
     rr, cc = min_weight_full_bipartite_matching(graph)
     real = (rr < r) & (cc < s)
@@ -981,13 +987,20 @@ def _component_assignment(I, J, U, L, log_mode: bool):
     ``(I, J)`` are the pairs below the cut-off, ``U`` their costs in units of the cut-off's
     cost (``< 1``) and ``L`` their logarithms; every other pair costs 1. A pair at the cut-off
     costs what leaving both sides unassigned costs, so the assignment decomposes over the
-    components of the graph of the pairs below it: each is solved on its own dense matrix
-    (other entries 1), singleton pairs directly.
+    connected components of the graph of the pairs below it. A component of one pair is one
+    row and one column, matched at its cost; one of two pairs shares a row or a column, and
+    the cheaper pair is matched (both done for all such components at once: at 10 000 targets
+    they are most of them). Each larger component is solved on its own dense matrix (other
+    entries 1) as the dense route solves the whole: by :func:`scipy.optimize.linear_sum_assignment`,
+    or where the costs underflow (``log_mode``) in log space with the dense route's
+    bottleneck rescaling; above :data:`DENSE_COMPONENT_MAX` entries by LAPJVsp
+    (:func:`_sparse_lsap`), or refused in ``log_mode``.
 
-    Returns ``(total, log_total, n_matched, kept)``: the sum of the matched costs of every
-    component (``min(r, s)`` matched pairs in a component of ``r`` and ``s`` nodes), its
-    logarithm (``log_mode`` only, else NaN), the number of matched pairs and a boolean mask of
-    the pairs matched with cost below 1.
+    Returns ``(total, log_total, n_matched, kept)``: ``n_matched`` matched pairs of cost
+    ``total`` in all, so that the optimum of the whole problem with ``small`` rows on its
+    smaller side is ``total + (small - n_matched)`` (the other rows of the smaller side are
+    matched at cost 1); ``log_total`` the logarithm of ``total`` (``log_mode`` only, else
+    NaN); and a boolean mask of the pairs matched with cost below 1.
     """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
@@ -1003,47 +1016,61 @@ def _component_assignment(I, J, U, L, log_mode: bool):
                        shape=(nr + ci.size, nr + ci.size))
     _, comp = connected_components(graph, directed=False)
     lab = comp[I_loc]
+
+    def local(idx):
+        # each pair's node index within its component: the rank of its node there
+        o = np.lexsort((idx, lab))
+        new_node = np.r_[True, (lab[o][1:] != lab[o][:-1]) | (idx[o][1:] != idx[o][:-1])]
+        new_comp = np.r_[True, lab[o][1:] != lab[o][:-1]]
+        rank = np.cumsum(new_node)
+        rank -= np.maximum.accumulate(np.where(new_comp, rank, 0))
+        out = np.empty_like(rank)
+        out[o] = rank
+        return out
+
+    r_loc, c_loc = local(I_loc), local(J_loc)
     order = np.argsort(lab, kind="stable")
     lab_sorted = lab[order]
     starts = np.flatnonzero(np.r_[True, lab_sorted[1:] != lab_sorted[:-1]])
     sizes = np.diff(np.r_[starts, lab_sorted.size])
-    # a component with one pair is one row and one column: it is matched, at its cost
     single = order[starts[sizes == 1]]
     kept[single] = True
-    parts_lin = [U[single]]
-    parts_log = [L[single]] if log_mode else []
-    n_matched = int(single.size)
-    for st, sz in zip(starts[sizes > 1], sizes[sizes > 1], strict=True):
+    first, second = order[starts[sizes == 2]], order[starts[sizes == 2] + 1]
+    # compared as logarithms where the costs underflow (both may be 0 as they are)
+    cheaper = L[second] < L[first] if log_mode else U[second] < U[first]
+    take = np.where(cheaper, second, first)
+    kept[take] = True
+    n_matched = single.size + take.size
+    parts_lin = [U[single], U[take]]
+    parts_log = [L[single], L[take]]
+    for st, sz in zip(starts[sizes > 2], sizes[sizes > 2], strict=True):
         e = order[st:st + sz]
-        rows, r_loc = np.unique(I[e], return_inverse=True)
-        cols, c_loc = np.unique(J[e], return_inverse=True)
-        transpose = rows.size > cols.size
-        if rows.size * cols.size > DENSE_COMPONENT_MAX:
+        rl, cl = r_loc[e], c_loc[e]
+        nrow, ncol = int(rl.max()) + 1, int(cl.max()) + 1
+        if nrow * ncol > DENSE_COMPONENT_MAX:
             if log_mode:
                 raise ValueError(
-                    f"the sparse route cannot solve a connected component of {rows.size} x "
-                    f"{cols.size} tracks whose costs (d/c)^p underflow a double (below "
+                    f"the sparse route cannot solve a connected component of {nrow} x {ncol} "
+                    f"tracks whose costs (d/c)^p underflow a double (below "
                     f"exp({_EXP_SAFE:g})): use method='dense' or a smaller order p")
-            hit = _sparse_lsap(r_loc, c_loc, U[e], rows.size, cols.size)
+            hit = _sparse_lsap(rl, cl, U[e], nrow, ncol)
             kept[e] = hit
-            n_matched += min(rows.size, cols.size)
-            # the other matched rows of the smaller side are at cost 1
+            n_matched += int(hit.sum())
             parts_lin.append(U[e][hit])
-            parts_lin.append(np.ones(min(rows.size, cols.size) - int(hit.sum())))
             continue
-        C = np.ones((rows.size, cols.size))
-        C[r_loc, c_loc] = U[e]
+        C = np.ones((nrow, ncol))
+        C[rl, cl] = U[e]
         if log_mode:
-            G = np.zeros((rows.size, cols.size))
-            G[r_loc, c_loc] = L[e]
-            parts_log.append(np.array([_log_assignment_sum(G.T if transpose else G)]))
+            G = np.zeros((nrow, ncol))  # ln 1 for the pairs at the cut-off
+            G[rl, cl] = L[e]
+            parts_log.append(np.array([_log_assignment_sum(G.T if nrow > ncol else G)]))
         rr, cc = linear_sum_assignment(C)
         n_matched += rr.size
         parts_lin.append(C[rr, cc])
         # which pairs the assignment uses below the cut-off
-        hit = np.zeros((rows.size, cols.size), dtype=bool)
+        hit = np.zeros((nrow, ncol), dtype=bool)
         hit[rr, cc] = C[rr, cc] < 1.0
-        kept[e] = hit[r_loc, c_loc]
+        kept[e] = hit[rl, cl]
     total = float(np.concatenate(parts_lin).sum())
     log_total = float(np.logaddexp.reduce(np.concatenate(parts_log))) if log_mode else math.nan
     return total, log_total, n_matched, kept

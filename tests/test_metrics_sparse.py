@@ -4,9 +4,10 @@ The sparse route keeps only the pairs closer than the cut-off and solves the ass
 connected component at a time; it is exact, so it is checked against the dense route to
 1e-12 relative on small random scenes built to hit the corner cases: points on a grid (pairs
 exactly at the cut-off, ties between assignments), empty sides, gaps in tracks, windows longer
-than one scan, orders 1 and 2 (and one far beyond a double's range), both bases. The same
-scenes run once more with every component of two or more pairs sent to LAPJVsp, the solver
-of the large components.
+than one scan, orders 1 and 2 (and orders whose costs underflow a double, where the sparse
+route works in log space), both bases. The scenes of orders 1 and 2 run once more with every
+component of three or more pairs sent to LAPJVsp, the solver of components above
+``DENSE_COMPONENT_MAX`` entries.
 """
 
 from __future__ import annotations
@@ -44,13 +45,13 @@ def scenes(draw):
     return draw(gappy_tracks(K)), draw(gappy_tracks(K))
 
 
+def _every_component_to_lapjvsp():
+    return mock.patch.object(metrics, "DENSE_COMPONENT_MAX", 0)
+
+
 def _assert_same(dense, sparse):
     for a, b in zip(dense, sparse, strict=True):
         assert_allclose(b, a, rtol=1e-12, atol=1e-300)
-
-
-def _every_component_to_lapjvsp():
-    return mock.patch.object(metrics, "DENSE_COMPONENT_MAX", 0)
 
 
 @given(scenes(), cutoffs, orders, st.integers(1, 4), st.sampled_from([0, 1]),
@@ -154,10 +155,11 @@ def test_bad_method_and_an_underflowing_large_component_are_refused():
     with pytest.raises(ValueError, match=r"^unknown method 'lsap'"):
         gospa_series(X, X, 1.0, 1, method="lsap")
     # two truths and two estimates all within 1e-3 of each other, c = 1, p = 1000: every cost
-    # underflows; a component this size goes to LAPJVsp, which works on the costs themselves
+    # underflows, and a component above DENSE_COMPONENT_MAX entries (here 0) cannot be solved
+    # in log space on its dense matrix
     X = np.array([[[0.0, 0.0], [1e-3, 0.0]]])
     Y = np.array([[[0.0, 1e-3], [1e-3, 1e-3]]])
-    with _every_component_to_lapjvsp(), pytest.raises(
+    with mock.patch.object(metrics, "DENSE_COMPONENT_MAX", 0), pytest.raises(
             ValueError, match=r"^the sparse route cannot solve a connected component of 2 x 2 "
                               r"tracks whose costs \(d/c\)\^p underflow a double \(below "
                               r"exp\(-700\)\): use method='dense' or a smaller order p$"):
