@@ -10,8 +10,14 @@ the prior (as ``test_bench_large.py``), by the LMB filter (``grouping=True``) an
     python benchmarks/large_scaling.py --sizes 100 1000 --filters lmb --seeds 0 1 2 3 4 5 6 7 8 9
 
 prints one line per filter and N: median seconds per scan after the first (the first loads the
-kernels and forms the clusters), seconds per target, the process's peak resident memory so far,
-the labelled error per target at the last scan, and for the clustered filter the clusters, the
+kernels and forms the clusters; wall and CPU time, ``cpu_seconds_per_scan``, the measure that
+holds on a loaded machine: a scan is single-threaded), seconds per target, the process's peak resident memory so far,
+OSPA(2) (``ospa2_m``: :func:`rankedassign.metrics.ospa2` on the positions with ``c = 100`` m,
+``p = 1``, a window of 5 scans with uniform weights and the filter's labels as its tracks,
+averaged over the run's scans; ``ospa2_last_m`` at the last scan; OSPA(2) is a mean distance
+per target by its normalisation), GOSPA at the last scan over N (``gospa_per_target_m``), both
+by the metrics' exact sparse route (``metric_seconds`` and ``metric_cpu_seconds`` for both,
+untimed in the scan's), the labelled error per target at the last scan, and for the clustered filter the clusters, the
 largest one and the scene's retained mass. The labelled error of a target is
 ``min(c, |p̂ − p|)`` with ``c = 100`` m, where ``p̂`` is the position the filter reports for the
 target's prior label (``c`` when it reports none); its mean over the targets is OSPA with the
@@ -21,8 +27,12 @@ the labelled error over the targets at least ``EDGE = 300`` m inside the square 
 scan (a target near the edge has less clutter and fewer neighbours about it, and a small
 square has a larger share of such targets). With several ``--seeds`` every (filter, N) runs
 once per scenario seed (the filter's streams are keyed by the scan, as before), one line
-each, then the mean, standard deviation and range of the errors over the seeds.
-``--sensor bearing-range`` runs the scenario's bearing–range sensor
+each, then the mean, standard deviation and range of the errors and of OSPA(2) over the seeds,
+and for every N above the smallest the 95 % interval of the relative change of OSPA(2) (and of
+the labelled error) from the smallest N.
+``--no-mass`` runs the clustered filter without the exact retained mass (its estimates are
+the same: the mass draws nothing from the filter's streams), for accuracy runs at N = 10 000
+where the mass's DP costs many times the scan. ``--sensor bearing-range`` runs the scenario's bearing–range sensor
 (``make_scenario("large", ..., sensor="bearing-range")``). ``unreported_per_target`` is the
 share of targets the filter does not report (each counts
 ``c`` in the labelled error) and ``error_reported_m`` the error over the reported ones.
@@ -46,12 +56,17 @@ import time
 
 import numpy as np
 
+from rankedassign import metrics
+from rankedassign.experiments.studies.scaling import _track_array
 from rankedassign.tracking import ClusteredGLMBFilter, LMBFilter, ShortChainGibbs, make_scenario
 from rankedassign.tracking.scenario import LARGE_CELL
 from rankedassign.tracking.single.lmb import cluster_map_tracks, map_cardinality
 
 CUTOFF = 100.0
 EDGE = 300.0
+#: OSPA(2)'s window (scans, uniform weights) and order; its cut-off is CUTOFF.
+WINDOW = 5
+ORDER = 1.0
 
 
 def _labelled_error(labels, states, truth, n):
@@ -66,7 +81,7 @@ def _labelled_error(labels, states, truth, n):
 
 
 def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position",
-        extraction: str = "cluster-map") -> dict:
+        extraction: str = "cluster-map", mass: bool = True) -> dict:
     """One run; the numbers of the docstring as a dict."""
     sc = make_scenario("large", n_targets=n, n_scans=n_scans, rng=seed, sensor=sensor)
     F = sc.model.motion.F
@@ -79,9 +94,10 @@ def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position"
                       extraction=extraction)
         f.set_prior(labels, means, covs, existence=np.full(n, 0.99))
     else:
-        f = ClusteredGLMBFilter(sc.model, assoc, retained_mass=True)
+        f = ClusteredGLMBFilter(sc.model, assoc, retained_mass=mass)
         f.set_prior(labels, means, covs)
-    seconds = []
+    seconds, cpu = [], []
+    reported = []
     seen = {}
     if kind == "lmb":
         # the clusters of the kept tracks that the scan hands to the extraction (None from the
@@ -94,9 +110,15 @@ def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position"
 
         f._extract = spy
     for k, scan in enumerate(sc.scans):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         rec = f.step(scan.z, rng=k)
         seconds.append(time.perf_counter() - t)
+        cpu.append(time.process_time() - c)
+        reported.append((rec.labels, rec.states[:, [0, 2]]))
+    t, c = time.perf_counter(), time.process_time()
+    o2 = metrics.ospa2(sc.truth.positions, _track_array(reported), CUTOFF, ORDER, WINDOW).value
+    g = metrics.gospa(sc.truth.positions[-1], rec.states[:, [0, 2]], CUTOFF, ORDER).value
+    metric_seconds, metric_cpu = time.perf_counter() - t, time.process_time() - c
     err, idx = _labelled_error(rec.labels, rec.states, sc.truth.states[-1], n)
     # targets at least EDGE inside the square at the last scan: their neighbourhood (targets,
     # clutter) is that of every N, where one near the edge sees less clutter and fewer
@@ -104,7 +126,11 @@ def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position"
     half = 0.5 * LARGE_CELL * np.sqrt(max(n, 1))
     inside = np.all(np.abs(sc.truth.states[-1][:, [0, 2]]) <= half - EDGE, axis=1)
     out = {"filter": kind, "N": n, "seconds_per_scan": float(np.median(seconds[1:])),
+           "cpu_seconds_per_scan": float(np.median(cpu[1:])),
            "peak_rss_GiB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20,
+           "ospa2_m": float(o2.mean()), "ospa2_last_m": float(o2[-1]),
+           "gospa_per_target_m": float(g) / max(n, 1), "metric_seconds": metric_seconds,
+           "metric_cpu_seconds": metric_cpu,
            "error_per_target_m": float(err.mean()),
            "error_inside_m": float(err[inside].mean()) if inside.any() else float("nan"),
            # targets the filter does not report (each counts c in the labelled error), and
@@ -130,7 +156,8 @@ def run(kind: str, n: int, n_scans: int, seed: int = 0, sensor: str = "position"
     if kind != "lmb":
         out.update(n_clusters=rec.n_clusters, largest_cluster=int(rec.cluster_sizes.max()),
                    retained_mass=rec.retained_mass,
-                   clusters_beyond_dp=int(np.isnan(rec.cluster_retained_mass).sum()))
+                   clusters_beyond_dp=(int(np.isnan(rec.cluster_retained_mass).sum()) if mass
+                                       else None))
     return out
 
 
@@ -157,14 +184,19 @@ def main(argv=None) -> None:
     ap.add_argument("--seeds", type=int, nargs="+", default=[0])
     ap.add_argument("--sensor", choices=("position", "bearing-range"), default="position")
     ap.add_argument("--extraction", choices=("cluster-map", "map"), default="cluster-map")
+    ap.add_argument("--no-mass", action="store_true",
+                    help="the clustered filter without its exact retained mass (the same "
+                         "estimates: the mass draws nothing; NaN mass in the line)")
     args = ap.parse_args(argv)
     run("lmb", 10, 2)  # loads the kernels
     for kind in args.filters:
         by_n = {}
         for n in args.sizes:
-            errs, inner, rep = [], [], []
+            errs, inner, rep, o2 = [], [], [], []
             for seed in args.seeds:
-                r = run(kind, n, args.scans, seed, args.sensor, args.extraction)
+                r = run(kind, n, args.scans, seed, args.sensor, args.extraction,
+                        not args.no_mass)
+                o2.append(r["ospa2_m"])
                 errs.append(r["error_per_target_m"])
                 inner.append(r["error_inside_m"])
                 rep.append(r["error_reported_m"])
@@ -173,14 +205,15 @@ def main(argv=None) -> None:
                     f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
                     for k, v in r.items()), flush=True)
             if len(errs) > 1:
-                for name, v in (("error_per_target_m", errs), ("error_inside_m", inner),
+                for name, v in (("ospa2_m", o2), ("error_per_target_m", errs),
+                                ("error_inside_m", inner),
                                 ("error_reported_m", rep)):
                     print(f"filter={kind} N={n} seeds={len(v)} {name} mean={np.mean(v):.4g} "
                           f"sd={np.std(v, ddof=1):.3g} min={min(v):.4g} max={max(v):.4g}",
                           flush=True)
         n0 = min(by_n)
-        keys = (["map_error_per_target_m", "cluster_error_per_target_m"] if kind == "lmb"
-                else ["error_per_target_m"])
+        keys = ["ospa2_m"] + (["map_error_per_target_m", "cluster_error_per_target_m"]
+                              if kind == "lmb" else ["error_per_target_m"])
         for n in sorted(by_n):
             if n == n0 or len(by_n[n]) < 2 or len(by_n[n0]) < 2:
                 continue
