@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import re
@@ -12,9 +13,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rankedassign.experiments import Config, ReproduceError, config_from_dict, get_study
+from rankedassign.experiments import (
+    Config,
+    ReproduceError,
+    config_from_dict,
+    get_study,
+    run_study,
+)
 from rankedassign.experiments.studies.scaling import (
     ScalingConfig,
+    ScalingRun,
     render_scaling,
     scaling_task,
     summarise_scaling,
@@ -31,30 +39,60 @@ def runs():
 
 def test_records_per_run(runs):
     for r in runs:
-        assert len(r["seconds"]) == TINY.n_scans
-        assert 0.0 <= r["error_per_target"] <= TINY.ospa_c
-        assert r["gospa_per_target"] is not None and r["gospa_per_target"] >= 0.0
+        assert len(r.seconds) == TINY.n_scans
+        assert 0.0 <= r.error_per_target <= TINY.ospa_c
+        assert r.gospa_per_target is not None and r.gospa_per_target >= 0.0
         # OSPA(2) at every N: a mean distance per target, within [0, c]
-        assert 0.0 <= r["ospa2"] <= TINY.ospa_c and 0.0 <= r["ospa2_last"] <= TINY.ospa_c
-        if r["filter"] == "lmb":
-            assert r["n_clusters"] is None and r["log10_retained_mass"] is None
+        assert 0.0 <= r.ospa2 <= TINY.ospa_c and 0.0 <= r.ospa2_last <= TINY.ospa_c
+        if r.filter == "lmb":
+            assert r.n_clusters is None and r.log10_retained_mass is None
         else:
-            assert r["n_clusters"] >= 1 and r["largest_cluster"] >= 1
+            assert r.n_clusters >= 1 and r.largest_cluster >= 1
             # the mass up to mass_max_n only, and then every cluster within the DP's reach
-            if r["N"] <= TINY.mass_max_n:
-                assert r["log10_retained_mass"] <= 1e-12 and r["clusters_beyond_dp"] == 0
+            if r.N <= TINY.mass_max_n:
+                assert r.log10_retained_mass <= 1e-12 and r.clusters_beyond_dp == 0
             else:
-                assert r["log10_retained_mass"] is None
+                assert r.log10_retained_mass is None
+
+
+def test_a_run_is_a_record_that_reads_back_from_json(runs):
+    # the record of a run is written to <study>_runs.json and read back by the study
+    for r in runs:
+        assert isinstance(r, ScalingRun)
+        back = get_study("scaling").run_from_dict(json.loads(json.dumps(r.to_dict())))
+        assert back == r
+    with pytest.raises(ValueError, match=r"ScalingRun.from_dict: unknown field\(s\) \['ospa'\]"):
+        ScalingRun.from_dict({**runs[0].to_dict(), "ospa": 1.0})
+
+
+def test_a_dask_cluster_gives_the_serial_runs():
+    # Monte Carlo runs of the study on a Dask cluster (worker processes, as with
+    # --dask-scheduler) give the serial runs: every field but the wall times and the workers'
+    # memory, which describe the machine
+    distributed = pytest.importorskip("distributed")
+    cfg = ScalingConfig(n_mc=2, sizes=(5, 30), n_scans=2, n_chains=10, mass_max_n=5)
+    _, serial = run_study("scaling", cfg, seed=4, progress=False, return_runs=True)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=":0") as cluster:
+        with distributed.Client(cluster) as client:
+            _, dask = run_study("scaling", cfg, seed=4, executor=client.get_executor(),
+                                progress=False, return_runs=True)
+
+    def machine_free(runs):
+        return [dataclasses.replace(r, seconds=len(r.seconds), peak_rss_gib=0.0) for r in runs]
+
+    assert len(serial) == 2 * 2 * 2
+    assert machine_free(dask) == machine_free(serial)
 
 
 def test_the_same_seed_gives_the_same_record_and_filters_share_the_scenario():
     a = scaling_task(TINY, 3, 1, "clustered-glmb", 5)
     b = scaling_task(TINY, 3, 1, "clustered-glmb", 5)
-    assert a["error_per_target"] == b["error_per_target"]
-    assert a["log10_retained_mass"] == b["log10_retained_mass"]
+    assert a.error_per_target == b.error_per_target
+    assert a.log10_retained_mass == b.log10_retained_mass
     # the well-separated known targets: both filters keep every one of them
     lmb = scaling_task(TINY, 3, 1, "lmb", 5)
-    assert lmb["false_per_target"] == a["false_per_target"] == 0.0
+    assert lmb.false_per_target == a.false_per_target == 0.0
 
 
 def test_summary_and_report(runs):
@@ -74,11 +112,10 @@ def test_the_verdict_rests_on_ospa2():
     cfg = ScalingConfig(n_mc=2, sizes=(100, 1000))
 
     def rec(n, run, ospa2, err):
-        return {"filter": "lmb", "N": n, "run": run, "seconds": [1.0, 0.1], "row_updates":
-                [10 * n, 10 * n], "peak_rss_gib": 0.1, "error_per_target": err,
-                "false_per_target": 0.0, "ospa2": ospa2, "ospa2_last": ospa2,
-                "gospa_per_target": 1.0, "n_clusters": None, "largest_cluster": None,
-                "log10_retained_mass": None, "clusters_beyond_dp": None}
+        return ScalingRun(filter="lmb", N=n, run=run, seconds=[1.0, 0.1],
+                          row_updates=[10 * n, 10 * n], peak_rss_gib=0.1, error_per_target=err,
+                          false_per_target=0.0, ospa2=ospa2, ospa2_last=ospa2,
+                          gospa_per_target=1.0)
 
     # OSPA(2) 4 % worse, the labelled error 10 % worse: within the target (the issue's measure)
     runs = [rec(100, r, 10.0, 10.0) for r in range(2)] + [rec(1000, r, 10.4, 11.0)
@@ -134,7 +171,7 @@ def test_the_lmb_filter_extracts_per_cluster_by_default():
     # the study's LMB filter reports by the MAP of every cluster; "map" is the global MAP
     assert ScalingConfig().lmb_extraction == "cluster-map"
     cfg = ScalingConfig(n_mc=1, sizes=(5,), n_scans=2, n_chains=10, lmb_extraction="map")
-    assert scaling_task(cfg, 0, 0, "lmb", 5)["N"] == 5
+    assert scaling_task(cfg, 0, 0, "lmb", 5).N == 5
     assert "extraction is `map`" in render_scaling(summarise_scaling(
         [scaling_task(cfg, 0, 0, "lmb", 5)], cfg), cfg)
 
@@ -148,7 +185,7 @@ def test_one_scan_at_100_000_targets_stays_under_4_gib():
     code = ("import json\n"
             "from rankedassign.experiments.studies.scaling import ScalingConfig, scaling_task\n"
             "cfg = ScalingConfig(n_mc=1, sizes=(100_000,), n_scans=1, filters=('lmb',))\n"
-            "print(json.dumps(scaling_task(cfg, 0, 0, 'lmb', 100_000)))\n")
+            "print(json.dumps(scaling_task(cfg, 0, 0, 'lmb', 100_000).to_dict()))\n")
     env = {**os.environ, "PYTHONPATH": str(root)}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, env=env, cwd=root, timeout=1800)

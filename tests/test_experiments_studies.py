@@ -891,8 +891,8 @@ def test_a_table1_run_names_its_criteria():
         rec.criterion("original")
 
 
-def test_every_study_but_scaling_reads_its_saved_runs_back():
-    # scaling's per-run results are still dicts (docs/structure.md, "Not yet")
+def test_every_study_reads_its_saved_runs_back():
+    # every study's task returns a record that Study.run_from_dict builds again
     from rankedassign.experiments import get_study, study_names
 
-    assert [n for n in study_names() if get_study(n).run_from_dict is None] == ["scaling"]
+    assert [n for n in study_names() if get_study(n).run_from_dict is None] == []

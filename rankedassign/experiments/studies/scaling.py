@@ -40,11 +40,12 @@ from ...validation import check_choice, check_fields
 from .. import _format as fmt
 from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
+from .._records import RunRecord
 from ..config import check_ospa, check_positive
 from ..registry import Study, register_study
 
-__all__ = ["SCALING", "ScalingConfig", "ScalingRow", "ScalingSummary", "scaling_task",
-           "summarise_scaling"]
+__all__ = ["SCALING", "ScalingConfig", "ScalingRow", "ScalingRun", "ScalingSummary",
+           "scaling_task", "summarise_scaling"]
 
 #: The filters: the LMB filter with clusters, the clustered δ-GLMB filter.
 SCALING_FILTERS = ("lmb", "clustered-glmb")
@@ -126,7 +127,63 @@ QUICK = ScalingConfig(n_mc=2, sizes=(10, 100, 1000), n_scans=5, mass_max_n=100)
 FULL = ScalingConfig()
 
 
-def scaling_task(cfg: ScalingConfig, seed: int, run: int, filter_name: str, n: int) -> dict:
+@dataclass(frozen=True)
+class ScalingRun(RunRecord):
+    """One run of one filter at one N (:func:`scaling_task`).
+
+    Attributes
+    ----------
+    filter : str
+        ``"lmb"`` or ``"clustered-glmb"`` (:data:`SCALING_FILTERS`).
+    N : int
+        Targets.
+    run : int
+        Monte Carlo run (both filters of a run see the same scene).
+    seconds : list of float
+        Wall seconds of every scan.
+    row_updates : list of int
+        The sampler's row updates of every scan (the cost measure that does not depend on the
+        machine's load).
+    peak_rss_gib : float
+        The worker process's peak resident memory so far (GiB).
+    error_per_target : float
+        The labelled error at the last scan (m).
+    false_per_target : float
+        Reported tracks without a prior label, per target.
+    ospa2 : float
+        OSPA(2) averaged over the run's scans (m; itself a distance per target).
+    ospa2_last : float
+        OSPA(2) at the last scan (m).
+    gospa_per_target : float
+        GOSPA at the last scan over N (m).
+    n_clusters, largest_cluster : int or None
+        The clustered filter's clusters and its largest one at the last scan (None for LMB).
+    log10_retained_mass : float or None
+        ``log10`` of the scene's exact retained mass (the product of the clusters' DPs) at the
+        last scan, up to ``mass_max_n`` targets (else None).
+    clusters_beyond_dp : int or None
+        Clusters whose DP was out of reach (their mass NaN), where the mass was computed.
+    """
+
+    filter: str
+    N: int
+    run: int
+    seconds: list
+    row_updates: list
+    peak_rss_gib: float
+    error_per_target: float
+    false_per_target: float
+    ospa2: float
+    ospa2_last: float
+    gospa_per_target: float
+    n_clusters: int | None = None
+    largest_cluster: int | None = None
+    log10_retained_mass: float | None = None
+    clusters_beyond_dp: int | None = None
+
+
+def scaling_task(cfg: ScalingConfig, seed: int, run: int, filter_name: str,
+                 n: int) -> ScalingRun:
     """One run of one filter on the ``"large"`` scenario with ``n`` targets.
 
     Parameters
@@ -145,19 +202,13 @@ def scaling_task(cfg: ScalingConfig, seed: int, run: int, filter_name: str, n: i
 
     Returns
     -------
-    dict
-        ``filter``, ``N``, ``run``, ``seconds`` per scan, ``peak_rss_gib`` (the worker
-        process's peak so far), ``ospa2`` (m: OSPA(2) averaged over the run's scans, itself a
-        distance per target), ``ospa2_last`` (m, at the last scan), ``error_per_target`` (m,
-        the labelled error at the last scan), ``false_per_target``, ``gospa_per_target`` (m,
-        GOSPA at the last scan over N) and, for the clustered filter, ``n_clusters`` and
-        ``largest_cluster``, and up to ``mass_max_n`` targets ``log10_retained_mass`` and
-        ``clusters_beyond_dp`` (else None).
+    ScalingRun
+        The run's record.
 
     Examples
     --------
     >>> cfg = ScalingConfig(n_mc=1, sizes=(5,), n_scans=2, n_chains=10)
-    >>> scaling_task(cfg, 0, 0, "lmb", 5)["N"]
+    >>> scaling_task(cfg, 0, 0, "lmb", 5).N
     5
     """
     scenario_ss, filter_ss = run_seed(seed, run).spawn(2)
@@ -208,9 +259,7 @@ def scaling_task(cfg: ScalingConfig, seed: int, run: int, filter_name: str, n: i
            "false_per_target": float((~prior).sum() / max(n, 1)),
            "ospa2": float(o2.mean()), "ospa2_last": float(o2[-1]),
            "gospa_per_target": float(metrics.gospa(truth, rec.states[:, [0, 2]], cfg.ospa_c,
-                                                   cfg.ospa_p).value) / max(n, 1),
-           "n_clusters": None, "largest_cluster": None,
-           "log10_retained_mass": None, "clusters_beyond_dp": None}
+                                                   cfg.ospa_p).value) / max(n, 1)}
     if filter_name != "lmb":
         out.update(n_clusters=int(rec.n_clusters),
                    largest_cluster=int(np.max(rec.cluster_sizes, initial=0)))
@@ -227,7 +276,7 @@ def scaling_task(cfg: ScalingConfig, seed: int, run: int, filter_name: str, n: i
             # the scene's mass is a product of thousands of factors: kept as log10
             out.update(log10_retained_mass=float(np.sum(np.log10(ok))) if ok.size else 0.0,
                        clusters_beyond_dp=int((~np.isfinite(masses)).sum()))
-    return out
+    return ScalingRun(**out)
 
 
 def _track_array(reported) -> np.ndarray:
@@ -351,12 +400,12 @@ def _se_present(values) -> float:
     return _se([x for x in values if x is not None])
 
 
-def summarise_scaling(runs: list[dict], cfg: ScalingConfig) -> ScalingSummary:
+def summarise_scaling(runs: list[ScalingRun], cfg: ScalingConfig) -> ScalingSummary:
     """One row per filter and N.
 
     Parameters
     ----------
-    runs : list of dict
+    runs : list of ScalingRun
         The task records (:func:`scaling_task`).
     cfg : ScalingConfig
         The study's settings.
@@ -367,7 +416,7 @@ def summarise_scaling(runs: list[dict], cfg: ScalingConfig) -> ScalingSummary:
     """
     cells: dict = {}
     for r in runs:
-        cells.setdefault((r["filter"], r["N"]), []).append(r)
+        cells.setdefault((r.filter, r.N), []).append(r)
     rows = []
     for f in SCALING_FILTERS:
         for n in sorted(cfg.sizes):
@@ -375,31 +424,31 @@ def summarise_scaling(runs: list[dict], cfg: ScalingConfig) -> ScalingSummary:
             if not rs:
                 continue
             # after the first scan, which forms the clusters (the first alone if it is all)
-            secs = [float(np.median(r["seconds"][1:] or r["seconds"])) for r in rs]
-            ups = [float(np.median(r["row_updates"][1:] or r["row_updates"])) for r in rs]
-            errs = [r["error_per_target"] for r in rs]
-            largest = [r["largest_cluster"] for r in rs if r["largest_cluster"] is not None]
+            secs = [float(np.median(r.seconds[1:] or r.seconds)) for r in rs]
+            ups = [float(np.median(r.row_updates[1:] or r.row_updates)) for r in rs]
+            errs = [r.error_per_target for r in rs]
+            largest = [r.largest_cluster for r in rs if r.largest_cluster is not None]
             rows.append(ScalingRow(
                 filter=f, N=n, n_runs=len(rs), seconds_per_scan=float(np.mean(secs)),
                 seconds_per_scan_se=_se(secs),
                 ms_per_target=1e3 * float(np.mean(secs)) / max(n, 1),
                 row_updates_per_target=float(np.mean(ups)) / max(n, 1),
                 row_updates_per_target_se=_se(ups) / max(n, 1),
-                peak_rss_gib=float(max(r["peak_rss_gib"] for r in rs)),
+                peak_rss_gib=float(max(r.peak_rss_gib for r in rs)),
                 error_per_target=float(np.mean(errs)), error_per_target_se=_se(errs),
-                false_per_target=_mean(r["false_per_target"] for r in rs),
-                gospa_per_target=_mean(r["gospa_per_target"] for r in rs),
-                n_clusters=_mean(r["n_clusters"] for r in rs),
+                false_per_target=_mean(r.false_per_target for r in rs),
+                gospa_per_target=_mean(r.gospa_per_target for r in rs),
+                n_clusters=_mean(r.n_clusters for r in rs),
                 largest_cluster=float(max(largest)) if largest else math.nan,
-                log10_retained_mass=_mean(r["log10_retained_mass"] for r in rs),
-                clusters_beyond_dp=int(sum(r["clusters_beyond_dp"] or 0 for r in rs)),
+                log10_retained_mass=_mean(r.log10_retained_mass for r in rs),
+                clusters_beyond_dp=int(sum(r.clusters_beyond_dp or 0 for r in rs)),
                 ms_per_target_se=1e3 * _se(secs) / max(n, 1),
-                false_per_target_se=_se_present(r["false_per_target"] for r in rs),
-                gospa_per_target_se=_se_present(r["gospa_per_target"] for r in rs),
-                n_clusters_se=_se_present(r["n_clusters"] for r in rs),
-                log10_retained_mass_se=_se_present(r["log10_retained_mass"] for r in rs),
-                ospa2=_mean(r.get("ospa2") for r in rs),
-                ospa2_se=_se_present(r.get("ospa2") for r in rs)))
+                false_per_target_se=_se_present(r.false_per_target for r in rs),
+                gospa_per_target_se=_se_present(r.gospa_per_target for r in rs),
+                n_clusters_se=_se_present(r.n_clusters for r in rs),
+                log10_retained_mass_se=_se_present(r.log10_retained_mass for r in rs),
+                ospa2=_mean(r.ospa2 for r in rs),
+                ospa2_se=_se_present(r.ospa2 for r in rs)))
     return ScalingSummary(rows=rows)
 
 
@@ -591,4 +640,5 @@ SCALING = register_study(Study(
     order=78,
     warm=_warm,
     warm_group=lambda args: args[3],
+    run_from_dict=ScalingRun.from_dict,
 ))
