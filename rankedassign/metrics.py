@@ -25,8 +25,13 @@ from typing import NamedTuple
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import maximum_bipartite_matching
+from scipy.sparse import coo_matrix, csr_matrix
+from scipy.sparse.csgraph import (
+    connected_components,
+    maximum_bipartite_matching,
+    min_weight_full_bipartite_matching,
+)
+from scipy.spatial import cKDTree
 
 from .validation import check_choice, check_int, check_real, float_array
 
@@ -906,8 +911,6 @@ def _sparse_lsap(I: np.ndarray, J: np.ndarray, U: np.ndarray, r: int, s: int) ->
     ``p`` in the hundreds, whose root ``1/p`` magnifies them), hence only for components
     above :data:`DENSE_COMPONENT_MAX`.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import min_weight_full_bipartite_matching
 
     e = I.size
     rows = np.concatenate([I, np.arange(r), r + np.arange(s), r + J])
@@ -947,7 +950,6 @@ def _close_pairs(A: np.ndarray, B: np.ndarray, c: float, p: float, base: str):
     """The pairs ``(i, j)`` of rows of ``A`` and ``B`` whose base distance is below the
     cut-off (``s < 1``), found with a k-d tree, with ``s`` and ``g`` of each (int64, int64,
     float64, float64 arrays, sorted by ``(i, j)``)."""
-    from scipy.spatial import cKDTree
 
     empty = (np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0), np.empty(0))
     if A.shape[0] == 0 or B.shape[0] == 0:
@@ -1002,8 +1004,6 @@ def _component_assignment(I, J, U, L, log_mode: bool):
     matched at cost 1); ``log_total`` the logarithm of ``total`` (``log_mode`` only, else
     NaN); and a boolean mask of the pairs matched with cost below 1.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
 
     kept = np.zeros(I.size, dtype=bool)
     if I.size == 0:
