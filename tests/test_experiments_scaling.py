@@ -28,7 +28,8 @@ from rankedassign.experiments.studies.scaling import (
     summarise_scaling,
 )
 
-TINY = ScalingConfig(n_mc=2, sizes=(5, 100), n_scans=3, n_chains=20, mass_max_n=5)
+TINY = ScalingConfig(n_mc=2, sizes=(5, 100), n_scans=3, n_chains=20, mass_max_n=5,
+                     truncations=("short-chain",))
 
 
 @pytest.fixture(scope="module")
@@ -70,7 +71,8 @@ def test_a_dask_cluster_gives_the_serial_runs():
     # --dask-scheduler) give the serial runs: every field but the wall times and the workers'
     # memory, which describe the machine
     distributed = pytest.importorskip("distributed")
-    cfg = ScalingConfig(n_mc=2, sizes=(5, 30), n_scans=2, n_chains=10, mass_max_n=5)
+    cfg = ScalingConfig(n_mc=2, sizes=(5, 30), n_scans=2, n_chains=10, mass_max_n=5,
+                        truncations=("short-chain",))
     _, serial = run_study("scaling", cfg, seed=4, progress=False, return_runs=True)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=":0") as cluster:
@@ -79,10 +81,38 @@ def test_a_dask_cluster_gives_the_serial_runs():
                                 progress=False, return_runs=True)
 
     def machine_free(runs):
-        return [dataclasses.replace(r, seconds=len(r.seconds), peak_rss_gib=0.0) for r in runs]
+        return [dataclasses.replace(r, seconds=len(r.seconds), cpu_seconds=len(r.cpu_seconds),
+                                    peak_rss_gib=0.0) for r in runs]
 
     assert len(serial) == 2 * 2 * 2
     assert machine_free(dask) == machine_free(serial)
+
+
+def test_murty_beside_the_short_chains():
+    # every filter with Murty's k best too: no row updates (Murty samples nothing), so the
+    # verdict's cost measure is the CPU time of the scans; the exact retained mass per cluster
+    cfg = ScalingConfig(n_mc=2, sizes=(5, 100, 300), n_scans=3, n_chains=20, mass_max_n=100,
+                        murty_k=20)
+    runs = [scaling_task(cfg, 0, r, f, n, t) for f in cfg.filters for t in cfg.truncations
+            for n in cfg.sizes for r in range(cfg.n_mc)]
+    murty = [r for r in runs if r.truncation == "murty"]
+    assert murty and all(sum(r.row_updates) == 0 and len(r.cpu_seconds) == 3 for r in murty)
+    for r in murty:
+        if r.filter == "clustered-glmb" and r.N <= cfg.mass_max_n:
+            assert r.log10_retained_mass <= 1e-12 and r.clusters_beyond_dp == 0
+    s = summarise_scaling(runs, cfg)
+    assert [(r.filter, r.truncation) for r in s.rows if r.N == 100] == [
+        ("lmb", "short-chain"), ("lmb", "murty"), ("clustered-glmb", "short-chain"),
+        ("clustered-glmb", "murty")]
+    assert all(r.cpu_ms_per_target > 0 for r in s.rows)
+    text = render_scaling(s, cfg)
+    assert "**LMB (clusters), Murty:** from N = 100 to N = 300 the CPU time per target" in text
+    assert "**clustered δ-GLMB, short chains:** from N = 100 to N = 300 the sampler's row " \
+        "updates" in text
+    with pytest.raises(ValueError, match="truncation"):
+        ScalingConfig(truncations=("original",))
+    with pytest.raises(ValueError, match="truncations must name at least one"):
+        ScalingConfig(truncations=())
 
 
 def test_the_same_seed_gives_the_same_record_and_filters_share_the_scenario():
