@@ -834,7 +834,7 @@ def test_warm_up_on_workers_runs_the_warm_units_before_the_tiny_tasks():
 def test_the_tempering_study_warms_each_sampler_of_each_kind_in_a_unit_of_its_own():
     from rankedassign.experiments import get_study
     from rankedassign.experiments.registry import study_config
-    from rankedassign.experiments.studies.tempering_herding import _warm_unit
+    from rankedassign.experiments.studies.tempering_herding import _warm_unit, kind_name
 
     quick = Config.quick()
     st = get_study("tempering_herding")
@@ -843,16 +843,17 @@ def test_the_tempering_study_warms_each_sampler_of_each_kind_in_a_unit_of_its_ow
     synthetic = [u for u in units if u[0] is _warm_unit]
     # every method on every kind exactly once; the multi-sensor herded driver (the longest
     # compile) first
-    seen = [(u[2], m) for u in synthetic for m in u[3]]
+    seen = [(f, m) for u in synthetic for f in u[2] for m in u[3]]
     assert len(seen) == len(set(seen))
-    families = {u[2] for u in synthetic}
-    assert len(families) == 3 and {m for _, m in seen} == set(tiny.methods)
-    assert synthetic[0][2].startswith("ms:") and synthetic[0][3][0].startswith("herded")
+    assert {f for f, _ in seen} == set(tiny.families)
+    assert {m for _, m in seen} == set(tiny.methods)
+    assert all(len({kind_name(f) for f in u[2]}) == 1 for u in synthetic)  # one kind a unit
+    assert synthetic[0][2][0].startswith("ms:") and synthetic[0][3][0].startswith("herded")
     assert sum(u[4] for u in synthetic) == 3  # one grading unit per kind
     tracking = [u[1:] for u in units if u[0] is not _warm_unit]
     assert {u[5] for u in tracking} == set(tiny.tracking_methods) == {
         t[5] for t in st.tasks(tiny, 0) if t[0] == "tracking"}
-    _warm_unit(tiny, "diagonal", ("original", "lbp"), True)  # runs (kernels cached)
+    _warm_unit(tiny, ("diagonal",), ("original", "lbp"), True)  # runs (kernels cached)
 
 
 def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
