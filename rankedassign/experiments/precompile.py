@@ -7,7 +7,10 @@ over the first calls. :func:`precompile` does it up front and side by side: the 
 every registered study (:attr:`~rankedassign.experiments.Study.warm`) and the samplers'
 :func:`~rankedassign.warmup` become one queue of tasks on a pool of worker processes, the first
 task of each study's kernel group first and the largest study's first of all, so that the
-workers compile disjoint sets of kernels at once. Later processes (the studies of
+workers compile disjoint sets of kernels at once. A study whose one tiny task compiles much
+(the tempering study's, every sampler of a problem kind) cuts its kernels finer
+(:attr:`~rankedassign.experiments.Study.warm_units`, one sampler on one kind): those units go
+out before every tiny task, longest first, and the study's tiny tasks last. Later processes (the studies of
 ``rankedassign reproduce``, the test suite, a notebook) load the kernels from the cache.
 
 ``rankedassign precompile`` runs it from the command line; CI runs it before its test tiers.
