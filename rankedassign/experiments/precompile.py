@@ -10,8 +10,9 @@ task of each study's kernel group first and the largest study's first of all, so
 workers compile disjoint sets of kernels at once. A study whose one tiny task compiles much
 (the tempering study's, every sampler of a problem kind) cuts its kernels finer
 (:attr:`~rankedassign.experiments.Study.warm_units`, one sampler on one kind): those units go
-out before every tiny task, longest first, and the study's tiny tasks last. Later processes (the studies of
-``rankedassign reproduce``, the test suite, a notebook) load the kernels from the cache.
+out before every tiny task, longest first, and the study's tiny tasks last. Later processes
+(the studies of ``rankedassign reproduce``, the test suite, a notebook) load the kernels from
+the cache.
 
 ``rankedassign precompile`` runs it from the command line; CI runs it before its test tiers.
 """
