@@ -802,6 +802,56 @@ def test_warm_up_on_workers_runs_one_task_per_group_first_then_the_rest():
     assert calls == ["a1", "a2", "b1", "a3", "c1"]
 
 
+def test_warm_up_on_workers_runs_the_warm_units_before_the_tiny_tasks():
+    from concurrent.futures import ThreadPoolExecutor
+
+    from rankedassign.experiments import get_study, warm_study
+
+    calls = []
+
+    def unit(name):
+        calls.append(name)
+
+    def task(name, group):
+        calls.append(name)
+
+    st = dataclasses.replace(
+        get_study("table1"), warm=lambda c: c,
+        tasks=lambda c, seed: [("a1", "a"), ("a2", "a"), ("b1", "b")], task=task,
+        warm_group=lambda t: t[1], warm_units=lambda c: [(unit, "u1"), (unit, "u2")])
+    with ThreadPoolExecutor(max_workers=1) as ex:
+        assert warm_study(st, Table1Config(), executor=ex) >= 0.0
+    assert calls == ["u1", "u2", "a1", "b1", "a2"]
+    calls.clear()
+    assert warm_study(st, Table1Config()) >= 0.0  # in this process: only the tasks
+    assert calls == ["a1", "a2", "b1"]
+
+
+def test_the_tempering_study_warms_each_sampler_of_each_kind_in_a_unit_of_its_own():
+    from rankedassign.experiments import get_study
+    from rankedassign.experiments.registry import study_config
+    from rankedassign.experiments.studies.tempering_herding import _warm_unit, kind_name
+
+    quick = Config.quick()
+    st = get_study("tempering_herding")
+    tiny = st.warm(study_config(quick, st))
+    units = st.warm_units(tiny)
+    synthetic = [u for u in units if u[0] is _warm_unit]
+    # every method on every kind exactly once; the multi-sensor herded driver (the longest
+    # compile) first
+    seen = [(f, m) for u in synthetic for f in u[2] for m in u[3]]
+    assert len(seen) == len(set(seen))
+    assert {f for f, _ in seen} == set(tiny.families)
+    assert {m for _, m in seen} == set(tiny.methods)
+    assert all(len({kind_name(f) for f in u[2]}) == 1 for u in synthetic)  # one kind a unit
+    assert synthetic[0][2][0].startswith("ms:") and synthetic[0][3][0][0] == "herded"
+    assert sum(u[4] for u in synthetic) == 3  # one grading unit per kind
+    tracking = [u[1:] for u in units if u[0] is not _warm_unit]
+    assert {u[5] for u in tracking} == set(tiny.tracking_methods) == {
+        t[5] for t in st.tasks(tiny, 0) if t[0] == "tracking"}
+    _warm_unit(tiny, ("diagonal",), (("original", ""), ("lbp", "")), True)  # runs (cached)
+
+
 def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     from rankedassign.experiments import get_study
     from rankedassign.experiments.registry import study_config

@@ -74,13 +74,34 @@ def test_the_queue_starts_with_the_longest_study_and_holds_every_warm_task():
     cfg = Config.quick()
     queue = _queue(study_names(), cfg)
     assert queue[0][0] == "tempering_herding"
-    assert queue[1] == (None, ())  # the samplers' warm-up right after it
+    assert queue[1] == (None, (), False)  # the samplers' warm-up right after it
     for name in study_names():
         st = get_study(name)
         if st.warm is None:
             continue
         n = len(list(st.tasks(st.warm(cfg[name]), 0)))
-        assert sum(1 for s, _ in queue if s == name) == n, name
+        assert sum(1 for s, _, unit in queue if s == name and not unit) == n, name
+
+
+def test_the_queue_runs_a_studys_warm_units_first_and_its_tiny_tasks_last():
+    # the tempering study's one task per kind compiled every sampler of the kind on one core
+    # (206 s of a 207 s precompile); its units go out first, one per sampler and kind, and
+    # its tiny tasks after every other study's first ones, when they load from the cache
+    cfg = Config.quick()
+    queue = _queue(study_names(), cfg)
+    st = get_study("tempering_herding")
+    units = st.warm_units(st.warm(cfg["tempering_herding"]))
+    is_unit = [unit for *_, unit in queue]
+    assert sum(is_unit) == len(units) >= 9
+    first = is_unit.index(False, 2)  # after the units (the samplers' warm-up is second)
+    assert not any(is_unit[first:])
+    assert [args for s, args, unit in queue if unit] == units
+    tiny = [i for i, (s, _, unit) in enumerate(queue) if s == "tempering_herding" and not unit]
+    first_of = {}
+    for i, (s, *_) in enumerate(queue):
+        first_of.setdefault(s, i)
+    del first_of["tempering_herding"], first_of[None]
+    assert len(first_of) >= 10 and min(tiny) > max(first_of.values())
 
 
 def test_precompile_one_study_in_process(capsys):

@@ -89,6 +89,29 @@ def test_reduce_mixtures_matches_reference(mix, rule, elim, thr, cap):
             assert np.all(np.diff(seg) <= 0)
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_sort_cap_normalise_orders_as_a_stable_argsort(seed):
+    # the kernel's insertion sort against numpy's stable sort, on more components than the
+    # hypothesis mixtures reach, with many ties, in and out of order, and a cap
+    rng = np.random.default_rng(seed)
+    n, start = 60, 3
+    ow = rng.integers(1, 6, n + start + 2) / 8.0
+    if seed % 2:
+        ow[start:start + n] = np.sort(ow[start:start + n])[::-1]  # nearly sorted: ties only
+    om = rng.standard_normal((ow.size, 4))
+    oP = rng.standard_normal((ow.size, 4, 4))
+    order = start + np.argsort(-ow[start:start + n], kind="stable")[:25]
+    tot = 0.0
+    for x in ow[order]:  # the kernel's sum, in order (numpy's pairwise sum may round apart)
+        tot += x
+    want_w, want_m, want_P = ow[order] / tot, om[order], oP[order]
+    stop = _kernels._sort_cap_normalise(ow, om, oP, start, start + n, 25)
+    assert stop == start + 25
+    assert_array_equal(ow[start:stop], want_w)
+    assert_array_equal(om[start:stop], want_m)
+    assert_array_equal(oP[start:stop], want_P)
+
+
 @pytest.mark.parametrize("impl", [_kernels.reduce_mixtures, reference.reduce_mixtures],
                          ids=["kernel", "reference"])
 def test_reduce_mixtures_empty_and_single(impl):

@@ -7,8 +7,12 @@ over the first calls. :func:`precompile` does it up front and side by side: the 
 every registered study (:attr:`~rankedassign.experiments.Study.warm`) and the samplers'
 :func:`~rankedassign.warmup` become one queue of tasks on a pool of worker processes, the first
 task of each study's kernel group first and the largest study's first of all, so that the
-workers compile disjoint sets of kernels at once. Later processes (the studies of
-``rankedassign reproduce``, the test suite, a notebook) load the kernels from the cache.
+workers compile disjoint sets of kernels at once. A study whose one tiny task compiles much
+(the tempering study's, every sampler of a problem kind) cuts its kernels finer
+(:attr:`~rankedassign.experiments.Study.warm_units`, one sampler on one kind): those units go
+out before every tiny task, longest first, and the study's tiny tasks last. Later processes
+(the studies of ``rankedassign reproduce``, the test suite, a notebook) load the kernels from
+the cache.
 
 ``rankedassign precompile`` runs it from the command line; CI runs it before its test tiers.
 """
@@ -24,7 +28,7 @@ from tqdm.auto import tqdm
 
 from ..samplers import warmup
 from ._executor import _signals_held, local_executor
-from .registry import Config, get_study, study_config, study_names
+from .registry import Config, get_study, run_warm_unit, study_config, study_names
 
 __all__ = ["precompile"]
 
@@ -37,40 +41,56 @@ _LONGEST_FIRST = ("tempering_herding", "glmb_tracking", "tracking", "multisensor
 _GROUPS_FIRST = ("multisensor", "adaptive_birth")
 
 
-def _task(study: str | None, args: tuple) -> None:
-    """One tiny task of ``study`` (``None``: the samplers' :func:`~rankedassign.warmup`)."""
+def _task(study: str | None, args: tuple, unit: bool = False) -> None:
+    """One tiny task of ``study`` (``None``: the samplers' :func:`~rankedassign.warmup`), or
+    with ``unit`` one of its :attr:`~rankedassign.experiments.Study.warm_units`."""
     if study is None:
         warmup()
-        return
-    get_study(study).task(*args)
+    elif unit:
+        run_warm_unit(*args)
+    else:
+        get_study(study).task(*args)
 
 
-def _queue(studies, config) -> list[tuple[str | None, tuple]]:
-    """Every study's tiny tasks as ``(study, args)``, the first of each kernel group first."""
+def _queue(studies, config) -> list[tuple[str | None, tuple, bool]]:
+    """Every study's warm units and tiny tasks as ``(study, args, unit)``, longest first.
+
+    First the warm units (:attr:`~rankedassign.experiments.Study.warm_units`), then the first
+    tiny task of each kernel group, then the rest. The tiny tasks of a study with warm units
+    are all among the rest: its units compile every kernel they need, and a tiny task that
+    started beside a unit compiling the same kernels would compile them again.
+    """
     order = sorted(studies, key=lambda s: (_LONGEST_FIRST.index(s)
                                            if s in _LONGEST_FIRST else len(_LONGEST_FIRST)))
+    units: list = []
     leaders: list = []
-    rest: list = [(None, ())]
+    rest: list = [(None, (), False)]
     for name in order:
         st = get_study(name)
         if st.warm is None:
             continue
-        tasks = list(st.tasks(st.warm(study_config(config, st)), 0))
+        tiny = st.warm(study_config(config, st))
+        tasks = list(st.tasks(tiny, 0))
+        if st.warm_units is not None:
+            units += [(name, unit, True) for unit in st.warm_units(tiny)]
+            rest += [(name, args, False) for args in tasks]
+            continue
         group = st.warm_group or id
         seen: set = set()
         first: list = []
         for args in tasks:
             key = group(args)
             if key in seen:
-                rest.append((name, args))
+                rest.append((name, args, False))
             else:
                 first.append((_GROUPS_FIRST.index(key) if key in _GROUPS_FIRST
-                              else len(_GROUPS_FIRST), len(first), (name, args)))
+                              else len(_GROUPS_FIRST), len(first), (name, args, False)))
             seen.add(key)
         leaders += [item for *_, item in sorted(first, key=lambda t: t[:2])]
-    # the samplers' warm-up after the longest study's first task: it is short and every
-    # worker's later tasks need some of it
-    return leaders[:1] + rest[:1] + leaders[1:] + rest[1:]
+    # the samplers' warm-up after the longest first item: it is short and every worker's
+    # later tasks need some of it
+    head = units + leaders
+    return head[:1] + rest[:1] + head[1:] + rest[1:]
 
 
 def precompile(workers: int | None = None, *, studies=None, progress: bool = True) -> float:
@@ -115,9 +135,9 @@ def precompile(workers: int | None = None, *, studies=None, progress: bool = Tru
     try:
         with local_executor(workers) as executor:
             if executor is None:
-                for study, args in queue:
+                for study, args, unit in queue:
                     bar.set_postfix_str(_label(study), refresh=True)
-                    _task(study, args)
+                    _task(study, args, unit)
                     bar.update()
             else:
                 _run_pool(executor, queue, bar, t0)

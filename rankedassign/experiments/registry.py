@@ -91,6 +91,16 @@ class Study:
         One item of ``<study>_runs.json`` read back into what ``task`` returned: a record
         (e.g. ``Table1Run.from_dict``), or the list of a task's records
         (``nonlinear_tracking``). None: not provided.
+    warm_units : callable, optional
+        ``config -> list of tuple``: every kernel of the tiny tasks of ``config`` (the tiny
+        settings), cut finer than the tasks, for a study whose one task compiles much (the
+        tempering study's task compiles every sampler of a problem kind). Each tuple is
+        ``(function, *args)``, a module-level function that compiles one part (e.g. one
+        sampler on one kind), longest first. With worker processes, :func:`warm_study` and
+        :func:`~rankedassign.experiments.precompile.precompile` run the units before the tiny
+        tasks, spread over the workers, so that one long task does not compile on one core
+        while the others wait; the tiny tasks then load the kernels from the cache. None:
+        the tiny tasks are the finest units.
 
     Examples
     --------
@@ -116,6 +126,7 @@ class Study:
     warm: Callable[[Any], Any] | None = None
     warm_group: Callable[[tuple], Hashable] | None = None
     run_from_dict: Callable[[dict], Any] | None = None
+    warm_units: Callable[[Any], list[tuple]] | None = None
 
 
 _REGISTRY: dict[str, Study] = {}
@@ -279,6 +290,19 @@ def run_study(
     return (summary, runs) if return_runs else summary
 
 
+def run_warm_unit(function: Callable[..., Any], *args) -> None:
+    """Run one :attr:`Study.warm_units` unit, ``function(*args)`` (picklable for a worker).
+
+    Parameters
+    ----------
+    function : callable
+        A module-level function of the study.
+    *args
+        Its arguments.
+    """
+    function(*args)
+
+
 def warm_study(study: str | Study, config=None, *, executor: Executor | None = None) -> float:
     """Run ``study``'s tasks at its tiny settings; returns the seconds taken.
 
@@ -295,8 +319,9 @@ def warm_study(study: str | Study, config=None, *, executor: Executor | None = N
         nothing.
     executor : concurrent.futures.Executor, optional
         Where to run the tiny tasks (default: one after the other in this process). With
-        several workers, the first task of each :attr:`Study.warm_group` runs first, side by
-        side, so that the workers compile disjoint sets of kernels at once; then the rest.
+        several workers, the study's :attr:`Study.warm_units` run first, then the first task
+        of each :attr:`Study.warm_group`, side by side, so that the workers compile disjoint
+        sets of kernels at once; then the rest.
 
     Returns
     -------
@@ -319,6 +344,9 @@ def warm_study(study: str | Study, config=None, *, executor: Executor | None = N
             _interrupts.check()  # a safe point between two tiny tasks
             st.task(*args)
         return time.perf_counter() - t0
+    if st.warm_units is not None:
+        run_tasks(run_warm_unit, st.warm_units(st.warm(study_config(config, st))),
+                  executor=executor, progress=False)
     group = st.warm_group or id
     first: dict = {}
     for i, args in enumerate(tasks):

@@ -464,16 +464,24 @@ def _l1(problem, exact, assignments=None, costs=None, marginals=None) -> float |
 _WARM: set = set()
 
 
+def _warm_methods(problem, methods, cfg) -> None:
+    """Run each of ``methods`` that applies to ``problem`` once, on a tiny budget."""
+    for method in methods:
+        if method == LBP:
+            if applies(method, problem):
+                lbp_marginals(problem)
+        elif applies(method, problem):
+            # Zanella-Roberts: enough moves that its unique table grows once (its own kernel)
+            _call(method, problem, 1_000 if method == ZANELLA_ROBERTS else 2, cfg, 0)
+
+
 def _warm(problem, cfg) -> None:
     """Load (or compile) every kernel the methods use on this kind, once per process, so no
     timed call includes it."""
     kind = kind_of(problem).name
     if kind in _WARM:
         return
-    for method in TH_METHODS:
-        if method != "lbp" and applies(method, problem):
-            # Zanella-Roberts: enough moves that its unique table grows once (its own kernel)
-            _call(method, problem, 1_000 if method == "zanella-roberts" else 2, cfg, 0)
+    _warm_methods(problem, [m for m in TH_METHODS if m != LBP], cfg)
     if isinstance(problem, AssignmentProblem):
         lbp_marginals(problem)
     _WARM.add(kind)
@@ -680,6 +688,57 @@ def run_from_dict(data: dict) -> THSyntheticRun | THTrackingRun:
         raise ValueError(f"a tempering_herding run has part 'synthetic' or 'tracking', got "
                          f"{part!r}")
     return (THSyntheticRun if part == "synthetic" else THTrackingRun).from_dict(data)
+
+
+def _warm_unit(cfg: TemperingHerdingConfig, families: tuple, methods: tuple,
+               grade: bool) -> None:
+    """One warm unit (:func:`_warm_units`): ``methods`` on the tiny problem of each of
+    ``families`` (one kind), and with ``grade`` the oracle's grading of a result (marginals,
+    truncation error)."""
+    for family in families:
+        problem = make_problem(family, run_seed(0, 0), cfg)
+        _warm_methods(problem, methods, cfg)
+        if grade:
+            res, _ = _call(ORIGINAL, problem, 2, cfg, 0)
+            oracle.truncation_error(problem, res.assignments)
+            if kind_of(problem).name != "adaptive_birth":
+                _l1(problem, oracle.marginals(problem), res.assignments, res.costs)
+
+
+#: Kinds in the order their samplers take to compile, longest first (2 cores, empty cache:
+#: the multi-sensor herded driver alone about 100 s of compile CPU).
+_WARM_KINDS = ("multisensor", "adaptive_birth", "single")
+
+
+def _warm_units(cfg: TemperingHerdingConfig) -> list[tuple]:
+    """The kernels of the tiny tasks of ``cfg``, one unit per compiled sampler and kind
+    (:attr:`rankedassign.experiments.Study.warm_units`), longest first.
+
+    One unit per sampler and kind: the herded variants run one herded driver, the other
+    Gibbs methods (tempered, short chains, LBP's marginals beside them) the Gibbs drivers, and
+    Zanella–Roberts its own; the Gibbs unit also grades (the oracle's kernels). A unit runs on
+    every family of its kind: families of one kind can still differ in a signature (measured:
+    the adaptive-birth ``uniform`` family's weight tensor is read-only, a second compile of the
+    herded and Zanella–Roberts drivers, 32 s of CPU), which then compiles in the unit and not
+    in a tiny task at the end. Then the first tracking task of every association.
+    """
+    first: dict = {}
+    for family in cfg.families:
+        first[kind_name(family)] = (*first.get(kind_name(family), ()), family)
+    methods = tuple(cfg.methods)
+    herded = tuple(m for m in methods if m[0] == tracking.HerdedGibbs.name)
+    tempered = tuple(m for m in methods if m == ZANELLA_ROBERTS)
+    gibbs = tuple(m for m in methods if m not in herded + tempered)
+    units = []
+    for group, grade in ((herded, False), (gibbs, True), (tempered, False)):
+        units += [(_warm_unit, cfg, first[kind], group, grade) for kind in _WARM_KINDS
+                  if kind in first and (group or grade)]
+    seen: set = set()
+    for args in th_tasks(cfg, 0):
+        if args[0] == "tracking" and args[5] not in seen:
+            seen.add(args[5])
+            units.append((th_task, *args))
+    return units
 
 
 def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int,
@@ -1455,4 +1514,5 @@ TEMPERING_HERDING = register_study(Study(
                                tracking_mc=min(c.tracking_mc, 1), n_scans=3,
                                tracking_obs=20, tracking_chains=2),
     warm_group=_warm_group,
+    warm_units=_warm_units,
 ))
