@@ -138,7 +138,7 @@ def chain_inputs(problem: AdaptiveBirthProblem, sensor_order: str = "random"):
         return AdaptiveBirthData(
             mode=np.int64(0), V=np.int64(V), n=np.int64(1), random_order=np.int64(random_order),
             shape=shape, off=np.zeros(V + 1, dtype=np.int64), strides=strides,
-            logw=np.ascontiguousarray(problem._tensor.reshape(-1), dtype=np.float64),
+            logw=_writable(problem._tensor.reshape(-1)),
             M0=np.zeros((1, 1)), b0=z1, c0=0.0, A=np.zeros((V, 1, 1)), a=np.zeros((1, 1)),
             cz=z1, const=z1, log_miss=np.zeros(V))
     m = problem._model
@@ -146,12 +146,21 @@ def chain_inputs(problem: AdaptiveBirthProblem, sensor_order: str = "random"):
     a = m["a"] if T else np.zeros((1, m["n"]))
     cz = m["cz"] if T else z1
     const = m["const"] if T else z1
-    c = np.ascontiguousarray
+    c = _writable
     return AdaptiveBirthData(
         mode=np.int64(1), V=np.int64(V), n=np.int64(m["n"]), random_order=np.int64(random_order),
         shape=shape, off=m["off"].copy(), strides=strides, logw=z1, M0=c(m["M0"]),
         b0=c(m["b0"]), c0=float(m["c0"]), A=c(m["A"]), a=c(a), cz=c(cz), const=c(const),
         log_miss=c(m["log_miss"]))
+
+
+def _writable(a) -> np.ndarray:
+    """``a`` as a C-contiguous, writable float64 array (a copy only where it is not one).
+
+    numba compiles a read-only array as a type of its own: a problem whose weights are
+    read-only (a frozen tensor) would compile every sampler a second time.
+    """
+    return np.require(a, dtype=np.float64, requirements=["C", "W"])
 
 
 def prepare(problem, start, scan, rng, options) -> Prepared:
