@@ -224,3 +224,14 @@ def test_one_scan_at_100_000_targets_stays_under_4_gib():
     assert rec["peak_rss_gib"] < 4.0
     # a position sensor with sigma = 10 m: the targets are tracked (OSPA(2) far below c)
     assert 0.0 < rec["ospa2"] < 0.5 * ScalingConfig().ospa_c
+
+
+def test_a_record_still_reads_like_the_dict_it_replaced_with_a_deprecation_warning():
+    # scripts written when the tasks returned dicts keep working for one release
+    run = scaling_task(ScalingConfig(n_mc=1, sizes=(5,), n_scans=2, n_chains=10), 0, 0,
+                       "lmb", 5)
+    with pytest.warns(DeprecationWarning, match=r"ScalingRun\['N'\]: a study task returns a "
+                      r"record now; read its attribute \(ScalingRun\.N\) instead"):
+        assert run["N"] == 5
+    with pytest.raises(KeyError, match="no_such_field"):
+        run["no_such_field"]

@@ -11,6 +11,7 @@ level, so that the records pickle to and from worker processes (Dask included).
 from __future__ import annotations
 
 import dataclasses
+import warnings
 
 __all__ = ["RunRecord"]
 
@@ -28,6 +29,43 @@ class RunRecord:
     >>> Run.from_dict(Run(run=0, error=0.5).to_dict())
     Run(run=0, error=0.5)
     """
+
+    def __getitem__(self, key: str):
+        """A field by name, as the dicts the tasks returned before the records (deprecated).
+
+        Parameters
+        ----------
+        key : str
+            A field's name.
+
+        Returns
+        -------
+        object
+            The field's value (``record[key]`` is ``record.key``).
+
+        Raises
+        ------
+        KeyError
+            If the record has no field ``key``.
+
+        Examples
+        --------
+        >>> import warnings
+        >>> from dataclasses import dataclass
+        >>> @dataclass(frozen=True)
+        ... class Run(RunRecord):
+        ...     error: float
+        >>> with warnings.catch_warnings():
+        ...     warnings.simplefilter("ignore", DeprecationWarning)
+        ...     Run(error=0.5)["error"]
+        0.5
+        """
+        if not isinstance(key, str) or key not in {f.name for f in dataclasses.fields(self)}:
+            raise KeyError(key)
+        warnings.warn(f"{type(self).__name__}[{key!r}]: a study task returns a record now; "
+                      f"read its attribute ({type(self).__name__}.{key}) instead; the dict "
+                      "access goes in the next release", DeprecationWarning, stacklevel=2)
+        return getattr(self, key)
 
     def to_dict(self) -> dict:
         """The record as a dict of its fields, in the class's order.
