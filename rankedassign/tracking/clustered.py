@@ -43,7 +43,6 @@ import math
 import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 from time import perf_counter
-from typing import NamedTuple
 
 import numpy as np
 
@@ -53,6 +52,7 @@ from .common import check_measurements as _check_measurements
 from .gating import GatedPairs, clusters, gate_pairs
 from .models import Model
 from .nonlinear.vo import NonlinearModel
+from .protocol import record_base
 from .single.glmb import GLMBFilter
 
 __all__ = ["CLUSTER_WORK_BYTES", "PAIR_BYTES", "ClusteredGLMBFilter", "ClusteredScanRecord"]
@@ -76,7 +76,11 @@ def _size(n_bytes: float) -> str:
     raise AssertionError  # pragma: no cover
 
 
-class ClusteredScanRecord(NamedTuple):
+class ClusteredScanRecord(record_base(
+        "ClusteredScanRecord", cardinality=np.ndarray, n_components=int, retained_mass=float,
+        retained_mass_reason=str, trajectories=tuple, n_clusters=int, cluster_sizes=np.ndarray,
+        cluster_retained_mass=np.ndarray, cluster_scanned_sizes=np.ndarray, n_merges=int,
+        n_splits=int, merge_dropped_mass=float)):
     """What :class:`ClusteredGLMBFilter` reports for one scan.
 
     The first fields are those of :class:`~rankedassign.tracking.GLMBScanRecord`, for the
@@ -125,32 +129,8 @@ class ClusteredScanRecord(NamedTuple):
         applied).
     """
 
-    labels: np.ndarray
-    states: np.ndarray
-    existence: np.ndarray
-    track_labels: np.ndarray
-    track_existence: np.ndarray
-    n_tracks: int
-    n_meas: int
-    n_meas_gated: int
-    n_groups: int
-    invocations: int
-    sweeps: int
-    row_updates: int
-    n_unique: int
-    timings: dict
-    cardinality: np.ndarray
-    n_components: int
-    retained_mass: float
-    retained_mass_reason: str
-    trajectories: tuple
-    n_clusters: int
-    cluster_sizes: np.ndarray
-    cluster_retained_mass: np.ndarray
-    cluster_scanned_sizes: np.ndarray
-    n_merges: int
-    n_splits: int
-    merge_dropped_mass: float
+    __slots__ = ()
+
 
 
 class _Cluster(GLMBFilter):

@@ -13,11 +13,11 @@ when passed as an object or a class (:mod:`rankedassign.tracking.filters`).
 
 from __future__ import annotations
 
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Filter", "ScanRecordFields"]
+__all__ = ["Filter", "ScanRecordFields", "record_base"]
 
 
 @runtime_checkable
@@ -59,6 +59,40 @@ class ScanRecordFields(Protocol):
     row_updates: int
     n_unique: int
     timings: dict
+
+
+def record_base(name: str, **extra: type) -> type:
+    """The named tuple a filter's record class derives from: the protocol's fields, then its own.
+
+    The fields are those of :class:`ScanRecordFields` in their order, with ``existence`` (the
+    reported tracks' existence probabilities, which every filter of the library reports)
+    after ``states``, then ``extra`` in the order given. A record class derives from it, adds
+    its docstring and ``__slots__ = ()``, and so declares the protocol's fields once.
+
+    Parameters
+    ----------
+    name : str
+        The record's class name.
+    **extra : type
+        The record's own fields after the protocol's, with their types.
+
+    Returns
+    -------
+    type
+        A :func:`typing.NamedTuple` class.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Record(record_base("Record", cardinality=np.ndarray)):
+    ...     'One scan.'
+    ...     __slots__ = ()
+    >>> Record._fields[:4], Record._fields[-2:]
+    (('labels', 'states', 'existence', 'track_labels'), ('timings', 'cardinality'))
+    """
+    fields = list(ScanRecordFields.__annotations__.items())
+    fields.insert(fields.index(("states", "np.ndarray")) + 1, ("existence", "np.ndarray"))
+    return NamedTuple(name, [*fields, *extra.items()])
 
 
 @runtime_checkable

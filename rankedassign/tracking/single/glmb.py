@@ -63,6 +63,7 @@ from ..common import logsumexp as _logsumexp
 from ..models import ConstantVelocity, LinearMotion, Model
 from ..nonlinear.step import single_object
 from ..nonlinear.vo import NonlinearModel
+from ..protocol import record_base
 from . import _glmb_kernels
 
 __all__ = [
@@ -84,7 +85,9 @@ _ZOBRIST_SEED = np.uint64(0x6A09E667F3BCC909)
 _TWO63 = 2**63
 
 
-class GLMBScanRecord(NamedTuple):
+class GLMBScanRecord(record_base(
+        "GLMBScanRecord", cardinality=np.ndarray, n_components=int, retained_mass=float,
+        carried_mass=float, retained_mass_reason=str, trajectories=tuple)):
     """What :class:`GLMBFilter` reports for one scan.
 
     The first fields are those of :class:`~rankedassign.tracking.ScanRecord` that apply.
@@ -135,26 +138,8 @@ class GLMBScanRecord(NamedTuple):
         trajectory it had when it was last in it. Else empty.
     """
 
-    labels: np.ndarray
-    states: np.ndarray
-    existence: np.ndarray
-    track_labels: np.ndarray
-    track_existence: np.ndarray
-    n_tracks: int
-    n_meas: int
-    n_meas_gated: int
-    n_groups: int
-    invocations: int
-    sweeps: int
-    row_updates: int
-    n_unique: int
-    timings: dict
-    cardinality: np.ndarray
-    n_components: int
-    retained_mass: float
-    carried_mass: float
-    retained_mass_reason: str
-    trajectories: tuple
+    __slots__ = ()
+
 
 
 # ------------------------------------------------------------------------------- truncation

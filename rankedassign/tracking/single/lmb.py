@@ -56,6 +56,7 @@ from ..gating import GatedPairs, clusters, gate_pairs
 from ..models import EXTRACTIONS, ConstantVelocity, LinearMotion, Model
 from ..nonlinear.step import single_object
 from ..nonlinear.vo import NonlinearModel
+from ..protocol import record_base
 from . import _glmb_kernels
 from .glmb import _zobrist
 
@@ -258,7 +259,7 @@ def cluster_map_tracks(r, cluster) -> np.ndarray:
     return np.sort(order[rank < n_hat[c_of]]).astype(np.int64)
 
 
-class ScanRecord(NamedTuple):
+class ScanRecord(record_base("ScanRecord")):
     """What the filter reports for one scan.
 
     Attributes
@@ -284,20 +285,7 @@ class ScanRecord(NamedTuple):
         Seconds spent in ``prediction``, ``cost``, ``association``, ``update``.
     """
 
-    labels: np.ndarray
-    states: np.ndarray
-    existence: np.ndarray
-    track_labels: np.ndarray
-    track_existence: np.ndarray
-    n_tracks: int
-    n_meas: int
-    n_meas_gated: int
-    n_groups: int
-    invocations: int
-    sweeps: int
-    row_updates: int
-    n_unique: int
-    timings: dict
+    __slots__ = ()
 
 
 # ------------------------------------------------------------------------------- filter
