@@ -7,6 +7,7 @@ import these; neither imports a private name of the other.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from typing import NamedTuple
@@ -14,11 +15,13 @@ from typing import NamedTuple
 import numpy as np
 from scipy.stats import chi2
 
+from ..engine._kernels import zobrist_keys
+from ..numba_options import interruptible
 from ..validation import check_int, check_real
 from .association import association_name
 
 __all__ = ["BETA_TOL", "Children", "check_distribution", "check_measurements", "concat",
-           "gate_threshold", "logsumexp", "retained_ratio"]
+           "gate_threshold", "logsumexp", "retained_ratio", "zobrist_table"]
 
 #: Largest ``|Σ_j β_ij − 1|`` the filters accept in the marginals an association returns
 #: (the rounding of a normalised sum is some 1e-15; anything larger is a wrong distribution).
@@ -182,6 +185,28 @@ def logsumexp(a: np.ndarray) -> float:
     if not np.isfinite(top):
         return top
     return top + math.log(float(np.sum(np.exp(a - top))))
+
+
+@functools.lru_cache(maxsize=64)
+def zobrist_table(L: int, K: int, seed: np.uint64) -> np.ndarray:
+    """Zobrist keys for states of at most ``L`` positions and values ``0..K − 1`` (cached).
+
+    Parameters
+    ----------
+    L, K : int
+        Positions (at least one key row is made) and values per position.
+    seed : numpy.uint64
+        The seed of the keys (each filter has its own).
+
+    Returns
+    -------
+    ndarray of uint64, shape (max(L, 1), K)
+        Read-only: the same array is returned to every caller with these arguments.
+    """
+    with interruptible:
+        keys = zobrist_keys(max(L, 1), K, seed)
+    keys.setflags(write=False)
+    return keys
 
 
 class Children(NamedTuple):

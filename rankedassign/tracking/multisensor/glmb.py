@@ -34,7 +34,6 @@ scan come from the measurements the posterior does not explain,
 
 from __future__ import annotations
 
-import functools
 import math
 from time import perf_counter
 from typing import NamedTuple
@@ -43,7 +42,7 @@ import numpy as np
 
 import oracle
 
-from ...engine._kernels import Rules, zobrist_keys
+from ...engine._kernels import Rules
 from ...engine.rng import base_key
 from ...multisensor import MultiSensorProblem
 from ...numba_options import interruptible
@@ -53,23 +52,18 @@ from ...validation import (
     STALL_GLOBAL_CONSECUTIVE,
     STALL_OFF,
     check_real,
-    check_type,
 )
-from .. import _kernels
 from ..association import GLMB_METHODS, Hypotheses, truncate
 from ..common import Children as _Children
 from ..common import concat as _concat
 from ..common import logsumexp as _logsumexp
-from ..common import retained_ratio
-from ..models import Model
-from ..nonlinear.multisensor import NonlinearMultiSensorModel
+from ..common import retained_ratio, zobrist_table
 from ..nonlinear.step import multi_sensor_path
-from ..nonlinear.vo import NonlinearModel
 from ..single.glmb import EXACT_SCAN_LIMIT, GLMBFilter, GLMBScanRecord
 from ..single.lmb import group_tracks
 from . import _glmb_kernels
 from .adaptive_birth import AdaptiveBirth, empty_birth
-from .lmb import MultiSensorModel, check_scans
+from .lmb import _check_model, _sensor_gates, _sensor_log_terms, check_scans
 
 __all__ = ["GLMB_METHODS", "TUPLE_LIMIT", "MultiSensorGLMBFilter", "truncate_multisensor"]
 
@@ -133,13 +127,9 @@ def _block_diag(Rs) -> np.ndarray:
     return out
 
 
-@functools.lru_cache(maxsize=32)
 def _zobrist(L: int, K: int) -> np.ndarray:
     """Zobrist keys for states of at most ``L`` positions and values ``0..K − 1`` (cached)."""
-    with interruptible:
-        keys = zobrist_keys(max(L, 1), K, _ZOBRIST_SEED)
-    keys.setflags(write=False)
-    return keys
+    return zobrist_table(L, K, _ZOBRIST_SEED)
 
 
 def _shifted(logs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -345,19 +335,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
 
     def __init__(self, model, association, *, birth: AdaptiveBirth | None = None,
                  birth_threshold: float = 1e-3, **options):
-        if isinstance(model, Model):
-            model = MultiSensorModel.from_model(model)
-        elif isinstance(model, NonlinearModel):
-            model = NonlinearMultiSensorModel.from_model(model)
-        check_type(model, "model", (MultiSensorModel, NonlinearMultiSensorModel),
-                   "build one with MultiSensorModel(...) or make_multisensor_model()")
-        if birth is not None:
-            check_type(birth, "birth", AdaptiveBirth,
-                       "None for the model's static birth or AdaptiveBirth(...)")
-            if isinstance(model, NonlinearMultiSensorModel):
-                raise ValueError("adaptive birth places births from position measurements; "
-                                 "it needs a linear MultiSensorModel, got a "
-                                 "NonlinearMultiSensorModel (use its static birth, birth=None)")
+        model = _check_model(model, birth)
         self.adaptive_birth = birth
         #: The non-linear model's per-sensor gates and stacked update (None: linear).
         self._ms = multi_sensor_path(model, options.get("gate_prob", 0.9999999))
@@ -367,11 +345,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
         self._meas_shape = (self.V,)
         super().__init__(model.single(0), association, **options)
         self._Rs = [np.array(s.R, dtype=np.float64) for s in model.sensors]
-        pds = np.array([s.p_d for s in model.sensors], dtype=np.float64)
-        with np.errstate(divide="ignore"):
-            self._log_pds = np.log(pds)
-            self._log_misses = np.log1p(-pds)
-        self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
+        self._log_pds, self._log_misses, self._log_kappas = _sensor_log_terms(model)
 
     _sensors = "multi-sensor"
 
@@ -398,24 +372,8 @@ class MultiSensorGLMBFilter(GLMBFilter):
         with np.errstate(divide="ignore"):
             log_p = np.log(p_exist)
             log_dead = np.log1p(-p_exist)
-        used, gated, zu = [], [], []
-        gate = 0.0 if self.gate is None else self.gate
-        for v, (z, R) in enumerate(zip(zs, self._Rs, strict=True)):
-            if z.shape[0] == 0 or T == 0:
-                used.append(np.empty(0, dtype=np.int64))
-                gated.append(np.zeros((T, 0), dtype=bool))
-                zu.append(np.empty((0, z.shape[1])))
-                continue
-            if self._ms is not None:  # the model's filter, wrapped innovations, own χ² gate
-                g = self._ms.gated(v, self.m, self.P, z, self.offsets)
-            else:
-                with interruptible:
-                    _, _, _, _, g = _kernels.gate_and_distances(
-                        self.m, self.P, R, z, self.offsets, gate, self.gate is not None)
-            u = np.flatnonzero(g.any(axis=0))
-            used.append(u)
-            gated.append(np.ascontiguousarray(g[:, u]))
-            zu.append(z[u])
+        used, gated = _sensor_gates(self, zs)
+        zu = [z[u] for z, u in zip(zs, used, strict=True)]
         dims = np.array([u.size + 1 for u in used], dtype=np.int64)
         strides = np.ones(V, dtype=np.int64)
         for v in range(V - 2, -1, -1):
@@ -689,13 +647,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
             w[sel] = np.exp(lw - _segment_logsumexp(lw, seg.reshape(-1), seg_ids.size)[seg])
             m[sel] = m_upd
             P[sel] = P_upd
-        keep = np.ones(e_src.size, dtype=bool)
-        reduce = _kernels.reduce_mixtures if self._so is None else self._so.reduce_mixtures
-        with interruptible:
-            self.offsets, self.w, self.m, self.P = reduce(
-                offsets, np.ascontiguousarray(w), np.ascontiguousarray(m),
-                np.ascontiguousarray(P), keep, self.prune_component, self.merge_threshold,
-                self.max_components, self._rule)
+        self._reduce_mixtures(offsets, w, m, P, e_src.size)
 
     # ----------------------------------------------------------------------- adaptive birth
     def _adaptive_births(self, zs, gen) -> dict:
@@ -703,10 +655,7 @@ class MultiSensorGLMBFilter(GLMBFilter):
         if self.adaptive_birth is None:
             return {}
         t0 = perf_counter()
-        r_e = np.bincount(self.comp_tracks, weights=np.repeat(self.comp_w,
-                                                              np.diff(self.comp_off)),
-                          minlength=self.n_tracks)
-        last = self._node_meas[self.hist] if self.n_tracks else np.empty((0, self.V), np.int64)
+        r_e, last = self._entry_measurements()
         r_U = []
         for v, z in enumerate(zs):
             hit = last[:, v] >= 0

@@ -323,6 +323,57 @@ class MultiSensorModel:
                      self.extraction)
 
 
+def _check_model(model, birth):
+    """A multi-sensor filter's model (one sensor's promoted to one sensor of several), checked
+    together with its adaptive ``birth``."""
+    if isinstance(model, Model):
+        model = MultiSensorModel.from_model(model)
+    elif isinstance(model, NonlinearModel):
+        model = NonlinearMultiSensorModel.from_model(model)
+    check_type(model, "model", (MultiSensorModel, NonlinearMultiSensorModel),
+               "build one with MultiSensorModel(...) or make_multisensor_model()")
+    if birth is not None:
+        check_type(birth, "birth", AdaptiveBirth,
+                   "None for the model's static birth or AdaptiveBirth(...)")
+        if isinstance(model, NonlinearMultiSensorModel):
+            raise ValueError("adaptive birth places births from position measurements; "
+                             "it needs a linear MultiSensorModel, got a "
+                             "NonlinearMultiSensorModel (use its static birth, birth=None)")
+    return model
+
+
+def _sensor_log_terms(model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per sensor ``ln P_D`` and ``ln(1 - P_D)``, and ``ln κ`` of its clutter intensity."""
+    pds = np.array([s.p_d for s in model.sensors], dtype=np.float64)
+    with np.errstate(divide="ignore"):
+        log_pds = np.log(pds)
+        log_misses = np.log1p(-pds)
+    return log_pds, log_misses, np.array([math.log(c.intensity) for c in model.clutters])
+
+
+def _sensor_gates(filt, zs) -> tuple[list, list]:
+    """Per sensor the gated measurement columns ``used_v`` and the gate ``(T, U_v)`` of a
+    multi-sensor filter's tracks."""
+    T = filt.n_tracks
+    used, gated = [], []
+    gate = 0.0 if filt.gate is None else filt.gate
+    for v, (z, R) in enumerate(zip(zs, filt._Rs, strict=True)):
+        if z.shape[0] == 0 or T == 0:  # nothing to gate: no column is used
+            used.append(np.empty(0, dtype=np.int64))
+            gated.append(np.zeros((T, 0), dtype=bool))
+            continue
+        if filt._ms is not None:  # the model's filter, wrapped innovations, own χ² gate
+            g = filt._ms.gated(v, filt.m, filt.P, z, filt.offsets)
+        else:
+            with interruptible:
+                _, _, _, _, g = _kernels.gate_and_distances(
+                    filt.m, filt.P, R, z, filt.offsets, gate, filt.gate is not None)
+        u = np.flatnonzero(g.any(axis=0))
+        used.append(u)
+        gated.append(np.ascontiguousarray(g[:, u]))
+    return used, gated
+
+
 class MultiSensorLMBFilter(LMBFilter):
     """LMB filter fusing ``V`` position sensors by the multi-sensor joint update (spec §7.4).
 
@@ -405,19 +456,7 @@ class MultiSensorLMBFilter(LMBFilter):
 
     def __init__(self, model, association, *, gate_prob: float | None = 0.9999999,
                  grouping: bool = True, birth: AdaptiveBirth | None = None, **options):
-        if isinstance(model, Model):
-            model = MultiSensorModel.from_model(model)
-        elif isinstance(model, NonlinearModel):
-            model = NonlinearMultiSensorModel.from_model(model)
-        check_type(model, "model", (MultiSensorModel, NonlinearMultiSensorModel),
-                   "build one with MultiSensorModel(...) or make_multisensor_model()")
-        if birth is not None:
-            check_type(birth, "birth", AdaptiveBirth,
-                       "None for the model's static birth or AdaptiveBirth(...)")
-            if isinstance(model, NonlinearMultiSensorModel):
-                raise ValueError("adaptive birth places births from position measurements; "
-                                 "it needs a linear MultiSensorModel, got a "
-                                 "NonlinearMultiSensorModel (use its static birth, birth=None)")
+        model = _check_model(model, birth)
         self.adaptive_birth = birth
         #: The non-linear model's per-sensor gates and stacked update (None: linear).
         self._ms = multi_sensor_path(model, gate_prob)
@@ -428,11 +467,7 @@ class MultiSensorLMBFilter(LMBFilter):
         self.ms_model = model
         self.V = model.n_sensors
         self._Rs = [np.array(s.R) for s in model.sensors]
-        pds = np.array([s.p_d for s in model.sensors], dtype=np.float64)
-        with np.errstate(divide="ignore"):
-            self._log_pds = np.log(pds)
-            self._log_misses = np.log1p(-pds)
-        self._log_kappas = np.array([math.log(c.intensity) for c in model.clutters])
+        self._log_pds, self._log_misses, self._log_kappas = _sensor_log_terms(model)
 
     _sensors = "multi-sensor"
     # the per-cluster MAP ("cluster-map") reads the single-sensor scan's clusters
@@ -511,7 +546,7 @@ class MultiSensorLMBFilter(LMBFilter):
                 timings={"prediction": t1 - t0, "cost": t2 - t1, "association": 0.0, "update": 0.0,
                  **birth_s},
             )
-        used, gated = self._gates(zs)
+        used, gated = _sensor_gates(self, zs)
         zu = [z[u] for z, u in zip(zs, used, strict=True)]
         groups = self._ms_groups(gated)
         t2 = perf_counter()
@@ -599,28 +634,6 @@ class MultiSensorLMBFilter(LMBFilter):
         return {"birth": perf_counter() - t0}
 
     # ----------------------------------------------------------------------- gates and groups
-    def _gates(self, zs):
-        """Per sensor the gated measurement columns ``used_v`` and the gate ``(T, U_v)``."""
-        T = self.n_tracks
-        used, gated = [], []
-        gate = 0.0 if self.gate is None else self.gate
-        for v, (z, R) in enumerate(zip(zs, self._Rs, strict=True)):
-            if z.shape[0] == 0:
-                used.append(np.empty(0, dtype=np.int64))
-                gated.append(np.zeros((T, 0), dtype=bool))
-                continue
-            if self._ms is not None:  # the model's filter, wrapped innovations, own χ² gate
-                g = self._ms.gated(v, self.m, self.P, z, self.offsets)
-            else:
-                with interruptible:
-                    _, _, _, _, g = _kernels.gate_and_distances(
-                        self.m, self.P, R, z, self.offsets, gate, self.gate is not None
-                    )
-            u = np.flatnonzero(g.any(axis=0))
-            used.append(u)
-            gated.append(np.ascontiguousarray(g[:, u]))
-        return used, gated
-
     def _ms_groups(self, gated):
         """Groups ``(rows, [cols_v])`` over the union of the sensors' gated measurements."""
         T = self.n_tracks

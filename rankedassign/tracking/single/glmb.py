@@ -28,7 +28,6 @@ The per-(track, measurement) algebra is that of the LMB filter
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import numbers
 from time import perf_counter
@@ -38,7 +37,6 @@ import numpy as np
 
 from oracle.single.dp import PlanCache, compact_log_normalizer
 
-from ...engine._kernels import zobrist_keys
 from ...engine.rng import spawning_generator
 from ...numba_options import interruptible
 from ...single.problem import AssignmentProblem
@@ -58,7 +56,7 @@ from ..birth import BirthComponents, MeasurementBirth
 from ..common import Children as _Children
 from ..common import check_measurements as _check_measurements
 from ..common import concat as _concat
-from ..common import gate_threshold, retained_ratio
+from ..common import gate_threshold, retained_ratio, zobrist_table
 from ..common import logsumexp as _logsumexp
 from ..models import ConstantVelocity, LinearMotion, Model
 from ..nonlinear.step import single_object
@@ -179,13 +177,9 @@ def _unique_inverse(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return s, np.searchsorted(s, x).astype(np.int64)
 
 
-@functools.lru_cache(maxsize=32)
 def _zobrist(L: int, K: int) -> np.ndarray:
-    """Zobrist keys for problems of at most ``L`` rows and ``K − 2`` columns (cached)."""
-    with interruptible:
-        keys = zobrist_keys(max(L, 1), K, _ZOBRIST_SEED)
-    keys.setflags(write=False)
-    return keys
+    """Zobrist keys for problems of at most ``L`` rows and ``K − 2`` columns (cached, read-only)."""
+    return zobrist_table(L, K, _ZOBRIST_SEED)
 
 
 class _Terms(NamedTuple):
@@ -1028,7 +1022,11 @@ class GLMBFilter:
                 m[det] = m[det] + np.einsum("cij,cj->ci", K, terms.nu[c, jj])
                 P_upd = P_c - K @ PHt.transpose(0, 2, 1)
                 P[det] = 0.5 * (P_upd + P_upd.transpose(0, 2, 1))
-        keep = np.ones(e_src.size, dtype=bool)
+        self._reduce_mixtures(offsets, w, m, P, e_src.size)
+
+    def _reduce_mixtures(self, offsets, w, m, P, n_entries: int) -> None:
+        """Every updated entry's mixture merged, pruned and capped (all ``n_entries`` kept)."""
+        keep = np.ones(n_entries, dtype=bool)
         reduce = _kernels.reduce_mixtures if self._so is None else self._so.reduce_mixtures
         with interruptible:
             self.offsets, self.w, self.m, self.P = reduce(
@@ -1207,18 +1205,25 @@ class GLMBFilter:
     def _n_gated(terms) -> int:
         return int(terms.used.size)
 
+    def _entry_measurements(self) -> tuple[np.ndarray, np.ndarray]:
+        """``r_e = Σ_{h ∋ e} w_h`` of every entry and the measurement it took this scan (-1:
+        none), one per sensor: shapes ``(T,)`` and ``(T, *meas_shape)``."""
+        r_e = np.bincount(self.comp_tracks, weights=np.repeat(self.comp_w,
+                                                              np.diff(self.comp_off)),
+                          minlength=self.n_tracks)
+        last = (self._node_meas[self.hist] if self.n_tracks
+                else np.empty((0, *self._meas_shape), np.int64))
+        return r_e, last
+
     def _after_scan(self, z, gen) -> dict:
         """Work after the estimate (the measurement births, if on); extra ``timings``."""
         if self.birth is None:
             return {}
         t0 = perf_counter()
-        # r_A(z_j) = Σ_e r_e [entry e took z_j this scan], r_e = Σ_{h ∋ e} w_h: the weight of
-        # the components that use z_j (an entry takes at most one measurement, and a
-        # component's entries take distinct ones)
-        r_e = np.bincount(self.comp_tracks, weights=np.repeat(self.comp_w,
-                                                              np.diff(self.comp_off)),
-                          minlength=self.n_tracks)
-        last = self._node_meas[self.hist] if self.n_tracks else np.empty(0, np.int64)
+        # r_A(z_j) = Σ_e r_e [entry e took z_j this scan]: the weight of the components that
+        # use z_j (an entry takes at most one measurement, and a component's entries take
+        # distinct ones)
+        r_e, last = self._entry_measurements()
         hit = last >= 0
         r_A = np.bincount(last[hit], weights=r_e[hit], minlength=z.shape[0])
         self._set_measurement_births(self.birth.births_from(
