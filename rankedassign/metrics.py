@@ -461,15 +461,7 @@ def ospa2(
     with np.errstate(over="ignore", invalid="ignore"):
         diff = X[:, :, None, :] - Y[:, None, :, :]
     diff = np.where(np.isnan(diff), 0.0, diff)
-    with np.errstate(over="ignore", under="ignore", divide="ignore"):
-        if base == "euclidean":
-            s = np.minimum(_norm(diff) / c, 1.0)  # min(c, ||x - y||) / c       (7.1)
-            g = np.log(s)
-        else:
-            # min(c^p, sum_dims |x - y|^p) / c^p                                   (A18)
-            q = np.abs(diff) / c
-            s = np.minimum((q**p).sum(axis=-1), 1.0)
-            g = np.minimum(0.0, _masked_logsumexp(np.moveaxis(p * np.log(q), -1, 0), True))
+    s, g = _base_distance(diff, c, p, base)
     both = ex[:, :, None] & ey[:, None, :]
     one = ex[:, :, None] ^ ey[:, None, :]
     # where exactly one track exists d_t = c: 1 in units of c (or c^p), 0 as a logarithm
@@ -480,10 +472,7 @@ def ospa2(
     value = np.empty(K)
     loc = np.empty(K)
     card = np.empty(K)
-    for k in range(K):
-        lo = max(0, k - N + 1)
-        # ln w_t = r ln(t - k + N) with 1-based t, k: the newest scan has weight N^r.
-        lw = r * np.log((np.arange(lo, k + 1) - k + N).astype(np.float64))
+    for k, lo, lw in _windows(K, N, r):
         fx = ex[lo : k + 1].any(axis=0)
         fy = ey[lo : k + 1].any(axis=0)
         m, n = int(fx.sum()), int(fy.sum())
@@ -933,7 +922,7 @@ def _check_method(method: str) -> str:
 
 def _base_distance(diff: np.ndarray, c: float, p: float, base: str):
     """Per-scan base distance ``s`` (units of ``c``, or of ``c^p`` for ``"lp"``) and its log
-    ``g``, for rows of differences: the dense route's formulas (7.1, A18), row by row."""
+    ``g``, for differences ``(..., d)`` (the dense route's and the sparse route's: 7.1, A18)."""
     with np.errstate(over="ignore", under="ignore", divide="ignore"):
         if base == "euclidean":
             s = np.minimum(_norm(diff) / c, 1.0)  # min(c, ||x - y||) / c       (7.1)
@@ -1076,6 +1065,14 @@ def _component_assignment(I, J, U, L, log_mode: bool):
     return total, log_total, n_matched, kept
 
 
+def _windows(K: int, N: int, r: float):
+    """Per scan ``k``: the first scan ``lo`` of its window of ``N`` and the window's log-weights."""
+    for k in range(K):
+        lo = max(0, k - N + 1)
+        # ln w_t = r ln(t - k + N) with 1-based t, k: the newest scan has weight N^r.
+        yield k, lo, r * np.log((np.arange(lo, k + 1) - k + N).astype(np.float64))
+
+
 def _ospa2_sparse(X, ex, Y, ey, c: float, p: float, N: int, r: float, base: str):
     """:func:`ospa2` by the sparse route: the same three arrays as the dense route."""
     K = X.shape[0]
@@ -1091,9 +1088,7 @@ def _ospa2_sparse(X, ex, Y, ey, c: float, p: float, N: int, r: float, base: str)
     value = np.empty(K)
     loc = np.empty(K)
     card = np.empty(K)
-    for k in range(K):
-        lo = max(0, k - N + 1)
-        lw = r * np.log((np.arange(lo, k + 1) - k + N).astype(np.float64))
+    for k, lo, lw in _windows(K, N, r):
         m = int(ex[lo : k + 1].any(axis=0).sum())
         n = int(ey[lo : k + 1].any(axis=0).sum())
         small, big = min(m, n), max(m, n)
