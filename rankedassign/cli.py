@@ -43,14 +43,19 @@ def _cmd_demo(args) -> int:
     return 0
 
 
-def _positive_int(text: str) -> int:
+def _int_at_least(text: str, minimum: int, what: str) -> int:
+    """``text`` as an int of at least ``minimum``, else argparse's error naming ``what``."""
     try:
         v = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}") from None
+    if v < minimum:
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}")
     return v
+
+
+def _positive_int(text: str) -> int:
+    return _int_at_least(text, 1, "a positive integer")
 
 
 def _mc(text: str) -> int:
@@ -63,13 +68,7 @@ def _mc(text: str) -> int:
 
 
 def _seed(text: str) -> int:
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}") from None
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}")
-    return v
+    return _int_at_least(text, 0, "a non-negative integer")
 
 
 # A settings file is {study: {setting: value}}, values at most lists of lists: 4 levels.
@@ -217,6 +216,14 @@ def _cmd_precompile(args) -> int:
     return 0
 
 
+def _study_command(sub, name: str, names, help: str, description: str):
+    """A sub-command taking study names (all when none is given)."""
+    cmd = sub.add_parser(name, help=help, description=description)
+    cmd.add_argument("studies", nargs="*", metavar="STUDY",
+                     help=f"{', '.join(names)} (default: all)")
+    return cmd
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``rankedassign`` command."""
     parser = argparse.ArgumentParser(
@@ -233,20 +240,13 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=_seed, default=0, help="seed of the random matrix")
     demo.set_defaults(func=_cmd_demo)
 
-    rep = sub.add_parser(
-        "reproduce",
-        help="run the paper's studies and write a report (markdown, PNG, JSON, CSV)",
-        description=(
-            "Reproduce the studies of Trezza, Bucci & Varshney (2023): "
-            + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, names))
-            + ". Without --full every study runs the paper's per-run settings with fewer Monte "
-            "Carlo runs."
-        ),
-    )
-    rep.add_argument(
-        "studies", nargs="*", metavar="STUDY",
-        help=f"{', '.join(names)} (default: all)",
-    )
+    rep = _study_command(
+        sub, "reproduce", names,
+        "run the paper's studies and write a report (markdown, PNG, JSON, CSV)",
+        "Reproduce the studies of Trezza, Bucci & Varshney (2023): "
+        + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, names))
+        + ". Without --full every study runs the paper's per-run settings with fewer Monte "
+        "Carlo runs.")
     size = rep.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true", help="fewer Monte Carlo runs (default)")
     size.add_argument("--full", action="store_true", help="the paper's settings (100 runs)")
@@ -266,17 +266,12 @@ def build_parser() -> argparse.ArgumentParser:
     rep.add_argument("--quiet", action="store_true", help="no progress bars")
     rep.set_defaults(func=_cmd_reproduce)
 
-    pre = sub.add_parser(
-        "precompile",
-        help="compile every kernel into numba's cache, on every core (first use)",
-        description=(
-            "Compile the kernels of every study and sampler side by side in worker processes "
-            "into numba's on-disk cache, so that later runs (reproduce, the tests, your own "
-            "scripts) load them instead of compiling them one by one."
-        ),
-    )
-    pre.add_argument("studies", nargs="*", metavar="STUDY",
-                     help=f"{', '.join(names)} (default: all)")
+    pre = _study_command(
+        sub, "precompile", names,
+        "compile every kernel into numba's cache, on every core (first use)",
+        "Compile the kernels of every study and sampler side by side in worker processes "
+        "into numba's on-disk cache, so that later runs (reproduce, the tests, your own "
+        "scripts) load them instead of compiling them one by one.")
     pre.add_argument("--workers", type=_positive_int, metavar="N",
                      help="worker processes (default: the CPUs, at most 4)")
     pre.add_argument("--quiet", action="store_true", help="no progress bar")
