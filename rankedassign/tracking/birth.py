@@ -312,14 +312,7 @@ class MeasurementBirth:
         R = np.asarray(R, dtype=np.float64)
         if R.shape != (d, d):
             raise ValueError(f"R must have shape {(d, d)}, got {R.shape}")
-        z = np.asarray(z, dtype=np.float64).reshape(-1, d)
-        r_A = np.asarray(r_A, dtype=np.float64).reshape(-1)
-        if r_A.size != z.shape[0]:
-            raise ValueError(f"r_A has {r_A.size} entries for {z.shape[0]} measurements")
-        free = np.setdiff1d(np.arange(n), idx)
-        mu_u = _prior(self.velocity_mean, free.size, "velocity_mean", cov=False)
-        P_u = _prior(self.velocity_cov, free.size, "velocity_cov", cov=True)
-        r, keep = self._kept(r_A)
+        z, r, keep, free, mu_u, P_u = self._scan(z, r_A, d, n, idx)
         B = keep.size
         # m_B = Hᵀ z + U μ_u ; P_B = Hᵀ R H + U P_u Uᵀ
         means = np.empty((B, n))
@@ -330,6 +323,19 @@ class MeasurementBirth:
         cov[np.ix_(free, free)] = P_u
         covs = np.broadcast_to(cov, (B, n, n)).copy()
         return BirthComponents(r[keep], means, covs, keep.astype(np.int64))
+
+    def _scan(self, z, r_A, dz: int, n: int, idx: np.ndarray) -> tuple:
+        """The scan's ``(M, dz)`` measurements checked against ``r_A``, their ``r_B``, the kept
+        ones, and the dimensions of an ``n``-state that ``idx`` leaves free with their prior."""
+        z = np.asarray(z, dtype=np.float64).reshape(-1, dz)
+        r_A = np.asarray(r_A, dtype=np.float64).reshape(-1)
+        if r_A.size != z.shape[0]:
+            raise ValueError(f"r_A has {r_A.size} entries for {z.shape[0]} measurements")
+        free = np.setdiff1d(np.arange(n), idx)
+        mu_u = _prior(self.velocity_mean, free.size, "velocity_mean", cov=False)
+        P_u = _prior(self.velocity_cov, free.size, "velocity_cov", cov=True)
+        r, keep = self._kept(r_A)
+        return z, r, keep, free, mu_u, P_u
 
     def _kept(self, r_A) -> tuple[np.ndarray, np.ndarray]:
         """``r_B`` of every measurement and the measurements whose birth is kept."""
@@ -395,14 +401,7 @@ class MeasurementBirth:
         dz = R.shape[0]
         n = int(sensor.state_ndim)
         idx = np.array(sensor.position_indices, dtype=np.int64)
-        z = np.asarray(z, dtype=np.float64).reshape(-1, dz)
-        r_A = np.asarray(r_A, dtype=np.float64).reshape(-1)
-        if r_A.size != z.shape[0]:
-            raise ValueError(f"r_A has {r_A.size} entries for {z.shape[0]} measurements")
-        free = np.setdiff1d(np.arange(n), idx)
-        mu_u = _prior(self.velocity_mean, free.size, "velocity_mean", cov=False)
-        P_u = _prior(self.velocity_cov, free.size, "velocity_cov", cov=True)
-        r, keep = self._kept(r_A)
+        z, r, keep, free, mu_u, P_u = self._scan(z, r_A, dz, n, idx)
         B = keep.size
         p, J = sensor.inverse(z[keep]) if B else (np.empty((0, idx.size)),
                                                    np.empty((0, idx.size, dz)))
