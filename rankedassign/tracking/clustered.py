@@ -129,8 +129,7 @@ class ClusteredScanRecord(record_base(
         applied).
     """
 
-    __slots__ = ()
-
+    __slots__ = ()  # no instance dict: a plain named tuple, fields from record_base
 
 
 class _Cluster(GLMBFilter):

@@ -136,8 +136,7 @@ class GLMBScanRecord(record_base(
         trajectory it had when it was last in it. Else empty.
     """
 
-    __slots__ = ()
-
+    __slots__ = ()  # no instance dict: a plain named tuple, fields from record_base
 
 
 # ------------------------------------------------------------------------------- truncation

@@ -285,7 +285,7 @@ class ScanRecord(record_base("ScanRecord")):
         Seconds spent in ``prediction``, ``cost``, ``association``, ``update``.
     """
 
-    __slots__ = ()
+    __slots__ = ()  # no instance dict: a plain named tuple, fields from record_base
 
 
 # ------------------------------------------------------------------------------- filter
