@@ -319,6 +319,30 @@ def test_reproduce_config_naming_a_removed_setting_warns_and_runs_without_it(tmp
     assert seen["config"].glmb_tracking.n_mc == 3
 
 
+def test_reproduce_config_naming_a_renamed_setting_warns_and_reads_it(tmp_path, monkeypatch):
+    # a --config file written before the studies' settings were renamed ("methods" holding
+    # truncations) still runs the same settings, the warning naming the new key
+    seen = {}
+
+    def reproduce(studies, mode, out, *, config, **kwargs):
+        seen["config"] = config
+
+    monkeypatch.setattr(cli_module.experiments, "reproduce", reproduce)
+    cfg = tmp_path / "c.json"
+    cfg.write_text(json.dumps({"glmb_tracking": {"methods": [["lmb", "murty"]],
+                                                 "tradeoff_methods": ["original"]}}))
+    with pytest.warns(DeprecationWarning) as got:
+        code = main(["reproduce", "glmb_tracking", "--config", str(cfg), "--out",
+                     str(tmp_path / "r"), "--quiet"])
+    assert code == 0
+    assert [str(w.message) for w in got] == [
+        "config for 'glmb_tracking': 'methods' is deprecated; write 'filter_truncations'",
+        "config for 'glmb_tracking': 'tradeoff_methods' is deprecated; write "
+        "'tradeoff_truncations'"]
+    assert seen["config"].glmb_tracking.filter_truncations == (("lmb", "murty"),)
+    assert seen["config"].glmb_tracking.tradeoff_truncations == ("original",)
+
+
 @pytest.mark.parametrize(
     ("content", "message"),
     [
@@ -406,12 +430,12 @@ TINY_CONFIG = {
                     "original_obs": 200, "n_chains": 8},
     "adaptive_birth": {"n_mc": 2, "sensors": [2], "original_obs": 60, "n_chains": 6,
                        "chain_length": 10, "curve_obs": [20, 60]},
-    "glmb_tracking": {"n_mc": 1, "n_scans": 4, "methods": [["lmb", "short-chain"],
-                                                           ["glmb", "short-chain"],
-                                                           ["glmb", "murty"]],
+    "glmb_tracking": {"n_mc": 1, "n_scans": 4,
+                      "filter_truncations": [["lmb", "short-chain"], ["glmb", "short-chain"],
+                                             ["glmb", "murty"]],
                       "murty_runs": 1, "h_upd": 50, "h_max": 20, "n_chains": 10, "murty_k": 10},
     "multisensor_tracking": {"n_mc": 1, "n_scans": 3, "sensor_sets": [[0], [0, 1]],
-                             "methods": [["original", "exact"], ["short-chain", "exact"]],
+                             "associations": [["original", "exact"], ["short-chain", "exact"]],
                              "long_obs": 30, "n_chains": 10,
                              "chain_length": 4},
     "nonlinear_tracking": {"n_mc": 1, "n_scans": 3, "lmb_budget": 20, "glmb_budget": 20,

@@ -193,7 +193,8 @@ def test_the_smallest_allowed_value_is_accepted(study, name, kind):
     ("tempering_herding", "ospa_p", 0.5, "ospa_p must be >= 1.0, got 0.5"),
     ("tempering_herding", "ospa_c", float("inf"), "ospa_c must be a finite real number, got inf"),
     ("tracking_var", "ospa_c", 0.0, "ospa_c must be > 0.0, got 0.0"),
-    ("glmb_tracking", "methods", [], "methods must name at least one method"),
+    ("glmb_tracking", "filter_truncations", [],
+     r"filter_truncations must name at least one \(filter, truncation\) pair"),
 ])
 def test_ospa_settings_messages(study, name, value, message):
     with pytest.raises(ReproduceError, match=rf"^config for '{study}': {message}$"):
@@ -267,13 +268,13 @@ def test_removed_glmb_extraction_is_a_deprecated_alias_that_is_ignored(value):
 
 
 @pytest.mark.parametrize(("study", "name", "old", "new"), [
-    ("multisensor_tracking", "methods", ["long", "short-mm"],
+    ("multisensor_tracking", "associations", ["long", "short-mm"],
      (("original", "exact"), ("short-chain", "mm"))),
-    ("multisensor_tracking", "glmb_adaptive_methods", ["short-mm-fixed"],
+    ("multisensor_tracking", "glmb_adaptive_associations", ["short-mm-fixed"],
      (("short-chain", "mm-fixed"),)),
-    ("glmb_tracking", "methods", ["lmb-long", "glmb-murty-matched"],
+    ("glmb_tracking", "filter_truncations", ["lmb-long", "glmb-murty-matched"],
      (("lmb", "original"), ("glmb", "murty-matched"))),
-    ("glmb_tracking", "tradeoff_methods", ["glmb-short"], ("short-chain",)),
+    ("glmb_tracking", "tradeoff_truncations", ["glmb-short"], ("short-chain",)),
 ])
 def test_a_config_file_with_the_old_method_strings_still_loads_deprecated(study, name, old, new):
     # the studies' old one-string spellings read as the vocabulary's pairs and names; a
@@ -286,3 +287,51 @@ def test_a_config_file_with_the_old_method_strings_still_loads_deprecated(study,
     assert getattr(c[study], name) == new
     pairs = [list(v) if isinstance(v, tuple) else v for v in new]
     assert getattr(config_from_dict(base, {study: {name: pairs}})[study], name) == new
+
+
+#: The settings renamed so that ``method`` means only the multi-sensor row conditional:
+#: ``(study, old name, new name, a value)``.
+RENAMED = [
+    ("tempering_herding", "methods", "truncations", [["herded", "keys=full"], "lbp"]),
+    ("tempering_herding", "tracking_methods", "tracking_truncations", [["exact", ""]]),
+    ("multisensor_tracking", "methods", "associations", [["short-chain", "mm"]]),
+    ("multisensor_tracking", "adaptive_methods", "adaptive_associations", []),
+    ("multisensor_tracking", "glmb_methods", "glmb_associations", [["original", "exact"]]),
+    ("multisensor_tracking", "glmb_adaptive_methods", "glmb_adaptive_associations",
+     [["short-chain", "exact"]]),
+    ("glmb_tracking", "methods", "filter_truncations", [["lmb", "short-chain"]]),
+    ("glmb_tracking", "tradeoff_methods", "tradeoff_truncations", ["original"]),
+]
+
+
+@pytest.mark.parametrize(("study", "old", "new", "value"), RENAMED,
+                         ids=[f"{s}.{o}" for s, o, _, _ in RENAMED])
+def test_a_renamed_setting_still_reads_by_its_old_name_deprecated(study, old, new, value):
+    # a --config file (or a dict) written before the rename loads, with a warning naming the
+    # new key, to the same settings as the new key gives
+    from rankedassign.experiments import get_study
+
+    base = Config.quick()
+    want = config_from_dict(base, {study: {new: value, "n_mc": 1}})[study]
+    with pytest.warns(DeprecationWarning,
+                      match=rf"^config for '{study}': '{old}' is deprecated; write '{new}'$"):
+        got = config_from_dict(base, {study: {old: value, "n_mc": 1}})[study]
+    assert got == want
+    with pytest.raises(ReproduceError, match=rf"^config for '{study}': give '{new}' alone, "
+                                             rf"not also its deprecated name '{old}'$"):
+        config_from_dict(base, {study: {old: value, new: value}})
+    # the settings type: the old keyword and the old attribute, each with the same warning
+    cls = get_study(study).config_type
+    assert {old: new}.items() <= cls.RENAMED_SETTINGS.items()
+    assert old not in {f.name for f in dataclasses.fields(cls)}
+    pairs = tuple(tuple(v) if isinstance(v, list) else v for v in value)
+    with pytest.warns(DeprecationWarning,
+                      match=rf"^{cls.__name__}: '{old}' is deprecated; write '{new}'$"):
+        made = cls(**{old: pairs})
+    assert made == cls(**{new: pairs})
+    with pytest.warns(DeprecationWarning,
+                      match=rf"^{cls.__name__}: '{old}' is deprecated; write '{new}'$"):
+        assert getattr(made, old) == getattr(made, new)
+    with pytest.raises(TypeError, match=rf"^{cls.__name__}: give '{new}' alone, not also its "
+                                        rf"deprecated name '{old}'$"):
+        cls(**{old: pairs, new: pairs})

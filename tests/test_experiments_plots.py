@@ -35,7 +35,7 @@ def _tempering_herding_summary():
     rows = []
     for fam in cfg.families:
         kind = th.kind_name(fam)
-        for m in cfg.methods:
+        for m in cfg.truncations:
             if m == th.LBP:
                 if kind == "single":
                     rows.append(th.THRow(fam, kind, *m, 0, 3, 0, None, None, None, 1e-3, 0.01,
@@ -49,7 +49,7 @@ def _tempering_herding_summary():
                                      None if kind == "adaptive_birth" else e / 100, 1e-3,
                                      b * 1e-6))
     tracking = [th.THTrackingRow(p, *m, 1, 35.0, None, 1e3, 1.0, 0.5)
-                for p in cfg.presets for m in cfg.tracking_methods]
+                for p in cfg.presets for m in cfg.tracking_truncations]
     return th.THSummary(rows=rows, tracking=tracking)
 
 

@@ -679,11 +679,11 @@ def test_glmb_study_config_checks_the_tradeoff_values():
     with pytest.raises(ValueError, match="tradeoff_runs must be >= 0, got -1"):
         GLMBStudyConfig(tradeoff_runs=-1)
     with pytest.raises(ValueError, match=re.escape(
-            "unknown tradeoff_methods: truncation 'lmb-long'; expected one of ('original', "
+            "unknown tradeoff_truncations: truncation 'lmb-long'; expected one of ('original', "
             "'short-chain', 'herded', 'murty')")):
-        GLMBStudyConfig(tradeoff_methods=("lmb-long",))
+        GLMBStudyConfig(tradeoff_truncations=("lmb-long",))
     quick = GLMBStudyConfig.quick()
-    assert quick.tradeoff_methods == ("original", "short-chain")
+    assert quick.tradeoff_truncations == ("original", "short-chain")
     assert {t[3] for t in get_study("glmb_tracking").tasks(quick, 0) if t[5] != 1000} == {
         ("glmb", "original"), ("glmb", "short-chain")}
 
@@ -697,41 +697,41 @@ def test_glmb_study_config_checks_the_tradeoff_values():
 def test_glmb_study_reads_the_old_method_strings_with_a_deprecation_warning(old, new):
     from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
 
-    want = rf'^methods: \'{old}\' is deprecated; write \["{new[0]}", "{new[1]}"\]$'
+    want = rf'^filter_truncations: \'{old}\' is deprecated; write \["{new[0]}", "{new[1]}"\]$'
     with pytest.warns(DeprecationWarning, match=want):
-        cfg = GLMBStudyConfig(methods=(old,))
-    assert cfg.methods == (new,)
+        cfg = GLMBStudyConfig(filter_truncations=(old,))
+    assert cfg.filter_truncations == (new,)
     # a --config file's two-element lists read as the pairs, silently
-    assert GLMBStudyConfig(methods=[list(new)]).methods == (new,)
+    assert GLMBStudyConfig(filter_truncations=[list(new)]).filter_truncations == (new,)
 
 
 @pytest.mark.parametrize(("old", "new"), [("glmb-long", "original"),
                                           ("glmb-short", "short-chain"),
                                           ("glmb-herded", "herded"), ("glmb-murty", "murty")])
-def test_glmb_study_reads_the_old_tradeoff_methods_with_a_deprecation_warning(old, new):
+def test_glmb_study_reads_the_old_tradeoff_truncations_with_a_deprecation_warning(old, new):
     from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig
 
     with pytest.warns(DeprecationWarning,
-                      match=rf"^tradeoff_methods: '{old}' is deprecated; write '{new}'$"):
-        assert GLMBStudyConfig(tradeoff_methods=(old,)).tradeoff_methods == (new,)
+                      match=rf"^tradeoff_truncations: '{old}' is deprecated; write '{new}'$"):
+        assert GLMBStudyConfig(tradeoff_truncations=(old,)).tradeoff_truncations == (new,)
 
 
 def test_glmb_study_refuses_a_method_that_is_not_a_pair_of_the_study():
     from rankedassign.experiments.studies.glmb_tracking import GLMBStudyConfig, check_method
 
     with pytest.raises(TypeError, match=re.escape(
-            "methods entries must be (filter, truncation) pairs such as ['glmb', "
+            "filter_truncations entries must be (filter, truncation) pairs such as ['glmb', "
             "'short-chain'], got 'glmb'")):
-        GLMBStudyConfig(methods=("glmb",))
+        GLMBStudyConfig(filter_truncations=("glmb",))
     with pytest.raises(ValueError, match=re.escape(
-            "unknown methods: filter 'phd'; expected one of ('lmb', 'glmb')")):
+            "unknown filter_truncations: filter 'phd'; expected one of ('lmb', 'glmb')")):
         check_method(("phd", "murty"))
     with pytest.raises(ValueError, match=re.escape(
-            "unknown methods: truncation 'lbp'; expected one of ('exact', 'original', "
-            "'short-chain', 'murty', 'murty-matched', 'herded')")):
+            "unknown filter_truncations: truncation 'lbp'; expected one of ('exact', "
+            "'original', 'short-chain', 'murty', 'murty-matched', 'herded')")):
         check_method(("glmb", "lbp"))
     with pytest.raises(ValueError, match=re.escape(
-            "methods: 'murty-matched' matches the δ-GLMB filter's Murty to its short chains; "
+            "filter_truncations: 'murty-matched' matches the δ-GLMB filter's Murty to its short chains; "
             "write ['glmb', 'murty-matched']")):
         check_method(["lmb", "murty-matched"])
 
@@ -842,12 +842,12 @@ def test_the_tempering_study_warms_each_sampler_of_each_kind_in_a_unit_of_its_ow
     seen = [(f, m) for u in synthetic for f in u[2] for m in u[3]]
     assert len(seen) == len(set(seen))
     assert {f for f, _ in seen} == set(tiny.families)
-    assert {m for _, m in seen} == set(tiny.methods)
+    assert {m for _, m in seen} == set(tiny.truncations)
     assert all(len({kind_name(f) for f in u[2]}) == 1 for u in synthetic)  # one kind a unit
     assert synthetic[0][2][0].startswith("ms:") and synthetic[0][3][0][0] == "herded"
     assert sum(u[4] for u in synthetic) == 3  # one grading unit per kind
     tracking = [u[1:] for u in units if u[0] is not _warm_unit]
-    assert {u[5] for u in tracking} == set(tiny.tracking_methods) == {
+    assert {u[5] for u in tracking} == set(tiny.tracking_truncations) == {
         t[5] for t in st.tasks(tiny, 0) if t[0] == "tracking"}
     _warm_unit(tiny, ("diagonal",), (("original", ""), ("lbp", "")), True)  # runs (cached)
 
@@ -865,7 +865,7 @@ def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     tasks = st.tasks(st.warm(study_config(quick, st)), 0)
     groups = {st.warm_group(t) for t in tasks}
     # one group per method run (the same method on both presets compiles the same kernels)
-    assert groups <= set(study_config(quick, st).methods) and len(groups) >= 7
+    assert groups <= set(study_config(quick, st).filter_truncations) and len(groups) >= 7
     assert len(tasks) > len(groups)
 
 
@@ -888,7 +888,8 @@ RECORD_STUDIES = {
     "glmb_tracking": lambda c: dataclasses.replace(
         c, n_mc=1, n_scans=3, murty_runs=1, h_upd=40, h_max=20, n_chains=10, murty_k=20,
         original_obs=200, glmb_exact_runs=1, tradeoff_runs=0, presets=("paper",),
-        methods=(("lmb", "short-chain"), ("glmb", "short-chain"), ("glmb", "exact"))),
+        filter_truncations=(("lmb", "short-chain"), ("glmb", "short-chain"),
+                            ("glmb", "exact"))),
 }
 
 

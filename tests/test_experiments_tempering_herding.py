@@ -34,13 +34,13 @@ def test_registered_with_quick_and_full_settings():
     assert quick.budgets == (100, 1_000, 10_000) and quick.n_mc == 3 and quick.tracking_mc == 1
     # the per-call settings are the full study's
     for name in ("chain_length", "tau_stall", "tau_stale", "zr_beta", "n_scans",
-                 "tracking_obs", "tracking_chains", "methods", "families", "presets"):
+                 "tracking_obs", "tracking_chains", "truncations", "families", "presets"):
         assert getattr(quick, name) == getattr(full, name), name
 
 
 def test_every_applicable_method_at_every_budget(result):
     s, runs = result
-    assert len(runs) == TINY.n_mc * len(TINY.families) + len(TINY.tracking_methods)
+    assert len(runs) == TINY.n_mc * len(TINY.families) + len(TINY.tracking_truncations)
     for fam in TINY.families:
         problem = TH.make_problem(fam, run_seed(5, 0), TINY)
         for m in TH_METHODS:
@@ -162,7 +162,7 @@ def test_equal_time_reads_each_curve_without_extrapolating():
 def test_tracking_part_runs_every_association_on_the_same_measurements(result):
     s, runs = result
     got = {r.cell: r for r in s.tracking}
-    assert list(got) == list(TINY.tracking_methods)
+    assert list(got) == list(TINY.tracking_truncations)
     for m, r in got.items():
         assert r.preset == "vo" and r.n_runs == 1 and 0 <= r.ospa2_mean <= TINY.ospa_c
         assert (r.sweeps_mean == 0) == (m in (("exact", ""), ("lbp", "")))
@@ -204,7 +204,7 @@ def test_report_plots_and_csv(result, tmp_path):
 
 
 @pytest.mark.parametrize("bad, message", [
-    ({"methods": ("tempered",)}, "unknown methods: method 'tempered'; expected one of"),
+    ({"truncations": ("tempered",)}, "unknown truncations: truncation 'tempered'; expected one of"),
     ({"families": ("ms:D/random",)}, "unknown families: family 'ms:D/random'"),
     ({"budgets": (100, 100)}, "budgets must be a non-empty, strictly increasing tuple"),
     ({"budgets": ()}, "budgets must be a non-empty, strictly increasing tuple"),
@@ -220,10 +220,10 @@ def test_bad_settings_are_refused_by_name(bad, message):
         TemperingHerdingConfig(**bad)
 
 
-@pytest.mark.parametrize(("setting", "old", "new"), [("methods", "gibbs", "original"),
-                                                     ("methods", "short", "short-chain"),
-                                                     ("tracking_methods", "gibbs", "original"),
-                                                     ("tracking_methods", "short",
+@pytest.mark.parametrize(("setting", "old", "new"), [("truncations", "gibbs", "original"),
+                                                     ("truncations", "short", "short-chain"),
+                                                     ("tracking_truncations", "gibbs", "original"),
+                                                     ("tracking_truncations", "short",
                                                       "short-chain")])
 def test_the_old_spellings_of_the_samplers_still_read_with_a_deprecation_warning(setting, old,
                                                                                  new):
@@ -235,14 +235,14 @@ def test_the_old_spellings_of_the_samplers_still_read_with_a_deprecation_warning
 
 #: Every old method string of the study and the (truncation, variant) pair it reads as.
 OLD_METHODS = {
-    "methods": {"herded-shared": ("herded", "keys=shared"),
+    "truncations": {"herded-shared": ("herded", "keys=shared"),
                 "herded-full": ("herded", "keys=full"),
                 "herded-short-shared": ("herded", "chains=short,keys=shared"),
                 "herded-short-full": ("herded", "chains=short,keys=full"),
                 "beta-0.5": ("tempered", "beta=0.5"), "beta-0.7": ("tempered", "beta=0.7"),
                 "beta-0.9": ("tempered", "beta=0.9"),
                 "zanella-roberts": ("tempered", "scheme=zanella-roberts")},
-    "tracking_methods": {"herded": ("herded", "keys=shared"),
+    "tracking_truncations": {"herded": ("herded", "keys=shared"),
                          "herded-short": ("herded", "chains=short,keys=shared")}}
 
 
@@ -258,31 +258,31 @@ def test_the_old_method_strings_read_as_their_pairs_with_a_warning_naming_them(s
     assert getattr(cfg, setting) == (new,)
     # the pairs are the study's methods, in the old strings' order (their streams are keyed
     # by the place in TH_METHODS, so the numbers are those of the old spelling)
-    assert new in (TH_METHODS if setting == "methods" else TH.TH_TRACKING_METHODS)
+    assert new in (TH_METHODS if setting == "truncations" else TH.TH_TRACKING_METHODS)
 
 
 def test_the_defaults_are_the_old_methods_in_their_order():
     old = ("original", "short-chain", "herded-shared", "herded-full", "herded-short-shared",
            "herded-short-full", "beta-0.5", "beta-0.7", "beta-0.9", "zanella-roberts", "lbp")
     with pytest.warns(DeprecationWarning):
-        cfg = TemperingHerdingConfig(methods=old, tracking_methods=(
+        cfg = TemperingHerdingConfig(truncations=old, tracking_truncations=(
             "exact", "original", "short-chain", "herded", "herded-short", "lbp"))
     assert cfg == TemperingHerdingConfig()
     # a --config file: pairs as two-element lists, a plain truncation by its name alone
     from rankedassign.experiments import config_from_dict
 
     got = config_from_dict(Config.quick(), {"tempering_herding": {
-        "methods": [["herded", "keys=full"], "lbp"], "tracking_methods": [["exact", ""]]}})
-    assert got.tempering_herding.methods == (("herded", "keys=full"), ("lbp", ""))
-    assert got.tempering_herding.tracking_methods == (("exact", ""),)
+        "truncations": [["herded", "keys=full"], "lbp"], "tracking_truncations": [["exact", ""]]}})
+    assert got.tempering_herding.truncations == (("herded", "keys=full"), ("lbp", ""))
+    assert got.tempering_herding.tracking_truncations == (("exact", ""),)
 
 
 @pytest.mark.parametrize("bad", [("herded", "keys=other"), ("herded",), ("tempered", ""),
                                  ("exact", "")])
 def test_a_pair_outside_the_study_is_refused_listing_the_pairs(bad):
-    with pytest.raises(ValueError, match=r"^unknown methods: method .*; expected one of "
+    with pytest.raises(ValueError, match=r"^unknown truncations: truncation .*; expected one of "
                                          r'\["original", ""\], \["short-chain", ""\]'):
-        TemperingHerdingConfig(methods=(bad,))
+        TemperingHerdingConfig(truncations=(bad,))
 
 
 def test_the_run_records_round_trip_through_json_and_pickle(result, tmp_path):

@@ -88,12 +88,13 @@ def test_unknown_association():
             "'componentwise')")):
         check_association(("short-chain", "gibbs"))
     with pytest.raises(ValueError, match=re.escape(
-            "unknown glmb_methods: truncation 'lbp'; expected one of")):
-        MultiSensorStudyConfig(glmb_methods=(("lbp", "mm"),))
+            "unknown glmb_associations: truncation 'lbp'; expected one of")):
+        MultiSensorStudyConfig(glmb_associations=(("lbp", "mm"),))
     with pytest.raises(TypeError, match=re.escape(
-            "methods entries must be (truncation, method) pairs such as ['short-chain', 'mm'], "
+            "associations entries must be (truncation, method) pairs such as ['short-chain', "
+            "'mm'], "
             "got ('short-chain',)")):
-        MultiSensorStudyConfig(methods=(("short-chain",),))
+        MultiSensorStudyConfig(associations=(("short-chain",),))
 
 
 @pytest.mark.parametrize(("old", "new"), [("long", ("original", "exact")),
@@ -101,8 +102,8 @@ def test_unknown_association():
                                           ("short-mm", ("short-chain", "mm")),
                                           ("short-mm-fixed", ("short-chain", "mm-fixed")),
                                           ("exact", ("exact", "exact"))])
-@pytest.mark.parametrize("setting", ["methods", "adaptive_methods", "glmb_methods",
-                                     "glmb_adaptive_methods"])
+@pytest.mark.parametrize("setting", ["associations", "adaptive_associations",
+                                     "glmb_associations", "glmb_adaptive_associations"])
 def test_the_old_association_strings_still_read_with_a_deprecation_warning(setting, old, new):
     want = rf'^{setting}: \'{old}\' is deprecated; write \["{new[0]}", "{new[1]}"\]$'
     with pytest.warns(DeprecationWarning, match=want):
@@ -129,9 +130,9 @@ def test_the_old_spelling_gives_the_same_numbers():
 def test_quick_config_and_plot(tmp_path):
     pytest.importorskip("matplotlib")
     cfg = MultiSensorStudyConfig.quick()
-    assert set(cfg.methods) <= {LONG, SHORT, ("short-chain", "mm"), ("short-chain", "mm-fixed"),
-                                EXACT}
-    assert (cfg.adaptive_sensor_sets, cfg.adaptive_methods) == (((0, 1, 2),), (SHORT,))
+    assert set(cfg.associations) <= {LONG, SHORT, ("short-chain", "mm"),
+                                     ("short-chain", "mm-fixed"), EXACT}
+    assert (cfg.adaptive_sensor_sets, cfg.adaptive_associations) == (((0, 1, 2),), (SHORT,))
     rec = MultiSensorTrackingRecord(0, (0,), *SHORT, np.ones(4), np.zeros(4), np.ones(12),
                                     10, 20, 1, 0, 1.0)
     ad = MultiSensorTrackingRecord(0, (0,), *SHORT, np.ones(4), np.zeros(4), np.ones(12),
@@ -144,8 +145,9 @@ def test_quick_config_and_plot(tmp_path):
 def _quick_cells():
     """Summaries of the quick study's 13 cells (made-up curves)."""
     cfg = MultiSensorStudyConfig.quick()
-    cells = [(s, m, "paper") for s in cfg.sensor_sets for m in cfg.methods]
-    cells += [(s, m, "adaptive") for s in cfg.adaptive_sensor_sets for m in cfg.adaptive_methods]
+    cells = [(s, m, "paper") for s in cfg.sensor_sets for m in cfg.associations]
+    cells += [(s, m, "adaptive") for s in cfg.adaptive_sensor_sets
+              for m in cfg.adaptive_associations]
     recs = [MultiSensorTrackingRecord(0, tuple(s), *m, np.full(4, 10.0 * i), np.zeros(4),
                                       np.ones(12), 10, 20, 1, 0, 1.0, b)
             for i, (s, m, b) in enumerate(cells)]

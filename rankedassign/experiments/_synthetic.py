@@ -24,7 +24,7 @@ import oracle
 
 from .. import sample_original, sample_short_chains
 from ..single import synthetic
-from ._executor import child_seed
+from ._executor import child_seed, run_seed
 from ._records import RunRecord
 from .config import ALL_FAMILIES, STALE_READINGS, STALL_READINGS
 from .paper import PAPER_TABLE1, agrees, distance_in_se
@@ -126,6 +126,46 @@ def proposed_seed(run_ss, family: str, stall, stale):
 
 def original_seed(run_ss, family: str):
     return child_seed(run_ss, KEY_ORIGINAL, family_index(family))
+
+
+def paired_calls(cfg, seed: int, run: int, family: str):
+    """One Monte Carlo run of one family of a Table I-like study: the matrix and both samplers.
+
+    Parameters
+    ----------
+    cfg : SyntheticConfig
+        The study's settings (the family's readings, the samplers' settings).
+    seed : int
+        The study's seed.
+    run : int
+        Monte Carlo run index; the run draws from ``run_seed(seed, run)``.
+    family : str
+        Matrix family (:data:`~rankedassign.experiments.config.ALL_FAMILIES`).
+
+    Returns
+    -------
+    problem : SingleSensorProblem
+        The run's matrix (:func:`make_problem`).
+    original : SamplerRun
+        The original sampler's call (``cfg.original_obs`` sweeps, its own stream).
+    proposed : callable
+        ``proposed(stall, stale) -> SamplerRun``: the short chains under one reading of each
+        rule (``None``: the rule off), each variant on its own stream (:func:`proposed_seed`),
+        so every study that runs a variant runs the very same chains.
+    """
+    s = run_seed(seed, run)
+    problem = make_problem(family, s, cfg)
+
+    def proposed(stall, stale):
+        rng = proposed_seed(s, family, stall, stale)
+        return run_proposed(problem, cfg, rng, stall=stall, stale=stale)
+
+    return problem, run_original(problem, cfg.original_obs, original_seed(s, family)), proposed
+
+
+def tiny_synthetic(cfg):
+    """The warm-up settings of a Table I-like study: one run, 200 sweeps, 8 short chains."""
+    return dataclasses.replace(cfg, n_mc=1, original_obs=200, n_chains=8)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -12,6 +12,8 @@ it prints estimates the same quantity as the paper's, with a larger standard err
 
 from __future__ import annotations
 
+import functools
+import warnings
 from dataclasses import dataclass
 
 from ..validation import MAX_COUNT, check_fields, check_real
@@ -31,6 +33,8 @@ __all__ = [
     "check_positive",
     "check_families",
     "check_ospa",
+    "renamed_settings",
+    "rename_settings",
 ]
 
 #: The paper's synthetic matrix families (spec §1.6), in report order.
@@ -132,6 +136,115 @@ def check_ospa(c, p) -> None:
     """
     check_real(c, "ospa_c", minimum=0.0, strict_minimum=True)
     check_real(p, "ospa_p", minimum=1.0)
+
+
+def rename_settings(fields: dict, renamed: dict, where: str) -> dict:
+    """``fields`` with each renamed setting under its new name, warning once per old name.
+
+    Parameters
+    ----------
+    fields : dict
+        Settings by name, as given (keyword arguments, or a ``--config`` file's mapping).
+    renamed : dict
+        ``{old name: new name}`` (a settings type's ``RENAMED_SETTINGS``).
+    where : str
+        Prefix of the messages (the settings type, or the study of a ``--config`` file).
+
+    Returns
+    -------
+    dict
+        A new mapping: every old name replaced by its new one, the other settings unchanged.
+
+    Raises
+    ------
+    TypeError
+        If both an old name and its new one are given.
+
+    Warns
+    -----
+    DeprecationWarning
+        ``"<where>'<old>' is deprecated; write '<new>'"``, for each old name given.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     new = rename_settings({"methods": ("lbp",), "n_mc": 2}, {"methods": "truncations"},
+    ...                           "tempering_herding: ")
+    >>> new
+    {'truncations': ('lbp',), 'n_mc': 2}
+    >>> print(w[0].message)
+    tempering_herding: 'methods' is deprecated; write 'truncations'
+    """
+    out = {}
+    for key, value in fields.items():
+        new = renamed.get(key)
+        if new is not None:
+            if new in fields:
+                raise TypeError(f"{where}give {new!r} alone, not also its deprecated name "
+                                f"{key!r}")
+            # stacklevel 3: the call of the settings type (or of config_from_dict)
+            warnings.warn(f"{where}{key!r} is deprecated; write {new!r}", DeprecationWarning,
+                          stacklevel=3)
+            key = new
+        out[key] = value
+    return out
+
+
+def renamed_settings(**renamed):
+    """Class decorator: a study's settings type still takes its renamed settings' old names.
+
+    For one release (SciPy's practice) the settings type accepts an old name as a keyword
+    argument, and :func:`~rankedassign.experiments.config_from_dict` (a ``--config`` file)
+    as a key, each with a :class:`DeprecationWarning` naming the new one
+    (:func:`rename_settings`); reading ``settings.<old>`` warns the same way and gives the new
+    field's value. The type lists them in ``RENAMED_SETTINGS``.
+
+    Parameters
+    ----------
+    **renamed : str
+        The new name of each old one (``methods="truncations"``).
+
+    Returns
+    -------
+    callable
+        The decorator: it returns the class it is given, changed in place.
+
+    Examples
+    --------
+    >>> from dataclasses import dataclass
+    >>> @renamed_settings(methods="truncations")
+    ... @dataclass(frozen=True)
+    ... class S:
+    ...     truncations: tuple = ()
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     s = S(methods=("lbp",))
+    >>> s.truncations, str(w[0].message)
+    (('lbp',), "S: 'methods' is deprecated; write 'truncations'")
+    """
+    def decorate(cls):
+        init = cls.__init__
+
+        @functools.wraps(init)
+        def __init__(self, *args, **kwargs):
+            init(self, *args, **rename_settings(kwargs, renamed, f"{cls.__name__}: "))
+
+        def alias(old: str, new: str) -> property:
+            def get(self):
+                warnings.warn(f"{cls.__name__}: {old!r} is deprecated; write {new!r}",
+                              DeprecationWarning, stacklevel=2)
+                return getattr(self, new)
+            return property(get, doc=f"Deprecated name of ``{new}``.")
+
+        cls.__init__ = __init__
+        cls.RENAMED_SETTINGS = dict(renamed)
+        for old, new in renamed.items():
+            setattr(cls, old, alias(old, new))
+        return cls
+    return decorate
 
 
 @dataclass(frozen=True)

@@ -22,6 +22,7 @@ from typing import Any
 
 from . import _interrupts
 from ._executor import run_tasks
+from .config import rename_settings
 
 __all__ = [
     "Study",
@@ -515,6 +516,9 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
     DeprecationWarning
         For a removed setting that its study still names in the class attribute
         ``DEPRECATED_SETTINGS`` (``{name: what replaced it}``); the setting is then ignored.
+        For a renamed setting's old name (the class attribute ``RENAMED_SETTINGS``,
+        ``{old: new}``, :func:`~rankedassign.experiments.config.renamed_settings`), naming the
+        new one; its value is then the new setting's.
 
     Examples
     --------
@@ -543,6 +547,12 @@ def config_from_dict(base: Config, overrides: dict) -> Config:
             warnings.warn(f"config for {name!r}: {old!r} is deprecated and ignored; "
                           f"{deprecated[old]}", DeprecationWarning, stacklevel=2)
             fields = {k: v for k, v in fields.items() if k != old}
+        # a renamed setting's old name reads for a release, with a warning naming the new one
+        try:
+            fields = rename_settings(fields, getattr(type(sub), "RENAMED_SETTINGS", {}),
+                                     f"config for {name!r}: ")
+        except TypeError as exc:
+            raise ReproduceError(str(exc)) from None
         known = {f.name for f in dataclasses.fields(sub)}
         if not isinstance(fields, dict) or not set(fields) <= known:
             bad = sorted(set(fields) - known) if isinstance(fields, dict) else fields

@@ -43,10 +43,11 @@ TRUNCATIONS = tuple(cls.name for cls in (
 DEPRECATED_TRUNCATIONS = {"long": tracking.OriginalGibbs.name,
                           "gibbs": tracking.OriginalGibbs.name,
                           "short": tracking.ShortChainGibbs.name}
-#: The ``multisensor_tracking`` study's old association strings (its ``methods``,
-#: ``adaptive_methods``, ``glmb_methods``) and the ``(truncation, method)`` pair each stands for:
-#: the truncation by its class's name, ``method`` the row conditional it always ran with
-#: (``"exact"`` of the exact DP: its long-chain fallback's).
+#: The ``multisensor_tracking`` study's old association strings (its ``associations``,
+#: ``adaptive_associations``, ``glmb_associations``, formerly ``*methods``) and the
+#: ``(truncation, method)`` pair each stands for: the truncation by its class's name,
+#: ``method`` the row conditional it always ran with (``"exact"`` of the exact DP: its
+#: long-chain fallback's).
 DEPRECATED_ASSOCIATIONS = {
     "long": (tracking.OriginalGibbs.name, "exact"),
     "short": (tracking.ShortChainGibbs.name, "exact"),
@@ -67,8 +68,8 @@ DEPRECATED_FILTER_TRUNCATIONS = {
 #: The ``tracking`` study's old name of its short chains (the paper's "proposed" sampler), in
 #: its per-run records' ``truncation`` and its task's argument.
 DEPRECATED_TRACKING_SAMPLERS = {"proposed": tracking.ShortChainGibbs.name}
-#: The ``glmb_tracking`` study's old ``tradeoff_methods`` (all δ-GLMB) and the truncation each
-#: stands for.
+#: The ``glmb_tracking`` study's old ``tradeoff_truncations`` (all δ-GLMB; the setting was
+#: ``tradeoff_methods``) and the truncation each stands for.
 DEPRECATED_GLMB_TRUNCATIONS = {old: t for old, (f, t) in DEPRECATED_FILTER_TRUNCATIONS.items()
                                if f == "glmb"}
 
@@ -96,10 +97,11 @@ def variant(**settings) -> str:
                     for k, v in settings.items())
 
 
-#: The ``tempering_herding`` study's old method strings (its ``methods`` and
-#: ``tracking_methods``) and the ``(truncation, variant)`` pair each stands for: one herded
-#: chain (``"herded"`` of the tracking part: shared keys), herded short chains (``"short"``
-#: chains), a β-chain, the Zanella–Roberts scheme (its β is the study's ``zr_beta``).
+#: The ``tempering_herding`` study's old method strings (its ``truncations`` and
+#: ``tracking_truncations``, formerly ``methods`` and ``tracking_methods``) and the
+#: ``(truncation, variant)`` pair each stands for: one herded chain (``"herded"`` of the
+#: tracking part: shared keys), herded short chains (``"short"`` chains), a β-chain, the
+#: Zanella–Roberts scheme (its β is the study's ``zr_beta``).
 DEPRECATED_VARIANTS = {
     "herded-shared": (tracking.HerdedGibbs.name, variant(keys="shared")),
     "herded-full": (tracking.HerdedGibbs.name, variant(keys="full")),
@@ -194,17 +196,17 @@ def canonical_pair(value, setting: str, deprecated: dict, *, truncation_at: int 
 
     Examples
     --------
-    >>> canonical_pair(["short-chain", "mm"], "methods", DEPRECATED_ASSOCIATIONS)
+    >>> canonical_pair(["short-chain", "mm"], "associations", DEPRECATED_ASSOCIATIONS)
     ('short-chain', 'mm')
     >>> import warnings
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
-    ...     new = canonical_pair("glmb-long", "methods", DEPRECATED_FILTER_TRUNCATIONS,
-    ...                          truncation_at=1)
+    ...     new = canonical_pair("glmb-long", "filter_truncations",
+    ...                          DEPRECATED_FILTER_TRUNCATIONS, truncation_at=1)
     >>> new
     ('glmb', 'original')
     >>> print(w[0].message)
-    methods: 'glmb-long' is deprecated; write ["glmb", "original"]
+    filter_truncations: 'glmb-long' is deprecated; write ["glmb", "original"]
     """
     if isinstance(value, (list, tuple)):
         value = list(value)
@@ -244,9 +246,10 @@ def canonical_value(value, setting: str, deprecated: dict, *, stacklevel: int = 
     >>> import warnings
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
-    ...     new = canonical_value("glmb-short", "tradeoff_methods", DEPRECATED_GLMB_TRUNCATIONS)
+    ...     new = canonical_value("glmb-short", "tradeoff_truncations",
+    ...                           DEPRECATED_GLMB_TRUNCATIONS)
     >>> new, str(w[0].message)
-    ('short-chain', "tradeoff_methods: 'glmb-short' is deprecated; write 'short-chain'")
+    ('short-chain', "tradeoff_truncations: 'glmb-short' is deprecated; write 'short-chain'")
     """
     new = deprecated.get(value) if isinstance(value, str) else None
     if new is None:
@@ -263,7 +266,7 @@ def canonical_variant(value, setting: str):
     Parameters
     ----------
     value : object
-        A ``methods`` or ``tracking_methods`` entry as read (checked against the study's
+        A ``truncations`` or ``tracking_truncations`` entry as read (checked against the study's
         choices afterwards).
     setting : str
         The setting's name, for the warning.
@@ -284,16 +287,18 @@ def canonical_variant(value, setting: str):
 
     Examples
     --------
-    >>> canonical_variant("lbp", "methods"), canonical_variant(["herded", "keys=full"], "methods")
-    (('lbp', ''), ('herded', 'keys=full'))
+    >>> canonical_variant("lbp", "truncations")
+    ('lbp', '')
+    >>> canonical_variant(["herded", "keys=full"], "truncations")
+    ('herded', 'keys=full')
     >>> import warnings
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
-    ...     new = canonical_variant("herded-short-full", "methods")
+    ...     new = canonical_variant("herded-short-full", "truncations")
     >>> new
     ('herded', 'chains=short,keys=full')
     >>> print(w[0].message)
-    methods: 'herded-short-full' is deprecated; write ["herded", "chains=short,keys=full"]
+    truncations: 'herded-short-full' is deprecated; write ["herded", "chains=short,keys=full"]
     """
     if isinstance(value, (list, tuple)):
         return canonical_pair(value, setting, {})

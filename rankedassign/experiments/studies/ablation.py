@@ -2,21 +2,17 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from .. import _format as fmt
-from .._executor import run_seed
 from .._records import RunRecord
 from .._synthetic import (
     SamplerRun,
     Table1Row,
-    make_problem,
-    original_seed,
+    paired_calls,
     paired_summary,
     paper_settings,
-    proposed_seed,
-    run_original,
-    run_proposed,
+    tiny_synthetic,
     with_paper,
 )
 from ..config import (
@@ -205,17 +201,11 @@ def ablation_task(cfg: AblationConfig, seed: int, run: int, family: str) -> Abla
     Stall-only runs depend on the stall reading alone and stale-only runs on the stale reading
     alone, so they are computed once per reading and shared by the pairs.
     """
-    s = run_seed(seed, run)
-    problem = make_problem(family, s, cfg)
-
-    def proposed(stall, stale):
-        rng = proposed_seed(s, family, stall, stale)
-        return run_proposed(problem, cfg, rng, stall=stall, stale=stale)
-
+    _, original, proposed = paired_calls(cfg, seed, run, family)
     return AblationRun(
         run=run,
         family=family,
-        original=run_original(problem, cfg.original_obs, original_seed(s, family)),
+        original=original,
         stall={a: proposed(a, None) for a in cfg.stall_readings},
         stale={b: proposed(None, b) for b in cfg.stale_readings},
         full={
@@ -365,5 +355,5 @@ ABLATION = register_study(Study(
     plot=None,
     csv_rows=as_rows,
     order=50,
-    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
+    warm=tiny_synthetic,
 ))

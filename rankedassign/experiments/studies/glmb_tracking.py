@@ -36,7 +36,7 @@ from .._executor import run_seed
 from .._plots import figure, legend_below, series_style
 from .._records import RunRecord
 from .._stats import paired_interval
-from ..config import check_ospa
+from ..config import check_ospa, renamed_settings
 from ..paper import PAPER_TOTALS
 from ..registry import Study, register_study
 from ..vocabulary import (
@@ -117,6 +117,7 @@ SHORT_VS_LONG_TARGET, GLMB_VS_LMB_TARGET = 5.0, 10.0
 SMALL_BUDGET = 5
 
 
+@renamed_settings(methods="filter_truncations", tradeoff_methods="tradeoff_truncations")
 @dataclass(frozen=True)
 class GLMBStudyConfig:
     """Settings of the ``glmb_tracking`` study.
@@ -128,9 +129,9 @@ class GLMBStudyConfig:
     presets : tuple of str
         Single-sensor model presets (``"vo"``, Vo's example, and ``"paper"``, the paper's
         scenario; ``"paper-var"`` too).
-    methods : tuple of (str, str)
+    filter_truncations : tuple of (str, str)
         ``(filter, truncation)`` pairs, of :data:`GLMB_METHODS` (the quick settings leave
-        ``("glmb", "herded")`` out).
+        ``("glmb", "herded")`` out); the old name ``methods`` still reads, deprecated.
     murty_runs, glmb_exact_runs : int
         Runs (the first ones) of the Murty methods and of ``("glmb", "exact")`` (which enumerates
         every assignment of every component until a component does not fit: some five minutes
@@ -154,12 +155,12 @@ class GLMBStudyConfig:
     tradeoff_runs : int
         Runs of every trade-off point (0: no trade-off runs; the figure then has the
         ``h_upd`` points only).
-    tradeoff_methods : tuple of str
+    tradeoff_truncations : tuple of str
         The δ-GLMB truncations run at ``tradeoff_h_upd`` (of :data:`TRADEOFF_METHODS`; the
-        old ``"glmb-long"``, ... still read, deprecated; the quick
-        settings leave Murty out: it keeps ``Σ_h max(T_h, 1)``, about ``H_max`` components
-        at any ``H_upd``, and their exact masses cost some 5 s of CPU per ``"paper"`` run,
-        the quick study's largest part; see the δ-GLMB page's costs).
+        old name ``tradeoff_methods`` and the old ``"glmb-long"``, ... still read, deprecated;
+        the quick settings leave Murty out: it keeps ``Σ_h max(T_h, 1)``, about ``H_max``
+        components at any ``H_upd``, and their exact masses cost some 5 s of CPU per
+        ``"paper"`` run, the quick study's largest part; see the δ-GLMB page's costs).
     ospa_c, ospa_p, ospa_window : float, float, int
         OSPA(2) (spec §7: 200 m, 1, 5 scans); OSPA and GOSPA have the same ``c`` and ``p``.
 
@@ -189,7 +190,7 @@ class GLMBStudyConfig:
     n_mc: int = 20
     n_scans: int = 100
     presets: tuple = ("vo", "paper")
-    methods: tuple = GLMB_METHODS
+    filter_truncations: tuple = GLMB_METHODS
     murty_runs: int = 10
     glmb_exact_runs: int = 1
     h_upd: int = 1000
@@ -203,7 +204,7 @@ class GLMBStudyConfig:
     retained_mass: tuple = ("vo", "paper")
     tradeoff_h_upd: tuple = (100, 300, 3000, 10_000)
     tradeoff_runs: int = 2
-    tradeoff_methods: tuple = TRADEOFF_METHODS
+    tradeoff_truncations: tuple = TRADEOFF_METHODS
     ospa_c: float = 200.0
     ospa_p: float = 1.0
     ospa_window: int = 5
@@ -214,22 +215,24 @@ class GLMBStudyConfig:
         all; both masses on both presets; the trade-off of the chains at ``H_upd`` 100 and 300
         on one run."""
         return cls(n_mc=2, murty_runs=1, glmb_exact_runs=0, tradeoff_h_upd=(100, 300),
-                   tradeoff_runs=1, tradeoff_methods=("original", "short-chain"),
-                   methods=tuple(m for m in GLMB_METHODS if m != ("glmb", "herded")))
+                   tradeoff_runs=1, tradeoff_truncations=("original", "short-chain"),
+                   filter_truncations=tuple(m for m in GLMB_METHODS
+                                            if m != ("glmb", "herded")))
 
     def __post_init__(self):
         check_fields(self, where="glmb_tracking: ")
-        for name in ("methods", "presets", "retained_mass", "tradeoff_h_upd",
-                     "tradeoff_methods"):
+        for name in ("filter_truncations", "presets", "retained_mass", "tradeoff_h_upd",
+                     "tradeoff_truncations"):
             object.__setattr__(self, name, tuple(getattr(self, name)))
         # the old one-string spellings, deprecated; a --config file's lists as tuples
-        object.__setattr__(self, "methods", tuple(
-            canonical_pair(m, "methods", DEPRECATED_FILTER_TRUNCATIONS, truncation_at=1)
-            for m in self.methods))
-        object.__setattr__(self, "tradeoff_methods", tuple(
-            canonical_value(m, "tradeoff_methods", DEPRECATED_GLMB_TRUNCATIONS)
-            for m in self.tradeoff_methods))
-        for m in self.methods:
+        object.__setattr__(self, "filter_truncations", tuple(
+            canonical_pair(m, "filter_truncations", DEPRECATED_FILTER_TRUNCATIONS,
+                           truncation_at=1)
+            for m in self.filter_truncations))
+        object.__setattr__(self, "tradeoff_truncations", tuple(
+            canonical_value(m, "tradeoff_truncations", DEPRECATED_GLMB_TRUNCATIONS)
+            for m in self.tradeoff_truncations))
+        for m in self.filter_truncations:
             check_method(m)
         if not self.presets:
             raise ValueError("presets must name at least one preset")
@@ -242,13 +245,14 @@ class GLMBStudyConfig:
         for name in ("murty_runs", "glmb_exact_runs", "tradeoff_runs"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
-        for m in self.tradeoff_methods:
-            check_choice(m, "tradeoff_methods: truncation", TRADEOFF_METHODS)
+        for m in self.tradeoff_truncations:
+            check_choice(m, "tradeoff_truncations: truncation", TRADEOFF_METHODS)
         for h in self.tradeoff_h_upd:
             if isinstance(h, bool) or not isinstance(h, int) or h < 1:
                 raise ValueError(f"tradeoff_h_upd must hold positive ints, got {h!r}")
-        if not self.methods:
-            raise ValueError("methods must name at least one method")
+        if not self.filter_truncations:
+            raise ValueError("filter_truncations must name at least one (filter, truncation) "
+                             "pair")
         # checked here, not first by the metric at the end of the first run (spec §7)
         check_ospa(self.ospa_c, self.ospa_p)
 
@@ -280,14 +284,14 @@ def check_method(method) -> tuple:
     ('glmb', 'short-chain')
     """
     if not isinstance(method, (tuple, list)) or len(method) != 2:
-        raise TypeError(f"methods entries must be (filter, truncation) pairs such as "
+        raise TypeError(f"filter_truncations entries must be (filter, truncation) pairs such as "
                         f"['glmb', 'short-chain'], got {method!r}")
     filt, truncation = method
-    check_choice(filt, "methods: filter", tuple(ESTIMATORS))
-    check_choice(truncation, "methods: truncation", GLMB_TRUNCATIONS)
+    check_choice(filt, "filter_truncations: filter", tuple(ESTIMATORS))
+    check_choice(truncation, "filter_truncations: truncation", GLMB_TRUNCATIONS)
     if filt == "lmb" and truncation == "murty-matched":
-        raise ValueError("methods: 'murty-matched' matches the δ-GLMB filter's Murty to its "
-                         "short chains; write ['glmb', 'murty-matched']")
+        raise ValueError("filter_truncations: 'murty-matched' matches the δ-GLMB filter's "
+                         "Murty to its short chains; write ['glmb', 'murty-matched']")
     return (filt, truncation)
 
 
@@ -516,11 +520,12 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
     run : int
         Monte Carlo run index (0-based).
     method : (str, str)
-        ``(filter, truncation)``, one of ``cfg.methods`` (:data:`GLMB_METHODS`; an old string
-        such as ``"glmb-short"`` reads, deprecated). ``("glmb", "murty-matched")`` runs the
-        GLMB short chains beside Murty on the same measurements and, before every scan, sets
-        Murty's ``H_upd`` to the largest value whose hypotheses ``Σ_h min(k, max(T_h, 1))``
-        do not exceed the unique hypotheses the short chains found at that scan.
+        ``(filter, truncation)``, one of ``cfg.filter_truncations`` (:data:`GLMB_METHODS`;
+        an old string such as ``"glmb-short"`` reads, deprecated).
+        ``("glmb", "murty-matched")`` runs the GLMB short chains beside Murty on the same
+        measurements and, before every scan, sets Murty's ``H_upd`` to the largest value
+        whose hypotheses ``Σ_h min(k, max(T_h, 1))`` do not exceed the unique hypotheses the
+        short chains found at that scan.
     preset : str, optional
         The scenario's preset (default ``"vo"``).
     h_upd : int or None, optional
@@ -604,18 +609,18 @@ def glmb_tracking_task(cfg: GLMBStudyConfig, seed: int, run: int, method,
 def glmb_tasks(cfg: GLMBStudyConfig, seed: int) -> list[tuple]:
     """``(cfg, seed, run, method, preset, h_upd)``: every run of every method on every preset
     (the Murty methods: the first ``murty_runs``; ``("glmb", "exact")``: the first
-    ``glmb_exact_runs``), then the trade-off points: ``tradeoff_methods`` at every
+    ``glmb_exact_runs``), then the trade-off points: ``tradeoff_truncations`` at every
     ``tradeoff_h_upd`` on the first ``tradeoff_runs`` runs."""
     def runs(m):
         if m[1] in ("murty", "murty-matched"):
             return min(cfg.n_mc, cfg.murty_runs)
         return min(cfg.n_mc, cfg.glmb_exact_runs) if m == ("glmb", "exact") else cfg.n_mc
 
-    main = [(cfg, seed, r, m, p, cfg.h_upd) for p in cfg.presets for m in cfg.methods
+    main = [(cfg, seed, r, m, p, cfg.h_upd) for p in cfg.presets for m in cfg.filter_truncations
             for r in range(runs(m))]
-    tradeoff = [("glmb", t) for t in cfg.tradeoff_methods]
+    tradeoff = [("glmb", t) for t in cfg.tradeoff_truncations]
     extra = [(cfg, seed, r, m, p, h) for p in cfg.presets for h in cfg.tradeoff_h_upd
-             if h != cfg.h_upd for m in tradeoff if m in cfg.methods
+             if h != cfg.h_upd for m in tradeoff if m in cfg.filter_truncations
              for r in range(min(runs(m), cfg.tradeoff_runs))]
     return main + extra
 
@@ -762,7 +767,7 @@ class GLMBPresetSummary:
     preset : str
         The scenario's preset.
     rows : tuple of GLMBMethodSummary
-        One per method, in the order of ``config["methods"]`` (at ``h_upd``).
+        One per method, in the order of ``config["filter_truncations"]`` (at ``h_upd``).
     comparisons : tuple of PairedComparison
         Every paired comparison the verdict states.
     glmb_savings_pct, lmb_savings_pct : float
@@ -1021,7 +1026,7 @@ def summarise_glmb_tracking(runs: list[GLMBRun], cfg: GLMBStudyConfig) -> GLMBSt
         by = {m: sorted((r for r in runs if (r.filter, r.truncation) == m
                          and r.preset == preset
                          and r.h_upd == cfg.h_upd), key=lambda r: r.run)
-              for m in cfg.methods}
+              for m in cfg.filter_truncations}
         by = {m: rs for m, rs in by.items() if rs}
         rows = tuple(_method_row(preset, m, rs) for m, rs in by.items())
         out.append(GLMBPresetSummary(
@@ -1033,14 +1038,15 @@ def summarise_glmb_tracking(runs: list[GLMBRun], cfg: GLMBStudyConfig) -> GLMBSt
         ))
     return GLMBStudySummary(
         n_mc=cfg.n_mc,
-        config={"presets": list(cfg.presets), "methods": [list(m) for m in cfg.methods],
+        config={"presets": list(cfg.presets),
+                "filter_truncations": [list(m) for m in cfg.filter_truncations],
                 "n_scans": cfg.n_scans, "h_upd": cfg.h_upd, "h_max": cfg.h_max,
                 "original_obs": cfg.original_obs, "n_chains": cfg.n_chains,
                 "chain_length": cfg.chain_length, "tau_stall": cfg.tau_stall,
                 "tau_stale": cfg.tau_stale, "murty_k": cfg.murty_k, "murty_runs": cfg.murty_runs,
                 "glmb_exact_runs": cfg.glmb_exact_runs, "retained_mass": list(cfg.retained_mass),
                 "tradeoff_h_upd": list(cfg.tradeoff_h_upd), "tradeoff_runs": cfg.tradeoff_runs,
-                "tradeoff_methods": list(cfg.tradeoff_methods),
+                "tradeoff_truncations": list(cfg.tradeoff_truncations),
                 "ospa_c": cfg.ospa_c, "ospa_p": cfg.ospa_p, "ospa_window": cfg.ospa_window},
         presets=tuple(out),
     )

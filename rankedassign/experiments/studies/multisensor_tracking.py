@@ -10,11 +10,11 @@ study's coverage rule: an estimate within 50 m covers a target, the first 10 sca
 are left out, a target covered on less than half of the rest is lost).
 
 The δ-GLMB rows (:class:`~rankedassign.tracking.MultiSensorGLMBFilter`) run on their own
-cells, ``glmb_sensor_sets × glmb_methods`` with the static birth ``glmb_birth`` (the narrow
-one by default: the paper's wide birth tracks gate every measurement, and every component's
-dense tuple table would grow with it) and ``glmb_adaptive_*`` with adaptive birth; the LMB
-filter runs on the same cells, so each GLMB row has its LMB row on the same measurements and
-birth beside it.
+cells, ``glmb_sensor_sets × glmb_associations`` with the static birth ``glmb_birth`` (the
+narrow one by default: the paper's wide birth tracks gate every measurement, and every
+component's dense tuple table would grow with it) and ``glmb_adaptive_*`` with adaptive
+birth; the LMB filter runs on the same cells, so each GLMB row has its LMB row on the same
+measurements and birth beside it.
 
 The functions here are the study's computation: :func:`multisensor_tracking_task` (one run),
 :func:`summarise_multisensor_tracking` (means, standard errors, totals, reductions),
@@ -42,6 +42,7 @@ from ...validation import check_choice, check_fields, check_int
 from .. import _format as fmt
 from .._plots import legend_below, series_style
 from .._records import RunRecord
+from ..config import renamed_settings
 from ..registry import Study, register_study
 from ..vocabulary import DEPRECATED_ASSOCIATIONS, ROW_METHODS, canonical_pair
 
@@ -84,6 +85,9 @@ STUDY_FILTERS = tuple(FILTERS)
 COVERAGE_RADIUS, COVERAGE_SETTLE, LOST_BELOW = 50.0, 10, 0.5
 
 
+@renamed_settings(methods="associations", adaptive_methods="adaptive_associations",
+                  glmb_methods="glmb_associations",
+                  glmb_adaptive_methods="glmb_adaptive_associations")
 @dataclass(frozen=True)
 class MultiSensorStudyConfig:
     """Settings of the multi-sensor tracking study.
@@ -95,10 +99,12 @@ class MultiSensorStudyConfig:
     sensor_sets : tuple of tuple of int
         Sensor subsets (indices into
         :data:`~rankedassign.tracking.multisensor.scenario.MULTI_SENSORS`).
-    methods : tuple of (str, str)
+    associations : tuple of (str, str)
         Associations, ``(truncation, method)`` pairs (:data:`STUDY_ASSOCIATIONS`; a
-        ``--config`` file writes each as a two-element list, ``["short-chain", "mm"]``).
-    adaptive_sensor_sets, adaptive_methods : tuple
+        ``--config`` file writes each as a two-element list, ``["short-chain", "mm"]``). This
+        and the three settings below named ``*associations`` were ``*methods``: the old names
+        still read, deprecated.
+    adaptive_sensor_sets, adaptive_associations : tuple
         The (sensor set, association) cells that also run with adaptive birth
         (:class:`~rankedassign.tracking.AdaptiveBirth` with its defaults, the
         spec §7.2 values); empty to leave adaptive birth out.
@@ -109,15 +115,15 @@ class MultiSensorStudyConfig:
     marginals : {"truncated", "rao-blackwell"}
         How hypotheses become marginals.
     birth : {"paper", "narrow"}
-        Static birth model of the cells of ``sensor_sets × methods``.
-    glmb_sensor_sets, glmb_methods : tuple
+        Static birth model of the cells of ``sensor_sets × associations``.
+    glmb_sensor_sets, glmb_associations : tuple
         The cells of the δ-GLMB filter (and of the LMB filter beside it) with the static birth
         ``glmb_birth``; empty to leave the GLMB rows out. The GLMB filter's long chain runs
         ``min(T_h − 1, long_obs)`` sweeps per component, its short chains at most ``T_h − 1``
         (:class:`~rankedassign.tracking.GLMBFilter`).
     glmb_birth : {"paper", "narrow"}
         Static birth of the GLMB cells (default ``"narrow"``).
-    glmb_adaptive_sensor_sets, glmb_adaptive_methods : tuple
+    glmb_adaptive_sensor_sets, glmb_adaptive_associations : tuple
         The GLMB cells with adaptive birth (and the LMB filter beside them).
     glmb_extraction : {"map", "hysteresis"}
         State extraction of the GLMB filter (default ``"map"``, Vo's estimator for the δ-GLMB:
@@ -131,9 +137,9 @@ class MultiSensorStudyConfig:
     n_mc: int = 10
     n_scans: int = 100
     sensor_sets: tuple = ((0,), (1,), (2,), (0, 1), (0, 1, 2))
-    methods: tuple = STUDY_ASSOCIATIONS
+    associations: tuple = STUDY_ASSOCIATIONS
     adaptive_sensor_sets: tuple = ((0,), (0, 1), (0, 1, 2))
-    adaptive_methods: tuple = (("short-chain", "exact"), ("short-chain", "mm"))
+    adaptive_associations: tuple = (("short-chain", "exact"), ("short-chain", "mm"))
     long_obs: int = 10_000
     n_chains: int = 400
     chain_length: int = 25
@@ -142,11 +148,11 @@ class MultiSensorStudyConfig:
     marginals: str = "truncated"
     birth: str = "paper"
     glmb_sensor_sets: tuple = ((0,), (1,), (2,), (0, 1), (0, 1, 2))
-    glmb_methods: tuple = (("original", "exact"), ("short-chain", "exact"),
+    glmb_associations: tuple = (("original", "exact"), ("short-chain", "exact"),
                            ("short-chain", "mm"))
     glmb_birth: str = "narrow"
     glmb_adaptive_sensor_sets: tuple = ((0, 1, 2),)
-    glmb_adaptive_methods: tuple = (("short-chain", "exact"), ("short-chain", "mm"))
+    glmb_adaptive_associations: tuple = (("short-chain", "exact"), ("short-chain", "mm"))
     glmb_extraction: str = "map"
     seed: int = 0
 
@@ -165,13 +171,14 @@ class MultiSensorStudyConfig:
         15
         """
         return cls(n_mc=1, n_scans=15, sensor_sets=((0,), (1,), (2,), (0, 1, 2)),
-                   methods=(("original", "exact"), ("short-chain", "exact"),
-                            ("short-chain", "mm")), long_obs=300,
+                   associations=(("original", "exact"), ("short-chain", "exact"),
+                                 ("short-chain", "mm")), long_obs=300,
                    adaptive_sensor_sets=((0, 1, 2),),
-                   adaptive_methods=(("short-chain", "exact"),),
-                   glmb_sensor_sets=((0,), (0, 1, 2)), glmb_methods=(("short-chain", "mm"),),
+                   adaptive_associations=(("short-chain", "exact"),),
+                   glmb_sensor_sets=((0,), (0, 1, 2)),
+                   glmb_associations=(("short-chain", "mm"),),
                    glmb_adaptive_sensor_sets=((0, 1, 2),),
-                   glmb_adaptive_methods=(("short-chain", "mm"),))
+                   glmb_adaptive_associations=(("short-chain", "mm"),))
 
     def __post_init__(self):
         check_fields(self)
@@ -179,14 +186,15 @@ class MultiSensorStudyConfig:
                      "tau_stale"):
             check_int(getattr(self, name), name, minimum=1)
         check_int(self.seed, "seed")
-        for name, sets, methods in (
-            ("", self.sensor_sets, self.methods),
-            ("adaptive_", self.adaptive_sensor_sets, self.adaptive_methods),
-            ("glmb_", self.glmb_sensor_sets, self.glmb_methods),
-            ("glmb_adaptive_", self.glmb_adaptive_sensor_sets, self.glmb_adaptive_methods),
+        for name, sets, associations in (
+            ("", self.sensor_sets, self.associations),
+            ("adaptive_", self.adaptive_sensor_sets, self.adaptive_associations),
+            ("glmb_", self.glmb_sensor_sets, self.glmb_associations),
+            ("glmb_adaptive_", self.glmb_adaptive_sensor_sets,
+             self.glmb_adaptive_associations),
         ):
-            if not name and not (sets and methods):
-                raise ValueError("sensor_sets and methods must not be empty")
+            if not name and not (sets and associations):
+                raise ValueError("sensor_sets and associations must not be empty")
             for ss in sets:
                 if not isinstance(ss, (tuple, list)) or not ss:
                     raise TypeError(f"{name}sensor_sets entries must be non-empty lists of "
@@ -196,11 +204,12 @@ class MultiSensorStudyConfig:
                 if len(set(ss)) != len(ss):
                     raise ValueError(f"{name}sensor_sets entry {ss!r} repeats a sensor")
             # the old one-string spellings, deprecated; a --config file's lists as tuples
-            methods = tuple(canonical_pair(m, f"{name}methods", DEPRECATED_ASSOCIATIONS)
-                            for m in methods)
-            object.__setattr__(self, f"{name}methods", methods)
-            for m in methods:
-                check_association(m, f"{name}methods")
+            associations = tuple(
+                canonical_pair(m, f"{name}associations", DEPRECATED_ASSOCIATIONS)
+                for m in associations)
+            object.__setattr__(self, f"{name}associations", associations)
+            for m in associations:
+                check_association(m, f"{name}associations")
         check_choice(self.marginals, "marginals", MARGINALS)
         check_choice(self.birth, "birth", ("paper", "narrow"))
         check_choice(self.glmb_birth, "glmb_birth", ("paper", "narrow"))
@@ -817,18 +826,18 @@ def _tasks(cfg: MultiSensorStudyConfig, seed: int) -> list[tuple]:
     """One task per (run, sensor set, association, birth); run ``r`` uses seed ``seed + r``."""
     cfg = dataclasses.replace(cfg, seed=int(seed))
     static = [(cfg, r, tuple(sensors), assoc, cfg.birth) for r in range(cfg.n_mc)
-              for sensors in cfg.sensor_sets for assoc in cfg.methods]
+              for sensors in cfg.sensor_sets for assoc in cfg.associations]
     adaptive = [(cfg, r, tuple(sensors), assoc, "adaptive") for r in range(cfg.n_mc)
-                for sensors in cfg.adaptive_sensor_sets for assoc in cfg.adaptive_methods]
+                for sensors in cfg.adaptive_sensor_sets for assoc in cfg.adaptive_associations]
     # the GLMB cells, each with the LMB filter beside it (unless that cell is already above)
     done = {(t[1], t[2], t[3], t[4]) for t in static + adaptive}
     glmb = []
-    for birth, sets, methods in ((cfg.glmb_birth, cfg.glmb_sensor_sets, cfg.glmb_methods),
-                                 ("adaptive", cfg.glmb_adaptive_sensor_sets,
-                                  cfg.glmb_adaptive_methods)):
+    for birth, sets, associations in (
+            (cfg.glmb_birth, cfg.glmb_sensor_sets, cfg.glmb_associations),
+            ("adaptive", cfg.glmb_adaptive_sensor_sets, cfg.glmb_adaptive_associations)):
         for r in range(cfg.n_mc):
             for sensors in sets:
-                for assoc in methods:
+                for assoc in associations:
                     glmb.append((cfg, r, tuple(sensors), assoc, birth, "glmb"))
                     if (r, tuple(sensors), assoc, birth) not in done:
                         glmb.append((cfg, r, tuple(sensors), assoc, birth, "lmb"))
@@ -843,7 +852,7 @@ def _fusion_gains(summary, cfg) -> str:
     """Per filter, the fused OSPA(2) of the GLMB cells against the best single sensor."""
     out = []
     for filt in STUDY_FILTERS:
-        for assoc in cfg.glmb_methods:
+        for assoc in cfg.glmb_associations:
             rows = {s.sensors: s.ospa2_mean for s in summary if s.filter == filt
                     and (s.truncation, s.method) == assoc and s.birth == cfg.glmb_birth
                     and s.sensors in {tuple(x) for x in cfg.glmb_sensor_sets}}
@@ -880,7 +889,7 @@ def _verdict(summary, cfg) -> str:
         return fmt.pm(s.ospa2_mean, s.ospa2_se, 1) + " m"  # "1 run" is said once, below
 
     parts = []
-    for assoc in cfg.methods:
+    for assoc in cfg.associations:
         rows = {k[1]: s for k, s in cells.items()
                 if k[0] == "lmb" and k[2] == assoc and k[3] == cfg.birth}
         singles = {k: s for k, s in rows.items() if len(k) == 1}

@@ -8,7 +8,7 @@ original sampler's) error next to ``eps*`` at the same ``k``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
@@ -17,16 +17,12 @@ import numpy as np
 import oracle
 
 from .. import _format as fmt
-from .._executor import run_seed
 from .._plots import bar_style, figure, legend_below
 from .._records import RunRecord
 from .._synthetic import (
     SamplerRun,
-    make_problem,
-    original_seed,
-    proposed_seed,
-    run_original,
-    run_proposed,
+    paired_calls,
+    tiny_synthetic,
 )
 from ..config import STALE_READINGS, STALL_READINGS, SyntheticConfig
 from ..registry import Study, as_rows, per_family_tasks, register_study
@@ -181,20 +177,11 @@ class OptimumRun(RunRecord):
 
 def optimum_task(cfg: OptimumConfig, seed: int, run: int, family: str) -> OptimumRun:
     """One run of one family: both samplers and the best error for their distinct count."""
-    s = run_seed(seed, run)
-    problem = make_problem(family, s, cfg)
+    problem, original, proposed = paired_calls(cfg, seed, run, family)
     tail = _cached_tail(problem) if family in ("diagonal", "uniform") else _tail_weights(problem)
-    stall, stale = STALL_READINGS[0], STALE_READINGS[0]
     out = {}
-    for name, rec in (
-        ("original", run_original(problem, cfg.original_obs, original_seed(s, family))),
-        (
-            "proposed",
-            run_proposed(
-                problem, cfg, proposed_seed(s, family, stall, stale), stall=stall, stale=stale
-            ),
-        ),
-    ):
+    for name, rec in (("original", original),
+                      ("proposed", proposed(STALL_READINGS[0], STALE_READINGS[0]))):
         out[name] = OptimumCall(**rec.to_dict(),
                                 best_error=best_error(problem, rec.n_unique, _tail=tail))
     return OptimumRun(run=run, family=family, **out)
@@ -385,5 +372,5 @@ OPTIMUM = register_study(Study(
     plot=plot_optimum,
     csv_rows=as_rows,
     order=60,
-    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
+    warm=tiny_synthetic,
 ))

@@ -12,11 +12,11 @@ family depends on neither choice and is run once; each family's runs are those o
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 
 from ...validation import check_fields
 from .. import _format as fmt
-from .._synthetic import Table1Row, paired_summary, paper_settings, with_paper
+from .._synthetic import Table1Row, paired_summary, paper_settings, tiny_synthetic, with_paper
 from ..config import (
     CRITERIA,
     DEFAULT_DIAGONAL_PBAR_D,
@@ -400,6 +400,6 @@ READINGS = register_study(Study(
     plot=None,
     csv_rows=as_rows,
     order=70,
-    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
+    warm=tiny_synthetic,
     paper="Table I",
 ))

@@ -14,7 +14,7 @@ from .. import _format as fmt
 from .._executor import child_seed, run_seed
 from .._plots import legend_below, series_style
 from .._records import RunRecord
-from .._synthetic import KEY_SWEEP, family_index, make_problem, record
+from .._synthetic import KEY_SWEEP, SamplerRun, family_index, make_problem, record
 from ..config import (
     DEFAULT_GRANULARITY,
     DEFAULT_PBAR_D,
@@ -180,8 +180,19 @@ class ChainLengthCheck:
 
 
 @dataclass(frozen=True)
-class SweepPoint(RunRecord):
-    """One sampler at one budget of a sweep run.
+class _GridPoint(RunRecord):
+    """Where a :class:`SweepPoint` lies on the grid: its first three fields."""
+
+    sampler: str
+    chain_length: int | None
+    budget: int
+
+
+# The grid point's fields first, then the call's (a dataclass takes its bases' fields in
+# reverse order of the MRO): the order sweep_runs.json has always had.
+@dataclass(frozen=True)
+class SweepPoint(SamplerRun, _GridPoint):
+    """One sampler at one budget of a sweep run: the grid point and the sampler's call.
 
     Attributes
     ----------
@@ -192,18 +203,8 @@ class SweepPoint(RunRecord):
     budget : int
         Sweeps of the grid point.
     n_obs, n_row_updates, n_unique, n_chains, stop_reason, error
-        The sampler's call, as in ``SamplerRun`` (``rankedassign.experiments._synthetic``).
+        The sampler's call, a ``SamplerRun`` (``rankedassign.experiments._synthetic``).
     """
-
-    sampler: str
-    chain_length: int | None
-    budget: int
-    n_obs: int
-    n_row_updates: int
-    n_unique: int
-    n_chains: int
-    stop_reason: str
-    error: float
 
 
 @dataclass(frozen=True)

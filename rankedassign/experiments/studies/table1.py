@@ -3,26 +3,22 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...validation import check_choice
 from .. import _format as fmt
-from .._executor import run_seed
 from .._plots import bar_style, figure, legend_below
 from .._records import RunRecord
 from .._synthetic import (
     SamplerRun,
     Table1Row,
-    make_problem,
-    original_seed,
+    paired_calls,
     paired_summary,
     paper_settings,
-    proposed_seed,
-    run_original,
-    run_proposed,
+    tiny_synthetic,
     with_paper,
 )
 from ..config import (
@@ -136,17 +132,9 @@ class Table1Run(RunRecord):
 
 def table1_task(cfg: Table1Config, seed: int, run: int, family: str) -> Table1Run:
     """One Monte Carlo run of one family: the original sampler and the three criteria."""
-    s = run_seed(seed, run)
-    problem = make_problem(family, s, cfg)
-    calls = {}
-    for crit in CRITERIA:
-        stall, stale = CRITERION_RULES[crit]
-        calls[crit] = run_proposed(
-            problem, cfg, proposed_seed(s, family, stall, stale), stall=stall, stale=stale
-        )
-    return Table1Run(
-        run=run, family=family,
-        original=run_original(problem, cfg.original_obs, original_seed(s, family)), **calls)
+    _, original, proposed = paired_calls(cfg, seed, run, family)
+    return Table1Run(run=run, family=family, original=original,
+                     **{crit: proposed(*CRITERION_RULES[crit]) for crit in CRITERIA})
 
 
 def summarise_table1(runs: list[Table1Run], cfg: Table1Config) -> list[Table1Row]:
@@ -381,6 +369,6 @@ TABLE1 = register_study(Study(
     plot=plot_table1,
     csv_rows=as_rows,
     order=10,
-    warm=lambda c: replace(c, n_mc=1, original_obs=200, n_chains=8),
+    warm=tiny_synthetic,
     paper="Table I",
 ))

@@ -70,6 +70,7 @@ from ..config import (
     PBAR_D_READINGS,
     check_ospa,
     check_positive,
+    renamed_settings,
 )
 from ..registry import Study, register_study
 from ..vocabulary import canonical_variant, variant
@@ -118,7 +119,7 @@ def check_th_method(method, setting: str, choices) -> tuple:
     Parameters
     ----------
     method : object
-        A ``methods`` or ``tracking_methods`` entry, after
+        A ``truncations`` or ``tracking_truncations`` entry, after
         :func:`~rankedassign.experiments.vocabulary.canonical_variant`.
     setting : str
         The setting's name, for the message.
@@ -136,15 +137,16 @@ def check_th_method(method, setting: str, choices) -> tuple:
 
     Examples
     --------
-    >>> check_th_method(("herded", "keys=full"), "methods", TH_METHODS)
+    >>> check_th_method(("herded", "keys=full"), "truncations", TH_METHODS)
     ('herded', 'keys=full')
     """
     if isinstance(method, (list, tuple)) and tuple(method) in choices:
         return tuple(method)
     shown = ", ".join(json.dumps(list(m)) for m in choices)
-    raise ValueError(f"unknown {setting}: method {method!r}; expected one of {shown}")
+    raise ValueError(f"unknown {setting}: truncation {method!r}; expected one of {shown}")
 
 
+@renamed_settings(methods="truncations", tracking_methods="tracking_truncations")
 @dataclass(frozen=True)
 class TemperingHerdingConfig:
     """Herded, tempered and LBP association graded by the exact oracle (the paper's future work).
@@ -155,10 +157,10 @@ class TemperingHerdingConfig:
         Monte Carlo runs per problem family (random families re-drawn every run).
     families : tuple of str
         Problem families (:data:`TH_FAMILIES`).
-    methods : tuple of (str, str)
-        Methods, ``(truncation, variant)`` pairs (:data:`TH_METHODS`); a method that does not
+    truncations : tuple of (str, str)
+        Truncations, ``(truncation, variant)`` pairs (:data:`TH_METHODS`); one that does not
         apply to a family's problem kind (LBP is single-sensor only) is reported as not
-        applicable.
+        applicable. Its old name ``methods`` still reads, deprecated.
     budgets : tuple of int
         Sweeps per call, strictly increasing. One chain runs the budget; short chains run
         ``budget // L`` chains of ``L = min(chain_length, budget)`` sweeps (the stall and
@@ -177,8 +179,9 @@ class TemperingHerdingConfig:
         Monte Carlo runs of the tracking part per preset (0: no tracking part).
     presets : tuple of str
         Tracking presets (:data:`~rankedassign.tracking.models.PRESETS`).
-    tracking_methods : tuple of (str, str)
-        LMB associations, ``(truncation, variant)`` pairs (:data:`TH_TRACKING_METHODS`).
+    tracking_truncations : tuple of (str, str)
+        LMB associations, ``(truncation, variant)`` pairs (:data:`TH_TRACKING_METHODS`; the
+        old name ``tracking_methods`` still reads, deprecated).
     n_scans : int
         Scans per tracking run.
     tracking_obs : int
@@ -195,15 +198,15 @@ class TemperingHerdingConfig:
     >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
     >>> TemperingHerdingConfig().budgets
     (100, 1000, 10000, 250000)
-    >>> TemperingHerdingConfig(methods=("tempered",))  # doctest: +ELLIPSIS
+    >>> TemperingHerdingConfig(truncations=("tempered",))  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: unknown methods: method 'tempered'; expected one of ["original", ""], ...
+    ValueError: unknown truncations: truncation 'tempered'; expected one of ["original", ""], ...
     """
 
     n_mc: int = 20
     families: tuple = TH_FAMILIES
-    methods: tuple = TH_METHODS
+    truncations: tuple = TH_METHODS
     budgets: tuple = (100, 1_000, 10_000, 250_000)
     chain_length: int = 25
     tau_stall: int = 5
@@ -215,7 +218,7 @@ class TemperingHerdingConfig:
     diagonal_pbar_d: str = DEFAULT_DIAGONAL_PBAR_D
     tracking_mc: int = 10
     presets: tuple = ("paper", "vo")
-    tracking_methods: tuple = TH_TRACKING_METHODS
+    tracking_truncations: tuple = TH_TRACKING_METHODS
     n_scans: int = 100
     tracking_obs: int = 1_000
     tracking_chains: int = 40
@@ -224,7 +227,7 @@ class TemperingHerdingConfig:
     ospa_window: int = 5
 
     def __post_init__(self):
-        for name in ("families", "methods", "budgets", "presets", "tracking_methods"):
+        for name in ("families", "truncations", "budgets", "presets", "tracking_truncations"):
             value = getattr(self, name)
             if isinstance(value, list):
                 object.__setattr__(self, name, tuple(value))
@@ -237,13 +240,14 @@ class TemperingHerdingConfig:
             raise ValueError(f"tracking_mc must be a non-negative integer, got "
                              f"{self.tracking_mc!r}")
         for name, one, allowed in (("families", "family", TH_FAMILIES),
-                                   ("methods", "method", TH_METHODS),
+                                   ("truncations", "truncation", TH_METHODS),
                                    ("presets", "preset", PRESETS),
-                                   ("tracking_methods", "method", TH_TRACKING_METHODS)):
+                                   ("tracking_truncations", "truncation",
+                                    TH_TRACKING_METHODS)):
             values = getattr(self, name)
             if not isinstance(values, tuple) or (not values and name != "presets"):
                 raise ValueError(f"{name} must be a non-empty tuple, got {values!r}")
-            if name in ("methods", "tracking_methods"):
+            if name in ("truncations", "tracking_truncations"):
                 # pairs; a plain truncation's name alone; the old strings, deprecated
                 object.__setattr__(self, name, tuple(
                     check_th_method(canonical_variant(v, name), name, allowed)
@@ -725,7 +729,7 @@ def _warm_units(cfg: TemperingHerdingConfig) -> list[tuple]:
     first: dict = {}
     for family in cfg.families:
         first[kind_name(family)] = (*first.get(kind_name(family), ()), family)
-    methods = tuple(cfg.methods)
+    methods = tuple(cfg.truncations)
     herded = tuple(m for m in methods if m[0] == tracking.HerdedGibbs.name)
     tempered = tuple(m for m in methods if m == ZANELLA_ROBERTS)
     gibbs = tuple(m for m in methods if m not in herded + tempered)
@@ -754,7 +758,7 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int,
     Examples
     --------
     >>> from rankedassign.experiments.studies.tempering_herding import TemperingHerdingConfig
-    >>> cfg = TemperingHerdingConfig(budgets=(50,), methods=(("original", ""), ("lbp", "")))
+    >>> cfg = TemperingHerdingConfig(budgets=(50,), truncations=(("original", ""), ("lbp", "")))
     >>> out = synthetic_task(cfg, 0, 0, "uniform")
     >>> out.calls(("original", ""))["50"].n_obs, out.calls(("lbp", ""))["0"].converged
     (50, True)
@@ -766,7 +770,7 @@ def synthetic_task(cfg: TemperingHerdingConfig, seed: int, run: int,
     exact = None if kind == "adaptive_birth" else oracle.marginals(problem)
     fi = TH_FAMILIES.index(family)
     methods = []
-    for method in cfg.methods:
+    for method in cfg.truncations:
         calls = _method_calls(method, problem, exact, cfg, s, fi)
         methods.append(THMethodCalls(truncation=method[0], variant=method[1], calls=calls))
     return THSyntheticRun(part="synthetic", run=run, family=family, kind=kind,
@@ -849,7 +853,7 @@ def th_tasks(cfg: TemperingHerdingConfig, seed: int) -> list[tuple]:
     """Every synthetic ``(family, run)`` and tracking ``(preset, method, run)`` task."""
     out = [("synthetic", cfg, seed, r, fam) for fam in cfg.families for r in range(cfg.n_mc)]
     out += [("tracking", cfg, seed, r, preset, m) for preset in cfg.presets
-            for m in cfg.tracking_methods for r in range(cfg.tracking_mc)]
+            for m in cfg.tracking_truncations for r in range(cfg.tracking_mc)]
     return out
 
 
@@ -1048,7 +1052,7 @@ def summarise_tempering_herding(runs: list, cfg: TemperingHerdingConfig) -> THSu
         if not rs:
             continue
         kind = rs[0].kind
-        for method in cfg.methods:
+        for method in cfg.truncations:
             recs = [r.calls(method) for r in rs if r.calls(method) is not None]
             if not recs:
                 continue
@@ -1096,7 +1100,7 @@ def summarise_tempering_herding(runs: list, cfg: TemperingHerdingConfig) -> THSu
         verdicts[fam] = v
     trk = []
     for preset in cfg.presets:
-        for method in cfg.tracking_methods:
+        for method in cfg.tracking_truncations:
             rs = [r for r in runs if isinstance(r, THTrackingRun) and r.preset == preset
                   and (r.truncation, r.variant) == method]
             if not rs:
@@ -1292,7 +1296,7 @@ Zanella–Roberts's its importance-weighted ones.
         fr = {(r.cell, r.budget): r for r in s.rows if r.family == fam}
         methods = list(dict.fromkeys(r.cell for r in s.rows if r.family == fam))
         body = []
-        for m in cfg.methods:
+        for m in cfg.truncations:
             if m == LBP:
                 continue
             body.append([label(m)] + [_cell(fr.get((m, b))) for b in cfg.budgets])

@@ -176,6 +176,11 @@ def _association(cfg: TrackingConfig, truncation: str):
     )
 
 
+#: The per-scan counts a run records, each the scenario result's field of that name.
+SCAN_COUNTS = ("sweeps", "row_updates", "invocations", "n_unique", "n_tracks", "n_meas",
+               "n_groups")
+
+
 @dataclass(frozen=True)
 class TrackingRun(RunRecord):
     """One run of one sampler of the tracking studies (:func:`tracking_task`): per-scan lists.
@@ -260,13 +265,7 @@ def tracking_task(cfg: TrackingConfig, seed: int, run: int, truncation: str) -> 
         gospa_false=floats(g.false),
         # NaN (JSON null) for a target that lives no longer than COVERAGE_SETTLE scans
         coverage=[None if np.isnan(v) else float(v) for v in cov],
-        sweeps=ints(sr.sweeps),
-        row_updates=ints(sr.row_updates),
-        invocations=ints(sr.invocations),
-        n_unique=ints(sr.n_unique),
-        n_tracks=ints(sr.n_tracks),
-        n_meas=ints(sr.n_meas),
-        n_groups=ints(sr.n_groups),
+        **{name: ints(getattr(sr, name)) for name in SCAN_COUNTS},
         association_seconds=floats(sr.timings["association"]),
         total_seconds=float(sum(np.sum(v) for v in sr.timings.values())),
     )
@@ -743,38 +742,33 @@ def _curves_csv(s: TrackingSummary) -> list[dict]:
     return [{k: cur[k][i] for k in cur} for i in range(len(cur["scan"]))]
 
 
-TRACKING = register_study(Study(
-    name="tracking",
-    title="LMB filter with the original vs the short-chain sampler (OSPA(2), observations)",
-    config_type=TrackingConfig,
-    full=TrackingConfig,
-    quick=lambda: TrackingConfig(n_mc=QUICK_MC),
-    tasks=tracking_tasks,
-    task=tracking_task,
-    run_from_dict=TrackingRun.from_dict,
-    summarise=summarise_tracking,
-    render=lambda s, cfg: render_tracking(s, cfg, "tracking"),
-    plot=lambda s, d: plot_tracking(s, d, "tracking"),
-    csv_rows=_curves_csv,
-    paper="§V-B",
-    order=30,
-    warm=lambda c: replace(c, n_mc=1, n_scans=3, original_obs=50, n_chains=4),
-))
-TRACKING_VAR = register_study(Study(
-    name="tracking_var",
-    title=("the tracking study with the birth covariance read as variances, one call per "
-           "group (the reading that matches the paper's totals)"),
-    config_type=TrackingConfig,
-    full=TrackingConfig.paper_var,
-    quick=lambda: TrackingConfig.paper_var(n_mc=QUICK_MC),
-    tasks=tracking_tasks,
-    task=tracking_task,
-    run_from_dict=TrackingRun.from_dict,
-    summarise=summarise_tracking,
-    render=lambda s, cfg: render_tracking(s, cfg, "tracking_var"),
-    plot=lambda s, d: plot_tracking(s, d, "tracking_var"),
-    csv_rows=_curves_csv,
-    paper="§V-B",
-    order=40,
-    warm=lambda c: replace(c, n_mc=1, n_scans=3, original_obs=50, n_chains=4),
-))
+def _register_tracking(name: str, title: str, full, order: int) -> Study:
+    """Register one of the two tracking studies: the same computation on ``full``'s settings."""
+    return register_study(Study(
+        name=name,
+        title=title,
+        config_type=TrackingConfig,
+        full=full,
+        quick=lambda: full(n_mc=QUICK_MC),
+        tasks=tracking_tasks,
+        task=tracking_task,
+        run_from_dict=TrackingRun.from_dict,
+        summarise=summarise_tracking,
+        render=lambda s, cfg: render_tracking(s, cfg, name),
+        plot=lambda s, d: plot_tracking(s, d, name),
+        csv_rows=_curves_csv,
+        paper="§V-B",
+        order=order,
+        warm=lambda c: replace(c, n_mc=1, n_scans=3, original_obs=50, n_chains=4),
+    ))
+
+
+TRACKING = _register_tracking(
+    "tracking",
+    "LMB filter with the original vs the short-chain sampler (OSPA(2), observations)",
+    TrackingConfig, 30)
+TRACKING_VAR = _register_tracking(
+    "tracking_var",
+    "the tracking study with the birth covariance read as variances, one call per group (the "
+    "reading that matches the paper's totals)",
+    TrackingConfig.paper_var, 40)
