@@ -135,6 +135,28 @@ def test_the_parallel_speculation_compiles_the_chain_once():
     assert len(run.kernels["advance"].signatures) == 1
 
 
+@pytest.mark.skipif(config.DISABLE_JIT, reason="compiled signatures only")
+def test_a_sequential_run_compiles_no_speculation():
+    """A run without speculation (``batch == 0``, one worker: the filters' case) has a start
+    and slice of its own that never call the parallel loop, so its first call compiles neither
+    the loop nor the second copy of the kind's sweep (:func:`_speculate_chain`); a speculative
+    run afterwards compiles them and gives the same bits."""
+    run = make_driver("engine_test_sequential", _alloc, _reset, _sweep, work=_Work, cache=False)
+    zkeys = np.array([[1, 2]], dtype=np.uint64)
+    args = (_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 40, 5, Rules(0, 0, 0, 0))
+    seq = run(*args, 0, 1)
+    k = run.kernels
+    assert len(k["start_sequential"].signatures) == 1
+    assert len(k["advance"].signatures) == 1
+    for name in ("start", "run_slice", "speculate", "speculate_chain"):
+        assert not k[name].signatures, name
+    par = run(*args, 4, 2)
+    assert len(k["speculate_chain"].signatures) == 1
+    assert_array_equal(par[0], seq[0])
+    assert_array_equal(par[1], seq[1])
+    assert_array_equal(par[2][:6], seq[2][:6])  # (the last counter: sweeps speculated in vain)
+
+
 @pytest.mark.skipif(config.DISABLE_JIT or not CACHE, reason="numba's on-disk cache only")
 def test_a_kind_defined_elsewhere_leaves_the_cache_of_the_engine_alone(tmp_path):
     """Every engine function compiled for a kind's records is compiled for that kind, with its

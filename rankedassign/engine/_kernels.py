@@ -709,6 +709,23 @@ def _speculate_impl(*args):  # pragma: no cover - replaced in every instantiatio
     raise NotImplementedError
 
 
+def no_speculation(data, work, zkeys, slab, x0, step):
+    """The speculation of a run without speculation (``batch == 0``): never called.
+
+    :func:`make_driver` compiles the slice of a sequential run with this in place of
+    :func:`_speculate`, so that a process that runs only sequentially (one worker, the filters'
+    and studies' case) compiles neither the parallel loop nor the kind's sweep a second time
+    (:func:`_speculate_chain` holds a copy of it). Compiled for each kind, as every function
+    that takes the kind's records is.
+
+    Parameters
+    ----------
+    data, work, zkeys, slab, x0, step
+        As in :func:`_speculate`; unused.
+    """
+    return None
+
+
 def _advance_impl(*args):  # pragma: no cover - replaced in every instantiation
     raise NotImplementedError
 
@@ -868,7 +885,8 @@ def _insert(U, slot, state, h, n_unique, count, chain):
     """
     U.table[slot, 0] = h
     U.table[slot, 1] = np.uint64(n_unique + 1)
-    U.states[n_unique, :] = state
+    for i in range(state.shape[0]):  # a loop, not a slice: see _grow
+        U.states[n_unique, i] = state[i]
     U.hashes[n_unique] = h
     U.counts[n_unique] = count
     U.last_chain[n_unique] = chain
@@ -897,13 +915,18 @@ def _grow(U, n_unique):
     if n_unique >= cap:
         new_cap = 2 * cap
         s2 = np.empty((new_cap, states.shape[1]), dtype=states.dtype)
-        s2[:cap] = states
         h2 = np.empty(new_cap, dtype=hashes.dtype)
-        h2[:cap] = hashes
         c2 = np.zeros(new_cap, dtype=counts.dtype)
-        c2[:cap] = counts
         l2 = np.full(new_cap, -1, dtype=last_chain.dtype)
-        l2[:cap] = last_chain
+        # Copied in loops, not by slice assignment: a slice assignment compiles numba's
+        # shape-mismatch error path (its message formatting, about 3 s of the first call's
+        # compile), and these shapes match by construction.
+        for u in range(cap):
+            for i in range(states.shape[1]):
+                s2[u, i] = states[u, i]
+            h2[u] = hashes[u]
+            c2[u] = counts[u]
+            l2[u] = last_chain[u]
         states, hashes, counts, last_chain = s2, h2, c2, l2
     if 2 * (n_unique + 1) > table.shape[0]:
         size = table.shape[0]
@@ -1493,7 +1516,8 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
             c = c0 + b
             if pos[_IN_CHAIN] == 0:
                 if not speculative:
-                    slab.states[b, :] = x0
+                    for i in range(x0.shape[0]):  # a loop, not a slice: see _grow
+                        slab.states[b, i] = x0[i]
                     reset_work(data, work, b, x0)
                     slab.h[b] = h0
                     slab.rs[b, 0] = chain_state(base, c)
@@ -1643,7 +1667,10 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
 
         the same bits for every ``budget``. Its attribute ``kernels`` maps ``"start"``,
         ``"run_slice"``, ``"speculate"``, ``"speculate_chain"`` and ``"advance"`` to the
-        compiled functions behind it (to inspect their signatures).
+        compiled functions behind it (to inspect their signatures), and
+        ``"start_sequential"`` and ``"run_slice_sequential"`` to the start and slice of a
+        run with ``batch == 0``, which never speculate: a process that runs only
+        sequentially compiles neither :func:`_speculate` nor :func:`_speculate_chain`.
 
     Examples
     --------
@@ -1703,20 +1730,32 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
     start = instantiate(_start, f"start_{name}",
                         {"_new_run_impl": new_run, "_run_slice_impl": run_slice,
                          "_unpack_impl": unpack, "grow_run": grow}, cache=cache)
+    # A sequential run (batch == 0) has a start and a slice of its own that never speculate:
+    # the same code with the speculation bound to a no-op, so that its first call compiles
+    # neither the parallel loop nor the second copy of the sweep. Same operations, same bits.
+    no_spec = instantiate(no_speculation, f"no_speculation_{name}", {}, cache=cache)
+    run_slice_seq = instantiate(_run_slice, f"run_slice_sequential_{name}",
+                                {"_speculate_impl": no_spec, "_advance_impl": adv,
+                                 "_unpack_impl": unpack, "reset_work": reset_work,
+                                 "chain_done": chain_done}, cache=cache)
+    start_seq = instantiate(_start, f"start_sequential_{name}",
+                            {"_new_run_impl": new_run, "_run_slice_impl": run_slice_seq,
+                             "_unpack_impl": unpack, "grow_run": grow}, cache=cache)
 
     def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
                    budget=DEFAULT_BUDGET):
         budget = max(1, int(budget))
+        first, step = (start, run_slice) if batch > 0 else (start_seq, run_slice_seq)
         with interruptible:  # the first slice, and growing U, return arrays
-            states, counts, ctr, run = start(data, zkeys, x0, base, n_chains, chain_length,
+            states, counts, ctr, run = first(data, zkeys, x0, base, n_chains, chain_length,
                                              rules, batch, workers, budget)
             if run is None:
                 return states, counts, ctr
             # Later slices return two integers and no array (see the module docstring); a
             # signal handler's exception is raised here, between two slices.
             while True:
-                status, _ = run_slice(data, zkeys, x0, base, n_chains, chain_length, rules,
-                                      batch, workers, budget, run)
+                status, _ = step(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                 batch, workers, budget, run)
                 if status == DONE:
                     break
                 if status == NEED_ROOM:
@@ -1727,7 +1766,8 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
 
     run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
     run_chains.kernels = {"start": start, "run_slice": run_slice, "speculate": spec,
-                          "speculate_chain": chain, "advance": adv}
+                          "speculate_chain": chain, "advance": adv,
+                          "start_sequential": start_seq, "run_slice_sequential": run_slice_seq}
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
     return run_chains
 

@@ -57,7 +57,7 @@ from ...engine._kernels import (
     problem_states,
     unique_set,
 )
-from ...numba_options import jit
+from ...numba_options import instantiate, jit
 from ...single._kernels import (
     alloc_work,
     alloc_work_prefix,
@@ -297,9 +297,12 @@ def count_components(comp_off, comp_tracks, births, cc_all, gated, cap):
     return counts, sizes
 
 
-@jit()
 def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exact, h0, h1):
     """Murty's ``k`` best, or every assignment, of components ``h0 .. h1 − 1``: the children.
+
+    Two compiled loops do the work, one over Murty's search and one over the enumeration, so
+    that a filter compiles only the one it uses (Murty's search is most of a first δ-GLMB
+    step's compile).
 
     Parameters
     ----------
@@ -332,6 +335,17 @@ def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exac
     >>> [x.tolist() for x in out]
     [[0, 0], [0.5, 1.0], [0, 1, 2], [0, 0], [0, -1]]
     """
+    kernel = _ranked_enumerated if exact else _ranked_murty
+    return kernel(comp_off, comp_tracks, births, cc_all, gated, n_want, h0, h1)
+
+
+def _rank_component(cc, k):  # pragma: no cover - replaced in every instantiation
+    raise NotImplementedError
+
+
+def _ranked(comp_off, comp_tracks, births, cc_all, gated, n_want, h0, h1):
+    """:func:`ranked_components` with one search, ``_rank_component(cc, k)`` (the template of
+    :data:`_ranked_murty` and :data:`_ranked_enumerated`)."""
     T, U = gated.shape
     mark = np.zeros(U, dtype=np.bool_)
     width = 0
@@ -360,10 +374,7 @@ def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exac
             n_out += 1
             child_off[n_out] = e_out
             continue
-        if exact:
-            a, c = enumerate_sorted_kernel(cc, n_want[h])
-        else:
-            a, c = murty_compact_kernel(cc, n_want[h])
+        a, c = _rank_component(cc, n_want[h])
         for u in range(a.shape[0]):
             child_comp[n_out] = h
             child_cost[n_out] = c[u]
@@ -374,6 +385,14 @@ def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exac
     return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
             child_off[:n_out + 1].copy(), child_entry[:e_out].copy(),
             child_meas[:e_out].copy())
+
+
+#: :func:`ranked_components`' loop over Murty's ``k`` best of each component.
+_ranked_murty = instantiate(_ranked, "ranked_components_murty",
+                            {"_rank_component": murty_compact_kernel})
+#: :func:`ranked_components`' loop over the sorted enumeration of each component.
+_ranked_enumerated = instantiate(_ranked, "ranked_components_enumerated",
+                                 {"_rank_component": enumerate_sorted_kernel})
 
 
 class ChainRules(NamedTuple):
@@ -433,7 +452,6 @@ def engine_rules(rules):
                  rules.tau_stale)
 
 
-@jit()
 def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains,
                       chain_length, rules, base, zkeys):
     """Run the Gibbs truncation of every component; return the children.
@@ -481,7 +499,26 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     added nothing (spec §3.3). The chains are the engine's
     (:func:`rankedassign.engine._kernels.make_problem_runner`): this kernel only gathers each
     problem and emits its unique states as children.
+
+    A scan of at most ``M_DIRECT`` measurements cannot give a component the prefix-sum draw,
+    so it runs a loop compiled without it: a first step on a small scene compiles one runner,
+    not two. Same components, same draws, same bits.
     """
+    direct_only = W_all.shape[1] - 2 <= M_DIRECT
+    kernel = _sample_direct if direct_only else _sample_any
+    return kernel(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains, chain_length,
+                  rules, base, zkeys)
+
+
+#: Measurements above which a component may take the prefix-sum draw (bound per instantiation
+#: of :func:`_sample`).
+_PREFIX_FROM = M_DIRECT
+
+
+def _sample(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains, chain_length,
+            rules, base, zkeys):
+    """:func:`sample_components`, the prefix-sum draw above ``_PREFIX_FROM`` measurements (the
+    template of :data:`_sample_any` and :data:`_sample_direct`)."""
     H = comp_off.size - 1
     U = W_all.shape[1] - 2
     B = births.size
@@ -530,7 +567,7 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
         x0 = np.empty(P, dtype=np.int32)
         for i in range(P):
             x0[i] = M if cc[i, M] < np.inf else M + 1
-        prefix = M > M_DIRECT and M > 2 * P
+        prefix = M > _PREFIX_FROM and M > 2 * P
         if prefix:
             S, next_pos = prefix_sums(W)
         else:
@@ -559,6 +596,15 @@ def sample_components(comp_off, comp_tracks, births, W_all, cc_all, gated, n_cha
     return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
             child_off[:n_out + 1].copy(), child_entry[:e_out].copy(),
             child_meas[:e_out].copy(), sweeps, n_rows)
+
+
+#: :func:`sample_components`' loop, either draw as a component needs it.
+_sample_any = instantiate(_sample, "sample_components", {})
+#: The loop of a scan of at most ``M_DIRECT`` measurements: the prefix-sum branch is never
+#: taken (``M <= U <= M_DIRECT``), and binds the direct runner, so it compiles nothing more.
+_sample_direct = instantiate(_sample, "sample_components_direct",
+                             {"_PREFIX_FROM": np.iinfo(np.int64).max,
+                              "_run_prefix": _run_direct, "alloc_work_prefix": alloc_work})
 
 
 @jit()
