@@ -46,37 +46,37 @@ from ..numba_options import jit
 
 __all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
            "run_chains", "sweep_herded", "alloc_work_herded", "reset_work_herded",
-           "run_chains_herded", "AdaptiveBirthWork", "AdaptiveBirthHerdedWork"]
+           "run_chains_herded", "RowScratch", "AdaptiveBirthWork", "AdaptiveBirthHerdedWork"]
 
 
-class AdaptiveBirthWork(NamedTuple):
-    """Scratch of ``nb`` chains (:func:`alloc_work`), leading dimension ``nb``.
+class RowScratch(NamedTuple):
+    """The scratch of a sensor's row update (:func:`_sums`, :func:`_log_weights`,
+    :func:`_take`), held by the chains' workspace (:class:`AdaptiveBirthWork`, one slab per
+    chain: a leading dimension ``nb`` on every field) and by the tempered one
+    (:class:`~rankedassign.adaptive_birth._tempered_kernels.AdaptiveBirthTemperedWork`).
 
     ``n`` is the state dimension, ``K = max_s (M_s + 1)``.
 
     Attributes
     ----------
-    order : ndarray, shape (nb, V), int64
-        The sweep's sensor order.
-    M : ndarray, shape (nb, n, n), float64
+    M : ndarray, shape (n, n), float64
         Running information matrix.
-    b : ndarray, shape (nb, n), float64
+    b : ndarray, shape (n,), float64
         Running information vector.
-    c : ndarray, shape (nb, 1), float64
+    c : ndarray, shape (1,), float64
         Running scalar term.
-    Mp : ndarray, shape (nb, n, n), float64
+    Mp : ndarray, shape (n, n), float64
         ``M+ = M- + A_s``.
-    L : ndarray, shape (nb, n, n), float64
+    L : ndarray, shape (n, n), float64
         Cholesky factors.
-    y : ndarray, shape (nb, n), float64
+    y : ndarray, shape (n,), float64
         Forward-substitution scratch.
-    bj : ndarray, shape (nb, n), float64
+    bj : ndarray, shape (n,), float64
         ``b- + a_sj``.
-    lw : ndarray, shape (nb, K), float64
+    lw : ndarray, shape (K,), float64
         The sensor's log-weights.
     """
 
-    order: np.ndarray
     M: np.ndarray
     b: np.ndarray
     c: np.ndarray
@@ -85,6 +85,18 @@ class AdaptiveBirthWork(NamedTuple):
     y: np.ndarray
     bj: np.ndarray
     lw: np.ndarray
+
+
+class AdaptiveBirthWork(record({"order": np.ndarray}, RowScratch)):
+    """Scratch of ``nb`` chains (:func:`alloc_work`), leading dimension ``nb``.
+
+    Attributes
+    ----------
+    order : ndarray, shape (nb, V), int64
+        The sweep's sensor order.
+    M, b, c, Mp, L, y, bj, lw : ndarray
+        A :class:`RowScratch` per chain (shapes there, after ``nb``).
+    """
 
 
 @jit()

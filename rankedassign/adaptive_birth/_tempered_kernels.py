@@ -16,7 +16,6 @@ tensor read, or its information sums and ratio form).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
@@ -25,7 +24,7 @@ from ..engine._tempered_kernels import make_tempered, store_ratio
 from ..engine.records import record
 from ..multisensor._kernels import pick
 from ..numba_options import jit
-from ._kernels import _log_weights, _sums
+from ._kernels import RowScratch, _log_weights, _sums
 from .prepare import AdaptiveBirthData
 
 __all__ = ["row_weights", "move", "accumulate", "KERNELS", "AdaptiveBirthTemperedData",
@@ -48,36 +47,19 @@ class AdaptiveBirthTemperedData(record(AdaptiveBirthData, {"beta": float})):
     """
 
 
-class AdaptiveBirthTemperedWork(NamedTuple):
+class AdaptiveBirthTemperedWork(record(RowScratch, {"Wb": np.ndarray, "Sb": np.ndarray})):
     """The tempered kernels' workspace: the Gibbs scratch of one chain and the tempered
-    weights (``n`` the state dimension, ``K = max_s (M_s + 1)``).
+    weights (``K = max_s (M_s + 1)``).
 
     Attributes
     ----------
-    M, Mp, L : ndarray, shape (n, n), float64
-        Running information matrix, ``M+`` and Cholesky factors.
-    b, y, bj : ndarray, shape (n,), float64
-        Running information vector and scratch.
-    c : ndarray, shape (1,), float64
-        Running scalar term.
-    lw : ndarray, shape (K,), float64
-        A sensor's log-weights.
+    M, b, c, Mp, L, y, bj, lw : ndarray
+        The row update's scratch (:class:`~rankedassign.adaptive_birth._kernels.RowScratch`).
     Wb : ndarray, shape (V, K), float64
         Each sensor's tempered weights.
     Sb : ndarray, shape (V,), float64
         Their sums.
     """
-
-    M: np.ndarray
-    b: np.ndarray
-    c: np.ndarray
-    Mp: np.ndarray
-    L: np.ndarray
-    y: np.ndarray
-    bj: np.ndarray
-    lw: np.ndarray
-    Wb: np.ndarray
-    Sb: np.ndarray
 
 
 @jit()
