@@ -91,8 +91,9 @@ def accumulate(data, work, state, acc, w):  # pragma: no cover - replaced
 def store_ratio(p, Sb, n, rr, s, sb):
     """Row ``n``'s ratio ``p_n = (R_n(x_n) S_n) / Sb_n`` into ``p``, ``Sb_n`` into ``Sb``.
 
-    The last step of every kind's ``row_weights``: its twin in the references is
-    :func:`rankedassign.engine.tempered.store_ratio`.
+    The last step of every kind's ``row_weights``. The references' ``weights`` run this same
+    function as plain Python (``rankedassign.engine.tempered.store_ratio``, its ``py_func``),
+    on lists.
 
     Parameters
     ----------
