@@ -266,3 +266,42 @@ def test_a_problem_scratch_too_small_is_refused():
     with pytest.raises(ValueError, match="problem_scratch: the scratch is smaller than the "
                                          "problem"):
         _carve(problem_scratch(2, 4), 3, 4)
+
+
+def test_every_open_addressing_table_walks_the_one_probe_sequence():
+    """The unique set, the herded draw's key table and the tempered loop's unique set (and its
+    rehash) all probe through ``engine._kernels.probe``: keys whose hashes share the home
+    entry 6 of an 8-entry index land on 6, 7, then wrap to 0, 1; a hit is confirmed on the
+    whole key (and on the row id in the key table)."""
+    from rankedassign.engine._kernels import add_state, table_find, unique_set
+    from rankedassign.engine._tempered_kernels import rehash, visit
+
+    h = np.uint64(6 + 8 * 12345)  # home entry 6 of 8
+    keys = [np.array([n], dtype=np.int32) for n in range(4)]
+    by_entry = [3, 4, 0, 0, 0, 0, 1, 2]  # index + 1 of the key at each entry
+
+    U = unique_set(1, 4)  # an index of 2 * 4 entries
+    assert [add_state(U, k, h, n) for n, k in enumerate(keys)] == [(n, True) for n in range(4)]
+    assert U.table[:, 1].tolist() == by_entry
+    assert add_state(U, keys[2].copy(), h, 4) == (2, False)
+
+    states, hashes = np.empty((4, 1), np.int32), np.empty(4, np.uint64)
+    counts, table = np.zeros(4, np.int64), np.zeros(8, np.int64)
+    n_u = 0
+    for k in keys:
+        n_u = visit(states, hashes, counts, table, k, h, n_u)
+    assert table.tolist() == by_entry
+    assert visit(states, hashes, counts, table, keys[1].copy(), h, n_u) == 4
+    assert counts.tolist() == [1, 2, 1, 1]
+    fresh = np.zeros(8, np.int64)
+    rehash(hashes, n_u, fresh)
+    assert fresh.tolist() == by_entry
+
+    krow, kst = np.empty(4, np.int32), np.empty((4, 1), np.int32)
+    tslot, thash = np.zeros(8, np.int64), np.zeros(8, np.uint64)
+    for n, k in enumerate(keys):
+        e = -1 - table_find(0, k, h, krow, kst, tslot, thash)
+        tslot[e], thash[e], krow[n], kst[n] = n + 1, h, 0, k
+    assert tslot.tolist() == by_entry
+    assert table_find(0, keys[2].copy(), h, krow, kst, tslot, thash) == 2
+    assert table_find(1, keys[2], h, krow, kst, tslot, thash) == -1 - 2  # another row: absent

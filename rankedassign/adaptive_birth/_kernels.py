@@ -46,37 +46,37 @@ from ..numba_options import jit
 
 __all__ = ["alloc_work", "reset_work", "sweep", "draw", "cholesky", "half_logdet", "quad",
            "run_chains", "sweep_herded", "alloc_work_herded", "reset_work_herded",
-           "run_chains_herded", "AdaptiveBirthWork", "AdaptiveBirthHerdedWork"]
+           "run_chains_herded", "RowScratch", "AdaptiveBirthWork", "AdaptiveBirthHerdedWork"]
 
 
-class AdaptiveBirthWork(NamedTuple):
-    """Scratch of ``nb`` chains (:func:`alloc_work`), leading dimension ``nb``.
+class RowScratch(NamedTuple):
+    """The scratch of a sensor's row update (:func:`_sums`, :func:`_log_weights`,
+    :func:`_take`), held by the chains' workspace (:class:`AdaptiveBirthWork`, one slab per
+    chain: a leading dimension ``nb`` on every field) and by the tempered one
+    (:class:`~rankedassign.adaptive_birth._tempered_kernels.AdaptiveBirthTemperedWork`).
 
     ``n`` is the state dimension, ``K = max_s (M_s + 1)``.
 
     Attributes
     ----------
-    order : ndarray, shape (nb, V), int64
-        The sweep's sensor order.
-    M : ndarray, shape (nb, n, n), float64
+    M : ndarray, shape (n, n), float64
         Running information matrix.
-    b : ndarray, shape (nb, n), float64
+    b : ndarray, shape (n,), float64
         Running information vector.
-    c : ndarray, shape (nb, 1), float64
+    c : ndarray, shape (1,), float64
         Running scalar term.
-    Mp : ndarray, shape (nb, n, n), float64
+    Mp : ndarray, shape (n, n), float64
         ``M+ = M- + A_s``.
-    L : ndarray, shape (nb, n, n), float64
+    L : ndarray, shape (n, n), float64
         Cholesky factors.
-    y : ndarray, shape (nb, n), float64
+    y : ndarray, shape (n,), float64
         Forward-substitution scratch.
-    bj : ndarray, shape (nb, n), float64
+    bj : ndarray, shape (n,), float64
         ``b- + a_sj``.
-    lw : ndarray, shape (nb, K), float64
+    lw : ndarray, shape (K,), float64
         The sensor's log-weights.
     """
 
-    order: np.ndarray
     M: np.ndarray
     b: np.ndarray
     c: np.ndarray
@@ -85,6 +85,18 @@ class AdaptiveBirthWork(NamedTuple):
     y: np.ndarray
     bj: np.ndarray
     lw: np.ndarray
+
+
+class AdaptiveBirthWork(record({"order": np.ndarray}, RowScratch)):
+    """Scratch of ``nb`` chains (:func:`alloc_work`), leading dimension ``nb``.
+
+    Attributes
+    ----------
+    order : ndarray, shape (nb, V), int64
+        The sweep's sensor order.
+    M, b, c, Mp, L, y, bj, lw : ndarray
+        A :class:`RowScratch` per chain (shapes there, after ``nb``).
+    """
 
 
 @jit()
@@ -371,6 +383,104 @@ def _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
 
 
 @jit(inline="always")
+def _sensor_order(order, V, random_order, rs):
+    """The sweep's sensor order into ``order``: ``0..V-1``, shuffled if ``random_order``.
+
+    Parameters
+    ----------
+    order : ndarray of int64, shape (V,)
+        Filled.
+    V : int
+        Sensors.
+    random_order : bool
+        Shuffle (Fisher-Yates, ``t = V-1..1``, one uniform each) instead of the fixed order.
+    rs : ndarray of uint64, shape (1,)
+        The chain's stream state.
+    """
+    for v in range(V):
+        order[v] = v
+    if random_order:                                     # Fisher-Yates, t = V-1..1
+        for t in range(V - 1, 0, -1):
+            k = min(np.int64(next_uniform(rs) * (t + 1)), t)
+            tmp = order[t]
+            order[t] = order[k]
+            order[k] = tmp
+
+
+@jit(inline="always")
+def _log_weights(data, M, b, c, Mp, L, y, bj, lw, state, s):
+    """Sensor ``s``'s conditional log-weights (spec eq. 4.3) into ``lw[:M_s + 1]``.
+
+    Read from the tensor, or (linear-Gaussian mode) :func:`_gaussian_weights` from the
+    information sums ``(M, b, c)`` of ``state``.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The problem.
+    M, b, c, Mp, L, y, bj
+        The sums and the scratch of :func:`_gaussian_weights`.
+    lw : ndarray of float64, shape (>= M_s + 1,)
+        Filled.
+    state : ndarray of int32, shape (V,)
+        The tuple.
+    s : int
+        The sensor.
+    """
+    if data.mode == 1:
+        _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s)
+        return
+    strides = data.strides
+    base = 0
+    for v in range(data.V):
+        if v != s:
+            base += state[v] * strides[v]
+    for j in range(data.shape[s]):
+        lw[j] = data.logw[base + j * strides[s]]
+
+
+@jit(inline="always")
+def _take(data, M, b, c, Mp, zkeys, state, h, s, j):
+    """Sensor ``s`` takes entry ``j``: ``state``, its hash and (linear-Gaussian mode, a
+    measurement) the sums ``(M, b, c)`` updated; returns the new hash.
+
+    Parameters
+    ----------
+    data : AdaptiveBirthData
+        The problem.
+    M, b, c : ndarray of float64
+        The information sums of ``state``, updated.
+    Mp : ndarray of float64, shape (n, n)
+        ``M`` with sensor ``s``'s term (from :func:`_gaussian_weights`).
+    zkeys : ndarray of uint64, shape (V, K)
+        Zobrist keys.
+    state : ndarray of int32, shape (V,)
+        The tuple, updated.
+    h : np.uint64
+        Its hash.
+    s, j : int
+        The sensor and its new entry.
+
+    Returns
+    -------
+    np.uint64
+    """
+    if data.mode == 1 and j > 0:                         # (M, b, c) <- sums of the new tuple
+        t = data.off[s] + j - 1
+        n = data.n
+        for i in range(n):
+            for k in range(n):
+                M[i, k] = Mp[i, k]
+            b[i] += data.a[t, i]
+        c[0] += data.cz[t]
+    old = state[s]
+    if j != old:
+        h ^= zkeys[s, old] ^ zkeys[s, j]
+        state[s] = j
+    return h
+
+
+@jit(inline="always")
 def sweep(data, work, b, zkeys, state, h, rs):
     """One sweep over the sensors of slab ``b``'s chain; returns the updated Zobrist hash.
 
@@ -409,47 +519,19 @@ def sweep(data, work, b, zkeys, state, h, rs):
     ([0, 2], True)
     """
     V = data.V
-    strides = data.strides
-    logw = data.logw
     order = work.order[b]
     M, bb, c, Mp, L, y, bj, lw = (work.M[b], work.b[b], work.c[b], work.Mp[b], work.L[b],
                                   work.y[b], work.bj[b], work.lw[b])
-    for v in range(V):
-        order[v] = v
-    if data.random_order:                                # Fisher-Yates, t = V-1..1
-        for t in range(V - 1, 0, -1):
-            k = min(np.int64(next_uniform(rs) * (t + 1)), t)
-            tmp = order[t]
-            order[t] = order[k]
-            order[k] = tmp
+    _sensor_order(order, V, data.random_order, rs)
     gaussian = data.mode == 1
     if gaussian:
         _sums(data, M, bb, c, state)
     for r in range(V):
         s = order[r]
         K = data.shape[s]
-        if gaussian:
-            _gaussian_weights(data, M, bb, c, Mp, L, y, bj, lw, state, s)
-        else:
-            base = 0
-            for v in range(V):
-                if v != s:
-                    base += state[v] * strides[v]
-            for j in range(K):
-                lw[j] = logw[base + j * strides[s]]
+        _log_weights(data, M, bb, c, Mp, L, y, bj, lw, state, s)
         j = draw(lw, K, next_uniform(rs))
-        if gaussian and j > 0:                           # (M, b, c) <- sums of the new tuple
-            t = data.off[s] + j - 1
-            n = data.n
-            for i in range(n):
-                for k in range(n):
-                    M[i, k] = Mp[i, k]
-                bb[i] += data.a[t, i]
-            c[0] += data.cz[t]
-        old = state[s]
-        if j != old:
-            h ^= zkeys[s, old] ^ zkeys[s, j]
-            state[s] = j
+        h = _take(data, M, bb, c, Mp, zkeys, state, h, s, j)
     return h
 
 
@@ -509,35 +591,18 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
     np.uint64
     """
     V = data.V
-    strides = data.strides
-    logw = data.logw
     order = work.order[b]
     M, bb, c, Mp, L, y, bj, lw = (work.M[b], work.b[b], work.c[b], work.Mp[b], work.L[b],
                                   work.y[b], work.bj[b], work.lw[b])
     p, keyv, cnt = work.p[b], work.keyv[b], work.cnt[b]
-    for v in range(V):
-        order[v] = v
-    if data.random_order:                                # Fisher-Yates, t = V-1..1
-        for t in range(V - 1, 0, -1):
-            k = min(np.int64(next_uniform(rs) * (t + 1)), t)
-            tmp = order[t]
-            order[t] = order[k]
-            order[k] = tmp
+    _sensor_order(order, V, data.random_order, rs)
     gaussian = data.mode == 1
     if gaussian:
         _sums(data, M, bb, c, state)
     for r in range(V):
         s = order[r]
         K = data.shape[s]
-        if gaussian:
-            _gaussian_weights(data, M, bb, c, Mp, L, y, bj, lw, state, s)
-        else:
-            base = 0
-            for v in range(V):
-                if v != s:
-                    base += state[v] * strides[v]
-            for j in range(K):
-                lw[j] = logw[base + j * strides[s]]
+        _log_weights(data, M, bb, c, Mp, L, y, bj, lw, state, s)
         _conditional(lw, p, K)
         for v in range(V):
             keyv[v] = -1 if v == s else state[v]
@@ -547,18 +612,7 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
             j = draw(lw, K, next_uniform(rs))
         else:
             j = herd_pick(work.hw[b, slot], p, K, new, data.init_mode, rs)
-        if gaussian and j > 0:                           # (M, b, c) <- sums of the new tuple
-            t = data.off[s] + j - 1
-            n = data.n
-            for i in range(n):
-                for k in range(n):
-                    M[i, k] = Mp[i, k]
-                bb[i] += data.a[t, i]
-            c[0] += data.cz[t]
-        old = state[s]
-        if j != old:
-            h ^= zkeys[s, old] ^ zkeys[s, j]
-            state[s] = j
+        h = _take(data, M, bb, c, Mp, zkeys, state, h, s, j)
     key_table_sweep_done(work, b)
     return h
 

@@ -16,15 +16,15 @@ tensor read, or its information sums and ratio form).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
 from ..engine._kernels import next_uniform
-from ..engine._tempered_kernels import make_tempered
+from ..engine._tempered_kernels import make_tempered, store_ratio
 from ..engine.records import record
+from ..multisensor._kernels import pick
 from ..numba_options import jit
-from ._kernels import _gaussian_weights, _sums
+from ._kernels import RowScratch, _log_weights, _sums
 from .prepare import AdaptiveBirthData
 
 __all__ = ["row_weights", "move", "accumulate", "KERNELS", "AdaptiveBirthTemperedData",
@@ -47,36 +47,19 @@ class AdaptiveBirthTemperedData(record(AdaptiveBirthData, {"beta": float})):
     """
 
 
-class AdaptiveBirthTemperedWork(NamedTuple):
+class AdaptiveBirthTemperedWork(record(RowScratch, {"Wb": np.ndarray, "Sb": np.ndarray})):
     """The tempered kernels' workspace: the Gibbs scratch of one chain and the tempered
-    weights (``n`` the state dimension, ``K = max_s (M_s + 1)``).
+    weights (``K = max_s (M_s + 1)``).
 
     Attributes
     ----------
-    M, Mp, L : ndarray, shape (n, n), float64
-        Running information matrix, ``M+`` and Cholesky factors.
-    b, y, bj : ndarray, shape (n,), float64
-        Running information vector and scratch.
-    c : ndarray, shape (1,), float64
-        Running scalar term.
-    lw : ndarray, shape (K,), float64
-        A sensor's log-weights.
+    M, b, c, Mp, L, y, bj, lw : ndarray
+        The row update's scratch (:class:`~rankedassign.adaptive_birth._kernels.RowScratch`).
     Wb : ndarray, shape (V, K), float64
         Each sensor's tempered weights.
     Sb : ndarray, shape (V,), float64
         Their sums.
     """
-
-    M: np.ndarray
-    b: np.ndarray
-    c: np.ndarray
-    Mp: np.ndarray
-    L: np.ndarray
-    y: np.ndarray
-    bj: np.ndarray
-    lw: np.ndarray
-    Wb: np.ndarray
-    Sb: np.ndarray
 
 
 @jit()
@@ -103,7 +86,7 @@ def row_weights(data, work, state, p):
         ``Z``, summed left to right, or -1.0 when a ratio is not representable.
     """
     V = data.V
-    shape, strides, logw = data.shape, data.strides, data.logw
+    shape = data.shape
     beta = data.beta
     M, b, c, Mp, L, y, bj, lw = (work.M, work.b, work.c, work.Mp, work.L, work.y, work.bj,
                                  work.lw)
@@ -114,14 +97,7 @@ def row_weights(data, work, state, p):
         K = shape[s]
         if gaussian:
             _sums(data, M, b, c, state)
-            _gaussian_weights(data, M, b, c, Mp, L, y, bj, lw, state, s)
-        else:
-            base = 0
-            for v in range(V):
-                if v != s:
-                    base += state[v] * strides[v]
-            for j in range(K):
-                lw[j] = logw[base + j * strides[s]]
+        _log_weights(data, M, b, c, Mp, L, y, bj, lw, state, s)
         mx = lw[0]
         for j in range(K):
             if lw[j] > mx:
@@ -134,11 +110,9 @@ def row_weights(data, work, state, p):
             Wb[s, j] = e
             sb += e
         rr = math.exp((1.0 - beta) * (mx - lw[state[s]]))
-        ratio = (rr * S) / sb
-        if not (ratio >= 0.0 and ratio < np.inf):
+        ratio = store_ratio(p, Sb, s, rr, S, sb)
+        if ratio < 0.0:
             return -1.0
-        p[s] = ratio
-        Sb[s] = sb
         Z += ratio
     return Z
 
@@ -169,18 +143,8 @@ def move(data, work, zkeys, state, r, h, rs):
     (np.uint64, bool)
         The new hash and whether the entry changed.
     """
-    Wb, Sb = work.Wb, work.Sb
-    K = data.shape[r]
-    target = next_uniform(rs) * Sb[r]
-    acc = 0.0
-    k = -1
-    for j in range(K):
-        w = Wb[r, j]
-        if w > 0.0:
-            acc += w
-            k = j
-            if acc > target:
-                break
+    # the first entry whose running sum of the positive Wb[r] exceeds u Sb[r], else the last
+    k = pick(work.Wb, r, data.shape[r], work.Sb[r], next_uniform(rs))
     old = state[r]
     if k == old:
         return h, False

@@ -32,7 +32,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..engine.tempered import TemperedResult, ess, run_compiled, run_reference
+from ..engine.tempered import TemperedResult, ess, run_compiled, run_reference, store_ratio
+from ..multisensor.reference import pick
 from ..validation import check_beta, check_choice, check_int, check_type
 from . import _tempered_kernels
 from .prepare import prepare
@@ -146,12 +147,10 @@ def tempered_weights(data: TemperedData, work, x, p) -> float:
             rr = math.exp((1.0 - beta) * (mx - lw[x[s]]))
         except OverflowError:  # the kernel's exp gives inf, hence a ratio it refuses too
             return -1.0
-        ratio = (rr * S) / sb
-        if not (ratio >= 0.0 and ratio < math.inf):
+        ratio = store_ratio(p, Sb, s, rr, S, sb)
+        if ratio < 0.0:
             return -1.0
-        p[s] = ratio
         Wb[s] = wb
-        Sb[s] = sb
         Z += ratio
     return Z
 
@@ -182,15 +181,7 @@ def tempered_move(data: TemperedData, work, x, r, g) -> bool:
     ``u Sb[r]``, the last positive one if rounding leaves none.
     """
     _, Wb, Sb = work
-    target = g.uniform() * Sb[r]
-    acc = 0.0
-    k = -1
-    for j, w in enumerate(Wb[r]):
-        if w > 0.0:
-            acc += w
-            k = j
-            if acc > target:
-                break
+    k = pick(Wb[r], Sb[r], g.uniform())
     changed = k != x[r]
     x[r] = k
     return changed

@@ -252,6 +252,83 @@ def zobrist_keys(L, K, seed):
 
 
 
+# ------------------------------------------------------------------------ open addressing
+# The one probe of the open-addressing tables (the unique set, the herded draw's key table,
+# the tempered loop's unique set): linear probing from the hash's home entry. Each table says
+# through its own ``look`` what one index entry holds; the walk is written here once, so every
+# table visits its entries in the same order.
+
+#: What a probe's ``look`` says of an index entry that holds no hit: empty (the key is absent
+#: and would go there), or holding another key (walk on). A hit is the key's stored index, >= 0.
+EMPTY, OTHER = -1, -2
+
+
+@jit(inline="always")
+def probe(size, h, look, tab):
+    """The first index entry on the probe sequence of hash ``h`` that is empty or holds the key.
+
+    The entries ``t = h mod size, t + 1, t + 2, ...`` (mod ``size``) are read in turn by
+    ``look(tab, t)``, until one is not :data:`OTHER`. Inlined into each caller, ``look``
+    with it (``inline="always"``): the generated code is that of the loop written out.
+
+    Parameters
+    ----------
+    size : int
+        Entries of the index, a power of two; at least one is empty.
+    h : np.uint64
+        The key's hash.
+    look : compiled function
+        ``look(tab, t) -> int``: the stored index of the key at entry ``t`` (>= 0, a hit),
+        :data:`EMPTY` or :data:`OTHER`.
+    tab : tuple
+        The table's arrays and the key, as ``look`` reads them.
+
+    Returns
+    -------
+    (int, int)
+        The entry ``t`` and ``look``'s answer there (a stored index or :data:`EMPTY`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> @jit(cache=False)
+    ... def occupied(tab, t):
+    ...     return EMPTY if tab[0][t] == 0 else OTHER
+    >>> probe(4, np.uint64(6), occupied, (np.array([0, 1, 1, 1]),))
+    (0, -1)
+    """
+    mask = size - 1
+    t = np.int64(h & np.uint64(mask))
+    while True:
+        r = look(tab, t)
+        if r != OTHER:
+            return t, r
+        t = (t + 1) & mask
+
+
+@jit(inline="always")
+def same_row(stored, u, key):
+    """Whether row ``u`` of ``stored`` equals ``key`` (a hash hit confirmed on the whole key).
+
+    Parameters
+    ----------
+    stored : ndarray of int32, shape (cap, L)
+        Stored keys.
+    u : int
+        The row to compare.
+    key : ndarray of int32, shape (L,)
+        The key.
+
+    Returns
+    -------
+    bool
+    """
+    for i in range(key.shape[0]):
+        if stored[u, i] != key[i]:
+            return False
+    return True
+
+
 # ------------------------------------------------------------------------ herded draw
 # The key table of a herded chain (rankedassign.engine.herding), shared by every kind that
 # herds: keys are a row id and an int32 vector of entries >= -1, stored with open addressing.
@@ -292,7 +369,8 @@ def table_find(i, keyv, h, krow, kst, tslot, thash):
     """Slot of row ``i``'s key in the table, or ``-1 - t`` with ``t`` the free table entry.
 
     ``krow``/``kst`` are the stored keys (row id, key vector) by slot, ``tslot``/``thash`` the
-    open-addressing index (slot + 1, 0 = empty; the key's hash ``h``), a power of two long.
+    open-addressing index (slot + 1, 0 = empty; the key's hash ``h``), a power of two long,
+    walked by :func:`probe`.
 
     Parameters
     ----------
@@ -317,24 +395,21 @@ def table_find(i, keyv, h, krow, kst, tslot, thash):
     int
         The key's slot, or ``-1 - t`` with ``t`` the empty index entry where it would go.
     """
-    mask = tslot.shape[0] - 1
-    t = np.int64(h & np.uint64(mask))
-    P = keyv.shape[0]
-    while True:
-        v = tslot[t]
-        if v == 0:
-            return -1 - t
-        if thash[t] == h:
-            s = v - 1
-            if krow[s] == i:
-                same = True
-                for r in range(P):
-                    if kst[s, r] != keyv[r]:
-                        same = False
-                        break
-                if same:
-                    return s
-        t = (t + 1) & mask
+    t, s = probe(tslot.shape[0], h, _look_key, (tslot, thash, krow, kst, i, keyv, h))
+    return s if s >= 0 else -1 - t
+
+
+@jit(inline="always")
+def _look_key(tab, t):
+    """:func:`probe`'s ``look`` of the key table (:func:`table_find`'s arrays and key)."""
+    tslot, thash, krow, kst, i, keyv, h = tab
+    v = tslot[t]
+    if v == 0:
+        return EMPTY
+    s = v - 1
+    if thash[t] == h and krow[s] == i and same_row(kst, s, keyv):
+        return s
+    return OTHER
 
 
 @jit(inline="always")
@@ -580,7 +655,8 @@ __all__ = ["Rules", "UniqueSet", "Slab", "Run", "Step", "Span", "KeyTable", "mak
            "make_problem_runner", "ProblemScratch", "problem_scratch", "problem_states",
            "unique_set",
            "add_state",
-           "N_COUNTERS", "DEFAULT_BUDGET", "key_hash", "table_find", "herd_lookup", "herd_pick",
+           "N_COUNTERS", "DEFAULT_BUDGET", "EMPTY", "OTHER", "probe", "same_row", "key_hash",
+           "table_find", "herd_lookup", "herd_pick",
            "alloc_key_table", "reset_key_table", "key_table_done", "key_table_sweep_done"]
 
 # Slots of the run counter array ``ctr`` (returned by run_chains).
@@ -705,7 +781,8 @@ def no_chain_done(data, work, b, j):
     return None
 
 
-def _speculate_impl(*args):  # pragma: no cover - replaced in every instantiation
+def _instantiated(*args):  # pragma: no cover - replaced in every instantiation
+    """Stands for a compiled phase that :func:`make_driver` binds in each instantiation."""
     raise NotImplementedError
 
 
@@ -726,32 +803,9 @@ def no_speculation(data, work, zkeys, slab, x0, step):
     return None
 
 
-def _advance_impl(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
-
-
-def _new_run_impl(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
-
-
-def _run_slice_impl(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
-
-
-def _speculate_chain_impl(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
-
-
-def _pack_impl(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
-
-
-def _unpack_impl(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
-
-
-def grow_run(*args):  # pragma: no cover - replaced in every instantiation
-    raise NotImplementedError
+# The phases the templates call by name; make_driver binds each to the kind's compiled copy.
+_speculate_impl = _advance_impl = _new_run_impl = _run_slice_impl = _instantiated
+_speculate_chain_impl = _pack_impl = _unpack_impl = grow_run = _instantiated
 
 
 Work = tuple  # placeholder: make_driver binds the kind's workspace record class
@@ -822,7 +876,7 @@ def _new_unique_set(L, cap):
 def _find(U, state, h):
     """Index of ``state`` in ``U``, or ``-1 - slot`` of the empty slot to fill.
 
-    The one probe of the unique set (linear probing from the hash, a hit confirmed on the
+    The one look-up of the unique set (:func:`probe` from the hash, a hit confirmed on the
     full state): :func:`_advance`, :func:`_grow`, :func:`_new_run` and every caller outside
     the driver (:func:`add_state`, :func:`make_problem_runner`) look states up through it. It is
     written into each caller (``inline="always"``): a call passing the arrays of the unique
@@ -843,23 +897,21 @@ def _find(U, state, h):
         The state's index in discovery order, or ``-1 - slot``.
     """
     table = U.table
-    mask = table.shape[0] - 1
-    s = np.int64(h & np.uint64(mask))
-    L = state.shape[0]
-    while True:
-        v = table[s, 1]
-        if v == 0:
-            return -1 - s
-        if table[s, 0] == h:
-            u = np.int64(v) - 1
-            same = True
-            for i in range(L):
-                if U.states[u, i] != state[i]:
-                    same = False
-                    break
-            if same:
-                return u
-        s = (s + 1) & mask
+    s, u = probe(table.shape[0], h, _look_state, (table, U.states, state, h))
+    return u if u >= 0 else -1 - s
+
+
+@jit(inline="always")
+def _look_state(tab, s):
+    """:func:`probe`'s ``look`` of the unique set (its table, its states, the state, its hash)."""
+    table, states, state, h = tab
+    v = table[s, 1]
+    if v == 0:
+        return EMPTY
+    u = np.int64(v) - 1
+    if table[s, 0] == h and same_row(states, u, state):
+        return u
+    return OTHER
 
 
 @jit()

@@ -29,9 +29,10 @@ from typing import NamedTuple
 import numpy as np
 
 from ..numba_options import instantiate, jit
-from ._kernels import next_uniform
+from ._kernels import EMPTY, OTHER, next_uniform, probe, same_row
 
-__all__ = ["OK", "UNDERFLOW", "NEED_ROOM", "TemperedRun", "make_tempered", "visit", "rehash"]
+__all__ = ["OK", "UNDERFLOW", "NEED_ROOM", "TemperedRun", "make_tempered", "store_ratio", "visit",
+           "rehash"]
 
 #: Status codes of a run's start and of its slices.
 OK, UNDERFLOW, NEED_ROOM = 0, 1, 2
@@ -86,6 +87,38 @@ def accumulate(data, work, state, acc, w):  # pragma: no cover - replaced
     raise NotImplementedError
 
 
+@jit(inline="always")
+def store_ratio(p, Sb, n, rr, s, sb):
+    """Row ``n``'s ratio ``p_n = (R_n(x_n) S_n) / Sb_n`` into ``p``, ``Sb_n`` into ``Sb``.
+
+    The last step of every kind's ``row_weights``. The references' ``weights`` run this same
+    function as plain Python (``rankedassign.engine.tempered.store_ratio``, its ``py_func``),
+    on lists.
+
+    Parameters
+    ----------
+    p, Sb : ndarray of float64, shape (R,)
+        The ratios and the rows' tempered totals; entry ``n`` written unless refused.
+    n : int
+        The row.
+    rr : float
+        ``R_n(x_n) = (g_n / π_n)(x_n)`` up to the sums.
+    s, sb : float
+        The row's sums of its weights and of its tempered weights.
+
+    Returns
+    -------
+    float
+        The ratio, or -1.0 (nothing written) when it is not a finite non-negative number.
+    """
+    ratio = (rr * s) / sb
+    if not (ratio >= 0.0 and ratio < np.inf):
+        return -1.0
+    p[n] = ratio
+    Sb[n] = sb
+    return ratio
+
+
 @jit()
 def visit(states, hashes, counts, table, state, h, n_u):
     """Count one visit of ``state`` (hash ``h``) in the unique set; return the new size.
@@ -126,21 +159,10 @@ def visit(states, hashes, counts, table, state, h, n_u):
     >>> int(n), counts[:1].tolist()
     (1, [2])
     """
-    L = state.shape[0]
-    mask = table.shape[0] - 1
-    slot = np.int64(h & np.uint64(mask))
-    while table[slot] != 0:
-        cand = table[slot] - 1
-        if hashes[cand] == h:
-            same = True
-            for i in range(L):
-                if states[cand, i] != state[i]:
-                    same = False
-                    break
-            if same:
-                counts[cand] += 1
-                return n_u
-        slot = (slot + 1) & mask
+    slot, cand = probe(table.shape[0], h, _look_state, (table, hashes, states, state, h))
+    if cand >= 0:
+        counts[cand] += 1
+        return n_u
     states[n_u] = state
     hashes[n_u] = h
     counts[n_u] = 1
@@ -169,12 +191,28 @@ def rehash(hashes, n_u, table):
     >>> table.tolist()
     [0, 1, 2, 0]
     """
-    mask = table.shape[0] - 1
-    for u in range(n_u):
-        t = np.int64(hashes[u] & np.uint64(mask))
-        while table[t] != 0:
-            t = (t + 1) & mask
+    for u in range(n_u):  # each state to the first empty entry of its hash's probe
+        t, _ = probe(table.shape[0], hashes[u], _look_empty, (table,))
         table[t] = u + 1
+
+
+@jit(inline="always")
+def _look_state(tab, slot):
+    """:func:`~rankedassign.engine._kernels.probe`'s ``look`` of the unique set of a run (its
+    index, hashes and states; the state and its hash)."""
+    table, hashes, states, state, h = tab
+    if table[slot] == 0:
+        return EMPTY
+    cand = table[slot] - 1
+    if hashes[cand] == h and same_row(states, cand, state):
+        return cand
+    return OTHER
+
+
+@jit(inline="always")
+def _look_empty(tab, t):
+    """:func:`~rankedassign.engine._kernels.probe`'s ``look`` of a rehash: free or taken."""
+    return EMPTY if tab[0][t] == 0 else OTHER
 
 
 def _start(data, work, zkeys, run):

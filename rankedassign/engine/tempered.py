@@ -8,12 +8,12 @@ its conditional. A move picks row ``i`` with probability ``p_i(x) / Z(x)``,
 expectations under ``π``.
 
 What a *row* is and how its conditional is computed is the kind's: a row of the single-sensor
-matrix (:mod:`rankedassign.single.tempered`, whose loop keeps running sums and is its own), an
-object's joint measurement tuple (:mod:`rankedassign.multisensor.tempered`), a sensor's entry
-of the birth tuple (:mod:`rankedassign.adaptive_birth.tempered`). For the last two the loop is
-written once: :func:`run_reference` in plain Python (the specification of record) and its
-numba twin :mod:`rankedassign.engine._tempered_kernels`, compiled for each kind's row
-functions; :func:`run_compiled` runs the twin in slices and grows its unique set.
+matrix (:mod:`rankedassign.single.tempered`, whose rows keep running sums), an object's joint
+measurement tuple (:mod:`rankedassign.multisensor.tempered`), a sensor's entry of the birth
+tuple (:mod:`rankedassign.adaptive_birth.tempered`). The loop is written once for every kind:
+:func:`run_reference` in plain Python (the specification of record) and its numba twin
+:mod:`rankedassign.engine._tempered_kernels`, compiled for each kind's row functions;
+:func:`run_compiled` runs the twin in slices and grows its unique set.
 """
 
 from __future__ import annotations
@@ -27,7 +27,11 @@ from . import _tempered_kernels
 from ._kernels import zobrist_keys
 from .rng import ZOBRIST_SEED, SplitMix64, chain_state
 
-__all__ = ["TemperedResult", "run_reference", "run_compiled", "ess"]
+__all__ = ["TemperedResult", "run_reference", "run_compiled", "ess", "pick_row"]
+
+#: :func:`rankedassign.engine._tempered_kernels.store_ratio` run as plain Python: the
+#: references' ``weights`` store each row's ratio with the kernels' own text.
+store_ratio = getattr(_tempered_kernels.store_ratio, "py_func", _tempered_kernels.store_ratio)
 
 
 class TemperedResult(NamedTuple):
@@ -84,6 +88,41 @@ def ess(wsum: float, w2sum: float) -> float:
     (3.0, 0.0)
     """
     return float(wsum * wsum / w2sum) if w2sum > 0 else 0.0
+
+
+def pick_row(p, Z, g) -> int:
+    """The row of one move: the first whose running sum of ``p`` exceeds ``u Z``.
+
+    Parameters
+    ----------
+    p : list of float
+        Every row's ratio (at least one row).
+    Z : float
+        Their sum.
+    g : SplitMix64
+        The stream (one uniform ``u``).
+
+    Returns
+    -------
+    int
+        The row; the last one if rounding leaves none.
+
+    Examples
+    --------
+    >>> class Half:
+    ...     def uniform(self):
+    ...         return 0.5
+    >>> pick_row([1.0, 1.0, 2.0], 4.0, Half())
+    2
+    """
+    target = g.uniform() * Z
+    r, run = len(p) - 1, 0.0
+    for i in range(len(p)):
+        run += p[i]
+        if run > target:
+            r = i
+            break
+    return r
 
 
 def run_reference(weights, move, accumulate, data, work, x, n_rows, acc, n_steps, base):
@@ -163,13 +202,7 @@ def run_reference(weights, move, accumulate, data, work, x, n_rows, acc, n_steps
     states, counts = [tuple(x)], [0]
     wsum = w2sum = 0.0
     for _ in range(n_steps):
-        target = g.uniform() * Z
-        r, run = n_rows - 1, 0.0
-        for i in range(n_rows):
-            run += p[i]
-            if run > target:
-                r = i
-                break
+        r = pick_row(p, Z, g)
         if move(data, work, x, r, g):
             Z = weights(data, work, x, p)
             if not Z > 0.0:

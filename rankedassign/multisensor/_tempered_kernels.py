@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..engine._kernels import next_uniform
-from ..engine._tempered_kernels import make_tempered
+from ..engine._tempered_kernels import make_tempered, store_ratio
 from ..numba_options import jit
 
 __all__ = ["occupancy", "row_weights", "move", "accumulate", "KERNELS",
@@ -231,11 +231,9 @@ def row_weights(data, work, state, p):
             return -1.0
         k = _code(strides, state, n, V)
         rr = Rd[n] if k == 0 else Ra[n, k - 1]
-        ratio = (rr * s) / sb
-        if not (ratio >= 0.0 and ratio < np.inf):
+        ratio = store_ratio(p, Sb, n, rr, s, sb)
+        if ratio < 0.0:
             return -1.0
-        p[n] = ratio
-        Sb[n] = sb
         Z += ratio
     return Z
 

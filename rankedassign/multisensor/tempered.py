@@ -29,12 +29,11 @@ References
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
 import numpy as np
 
-from ..engine.tempered import TemperedResult, ess, run_compiled, run_reference
+from ..engine.tempered import TemperedResult, ess, run_compiled, run_reference, store_ratio
 from ..numba_options import interruptible
 from ..validation import check_beta, check_choice, check_int, check_type
 from . import _tempered_kernels
@@ -206,11 +205,9 @@ def tempered_weights(data: TemperedData, work, x, p) -> float:
             return -1.0
         k = _code(base, x, n)
         rr = data.Rd[n] if k == 0 else data.Ra[n][k - 1]
-        v = (rr * s) / sb
-        if not (v >= 0.0 and v < math.inf):
+        v = store_ratio(p, Sb, n, rr, s, sb)
+        if v < 0.0:
             return -1.0
-        p[n] = v
-        Sb[n] = sb
         Z += v
     return Z
 

@@ -53,14 +53,13 @@ import numpy as np
 from ..engine._kernels import (
     KeyTable,
     alloc_key_table,
+    herd_lookup,
     key_table_done,
     key_table_sweep_done,
     make_driver,
     next_uniform,
     reset_key_table,
 )
-from ..engine._kernels import key_hash as _key_hash
-from ..engine._kernels import table_find as _table_find
 from ..engine.records import record
 from ..numba_options import jit
 from .prepare import CANCEL_GUARD
@@ -737,21 +736,8 @@ def sweep_herded(data, work, b, zkeys, state, h, rs):
                     n += 1
             for r in range(n, P):
                 keyv[r] = -1
-        hk = _key_hash(i, keyv)
-        s = _table_find(i, keyv, hk, krow, kst, tslot, thash)
-        new = False
-        if s < 0 and cnt[0] < capacity:  # a new key with room
-            e = -1 - s
-            s = cnt[0]
-            cnt[0] += 1
-            tslot[e] = s + 1
-            thash[e] = hk
-            krow[s] = i
-            for r in range(P):
-                kst[s, r] = keyv[r]
-            new = True
-        if s < 0:  # the table is full: an ordinary Gibbs draw
-            cnt[1] += 1
+        s, new = herd_lookup(i, keyv, cnt, capacity, krow, kst, tslot, thash)
+        if s < 0:  # the table is full (a fall-back, counted): an ordinary Gibbs draw
             k_new = draw_direct(W, cc, i, free, cum, next_uniform(rs))
         else:
             # the conditional (the reference's conditional()), herded in the same pass

@@ -19,11 +19,12 @@ returns; :func:`rankedassign.sample_tempered` dispatches to this module for an
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-from ..engine.rng import SplitMix64, base_key, chain_state
-from ..engine.tempered import TemperedResult, ess, run_compiled
+from ..engine.rng import base_key
+from ..engine.tempered import TemperedResult, ess, run_compiled, run_reference
 from ..numba_options import interruptible
 from ..validation import check_beta, check_choice, check_int, check_type
 from . import _tempered_kernels
@@ -113,6 +114,8 @@ def tempered_reference(problem, n_steps, *, beta, start="all_missed", rng=None):
     6. the new state gets weight ``1 / Z`` and is added to the unique set.
 
     A step costs ``O(P + M)``: ``O(P)`` for the sums and the row, ``O(M)`` for the draw.
+    Steps 1 and 6 are the loop every kind shares,
+    :func:`rankedassign.engine.tempered.run_reference`; steps 2 to 5 are this kind's ``move``.
 
     Examples
     --------
@@ -122,101 +125,121 @@ def tempered_reference(problem, n_steps, *, beta, start="all_missed", rng=None):
     (200, (4, 18))
     """
     problem, n_steps, x0, W, Wb, R, refresh, base = _inputs(problem, n_steps, beta, start, rng)
-    W, Wb, R = W.tolist(), Wb.tolist(), R.tolist()
+    data = _RefData(W.tolist(), Wb.tolist(), R.tolist(), refresh)
     P, M = problem.n_rows, problem.n_meas
-    K = M + 2
-    g = SplitMix64(chain_state(base, 0))
     x = [int(v) for v in x0]
     free = [1.0] * M
     for v in x:
         if v < M:
             free[v] = 0.0
-
-    def sums(i):  # over row i's available candidates: its own measurement is one
-        s = sb = 0.0
-        for k in range(M):
-            f = 1.0 if k == x[i] else free[k]
-            s += W[i][k] * f
-            sb += Wb[i][k] * f
-        return (s + W[i][M]) + W[i][M + 1], (sb + Wb[i][M]) + Wb[i][M + 1]
-
-    def weights():
-        p = []
-        for i in range(P):
-            v = (R[i][x[i]] * S[i]) / Sb[i] if S[i] > 0.0 and Sb[i] > 0.0 else math.nan
-            if not (v >= 0.0 and v < math.inf):
-                _underflow(problem)
-            p.append(v)
-        Z = 0.0
-        for v in p:
-            Z += v
-        if not Z > 0.0:
-            _underflow(problem)
-        return p, Z
-
-    S, Sb = map(list, zip(*[sums(i) for i in range(P)], strict=True)) if P else ([], [])
-    index = {tuple(x): 0}
-    states, counts = [tuple(x)], [0]
-    acc = [[0.0] * K for _ in range(P)]
-    wsum = w2sum = 0.0
-    p, Z = weights()
-    for t in range(n_steps):
-        target = g.uniform() * Z
-        r, run = P - 1, 0.0
-        for i in range(P):
-            run += p[i]
-            if run > target:
-                r = i
-                break
-        a = x[r]
-        if a < M:
-            free[a] = 1.0
-            for i in range(P):
-                if i != r:
-                    S[i] += W[i][a]
-                    Sb[i] += Wb[i][a]
-        tot = 0.0
-        for k in range(M):
-            tot += Wb[r][k] * free[k]
-        tot = (tot + Wb[r][M]) + Wb[r][M + 1]
-        if not tot > 0.0:
-            _underflow(problem)
-        u = g.uniform() * tot
-        c, run = -1, 0.0
-        for k in range(K):
-            wk = Wb[r][k] * free[k] if k < M else Wb[r][k]
-            if wk > 0.0:
-                run += wk
-                c = k
-                if run > u:
-                    break
-        if c < M:
-            free[c] = 0.0
-            for i in range(P):
-                if i != r:
-                    before, beforeb = S[i], Sb[i]
-                    S[i] -= W[i][c]
-                    Sb[i] -= Wb[i][c]
-                    if S[i] < CANCEL_GUARD * before or Sb[i] < CANCEL_GUARD * beforeb:
-                        S[i], Sb[i] = sums(i)
-        x[r] = c
-        if (t + 1) % refresh == 0:
-            for i in range(P):
-                S[i], Sb[i] = sums(i)
-        p, Z = weights()
-        w = 1.0 / Z
-        wsum += w
-        w2sum += w * w
-        for i in range(P):
-            acc[i][x[i]] += w
-        key = tuple(x)
-        if key in index:
-            counts[index[key]] += 1
-        else:
-            index[key] = len(states)
-            states.append(key)
-            counts.append(1)
+    work = _RefWork(free, [0.0] * P, [0.0] * P, [0, 0])
+    for i in range(P):
+        work.S[i], work.Sb[i] = _row_sums(data, work, x, i)
+    acc = [[0.0] * (M + 2) for _ in range(P)]
+    out = run_reference(_weights, _move, _accumulate, data, work, x, P, acc, n_steps, base)
+    if out is None:
+        _underflow(problem)
+    states, counts, wsum, w2sum = out
     return _result(problem, states, counts, acc, wsum, w2sum, n_steps)
+
+
+class _RefData(NamedTuple):
+    """The reference's weights, as lists (:class:`._tempered_kernels.SingleTemperedData`)."""
+
+    W: list
+    Wb: list
+    R: list
+    refresh: int
+
+
+class _RefWork(NamedTuple):
+    """The reference's running sums (:class:`._tempered_kernels.SingleTemperedWork`)."""
+
+    free: list
+    S: list
+    Sb: list
+    ctr: list
+
+
+def _row_sums(data, work, x, i):
+    """Row ``i``'s sums of ``W`` and ``Wb`` over its available candidates (its own measurement
+    is one), left to right."""
+    W, Wb, free = data.W[i], data.Wb[i], work.free
+    M = len(free)
+    s = sb = 0.0
+    for k in range(M):
+        f = 1.0 if k == x[i] else free[k]
+        s += W[k] * f
+        sb += Wb[k] * f
+    return (s + W[M]) + W[M + 1], (sb + Wb[M]) + Wb[M + 1]
+
+
+def _weights(data, work, x, p):
+    """:func:`~rankedassign.engine.tempered.run_reference`'s ``weights``: ``p_i = R_i(x_i)
+    S_i / Sb_i``; ``Z``, or -1.0 (a row's weights underflowed)."""
+    S, Sb = work.S, work.Sb
+    if work.ctr[1]:
+        return -1.0
+    Z = 0.0
+    for i in range(len(x)):
+        v = (data.R[i][x[i]] * S[i]) / Sb[i] if S[i] > 0.0 and Sb[i] > 0.0 else math.nan
+        if not (v >= 0.0 and v < math.inf):
+            return -1.0
+        p[i] = v
+        Z += v
+    return Z
+
+
+def _move(data, work, x, r, g):
+    """``run_reference``'s ``move``: steps 2-5 of :func:`tempered_reference` (always True:
+    the sums change by floating-point additions even when the row keeps its value)."""
+    W, Wb, refresh = data.W, data.Wb, data.refresh
+    free, S, Sb, ctr = work
+    P, M = len(x), len(free)
+    a = x[r]
+    if a < M:
+        free[a] = 1.0
+        for i in range(P):
+            if i != r:
+                S[i] += W[i][a]
+                Sb[i] += Wb[i][a]
+    tot = 0.0
+    for k in range(M):
+        tot += Wb[r][k] * free[k]
+    tot = (tot + Wb[r][M]) + Wb[r][M + 1]
+    if not tot > 0.0:
+        ctr[1] = 1  # the row's available tempered weights underflowed: refused by _weights
+        return True
+    u = g.uniform() * tot
+    c, run = -1, 0.0
+    for k in range(M + 2):
+        wk = Wb[r][k] * free[k] if k < M else Wb[r][k]
+        if wk > 0.0:
+            run += wk
+            c = k
+            if run > u:
+                break
+    if c < M:
+        free[c] = 0.0
+        for i in range(P):
+            if i != r:
+                before, beforeb = S[i], Sb[i]
+                S[i] -= W[i][c]
+                Sb[i] -= Wb[i][c]
+                if S[i] < CANCEL_GUARD * before or Sb[i] < CANCEL_GUARD * beforeb:
+                    S[i], Sb[i] = _row_sums(data, work, x, i)
+    x[r] = c
+    ctr[0] += 1
+    if ctr[0] % refresh == 0:
+        for i in range(P):
+            S[i], Sb[i] = _row_sums(data, work, x, i)
+    return True
+
+
+def _accumulate(data, work, x, acc, w):
+    """``run_reference``'s ``accumulate``: ``acc[i][x_i] += w`` for every row."""
+    for i in range(len(x)):
+        acc[i][x[i]] += w
 
 
 def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None,

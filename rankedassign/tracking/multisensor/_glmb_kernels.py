@@ -50,6 +50,7 @@ from ...engine._kernels import make_problem_runner, problem_scratch, problem_sta
 from ...multisensor._kernels import alloc_work, reset_work, sweep
 from ...multisensor.prepare import METHOD_CODES, MultiSensorData
 from ...numba_options import jit
+from .._glmb_gather import child_bounds, component_rows, cut_children, new_children
 
 __all__ = ["ScanTerms", "component_columns", "pairwise_sum", "sample_components"]
 
@@ -270,21 +271,9 @@ def component_columns(h, terms, mark, rows, cols, ncol):
     >>> P, rows.tolist(), cols[0, :ncol[0]].tolist(), cols[1, :ncol[1]].tolist()
     (2, [0, 1], [0, 1], [1])
     """
-    births, comp_off, comp_tracks = terms.births, terms.comp_off, terms.comp_tracks
-    gated, goff = terms.gated, terms.goff
-    P = 0
-    for b in range(births.size):
-        rows[P] = births[b]
-        P += 1
-    for q in range(comp_off[h], comp_off[h + 1]):
-        rows[P] = comp_tracks[q]
-        P += 1
-    U = gated.shape[1]
-    for i in range(P):
-        r = rows[i]
-        for j in range(U):
-            if gated[r, j]:
-                mark[j] = True
+    goff = terms.goff
+    P = component_rows(h, terms.comp_off, terms.comp_tracks, terms.births, terms.gated, mark,
+                       rows)
     for v in range(goff.size - 1):
         m = 0
         for j in range(goff[v], goff[v + 1]):
@@ -294,6 +283,36 @@ def component_columns(h, terms, mark, rows, cols, ncol):
                 mark[j] = False
         ncol[v] = m
     return P
+
+
+@jit(inline="always")
+def _scatter_tuples(out, i, values, r, tup_off, tup_g, local, strides):
+    """``out[i, t] = values[q]`` for every tuple ``q`` of entry ``r``, ``t`` its offset in the
+    component's tuple axes.
+
+    Parameters
+    ----------
+    out : ndarray of float64, shape (P, T_c)
+        The component's per-row tuple values (``ln η`` or the shifted weights).
+    i : int
+        The row.
+    values : ndarray of float64, shape (N,)
+        The scan's value of every tuple.
+    r : int
+        The row's entry.
+    tup_off, tup_g : ndarray of int64
+        As in :class:`ScanTerms`.
+    local : ndarray of int64, shape (V, max_v U_v + 1)
+        The component's local column (``1 +`` its position, 0 missed) of every sensor's
+        gated measurement ``1 + j`` (0 missed).
+    strides : ndarray of int64, shape (V,)
+        Strides of the component's tuple axes.
+    """
+    for q in range(tup_off[r], tup_off[r + 1]):
+        off = 0
+        for v in range(strides.size):
+            off += local[v, tup_g[q, v]] * strides[v]
+        out[i, off] = values[q]
 
 
 @jit()
@@ -353,23 +372,9 @@ def sample_components(terms, method, random_scan, n_chains, chain_length, rules,
     Umax = 0
     for v in range(V):
         Umax = max(Umax, terms.goff[v + 1] - terms.goff[v])
-    P_max = B
-    n_cap = 0
-    e_cap = 0
-    c_max = 1
-    for h in range(H):
-        P_h = B + terms.comp_off[h + 1] - terms.comp_off[h]
-        P_max = max(P_max, P_h)
-        c = n_chains[h] * chain_length[h] + 1
-        n_cap += c
-        e_cap += c * P_h
-        c_max = max(c_max, c)
+    P_max, n_cap, e_cap, c_max = child_bounds(terms.comp_off, B, n_chains, chain_length)
     scratch = problem_scratch(max(P_max * V, 1), c_max)
-    child_comp = np.empty(n_cap, dtype=np.int64)
-    child_cost = np.empty(n_cap)
-    child_off = np.zeros(n_cap + 1, dtype=np.int64)
-    child_entry = np.empty(e_cap, dtype=np.int64)
-    child_meas = np.empty(e_cap, dtype=np.int64)
+    child_comp, child_cost, child_off, child_entry, child_meas = new_children(n_cap, e_cap)
     sweeps = np.zeros(H, dtype=np.int64)
     n_rows = np.zeros(H, dtype=np.int64)
     mark = np.zeros(U, dtype=np.bool_)
@@ -414,24 +419,14 @@ def sample_components(terms, method, random_scan, n_chains, chain_length, rules,
         la = np.full((P, Tc), -np.inf)
         ld = np.empty(P)
         for i in range(P):
-            r = rows[i]
-            ld[i] = terms.log_dead[r]
-            for q in range(tup_off[r], tup_off[r + 1]):
-                off = 0
-                for v in range(V):
-                    off += local[v, tup_g[q, v]] * strides[v]
-                la[i, off] = tup_la[q]
+            ld[i] = terms.log_dead[rows[i]]
+            _scatter_tuples(la, i, tup_la, rows[i], tup_off, tup_g, local, strides)
         if method == EXACT:
             Wd = np.empty(P)
             Wa = np.zeros((P, Tc))
             for i in range(P):
-                r = rows[i]
-                Wd[i] = terms.dead_w[r]
-                for q in range(tup_off[r], tup_off[r + 1]):
-                    off = 0
-                    for v in range(V):
-                        off += local[v, tup_g[q, v]] * strides[v]
-                    Wa[i, off] = terms.tup_w[q]
+                Wd[i] = terms.dead_w[rows[i]]
+                _scatter_tuples(Wa, i, terms.tup_w, rows[i], tup_off, tup_g, local, strides)
             Th = np.zeros((P, V, K))
             lth = np.full((P, V, K), -np.inf)
             las = np.zeros(P)
@@ -498,6 +493,5 @@ def sample_components(terms, method, random_scan, n_chains, chain_length, rules,
                 e_out += 1
             n_out += 1
             child_off[n_out] = e_out
-    return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
-            child_off[:n_out + 1].copy(), child_entry[:e_out].copy(),
-            child_meas[:e_out].copy(), sweeps, n_rows)
+    return cut_children(child_comp, child_cost, child_off, child_entry, child_meas, n_out,
+                        e_out) + (sweeps, n_rows)

@@ -68,6 +68,7 @@ from ...single._kernels import (
 )
 from ...single.prepare import M_DIRECT, PrefixData, prefix_sums
 from ...validation import STALE_CONSECUTIVE, STALE_OFF, STALL_GLOBAL_CONSECUTIVE, STALL_OFF
+from .._glmb_gather import child_bounds, component_rows, cut_children, new_children
 from .._kernels import _logaddexp
 
 __all__ = ["component_keys", "component_problem", "component_costs", "count_components",
@@ -141,19 +142,8 @@ def component_problem(h, comp_off, comp_tracks, births, gated, mark, rows, cols)
     >>> rows[:P].tolist(), cols[:M].tolist()
     ([2, 1], [2])
     """
-    P = 0
-    for b in range(births.size):
-        rows[P] = births[b]
-        P += 1
-    for q in range(comp_off[h], comp_off[h + 1]):
-        rows[P] = comp_tracks[q]
-        P += 1
+    P = component_rows(h, comp_off, comp_tracks, births, gated, mark, rows)
     U = gated.shape[1]
-    for i in range(P):
-        r = rows[i]
-        for j in range(U):
-            if gated[r, j]:
-                mark[j] = True
     M = 0
     for j in range(U):
         if mark[j]:
@@ -358,11 +348,7 @@ def _ranked(comp_off, comp_tracks, births, cc_all, gated, n_want, h0, h1):
         e_cap += n_want[h] * (births.size + size)
     rows = np.empty(births.size + width, dtype=np.int64)
     cols = np.empty(U, dtype=np.int64)
-    child_comp = np.empty(n_cap, dtype=np.int64)
-    child_cost = np.empty(n_cap)
-    child_off = np.zeros(n_cap + 1, dtype=np.int64)
-    child_entry = np.empty(e_cap, dtype=np.int64)
-    child_meas = np.empty(e_cap, dtype=np.int64)
+    child_comp, child_cost, child_off, child_entry, child_meas = new_children(n_cap, e_cap)
     n_out = 0
     e_out = 0
     for h in range(h0, h1):
@@ -382,9 +368,8 @@ def _ranked(comp_off, comp_tracks, births, cc_all, gated, n_want, h0, h1):
             e_out = _emit_rows(child_entry, child_meas, e_out, rows, cols, a[u], M, M + P)
             n_out += 1
             child_off[n_out] = e_out
-    return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
-            child_off[:n_out + 1].copy(), child_entry[:e_out].copy(),
-            child_meas[:e_out].copy())
+    return cut_children(child_comp, child_cost, child_off, child_entry, child_meas, n_out,
+                        e_out)
 
 
 #: :func:`ranked_components`' loop over Murty's ``k`` best of each component.
@@ -521,25 +506,10 @@ def _sample(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains, chain
     template of :data:`_sample_any` and :data:`_sample_direct`)."""
     H = comp_off.size - 1
     U = W_all.shape[1] - 2
-    B = births.size
-    P_max = B
-    for h in range(H):
-        P_max = max(P_max, B + comp_off[h + 1] - comp_off[h])
     # upper bounds of the output: every observation new, every row present
-    n_cap = 0
-    e_cap = 0
-    c_max = 1
-    for h in range(H):
-        c = n_chains[h] * chain_length[h] + 1
-        n_cap += c
-        e_cap += c * (B + comp_off[h + 1] - comp_off[h])
-        c_max = max(c_max, c)
+    P_max, n_cap, e_cap, c_max = child_bounds(comp_off, births.size, n_chains, chain_length)
     scratch = problem_scratch(P_max, c_max)  # every component's run, one after another
-    child_comp = np.empty(n_cap, dtype=np.int64)
-    child_cost = np.empty(n_cap)
-    child_off = np.zeros(n_cap + 1, dtype=np.int64)
-    child_entry = np.empty(e_cap, dtype=np.int64)
-    child_meas = np.empty(e_cap, dtype=np.int64)
+    child_comp, child_cost, child_off, child_entry, child_meas = new_children(n_cap, e_cap)
     sweeps = np.zeros(H, dtype=np.int64)
     n_rows = np.zeros(H, dtype=np.int64)
     mark = np.zeros(U, dtype=np.bool_)
@@ -593,9 +563,8 @@ def _sample(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains, chain
             e_out = _emit_rows(child_entry, child_meas, e_out, rows, cols, states[u], M, M + 1)
             n_out += 1
             child_off[n_out] = e_out
-    return (child_comp[:n_out].copy(), child_cost[:n_out].copy(),
-            child_off[:n_out + 1].copy(), child_entry[:e_out].copy(),
-            child_meas[:e_out].copy(), sweeps, n_rows)
+    return cut_children(child_comp, child_cost, child_off, child_entry, child_meas, n_out,
+                        e_out) + (sweeps, n_rows)
 
 
 #: :func:`sample_components`' loop, either draw as a component needs it.
