@@ -79,7 +79,7 @@ def record_base(name: str, **extra: type) -> type:
     Returns
     -------
     type
-        A :func:`typing.NamedTuple` class.
+        A named-tuple class (made by ``typing.NamedTuple``).
 
     Examples
     --------

@@ -312,7 +312,7 @@ class GLMBFilter:
         the MAP cardinality ``n̂ = argmax ρ``, the heaviest component
         with ``n̂`` tracks, the mean of each track's heaviest Gaussian. ``"trajectory"``: the
         same tracks, and each one's filtered states along its association history
-        (:attr:`GLMBScanRecord.trajectories`): the trajectories of the current best
+        (the record's ``trajectories``, :class:`GLMBScanRecord`): the trajectories of the current best
         hypothesis only, so a label that leaves it loses its past. ``"recursive"`` (Vo's
         ``extract_estimates_recursive``): the same tracks and, besides, the trajectory of every
         label that was ever in the best hypothesis; a label still in it has its past rewritten
@@ -327,8 +327,8 @@ class GLMBFilter:
         Mixture reduction of every entry, as :class:`LMBFilter` (``10⁻⁵``, 4, 10,
         ``"bhattacharyya"``).
     retained_mass : bool, optional
-        Compute :attr:`GLMBScanRecord.retained_mass` (spec §4) and
-        :attr:`GLMBScanRecord.carried_mass` with the oracle's DP (default False: it costs one
+        Compute the record's ``retained_mass`` (spec §4) and ``carried_mass``
+        (:class:`GLMBScanRecord`) with the oracle's DP (default False: it costs one
         exact normaliser per gate group of a component).
     keep_histories : bool or None, optional
         Keep every entry's whole association history: the trajectories of
