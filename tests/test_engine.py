@@ -126,13 +126,16 @@ def test_the_parallel_speculation_compiles_the_chain_once():
     typing saw ``int64``; the driver passes an ``int64`` so that the chain's function, with the
     kind's whole sweep written into it, is compiled once and not twice (a first run of the
     multi-sensor herded sampler compiled 137 s of CPU without it, 105 s with it)."""
-    run = make_driver("engine_test_once", _alloc, _reset, _sweep, work=_Work, cache=False)
+    # The module's driver, not a new one: a driver of its own compiled the toy kind's whole
+    # driver a second time in every test run (9 s of CPU). Every call of _RUN in this module
+    # passes the same argument types, sequential and parallel, so one signature each is the
+    # claim whichever of its tests ran before.
     zkeys = np.array([[1, 2]], dtype=np.uint64)
-    run(_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 20, 5, Rules(0, 0, 0, 0),
-        4, 2)
-    chain = run.kernels["speculate_chain"]
+    _RUN(_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 20, 5, Rules(0, 0, 0, 0),
+         4, 2)
+    chain = _RUN.kernels["speculate_chain"]
     assert len(chain.signatures) == 1, chain.signatures
-    assert len(run.kernels["advance"].signatures) == 1
+    assert len(_RUN.kernels["advance"].signatures) == 1
 
 
 @pytest.mark.skipif(config.DISABLE_JIT, reason="compiled signatures only")
@@ -243,11 +246,16 @@ def test_the_one_call_run_of_a_problem_is_the_sequential_driver(rules):
     from rankedassign.tracking.single._glmb_kernels import _run_direct
 
     problem = synthetic.uniform(5, 1, 6)
-    cc = np.ascontiguousarray(problem.compact_cost)
+    # The arrays' flags as the samplers pass them (a writable copy of the read-only compact
+    # costs, read-only Zobrist keys): the kernels' signatures are then the ones the precompile
+    # compiled, and this test loads them from the cache instead of compiling both drivers
+    # again (12 s of CPU).
+    cc = np.array(problem.compact_cost, dtype=np.float64, order="C")
     W = shifted_weights(problem)
     P, M = cc.shape[0], cc.shape[1] - 2
     x0 = np.where(np.isfinite(cc[:, M]), M, M + 1).astype(np.int32)
     zkeys = zobrist_keys(P, M + 2, np.uint64(3))
+    zkeys.setflags(write=False)
     base = np.uint64(17)
     states, counts, ctr = run_chains(DirectData(W, cc, False), zkeys, x0, base, 40, 9, rules,
                                      0, 1)

@@ -29,6 +29,9 @@ def _driver_args(problem, start, scan, seed, n_chains, chain_length, rules):
     """Positional arguments of the compiled single-sensor driver, up to ``batch, workers``."""
     prep = kinds.prepare(problem, start, scan, seed)
     zk = _rng_kernels.zobrist_keys(problem.n_rows, prep.n_values, np.uint64(_rng.ZOBRIST_SEED))
+    # read-only, as the samplers pass them: the driver's signature is then the precompiled
+    # one (writable keys compiled the whole single-sensor driver again, 10 s of CPU)
+    zk.setflags(write=False)
     return (prep.data, zk, prep.x0, np.uint64(prep.base), n_chains, chain_length, rules)
 
 
