@@ -313,8 +313,8 @@ class GLMBFilter:
         with ``n̂`` tracks, the mean of each track's heaviest Gaussian. ``"trajectory"``: the
         same tracks, and each one's filtered states along its association history
         (the record's ``trajectories``, :class:`GLMBScanRecord`): the trajectories of the
-        current best hypothesis only, so a label that leaves it loses its past. ``"recursive"`` (Vo's
-        ``extract_estimates_recursive``): the same tracks and, besides, the trajectory of every
+        current best hypothesis only, so a label that leaves it loses its past.
+        ``"recursive"`` (Vo's ``extract_estimates_recursive``): the same tracks and, besides, the trajectory of every
         label that was ever in the best hypothesis; a label still in it has its past rewritten
         to its current association history, a label that left keeps the trajectory it had
         (:meth:`trajectory_estimates` gives every scan's rewritten estimate, the one to
