@@ -307,20 +307,18 @@ class GLMBFilter:
     gate_prob : float or None, optional
         χ² gate probability (default ``1 − 10⁻⁷``, Vo's); None disables gating.
     extraction : {"map", "trajectory", "recursive", "hysteresis"} or None, optional
-        None (default): the model's :attr:`~rankedassign.tracking.Model.extraction` (its
-        preset's: ``"map"`` for ``"vo"``, ``"hysteresis"`` for ``"paper"``). ``"map"`` (Vo's):
-        the MAP cardinality ``n̂ = argmax ρ``, the heaviest component
-        with ``n̂`` tracks, the mean of each track's heaviest Gaussian. ``"trajectory"``: the
-        same tracks, and each one's filtered states along its association history
-        (the record's ``trajectories``, :class:`GLMBScanRecord`): the trajectories of the
-        current best hypothesis only, so a label that leaves it loses its past.
-        ``"recursive"`` (Vo's ``extract_estimates_recursive``): the same tracks and, besides, the trajectory of every
-        label that was ever in the best hypothesis; a label still in it has its past rewritten
-        to its current association history, a label that left keeps the trajectory it had
-        (:meth:`trajectory_estimates` gives every scan's rewritten estimate, the one to
-        score with OSPA(2)). ``"hysteresis"``: labels with
-        ``r(ℓ) >= theta_upper``, kept while ``r(ℓ) >= theta_lower`` (the paper's rule, spec
-        6.5), each with its heaviest entry.
+        None (default): the model's :attr:`~rankedassign.tracking.Model.extraction` (its preset's:
+        ``"map"`` for ``"vo"``, ``"hysteresis"`` for ``"paper"``). ``"map"`` (Vo's): the MAP
+        cardinality ``n̂ = argmax ρ``, the heaviest component with ``n̂`` tracks, the mean of each
+        track's heaviest Gaussian. ``"trajectory"``: the same tracks, and each one's filtered states
+        along its association history (the record's ``trajectories``, :class:`GLMBScanRecord`): the
+        trajectories of the current best hypothesis only, so a label that leaves it loses its past.
+        ``"recursive"`` (Vo's ``extract_estimates_recursive``): the same tracks and, besides, the
+        trajectory of every label that was ever in the best hypothesis; a label still in it has its
+        past rewritten to its current association history, a label that left keeps the trajectory it
+        had (:meth:`trajectory_estimates` gives every scan's rewritten estimate, the one to score
+        with OSPA(2)). ``"hysteresis"``: labels with ``r(ℓ) >= theta_upper``, kept while ``r(ℓ) >=
+        theta_lower`` (the paper's rule, spec 6.5), each with its heaviest entry.
     theta_upper, theta_lower : float, optional
         Hysteresis thresholds (0.9 and ``10⁻³``), in ``[0, 1)``.
     prune_component, merge_threshold, max_components, merge_rule : optional
