@@ -283,7 +283,8 @@ def test_signal_exception_unwraps_numba_return_path_errors():
 _TEMPLATES = {("rankedassign.engine._kernels", n) for n in
               ("_speculate", "_speculate_chain", "_advance", "_new_run", "_run_slice", "_start",
                "_pack", "_unpack", "_grow_run", "_as_record", "no_chain_done", "_run_problem")} | {
-              ("rankedassign.engine._tempered_kernels", n) for n in ("_start", "_steps")}
+              ("rankedassign.engine._tempered_kernels", n) for n in ("_start", "_steps")} | {
+              ("rankedassign.tracking.single._glmb_kernels", n) for n in ("_ranked", "_sample")}
 
 
 def _python_calls_of_kernels():
