@@ -46,3 +46,25 @@ def test_bench_herded_sweep(benchmark, size, draw):
         sweeps=n, P=problem.n_rows, M=problem.n_meas, n_unique=len(res),
         new_key_share=res.n_keys / (n * problem.n_rows), fallbacks=res.n_fallbacks,
     )
+
+
+MS_METHODS = ("exact", "mm", "componentwise")
+
+
+@pytest.mark.parametrize("draw", ("gibbs", "herded-shared"))
+@pytest.mark.parametrize("method", MS_METHODS)
+def test_bench_multisensor_herded_sweep(benchmark, method, draw):
+    """The multi-sensor herded sweep against the Gibbs sweep of the same method: three sensors,
+    six objects, four measurements each, 20 000 sweeps in one chain."""
+    from rankedassign.multisensor import synthetic as ms_synthetic
+
+    problem = ms_synthetic.random(6, (4, 4, 4), rng=0)
+    n = 20_000
+    benchmark.group = f"multi-sensor herded vs Gibbs sweep 6x(4,4,4) {method}"
+    if draw == "gibbs":
+        fn, kw = sample_original, dict(rng=1, method=method)
+    else:
+        fn, kw = sample_herded, dict(rng=1, method=method, keys="shared")
+    res = benchmark.pedantic(fn, args=(problem, n), kwargs=kw, rounds=5, warmup_rounds=1)
+    assert res.n_observations == n
+    benchmark.extra_info.update(sweeps=n, method=method)
