@@ -1456,7 +1456,7 @@ def _new_run(data, zkeys, x0, n_chains, chain_length, batch, workers):
     """
     L = x0.shape[0]
     h0 = hash_of(zkeys, x0)
-    U = _new_unique_set(L, _CAP)
+    U = _new_unique_set(L, np.int64(_CAP))  # (int64: a literal would compile a second signature)
     ctr = np.zeros(N_COUNTERS, dtype=np.int64)
     cctr = np.zeros(4, dtype=np.int64)
     # U <- {x0}: x0 is stored (unique 0) but is not an observation (count 0 so far)
@@ -2031,7 +2031,7 @@ def _run_problem(data, work, zkeys, x0, base, n_chains, chain_length, rules, scr
     for c in range(n_chains):
         for i in range(L):
             state[i] = x0[i]
-        reset_work(data, work, 0, x0)
+        reset_work(data, work, np.int64(0), x0)
         slab.h[0] = h0
         slab.rs[0, 0] = chain_state(base, c)
         _begin_chain(c, U.last_chain, cctr)

@@ -516,7 +516,7 @@ def _row_mm(data, work, b, n, rs):
             wbuf[b, 1] = 0.0
             lbuf[b, 0] = ld[n]
             lbuf[b, 1] = _mm_log_alive(lth, las, avail, navail, b, n, V)
-            k = draw(wbuf, lbuf, b, 2, u)
+            k = draw(wbuf, lbuf, b, np.int64(2), u)  # (a literal: a second signature)
             if k < 0:
                 return False
         dead = k == 0
@@ -703,9 +703,9 @@ def run_sweeps(data, zkeys, x0, seed, n_sweeps):
     >>> state.tolist()
     [2, 2]
     """
-    work = alloc_work(data, 1)
+    work = alloc_work(data, np.int64(1))  # (int64 as in the driver: one signature each)
     state = x0.copy()
-    reset_work(data, work, 0, state)
+    reset_work(data, work, np.int64(0), state)
     h = np.uint64(0)
     for pos in range(state.shape[0]):
         h ^= zkeys[pos, state[pos]]

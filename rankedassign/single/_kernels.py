@@ -639,10 +639,10 @@ def reset_work_prefix(data, work, b, x0):
     _reset_free(work.free[b], x0)
     held = work.held[b]
     M = work.free.shape[1]
-    n = 0
+    n = np.int64(0)  # int64 as in the sweep's calls: one signature of _hold
     for i in range(x0.shape[0]):
         if x0[i] < M:
-            n = _hold(held, n, x0[i])
+            n = _hold(held, n, np.int64(x0[i]))
     work.n_held[b, 0] = n
 
 

@@ -88,9 +88,11 @@ def child_bounds(comp_off, B, n_chains, chain_length):
         The most children of one component (at least 1).
     """
     P_max = B
-    n_cap = 0
-    e_cap = 0
-    c_max = 1
+    # int64 from the start: a literal's type would reach the callers' calls (this function
+    # is written into them) and compile a second signature of each callee
+    n_cap = np.int64(0)
+    e_cap = np.int64(0)
+    c_max = np.int64(1)
     for h in range(comp_off.size - 1):
         P_h = B + comp_off[h + 1] - comp_off[h]
         P_max = max(P_max, P_h)

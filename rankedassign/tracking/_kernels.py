@@ -480,7 +480,7 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
         if keep[t]:
             n_kept += 1
     ooff = np.zeros(n_kept + 1, dtype=np.int64)
-    n_out = 0
+    n_out = np.int64(0)  # (a literal would compile a second signature of the phases)
     tk = 0
     for t in range(T):
         if not keep[t]:
@@ -494,7 +494,7 @@ def reduce_mixtures(offsets, w, m, P, keep, elim, merge_thr, cap, rule):
         n_alive = n
         while n_alive > 0:
             jq = _heaviest(w, idx, alive)
-            nm = 0
+            nm = np.int64(0)
             for q in range(n):
                 if alive[q] and _merge_distance(m, P, idx, inv, have_inv, logdet, q, jq, rule,
                                                 merge_thr) <= merge_thr:

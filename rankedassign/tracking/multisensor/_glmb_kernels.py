@@ -463,7 +463,7 @@ def sample_components(terms, method, random_scan, n_chains, chain_length, rules,
             las=las, Ea=Ea, Ed=Ed, qdead=np.zeros(P))
         L = P * V
         x0 = np.ones(L, dtype=np.int32)  # every row missed by every sensor (γ + 1 = 1)
-        n_u, obs = _run(data, alloc_work(data, 1), zkeys, x0, keys[h], n_chains[h],
+        n_u, obs = _run(data, alloc_work(data, np.int64(1)), zkeys, x0, keys[h], n_chains[h],
                         chain_length[h], rules, scratch)
         states = problem_states(scratch, L, n_u)
         sweeps[h] = obs

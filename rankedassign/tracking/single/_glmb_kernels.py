@@ -545,10 +545,10 @@ def _sample(comp_off, comp_tracks, births, W_all, cc_all, gated, n_chains, chain
             next_pos = np.zeros((P, 1), dtype=np.int64)
         data = PrefixData(W=W, cc=cc, S=S, next_pos=next_pos, random_scan=rules.random_scan)
         if prefix:
-            n_u, obs = _run_prefix(data, alloc_work_prefix(data, 1), zkeys, x0, base[h],
+            n_u, obs = _run_prefix(data, alloc_work_prefix(data, np.int64(1)), zkeys, x0, base[h],
                                    n_chains[h], chain_length[h], chain_rules, scratch)
         else:
-            n_u, obs = _run_direct(data, alloc_work(data, 1), zkeys, x0, base[h],
+            n_u, obs = _run_direct(data, alloc_work(data, np.int64(1)), zkeys, x0, base[h],
                                    n_chains[h], chain_length[h], chain_rules, scratch)
         states = problem_states(scratch, P, n_u)
         sweeps[h] = obs
