@@ -141,6 +141,8 @@ def _cmd_reproduce(args) -> int:
     unknown = [s for s in args.studies if s not in names]
     if unknown:
         return _error(f"unknown study {unknown[0]!r}; choose from {', '.join(names)}")
+    if args.all and args.studies:
+        return _error("--all runs every study; name studies or give --all, not both")
     workers = args.workers
     if workers is not None and args.dask_scheduler is None and workers > available_cpus():
         n = available_cpus()
@@ -164,7 +166,7 @@ def _cmd_reproduce(args) -> int:
                 config = experiments.config_from_dict(experiments.Config(mode),
                                                       _read_config(args.config))
         experiments.reproduce(
-            args.studies,
+            "all" if args.all else args.studies,
             mode,
             args.out,
             config=config,
@@ -216,11 +218,11 @@ def _cmd_precompile(args) -> int:
     return 0
 
 
-def _study_command(sub, name: str, names, help: str, description: str):
-    """A sub-command taking study names (all when none is given)."""
+def _study_command(sub, name: str, names, help: str, description: str, default: str = "all"):
+    """A sub-command taking study names (``default`` says which run when none is given)."""
     cmd = sub.add_parser(name, help=help, description=description)
     cmd.add_argument("studies", nargs="*", metavar="STUDY",
-                     help=f"{', '.join(names)} (default: all)")
+                     help=f"{', '.join(names)} (default: {default})")
     return cmd
 
 
@@ -240,13 +242,20 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=_seed, default=0, help="seed of the random matrix")
     demo.set_defaults(func=_cmd_demo)
 
+    paper = experiments.default_study_names()
+    later = [n for n in names if n not in paper]
     rep = _study_command(
         sub, "reproduce", names,
         "run the paper's studies and write a report (markdown, PNG, JSON, CSV)",
         "Reproduce the studies of Trezza, Bucci & Varshney (2023): "
-        + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, names))
+        + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, paper))
+        + ". The studies of the methods after it run when named or with --all: "
+        + "; ".join(f"{s.name} ({s.title})" for s in map(experiments.get_study, later))
         + ". Without --full every study runs the paper's per-run settings with fewer Monte "
-        "Carlo runs.")
+        "Carlo runs.",
+        default="the paper's studies, " + ", ".join(paper))
+    rep.add_argument("--all", action="store_true",
+                     help="run every study: the paper's and those of the later methods")
     size = rep.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true", help="fewer Monte Carlo runs (default)")
     size.add_argument("--full", action="store_true", help="the paper's settings (100 runs)")

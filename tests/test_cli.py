@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from rankedassign import __version__
 from rankedassign import cli as cli_module
 from rankedassign.cli import main
+from rankedassign.experiments import ReproduceError, study_names
 
 
 def test_version(capsys):
@@ -180,6 +181,43 @@ def test_workers_capped_at_the_cpus(tmp_path, capsys, monkeypatch):
     assert calls[-1]["workers"] == 2
     assert main(["reproduce", "--workers", "2", "--out", str(tmp_path / "r")]) == 0
     assert calls[-1]["workers"] == 2 and capsys.readouterr().err == ""
+
+
+def test_reproduce_runs_the_papers_studies_unless_told_otherwise(tmp_path, capsys, monkeypatch):
+    from rankedassign.experiments import default_study_names, runner
+
+    paper = ("table1", "sweep", "tracking", "tracking_var", "ablation", "optimum",
+             "random_readings")
+    assert default_study_names() == paper
+    assert runner._study_list(None) == list(paper) and runner._study_list([]) == list(paper)
+    assert runner._study_list("all") == list(study_names())
+    assert runner._study_list(["scaling", "table1"]) == ["table1", "scaling"]
+    with pytest.raises(ReproduceError, match="studies must be 'all' or a sequence of study "
+                                             "names, got 'table1'"):
+        runner._study_list("table1")
+    calls = []
+    monkeypatch.setattr("rankedassign.experiments.reproduce", lambda *a, **kw: calls.append(a))
+    out = str(tmp_path / "r")
+    assert main(["reproduce", "--out", out]) == 0 and calls[-1][0] == []
+    assert main(["reproduce", "--all", "--out", out]) == 0 and calls[-1][0] == "all"
+    assert main(["reproduce", "scaling", "--out", out]) == 0 and calls[-1][0] == ["scaling"]
+    capsys.readouterr()
+    assert main(["reproduce", "--all", "scaling", "--out", out]) == 2
+    assert capsys.readouterr().err == (
+        "rankedassign reproduce: error: --all runs every study; name studies or give --all, "
+        "not both\n")
+    assert len(calls) == 3
+
+
+def test_the_report_names_the_studies_it_left_out():
+    from rankedassign.experiments import Config
+    from rankedassign.experiments.report import render_report
+
+    text = render_report({}, Config.quick(), {"version": "x"})
+    line = next(s for s in text.splitlines() if s.startswith("Studies not in this run"))
+    for name in study_names():
+        assert f"`{name}`" in line
+    assert "`rankedassign reproduce --all` runs every study" in line
 
 
 def test_sigterm_is_handled_as_an_interrupt(tmp_path):
@@ -475,7 +513,7 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     import csv
 
     out = tmp_path / "report"
-    assert main(["reproduce", "--config", str(tiny_config), "--out", str(out),
+    assert main(["reproduce", "--all", "--config", str(tiny_config), "--out", str(out),
                  "--workers", "1", "--seed", "4"]) == 0
     err = capsys.readouterr().err
     assert "[1/14] table1" in err and "[14/14] tempering_herding" in err  # study i of n
@@ -507,6 +545,7 @@ def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
                   "## Tempering, herding and belief propagation"):
         assert title in report
     assert "algorithms.md" not in report and "docs/specification.md" in report
+    assert "Studies not in this run" not in report
     assert "1 Monte Carlo runs" not in report and "Grouping: False" not in report
     assert "1 Monte Carlo run" in report and "one sampler call per scan" in report
     assert t1[0]["paper_delta_obs_pct"] == 79.95 and t1[0]["paper_delta_error_pp"] == 0.04

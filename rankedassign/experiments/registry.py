@@ -29,6 +29,7 @@ __all__ = [
     "register_study",
     "get_study",
     "study_names",
+    "default_study_names",
     "run_study",
     "warm_study",
     "Config",
@@ -103,6 +104,13 @@ class Study:
         while the others wait; the tiny tasks then load the kernels from the cache. None:
         the tiny tasks are the finest units.
 
+    default_run : bool
+        Run by ``rankedassign reproduce`` (and :func:`~rankedassign.experiments.reproduce`)
+        when no study is named: True for the paper's own studies, False for the studies of
+        the methods that came after it (the δ-GLMB filter, non-linear models, large scenes,
+        multi-sensor problems, herding and tempering), which run when named or with
+        ``--all``.
+
     Examples
     --------
     >>> from rankedassign.experiments import get_study
@@ -128,6 +136,7 @@ class Study:
     warm_group: Callable[[tuple], Hashable] | None = None
     run_from_dict: Callable[[dict], Any] | None = None
     warm_units: Callable[[Any], list[tuple]] | None = None
+    default_run: bool = True
 
 
 _REGISTRY: dict[str, Study] = {}
@@ -189,6 +198,27 @@ def study_names() -> tuple[str, ...]:
     ('table1', 'sweep')
     """
     return tuple(sorted(_REGISTRY, key=lambda n: _REGISTRY[n].order))
+
+
+def default_study_names() -> tuple[str, ...]:
+    """Names of the studies a run without named studies runs, in run order.
+
+    These are the studies whose ``default_run`` is True: the paper's own. The studies of the
+    later methods (``default_run=False``) run when named, or with ``--all``
+    (``studies="all"``).
+
+    Returns
+    -------
+    tuple of str
+        A subsequence of :func:`study_names`.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import default_study_names
+    >>> default_study_names()
+    ('table1', 'sweep', 'tracking', 'tracking_var', 'ablation', 'optimum', 'random_readings')
+    """
+    return tuple(n for n in study_names() if _REGISTRY[n].default_run)
 
 
 def get_study(name: str) -> Study:

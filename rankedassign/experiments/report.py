@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _format as fmt
-from .registry import get_study
+from .registry import get_study, study_names
 
 __all__ = ["write_json", "write_csv", "render_report", "SPEC_PAGE"]
 
@@ -132,6 +132,15 @@ def render_report(results: dict, config, meta: dict) -> str:
         ),
         "",
     ]
+    left = [n for n in study_names() if n not in results]
+    if left:
+        parts += [
+            "Studies not in this run: " + ", ".join(f"`{n}`" for n in left) + ". "
+            "`rankedassign reproduce` without study names runs the paper's studies; "
+            "`rankedassign reproduce --all` runs every study, and "
+            f"`rankedassign reproduce {left[0]}` runs one.",
+            "",
+        ]
     for name, summary in results.items():
         parts.append(get_study(name).render(summary, config[name]))
     parts.append(

@@ -783,6 +783,7 @@ ADAPTIVE_BIRTH = register_study(Study(
     plot=plot_adaptive_birth,
     csv_rows=_csv,
     order=90,
+    default_run=False,
     warm=lambda c: replace(c, n_mc=1, sensors=c.sensors[:1], original_obs=60, n_chains=6,
                                chain_length=10, curve_obs=(20, 60)),
 ))

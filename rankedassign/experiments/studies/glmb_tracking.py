@@ -1348,6 +1348,7 @@ GLMB_TRACKING = register_study(Study(
     csv_rows=_csv_rows,
     paper="",
     order=75,
+    default_run=False,
     warm=lambda c: replace(c, n_mc=1, n_scans=4, murty_runs=min(c.murty_runs, 1),
                                glmb_exact_runs=min(c.glmb_exact_runs, 1), h_upd=50,
                                h_max=20, original_obs=100, n_chains=10, murty_k=10,

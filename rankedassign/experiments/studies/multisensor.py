@@ -624,5 +624,6 @@ MULTISENSOR = register_study(Study(
     plot=plot_multisensor,
     csv_rows=_csv,
     order=80,
+    default_run=False,
     warm=lambda c: replace(c, n_mc=1, original_obs=100, n_chains=4),
 ))

@@ -994,6 +994,7 @@ MULTISENSOR_TRACKING = register_study(Study(
     csv_rows=_csv_rows,
     paper="",
     order=95,
+    default_run=False,
     warm=lambda c: replace(
         c, n_mc=1, n_scans=3, long_obs=30, n_chains=10, chain_length=4,
         sensor_sets=tuple(c.sensor_sets[:1]) + tuple(c.sensor_sets[1:][-1:])),

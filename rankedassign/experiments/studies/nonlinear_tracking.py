@@ -659,6 +659,7 @@ NONLINEAR = register_study(Study(
     csv_rows=_csv,
     paper="",
     order=77,
+    default_run=False,
     warm=_warm,
     warm_group=lambda args: args[4],
 ))

@@ -706,6 +706,7 @@ SCALING = register_study(Study(
     csv_rows=_csv,
     paper="",
     order=78,
+    default_run=False,
     warm=_warm,
     warm_group=lambda args: (args[3], args[5]),  # (filter, truncation)
     run_from_dict=ScalingRun.from_dict,

@@ -1514,6 +1514,7 @@ TEMPERING_HERDING = register_study(Study(
     csv_rows=_csv,
     paper="",
     order=100,
+    default_run=False,
     warm=lambda c: replace(c, n_mc=1, budgets=c.budgets[:1],
                                tracking_mc=min(c.tracking_mc, 1), n_scans=3,
                                tracking_obs=20, tracking_chains=2),
