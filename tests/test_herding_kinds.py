@@ -122,9 +122,9 @@ def test_multisensor_one_chain_reference_equals_numba(registered, data):
         assert np.isfinite(res.costs).all()
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver
-# (about 73 s of CPU for the multi-sensor one, 20 s for adaptive birth, on the idle 2-core
-# machine); the precompile compiles only the sequential drivers
+# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
+# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
+# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
 @pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(data=st.data())
@@ -156,9 +156,9 @@ def test_adaptive_birth_one_chain_reference_equals_numba(data):
     assert np.isfinite(res.costs).all()
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver
-# (about 73 s of CPU for the multi-sensor one, 20 s for adaptive birth, on the idle 2-core
-# machine); the precompile compiles only the sequential drivers
+# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
+# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
+# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
 @pytest.mark.slow
 @settings(max_examples=30, deadline=None)
 @given(data=st.data())
@@ -201,6 +201,10 @@ def test_a_tiny_table_falls_back_and_is_counted(method):
     assert ab.n_keys == 2 and ab.n_fallbacks > 0
 
 
+# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
+# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
+# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
+@pytest.mark.slow
 def test_parallel_tallies_count_only_the_observed_sweeps():
     p = _ms(2, P=4, M=(3, 3))
     kw = dict(tau_stall=3, tau_stale=10, rng=2, herding=Herding(max_keys=30), method="mm")
