@@ -24,7 +24,6 @@ from collections.abc import Hashable, Mapping, Sequence
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import (
     connected_components,
@@ -37,6 +36,14 @@ from .validation import check_choice, check_int, check_real, float_array
 
 __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "track_coverage",
            "GOSPAResult", "gospa", "GOSPASeries", "gospa_series", "SPARSE_MIN_PAIRS"]
+
+
+def _linear_sum_assignment(cost):
+    """:func:`scipy.optimize.linear_sum_assignment`, imported when first called: importing
+    ``scipy.optimize`` takes about 0.3 s, which every process would otherwise pay at import."""
+    from scipy.optimize import linear_sum_assignment
+
+    return linear_sum_assignment(cost)
 
 
 class OSPAResult(NamedTuple):
@@ -188,7 +195,7 @@ def _ospa_from_log(L: np.ndarray, m: int, n: int, c: float, p: float,
     if U is not None and safe:
         # d_p^(c) = c ((1/n) [min_pi sum (d/c)^p + (n - m)])^(1/p)   (spec 7.3, units of c)
         if m:
-            rows, cols = linear_sum_assignment(U)
+            rows, cols = _linear_sum_assignment(U)
             loc = float(U[rows, cols].sum())
         else:
             loc = 0.0
@@ -210,7 +217,7 @@ def _ospa_from_log(L: np.ndarray, m: int, n: int, c: float, p: float,
         if shift > -math.inf:  # else a zero-distance matching exists
             with np.errstate(over="ignore", under="ignore"):
                 S = np.exp(np.minimum(L - shift, math.log(2 * m + 2)))
-            rows, cols = linear_sum_assignment(S)
+            rows, cols = _linear_sum_assignment(S)
             total = float(S[rows, cols].sum())
             log_loc = shift + math.log(total) if total > 0 else -math.inf
     log_card = math.log(n - m) if n > m else -math.inf
@@ -774,7 +781,7 @@ def gospa(X, Y, c: float, p: float, *, method: str = "auto") -> GOSPAResult:
         U = u**p
     loc, n_pairs = 0.0, 0
     if m and n:
-        rows, cols = linear_sum_assignment(U)
+        rows, cols = _linear_sum_assignment(U)
         kept = u[rows, cols] < 1.0  # a pair at c or beyond: one missed and one false point
         loc = float(U[rows, cols][kept].sum())
         n_pairs = int(kept.sum())
@@ -967,7 +974,7 @@ def _log_assignment_sum(L: np.ndarray) -> float:
         return -math.inf
     with np.errstate(over="ignore", under="ignore"):
         S = np.exp(np.minimum(L - shift, math.log(2 * m + 2)))
-    rows, cols = linear_sum_assignment(S)
+    rows, cols = _linear_sum_assignment(S)
     total = float(S[rows, cols].sum())
     return shift + math.log(total) if total > 0 else -math.inf
 
@@ -1053,7 +1060,7 @@ def _component_assignment(I, J, U, L, log_mode: bool):
             G = np.zeros((nrow, ncol))  # ln 1 for the pairs at the cut-off
             G[rl, cl] = L[e]
             parts_log.append(np.array([_log_assignment_sum(G.T if nrow > ncol else G)]))
-        rr, cc = linear_sum_assignment(C)
+        rr, cc = _linear_sum_assignment(C)
         n_matched += rr.size
         parts_lin.append(C[rr, cc])
         # which pairs the assignment uses below the cut-off

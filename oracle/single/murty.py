@@ -5,7 +5,6 @@ from __future__ import annotations
 import heapq
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from rankedassign.numba_options import interruptible
 from rankedassign.validation import MAX_WORK_BYTES, check_int, format_bytes
@@ -74,6 +73,8 @@ def _check_k_memory(problem, k: int) -> None:
 
 def _lsap(C: np.ndarray):
     """SciPy LSAP; ``None`` when the subproblem is infeasible."""
+    from scipy.optimize import linear_sum_assignment  # (0.3 s to import: on the first call)
+
     try:
         _, cols = linear_sum_assignment(C)
     except ValueError:  # "cost matrix is infeasible"

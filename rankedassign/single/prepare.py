@@ -13,7 +13,6 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from ..engine.herding import INIT_CODES, KEY_CODES
 from ..engine.kind import DrawInputs
@@ -380,6 +379,8 @@ def start_columns(problem: AssignmentProblem, start) -> np.ndarray:
             return problem.all_dead()
         x = np.empty(P, dtype=np.int64)
         if P:
+            from scipy.optimize import linear_sum_assignment  # (0.3 s to import: here)
+
             rows, cols = linear_sum_assignment(problem.cost)
             x[rows] = cols
         return x

@@ -22,7 +22,6 @@ import numbers
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from ..validation import float_array
 
@@ -758,6 +757,8 @@ class AssignmentProblem:
         try:
             if B.shape[0] > B.shape[1]:  # more rows that need a measurement than measurements
                 raise ValueError
+            from scipy.optimize import linear_sum_assignment  # (0.3 s to import: here)
+
             linear_sum_assignment(B)  # raises "cost matrix is infeasible" otherwise
         except ValueError:
             rows = np.flatnonzero(must).tolist()

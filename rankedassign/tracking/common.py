@@ -13,7 +13,6 @@ import numbers
 from typing import NamedTuple
 
 import numpy as np
-from scipy.stats import chi2
 
 from ..engine._kernels import zobrist_keys
 from ..numba_options import interruptible
@@ -62,6 +61,8 @@ def gate_threshold(gate_prob: float, dim: int = 2) -> float:
         raise ValueError(f"gate_prob must be in (0, 1), got {gate_prob}")
     if dim == 2:
         return -2.0 * math.log1p(-gate_prob)
+    from scipy.stats import chi2  # here: scipy.stats takes 0.3 s to import
+
     return float(chi2.ppf(gate_prob, dim))
 
 
