@@ -166,7 +166,7 @@ def _cmd_reproduce(args) -> int:
                 config = experiments.config_from_dict(experiments.Config(mode),
                                                       _read_config(args.config))
         experiments.reproduce(
-            "all" if args.all else args.studies,
+            "all" if args.all else (args.studies or "paper"),
             mode,
             args.out,
             config=config,

@@ -40,9 +40,13 @@ __all__ = ["OSPAResult", "OSPA2Result", "ospa", "ospa2", "tracks_to_array", "tra
 
 def _linear_sum_assignment(cost):
     """:func:`scipy.optimize.linear_sum_assignment`, imported when first called: importing
-    ``scipy.optimize`` takes about 0.3 s, which every process would otherwise pay at import."""
+    ``scipy.optimize`` takes about 0.3 s, which every process would otherwise pay at import.
+    The first call puts SciPy's function in this one's place, so later calls (one per
+    component of a large scene's metric) go to it directly."""
+    global _linear_sum_assignment
     from scipy.optimize import linear_sum_assignment
 
+    _linear_sum_assignment = linear_sum_assignment
     return linear_sum_assignment(cost)
 
 

@@ -9,6 +9,7 @@ ids=CASE_IDS)`` or :func:`case`.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from rankedassign import AssignmentProblem
 from rankedassign.single import synthetic
@@ -199,3 +200,10 @@ def assert_same_ranking(got, want, *, complete: bool, rtol: float = 1e-12,
     )
     assert_array_equal(gl, wl)
     assert_array_equal(ga_c, wa_c)
+
+
+#: The herded one-worker-against-two tests run in the slow tier: their first call with
+#: ``workers=2`` compiles the kind's parallel herded chain driver, which no study and no
+#: precompile compiles (in a fresh CI run on the 2-core machine the first such test of each
+#: kind took 120 s multi-sensor, 21 s adaptive birth, 14 s single-sensor, mostly compiling).
+TWO_WORKERS_HERDED = pytest.mark.slow

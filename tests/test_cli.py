@@ -74,7 +74,6 @@ def test_reproduce_out_is_a_file(tmp_path, capsys, force):
 
 def _never_run(monkeypatch):
     """Make every study fail loudly if it starts: the checks must come first."""
-    from rankedassign.experiments import study_names
 
     def ran(*args, **kwargs):
         raise AssertionError("a study ran")
@@ -190,15 +189,16 @@ def test_reproduce_runs_the_papers_studies_unless_told_otherwise(tmp_path, capsy
              "random_readings")
     assert default_study_names() == paper
     assert runner._study_list(None) == list(paper) and runner._study_list([]) == list(paper)
+    assert runner._study_list("paper") == list(paper)
     assert runner._study_list("all") == list(study_names())
     assert runner._study_list(["scaling", "table1"]) == ["table1", "scaling"]
-    with pytest.raises(ReproduceError, match="studies must be 'all' or a sequence of study "
-                                             "names, got 'table1'"):
+    with pytest.raises(ReproduceError, match="studies must be 'paper', 'all' or a sequence of "
+                                             "study names, got 'table1'"):
         runner._study_list("table1")
     calls = []
     monkeypatch.setattr("rankedassign.experiments.reproduce", lambda *a, **kw: calls.append(a))
     out = str(tmp_path / "r")
-    assert main(["reproduce", "--out", out]) == 0 and calls[-1][0] == []
+    assert main(["reproduce", "--out", out]) == 0 and calls[-1][0] == "paper"
     assert main(["reproduce", "--all", "--out", out]) == 0 and calls[-1][0] == "all"
     assert main(["reproduce", "scaling", "--out", out]) == 0 and calls[-1][0] == ["scaling"]
     capsys.readouterr()
@@ -207,6 +207,20 @@ def test_reproduce_runs_the_papers_studies_unless_told_otherwise(tmp_path, capsy
         "rankedassign reproduce: error: --all runs every study; name studies or give --all, "
         "not both\n")
     assert len(calls) == 3
+
+
+def test_reproduce_without_studies_warns_that_its_default_changed(tmp_path, monkeypatch):
+    from rankedassign import experiments
+
+    _never_run(monkeypatch)
+    # the warning comes first; the run then stops at the output check (out is a file)
+    out = tmp_path / "a-file"
+    out.write_text("x")
+    with pytest.warns(FutureWarning, match="reproduce\\(\\) without studies now runs the "
+                                           "paper's seven studies, no longer every study: "
+                                           "pass studies='paper'"):
+        with pytest.raises(ReproduceError):
+            experiments.reproduce(out=out, progress=False)
 
 
 def test_the_report_names_the_studies_it_left_out():

@@ -10,7 +10,7 @@ pinned messages.
 
 import numpy as np
 import pytest
-from cases import problems
+from cases import TWO_WORKERS_HERDED, problems
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_array_equal
@@ -74,10 +74,7 @@ def test_one_chain_reference_equals_numba(data):
     assert_array_equal(res.costs, problem.cost_of(res.assignments))
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
-# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
-# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
-@pytest.mark.slow
+@TWO_WORKERS_HERDED
 @settings(max_examples=60, deadline=None)
 @given(data=st.data())
 def test_short_chains_reference_serial_parallel_and_slices_agree(data):
@@ -97,10 +94,7 @@ def test_short_chains_reference_serial_parallel_and_slices_agree(data):
         _same(one, sample_short_chains(problem, n_chains, chain_length, workers=2, **kw))
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
-# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
-# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
-@pytest.mark.slow
+@TWO_WORKERS_HERDED
 def test_parallel_tallies_count_only_the_observed_sweeps():
     """With stall, speculation simulates sweeps past a chain's end; their keys and fall-backs
     are not counted (the tally is read at each chain's last observation)."""

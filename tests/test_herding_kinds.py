@@ -13,6 +13,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from cases import TWO_WORKERS_HERDED
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from ms_standin import KINDS as FAMILIES
@@ -122,10 +123,7 @@ def test_multisensor_one_chain_reference_equals_numba(registered, data):
         assert np.isfinite(res.costs).all()
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
-# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
-# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
-@pytest.mark.slow
+@TWO_WORKERS_HERDED
 @settings(max_examples=40, deadline=None)
 @given(data=st.data())
 def test_multisensor_short_chains_reference_serial_parallel_and_slices_agree(registered, data):
@@ -156,10 +154,7 @@ def test_adaptive_birth_one_chain_reference_equals_numba(data):
     assert np.isfinite(res.costs).all()
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
-# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
-# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
-@pytest.mark.slow
+@TWO_WORKERS_HERDED
 @settings(max_examples=30, deadline=None)
 @given(data=st.data())
 def test_adaptive_birth_short_chains_reference_serial_parallel_and_slices_agree(data):
@@ -201,10 +196,7 @@ def test_a_tiny_table_falls_back_and_is_counted(method):
     assert ab.n_keys == 2 and ab.n_fallbacks > 0
 
 
-# slow tier: the first call with workers=2 compiles the kind's parallel herded chain driver,
-# which no study and no precompile compiles (on the idle 2-core machine about 73 s of CPU for
-# the multi-sensor one, 20 s for adaptive birth, 13 s single-sensor)
-@pytest.mark.slow
+@TWO_WORKERS_HERDED
 def test_parallel_tallies_count_only_the_observed_sweeps():
     p = _ms(2, P=4, M=(3, 3))
     kw = dict(tau_stall=3, tau_stale=10, rng=2, herding=Herding(max_keys=30), method="mm")

@@ -10,6 +10,7 @@ import platform
 import sys
 import tempfile
 import time
+import warnings
 from contextlib import ExitStack
 from pathlib import Path
 from typing import NamedTuple
@@ -178,10 +179,10 @@ def check_settings(config: Config) -> None:
 def _study_list(studies) -> list[str]:
     names = study_names()
     if isinstance(studies, str):
-        if studies != "all":
+        if studies not in ("all", "paper"):
             raise ReproduceError(
-                f"studies must be 'all' or a sequence of study names, got {studies!r}")
-        studies = names
+                f"studies must be 'paper', 'all' or a sequence of study names, got {studies!r}")
+        studies = names if studies == "all" else default_study_names()
     chosen = list(default_study_names() if not studies else studies)
     for s in chosen:
         get_study(s)  # raises for an unknown name
@@ -206,15 +207,16 @@ def reproduce(
 
     Parameters
     ----------
-    studies : sequence of str or "all", optional
+    studies : sequence of str, "paper" or "all", optional
         Registered study names (:func:`~rankedassign.experiments.study_names`), run in the
-        registry's order; ``"all"``: every registered study. Default: the paper's studies
-        (:func:`~rankedassign.experiments.default_study_names`: ``"table1"``, ``"sweep"``,
+        registry's order; ``"all"``: every registered study; ``"paper"`` (the default): the
+        paper's studies (:func:`~rankedassign.experiments.default_study_names`: ``"table1"``, ``"sweep"``,
         ``"tracking"``, ``"tracking_var"``, ``"ablation"``, ``"optimum"``,
         ``"random_readings"``); the studies of the later methods (``"glmb_tracking"``,
         ``"nonlinear_tracking"``, ``"scaling"``, ``"multisensor"``, ``"adaptive_birth"``,
         ``"multisensor_tracking"``, ``"tempering_herding"``) run when named or with
-        ``"all"``.
+        ``"all"``. Until this release the default was every study: leaving ``studies`` out
+        warns (``FutureWarning``) for one release; pass ``"paper"`` or ``"all"``.
     mode : {"quick", "full"}
         ``"full"``: the paper's settings (100 Monte Carlo runs); ``"quick"``: the same per-run
         settings with fewer runs and sweep points (see the README for its measured time).
@@ -287,6 +289,10 @@ def reproduce(
     >>> sorted(p.name for p in out.iterdir())[:4]
     ['config.json', 'manifest.json', 'report.md', 'table1.csv']
     """
+    if studies is None:
+        warnings.warn("reproduce() without studies now runs the paper's seven studies, no "
+                      "longer every study: pass studies='paper' for these, or studies='all' "
+                      "for every study", FutureWarning, stacklevel=2)
     studies = _study_list(studies)
     if mode not in ("quick", "full"):
         raise ReproduceError(f"mode must be 'quick' or 'full', got {mode!r}")
