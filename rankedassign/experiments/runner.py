@@ -210,13 +210,13 @@ def reproduce(
     studies : sequence of str, "paper" or "all", optional
         Registered study names (:func:`~rankedassign.experiments.study_names`), run in the
         registry's order; ``"all"``: every registered study; ``"paper"`` (the default): the
-        paper's studies (:func:`~rankedassign.experiments.default_study_names`: ``"table1"``, ``"sweep"``,
-        ``"tracking"``, ``"tracking_var"``, ``"ablation"``, ``"optimum"``,
-        ``"random_readings"``); the studies of the later methods (``"glmb_tracking"``,
-        ``"nonlinear_tracking"``, ``"scaling"``, ``"multisensor"``, ``"adaptive_birth"``,
-        ``"multisensor_tracking"``, ``"tempering_herding"``) run when named or with
-        ``"all"``. Until this release the default was every study: leaving ``studies`` out
-        warns (``FutureWarning``) for one release; pass ``"paper"`` or ``"all"``.
+        paper's studies (:func:`~rankedassign.experiments.default_study_names`:
+        ``"table1"``, ``"sweep"``, ``"tracking"``, ``"tracking_var"``, ``"ablation"``,
+        ``"optimum"``, ``"random_readings"``); the studies of the later methods
+        (``"glmb_tracking"``, ``"nonlinear_tracking"``, ``"scaling"``, ``"multisensor"``,
+        ``"adaptive_birth"``, ``"multisensor_tracking"``, ``"tempering_herding"``) run when
+        named or with ``"all"``. The default used to be every study: leaving ``studies``
+        out warns (``FutureWarning``) for one release; pass ``"paper"`` or ``"all"``.
     mode : {"quick", "full"}
         ``"full"``: the paper's settings (100 Monte Carlo runs); ``"quick"``: the same per-run
         settings with fewer runs and sweep points (see the README for its measured time).
