@@ -805,7 +805,7 @@ def no_speculation(data, work, zkeys, slab, x0, step):
 
 # The phases the templates call by name; make_driver binds each to the kind's compiled copy.
 _speculate_impl = _advance_impl = _new_run_impl = _run_slice_impl = _instantiated
-_speculate_chain_impl = _pack_impl = _unpack_impl = grow_run = _instantiated
+_speculate_chain_impl = _pack_impl = _unpack_impl = _instantiated
 
 
 Work = tuple  # placeholder: make_driver binds the kind's workspace record class
@@ -1609,10 +1609,12 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
 def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget):
     """A new run and its first slice of ``budget`` sweeps (:func:`_run_slice`).
 
-    Returns ``(states, counts, ctr, None)`` as documented in :func:`make_driver` when the run
-    ends within the budget (one call, no state handed back: the common case costs what a run
-    in one call costs), else ``(empty, empty, ctr, run)`` with the packed :class:`Run` to
-    continue (:func:`_pack`).
+    Returns ``(states, counts, ctr, None, DONE)`` as documented in :func:`make_driver` when
+    the run ends within the budget (one call, no state handed back: the common case costs what
+    a run in one call costs), else ``(empty, empty, ctr, run, status)`` with the packed
+    :class:`Run` to continue (:func:`_pack`) and the slice's status (:data:`NEED_ROOM`: grow
+    ``U`` with :func:`_grow_run` first; the caller does, so that a run that never fills ``U``
+    never compiles the growth).
 
     Parameters
     ----------
@@ -1629,20 +1631,18 @@ def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
         The run's counters.
     run : tuple or None
         The packed run to continue, or None when it is over.
+    status : int
+        :data:`DONE`, :data:`PAUSED` or :data:`NEED_ROOM`.
     """
     run = _new_run_impl(data, zkeys, x0, n_chains, chain_length, batch, workers)
     status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
                                    batch, workers, budget, run)
-    while status == NEED_ROOM:
-        run = grow_run(run)
-        status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
-                                       batch, workers, max(left, 1), run)
     r = _unpack_impl(run)
     U = r.U
     if status == DONE:
         n = r.ctr[NU]
-        return U.states[:n].copy(), U.counts[:n].copy(), r.ctr, None
-    return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run
+        return U.states[:n].copy(), U.counts[:n].copy(), r.ctr, None, status
+    return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run, status
 
 
 def _as_record(fields):
@@ -1722,7 +1722,9 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
         compiled functions behind it (to inspect their signatures), and
         ``"start_sequential"`` and ``"run_slice_sequential"`` to the start and slice of a
         run with ``batch == 0``, which never speculate: a process that runs only
-        sequentially compiles neither :func:`_speculate` nor :func:`_speculate_chain`.
+        sequentially compiles neither :func:`_speculate` nor :func:`_speculate_chain`;
+        ``"grow_run"`` to :func:`_grow_run`, compiled by the first run that fills its unique
+        set.
 
     Examples
     --------
@@ -1781,7 +1783,7 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
                              "chain_done": chain_done}, cache=cache)
     start = instantiate(_start, f"start_{name}",
                         {"_new_run_impl": new_run, "_run_slice_impl": run_slice,
-                         "_unpack_impl": unpack, "grow_run": grow}, cache=cache)
+                         "_unpack_impl": unpack}, cache=cache)
     # A sequential run (batch == 0) has a start and a slice of its own that never speculate:
     # the same code with the speculation bound to a no-op, so that its first call compiles
     # neither the parallel loop nor the second copy of the sweep. Same operations, same bits.
@@ -1792,26 +1794,26 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
                                  "chain_done": chain_done}, cache=cache)
     start_seq = instantiate(_start, f"start_sequential_{name}",
                             {"_new_run_impl": new_run, "_run_slice_impl": run_slice_seq,
-                             "_unpack_impl": unpack, "grow_run": grow}, cache=cache)
+                             "_unpack_impl": unpack}, cache=cache)
 
     def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
                    budget=DEFAULT_BUDGET):
         budget = max(1, int(budget))
         first, step = (start, run_slice) if batch > 0 else (start_seq, run_slice_seq)
         with interruptible:  # the first slice, and growing U, return arrays
-            states, counts, ctr, run = first(data, zkeys, x0, base, n_chains, chain_length,
-                                             rules, batch, workers, budget)
+            states, counts, ctr, run, status = first(data, zkeys, x0, base, n_chains,
+                                                     chain_length, rules, batch, workers,
+                                                     budget)
             if run is None:
                 return states, counts, ctr
             # Later slices return two integers and no array (see the module docstring); a
-            # signal handler's exception is raised here, between two slices.
-            while True:
-                status, _ = step(data, zkeys, x0, base, n_chains, chain_length, rules,
-                                 batch, workers, budget, run)
-                if status == DONE:
-                    break
+            # signal handler's exception is raised here, between two slices. U grows here,
+            # between slices, so that a run that never fills it never compiles the growth.
+            while status != DONE:
                 if status == NEED_ROOM:
                     run = grow(run)
+                status, _ = step(data, zkeys, x0, base, n_chains, chain_length, rules,
+                                 batch, workers, budget, run)
         (states, _, counts, _, _), _, _, _, ctr, _, _ = run  # the packed Run
         n = ctr[NU]
         return states[:n].copy(), counts[:n].copy(), ctr
@@ -1819,7 +1821,8 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
     run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
     run_chains.kernels = {"start": start, "run_slice": run_slice, "speculate": spec,
                           "speculate_chain": chain, "advance": adv,
-                          "start_sequential": start_seq, "run_slice_sequential": run_slice_seq}
+                          "start_sequential": start_seq, "run_slice_sequential": run_slice_seq,
+                          "grow_run": grow}
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
     return run_chains
 
