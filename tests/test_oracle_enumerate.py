@@ -123,6 +123,7 @@ def test_too_large_message_also_states_the_bytes():
         enumerate_assignments(synthetic.uniform(), limit=76_847)
 
 
+@pytest.mark.heavy_python
 def test_huge_limit_is_refused_with_the_count_and_the_bytes_before_allocating():
     # limit = 10**18 used to let a count of 1.8e9 through to an impossible allocation
     p = synthetic.random(R=10, M=10, rng=0)

@@ -113,6 +113,7 @@ def test_enumeration_refuses_above_the_limit_at_once():
     assert msen.count_assignments(q, limit=1000) == 1001
 
 
+@pytest.mark.heavy_python
 def test_enumeration_refuses_a_huge_limit_with_the_count_and_the_bytes():
     # 76 511 176 assignments at 16 P V + 16 P + 24 = 216 bytes: within limit = 10**18, which
     # used to reach the allocation, but beyond the memory limit
@@ -251,6 +252,7 @@ def test_unreachable_measurements_get_no_bit():
     _check_dp(p)
 
 
+@pytest.mark.heavy_python
 def test_dp_reaches_beyond_enumeration_separable_check():
     # |Gamma| ~ 1e13: the row DP (16 bits) against the surrogate normaliser, exact for the
     # separable random family (an independent algorithm, exponential in P only)

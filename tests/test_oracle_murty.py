@@ -128,6 +128,7 @@ def test_uniform_ties_are_all_distinct():
     assert len(r.costs) == 5000 and np.all(r.costs == r.costs[0])
 
 
+@pytest.mark.heavy_python
 def test_paper_4x24_complete_ranking():
     p = synthetic.random(rng=1)
     full = enumerate_assignments(p)

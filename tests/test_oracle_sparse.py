@@ -263,6 +263,7 @@ def test_truncation_error_and_best_mass_gain_the_reach():
     assert_allclose(best_mass(p, 50), kept, rtol=1e-12)
 
 
+@pytest.mark.heavy_python
 def test_wide_dense_block_still_refuses():
     # a sparse band plus a dense 21 x 21 block: the block fits neither DP
     rng = np.random.default_rng(11)

@@ -342,6 +342,7 @@ def test_paper_diagonal_stops_by_stale():
         assert [0, 1, 2, 3] in res.assignments.tolist()
 
 
+@pytest.mark.heavy_python
 def test_paper_uniform_never_stale():
     # pi is uniform on 76 848 assignments: with 10 000 x 25 = 250 000 sweeps nearly every
     # chain still finds something new, so the consecutive stale rule never fires (spec §3.5).

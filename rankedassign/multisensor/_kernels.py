@@ -334,6 +334,50 @@ def _available(data, work, b, state, n):
         navail[b, v] = c
 
 
+@jit()
+def _exact_logs(ld, la, strides, avail, navail, idx, lbuf, b, n, V):
+    """The log-weights of row ``n``'s exact candidates into ``lbuf[b]``, in the order of
+    :func:`_row_exact` (dead, then ``A_1 x ... x A_V`` in C order): its underflow fall-back,
+    so that the common case gathers one table, not two.
+
+    Parameters
+    ----------
+    ld : ndarray of float64, shape (P,)
+        The dead log-weights.
+    la : ndarray of float64, shape (P, prod_v (M_v + 1))
+        The alive log-weights, flat.
+    strides : ndarray of int64, shape (V,)
+        The flat table's strides.
+    avail, navail : ndarray of int64
+        As :func:`_available` left them for row ``n``.
+    idx : ndarray of int64, shape (nb, V)
+        The odometer's scratch (overwritten).
+    lbuf : ndarray of float64, shape (nb, C)
+        ``lbuf[b]`` written.
+    b, n, V : int
+        The slab, the row and the number of sensors.
+    """
+    lbuf[b, 0] = ld[n]
+    nc = 1
+    for v in range(V):
+        idx[b, v] = 0
+    while True:
+        off = 0
+        for v in range(V):
+            off += avail[b, v, idx[b, v]] * strides[v]
+        lbuf[b, nc] = la[n, off]
+        nc += 1
+        v = V - 1
+        while v >= 0:
+            idx[b, v] += 1
+            if idx[b, v] < navail[b, v]:
+                break
+            idx[b, v] = 0
+            v -= 1
+        if v < 0:
+            break
+
+
 # The row updates below write the new row into row[b] and return False when no candidate has
 # weight (the row stays). Their draws are written out (sum, then the inverse-CDF loop of pick)
 # rather than called: a call per draw costs more than the draw on small problems; the rare
@@ -361,22 +405,31 @@ def _row_exact(data, work, b, n, rs):
     bool
         False when no candidate has weight (the row stays).
     """
-    V, strides, Wd, ld, Wa, la = data.V, data.strides, data.Wd, data.ld, data.Wa, data.la
-    avail, navail, idx, wbuf, lbuf, row = (work.avail, work.navail, work.idx, work.wbuf,
-                                           work.lbuf, work.row)
+    V, strides, Wd, Wa = data.V, data.strides, data.Wd, data.Wa
+    avail, navail, idx, wbuf, row = work.avail, work.navail, work.idx, work.wbuf, work.row
+    # The candidates' weights in C order and their sum, in that order, in one pass: the odometer
+    # runs over sensors 0..V-2 and the last sensor's entries are the inner loop (the same
+    # candidates, offsets and additions as one odometer over all V). The log-weights are
+    # gathered only for the underflow fall-back (_exact_logs).
     wbuf[b, 0] = Wd[n]
-    lbuf[b, 0] = ld[n]
+    total = 0.0
+    total += wbuf[b, 0]
     nc = 1
+    vl = V - 1
+    nl = navail[b, vl]
+    sl = strides[vl]
     for v in range(V):
         idx[b, v] = 0
     while True:
-        off = 0
-        for v in range(V):
-            off += avail[b, v, idx[b, v]] * strides[v]
-        wbuf[b, nc] = Wa[n, off]
-        lbuf[b, nc] = la[n, off]
-        nc += 1
-        v = V - 1
+        base = 0
+        for v in range(vl):
+            base += avail[b, v, idx[b, v]] * strides[v]
+        for c in range(nl):
+            w = Wa[n, base + avail[b, vl, c] * sl]
+            wbuf[b, nc] = w
+            total += w
+            nc += 1
+        v = vl - 1
         while v >= 0:
             idx[b, v] += 1
             if idx[b, v] < navail[b, v]:
@@ -385,9 +438,6 @@ def _row_exact(data, work, b, n, rs):
             v -= 1
         if v < 0:
             break
-    total = 0.0
-    for k in range(nc):
-        total += wbuf[b, k]
     u = next_uniform(rs)
     k = -1
     if total > 0.0:
@@ -401,7 +451,8 @@ def _row_exact(data, work, b, n, rs):
                 if acc > target:
                     break
     else:
-        k = draw(wbuf, lbuf, b, nc, u)
+        _exact_logs(data.ld, data.la, strides, avail, navail, idx, work.lbuf, b, n, V)
+        k = draw(wbuf, work.lbuf, b, nc, u)
     if k < 0:
         return False
     if k == 0:
