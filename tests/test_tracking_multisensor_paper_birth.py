@@ -13,18 +13,11 @@ workers (whole modules per worker) run the two side by side."""
 
 import numpy as np
 import pytest
+from multisensor_targets import SHORT, mean_ospa
 
-from rankedassign.metrics import ospa2
 from rankedassign.tracking import Exact, ShortChainGibbs, run_multisensor_scenario
 
 pytestmark = pytest.mark.study
-
-# the multi-sensor chains with the exact row conditional (Alg. 1), as the numbers below
-SHORT = dict(n_chains=400, chain_length=25, tau_stall=5, tau_stale=10, method="exact")
-
-
-def mean_ospa(run):
-    return float(ospa2(run.truth, run.estimates, c=200, p=1, window=5).value.mean())
 
 
 @pytest.fixture(scope="module")

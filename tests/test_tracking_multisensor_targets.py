@@ -11,6 +11,7 @@ idle two-core machine — so they sit behind their own marker, outside the defau
 
 import numpy as np
 import pytest
+from multisensor_targets import SHORT, mean_ospa
 from numpy.testing import assert_allclose
 
 import oracle
@@ -19,7 +20,7 @@ from rankedassign.experiments.studies.multisensor_tracking import (
     COVERAGE_SETTLE,
     LOST_BELOW,
 )
-from rankedassign.metrics import ospa2, track_coverage
+from rankedassign.metrics import track_coverage
 from rankedassign.tracking import (
     Exact,
     OriginalGibbs,
@@ -28,14 +29,6 @@ from rankedassign.tracking import (
 )
 
 pytestmark = pytest.mark.study
-
-# the multi-sensor chains with the exact row conditional (Alg. 1), as the numbers below
-SHORT = dict(n_chains=400, chain_length=25, tau_stall=5, tau_stale=10, method="exact")
-
-
-def mean_ospa(run):
-    return float(ospa2(run.truth, run.estimates, c=200, p=1, window=5).value.mean())
-
 
 @pytest.fixture(scope="module")
 def narrow_runs():
