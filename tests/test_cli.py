@@ -523,6 +523,28 @@ def _no_leftovers(parent):
     return [p.name for p in parent.iterdir() if p.name.startswith(".")] == []
 
 
+def test_several_studies_on_two_workers_warm_up_together_and_match_one_worker(
+        tmp_path, tiny_config, capsys):
+    # two workers prepare the kernels of every study of the run at once (the later studies'
+    # tiny tasks wait for table1's first one instead of compiling its samplers beside it);
+    # the numbers do not depend on it
+    runs = {}
+    for workers in ("1", "2"):
+        out = tmp_path / f"w{workers}"
+        assert main(["reproduce", "table1", "sweep", "optimum", "--config", str(tiny_config),
+                     "--out", str(out), "--workers", workers, "--seed", "3"]) == 0
+        err = capsys.readouterr().err
+        assert ("all studies: kernels ready in" in err) == (workers == "2"), err
+        assert "[1/3] table1: kernels ready in" in err and "[3/3] optimum: kernels ready" in err
+        runs[workers] = {s: _strict_json(out / f"{s}_runs.json")
+                         for s in ("table1", "sweep", "optimum")}
+    for study in runs["1"]:
+        for run in (*runs["1"][study], *runs["2"][study]):
+            run.pop("seconds", None)
+            run.pop("wall_seconds", None)
+    assert runs["1"] == runs["2"]
+
+
 def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     import csv
 

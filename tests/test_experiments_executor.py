@@ -1,6 +1,9 @@
 """Seeding and executors of rankedassign.experiments (no sampler needed)."""
 
 import operator
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -46,6 +49,46 @@ def test_run_tasks_process_pool_matches_serial():
     with local_executor(2) as ex:
         assert ex is not None
         assert run_tasks(operator.add, tasks, executor=ex, progress=False) == serial
+
+
+def test_run_tasks_after_starts_a_task_only_once_what_it_waits_for_has_finished():
+    log, lock = [], threading.Lock()
+
+    def job(name, seconds):
+        with lock:
+            log.append(("start", name))
+        time.sleep(seconds)
+        with lock:
+            log.append(("end", name))
+        return name
+
+    tasks = [("a", 0.3), ("b", 0.0), ("c", 0.0), ("d", 0.0)]
+    with ThreadPoolExecutor(4) as ex:
+        out = run_tasks(job, tasks, executor=ex, progress=False, after=[None, 0, None, (1, 2)])
+    assert out == ["a", "b", "c", "d"]
+    at = {event: i for i, event in enumerate(log)}
+    assert at[("start", "b")] > at[("end", "a")]
+    assert at[("start", "d")] > max(at[("end", "b")], at[("end", "c")])
+    assert at[("start", "c")] < at[("end", "a")]  # c waits for nothing: it runs beside a
+    # in-process, the tasks run in their order, which keeps every condition
+    assert run_tasks(operator.add, [(1, 2), (3, 4)], progress=False, after=[None, 0]) == [3, 7]
+
+
+@pytest.mark.parametrize(("after", "message"), [
+    ([None], "after has 1 entries for 2 tasks; give one per task"),
+    ([None, 1], r"after\[1\] = 1: a task can only wait for an earlier task \(indices 0 to 0\)"),
+    ([1, None], r"after\[0\] = 1: a task can only wait for an earlier task"),
+])
+def test_run_tasks_after_bad_input(after, message):
+    with pytest.raises(ValueError, match=message):
+        run_tasks(operator.add, [(1, 2), (3, 4)], progress=False, after=after)
+
+
+def test_run_tasks_after_propagates_errors_and_cancels_the_waiting():
+    with ThreadPoolExecutor(2) as ex:
+        with pytest.raises(ZeroDivisionError):
+            run_tasks(operator.truediv, [(1, 0), (1, 1)], executor=ex, progress=False,
+                      after=[None, 0])
 
 
 def test_run_tasks_propagates_errors():

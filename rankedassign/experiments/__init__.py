@@ -55,6 +55,7 @@ from .registry import (
     register_study,
     run_study,
     study_names,
+    warm_plan,
     warm_study,
 )
 from .runner import StudyFailed, check_output, reproduce
@@ -124,4 +125,5 @@ __all__ = [
     "run_tasks",
     "study_names",
     "warm_study",
+    "warm_plan",
 ]

@@ -21,7 +21,14 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import (
+    FIRST_COMPLETED,
+    Executor,
+    Future,
+    ProcessPoolExecutor,
+    as_completed,
+    wait,
+)
 from contextlib import contextmanager
 from multiprocessing import resource_tracker
 from typing import Any
@@ -406,6 +413,7 @@ def run_tasks(
     executor: Executor | None = None,
     progress: bool = True,
     desc: str = "",
+    after: Sequence[int | tuple[int, ...] | None] | None = None,
 ) -> list[Any]:
     """Run ``fn(*task)`` for every task and return the results in task order.
 
@@ -421,11 +429,23 @@ def run_tasks(
         Show a tqdm progress bar on stderr.
     desc : str, optional
         Label of the progress bar.
+    after : sequence, optional
+        One entry per task: ``None``, or the index (or a tuple of indices) of earlier tasks
+        that must have finished before this one goes to a worker. The warm-up uses it so
+        that the tiny tasks which would compile the same kernels as a running one wait for
+        it and then load them from numba's cache, instead of compiling them beside it on
+        another core. Without an executor the tasks run in their order, which keeps every
+        such condition.
 
     Returns
     -------
     list
         ``[fn(*t) for t in tasks]``, whatever order the calls finished in.
+
+    Raises
+    ------
+    ValueError
+        If ``after`` does not have one entry per task or names a task that is not earlier.
 
     Examples
     --------
@@ -433,7 +453,10 @@ def run_tasks(
     >>> from rankedassign.experiments import run_tasks
     >>> run_tasks(add, [(1, 2), (3, 4)], progress=False)
     [3, 7]
+    >>> run_tasks(add, [(1, 2), (3, 4), (5, 6)], progress=False, after=[None, 0, (0, 1)])
+    [3, 7, 11]
     """
+    waits = _prerequisites(after, len(tasks))
     bar = tqdm(total=len(tasks), desc=desc, disable=not progress, file=sys.stderr)
     try:
         # _interrupts.check(): the safe points at which a recorded SIGINT/SIGTERM stops the
@@ -446,6 +469,8 @@ def run_tasks(
                 bar.update()
             _interrupts.check()
             return out
+        if waits is not None:
+            return _run_after(executor, fn, tasks, waits, bar)
         with _signals_held():
             futures = {executor.submit(fn, *t): i for i, t in enumerate(tasks)}
         results: list[Any] = [None] * len(tasks)
@@ -469,3 +494,76 @@ def run_tasks(
         return results
     finally:
         bar.close()
+
+
+def _prerequisites(after, n: int) -> list[tuple[int, ...]] | None:
+    """``after`` of :func:`run_tasks` checked and made tuples; None when there is none."""
+    if after is None:
+        return None
+    after = list(after)
+    if len(after) != n:
+        raise ValueError(f"after has {len(after)} entries for {n} tasks; give one per task")
+    out = []
+    for i, a in enumerate(after):
+        a = () if a is None else (a,) if isinstance(a, (int, np.integer)) else tuple(a)
+        if any(not 0 <= j < i for j in a):
+            raise ValueError(f"after[{i}] = {after[i]!r}: a task can only wait for an "
+                             f"earlier task (indices 0 to {i - 1})")
+        out.append(tuple(int(j) for j in a))
+    return out
+
+
+def _run_after(executor: Executor, fn, tasks, waits: list[tuple[int, ...]], bar, *,
+               tick: float | None = None, status: Callable[[list[int]], None] | None = None
+               ) -> list:
+    """:func:`run_tasks` with prerequisites: a task goes to the executor once every task it
+    waits for has finished, the ready ones in task order. With ``tick``, ``status`` gets the
+    indices of the running tasks at least every ``tick`` seconds."""
+    n = len(tasks)
+    results: list[Any] = [None] * n
+    left = [len(w) for w in waits]
+    then: list[list[int]] = [[] for _ in range(n)]
+    for i, w in enumerate(waits):
+        for j in w:
+            then[j].append(i)
+    futures: dict = {}
+
+    def submit(idx):
+        with _signals_held():
+            for i in idx:
+                futures[executor.submit(fn, *tasks[i])] = i
+
+    submit([i for i in range(n) if not left[i]])
+    pending = set(futures)
+    try:
+        with _interrupts.stop_future() as stop:
+            finished = 0
+            while finished < n:
+                done, _ = wait(pending if stop is None else {*pending, stop}, timeout=tick,
+                               return_when=FIRST_COMPLETED)
+                _interrupts.check()
+                if status is not None:
+                    status(sorted(futures[f] for f in pending if f.running()))
+                if stop is not None and stop in done:
+                    stop = None  # a recorded signal that check() let pass: wait on the tasks
+                for fut in done - {stop}:
+                    if fut not in futures:
+                        continue
+                    pending.discard(fut)
+                    i = futures[fut]
+                    results[i] = fut.result()
+                    bar.update()
+                    finished += 1
+                    ready = []
+                    for k in then[i]:
+                        left[k] -= 1
+                        if not left[k]:
+                            ready.append(k)
+                    before = set(futures)
+                    submit(ready)
+                    pending |= set(futures) - before
+    except BaseException:
+        for fut in futures:
+            fut.cancel()
+        raise
+    return results

@@ -22,15 +22,14 @@ from __future__ import annotations
 import os
 import sys
 import time
-from concurrent.futures import FIRST_COMPLETED, wait
 
 from tqdm.auto import tqdm
 
 from ..samplers import warmup
-from ._executor import _signals_held, local_executor
-from .registry import Config, get_study, run_warm_unit, study_config, study_names
+from ._executor import _prerequisites, _run_after, local_executor, run_tasks
+from .registry import Config, get_study, run_warm_item, study_names, warm_plan
 
-__all__ = ["precompile"]
+__all__ = ["precompile", "warm_studies"]
 
 #: Studies whose kernels take longest to compile, started first so that the pool's other
 #: worker takes the many short ones meanwhile (measured on 2 cores, empty cache: the herded
@@ -42,55 +41,64 @@ _GROUPS_FIRST = ("multisensor", "adaptive_birth")
 
 
 def _task(study: str | None, args: tuple, unit: bool = False) -> None:
-    """One tiny task of ``study`` (``None``: the samplers' :func:`~rankedassign.warmup`), or
-    with ``unit`` one of its :attr:`~rankedassign.experiments.Study.warm_units`."""
+    """One item of the queue: a tiny task or warm unit of ``study``
+    (:func:`~rankedassign.experiments.registry.run_warm_item`), or with ``study`` None the
+    samplers' :func:`~rankedassign.warmup`."""
     if study is None:
         warmup()
-    elif unit:
-        run_warm_unit(*args)
     else:
-        get_study(study).task(*args)
+        run_warm_item(study, args, unit)
 
 
-def _queue(studies, config) -> list[tuple[str | None, tuple, bool]]:
-    """Every study's warm units and tiny tasks as ``(study, args, unit)``, longest first.
+def warm_studies(studies, config, executor) -> float:
+    """Warm several studies at once on ``executor``'s workers; returns the seconds taken.
 
-    First the warm units (:attr:`~rankedassign.experiments.Study.warm_units`), then the first
-    tiny task of each kernel group, then the rest. The tiny tasks of a study with warm units
-    are all among the rest: its units compile every kernel they need, and a tiny task that
-    started beside a unit compiling the same kernels would compile them again.
+    The studies' warm plan (:func:`~rankedassign.experiments.registry.warm_plan`, longest
+    first) goes out as one queue, so that the workers compile the kernels of different
+    studies side by side and no two compile the same kernels at once (``rankedassign
+    reproduce`` does this before its first study; each study's own warm-up then loads them).
+
+    Parameters
+    ----------
+    studies : sequence of str
+        Registered study names.
+    config : Config or None
+        Their settings (their tiny form runs).
+    executor : concurrent.futures.Executor
+        The workers.
+
+    Returns
+    -------
+    float
+        Wall time in seconds.
+    """
+    t0 = time.perf_counter()
+    order = sorted(studies, key=lambda s: (_LONGEST_FIRST.index(s)
+                                           if s in _LONGEST_FIRST else len(_LONGEST_FIRST)))
+    items, after = warm_plan(order, config, groups_first=_GROUPS_FIRST)
+    run_tasks(_task, items, executor=executor, progress=False, after=after)
+    return time.perf_counter() - t0
+
+
+def _queue(studies, config) -> tuple[list[tuple[str | None, tuple, bool]], list]:
+    """Every study's warm units and tiny tasks as ``(study, args, unit)``, longest first, and
+    what each waits for (:func:`~rankedassign.experiments.registry.warm_plan`).
+
+    The studies' warm plan in the order of :data:`_LONGEST_FIRST`, with the samplers'
+    warm-up second: it is long, and the later tasks of every worker need some of it.
     """
     order = sorted(studies, key=lambda s: (_LONGEST_FIRST.index(s)
                                            if s in _LONGEST_FIRST else len(_LONGEST_FIRST)))
-    units: list = []
-    leaders: list = []
-    rest: list = [(None, (), False)]
-    for name in order:
-        st = get_study(name)
-        if st.warm is None:
-            continue
-        tiny = st.warm(study_config(config, st))
-        tasks = list(st.tasks(tiny, 0))
-        if st.warm_units is not None:
-            units += [(name, unit, True) for unit in st.warm_units(tiny)]
-            rest += [(name, args, False) for args in tasks]
-            continue
-        group = st.warm_group or id
-        seen: set = set()
-        first: list = []
-        for args in tasks:
-            key = group(args)
-            if key in seen:
-                rest.append((name, args, False))
-            else:
-                first.append((_GROUPS_FIRST.index(key) if key in _GROUPS_FIRST
-                              else len(_GROUPS_FIRST), len(first), (name, args, False)))
-            seen.add(key)
-        leaders += [item for *_, item in sorted(first, key=lambda t: t[:2])]
-    # the samplers' warm-up after the longest first item: it is short and every worker's
-    # later tasks need some of it
-    head = units + leaders
-    return head[:1] + rest[:1] + head[1:] + rest[1:]
+    items, after = warm_plan(order, config, groups_first=_GROUPS_FIRST)
+    at = min(1, len(items))
+
+    def shift(a):
+        if a is None:
+            return None
+        return tuple(j + (j >= at) for j in a) if isinstance(a, tuple) else a + (a >= at)
+
+    after = [shift(a) for a in after]
+    return items[:at] + [(None, (), False)] + items[at:], after[:at] + [None] + after[at:]
 
 
 def precompile(workers: int | None = None, *, studies=None, progress: bool = True) -> float:
@@ -129,7 +137,7 @@ def precompile(workers: int | None = None, *, studies=None, progress: bool = Tru
     if workers is None:
         workers = max(1, min(4, os.cpu_count() or 1))
     t0 = time.perf_counter()
-    queue = _queue(names, Config.quick())
+    queue, after = _queue(names, Config.quick())
     desc = f"compiling kernels ({workers} process{'es' if workers > 1 else ''})"
     bar = tqdm(total=len(queue), desc=desc, disable=not progress, file=sys.stderr)
     try:
@@ -140,7 +148,7 @@ def precompile(workers: int | None = None, *, studies=None, progress: bool = Tru
                     _task(study, args, unit)
                     bar.update()
             else:
-                _run_pool(executor, queue, bar, t0)
+                _run_pool(executor, queue, after, bar, t0)
     finally:
         bar.close()
     return time.perf_counter() - t0
@@ -150,24 +158,18 @@ def _label(study: str | None) -> str:
     return "samplers" if study is None else study
 
 
-def _run_pool(executor, queue, bar, t0: float) -> None:
-    """Run the queue on the pool; once a second (on a terminal), the bar names what is
-    compiling and for how long, so a long compile shows that it is alive."""
-    with _signals_held():
-        futures = {executor.submit(_task, *item): item for item in queue}
-    pending = set(futures)
+def _run_pool(executor, queue, after, bar, t0: float) -> None:
+    """Run the queue on the pool, each item once the items it waits for have finished; once
+    a second (on a terminal), the bar names what is compiling and for how long, so a long
+    compile shows that it is alive."""
     # a terminal gets a line that ticks every second; a log file (CI) one line in 30 s
     tick = 1.0 if sys.stderr.isatty() else 30.0
-    try:
-        while pending:
-            done, pending = wait(pending, timeout=tick, return_when=FIRST_COMPLETED)
-            for fut in done:
-                fut.result()  # a failing task fails the whole run, with its own traceback
-            bar.update(len(done))
-            running = sorted({_label(futures[f][0]) for f in pending if f.running()})
-            bar.set_postfix_str(f"{', '.join(running) or 'starting'}; "
-                                f"{time.perf_counter() - t0:.0f} s", refresh=True)
-    except BaseException:
-        for fut in futures:
-            fut.cancel()
-        raise
+
+    def status(running):
+        names = sorted({_label(queue[i][0]) for i in running})
+        bar.set_postfix_str(f"{', '.join(names) or 'starting'}; "
+                            f"{time.perf_counter() - t0:.0f} s", refresh=True)
+
+    # a failing task fails the whole run, with its own traceback
+    _run_after(executor, _task, queue, _prerequisites(after, len(queue)), bar, tick=tick,
+               status=status)

@@ -32,6 +32,8 @@ __all__ = [
     "default_study_names",
     "run_study",
     "warm_study",
+    "warm_plan",
+    "run_warm_item",
     "Config",
     "config_from_dict",
     "ReproduceError",
@@ -88,7 +90,15 @@ class Study:
         (e.g. the problem kind they run on). With worker processes, :func:`warm_study` runs
         the first task of every group at once, each compiling its own kernels on its own
         core, and only then the rest, which load them from the cache; so no two workers
-        compile the same kernels side by side. None: every task is a group of its own.
+        compile the same kernels side by side. A group's key is the study's own (two
+        studies' keys never meet). None: the tiny tasks are one group; the first compiles the
+        study's kernels and the rest wait for it.
+    warm_after : str, optional
+        The name of a study whose first tiny task compiles the kernels this study's tiny tasks
+        need (``sweep``, ``ablation``, ``optimum`` and ``random_readings`` after ``table1``:
+        the same samplers). When both warm up together (``rankedassign precompile``, a run of
+        several studies with worker processes), this study's tiny tasks wait for that one
+        instead of compiling the same kernels beside it. None: no such study.
     run_from_dict : callable, optional
         One item of ``<study>_runs.json`` read back into what ``task`` returned: a record
         (e.g. ``Table1Run.from_dict``), or the list of a task's records
@@ -134,6 +144,7 @@ class Study:
     order: float = 100.0
     warm: Callable[[Any], Any] | None = None
     warm_group: Callable[[tuple], Hashable] | None = None
+    warm_after: str | None = None
     run_from_dict: Callable[[dict], Any] | None = None
     warm_units: Callable[[Any], list[tuple]] | None = None
     default_run: bool = True
@@ -369,24 +380,123 @@ def warm_study(study: str | Study, config=None, *, executor: Executor | None = N
     if st.warm is None:
         return 0.0
     t0 = time.perf_counter()
-    tasks = list(st.tasks(st.warm(study_config(config, st)), 0))
     if executor is None:
-        for args in tasks:
+        for args in st.tasks(st.warm(study_config(config, st)), 0):
             _interrupts.check()  # a safe point between two tiny tasks
             st.task(*args)
         return time.perf_counter() - t0
-    if st.warm_units is not None:
-        run_tasks(run_warm_unit, st.warm_units(st.warm(study_config(config, st))),
-                  executor=executor, progress=False)
-    group = st.warm_group or id
-    first: dict = {}
-    for i, args in enumerate(tasks):
-        first.setdefault(group(args), i)
-    leaders = sorted(first.values())
-    rest = [t for i, t in enumerate(tasks) if i not in set(leaders)]
-    run_tasks(st.task, [tasks[i] for i in leaders], executor=executor, progress=False)
-    run_tasks(st.task, rest, executor=executor, progress=False)
+    items, after = warm_plan([st], config)
+    calls = [(run_warm_unit if unit else st.task, args) for _, args, unit in items]
+    run_tasks(_call, calls, executor=executor, progress=False, after=after)
     return time.perf_counter() - t0
+
+
+def _call(function: Callable[..., Any], args: tuple) -> None:
+    function(*args)
+
+
+def run_warm_item(study: str | Study, args: tuple, unit: bool = False) -> None:
+    """Run one item of :func:`warm_plan`: a tiny task of ``study``, or with ``unit`` one of its
+    :attr:`Study.warm_units` (picklable for a worker).
+
+    Parameters
+    ----------
+    study : str or Study
+        A registered name or a :class:`Study`.
+    args : tuple
+        The tiny task's arguments, or the unit ``(function, *args)``.
+    unit : bool, optional
+        ``args`` is a warm unit.
+    """
+    st = study if isinstance(study, Study) else get_study(study)
+    if unit:
+        run_warm_unit(*args)
+    else:
+        st.task(*args)
+
+
+def warm_plan(studies: Sequence[str | Study], config=None, *, groups_first: Sequence = ()
+              ) -> tuple[list[tuple[str, tuple, bool]], list[int | tuple[int, ...] | None]]:
+    """The warm-up of ``studies`` as one queue, and what each item of it waits for.
+
+    Items are ``(study, args, unit)`` for :func:`run_warm_item`, in this order: every warm
+    unit (:attr:`Study.warm_units`); the first tiny task of every kernel group
+    (:attr:`Study.warm_group`), those whose group key is in ``groups_first`` first; then the
+    others. Each of the others waits (the ``after`` of :func:`run_tasks`) for the first task
+    of its group, for its study's units, or for the first task of its
+    :attr:`Study.warm_after` study, so that no two workers compile the same kernels at once.
+
+    Parameters
+    ----------
+    studies : sequence of str or Study
+        The studies, in the order their groups should go out.
+    config : optional
+        Their settings (as for :func:`warm_study`); their tiny form runs.
+    groups_first : sequence, optional
+        Group keys (:attr:`Study.warm_group` values) whose first tasks go before the others'.
+
+    Returns
+    -------
+    items : list of tuple
+        ``(study name, args, unit)``.
+    after : list
+        For each item, None or the index (a tuple of indices) of the items it waits for.
+
+    Examples
+    --------
+    >>> from rankedassign.experiments import Config, warm_plan
+    >>> items, after = warm_plan(["table1", "sweep"], Config.quick())
+    >>> [(study, args[-1]) for study, args, _ in items]  # doctest: +NORMALIZE_WHITESPACE
+    [('table1', 'diagonal'), ('table1', 'uniform'), ('table1', 'random'),
+     ('table1', 'random-r_pd'), ('sweep', 'uniform'), ('sweep', 'random')]
+    >>> after  # table1's first task compiles; the rest load its kernels after it
+    [None, 0, 0, 0, 0, 4]
+    """
+    sts = [s if isinstance(s, Study) else get_study(s) for s in studies]
+    names = {st.name for st in sts}
+    units: list = []
+    leaders: list = []
+    followers: list = []  # (item, what it waits for, the group it is the first of or None)
+    for st in sts:
+        if st.warm is None:
+            continue
+        tiny = st.warm(study_config(config, st))
+        tasks = list(st.tasks(tiny, 0))
+        if st.warm_units is not None:
+            units += [(st.name, tuple(u), True) for u in st.warm_units(tiny)]
+            followers += [((st.name, args, False), ("units", st.name), None) for args in tasks]
+            continue
+        group = st.warm_group or (lambda args: None)
+        after_other = st.warm_after if st.warm_after in names - {st.name} else None
+        seen: set = set()
+        for args in tasks:
+            key = group(args)
+            item = (st.name, args, False)
+            if key in seen:
+                followers.append((item, ("group", st.name, key), None))
+            elif after_other is not None:
+                followers.append((item, ("first", after_other), ("group", st.name, key)))
+            else:
+                rank = list(groups_first).index(key) if key in groups_first else len(groups_first)
+                leaders.append((rank, len(leaders), item, ("group", st.name, key)))
+            seen.add(key)
+    leaders.sort(key=lambda t: t[:2])
+    items = units + [item for _, _, item, _ in leaders] + [item for item, _, _ in followers]
+    index: dict = {}  # ("group", study, key) and ("first", study) -> the index of its first item
+    unit_index: dict = {}
+    for i, (name, _args, unit) in enumerate(items):
+        if unit:
+            unit_index.setdefault(name, []).append(i)
+        index.setdefault(("first", name), i)
+    for j, (_, _, _item, key) in enumerate(leaders):
+        index[key] = len(units) + j
+    after: list = [None] * len(items)
+    for j, (_item, wait, first_of) in enumerate(followers):
+        i = len(units) + len(leaders) + j
+        after[i] = tuple(unit_index[wait[1]]) if wait[0] == "units" else index[wait]
+        if first_of is not None:  # its group's first task, itself waiting for another study
+            index[first_of] = i
+    return items, after
 
 
 @dataclass(frozen=True, init=False)

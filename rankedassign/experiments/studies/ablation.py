@@ -356,4 +356,5 @@ ABLATION = register_study(Study(
     csv_rows=as_rows,
     order=50,
     warm=tiny_synthetic,
+    warm_after="table1",  # Table I's samplers, compiled by its first tiny task
 ))

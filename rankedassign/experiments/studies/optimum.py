@@ -373,4 +373,5 @@ OPTIMUM = register_study(Study(
     csv_rows=as_rows,
     order=60,
     warm=tiny_synthetic,
+    warm_after="table1",  # Table I's samplers, compiled by its first tiny task
 ))

@@ -401,5 +401,6 @@ READINGS = register_study(Study(
     csv_rows=as_rows,
     order=70,
     warm=tiny_synthetic,
+    warm_after="table1",  # Table I's samplers, compiled by its first tiny task
     paper="Table I",
 ))

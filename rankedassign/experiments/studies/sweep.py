@@ -500,4 +500,5 @@ SWEEP = register_study(Study(
     csv_rows=as_rows,
     order=20,
     warm=lambda c: replace(c, n_mc=1, obs_grid=c.obs_grid[:1], chain_lengths=c.chain_lengths[:1]),
+    warm_after="table1",  # Table I's samplers, compiled by its first tiny task
 ))

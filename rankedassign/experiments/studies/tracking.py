@@ -760,6 +760,8 @@ def _register_tracking(name: str, title: str, full, order: int) -> Study:
         paper="§V-B",
         order=order,
         warm=lambda c: replace(c, n_mc=1, n_scans=3, original_obs=50, n_chains=4),
+        # the same filter and samplers: tracking_var's tiny tasks load tracking's kernels
+        warm_after="tracking" if name != "tracking" else None,
     ))
 
 
