@@ -34,31 +34,27 @@ def _describe(args):
 
 
 def main(workers=2):
-    """Run the queue on ``workers`` processes; print one line per item and the totals."""
-    from concurrent.futures import as_completed
-
+    """Run the queue on ``workers`` processes, each item once the items it waits for have
+    finished (as ``precompile`` does); print one line per item and the totals."""
     from rankedassign.experiments import precompile as pc
-    from rankedassign.experiments._executor import local_executor
+    from rankedassign.experiments._executor import local_executor, run_tasks
     from rankedassign.experiments.registry import Config, study_names
 
-    queue = pc._queue(study_names(), Config.quick())
+    queue, after = pc._queue(study_names(), Config.quick())
     start = time.time()
-    rows, cpus = [], [0.0] * len(queue)
     with local_executor(workers) as ex:
-        futures = [ex.submit(timed, *item) for item in queue]
-        for fut in as_completed(futures):
-            label, what, t0, t1, pid, cpu = fut.result()
-            rows.append((t0 - start, t1 - start, label, what, pid, cpu))
-            cpus[futures.index(fut)] = cpu
+        results = run_tasks(timed, queue, executor=ex, progress=False, after=after)
     wall = time.time() - start
+    rows = [(t0 - start, t1 - start, label, what, pid, cpu)
+            for label, what, t0, t1, pid, cpu in results]
     for t0, t1, label, what, pid, cpu in sorted(rows):
         print(f"{t0:7.1f} {t1:7.1f} {t1 - t0:7.1f} cpu {cpu:6.1f}  {pid}  {label:18s} {what}")
-    free = [0.0] * workers  # the queue in order, each item on the first free worker
-    for cpu in cpus:
-        free[free.index(min(free))] += cpu
-    print(f"wall {wall:.1f} s; CPU of the items {sum(cpus):.1f} s; "
-          f"replayed on {workers} idle workers {max(free):.1f} s")
-
-
-if __name__ == "__main__":
-    main()
+    # the queue replayed: each item, once what it waits for has ended, on the first free worker
+    free, end = [0.0] * workers, [0.0] * len(queue)
+    for i, row in enumerate(rows):
+        w = free.index(min(free))
+        waits = after[i] if isinstance(after[i], tuple) else () if after[i] is None else (after[i],)
+        begin = max([free[w], *(end[j] for j in waits)])
+        end[i] = free[w] = begin + row[-1]
+    print(f"wall {wall:.1f} s; CPU of the items {sum(r[-1] for r in rows):.1f} s; "
+          f"replayed on {workers} idle workers {max(end):.1f} s")
