@@ -34,7 +34,8 @@ __all__ = ["precompile", "warm_studies"]
 #: Studies whose kernels take longest to compile, started first so that the pool's other
 #: worker takes the many short ones meanwhile (measured on 2 cores, empty cache: the herded
 #: and tempered samplers of every kind took 153 s of the 292 s of a first reproduction).
-_LONGEST_FIRST = ("tempering_herding", "glmb_tracking", "tracking", "multisensor")
+_LONGEST_FIRST = ("tempering_herding", "glmb_tracking", "tracking", "multisensor",
+                  "multisensor_tracking")
 #: Within a study, the kernel groups (:attr:`~rankedassign.experiments.Study.warm_group`) that
 #: take longest, first: the multi-sensor herded and tempered drivers are the largest kernels.
 _GROUPS_FIRST = ("multisensor", "adaptive_birth")
