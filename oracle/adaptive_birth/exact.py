@@ -17,6 +17,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign.adaptive_birth import AdaptiveBirthProblem
+from rankedassign.rows import unique_rows
 from rankedassign.validation import check_choice, check_int, check_type
 
 from .._result import Ranked, check_enumeration_size
@@ -231,7 +232,7 @@ def truncation_error(problem, assignments) -> float:
         raise ValueError("the birth tuples T* (>= max(n_min, 1) detections) have zero weight: "
                          "the truncation error is undefined")
     log_ref = logsumexp(lw[mask])
-    J = np.unique(J, axis=0)
+    J = unique_rows(J)
     J = J[(J > 0).sum(axis=1) >= max(problem.n_min, 1)]
     if J.shape[0] == 0:
         return 1.0

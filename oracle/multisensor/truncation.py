@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
+from rankedassign.rows import unique_rows
 from rankedassign.validation import check_int
 
 from .dp import _log_normalizer
@@ -36,7 +37,7 @@ def _unique_feasible(problem, assignments) -> np.ndarray:
         )
     if g[0].size == 0:  # P = 0: the one, empty, assignment
         return g[:1]
-    return np.unique(g.reshape(g.shape[0], -1), axis=0).reshape(-1, *g.shape[1:])
+    return unique_rows(g.reshape(g.shape[0], -1)).reshape(-1, *g.shape[1:])
 
 
 def truncation_error(problem, assignments) -> float:

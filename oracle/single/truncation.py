@@ -6,6 +6,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from rankedassign import AssignmentProblem
+from rankedassign.rows import unique_rows
 from rankedassign.validation import check_int
 
 from .._result import check_problem
@@ -75,7 +76,7 @@ def _unique_feasible(problem, assignments) -> np.ndarray:
             "infeasible: it uses a forbidden pair, another row's missed/dead column, a column "
             "out of range, or a measurement twice"
         )
-    return np.unique(a, axis=0)
+    return unique_rows(a)  # np.unique(a, axis=0), several times faster
 
 
 def truncation_error(problem, assignments) -> float:

@@ -39,6 +39,7 @@ import oracle
 
 from ..engine.herding import DEFAULT_MAX_KEYS, Herding
 from ..kinds import kind_of
+from ..rows import unique_rows
 from ..samplers import sample_herded, sample_original, sample_short_chains, sample_tempered
 from ..single.lbp import LBP_MAX_ITER, LBP_TOL, check_lbp_settings, lbp_marginals
 from ..validation import check_choice, check_int, check_optional_int
@@ -517,7 +518,7 @@ assignments and costs)
         raise ValueError(f"{head} an entry out of range: assignments[{', '.join(map(str, at))}] "
                          f"= {int(a[at])} ({where}), expected {int(lo[v])}..{int(hi[v])}")
     a = a.astype(np.int64)
-    if np.unique(a.reshape(a.shape[0], -1), axis=0).shape[0] != a.shape[0]:
+    if unique_rows(a.reshape(a.shape[0], -1)).shape[0] != a.shape[0]:
         raise ValueError(f"{head} duplicate assignments (a GLMB component is made of unique "
                          "ones)")
     feasible = problem.is_feasible(a)
