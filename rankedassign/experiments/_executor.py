@@ -284,6 +284,14 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
     # (ending the workers, the shutdown) must still find the pool's semaphores
     _interrupts.add_cleanup(kill_workers)
     try:
+        # Every worker started, and through its start-up, before the first task: the pool
+        # starts a process per submission only while none is idle, so a warm-up whose tasks
+        # wait for one another would leave the others to start under the first study's tasks,
+        # where a signal could meet a worker halfway through starting (a traceback from the
+        # pool's management thread when the workers are ended).
+        with _signals_held():
+            started = [ex.submit(os.getpid) for _ in range(n)]
+        wait(started)
         yield ex
     except BaseException:
         # an interrupt or an error: the workers' running tasks are not wanted any more
