@@ -89,10 +89,10 @@ class Study:
         ``task arguments -> hashable``: tiny tasks of one group compile the same kernels
         (e.g. the problem kind they run on). With worker processes, :func:`warm_study` runs
         the first task of every group at once, each compiling its own kernels on its own
-        core, and only then the rest, which load them from the cache; so no two workers
-        compile the same kernels side by side. A group's key is the study's own (two
-        studies' keys never meet). None: the tiny tasks are one group; the first compiles the
-        study's kernels and the rest wait for it.
+        core; every other task waits for its group's first and then loads the kernels from
+        the cache; so no two workers compile the same kernels side by side. A group's key is
+        the study's own (two studies' keys never meet). None: the tiny tasks are one group;
+        the first compiles the study's kernels and the rest wait for it.
     warm_after : str, optional
         The name of a study whose first tiny task compiles the kernels this study's tiny tasks
         need (``sweep``, ``ablation``, ``optimum`` and ``random_readings`` after ``table1``:
