@@ -339,12 +339,13 @@ def reproduce(
     return results
 
 
-def _warm_all(studies, cfg, executor, *, progress, say) -> None:
+def _warm_all(studies, cfg, executor, *, progress, say) -> bool:
     """Every study's tiny tasks at once, on the local workers: they compile the kernels of
     different studies side by side while no two compile the same ones (measured from an empty
     cache, the paper's seven studies one after another waited 43 s for kernels where their
-    compiling alone takes 38 s of CPU). A failure here is left to the study's own warm-up,
-    which runs next and reports it as that study's failure."""
+    compiling alone takes 38 s of CPU). Returns whether it finished; if not, the failure is
+    left to each study's own warm-up, which runs it again and reports it as that study's
+    failure."""
     what = f"the kernels of the {len(studies)} studies side by side"
     try:
         with compile_wait("all studies", what, enabled=progress):
@@ -352,8 +353,9 @@ def _warm_all(studies, cfg, executor, *, progress, say) -> None:
     except Exception:  # noqa: BLE001 - each study's own warm-up runs it again and reports it
         _interrupts.check()
         say("all studies: preparing the kernels together failed; each study prepares its own")
-        return
+        return False
     say(f"all studies: kernels ready in {secs:.1f} s")
+    return True
 
 
 def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, command, say,
@@ -386,8 +388,9 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                 executor = stack.enter_context(local_executor(workers))
                 n = workers or os.cpu_count() or 1
                 where = "serial (in-process)" if executor is None else f"{n} local processes"
-                if executor is not None and len(studies) > 1:
-                    _warm_all(studies, cfg, executor, progress=progress, say=say)
+            # with local workers every study's tiny tasks run once, all at once, here
+            warmed = (dask_scheduler is None and executor is not None and len(studies) > 1
+                      and _warm_all(studies, cfg, executor, progress=progress, say=say))
             for i, study in enumerate(studies, 1):
                 tag = f"[{i}/{len(studies)}] {study}"
                 _interrupts.check()  # a safe point between two studies
@@ -395,10 +398,13 @@ def _run_studies(studies, cfg, out, *, seed, workers, dask_scheduler, progress, 
                     # The tiny tasks on the workers, disjoint kernel sets side by side; the
                     # study's tasks then load the kernels from the cache.
                     # the wait says what compiles and that it is alive (minutes, first run)
-                    with compile_wait(tag, warm_description(get_study(study), cfg[study]),
-                                      enabled=progress):
-                        secs = warm_study(study, cfg, executor=executor)
-                    say(f"{tag}: kernels ready in {secs:.1f} s")
+                    if warmed:
+                        say(f"{tag}: kernels ready (prepared with the other studies)")
+                    else:
+                        with compile_wait(tag, warm_description(get_study(study), cfg[study]),
+                                          enabled=progress):
+                            secs = warm_study(study, cfg, executor=executor)
+                        say(f"{tag}: kernels ready in {secs:.1f} s")
                     t0 = time.perf_counter()
                     res, runs = run_study(
                         study, cfg, seed=seed, executor=executor, progress=progress,
