@@ -37,6 +37,7 @@ import numpy as np
 from numba import parallel_chunksize
 
 from . import reference
+from .adaptive_birth import synthetic as ab_synthetic
 from .adaptive_birth.problem import AdaptiveBirthProblem
 from .engine._kernels import DISCARDED, NCHAINS, NOBS, STALE_FIRED, Rules, zobrist_keys
 from .engine.herding import DEFAULT_MAX_KEYS, MAX_TABLE_BYTES, Herding, check_herding
@@ -53,6 +54,7 @@ from .engine.result import (
 from .engine.rng import ZOBRIST_SEED
 from .engine.tempered import TemperedResult
 from .kinds import KINDS, herded_rule, kind_named, kind_of, prepare
+from .multisensor import synthetic as ms_synthetic
 from .multisensor.problem import MultiSensorProblem
 from .numba_options import interruptible, threads
 from .single import synthetic
@@ -630,3 +632,10 @@ def warmup() -> None:
             sample_original(ab, 3, rng=0, sensor_order=order)
             sample_short_chains(ab, 3, 2, tau_stall=1, tau_stale=1, rng=0, workers=2,
                                 sensor_order=order)
+    # A run's unique set starts with room for 512 states and grows when it fills, which
+    # compiles the kind's growth kernel (2-3 s of CPU each) in the middle of a run: a run
+    # of each kind with more distinct states than that compiles it here.
+    for grows in (synthetic.random(R=8, M=10, rng=0), synthetic.random(R=4, M=40, rng=0),
+                  ms_synthetic.random(P=4, M=(4, 4), rng=0),
+                  ab_synthetic.make_family("uniform", 4, 6, rng=0)):
+        sample_short_chains(grows, 64, 32, tau_stall=1 << 30, tau_stale=1 << 30, rng=0)

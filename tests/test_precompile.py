@@ -155,3 +155,86 @@ def test_after_precompile_a_new_process_compiles_no_kernel_of_any_study():
             "precompile(1, progress=False)")
     subprocess.run([sys.executable, "-c", body], cwd=ROOT, check=True)
     assert _compiles_in_a_new_process(body) == []
+
+
+def test_the_samplers_warm_up_compiles_each_kinds_growth_kernel():
+    # A run's unique set starts with room for 512 states and grows when it fills. The growth
+    # kernel of the multi-sensor kind was compiled by no study's warm-up: the first
+    # sample_short_chains on a 4 x (4, 4) problem after `rankedassign precompile` compiled
+    # it, 2.8 s instead of 0.2 s.
+    from rankedassign import warmup
+    from rankedassign.adaptive_birth import _kernels as ab
+    from rankedassign.multisensor import _kernels as ms
+    from rankedassign.single import _kernels as single
+
+    warmup()
+    for driver in (single.run_chains, single.run_chains_prefix, ms.run_chains, ab.run_chains):
+        assert driver.kernels["grow_run"].signatures, driver.__name__
+
+
+_SIGNATURES = textwrap.dedent("""
+    import gc
+    import json
+
+    from numba.core.registry import CPUDispatcher
+
+
+    def signatures():
+        out = {}
+        for obj in gc.get_objects():
+            if isinstance(obj, CPUDispatcher) and obj.signatures:
+                f = obj.py_func
+                if f.__module__.split(".")[0] in ("rankedassign", "oracle"):
+                    name = f"{f.__module__}.{f.__qualname__}"
+                    out.setdefault(name, []).extend(str(s) for s in obj.signatures)
+        return out
+""")
+
+# A researcher's first calls (benchmarks/first_call_compile.py): the first two steps of the
+# δ-GLMB filter with Murty and with short chains and of the LMB filter with short chains on
+# "vo", and the first two sample_short_chains on a small problem of each kind.
+_FIRST_CALLS = _FIRST_STEPS + textwrap.dedent("""
+    from rankedassign import sample_short_chains, synthetic
+    from rankedassign.adaptive_birth import AdaptiveBirthProblem
+    from rankedassign.multisensor import synthetic as ms_synthetic
+
+    zz = [np.array([[0.0], [50.0]]), np.array([[1.0]])]
+    for p in (synthetic.random(R=4, M=6, rng=0), ms_synthetic.random(P=4, M=(4, 4), rng=0),
+              AdaptiveBirthProblem.from_measurements(
+                  zz, [[0.99, 0.95], [0.95]], H=[[1.0]], R=[[1.0]], P_D=0.9,
+                  clutter_intensity=0.01, mu0=[0.0], P0=[[100.0]])):
+        for seed in (0, 1):
+            sample_short_chains(p, 100, 20, tau_stall=5, tau_stale=10, rng=seed)
+""")
+
+_PRECOMPILE_QUEUE = textwrap.dedent("""
+    from rankedassign.experiments.precompile import _queue, _task
+    from rankedassign.experiments.registry import Config, study_names
+
+    queue, _ = _queue(study_names(), Config.quick())
+    for study, args, unit in queue:
+        _task(study, args, unit)
+""")
+
+
+def _signatures_in_a_new_process(body: str) -> dict[str, list[str]]:
+    code = _SIGNATURES + body + "\nprint(json.dumps(signatures()))\n"
+    proc = subprocess.run([sys.executable, "-c", code],
+                          cwd=ROOT, capture_output=True, text=True, check=True)
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.slow
+def test_precompile_compiles_every_kernel_signature_of_a_researchers_first_calls():
+    # After `rankedassign precompile` a first filter step or sampler call must load every
+    # kernel (well under a second), not compile one that no study uses. Each side runs in a
+    # process of its own and lists the signatures its kernels hold (loaded or compiled, so
+    # the check does not depend on what the cache holds). Found by it: the LMB filter's
+    # posterior components took a strided `nu` in the studies and a C-ordered one on "vo",
+    # and no study grew a multi-sensor run's unique set.
+    queue = _signatures_in_a_new_process(_PRECOMPILE_QUEUE)
+    first = _signatures_in_a_new_process(_FIRST_CALLS)
+    assert first
+    missing = {name: sorted(set(sigs) - set(queue.get(name, ())))
+               for name, sigs in first.items()}
+    assert {name: sigs for name, sigs in missing.items() if sigs} == {}

@@ -225,7 +225,9 @@ def murty(problem, k: int, *, backend: str = "numba") -> Ranked:
     if backend == "scipy":
         return ranked(problem, _murty_scipy(problem, _k_cap(problem, k)))
     # the kernel's costs are problem.cost_of's, bit for bit, sorted stably
-    return Ranked(*_murty_sliced(np.ascontiguousarray(problem.compact_cost), k))
+    # a writable copy: the δ-GLMB filter's compact costs are writable, and a read-only array
+    # would compile the search's entry a second time
+    return Ranked(*_murty_sliced(np.array(problem.compact_cost, dtype=np.float64, order="C"), k))
 
 
 #: Graph entries (``P (M + 2P)``, an iteration's bound) times iterations per slice of the

@@ -244,6 +244,8 @@ def single_marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, m
     w = np.exp(lw)
     w /= w.sum()
     a = np.ascontiguousarray(a, dtype=np.int64)
+    if not a.flags.writeable:  # a sampler's read-only assignments: one signature of the kernels
+        a = a.copy()
     if method == "rao-blackwell":
         C = np.ascontiguousarray(problem.cost, dtype=np.float64)
         finite = np.isfinite(C[:, :M])

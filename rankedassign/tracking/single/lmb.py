@@ -716,7 +716,9 @@ class LMBFilter:
                 )
             log_det_S = np.log(det)
         used = np.flatnonzero(gated.any(axis=0))
-        gated = gated[:, used]
+        # C order whatever numpy's fancy indexing returns: one signature of the kernels below
+        # (a Fortran-ordered `gated` or a strided `nu` compiled each a second time)
+        gated = np.ascontiguousarray(gated[:, used])
         with np.errstate(divide="ignore"):
             log_r = np.log(self.r)
             log_dead = np.log1p(-self.r)
@@ -727,8 +729,9 @@ class LMBFilter:
                 self._log_pd, self._log_kappa,
             )
         return _Terms(
-            used=used, gated=gated, Sinv=Sinv, nu=nu[:, used], lw=lw, log_g=log_g,
-            log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead, gain=gain,
+            used=used, gated=gated, Sinv=Sinv, nu=np.ascontiguousarray(nu[:, used]), lw=lw,
+            log_g=log_g, log_det=log_det, log_miss=log_r + self._log_miss, log_dead=log_dead,
+            gain=gain,
         )
 
     # ----------------------------------------------------------------------- 3.-5. association
