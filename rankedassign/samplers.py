@@ -633,9 +633,12 @@ def warmup() -> None:
             sample_short_chains(ab, 3, 2, tau_stall=1, tau_stale=1, rng=0, workers=2,
                                 sensor_order=order)
     # A run's unique set starts with room for 512 states and grows when it fills, which
-    # compiles the kind's growth kernel (2-3 s of CPU each) in the middle of a run: a run
-    # of each kind with more distinct states than that compiles it here.
-    for grows in (synthetic.random(R=8, M=10, rng=0), synthetic.random(R=4, M=40, rng=0),
-                  ms_synthetic.random(P=4, M=(4, 4), rng=0),
-                  ab_synthetic.make_family("uniform", 4, 6, rng=0)):
-        sample_short_chains(grows, 64, 32, tau_stall=1 << 30, tau_stale=1 << 30, rng=0)
+    # compiles the kind's growth kernel (1-2 s of CPU each) in the middle of a run: a run
+    # of each kind with more distinct states than that compiles it here, with a chain driver
+    # compiled above (one worker or two: both grow with the same kernel).
+    for grows, workers in ((synthetic.random(R=8, M=10, rng=0), 1),
+                           (synthetic.random(R=4, M=40, rng=0), 2),
+                           (ms_synthetic.random(P=4, M=(4, 4), rng=0), 1),
+                           (ab_synthetic.make_family("uniform", 4, 6, rng=0), 2)):
+        sample_short_chains(grows, 64, 32, tau_stall=1 << 30, tau_stale=1 << 30, rng=0,
+                            workers=workers)
