@@ -588,8 +588,10 @@ def sample_tempered(problem, n_steps, *, beta, start="all_missed", rng=None, bac
 def warmup() -> None:
     """Compile every sampler kernel (sequential, parallel, both scans) on a tiny problem.
 
-    Call once before timing; the test suite calls it once per session. With numba's on-disk
-    cache (the default) later processes load the compiled code instead.
+    Also grows the unique set of one run of each kind past its first capacity, which compiles
+    the kind's growth kernel. Call once before timing; the test suite calls it once per
+    session, and ``rankedassign precompile`` runs it. With numba's on-disk cache (the default)
+    later processes load the compiled code instead.
 
     Examples
     --------
