@@ -5,9 +5,9 @@ records field by field, which on the 10⁵ assignments of a sampler's call took 
 exact truncation error's time (86 ms of 104 ms per call on the paper's 4 × 24 problems,
 under cProfile beside another job). Here each row becomes one integer, its entries read as
 the digits of a mixed-radix number (digit ``j`` in ``0 .. max_j - min_j``), which orders like
-the rows; the keys sort as plain integers, or, when
-there are few possible keys, are marked in a table and read back in order. Rows whose key would
-not fit in 63 bits are sorted with :func:`numpy.lexsort`. Either way the result is the same
+the rows; the keys sort as plain integers, or, when there are few possible keys, are marked in
+a table and read back in order. Rows whose key would not fit in 63 bits are sorted with
+:func:`numpy.lexsort`. Either way the result is the same
 array as ``np.unique(a, axis=0)``: the distinct rows in lexicographic order, same dtype.
 """
 

@@ -171,16 +171,6 @@ def _is_multi(problem) -> bool:
     return kind_of(problem).name == "multisensor"
 
 
-def _writable(a) -> np.ndarray:
-    """A sampler's (read-only) assignments as a C-contiguous, writable int64 array.
-
-    numba compiles a read-only array as a type of its own: Murty's and the oracle's
-    assignments are writable, so the marginals' kernels (the Rao-Blackwellised ones) would be
-    compiled twice, once per flag. Copies ``H * P`` integers, once per call.
-    """
-    return np.require(a, dtype=np.int64, requirements=["C", "W"])
-
-
 # ------------------------------------------------------------------------------ the contract
 class Association:
     """Base class of association methods: marginals ``assoc(problem, rng)`` and, for the
@@ -568,14 +558,14 @@ class _Sampled(Association):
     def _result(self, problem, res):
         """Marginals of a sampler's result, of the problem's kind."""
         if _is_multi(problem):
-            dead, tup = multisensor_marginals(problem, _writable(res.assignments), res.costs,
+            dead, tup = multisensor_marginals(problem, res.assignments, res.costs,
                                               self.marginals)
             if self.method == "componentwise" and self.marginals == "truncated":
                 dead, tup = split_collapsed(problem, dead, tup)
             return MultiSensorAssociationResult(
                 dead=dead, tuples=tup, invocations=1, sweeps=int(res.n_observations),
                 row_updates=int(res.n_row_updates), n_unique=int(len(res.costs)))
-        beta = single_marginals(problem, _writable(res.assignments), res.costs, self.marginals)
+        beta = single_marginals(problem, res.assignments, res.costs, self.marginals)
         return AssociationResult(
             beta=beta, invocations=1, sweeps=int(res.n_observations),
             row_updates=int(res.n_row_updates), n_unique=int(len(res.costs)))

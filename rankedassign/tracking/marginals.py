@@ -212,6 +212,16 @@ def marginals_from_hypotheses(
     return single_marginals(problem, a, c, marginals)
 
 
+def _writable(a) -> np.ndarray:
+    """Assignments as a C-contiguous, writable int64 array (copied only when they are not).
+
+    numba compiles a read-only array as a type of its own: a sampler's assignments are
+    read-only, Murty's and the oracle's writable, so the marginals' kernels would be compiled
+    twice, once per flag. Copies ``H * P`` integers at most, once per call.
+    """
+    return np.require(a, dtype=np.int64, requirements=["C", "W"])
+
+
 def single_marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, method: str):
     """:func:`marginals_from_hypotheses` on inputs already checked (a sampler's own output).
 
@@ -243,9 +253,7 @@ def single_marginals(problem: AssignmentProblem, a: np.ndarray, c: np.ndarray, m
     lw = -c - (-c).max()
     w = np.exp(lw)
     w /= w.sum()
-    a = np.ascontiguousarray(a, dtype=np.int64)
-    if not a.flags.writeable:  # a sampler's read-only assignments: one signature of the kernels
-        a = a.copy()
+    a = _writable(a)
     if method == "rao-blackwell":
         C = np.ascontiguousarray(problem.cost, dtype=np.float64)
         finite = np.isfinite(C[:, :M])
@@ -518,7 +526,7 @@ def multisensor_marginals(problem: MultiSensorProblem, g: np.ndarray, c: np.ndar
     lw = -c - (-c).max()
     w = np.exp(lw)
     w /= w.sum()
-    g = np.ascontiguousarray(g, dtype=np.int64)
+    g = _writable(g)
     if method == "rao-blackwell":
         la = problem.log_eta_alive.reshape(P, n_t)
         finite = np.isfinite(la)
