@@ -8,6 +8,8 @@ columns of the ``P x (M + 2P)`` layout (``M + i`` missed, ``M + P + i`` dead for
 
 * :func:`murty_compact_kernel` ``(cc, k)``: the ``min(k, |Γ|)`` best assignments and their
   costs, ``k >= 1``, bit for bit those of :func:`oracle.murty` on the same problem;
+  :data:`murty_compact_inline` is the same kernel for a compiled caller to write into itself
+  (numba's ``inline="always"``), so that its search is compiled only as part of the caller;
 * :func:`count_slice` ``(cc, cap, used, opt, at, budget)``: counts feasible assignments by
   depth-first search, stopping past ``cap`` (start from ``used`` all False, ``opt`` all
   :data:`NO_OPTION`, ``at`` zero);
@@ -38,6 +40,7 @@ Examples
 from __future__ import annotations
 
 from ._kernels.enumeration import NO_OPTION, count_slice, enumerate_sorted_kernel
-from ._kernels.murty import murty_compact_kernel
+from ._kernels.murty import murty_compact_inline, murty_compact_kernel
 
-__all__ = ["murty_compact_kernel", "count_slice", "enumerate_sorted_kernel", "NO_OPTION"]
+__all__ = ["murty_compact_kernel", "murty_compact_inline", "count_slice", "enumerate_sorted_kernel",
+           "NO_OPTION"]

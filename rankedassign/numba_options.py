@@ -300,7 +300,7 @@ def jit(*, parallel: bool = False, cache: bool | None = None, inline: str = "nev
 
 
 def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
-                cache: bool | None = None, nrt: bool = True):
+                cache: bool | None = None, nrt: bool = True, inline: str = "never"):
     """Compile a copy of the plain function ``template`` whose globals include ``bindings``.
 
     This is how one generic kernel (the chain driver of :mod:`rankedassign.engine._kernels`) is
@@ -319,6 +319,8 @@ def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
     bindings : dict
         Global names to add or override for this instantiation.
     parallel, cache, nrt : bool
+        As in :func:`jit`.
+    inline : {"never", "always"}, optional
         As in :func:`jit`.
 
     Returns
@@ -342,7 +344,7 @@ def instantiate(template, name: str, bindings: dict, *, parallel: bool = False,
     func.__module__ = template.__module__
     func.__qualname__ = name
     func.__kwdefaults__ = template.__kwdefaults__
-    return jit(parallel=parallel, cache=cache, nrt=nrt)(func)
+    return jit(parallel=parallel, cache=cache, nrt=nrt, inline=inline)(func)
 
 
 @contextmanager

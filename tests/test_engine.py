@@ -140,10 +140,10 @@ def test_the_parallel_speculation_compiles_the_chain_once():
 
 @pytest.mark.skipif(config.DISABLE_JIT, reason="compiled signatures only")
 def test_a_sequential_run_compiles_no_speculation():
-    """A run without speculation (``batch == 0``, one worker: the filters' case) has a start
-    and slice of its own that never call the parallel loop, so its first call compiles neither
-    the loop nor the second copy of the kind's sweep (:func:`_speculate_chain`); a speculative
-    run afterwards compiles them and gives the same bits. A run that never fills its unique
+    """A run without speculation (``batch == 0``, one worker: the filters' case) has a slice
+    of its own that never calls the parallel loop, so its first call compiles neither the loop
+    nor the second copy of the kind's sweep (:func:`_speculate_chain`); a speculative run
+    afterwards compiles them and gives the same bits. A run that never fills its unique
     set compiles no growth either (``U`` grows between slices, from Python; the runs that
     grow it are in ``tests/test_interrupt.py``)."""
     run = make_driver("engine_test_sequential", _alloc, _reset, _sweep, work=_Work, cache=False)
@@ -151,9 +151,10 @@ def test_a_sequential_run_compiles_no_speculation():
     args = (_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 40, 5, Rules(0, 0, 0, 0))
     seq = run(*args, 0, 1)
     k = run.kernels
-    assert len(k["start_sequential"].signatures) == 1
+    assert len(k["new_run"].signatures) == 1
+    assert len(k["run_slice_sequential"].signatures) == 1
     assert len(k["advance"].signatures) == 1
-    for name in ("start", "run_slice", "speculate", "speculate_chain", "grow_run"):
+    for name in ("run_slice", "speculate", "speculate_chain", "grow_run"):
         assert not k[name].signatures, name
     par = run(*args, 4, 2)
     assert len(k["speculate_chain"].signatures) == 1

@@ -68,12 +68,12 @@ from collections import namedtuple
 
 import numpy as np
 
-from rankedassign.numba_options import jit
+from rankedassign.numba_options import instantiate, jit
 
 from .lsap import HUB, UNASSIGNED
 
-__all__ = ["murty_compact_kernel", "murty_start", "murty_slice", "grow_search",
-           "search_output", "pack_search", "unpack_search", "compact_costs",
+__all__ = ["murty_compact_kernel", "murty_compact_inline", "murty_start", "murty_slice",
+           "grow_search", "search_output", "pack_search", "unpack_search", "compact_costs",
            "murty_compact_start", "CompactCosts", "Search", "PathWork", "Tree", "Forbidden",
            "Solutions", "Ranking", "PartitionWork", "DONE", "PAUSED", "FULL"]
 
@@ -1860,9 +1860,11 @@ def search_output(search):
     return out, out_cost
 
 
-@jit()
+@jit(inline="always")
 def murty_start(cs, k, budget):
-    """:func:`new_search` and its first ``budget`` iterations (:func:`murty_slice`).
+    """:func:`new_search` and its first ``budget`` iterations (:func:`murty_slice`), written
+    into :func:`murty_compact_start` (``inline="always"``), so that the search is compiled
+    into that one entry and not optimised once more for this one.
 
     Parameters
     ----------
@@ -1883,11 +1885,11 @@ def murty_start(cs, k, budget):
     if not ok:
         return np.empty((0, P), dtype=np.int64), np.empty(0), None
     costs = cs[:]
-    status = murty_slice(costs, search, k, budget)
+    status = _murty_slice_inline(costs, search, k, budget)
     while status == FULL:
         search = grow_search(search, k)
         done = unpack_search(search).state[S_ITER]
-        status = murty_slice(costs, search, k, max(1, budget - done))
+        status = _murty_slice_inline(costs, search, k, max(1, budget - done))
     if status == DONE:
         out, out_costs = search_output(search)
         return out, out_costs, None
@@ -1992,3 +1994,19 @@ def murty_compact_kernel(cc, k):
     while not _search(cs, unpack_search(search), k, unbounded):
         search = grow_search(search, k)  # only an array can be full: the budget is unbounded
     return search_output(search)
+
+
+#: :func:`murty_compact_kernel` written into its caller (numba's ``inline="always"``), for a
+#: compiled loop that ranks many problems (the δ-GLMB filter's components). Called as a
+#: function of its own, the kernel's whole search (:func:`_search` and the functions around
+#: it, linked into it) is optimised and compiled once more for it and once more for the loop;
+#: written in, only for the loop. A first δ-GLMB step with Murty took 4–7 s less (see
+#: ``benchmarks/README.md``, "Ninth pass"); the code that runs is the same.
+murty_compact_inline = instantiate(getattr(murty_compact_kernel, "py_func", murty_compact_kernel),
+                                   "murty_compact_inline", {}, inline="always")
+
+#: :func:`murty_slice` written into :func:`murty_start` (which is written into
+#: :func:`murty_compact_start`): the first call of :func:`oracle.murty` compiles the search
+#: into one entry, and :func:`murty_slice` only when a ranking needs a second slice.
+_murty_slice_inline = instantiate(getattr(murty_slice, "py_func", murty_slice),
+                                  "murty_slice_inline", {}, inline="always")

@@ -24,7 +24,7 @@ state is a flat ``int32`` vector of length ``L`` whose values index the columns 
 Zobrist table ``zkeys`` of shape ``(L, K)``.
 
 How it is generic. :func:`_speculate`, :func:`_speculate_chain`, :func:`_advance`,
-:func:`_new_run`, :func:`_run_slice`, :func:`_start`, :func:`_pack`, :func:`_unpack` and
+:func:`_new_run`, :func:`_run_slice`, :func:`_pack`, :func:`_unpack` and
 :func:`_grow_run` below are plain Python templates that call the three functions above (and
 each other) by their global names; :func:`rankedassign.numba_options.instantiate` compiles a
 copy of each template whose globals bind those names to the problem's compiled functions.
@@ -48,9 +48,11 @@ run's state, a :class:`Run` of arrays (packed into plain tuples, :func:`_pack`, 
 crosses into Python), and each call of :func:`_run_slice` continues it where the last one
 stopped. A slice stops only between two observations or between two speculation steps, and
 keeps every position in ``Run.pos``, so the slices together perform exactly the operations of
-one unbounded call: the result is the same bit for bit for every budget. The first slice runs
-inside :func:`_start`, which hands the state back only if the run is not over (a run that
-fits one slice costs one call, as before); the later slices return two integers and no array,
+one unbounded call: the result is the same bit for bit for every budget. Python calls
+:func:`_new_run` and then :func:`_run_slice` for every slice, the first included: a compiled
+entry that ran both would have the whole driver optimised and compiled once more for itself
+(numba compiles a callee's code again into each caller), a few seconds of every first call
+for a few microseconds of every run. The slices return two integers and no array,
 so a signal that arrives during one is raised as itself in the Python loop between slices
 (boxing an array runs Python code inside numba's return path, where a signal handler's
 exception becomes a ``SystemError``; see :data:`rankedassign.numba_options.interruptible`;
@@ -1606,45 +1608,6 @@ def _run_slice(data, zkeys, x0, base, n_chains, chain_length, rules, batch, work
     return DONE, left
 
 
-def _start(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget):
-    """A new run and its first slice of ``budget`` sweeps (:func:`_run_slice`).
-
-    Returns ``(states, counts, ctr, None, DONE)`` as documented in :func:`make_driver` when
-    the run ends within the budget (one call, no state handed back: the common case costs what
-    a run in one call costs), else ``(empty, empty, ctr, run, status)`` with the packed
-    :class:`Run` to continue (:func:`_pack`) and the slice's status (:data:`NEED_ROOM`: grow
-    ``U`` with :func:`_grow_run` first; the caller does, so that a run that never fills ``U``
-    never compiles the growth).
-
-    Parameters
-    ----------
-    data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers, budget
-        As in :func:`_run_slice`.
-
-    Returns
-    -------
-    states : ndarray of int32, shape (n, L)
-        The unique states in discovery order (empty when the run continues).
-    counts : ndarray of int64, shape (n,)
-        Their visit counts (empty when the run continues).
-    ctr : ndarray of int64, shape (N_COUNTERS,)
-        The run's counters.
-    run : tuple or None
-        The packed run to continue, or None when it is over.
-    status : int
-        :data:`DONE`, :data:`PAUSED` or :data:`NEED_ROOM`.
-    """
-    run = _new_run_impl(data, zkeys, x0, n_chains, chain_length, batch, workers)
-    status, left = _run_slice_impl(data, zkeys, x0, base, n_chains, chain_length, rules,
-                                   batch, workers, budget, run)
-    r = _unpack_impl(run)
-    U = r.U
-    if status == DONE:
-        n = r.ctr[NU]
-        return U.states[:n].copy(), U.counts[:n].copy(), r.ctr, None, status
-    return U.states[:0].copy(), U.counts[:0].copy(), r.ctr, run, status
-
-
 def _as_record(fields):
     """The workspace record ``Work`` of its fields (template of :func:`make_driver`'s
     ``as_work``).
@@ -1717,12 +1680,12 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
           n_chains_run, stale_run, stale_cumulative, stale_fired,
           n_speculative_discarded]``;
 
-        the same bits for every ``budget``. Its attribute ``kernels`` maps ``"start"``,
+        the same bits for every ``budget``. Its attribute ``kernels`` maps ``"new_run"``,
         ``"run_slice"``, ``"speculate"``, ``"speculate_chain"`` and ``"advance"`` to the
         compiled functions behind it (to inspect their signatures), and
-        ``"start_sequential"`` and ``"run_slice_sequential"`` to the start and slice of a
-        run with ``batch == 0``, which never speculate: a process that runs only
-        sequentially compiles neither :func:`_speculate` nor :func:`_speculate_chain`;
+        ``"run_slice_sequential"`` to the slice of a run with ``batch == 0``, which never
+        speculates: a process that runs only sequentially compiles neither
+        :func:`_speculate` nor :func:`_speculate_chain`;
         ``"grow_run"`` to :func:`_grow_run`, compiled by the first run that fills its unique
         set.
 
@@ -1781,10 +1744,7 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
                             {"_speculate_impl": spec, "_advance_impl": adv,
                              "_unpack_impl": unpack, "reset_work": reset_work,
                              "chain_done": chain_done}, cache=cache)
-    start = instantiate(_start, f"start_{name}",
-                        {"_new_run_impl": new_run, "_run_slice_impl": run_slice,
-                         "_unpack_impl": unpack}, cache=cache)
-    # A sequential run (batch == 0) has a start and a slice of its own that never speculate:
+    # A sequential run (batch == 0) has a slice of its own that never speculates:
     # the same code with the speculation bound to a no-op, so that its first call compiles
     # neither the parallel loop nor the second copy of the sweep. Same operations, same bits.
     no_spec = instantiate(no_speculation, f"no_speculation_{name}", {}, cache=cache)
@@ -1792,23 +1752,19 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
                                 {"_speculate_impl": no_spec, "_advance_impl": adv,
                                  "_unpack_impl": unpack, "reset_work": reset_work,
                                  "chain_done": chain_done}, cache=cache)
-    start_seq = instantiate(_start, f"start_sequential_{name}",
-                            {"_new_run_impl": new_run, "_run_slice_impl": run_slice_seq,
-                             "_unpack_impl": unpack}, cache=cache)
 
     def run_chains(data, zkeys, x0, base, n_chains, chain_length, rules, batch, workers,
                    budget=DEFAULT_BUDGET):
         budget = max(1, int(budget))
-        first, step = (start, run_slice) if batch > 0 else (start_seq, run_slice_seq)
-        with interruptible:  # the first slice, and growing U, return arrays
-            states, counts, ctr, run, status = first(data, zkeys, x0, base, n_chains,
-                                                     chain_length, rules, batch, workers,
-                                                     budget)
-            if run is None:
-                return states, counts, ctr
-            # Later slices return two integers and no array (see the module docstring); a
+        step = run_slice if batch > 0 else run_slice_seq
+        with interruptible:  # the new run, and growing U, return arrays
+            # Two calls, not one compiled entry that makes the run and its first slice (see
+            # the module docstring, "Slices"). A slice returns two integers and no array; a
             # signal handler's exception is raised here, between two slices. U grows here,
             # between slices, so that a run that never fills it never compiles the growth.
+            run = new_run(data, zkeys, x0, n_chains, chain_length, batch, workers)
+            status, _ = step(data, zkeys, x0, base, n_chains, chain_length, rules, batch,
+                             workers, budget, run)
             while status != DONE:
                 if status == NEED_ROOM:
                     run = grow(run)
@@ -1819,9 +1775,9 @@ def make_driver(name, alloc_work, reset_work, sweep, *, work=None, chain_done=No
         return states[:n].copy(), counts[:n].copy(), ctr
 
     run_chains.__name__ = run_chains.__qualname__ = f"run_chains_{name}"
-    run_chains.kernels = {"start": start, "run_slice": run_slice, "speculate": spec,
+    run_chains.kernels = {"new_run": new_run, "run_slice": run_slice, "speculate": spec,
                           "speculate_chain": chain, "advance": adv,
-                          "start_sequential": start_seq, "run_slice_sequential": run_slice_seq,
+                          "run_slice_sequential": run_slice_seq,
                           "grow_run": grow}
     run_chains.__doc__ = f"The chain driver of the {name!r} problem type (see make_driver)."
     return run_chains

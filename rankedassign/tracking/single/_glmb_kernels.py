@@ -45,7 +45,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_kernel
+from oracle.kernels import NO_OPTION, count_slice, enumerate_sorted_kernel, murty_compact_inline
 
 from ...engine._kernels import (
     Rules,
@@ -303,7 +303,8 @@ def ranked_components(comp_off, comp_tracks, births, cc_all, gated, n_want, exac
         :func:`count_components`.
     exact : bool
         Enumerate every assignment (:func:`oracle.kernels.enumerate_sorted_kernel`) instead of
-        Murty's search (:func:`oracle.kernels.murty_compact_kernel`).
+        Murty's search (:func:`oracle.kernels.murty_compact_kernel`, written into the loop:
+        :data:`oracle.kernels.murty_compact_inline`).
     h0, h1 : int
         The components, ``0 <= h0 <= h1 <= H``.
 
@@ -374,7 +375,7 @@ def _ranked(comp_off, comp_tracks, births, cc_all, gated, n_want, h0, h1):
 
 #: :func:`ranked_components`' loop over Murty's ``k`` best of each component.
 _ranked_murty = instantiate(_ranked, "ranked_components_murty",
-                            {"_rank_component": murty_compact_kernel})
+                            {"_rank_component": murty_compact_inline})
 #: :func:`ranked_components`' loop over the sorted enumeration of each component.
 _ranked_enumerated = instantiate(_ranked, "ranked_components_enumerated",
                                  {"_rank_component": enumerate_sorted_kernel})
