@@ -9,7 +9,8 @@ Run it in a fresh process with an empty numba cache, one call per process::
 ...))`` and of ``LMBFilter(..., ShortChainGibbs(400, 25, ...))`` on three measurements) or
 ``ssc-single``, ``ssc-multisensor``, ``ssc-adaptive_birth`` (the first
 ``sample_short_chains(problem, 100, 20, tau_stall=5, tau_stale=10)`` on a small problem of
-that kind). It prints the CPU seconds of the process (import included) and, from numba's
+that kind) or ``oracle-murty`` (``oracle.murty(synthetic.random(R=4, M=6, rng=0), 10)``,
+then ``k = 20``). It prints the CPU seconds of the process (import included) and, from numba's
 ``numba:compile`` events, per kernel (its ``__qualname__``; two kernels of one name in
 different modules are summed): the compile CPU with the kernels it compiled inside it
 (``incl``), without them (``excl``), and the number of compiles (``n``, one per signature).
@@ -50,7 +51,7 @@ event.register("numba:compile", _Listener())
 import numpy as np  # noqa: E402
 
 CALLS = ("glmb-murty", "glmb-short", "lmb-short", "ssc-single", "ssc-multisensor",
-         "ssc-adaptive_birth")
+         "ssc-adaptive_birth", "oracle-murty")
 
 
 def _filter_steps(call):
@@ -94,11 +95,25 @@ def _first_sample(call):
     return t1 - t, time.perf_counter() - t1
 
 
+def _oracle_murty(call):
+    import oracle
+    from rankedassign import synthetic
+
+    p = synthetic.random(R=4, M=6, rng=0)
+    t = time.perf_counter()
+    oracle.murty(p, 10)
+    t1 = time.perf_counter()
+    oracle.murty(p, 20)
+    return t1 - t, time.perf_counter() - t1
+
+
 def main(call, top=15):
     if call not in CALLS:
         raise SystemExit(f"first_call_compile.py: unknown call {call!r}; choose from "
                          + ", ".join(CALLS))
-    first, second = (_first_sample if call.startswith("ssc-") else _filter_steps)(call)
+    run = (_first_sample if call.startswith("ssc-") else
+           _oracle_murty if call == "oracle-murty" else _filter_steps)
+    first, second = run(call)
     ru = resource.getrusage(resource.RUSAGE_SELF)
     print(f"{call}: first call {first:.1f} s wall, second {second * 1e3:.1f} ms, "
           f"CPU of the process {ru.ru_utime + ru.ru_stime:.1f} s, "
