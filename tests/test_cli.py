@@ -234,6 +234,7 @@ def test_the_report_names_the_studies_it_left_out():
     assert "`rankedassign reproduce --all` runs every study" in line
 
 
+@pytest.mark.e2e
 def test_sigterm_is_handled_as_an_interrupt(tmp_path):
     # a run long enough to be inside a study when the signal arrives
     cfg = tmp_path / "long.json"
@@ -265,6 +266,7 @@ def test_sigterm_is_handled_as_an_interrupt(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "stderr.txt"]
 
 
+@pytest.mark.e2e
 def test_a_second_sigterm_ends_a_run_with_workers_at_once(tmp_path):
     # the hard exit kills the workers and removes the lock and the partial report; the pool's
     # semaphores are unlinked first, so the resource tracker reports none as leaked
@@ -341,6 +343,7 @@ def test_reproduce_force_refuses_unrelated_directory(tmp_path, capsys):
     assert (out / "thesis.tex").read_text() == "precious"
 
 
+@pytest.mark.e2e
 def test_reproduce_unreachable_scheduler(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr("rankedassign.experiments._executor.DASK_CONNECT_TIMEOUT", 1.0)
     out = tmp_path / "r"
@@ -459,6 +462,7 @@ def test_reproduce_config_file_that_is_not_a_file(tmp_path, capsys, monkeypatch)
         "file is a JSON object of a few studies' settings\n")
 
 
+@pytest.mark.e2e
 def test_console_entry_point_exit_code(tmp_path):
     # The real process: argparse errors and ours both end with status 2 and a stderr message.
     proc = subprocess.run(
@@ -523,6 +527,7 @@ def _no_leftovers(parent):
     return [p.name for p in parent.iterdir() if p.name.startswith(".")] == []
 
 
+@pytest.mark.e2e
 def test_several_studies_on_two_workers_warm_up_together_and_match_one_worker(
         tmp_path, tiny_config, capsys):
     # two workers prepare the kernels of every study of the run at once (the later studies'
@@ -544,6 +549,7 @@ def test_several_studies_on_two_workers_warm_up_together_and_match_one_worker(
     assert runs["1"] == runs["2"]
 
 
+@pytest.mark.e2e
 def test_reproduce_writes_complete_report(tmp_path, tiny_config, capsys):
     import csv
 

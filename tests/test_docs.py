@@ -217,6 +217,7 @@ def test_code_block_parser():
     assert blocks[0][2] == "x = 1\n"
 
 
+@pytest.mark.e2e
 def test_mkdocs_build_strict(tmp_path):
     # mkdocs, Material and mkdocstrings are in the "test" extra, so the README's test command
     # always builds the site strictly. Not with --quiet: it drops the warnings before mkdocs

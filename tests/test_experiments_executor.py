@@ -43,6 +43,7 @@ def test_run_tasks_serial_keeps_order():
     assert run_tasks(operator.add, [], progress=False) == []
 
 
+@pytest.mark.e2e
 def test_run_tasks_process_pool_matches_serial():
     tasks = [(i, 10 * i) for i in range(7)]
     serial = run_tasks(operator.add, tasks, progress=False)
@@ -104,6 +105,7 @@ def test_local_executor_serial_and_bad_workers():
             pass
 
 
+@pytest.mark.e2e
 def test_dask_unreachable_scheduler():
     with pytest.raises(SchedulerError, match="could not connect to the Dask scheduler"):
         with dask_executor("tcp://127.0.0.1:9", timeout=1.0):
@@ -134,6 +136,7 @@ def _junk_server():
     return srv
 
 
+@pytest.mark.e2e
 def test_dask_scheduler_that_sends_junk_fails_within_the_timeout():
     # issue: junk bytes read as a frame length gave "Unable to allocate 2.82 EiB"
     import time
@@ -152,6 +155,7 @@ def test_dask_scheduler_that_sends_junk_fails_within_the_timeout():
     assert time.monotonic() - t0 < 2.0 + 30  # the timeout plus importing distributed
 
 
+@pytest.mark.e2e
 def test_dask_scheduler_that_is_a_web_server_fails_within_the_timeout(tmp_path):
     # issue: `python -m http.server` as the scheduler hung for more than 90 s
     import socket
@@ -187,6 +191,7 @@ def test_dask_scheduler_that_is_a_web_server_fails_within_the_timeout(tmp_path):
         web.wait()
 
 
+@pytest.mark.e2e
 def test_an_interrupt_with_cancelled_tasks_queued_leaves_no_traceback(capfd):
     """Ending the workers while the pool still queues cancelled tasks: the pool's management
     thread neither meets a missing work item (KeyError) nor sets an exception on a cancelled

@@ -77,6 +77,7 @@ def test_the_check_below_covers_every_plot_of_the_report():
     assert sum(len(v) for v in PLOTS.values()) == 17
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("name", [n for n in study_names() if get_study(n).plot is not None])
 def test_every_plot_of_the_report_reads_at_a_glance(name, tmp_path, monkeypatch):
     st = get_study(name)

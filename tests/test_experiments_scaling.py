@@ -66,6 +66,7 @@ def test_a_run_is_a_record_that_reads_back_from_json(runs):
         ScalingRun.from_dict({**runs[0].to_dict(), "ospa": 1.0})
 
 
+@pytest.mark.e2e
 def test_a_dask_cluster_gives_the_serial_runs():
     # Monte Carlo runs of the study on a Dask cluster (worker processes, as with
     # --dask-scheduler) give the serial runs: every field but the wall times and the workers'

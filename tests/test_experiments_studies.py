@@ -117,6 +117,7 @@ def test_table1_random_matrix_redrawn_and_errors_exact(table1):
     assert rs[1].original.error == oracle.truncation_error(p, res.assignments)
 
 
+@pytest.mark.e2e
 def test_table1_same_seed_same_numbers_any_executor(table1):
     rows, runs = table1
     again = run_study("table1", Table1Config(**TINY), seed=11, progress=False)
@@ -129,6 +130,7 @@ def test_table1_same_seed_same_numbers_any_executor(table1):
     assert other != rows
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("processes", [False, True])
 def test_dask_cluster_matches_serial(processes):
     distributed = pytest.importorskip("distributed")
@@ -872,8 +874,11 @@ def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     st = get_study("glmb_tracking")
     tasks = st.tasks(st.warm(study_config(quick, st)), 0)
     groups = {st.warm_group(t) for t in tasks}
-    # one group per method run (the same method on both presets compiles the same kernels)
-    assert groups <= set(study_config(quick, st).filter_truncations) and len(groups) >= 7
+    # one group per method run (the same method on both presets compiles the same kernels),
+    # and one for every Murty truncation (each compiles Murty's search)
+    methods = set(study_config(quick, st).filter_truncations)
+    assert "murty" in groups and groups - {"murty"} <= methods and len(groups) >= 6
+    assert {st.warm_group(t) for t in tasks if t[3][1].startswith("murty")} == {"murty"}
     assert len(tasks) > len(groups)
 
 

@@ -753,6 +753,7 @@ def _alive(pid: int) -> bool:
 needs_proc = pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs Linux /proc")
 
 
+@pytest.mark.e2e
 def test_cli_force_never_deletes_a_folder_with_a_foreign_manifest(tmp_path):
     w = tmp_path / "w"
     (w / "src").mkdir(parents=True)
@@ -764,6 +765,7 @@ def test_cli_force_never_deletes_a_folder_with_a_foreign_manifest(tmp_path):
     assert (w / "src" / "app.js").read_text() == "x"
 
 
+@pytest.mark.e2e
 @needs_proc
 def test_cli_a_folder_made_at_out_during_the_run_survives(tmp_path):
     out = tmp_path / "r3"
@@ -781,6 +783,7 @@ def test_cli_a_folder_made_at_out_during_the_run_survives(tmp_path):
     assert f"the finished report is kept in '{kept[0]}'" in run.err
 
 
+@pytest.mark.e2e
 @needs_proc
 def test_cli_a_second_run_into_the_same_out_is_refused_and_names_the_first(tmp_path):
     out = tmp_path / "r"
@@ -799,6 +802,7 @@ def test_cli_a_second_run_into_the_same_out_is_refused_and_names_the_first(tmp_p
         "first.stderr", "long.json", "second.stderr"]
 
 
+@pytest.mark.e2e
 @needs_proc
 @pytest.mark.parametrize(("sig", "code", "word"), [
     (signal.SIGTERM, 143, "terminated (SIGTERM)"), (signal.SIGINT, 130, "interrupted")])
@@ -824,6 +828,7 @@ def test_cli_a_signal_inside_a_long_kernel_ends_the_run_within_seconds(tmp_path,
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.json", "run.stderr"]
 
 
+@pytest.mark.e2e
 @needs_proc
 def test_cli_sigkill_leaves_a_partial_report_that_the_next_run_removes(tmp_path):
     out = tmp_path / "r"

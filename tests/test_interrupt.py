@@ -225,6 +225,7 @@ def latencies():
     return out
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_a_signal_ends_a_huge_call_promptly(latencies, name):
     exc, seconds = latencies[name]
@@ -232,6 +233,7 @@ def test_a_signal_ends_a_huge_call_promptly(latencies, name):
     assert seconds < BOUND
 
 
+@pytest.mark.e2e
 def test_a_signal_during_the_multisensor_tracking_study_ends_it_like_any_other(tmp_path):
     """The issue's item 5: SIGINT during ``multisensor_tracking`` (most of its time is spent
     in kernels that return arrays) ended in ``SystemError: CPUDispatcher(...) returned a
@@ -594,6 +596,7 @@ def _cli_child(tmp_path, mode):
     return child, work, marks
 
 
+@pytest.mark.e2e
 def test_a_sigterm_handled_inside_a_finaliser_still_stops_the_run(tmp_path):
     # issue: the handler raised in the finaliser, Python printed "Exception ignored in ..." and
     # the run went on (exit 0); a later SIGKILL left .<out>.lock and .<out>.partial-*
@@ -611,6 +614,7 @@ def test_a_sigterm_handled_inside_a_finaliser_still_stops_the_run(tmp_path):
     assert list(work.iterdir()) == []  # no report, no lock, no partial report
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
 def test_a_second_signal_ends_a_run_whose_first_cannot_be_acted_on(tmp_path, signum):
     child, work, marks = _cli_child(tmp_path, "second")

@@ -43,6 +43,7 @@ def _compiles_in_a_new_process(body: str) -> list[str]:
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.e2e
 def test_a_second_process_compiles_no_sampler_kernel():
     # the session fixture ran warmup() in this process: every kernel it needs is cached
     assert _compiles_in_a_new_process("from rankedassign import warmup; warmup()") == []
@@ -63,6 +64,7 @@ _FIRST_STEPS = textwrap.dedent("""
 """)
 
 
+@pytest.mark.e2e
 def test_a_second_process_compiles_nothing_for_a_filters_first_step():
     # the first process loads what the suite has compiled and compiles what is missing (about a
     # minute with an empty cache); the second must load every kernel of the three first steps
