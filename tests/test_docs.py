@@ -219,8 +219,8 @@ def test_code_block_parser():
 
 @pytest.mark.e2e
 def test_mkdocs_build_strict(tmp_path):
-    # mkdocs, Material and mkdocstrings are in the "test" extra, so the README's test command
-    # always builds the site strictly. Not with --quiet: it drops the warnings before mkdocs
+    # mkdocs, Material and mkdocstrings are in the "test" extra, so `pytest -m e2e` (CI's
+    # end-to-end tier) always builds the site strictly. Not with --quiet: it drops the warnings before mkdocs
     # counts them, and a strict build with --quiet passes whatever they say.
     proc = subprocess.run(
         [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir",
