@@ -19,6 +19,13 @@ switched in one place:
     because the waiting threads burnt the cycles the busy core's share needed. Set the
     variable yourself before importing :mod:`rankedassign` to choose otherwise.
 
+``RANKEDASSIGN_NUMBA_INLINE_COPY``
+    ``"1"`` (default) makes numba's inliner copy an inlined function's IR in one deep copy
+    instead of one per block (each of which copied every variable of the function again: the
+    quadratic cost of numba issue #8989, most of the compile time of the largest kernels here);
+    the code numba compiles is the same. ``"0"`` leaves numba's inliner as it is. Applied only
+    to the numba text it was written for: :data:`INLINE_COPY_AT_ONCE` says whether it was.
+
 ``fastmath`` is always off: the sampler kernels must agree bit for bit with the pure-Python
 reference (:mod:`rankedassign.reference`), and fast-math reassociation would break that.
 Setting ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the coverage run does).
@@ -72,8 +79,8 @@ from pathlib import Path
 import numba
 from numba.core import caching as _caching
 
-__all__ = ["CACHE", "KERNEL_PACKAGES", "jit", "threads", "instantiate", "source_digest",
-           "kernel_sources",
+__all__ = ["CACHE", "INLINE_COPY_AT_ONCE", "KERNEL_PACKAGES", "jit", "threads", "instantiate",
+           "source_digest", "kernel_sources",
            "interruptible", "signal_exception"]
 
 CACHE = os.environ.get("RANKEDASSIGN_NUMBA_CACHE", "1") != "0"
@@ -106,6 +113,68 @@ else:
     if not getattr(_caching.IndexDataCacheFile.save, "_rankedassign_locked", False):
         _locked_save._rankedassign_locked = True
         _caching.IndexDataCacheFile.save = _locked_save
+
+# numba's inliner copies the callee's IR one block at a time, each block with its own deep copy,
+# and a block refers to the function's scope, so every block's copy copies every variable of
+# the function again: blocks x variables. For the largest kernels here (the multi-sensor herded
+# sweep, 591 blocks and 5 278 variables, written into its driver) those copies were most of the
+# compile time (numba issue #8989; numba-cuda issues #688 and #689 describe the same cost).
+# The same copy made with one deep copy of all the blocks shares one copy of the scope, as the
+# callee's own blocks do. The rewrite is applied only where numba's text is exactly the one
+# below (otherwise numba is left alone), and ``RANKEDASSIGN_NUMBA_INLINE_COPY=0`` leaves it
+# alone too. Measured (``rankedassign precompile``, empty cache, 2 cores): 203 s and 400 s of
+# CPU before, 147 s and 288 s of CPU after; the compiled code is the same (the tests compare
+# numba's LLVM IR with and without it, and the suite's digests pin every result).
+_INLINE_COPY_PER_BLOCK = """        kernel_copy.blocks = {}
+        for block_label, block in the_ir.blocks.items():
+            new_block = copy.deepcopy(the_ir.blocks[block_label])
+            kernel_copy.blocks[block_label] = new_block
+        return kernel_copy"""
+_INLINE_COPY_AT_ONCE = """        kernel_copy.blocks = copy.deepcopy(the_ir.blocks)
+        return kernel_copy"""
+
+
+def _one_copy_inliner() -> bool:
+    """Make numba's inliner copy a callee's blocks in one deep copy; ``True`` if it now does.
+
+    See the comment above. ``False`` when ``RANKEDASSIGN_NUMBA_INLINE_COPY=0`` or when this
+    numba's ``InlineWorker.inline_ir`` is not the text the rewrite was made for.
+    """
+    if os.environ.get("RANKEDASSIGN_NUMBA_INLINE_COPY", "1") == "0":
+        return False
+    import inspect
+    import textwrap
+
+    from numba.core import inline_closurecall as closurecall
+
+    worker = closurecall.InlineWorker
+    if getattr(worker.inline_ir, "_rankedassign_one_copy", False):
+        return True
+    try:
+        text = textwrap.dedent(inspect.getsource(worker.inline_ir))
+    except (OSError, TypeError):  # pragma: no cover (numba installed without its sources)
+        return False
+    if text.count(_INLINE_COPY_PER_BLOCK) != 1 or worker.inline_ir.__code__.co_freevars:
+        return False
+    import linecache
+
+    text = text.replace(_INLINE_COPY_PER_BLOCK, _INLINE_COPY_AT_ONCE)
+    # a file name of its own, its text in linecache: tracebacks show the rewritten lines
+    filename = "<numba InlineWorker.inline_ir, copied at once by rankedassign.numba_options>"
+    linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
+    namespace: dict = {}
+    exec(compile(text, filename, "exec"), vars(closurecall), namespace)
+    inline_ir = namespace["inline_ir"]
+    inline_ir.__qualname__ = worker.inline_ir.__qualname__
+    inline_ir.__doc__ = worker.inline_ir.__doc__
+    inline_ir._rankedassign_one_copy = True
+    inline_ir._rankedassign_numba = worker.inline_ir  # numba's own
+    worker.inline_ir = inline_ir
+    return True
+
+
+#: Whether numba's inliner copies a callee's blocks in one deep copy (see above).
+INLINE_COPY_AT_ONCE = _one_copy_inliner()
 
 # Read by the OpenMP runtime when numba's thread pool starts (on the first parallel call).
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")

@@ -191,3 +191,100 @@ def test_concurrent_saves_of_one_kernels_cache_keep_every_signature_with_its_own
     for who in ("a", "b"):
         for i in range(150):
             assert cache.load((who, i)) == f"{who}-{i}".encode() * 50, (who, i)
+
+
+_INLINED_KERNEL = '''
+import hashlib, json, sys
+import numpy as np
+from numba import njit
+
+import rankedassign.numba_options as options
+
+
+@njit(inline="always")
+def inner(a, i):
+    s = 0.0
+    for j in range(a.shape[1]):
+        if a[i, j] > 0.5:
+            s += a[i, j] * j
+        else:
+            s -= a[i, j] ** 2
+    return s
+
+
+@njit(inline="always")
+def middle(a):
+    t = 0.0
+    for i in range(a.shape[0]):
+        t += inner(a, i) / (i + 1.0)
+    return t
+
+
+@njit
+def outer(a):
+    return middle(a) - 2.0 * middle(a[::-1])
+
+
+a = np.random.default_rng(0).random((5, 7))
+value = outer(a)
+llvm = "".join(outer.inspect_llvm().values())
+print(json.dumps({"one_copy": options.INLINE_COPY_AT_ONCE, "value": float(value).hex(),
+                  "llvm": hashlib.sha1(llvm.encode()).hexdigest(), "llvm_chars": len(llvm)}))
+'''
+
+
+def _inlined_kernel(tmp_path, one_copy: str) -> dict:
+    import json
+    import os
+    import subprocess
+    import sys
+
+    script = tmp_path / f"inlined_{one_copy}.py"
+    script.write_text(_INLINED_KERNEL)
+    env = {**os.environ, "RANKEDASSIGN_NUMBA_INLINE_COPY": one_copy,
+           "RANKEDASSIGN_NUMBA_CACHE": "0", "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    out = subprocess.run([sys.executable, str(script)], env=env, capture_output=True, text=True,
+                         timeout=300, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_the_inliner_copied_at_once_compiles_the_same_code_as_numbas_own(tmp_path):
+    """``RANKEDASSIGN_NUMBA_INLINE_COPY``: numba's inliner copies a callee's blocks in one deep
+    copy instead of one per block; nested ``inline="always"`` functions compile to the same
+    LLVM IR and the same result as with numba's own inliner."""
+    ours = _inlined_kernel(tmp_path, "1")
+    numbas = _inlined_kernel(tmp_path, "0")
+    assert numbas["one_copy"] is False
+    assert ours["one_copy"] is numba_options.INLINE_COPY_AT_ONCE
+    assert ours["llvm_chars"] > 1000
+    assert (ours["llvm"], ours["value"]) == (numbas["llvm"], numbas["value"])
+
+
+def test_the_inliner_is_rewritten_on_this_numba_and_left_alone_on_another_text(monkeypatch):
+    """The rewrite applies to the numba text it was made for (this numba's), and leaves an
+    ``inline_ir`` of any other text as it is."""
+    import inspect
+    import textwrap
+
+    from numba.core import inline_closurecall as closurecall
+
+    def text(f):
+        return textwrap.dedent(inspect.getsource(f))
+
+    patched = closurecall.InlineWorker.inline_ir
+    assert numba_options.INLINE_COPY_AT_ONCE is True, "numba's inliner text changed"
+    assert patched._rankedassign_one_copy
+    assert numba_options._INLINE_COPY_PER_BLOCK in text(patched._rankedassign_numba)
+    assert numba_options._INLINE_COPY_PER_BLOCK not in text(patched)
+    assert numba_options._INLINE_COPY_AT_ONCE in text(patched)
+
+    def inline_ir(self, caller_ir, block, i, callee_ir, callee_freevars, arg_typs=None):
+        return None  # another numba's text
+
+    monkeypatch.setattr(closurecall.InlineWorker, "inline_ir", inline_ir)
+    assert numba_options._one_copy_inliner() is False
+    assert closurecall.InlineWorker.inline_ir is inline_ir
+    monkeypatch.setenv("RANKEDASSIGN_NUMBA_INLINE_COPY", "0")
+    monkeypatch.setattr(closurecall.InlineWorker, "inline_ir", patched._rankedassign_numba)
+    assert numba_options._one_copy_inliner() is False
