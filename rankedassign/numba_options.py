@@ -69,15 +69,19 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib.util
+import inspect
+import linecache
 import os
 import re
 import sys
+import textwrap
 import types
 from contextlib import contextmanager
 from pathlib import Path
 
 import numba
 from numba.core import caching as _caching
+from numba.core import inline_closurecall as _closurecall
 
 __all__ = ["CACHE", "INLINE_COPY_AT_ONCE", "KERNEL_PACKAGES", "jit", "threads", "instantiate",
            "source_digest", "kernel_sources",
@@ -142,12 +146,7 @@ def _one_copy_inliner() -> bool:
     """
     if os.environ.get("RANKEDASSIGN_NUMBA_INLINE_COPY", "1") == "0":
         return False
-    import inspect
-    import textwrap
-
-    from numba.core import inline_closurecall as closurecall
-
-    worker = closurecall.InlineWorker
+    worker = _closurecall.InlineWorker
     if getattr(worker.inline_ir, "_rankedassign_one_copy", False):
         return True
     try:
@@ -156,14 +155,12 @@ def _one_copy_inliner() -> bool:
         return False
     if text.count(_INLINE_COPY_PER_BLOCK) != 1 or worker.inline_ir.__code__.co_freevars:
         return False
-    import linecache
-
     text = text.replace(_INLINE_COPY_PER_BLOCK, _INLINE_COPY_AT_ONCE)
     # a file name of its own, its text in linecache: tracebacks show the rewritten lines
     filename = "<numba InlineWorker.inline_ir, copied at once by rankedassign.numba_options>"
     linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
     namespace: dict = {}
-    exec(compile(text, filename, "exec"), vars(closurecall), namespace)
+    exec(compile(text, filename, "exec"), vars(_closurecall), namespace)
     inline_ir = namespace["inline_ir"]
     inline_ir.__qualname__ = worker.inline_ir.__qualname__
     inline_ir.__doc__ = worker.inline_ir.__doc__
