@@ -15,6 +15,7 @@ state, not twenty positional arguments").
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -60,8 +61,10 @@ def _parameters(func: ast.FunctionDef) -> int:
     return len(positional) + len(a.kwonlyargs)
 
 
+@functools.cache
 def _functions():
-    """``(path, name, lines of code, parameters)`` of every function of both packages."""
+    """``(path, name, lines of code, parameters)`` of every function of both packages (parsed
+    when a test first asks, not at import: every worker of the suite imports this module)."""
     out = []
     for package in PACKAGES:
         for path in sorted((ROOT / package).rglob("*.py")):
@@ -74,17 +77,14 @@ def _functions():
     return out
 
 
-FUNCTIONS = _functions()
-
-
 def _offenders():
-    return {(path, name): (lines, params) for path, name, lines, params in FUNCTIONS
+    return {(path, name): (lines, params) for path, name, lines, params in _functions()
             if lines > MAX_LINES or params > MAX_PARAMS}
 
 
 def test_the_scan_sees_the_functions():
-    assert len(FUNCTIONS) > 500
-    names = {(path, name) for path, name, _, _ in FUNCTIONS}
+    assert len(_functions()) > 500
+    names = {(path, name) for path, name, _, _ in _functions()}
     assert ("rankedassign/multisensor/_kernels.py", "sweep") in names
 
 
