@@ -10,7 +10,8 @@ Run it in a fresh process with an empty numba cache, one call per process::
 ``ssc-single``, ``ssc-multisensor``, ``ssc-adaptive_birth`` (the first
 ``sample_short_chains(problem, 100, 20, tau_stall=5, tau_stale=10)`` on a small problem of
 that kind) or ``oracle-murty`` (``oracle.murty(synthetic.random(R=4, M=6, rng=0), 10)``,
-then ``k = 20``). It prints the CPU seconds of the process (import included) and, from numba's
+then ``k = 20``) or ``herded-multisensor`` (``sample_herded(problem, 100)`` on the small
+multi-sensor problem, the largest inlined sweep). It prints the CPU seconds of the process (import included) and, from numba's
 ``numba:compile`` events, per kernel (its ``__qualname__``; two kernels of one name in
 different modules are summed): the compile CPU with the kernels it compiled inside it
 (``incl``), without them (``excl``), and the number of compiles (``n``, one per signature).
@@ -51,7 +52,7 @@ event.register("numba:compile", _Listener())
 import numpy as np  # noqa: E402
 
 CALLS = ("glmb-murty", "glmb-short", "lmb-short", "ssc-single", "ssc-multisensor",
-         "ssc-adaptive_birth", "oracle-murty")
+         "ssc-adaptive_birth", "oracle-murty", "herded-multisensor")
 
 
 def _filter_steps(call):
@@ -95,6 +96,18 @@ def _first_sample(call):
     return t1 - t, time.perf_counter() - t1
 
 
+def _herded_multisensor(call):
+    from rankedassign import sample_herded
+    from rankedassign.multisensor import synthetic as ms_synthetic
+
+    p = ms_synthetic.random(P=4, M=(4, 4), rng=0)
+    t = time.perf_counter()
+    sample_herded(p, 100, rng=0)
+    t1 = time.perf_counter()
+    sample_herded(p, 100, rng=1)
+    return t1 - t, time.perf_counter() - t1
+
+
 def _oracle_murty(call):
     import oracle
     from rankedassign import synthetic
@@ -112,7 +125,8 @@ def main(call, top=15):
         raise SystemExit(f"first_call_compile.py: unknown call {call!r}; choose from "
                          + ", ".join(CALLS))
     run = (_first_sample if call.startswith("ssc-") else
-           _oracle_murty if call == "oracle-murty" else _filter_steps)
+           _oracle_murty if call == "oracle-murty" else
+           _herded_multisensor if call == "herded-multisensor" else _filter_steps)
     first, second = run(call)
     ru = resource.getrusage(resource.RUSAGE_SELF)
     print(f"{call}: first call {first:.1f} s wall, second {second * 1e3:.1f} ms, "

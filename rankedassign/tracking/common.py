@@ -176,7 +176,7 @@ beta[0, :].sum() = 2.0, not 1 (tolerance 1e-09)
 
 
 def concat(parts: list, dtype) -> np.ndarray:
-    return np.concatenate(parts).astype(dtype) if parts else np.empty(0, dtype)
+    return np.concatenate(parts).astype(dtype, copy=False) if parts else np.empty(0, dtype)
 
 
 def logsumexp(a: np.ndarray) -> float:
