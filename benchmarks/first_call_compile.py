@@ -11,7 +11,8 @@ Run it in a fresh process with an empty numba cache, one call per process::
 ``sample_short_chains(problem, 100, 20, tau_stall=5, tau_stale=10)`` on a small problem of
 that kind) or ``oracle-murty`` (``oracle.murty(synthetic.random(R=4, M=6, rng=0), 10)``,
 then ``k = 20``) or ``herded-multisensor`` (``sample_herded(problem, 100)`` on the small
-multi-sensor problem, the largest inlined sweep). It prints the CPU seconds of the process (import included) and, from numba's
+multi-sensor problem, the largest inlined sweep). It prints the CPU seconds of the process
+(import included) and, from numba's
 ``numba:compile`` events, per kernel (its ``__qualname__``; two kernels of one name in
 different modules are summed): the compile CPU with the kernels it compiled inside it
 (``incl``), without them (``excl``), and the number of compiles (``n``, one per signature).

@@ -22,7 +22,8 @@ switched in one place:
 ``RANKEDASSIGN_NUMBA_INLINE_COPY``
     ``"1"`` (default) makes numba's inliner copy an inlined function's IR in one deep copy
     instead of one per block (each of which copied every variable of the function again: the
-    quadratic cost of numba issue #8989, most of the compile time of the largest kernels here);
+    quadratic cost of numba issue #8989; the multi-sensor herded driver's first compile took
+    47 s with it instead of 91 s);
     the code numba compiles is the same. ``"0"`` leaves numba's inliner as it is. Applied only
     to the numba text it was written for: :data:`INLINE_COPY_AT_ONCE` says whether it was.
 
@@ -121,14 +122,15 @@ else:
 # numba's inliner copies the callee's IR one block at a time, each block with its own deep copy,
 # and a block refers to the function's scope, so every block's copy copies every variable of
 # the function again: blocks x variables. For the largest kernels here (the multi-sensor herded
-# sweep, 591 blocks and 5 278 variables, written into its driver) those copies were most of the
-# compile time (numba issue #8989; numba-cuda issues #688 and #689 describe the same cost).
+# sweep, 591 blocks and 5 278 variables, written into its driver) those copies took about half
+# of the compile time (numba issue #8989; numba-cuda issues #688 and #689 describe the same cost).
 # The same copy made with one deep copy of all the blocks shares one copy of the scope, as the
 # callee's own blocks do. The rewrite is applied only where numba's text is exactly the one
 # below (otherwise numba is left alone), and ``RANKEDASSIGN_NUMBA_INLINE_COPY=0`` leaves it
-# alone too. Measured (``rankedassign precompile``, empty cache, 2 cores): 203 s and 400 s of
-# CPU before, 147 s and 288 s of CPU after; the compiled code is the same (the tests compare
-# numba's LLVM IR with and without it, and the suite's digests pin every result).
+# alone too. Measured (``rankedassign precompile``, empty cache, 2 cores, ABBA): 203 and 196 s
+# before, 147 and 171 s after (``benchmarks/README.md``, "Eleventh pass"); the compiled code is
+# the same (the tests compare numba's LLVM IR with and without it, and the suite's digests pin
+# every result).
 _INLINE_COPY_PER_BLOCK = """        kernel_copy.blocks = {}
         for block_label, block in the_ir.blocks.items():
             new_block = copy.deepcopy(the_ir.blocks[block_label])

@@ -5,6 +5,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import pytest
+
 import rankedassign
 from rankedassign import numba_options
 from rankedassign.numba_options import NO_KERNELS, kernel_sources, source_digest
@@ -256,7 +258,7 @@ def test_the_inliner_copied_at_once_compiles_the_same_code_as_numbas_own(tmp_pat
     ours = _inlined_kernel(tmp_path, "1")
     numbas = _inlined_kernel(tmp_path, "0")
     assert numbas["one_copy"] is False
-    assert ours["one_copy"] is numba_options.INLINE_COPY_AT_ONCE
+    assert ours["one_copy"] is True, "numba's inliner text changed"
     assert ours["llvm_chars"] > 1000
     assert (ours["llvm"], ours["value"]) == (numbas["llvm"], numbas["value"])
 
@@ -272,6 +274,10 @@ def test_the_inliner_is_rewritten_on_this_numba_and_left_alone_on_another_text(m
     def text(f):
         return textwrap.dedent(inspect.getsource(f))
 
+    import os
+
+    if os.environ.get("RANKEDASSIGN_NUMBA_INLINE_COPY") == "0":
+        pytest.skip("RANKEDASSIGN_NUMBA_INLINE_COPY=0 leaves numba's inliner as it is")
     patched = closurecall.InlineWorker.inline_ir
     assert numba_options.INLINE_COPY_AT_ONCE is True, "numba's inliner text changed"
     assert patched._rankedassign_one_copy
