@@ -113,7 +113,7 @@ def test_the_scan_reuses_the_gate_prediction_only_for_an_unchanged_cluster():
     assert _product(c, d, cap=10)[0]._pred is None
 
 
-def test_lean_unique_is_numpys():
+def test_lean_unique_is_numpys(monkeypatch):
     rng = np.random.default_rng(2)
     for _ in range(300):
         x = rng.integers(-3, int(rng.integers(1, 40)), int(rng.integers(0, 25))).astype(np.int64)
@@ -122,6 +122,19 @@ def test_lean_unique_is_numpys():
         assert_array_equal(a, u)
         assert_array_equal(b, inv.reshape(-1))
         assert b.dtype == np.int64
+        # the table of flags (values in 0 .. bound − 1, bound small, 512 values or more): the
+        # same arrays
+        y = x - x.min() if x.size else x
+        y = np.tile(y, 512 // max(y.size, 1) + 1)[:max(512, y.size) if y.size else 0]
+        bound = int(y.max()) + 1 + int(rng.integers(0, 30)) if y.size else 5
+        u, inv = np.unique(y, return_inverse=True)
+        with monkeypatch.context() as m:
+            if y.size:  # the table, not the sort
+                m.setattr(np, "sort", None)
+            a, b = _unique_inverse(y, bound)
+        assert_array_equal(a, u)
+        assert_array_equal(b, inv.reshape(-1))
+        assert a.dtype == np.int64 and b.dtype == np.int64
 
 
 def test_clusters_split_and_report():

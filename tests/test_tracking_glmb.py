@@ -494,6 +494,26 @@ def _run(assoc, n_scans=6, rng=3, **options):
     return f, [f.step(s.z, rng=gen) for s in sc.scans]
 
 
+@given(st.lists(st.lists(st.integers(0, 9), max_size=6, unique=True), max_size=12),
+       st.randoms(use_true_random=False))
+def test_merge_children_sorts_each_child_and_groups_equal_track_sets(children, r):
+    from rankedassign.tracking.single._glmb_kernels import merge_children
+
+    off = np.cumsum([0] + [len(c) for c in children]).astype(np.int64)
+    ids = np.array([q for c in children for q in c], dtype=np.int64)
+    log_w = np.array([r.uniform(-5, 0) for _ in children])
+    group, g_log_w, first = merge_children(off, ids, log_w)
+    sets = [tuple(sorted(c)) for c in children]
+    assert [ids[off[n]:off[n + 1]].tolist() for n in range(len(children))] == \
+        [list(c) for c in sets]
+    order = list(dict.fromkeys(sets))  # groups in the order of first appearance
+    assert group.tolist() == [order.index(c) for c in sets]
+    assert first.tolist() == [sets.index(c) for c in order]
+    for g, c in enumerate(order):
+        want = np.logaddexp.reduce([w for w, d in zip(log_w, sets, strict=True) if d == c])
+        assert g_log_w[g] == pytest.approx(want, rel=1e-12)
+
+
 def test_the_same_rng_gives_the_same_output():
     a = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))[1]
     b = _run(ShortChainGibbs(400, 25, tau_stall=5, tau_stale=10))[1]

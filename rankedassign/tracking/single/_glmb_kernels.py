@@ -586,7 +586,9 @@ def merge_children(child_off, child_ids, log_w):
     child_off : ndarray of int64, shape (N + 1,)
         CSR offsets of the children's track lists.
     child_ids : ndarray of int64
-        New track-table entries of every child, increasing within each child.
+        New track-table entries of every child, each child's distinct. Sorted in place
+        within each child (insertion sort: linear in the entries when they come nearly in
+        order, as the scan's rows put them, births first).
     log_w : ndarray, shape (N,)
         Log weights of the children.
 
@@ -603,10 +605,10 @@ def merge_children(child_off, child_ids, log_w):
     --------
     >>> import numpy as np
     >>> from rankedassign.tracking.single._glmb_kernels import merge_children
-    >>> g, lw, first = merge_children(np.array([0, 2, 3, 5]), np.array([0, 4, 1, 0, 4]),
-    ...                               np.log([0.2, 0.3, 0.5]))
-    >>> g.tolist(), np.exp(lw).round(3).tolist(), first.tolist()
-    ([0, 1, 0], [0.7, 0.3], [0, 1])
+    >>> ids = np.array([4, 0, 1, 0, 4])
+    >>> g, lw, first = merge_children(np.array([0, 2, 3, 5]), ids, np.log([0.2, 0.3, 0.5]))
+    >>> g.tolist(), np.exp(lw).round(3).tolist(), first.tolist(), ids.tolist()
+    ([0, 1, 0], [0.7, 0.3], [0, 1], [0, 4, 1, 0, 4])
     """
     N = child_off.size - 1
     width = 0
@@ -623,6 +625,13 @@ def merge_children(child_off, child_ids, log_w):
     for n in range(N):
         a = child_off[n]
         b = child_off[n + 1]
+        for q in range(a + 1, b):  # insertion sort of the child's entries
+            v = child_ids[q]
+            r = q - 1
+            while r >= a and child_ids[r] > v:
+                child_ids[r + 1] = child_ids[r]
+                r -= 1
+            child_ids[r + 1] = v
         key = mix64(np.uint64(b - a + 1))
         x[0] = b - a
         for q in range(a, b):

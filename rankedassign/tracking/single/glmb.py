@@ -163,17 +163,29 @@ def _gibbs_budget(association, counts: np.ndarray):
     return association.budget(counts)
 
 
-def _unique_inverse(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _unique_inverse(x: np.ndarray, bound: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """``np.unique(x, return_inverse=True)`` of a 1-D int64 array, with the inverse as int64.
 
     The same two arrays (the sorted distinct values are unique, and so is the index of each
     value among them), with less of ``np.unique``'s fixed cost: the clustered filter runs
     thousands of scans of a few entries each, three of these per scan.
+
+    With ``bound`` (every value in ``0 .. bound − 1``) no larger than about twice the size of
+    ``x``, and ``x`` of 512 values or more, the values are marked in a table of ``bound``
+    flags instead of sorted: linear in the size of ``x``, where a scan of the exact δ-GLMB
+    filter keys millions of children's entries (10.9 million values below 80: 0.23 ms per
+    100 000 values against 4.0 ms for the sort; below 512 values the sort is faster).
     """
+    if bound is not None and 512 <= x.size and bound <= 2 * x.size + 4096:
+        present = np.zeros(bound, dtype=np.bool_)
+        present[x] = True
+        rank = np.cumsum(present, dtype=np.int64)
+        rank -= 1
+        return np.flatnonzero(present).astype(np.int64, copy=False), rank[x]
     s = np.sort(x)
     if s.size:
         s = s[np.concatenate(([True], s[1:] != s[:-1]))]
-    return s, np.searchsorted(s, x).astype(np.int64)
+    return s, np.searchsorted(s, x).astype(np.int64, copy=False)
 
 
 def _zobrist(L: int, K: int) -> np.ndarray:
@@ -939,12 +951,13 @@ class GLMBFilter:
         N = children.comp.size
         with np.errstate(divide="ignore"):
             log_w = np.log(self.comp_w)[children.comp] - children.cost
-        # the new entries: one per distinct (predicted entry, measurement or missed)
-        key = children.entry * (U + 1) + (children.meas + 1)
-        uniq, ids = _unique_inverse(key)
-        seg = np.repeat(np.arange(N), children.off[1:] - children.off[:-1])
-        ids = ids[np.lexsort((ids, seg))]  # increasing within each child
-        with interruptible:
+        # the new entries: one per distinct (predicted entry, measurement or missed); in place,
+        # for the exact filter's millions of children's entries
+        key = children.entry * (U + 1)
+        key += children.meas
+        key += 1
+        uniq, ids = _unique_inverse(key, self.labels.shape[0] * (U + 1))
+        with interruptible:  # (it sorts ids within each child, in place)
             group, g_log_w, first = _glmb_kernels.merge_children(children.off, ids, log_w)
         # normalise (log-sum-exp), prune, cap to the H_max heaviest, renormalise
         w = np.exp(g_log_w - _logsumexp(g_log_w))
