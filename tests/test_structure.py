@@ -13,6 +13,7 @@ Walks the import statements of every module of :mod:`rankedassign` and :mod:`ora
 from __future__ import annotations
 
 import ast
+import functools
 import subprocess
 import sys
 from pathlib import Path
@@ -59,25 +60,30 @@ def _resolve(module: str, node: ast.ImportFrom) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
-def _imports(module: str):
-    """``(target module, imported name or None, inside a function?)`` for every import."""
-    tree = ast.parse(MODULES[module].read_text())
-    func_nodes = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-            func_nodes.update(id(n) for n in ast.walk(node) if n is not node)
-    for node in ast.walk(tree):
-        local = id(node) in func_nodes
+@functools.cache
+def _imports(module: str) -> tuple[tuple[str, str | None, bool], ...]:
+    """``(target module, imported name or None, inside a function?)`` for every import.
+
+    Each module is parsed once per process (every rule below reads the same statements).
+    """
+    out = []
+
+    def visit(node, local):
         if isinstance(node, ast.Import):
-            for alias in node.names:
-                yield alias.name, None, local
+            out.extend((alias.name, None, local) for alias in node.names)
         elif isinstance(node, ast.ImportFrom):
             target = _resolve(module, node)
-            for alias in node.names:
-                yield target, alias.name, local
+            out.extend((target, alias.name, local) for alias in node.names)
+        inner = local or isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
+        for child in ast.iter_child_nodes(node):
+            visit(child, inner)
+
+    visit(ast.parse(MODULES[module].read_text()), False)
+    return tuple(out)
 
 
-def _edges(module: str) -> set[str]:
+@functools.cache
+def _edges(module: str) -> frozenset[str]:
     """Modules of the two packages that ``module`` imports (``from pkg import sub`` -> sub)."""
     out = set()
     for target, name, _ in _imports(module):
@@ -86,7 +92,7 @@ def _edges(module: str) -> set[str]:
         elif target in MODULES:
             out.add(target)
     out.discard(module)
-    return out
+    return frozenset(out)
 
 
 def _cycles(names):
