@@ -19,6 +19,7 @@ Two halves:
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
 import os
 import signal
@@ -291,10 +292,11 @@ _TEMPLATES = {("rankedassign.engine._kernels", n) for n in
               ("rankedassign.tracking.single._glmb_kernels", n) for n in ("_ranked", "_sample")}
 
 
+@functools.cache
 def _python_calls_of_kernels():
     """``(module, function, line, guarded, kernel)`` of every call of a compiled function
     from Python code in ``rankedassign`` and ``oracle`` (``guarded``: inside
-    ``with interruptible:``)."""
+    ``with interruptible:``); read once per process, for the two tests below."""
     root = Path(rankedassign.__file__).resolve().parent.parent
     found = []
     for path in sorted([*(root / "rankedassign").rglob("*.py"), *(root / "oracle").rglob("*.py")]):
@@ -328,7 +330,7 @@ def _python_calls_of_kernels():
                                      or (name, func.name) in _TEMPLATES):
                 continue  # compiled code calling compiled code
             found.append((name, func.name if func else "<module>", node.lineno, guarded, kernel))
-    return found
+    return tuple(found)
 
 
 def test_every_kernel_call_from_python_is_interruptible():
