@@ -875,10 +875,14 @@ def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     tasks = st.tasks(st.warm(study_config(quick, st)), 0)
     groups = {st.warm_group(t) for t in tasks}
     # one group per method run (the same method on both presets compiles the same kernels),
-    # and one for every Murty truncation (each compiles Murty's search)
+    # one for every Murty truncation (each compiles Murty's search) and one for the δ-GLMB
+    # filter's chains (the same loop over the components)
     methods = set(study_config(quick, st).filter_truncations)
-    assert "murty" in groups and groups - {"murty"} <= methods and len(groups) >= 6
+    assert {"murty", "glmb-chains"} <= groups
+    assert groups - {"murty", "glmb-chains"} <= methods and len(groups) >= 5
     assert {st.warm_group(t) for t in tasks if t[3][1].startswith("murty")} == {"murty"}
+    assert {st.warm_group(t) for t in tasks
+            if t[3] in (("glmb", "original"), ("glmb", "short-chain"))} == {"glmb-chains"}
     assert len(tasks) > len(groups)
 
 
