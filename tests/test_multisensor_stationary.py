@@ -106,22 +106,19 @@ def test_mm_fixed_is_not_a_gibbs_sampler_of_its_stationary_law():
 
 # ------------------------------------------------------------------------------ statistics
 def run_independent_chains(problem, method, scan, power, start, n_chains, t, seed):
-    """Final states (as tuples) of ``n_chains`` independent chains of ``t`` kernel sweeps."""
+    """Final states (as tuples) of ``n_chains`` independent chains of ``t`` kernel sweeps.
+
+    Each chain is one call of :func:`~rankedassign.multisensor._kernels.run_sweeps` (its ``t``
+    sweeps in compiled code, from a fresh work slab), not ``t`` calls of the sweep from Python:
+    the same states, one call instead of ``t`` per chain (20 000 chains of 30 sweeps took 6 s
+    of calls from Python).
+    """
     data = prepare_data(problem, method, scan, power)
     x0 = start_state(problem, start, method)
-    work = K.alloc_work(data, 1)
     zk = zobrist_keys(len(x0), max(problem.n_meas) + 2, np.uint64(1))
-    rs = np.zeros(1, dtype=np.uint64)
-    out = []
-    for c in range(n_chains):
-        s = x0.copy()
-        K.reset_work(data, work, 0, s)
-        rs[0] = chain_state(np.uint64(seed), c)
-        h = np.uint64(0)
-        for _ in range(t):
-            h = np.uint64(K.sweep(data, work, 0, zk, s, h, rs))
-        out.append(tuple(s.tolist()))
-    return out
+    return [tuple(K.run_sweeps(data, zk, x0, np.uint64(chain_state(np.uint64(seed), c)), t)[0]
+                  .tolist())
+            for c in range(n_chains)]
 
 
 def chi_square_p(samples, states, law):
