@@ -83,8 +83,14 @@ def test_enumeration_kernel_matches_reference(problem):
 def test_size_table_by_enumeration(P, M, n):
     r = oracle.enumerate_assignments(synthetic.uniform(P, M))
     assert r.assignments.shape == (n, P, len(M))
-    # every assignment distinct and feasible
-    assert len(np.unique(r.assignments.reshape(n, -1), axis=0)) == n
+    # every assignment distinct: each row as one integer (its entries the digits, base above
+    # the largest entry), so that numpy sorts integers, not rows
+    a = r.assignments.reshape(n, -1).astype(np.int64)
+    a -= a.min()
+    base = int(a.max()) + 1
+    assert base ** a.shape[1] < 2**62  # the codes fit: distinct rows, distinct codes
+    codes = a @ base ** np.arange(a.shape[1], dtype=np.int64)
+    assert np.unique(codes).size == n
 
 
 def test_counting_search_agrees_with_the_counting_dp():
