@@ -5,8 +5,6 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import pytest
-
 import rankedassign
 from rankedassign import numba_options
 from rankedassign.numba_options import NO_KERNELS, kernel_sources, source_digest
@@ -276,10 +274,14 @@ def test_the_inliner_is_rewritten_on_this_numba_and_left_alone_on_another_text(m
 
     import os
 
-    if os.environ.get("RANKEDASSIGN_NUMBA_INLINE_COPY") == "0":
-        pytest.skip("RANKEDASSIGN_NUMBA_INLINE_COPY=0 leaves numba's inliner as it is")
+    # at import: rewritten unless the opt-out was set; here, without it, it always applies
+    opted_out = os.environ.get("RANKEDASSIGN_NUMBA_INLINE_COPY") == "0"
+    assert numba_options.INLINE_COPY_AT_ONCE is not opted_out, "numba's inliner text changed"
+    monkeypatch.delenv("RANKEDASSIGN_NUMBA_INLINE_COPY", raising=False)
+    monkeypatch.setattr(closurecall.InlineWorker, "inline_ir",
+                        closurecall.InlineWorker.inline_ir)  # restored after the test
+    assert numba_options._one_copy_inliner() is True, "numba's inliner text changed"
     patched = closurecall.InlineWorker.inline_ir
-    assert numba_options.INLINE_COPY_AT_ONCE is True, "numba's inliner text changed"
     assert patched._rankedassign_one_copy
     assert numba_options._INLINE_COPY_PER_BLOCK in text(patched._rankedassign_numba)
     assert numba_options._INLINE_COPY_PER_BLOCK not in text(patched)
