@@ -875,14 +875,17 @@ def test_warm_groups_of_the_studies_that_compile_by_kind_and_by_method():
     tasks = st.tasks(st.warm(study_config(quick, st)), 0)
     groups = {st.warm_group(t) for t in tasks}
     # one group per method run (the same method on both presets compiles the same kernels),
-    # one for every Murty truncation (each compiles Murty's search) and one for the δ-GLMB
-    # filter's chains (the same loop over the components)
+    # one for every Murty truncation (each compiles Murty's search) and one per preset for the
+    # δ-GLMB filter's chains (the same loop over the components; direct draws on "vo", prefix
+    # sums on "paper")
     methods = set(study_config(quick, st).filter_truncations)
-    assert {"murty", "glmb-chains"} <= groups
-    assert groups - {"murty", "glmb-chains"} <= methods and len(groups) >= 5
+    chains = {("glmb-chains", "vo"), ("glmb-chains", "paper")}
+    assert {"murty"} | chains <= groups
+    assert groups - {"murty"} - chains <= methods and len(groups) >= 6
     assert {st.warm_group(t) for t in tasks if t[3][1].startswith("murty")} == {"murty"}
-    assert {st.warm_group(t) for t in tasks
-            if t[3] in (("glmb", "original"), ("glmb", "short-chain"))} == {"glmb-chains"}
+    for preset in ("vo", "paper"):
+        assert {st.warm_group(t) for t in tasks if t[4] == preset and t[3] in (
+            ("glmb", "original"), ("glmb", "short-chain"))} == {("glmb-chains", preset)}
     assert len(tasks) > len(groups)
 
 

@@ -1338,14 +1338,16 @@ def _warm_group(task: tuple):
     its ``(filter, truncation)`` pair, which compiles the same kernels on every preset; the
     Murty truncations of both filters share one group, because each compiles Murty's search
     (``oracle._kernels.murty``, the largest kernel of the study): side by side, two workers
-    compiled it twice. So do the δ-GLMB filter's long chain and short chains, which run the
-    same compiled loop over the components (its first compile, about 7 s of CPU, was made by
-    both workers at once)."""
+    compiled it twice. So do the δ-GLMB filter's long chain and short chains on one preset,
+    which run the same compiled loop over the components: the loop that draws directly on
+    ``"vo"``, the one with prefix sums on ``"paper"`` (more measurements), so the group is
+    per preset (its first compile on ``"paper"``, about 7 s of CPU, was made by both workers
+    at once)."""
     method = task[3]
     if method[1] in ("murty", "murty-matched"):
         return "murty"
     if method[0] == "glmb" and method[1] in ("original", "short-chain"):
-        return "glmb-chains"
+        return ("glmb-chains", task[4])
     return method
 
 

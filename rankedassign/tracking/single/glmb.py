@@ -173,8 +173,9 @@ def _unique_inverse(x: np.ndarray, bound: int | None = None) -> tuple[np.ndarray
     With ``bound`` (every value in ``0 .. bound − 1``) no larger than about twice the size of
     ``x``, and ``x`` of 512 values or more, the values are marked in a table of ``bound``
     flags instead of sorted: linear in the size of ``x``, where a scan of the exact δ-GLMB
-    filter keys millions of children's entries (10.9 million values below 80: 0.23 ms per
-    100 000 values against 4.0 ms for the sort; below 512 values the sort is faster).
+    filter keys millions of children's entries (10.9 million below 80 in one test). Measured
+    on 100 000 values below 80: 0.23 ms against 4.0 ms for the sort; on 20 values the sort is
+    faster (6.0 against 8.5 µs).
     """
     if bound is not None and 512 <= x.size and bound <= 2 * x.size + 4096:
         present = np.zeros(bound, dtype=np.bool_)
