@@ -217,3 +217,43 @@ def test_an_interrupt_with_cancelled_tasks_queued_leaves_no_traceback(capfd):
     cancelled[0].future.set_exception(RuntimeError("broken pool"))
     err = capfd.readouterr().err
     assert "Traceback" not in err and "Error" not in err, err
+
+
+_HARD_EXIT_SCRIPT = """
+import _multiprocessing, signal
+from multiprocessing import resource_tracker
+from rankedassign.experiments import _interrupts, local_executor
+from rankedassign.experiments._executor import _semaphore_names
+
+with local_executor(2) as ex:
+    names = _semaphore_names(ex)
+    assert len(names) == {count}, names
+    # a finaliser stopped by the signal between its unlink and its message to the tracker
+    _multiprocessing.sem_unlink(names[0])
+    # a finaliser that had finished
+    _multiprocessing.sem_unlink(names[1])
+    resource_tracker.unregister(names[1], "semaphore")
+    # the shutdown has dropped the queues from the pool
+    ex._call_queue = ex._result_queue = None
+    _interrupts._hard_exit(signal.SIGTERM)
+"""
+
+
+@pytest.mark.e2e
+def test_a_hard_exit_halfway_through_a_semaphores_finaliser_leaks_nothing(tmp_path):
+    """A second signal that stops a semaphore's finaliser between its unlink and its message to
+    the resource tracker, during the shutdown (the pool no longer holds its queues): the
+    pool's semaphores, unlinked or not, listed or not, are struck off the tracker's list, so
+    it reports none as leaked and prints no traceback (seen once in CI: one leaked semaphore
+    whose unlink then failed with ENOENT)."""
+    import signal
+    import subprocess
+    import sys
+
+    count = 5 if sys.platform != "darwin" else 4  # the call queue's size semaphore, two locks each
+    proc = subprocess.run([sys.executable, "-c", _HARD_EXIT_SCRIPT.format(count=count)],
+                          capture_output=True, text=True, timeout=120)
+    # the resource tracker shares the script's stderr: run() has read to its end, so the
+    # tracker's report at its own exit is in proc.stderr
+    assert proc.returncode == 128 + signal.SIGTERM, proc.stderr
+    assert "leaked" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr

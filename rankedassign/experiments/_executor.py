@@ -187,30 +187,50 @@ def _end_workers(ex: ProcessPoolExecutor) -> None:
             p.join(timeout=2.0)
 
 
-def _forget_semaphores(ex: ProcessPoolExecutor) -> None:
-    """Unlink the pool's named semaphores and strike them off the resource tracker's list.
+def _semaphore_names(ex: ProcessPoolExecutor) -> tuple[str, ...]:
+    """The names of the pool's named semaphores (its two queues' locks), read once.
 
-    For a process about to end by ``os._exit`` (a second signal): its finalisers, which do
-    this, do not run, and the resource tracker would report them as leaked (and unlink them
-    itself). Runs in a signal handler, so it writes the tracker's message directly instead
-    of through ``resource_tracker.unregister``, which takes a lock. CPython's private
-    attributes are read defensively; where they differ nothing is done.
+    Read when the pool is made: the shutdown drops the queues from the pool before their
+    finalisers have run, so a second signal during the shutdown would not find them there.
+    CPython's private attributes are read defensively; where they differ the tuple is empty.
     """
-    fd = getattr(getattr(resource_tracker, "_resource_tracker", None), "_fd", None)
+    names = []
     for q in (getattr(ex, "_call_queue", None), getattr(ex, "_result_queue", None)):
         for attr in ("_rlock", "_wlock", "_sem"):
             name = getattr(getattr(getattr(q, attr, None), "_semlock", None), "name", None)
-            if not isinstance(name, str):
-                continue
+            if isinstance(name, str):
+                names.append(name)
+    return tuple(names)
+
+
+def _forget_semaphores(names: tuple[str, ...]) -> None:
+    """Unlink the named semaphores and strike them off the resource tracker's list.
+
+    For a process about to end by ``os._exit`` (a second signal): the semaphores'
+    finalisers, which do this, do not run, and the resource tracker would report them as
+    leaked (and unlink them itself). A finaliser may also have been stopped halfway, between
+    its unlink and its message to the tracker, when the signal arrived; which half it did is
+    not known here. So every name is unlinked where it still exists, and then sent as
+    ``REGISTER`` followed by ``UNREGISTER`` in one write: the tracker keeps a set of names,
+    so the pair leaves the name off the list whether or not it was still on it (a lone
+    ``UNREGISTER`` of a name no longer listed makes the tracker print a ``KeyError``
+    traceback). Writes of at most ``PIPE_BUF`` bytes to a pipe are atomic, so no other
+    thread's message falls between the two. Runs in a signal handler, so it writes the
+    tracker's pipe directly instead of through ``resource_tracker.unregister``, which takes
+    a lock.
+    """
+    fd = getattr(getattr(resource_tracker, "_resource_tracker", None), "_fd", None)
+    for name in names:
+        try:
+            _multiprocessing.sem_unlink(name)
+        except (OSError, AttributeError):
+            pass  # already unlinked (by its finaliser), or no such call on this platform
+        if isinstance(fd, int):
             try:
-                _multiprocessing.sem_unlink(name)
-            except (OSError, AttributeError):
-                continue
-            if isinstance(fd, int):
-                try:
-                    os.write(fd, f"UNREGISTER:{name}:semaphore\n".encode("ascii"))
-                except OSError:
-                    pass
+                os.write(fd, f"REGISTER:{name}:semaphore\nUNREGISTER:{name}:semaphore\n"
+                         .encode("ascii"))
+            except OSError:
+                pass
 
 
 @contextmanager
@@ -271,6 +291,7 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
         return
     ctx = multiprocessing.get_context("spawn")
     ex = ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_worker_init)
+    semaphores = _semaphore_names(ex)
 
     def kill_workers():  # a second signal: no waiting, no locks (see _interrupts)
         for p in list((getattr(ex, "_processes", None) or {}).values()):
@@ -278,7 +299,7 @@ def local_executor(workers: int | None = None) -> Iterator[Executor | None]:
                 os.kill(p.pid, signal.SIGKILL)
             except (OSError, TypeError, AttributeError):
                 pass
-        _forget_semaphores(ex)
+        _forget_semaphores(semaphores)
 
     # registered until the pool is shut down: a second signal during the first one's cleanup
     # (ending the workers, the shutdown) must still find the pool's semaphores
