@@ -106,6 +106,37 @@ def _sweep(data, work, b, zkeys, state, h, rs):
 _RUN = make_driver("engine_test_counter", _alloc, _reset, _sweep, work=_Work, cache=False)
 
 
+@pytest.mark.skipif(config.DISABLE_JIT, reason="compiled signatures only")
+def test_a_sequential_run_compiles_no_speculation():
+    """A run without speculation (``batch == 0``, one worker: the filters' case) has a slice
+    of its own that never calls the parallel loop, so its first call compiles neither the loop
+    nor the second copy of the kind's sweep (:func:`_speculate_chain`); a speculative run
+    afterwards compiles them and gives the same bits. A run that never fills its unique
+    set compiles no growth either (``U`` grows between slices, from Python; the runs that
+    grow it are in ``tests/test_interrupt.py``)."""
+    # The module's driver while nothing has compiled any of it, which the file's order (this
+    # test before the others that run it) makes the usual case; a driver of its own otherwise
+    # (its whole compile again, 11 s of CPU).
+    run = _RUN
+    if any(kernel.signatures for kernel in _RUN.kernels.values()):
+        run = make_driver("engine_test_sequential", _alloc, _reset, _sweep, work=_Work,
+                          cache=False)
+    zkeys = np.array([[1, 2]], dtype=np.uint64)
+    args = (_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 40, 5, Rules(0, 0, 0, 0))
+    seq = run(*args, 0, 1)
+    k = run.kernels
+    assert len(k["new_run"].signatures) == 1
+    assert len(k["run_slice_sequential"].signatures) == 1
+    assert len(k["advance"].signatures) == 1
+    for name in ("run_slice", "speculate", "speculate_chain", "grow_run"):
+        assert not k[name].signatures, name
+    par = run(*args, 4, 2)
+    assert len(k["speculate_chain"].signatures) == 1
+    assert_array_equal(par[0], seq[0])
+    assert_array_equal(par[1], seq[1])
+    assert_array_equal(par[2][:6], seq[2][:6])  # (the last counter: sweeps speculated in vain)
+
+
 @pytest.mark.parametrize("budget", [3, 1 << 16])
 def test_speculation_keeps_the_writes_of_a_kind_with_named_records(budget):
     zkeys = np.array([[1, 2]], dtype=np.uint64)
@@ -136,31 +167,6 @@ def test_the_parallel_speculation_compiles_the_chain_once():
     chain = _RUN.kernels["speculate_chain"]
     assert len(chain.signatures) == 1, chain.signatures
     assert len(_RUN.kernels["advance"].signatures) == 1
-
-
-@pytest.mark.skipif(config.DISABLE_JIT, reason="compiled signatures only")
-def test_a_sequential_run_compiles_no_speculation():
-    """A run without speculation (``batch == 0``, one worker: the filters' case) has a slice
-    of its own that never calls the parallel loop, so its first call compiles neither the loop
-    nor the second copy of the kind's sweep (:func:`_speculate_chain`); a speculative run
-    afterwards compiles them and gives the same bits. A run that never fills its unique
-    set compiles no growth either (``U`` grows between slices, from Python; the runs that
-    grow it are in ``tests/test_interrupt.py``)."""
-    run = make_driver("engine_test_sequential", _alloc, _reset, _sweep, work=_Work, cache=False)
-    zkeys = np.array([[1, 2]], dtype=np.uint64)
-    args = (_Data(p=0.5), zkeys, np.zeros(1, np.int32), np.uint64(7), 40, 5, Rules(0, 0, 0, 0))
-    seq = run(*args, 0, 1)
-    k = run.kernels
-    assert len(k["new_run"].signatures) == 1
-    assert len(k["run_slice_sequential"].signatures) == 1
-    assert len(k["advance"].signatures) == 1
-    for name in ("run_slice", "speculate", "speculate_chain", "grow_run"):
-        assert not k[name].signatures, name
-    par = run(*args, 4, 2)
-    assert len(k["speculate_chain"].signatures) == 1
-    assert_array_equal(par[0], seq[0])
-    assert_array_equal(par[1], seq[1])
-    assert_array_equal(par[2][:6], seq[2][:6])  # (the last counter: sweeps speculated in vain)
 
 
 @pytest.mark.skipif(config.DISABLE_JIT or not CACHE, reason="numba's on-disk cache only")
