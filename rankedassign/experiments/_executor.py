@@ -188,7 +188,8 @@ def _end_workers(ex: ProcessPoolExecutor) -> None:
 
 
 def _semaphore_names(ex: ProcessPoolExecutor) -> tuple[str, ...]:
-    """The names of the pool's named semaphores (its two queues' locks), read once.
+    """The names of the pool's named semaphores (its two queues' locks and the call queue's
+    size semaphore), read once.
 
     Read when the pool is made: the shutdown drops the queues from the pool before their
     finalisers have run, so a second signal during the shutdown would not find them there.
